@@ -1,0 +1,10 @@
+"""Sub-commands of the ``vibss`` command line, one module each (see :mod:`vibss.cli`).
+
+To add one: write ``vibss/commands/<name>.py`` with ``register(subparsers)`` and list it below.
+"""
+
+from __future__ import annotations
+
+from . import modes, static
+
+COMMANDS = [modes, static]
