@@ -1,17 +1,33 @@
-"""vibss: vibration of flexibly supported rigid multibody systems."""
+"""vibss: vibration of flexibly supported rigid multibody systems.
+
+Describe rigid bodies and the mounts between them and ground; vibss assembles M, C, K and runs
+static deflection, undamped and damped modes, frequency and time responses on them.
+
+Examples
+--------
+>>> import vibss
+>>> t = vibss.MountType("rubber", stiffness=[1e4, 2e4, 3e4])
+>>> body = vibss.Body("prism", mass=1000.0, inertia=[10.0, 20.0, 30.0])
+>>> model = vibss.Model([body], vibss.symmetric(vibss.Mount("m", t, "prism", at=[1, 2, 0])))
+>>> vibss.modes(model).frequency_hz.round(2)
+array([ 1.01,  1.42,  1.74, 12.33, 14.24, 34.87])
+"""
 
 from __future__ import annotations
 
 from .assemble import Assembly, assemble
+from .damped import DampedModes, damped_modes
 from .errors import AnalysisError, ModelError, ModelFileError, VibssError
 from .geometry import Orientation
+from .modal import Modes, modes
 from .model import (DOF_NAMES, GROUND, Body, ControlPoint, Load, Model, Mount, MountType,
                     symmetric)
+from .static import StaticResult, static
 
 __version__ = "0.1.0"
 
 __all__ = [
-    "AnalysisError", "Assembly", "Body", "ControlPoint", "DOF_NAMES", "GROUND", "Load", "Model",
-    "ModelError", "ModelFileError", "Mount", "MountType", "Orientation", "VibssError",
-    "assemble", "symmetric",
+    "AnalysisError", "Assembly", "Body", "ControlPoint", "DOF_NAMES", "DampedModes", "GROUND",
+    "Load", "Model", "ModelError", "ModelFileError", "Modes", "Mount", "MountType", "Orientation",
+    "StaticResult", "VibssError", "assemble", "damped_modes", "modes", "static", "symmetric",
 ]

@@ -1,0 +1,38 @@
+"""``vibss modes``: undamped natural frequencies, relative eigenvectors, kinetic-energy table."""
+
+from __future__ import annotations
+
+import argparse
+
+from ..damped import damped_modes
+from ..modal import modes
+from .common import add_model_arguments, emit, load_from_args
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    """Add the ``modes`` and ``damped`` sub-commands."""
+    p = sub.add_parser("modes", help="undamped modes: frequencies, shapes, energy distribution",
+                       description="Undamped natural frequencies [Hz, CPM], relative eigenvectors per "
+                                   "body, dominant directions, effective masses and the modal "
+                                   "kinetic-energy distribution table.")
+    add_model_arguments(p)
+    p.add_argument("-n", "--modes", type=int, default=None, metavar="N",
+                   help="only the lowest N modes (default: all, 6 per body)")
+    p.set_defaults(func=run_modes)
+    d = sub.add_parser("damped", help="damped modes: poles, damping ratios, complex shapes",
+                       description="Damped natural frequencies and damping ratios from the poles of "
+                                   "the state-space system, paired with the undamped modes.")
+    add_model_arguments(d)
+    d.set_defaults(func=run_damped)
+
+
+def run_modes(args: argparse.Namespace) -> int:
+    """Print the undamped modes."""
+    emit(modes(load_from_args(args), n_modes=args.modes), args.format)
+    return 0
+
+
+def run_damped(args: argparse.Namespace) -> int:
+    """Print the damped modes."""
+    emit(damped_modes(load_from_args(args)), args.format)
+    return 0

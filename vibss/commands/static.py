@@ -1,0 +1,26 @@
+"""``vibss static``: static deflection under the model file's loads (and gravity)."""
+
+from __future__ import annotations
+
+import argparse
+
+from ..static import static
+from .common import add_model_arguments, emit, load_from_args
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    """Add the ``static`` sub-command."""
+    p = sub.add_parser("static", help="static deflection under the file's loads and gravity",
+                       description="Static deflection of every body (with its centre of rotation), "
+                                   "of the control points, and of every mount in global and local "
+                                   "axes, with mount forces, under the file's [[load]] entries and, "
+                                   "if [model] sets gravity, self-weight.")
+    add_model_arguments(p)
+    p.add_argument("--no-gravity", action="store_true", help="leave out self-weight")
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Print the static deflection."""
+    emit(static(load_from_args(args), gravity=not args.no_gravity), args.format)
+    return 0
