@@ -157,6 +157,7 @@ class Body:
             object.__setattr__(self, "principal_axes", axes)
             moments = inertia
             tensor = axes.matrix @ np.diag(moments) @ axes.matrix.T
+            tensor = 0.5 * (tensor + tensor.T)  # exactly symmetric despite rounding
         else:
             if self.principal_axes is not None:
                 raise ModelError(

@@ -1,0 +1,23 @@
+"""Fixtures shared by the tests."""
+
+from __future__ import annotations
+
+import pytest
+
+from cases import asymmetric_model, prism_model, two_mass_model
+from vibss import Model
+
+
+@pytest.fixture
+def prism() -> Model:
+    return prism_model()
+
+
+@pytest.fixture
+def two_mass() -> Model:
+    return two_mass_model()
+
+
+@pytest.fixture
+def asym() -> Model:
+    return asymmetric_model()

@@ -1,0 +1,99 @@
+"""Static deflection: closed forms, equilibrium, free-motion detection, prescribed displacement."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from vibss import AnalysisError, Body, Load, Model, Mount, MountType, assemble, static, symmetric
+from vibss.static import centre_of_rotation
+
+from reference_impl import loop_assemble
+
+
+@pytest.mark.parametrize("n_side", [1, 2, 3])
+def test_weight_sag_on_n_identical_vertical_mounts(n_side):
+    """m g / (n kz) on n identical mounts (reference case 3)."""
+    kz, m, g = 2.5e5, 420.0, 9.81
+    t = MountType("t", [1e5, 1e5, kz])
+    mounts = []
+    for i in range(n_side):
+        mounts += symmetric(Mount(f"m{i}", t, "b", at=[0.3 + 0.2 * i, 0.4, 0.0]), "double")
+    model = Model([Body("b", m, [10, 12, 15])], mounts, gravity=[0, 0, -g])
+    r = static(model)
+    n = len(mounts)
+    np.testing.assert_allclose(r.body("b"), [0, 0, -m * g / (n * kz), 0, 0, 0], atol=1e-15)
+    assert r.centre_of_rotation("b") is None          # pure translation
+    np.testing.assert_allclose(r.mount_force[:, 2], -m * g / n, rtol=1e-12)
+
+
+def test_equilibrium_and_independent_stiffness(asym):
+    """Mount forces balance the loads (forces and moments), K from an independent loop agrees."""
+    loads = [Load("frame", force=[120.0, -40.0, -900.0], moment=[10.0, 0.0, -25.0], at=[0.2, 0.1, 0.0]),
+             Load("motor", force=[0.0, 300.0, -200.0], at=[0.1, -0.1, 0.2], frame="body")]
+    model = asym.replace(loads=loads, gravity=[0, 0, -9.81])
+    r = static(model)
+    f = assemble(model).load_vector()
+    np.testing.assert_allclose(loop_assemble(model) @ r.q, f, rtol=1e-9, atol=1e-9 * np.abs(f).max())
+    # total force into ground = total applied force; moments about the origin likewise
+    total_f = sum(ld.force for ld in loads) + 9.81 * np.array([0, 0, -1]) * (300.0 + 80.0)
+    np.testing.assert_allclose(r.reaction[:3], total_f, rtol=1e-9)
+    total_m = sum(np.cross(model.body(ld.body).cog + ld.at, ld.force) + ld.moment for ld in loads)
+    total_m = total_m + sum(np.cross(b.cog, b.masses * [0, 0, -9.81]) for b in model.bodies)
+    np.testing.assert_allclose(r.reaction[3:], total_m, rtol=1e-9, atol=1e-9)
+
+
+def test_local_deflection_is_rotated_global(asym):
+    r = static(asym.replace(loads=[Load("motor", force=[50, 80, -400])]))
+    for p, m in enumerate(asym.mounts):
+        np.testing.assert_allclose(m.orientation.matrix @ r.mount_deflection_local[p],
+                                   r.mount_deflection[p], atol=1e-16)
+
+
+def test_centre_of_rotation_closed_form():
+    # rotation about z through the point (1, 0, 0): COG (origin) moves by theta x (0 - c)
+    theta = np.array([0, 0, 1e-3])
+    c = np.array([1.0, 0.0, 0.0])
+    u = np.cross(theta, -c)
+    np.testing.assert_allclose(centre_of_rotation(np.r_[u, theta], np.zeros(3)), c, atol=1e-12)
+    assert centre_of_rotation(np.r_[1e-3, 0, 0, 0, 0, 0], np.zeros(3)) is None
+
+
+def test_unrestrained_direction_is_named():
+    t = MountType("no-x", [0.0, 1e5, 2e5])
+    m = Model([Body("engine", 100.0, [5, 5, 5])], symmetric(Mount("m", t, "engine", at=[0.5, 0.5, 0])),
+              loads=[Load("engine", force=[100.0, 0, 0])])
+    with pytest.raises(AnalysisError, match=r"body 'engine' is free to move in x"):
+        static(m)
+
+
+def test_unconnected_body_is_named():
+    t = MountType("t", [1e5, 1e5, 2e5])
+    m = Model([Body("a", 100.0, [5, 5, 5]), Body("loose", 1.0, [1, 1, 1])],
+              symmetric(Mount("m", t, "a", at=[0.5, 0.5, 0])), loads=[Load("loose", force=[0, 0, -10])])
+    with pytest.raises(AnalysisError, match=r"body 'loose' is free to move in z"):
+        static(m)
+    # loading only the restrained body works and lists the free motions
+    ok = static(m.replace(loads=[Load("a", force=[0, 0, -10])]))
+    assert len(ok.free_motions) == 6 and ok.body("a")[2] == pytest.approx(-10 / 8e5)
+
+
+def test_prescribed_ground_displacement_moves_rigidly(asym):
+    """Lifting ground by dz with no load lifts every body rigidly and stretches no mount."""
+    r = static(asym, prescribed={"ground.z": 0.01})
+    for b in asym.body_names:
+        np.testing.assert_allclose(r.body(b), [0, 0, 0.01, 0, 0, 0], atol=1e-12)
+    np.testing.assert_allclose(r.mount_deflection, 0.0, atol=1e-12)
+
+
+def test_prescribed_body_dof(prism):
+    """Holding z of the prism at -1 mm: the mounts then carry 4 kz * 1 mm into ground."""
+    r = static(prism, prescribed={"prism.z": -1e-3})
+    assert r.body("prism")[2] == -1e-3
+    assert r.reaction[2] == pytest.approx(-4 * 30_000 * 1e-3)
+
+
+def test_json(asym):
+    d = static(asym.replace(loads=[Load("motor", force=[0, 0, -100])])).to_dict()
+    assert set(d["bodies"]) == {"frame", "motor"}
+    assert len(d["mounts"]) == 7 and len(d["mounts"][0]["deflection_local"]) == 3
