@@ -19,7 +19,7 @@ from vibss import Body, Model, Mount, MountType
 
 
 def chain_model(n_bodies: int = 100, damping: str = "classical", zeta: float = 1e-3,
-                seed: int = 0, scale: str = "nice") -> Model:
+                seed: int = 0, scale: str = "nice", ground_mounts: int = 2) -> Model:
     """Random chain of ``n_bodies`` rigid bodies (6 n DOF) on mounts to ground and neighbours.
 
     ``scale="nice"``: 1-100 kg, 1e4-1e6 N/m; ``"bad"``: 1e-3-1e4 kg, 1e2-1e8 N/m.
@@ -49,7 +49,7 @@ def chain_model(n_bodies: int = 100, damping: str = "classical", zeta: float = 1
         return Mount(name, MountType(f"t_{name}", k, c), body, at=at, to=to, orientation=orient)
 
     for i in range(n_bodies):
-        for j in range(2):
+        for j in range(ground_mounts):
             mounts.append(mount(f"g{i}_{j}", f"b{i}", "ground"))
         if i > 0:
             mounts.append(mount(f"n{i}", f"b{i}", f"b{i-1}"))
