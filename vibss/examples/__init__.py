@@ -1,0 +1,1 @@
+"""Built-in example model files (``vibss example list``; :func:`vibss.io.load_example`)."""
