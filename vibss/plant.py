@@ -6,7 +6,7 @@ and forces, total transmitted forces). A :class:`Plant` holds the second-order m
 unknown (free) DOFs and the maps of every input and output, in SI:
 
     M q'' + C q' + K q = F u_f - (Kz z + Cz z' + Mz z'')
-    y = Oq q + Ov q' + Oa q'' + Pz z + Pv z' + Pa z'' + Pf u_f
+    y = Oq q + Ov q' + Oa q'' + Pz z + Pv z' + Pa z'' + Pf u_f   (+ i (Oh q + Ph z), frequency domain)
 
 where ``u_f`` are the force inputs and ``z`` the prescribed coordinates. Each input column ``j``
 is one named signal; a force input has a nonzero column in ``F`` and zero columns in ``Kz, Cz, Mz,
@@ -65,6 +65,9 @@ class Plant:
         (direct feedthrough).
     name : str
         System name (the model's).
+    Oh, Ph : (p, n), (p, m) ndarray or None
+        Hysteretic part of the outputs (frequency domain only): ``y += i (Oh q + Ph z)``, e.g. the
+        loss-factor force ``i H_p delta`` of a mount force output. None means zero.
     """
 
     dofs: tuple[str, ...]
@@ -89,6 +92,8 @@ class Plant:
     Pa: np.ndarray
     Pf: np.ndarray
     name: str = "vibss"
+    Oh: np.ndarray | None = None
+    Ph: np.ndarray | None = None
 
     @property
     def n(self) -> int:

@@ -1,0 +1,266 @@
+"""Well-scaled python-control state-space realizations of a :class:`~vibss.plant.Plant`.
+
+Realization
+-----------
+The plant ``M q'' + C q' + K q = F u_f - (Kz z + Cz z' + Mz z'')`` is realized so that **no input
+is differentiated** and every input enters as itself:
+
+- force inputs (``u = f``) and acceleration inputs (``u = z''``, two integrator states ``z, z'``)
+  and velocity inputs (``u = z'``, one integrator state ``z``) use the physical coordinates;
+- mass coupling of prescribed coordinates whose ``z''`` is not an input is absorbed by
+  ``w = q + G z``, ``G = M^-1 Mz`` (so ``M w'' + C w' + K w`` sees no ``z''``);
+- displacement inputs (``u = z``) are realized with ``z`` as the *only* input through
+  ``xi = w' + E z``, ``E = M^-1 (Cz - C G)``: a piecewise-linear ``z`` is then handled exactly by
+  a first-order hold (no ``z'`` input, which would be inconsistent).
+
+With no displacement input and no mass coupling, ``w = q`` and ``xi = q'``. Outputs are the
+physical ones, ``y = Oq q + Ov q' + Oa q'' + Pz z + Pv z' + Pa z'' + Pf u``, expressed in these
+states. An output that would need the derivative of an input (e.g. an absolute acceleration or a
+damper force under a *displacement* input of a damped mount) has no proper realization: it raises
+:class:`~vibss.errors.AnalysisError` naming the pair and the input kind that works.
+
+Scaling (``realization=``)
+--------------------------
+``"modal"`` (default): mass-normalised undamped modes ``Phi`` (``Phi^T M Phi = I``,
+``Phi^T K Phi = Omega^2``), states ``[S eta; eta']`` with ``w = Phi eta``, ``S = Omega`` (rigid-body
+modes, ``omega = 0``, use the lowest elastic ``omega`` instead, so they stay exact double
+integrators): ``A = [[0, S], [-Omega^2 S^-1, -Phi^T C Phi]]``. Every entry of A is of the order of
+the natural frequencies, so SLICOT's unbalanced TB05AD (``control.frequency_response``) and
+``expm`` are accurate. State names ``mode<k>:pos`` (= omega_k eta_k [sqrt(kg) m/s]) and
+``mode<k>:vel`` (= eta_k'), k from 1 in ascending frequency.
+
+``"physical"``: states ``[w; xi]`` named ``<body>:<dof>`` and ``<body>:<dof>:vel``, diagonally
+balanced (``scipy.linalg.matrix_balance``) unless ``balance=False``: the stored state ``i`` is the
+physical one divided by a power of 2 (``StateSpace.vibss_state_scale`` holds the factors).
+
+Integrator states of motion inputs are named ``<input>:z`` and ``<input>:zdot``. Signal names are
+the vibss names with ``.`` replaced by ``:`` (python-control reserves ``.``;
+:func:`vibss.signals.control_name`). Hysteretic damping (``H``) is frequency-domain only and is
+left out of every time-domain realization.
+
+Examples
+--------
+>>> from vibss import Body, Model, Mount, MountType
+>>> from vibss.signals import build_plant
+>>> t = MountType("t", [1e4, 1e4, 1e4], [10.0, 10.0, 10.0])
+>>> m = Model([Body("b", 10.0, [1, 1, 1])], [Mount("m", t, "b")])
+>>> sys = statespace(build_plant(m, ["ground.z.disp"], ["b.z"]))
+>>> sys.ninputs, sys.noutputs, sys.nstates, sys.input_labels
+(1, 1, 12, ['ground:z:disp'])
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import control
+import numpy as np
+import scipy.linalg as sl
+
+from .errors import AnalysisError, ModelError
+from .plant import Plant
+from .signals import control_name
+
+__all__ = ["statespace", "modal_basis", "ModalBasis", "REALIZATIONS", "RIGID_TOL"]
+
+REALIZATIONS = ("modal", "physical")
+"""Valid ``realization`` names."""
+
+RIGID_TOL = 1e-10
+"""A mode with omega^2 below this times the largest omega^2 is a rigid-body (zero-frequency) mode."""
+
+
+@dataclass(frozen=True, eq=False)
+class ModalBasis:
+    """Undamped modes of a plant's free DOFs.
+
+    Attributes
+    ----------
+    omega2 : (n,) ndarray
+        Squared natural frequencies [rad^2/s^2], ascending; exactly 0 for rigid-body modes.
+    phi : (n, n) ndarray
+        Mass-normalised mode shapes (columns), ``phi.T @ M @ phi = I``.
+    rigid : (n,) bool ndarray
+        Rigid-body (zero-frequency) modes.
+    scale : (n,) ndarray
+        State scaling S [rad/s]: omega, or the lowest elastic omega for rigid modes.
+    """
+
+    omega2: np.ndarray
+    phi: np.ndarray
+    rigid: np.ndarray
+    scale: np.ndarray
+
+    @property
+    def omega(self) -> np.ndarray:
+        """(n,) natural frequencies [rad/s]."""
+        return np.sqrt(self.omega2)
+
+
+def modal_basis(plant: Plant) -> ModalBasis:
+    """Mass-normalised undamped modes of the free DOFs (``scipy.linalg.eigh(K, M)``).
+
+    Parameters
+    ----------
+    plant : Plant
+
+    Returns
+    -------
+    ModalBasis
+    """
+    w2, phi = sl.eigh(plant.K, plant.M)
+    top = max(float(np.abs(w2).max()), 1e-300)
+    rigid = w2 <= RIGID_TOL * top
+    w2 = np.where(rigid, 0.0, w2)
+    elastic = np.sqrt(w2[~rigid])
+    floor = float(elastic.min()) if elastic.size else 1.0
+    scale = np.where(rigid, floor, np.sqrt(w2))
+    return ModalBasis(w2, phi, rigid, scale)
+
+
+@dataclass(frozen=True)
+class _Basis:
+    """Coordinates w = Tw a, xi = Tv b and the operators of the realization in them."""
+
+    Tw: np.ndarray     # (n, n)
+    Tv: np.ndarray     # (n, n)
+    R: np.ndarray      # Tw^-1 Tv
+    Kt: np.ndarray     # Tv^-1 M^-1 K Tw
+    Ct: np.ndarray     # Tv^-1 M^-1 C Tv
+    lm: object         # X -> Tv^-1 M^-1 X
+    names: tuple[list[str], list[str]]
+
+
+def _modal(plant: Plant) -> _Basis:
+    mb = modal_basis(plant)
+    phi, s = mb.phi, mb.scale
+    k = np.arange(1, plant.n + 1)
+    return _Basis(Tw=phi / s, Tv=phi, R=np.diag(s), Kt=np.diag(mb.omega2 / s), Ct=phi.T @ plant.C @ phi,
+                  lm=lambda x: phi.T @ x,
+                  names=([f"mode{i}:pos" for i in k], [f"mode{i}:vel" for i in k]))
+
+
+def _physical(plant: Plant) -> _Basis:
+    try:
+        cho = sl.cho_factor(plant.M)
+    except np.linalg.LinAlgError:
+        raise ModelError("mass matrix of the free DOFs is not positive definite") from None
+    eye = np.eye(plant.n)
+    dofs = [control_name(d) for d in plant.dofs]
+    return _Basis(Tw=eye, Tv=eye, R=eye, Kt=sl.cho_solve(cho, plant.K), Ct=sl.cho_solve(cho, plant.C),
+                  lm=lambda x: sl.cho_solve(cho, x), names=(dofs, [f"{d}:vel" for d in dofs]))
+
+
+def _improper(plant: Plant, coef: np.ndarray, scale: np.ndarray, cols: np.ndarray, what: str) -> None:
+    bad = (np.abs(coef) > 1e-8 * scale) & (scale > 0) & cols[None, :]
+    if np.any(bad):
+        i, j = map(int, np.argwhere(bad)[0])
+        u = plant.inputs[j]
+        better = "velocity or acceleration" if what == "first" else "acceleration"
+        raise AnalysisError(
+            f"output {plant.outputs[i]!r} depends on the {what} derivative of input {u!r} "
+            f"({plant.kinds[j]}); no state-space realization takes {u!r} as its input without "
+            f"differentiating it. Prescribe the same motion as a {better} input, or drop the output")
+
+
+def statespace(plant: Plant, realization: str = "modal", balance: bool = True,
+               name: str | None = None) -> control.StateSpace:
+    """A python-control StateSpace of the plant, with named inputs, outputs and states.
+
+    Parameters
+    ----------
+    plant : Plant
+        From :func:`vibss.signals.build_plant`.
+    realization : {"modal", "physical"}
+        State coordinates (see the module docstring). ``"modal"`` (default) is well scaled for
+        SLICOT's frequency response and for ``expm``.
+    balance : bool
+        Diagonally balance the ``"physical"`` realization (ignored for ``"modal"``).
+    name : str or None
+        System name (default: the plant's, with ``.`` replaced by ``:``).
+
+    Returns
+    -------
+    control.StateSpace
+        Inputs, outputs: the plant's signals with ``.`` -> ``:``; states: see the module docstring.
+        Attribute ``vibss_state_scale`` ((nstates,) ndarray): physical state = scale * state.
+
+    Raises
+    ------
+    ValueError
+        Unknown ``realization``.
+    AnalysisError
+        An output needs the derivative of an input (see the module docstring).
+
+    Examples
+    --------
+    >>> from vibss import Body, Model, Mount, MountType
+    >>> from vibss.signals import build_plant
+    >>> m = Model([Body("b", 10.0, [1, 1, 1])], [Mount("m", MountType("t", [1e4] * 3), "b")])
+    >>> sys = statespace(build_plant(m, ["b.fz"], ["b.z"]))
+    >>> round(float(sys.dcgain()), 12)   # 1 / k
+    0.0001
+    """
+    if realization not in REALIZATIONS:
+        raise ValueError(f"realization: expected one of {list(REALIZATIONS)}, got {realization!r}")
+    basis = _modal(plant) if realization == "modal" else _physical(plant)
+    n, m, p = plant.n, len(plant.inputs), len(plant.outputs)
+    o = plant.order
+    d0, d1, d2 = o == 0, o == 1, o == 2
+    lm = basis.lm
+    lmz = lm(plant.Mz)
+    g = lmz * (o < 2)                       # G = Tv g
+    lc1 = lm(plant.Cz) - basis.Ct @ g       # Tv^-1 M^-1 (Cz - C G)
+    e = lc1 * d0                            # E = Tv e
+    bz = basis.Ct @ e - lm(plant.Kz) + basis.Kt @ (basis.R @ g)
+    bzd = -lc1 * (o >= 1)
+    bzdd = -lmz * d2
+    lf = lm(plant.F)
+    oq, ov, oa = plant.Oq @ basis.Tw, plant.Ov @ basis.Tv, plant.Oa @ basis.Tv
+    oqv = plant.Oq @ basis.Tv
+    ya, yb = oq - oa @ basis.Kt, ov - oa @ basis.Ct
+    yu = plant.Pf + oa @ lf
+    yz = -oqv @ g - ov @ e + oa @ bz + plant.Pz
+    yzd = -ov @ g - oa @ e + oa @ bzd + plant.Pv
+    yzdd = -oa @ g + oa @ bzdd + plant.Pa
+    mag = np.abs
+    _improper(plant, yzd, mag(ov) @ mag(g) + mag(oa) @ (mag(e) + mag(bzd)) + mag(plant.Pv), d0, "first")
+    _improper(plant, yzdd, mag(oa) @ (mag(g) + mag(bzdd)) + mag(plant.Pa), (o == 0) | d1, "second")
+
+    # integrator states: zeta (z) for velocity/acceleration inputs, nu (z') for acceleration inputs
+    iz, inu = np.flatnonzero(o >= 1), np.flatnonzero(d2)
+    nz, nn = iz.size, inu.size
+    N = 2 * n + nz + nn
+    zx, zu = np.zeros((m, N)), np.diag(d0.astype(float))
+    zx[iz, 2 * n + np.arange(nz)] = 1.0
+    zdx, zdu = np.zeros((m, N)), np.diag(d1.astype(float))
+    zdx[inu, 2 * n + nz + np.arange(nn)] = 1.0
+    zddu = np.diag(d2.astype(float))
+
+    A = np.zeros((N, N))
+    B = np.zeros((N, m))
+    A[:n, n:2 * n] = basis.R
+    B[:n] = -basis.R @ e @ zu
+    A[n:2 * n, :n], A[n:2 * n, n:2 * n] = -basis.Kt, -basis.Ct
+    A[n:2 * n] += bz @ zx + bzd @ zdx
+    B[n:2 * n] = lf + bz @ zu + bzd @ zdu + bzdd @ zddu
+    A[2 * n:2 * n + nz] = zdx[iz]
+    B[2 * n:2 * n + nz] = zdu[iz]
+    B[2 * n + nz:, inu] = np.eye(nn)
+    Cm = np.zeros((p, N))
+    Cm[:, :n], Cm[:, n:2 * n] = ya, yb
+    Cm += yz @ zx + yzd @ zdx
+    D = yu + yz @ zu + yzd @ zdu + yzdd @ zddu
+    scale = np.ones(N)
+    if realization == "physical" and balance:
+        _, (scale, _) = sl.matrix_balance(A, permute=False, separate=True)
+        A = A / scale[:, None] * scale[None, :]
+        B = B / scale[:, None]
+        Cm = Cm * scale[None, :]
+    ins = [control_name(u) for u in plant.inputs]
+    states = (basis.names[0] + basis.names[1] + [f"{ins[j]}:z" for j in iz]
+              + [f"{ins[j]}:zdot" for j in inu])
+    sys = control.ss(A, B, Cm, D, inputs=ins, outputs=[control_name(y) for y in plant.outputs],
+                     states=states, name=control_name(name or plant.name))
+    sys.vibss_state_scale = scale
+    return sys
