@@ -211,19 +211,26 @@ def assemble(model: Model, sparse: bool | None = None) -> Assembly:
     # COO pattern of the four 6x6 blocks of every mount, shared by K, C and H.
     ib = 6 * b_index[:, None] + np.arange(6)
     ia = 6 * a_index[:, None] + np.arange(6)
-    blocks = ((ib, ib, lb, lb, 1.0), (ia, ia, la, la, 1.0), (ib, ia, lb, la, -1.0), (ia, ib, la, lb, -1.0))
-    rows = np.concatenate([np.broadcast_to(r[:, :, None], (nm, 6, 6)).ravel() for r, *_ in blocks])
-    cols = np.concatenate([np.broadcast_to(c[:, None, :], (nm, 6, 6)).ravel() for _, c, *_ in blocks])
+    blocks = ((ib, ib), (ia, ia), (ib, ia), (ia, ib))
+    rows = np.concatenate([np.broadcast_to(r[:, :, None], (nm, 6, 6)).ravel() for r, _ in blocks])
+    cols = np.concatenate([np.broadcast_to(c[:, None, :], (nm, 6, 6)).ravel() for _, c in blocks])
+
+    lbt, lat = lb.transpose(0, 2, 1), la.transpose(0, 2, 1)
 
     def full(kmat: np.ndarray) -> sp.csr_matrix:
-        vals = np.concatenate([s * np.einsum("pki,pkl,plj->pij", l1, kmat, l2).ravel()
-                               for *_, l1, l2, s in blocks])
+        kb, ka = kmat @ lb, kmat @ la                       # (nm, 3, 6) each
+        vals = np.concatenate([(lbt @ kb).ravel(), (lat @ ka).ravel(),
+                               -(lbt @ ka).ravel(), -(lat @ kb).ravel()])
         return sp.csr_matrix((vals, (rows, cols)), shape=(n + 6, n + 6))
 
     mass = sp.block_diag([b.mass_matrix for b in model.bodies], format="csr")
     mats = {}
     couplings = {}
     for key, pm in (("K", kp), ("C", cp), ("H", hp)):
+        if key != "K" and not np.any(pm):              # no dampers / no hysteresis: skip the work
+            mats[key] = sp.csr_matrix((n, n)) if sparse else np.zeros((n, n))
+            couplings[key] = np.zeros((n, 6))
+            continue
         f = full(pm)
         body_part = f[:n, :n]
         body_part = 0.5 * (body_part + body_part.T)  # exact symmetry despite summation order
