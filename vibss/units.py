@@ -152,5 +152,6 @@ def _sym(unit: str, power: int) -> str:
 
 
 def _did_you_mean(name: Any, options: Any) -> str:
-    close = difflib.get_close_matches(str(name), [str(o) for o in options], n=1)
-    return f" (did you mean {close[0]!r}?)" if close else ""
+    lower = {str(o).lower(): str(o) for o in options}  # unit symbols: case matters, typos of it too
+    close = difflib.get_close_matches(str(name).lower(), list(lower), n=1)
+    return f" (did you mean {lower[close[0]]!r}?)" if close else ""
