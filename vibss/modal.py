@@ -191,18 +191,30 @@ class Modes:
         return Table(["mode", "f [Hz]", "dir"] + list(self.dofs), rows,
                      title="Modal kinetic-energy distribution [%]")
 
+    @property
+    def effective_mass_fraction(self) -> np.ndarray:
+        """(k, 6) effective masses as fractions of the total mass / inertia about the system COG."""
+        r = rigid_influence(self.model)
+        m = np.zeros((self.shapes.shape[0],) * 2)
+        for i, b in enumerate(self.model.bodies):
+            m[6 * i:6 * i + 6, 6 * i:6 * i + 6] = b.mass_matrix
+        total = np.diag(r.T @ m @ r)
+        return self.effective_mass / total
+
     def frequency_table(self) -> Table:
-        """Frequencies, CPM, direction, modal and effective masses."""
+        """Frequencies, CPM, direction, modal mass and effective masses [% of total]."""
         rows = []
+        frac = 100 * self.effective_mass_fraction
         for k in range(len(self)):
             rows.append([f"{k + 1}", f"{self.frequency_hz[k]:.4f}", f"{self.cpm[k]:.0f}",
                          f"{self.omega[k]:.4g}", self.directions[k] + (" (rigid)" if self.rigid[k] else ""),
                          f"{self.modal_mass[k]:.4g}"]
-                        + [f"{m:.4g}" for m in self.effective_mass[k]])
+                        + [f"{m:.1f}" if m >= 0.05 else "0" for m in frac[k]])
         head = ["mode", "f [Hz]", "CPM", "w [rad/s]", "direction", "modal mass"] + \
-               [f"eff. {d}" for d in DOF_NAMES]
-        return Table(head, rows, title="Undamped natural frequencies (effective masses: kg, "
-                                       "kg m^2 about the system COG)")
+               [f"eff. {d} [%]" for d in DOF_NAMES]
+        return Table(head, rows, title="Undamped natural frequencies (modal mass of the relative shape; "
+                                       "effective mass in % of the total mass and of the inertia about "
+                                       "the system COG)")
 
     def shape_table(self) -> Table:
         """Relative eigenvector values (largest component = 1), per mode and body."""
