@@ -135,7 +135,7 @@ def function_from_dict(data: Any, who: str = "function", *, value_scale: float =
                                             time_scale=time_scale, angle_scale=angle_scale, base=base)
                          for i, d in enumerate(data)))
     if not isinstance(data, Mapping):
-        raise ModelError(f"{who}: expected a table like {{ type = \"half_sine\", amplitude = ..., "
+        raise ModelError(f"{who}: expected a function table like {{ type = \"half_sine\", amplitude = ..., "
                          f"start = ..., duration = ... }}, got {data!r}")
     kind = data.get("type")
     if kind not in FUNCTIONS:

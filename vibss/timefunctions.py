@@ -169,9 +169,10 @@ class _Pulse(TimeFunction):
         raise NotImplementedError
 
     def value(self, t: npt.ArrayLike) -> np.ndarray:
-        u = (np.asarray(t, dtype=float) - self.start) / self.duration
-        inside = (u >= 0.0) & (u < 1.0)
-        return np.where(inside, self.amplitude * self._shape(np.where(inside, u, 0.0)), 0.0)
+        t = np.asarray(t, dtype=float)
+        inside = (t >= self.start) & (t < self.end_time)  # the edges exactly as in breakpoints
+        u = np.clip((t - self.start) / self.duration, 0.0, 1.0)
+        return np.where(inside, self.amplitude * self._shape(u), 0.0)
 
     @property
     def breakpoints(self) -> tuple[float, ...]:
