@@ -1,0 +1,255 @@
+"""Frequency-response kernels of a :class:`~vibss.plant.Plant`, chosen by name (:data:`METHODS`).
+
+Every kernel evaluates, at complex Laplace points ``s`` (``s = i w`` on the frequency axis),
+
+    Y(s) = O(s) X(s) + P(s) Z(s) + Pf,    (K + i H + s C + s^2 M) X(s) = F - (Kz + i Hz + s Cz + s^2 Mz) Z(s)
+
+with ``O(s) = Oq + i Oh + s Ov + s^2 Oa``, ``P(s) = Pz + i Ph + s Pv + s^2 Pa`` and
+``Z(s) = diag(s^-order)`` (a motion input ``u`` of order 1 or 2 is a velocity or acceleration:
+``z = u / s^order``). The hysteretic terms ``i H`` are the frequency-domain loss-factor stiffness
+(for ``w > 0``). Kernels return a ``(p, m, nf)`` complex array.
+
+- ``direct``: one complex solve per frequency (batched). The accurate reference.
+- ``modal``: ``eigh(K, M)`` and modal superposition; only for classical damping (``Phi^T C Phi`` and
+  ``Phi^T H Phi`` diagonal). Rigid-body modes are exact (omega = 0 double integrators).
+- ``complex_modal``: eigen-decomposition of the well-scaled first-order modal form
+  ``[[0, S], [-(Omega^2 + i Phi^T H Phi) S^-1, -Phi^T C Phi]]`` (general viscous damping).
+- ``statespace``: ``control.frequency_response`` on :func:`vibss.statespace.statespace`
+  (SLICOT TB05AD on the scaled modal realization; viscous damping only).
+
+A callable ``f(plant, s) -> (p, m, nf)`` can be used as a method too.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import control
+import numpy as np
+import scipy.linalg as sl
+
+from .errors import AnalysisError
+from .plant import Plant
+from .statespace import ModalBasis, modal_basis, statespace
+
+__all__ = ["METHODS", "direct", "modal", "complex_modal", "via_statespace", "classical_damping",
+           "zero_frequency_limit", "CLASSICAL_TOL"]
+
+CLASSICAL_TOL = 1e-8
+"""Largest relative off-diagonal of Phi^T C Phi (and Phi^T H Phi) for which damping is classical."""
+
+_CHUNK_BYTES = 64 * 2**20
+
+
+def _terms(plant: Plant) -> tuple[list, list, np.ndarray]:
+    """Output terms [(power of s, (p, n))] and right-hand-side terms [(power, (n, m), scaled by Z)]."""
+    oh = plant.Oh if plant.Oh is not None else 0.0
+    out = [(0, plant.Oq + 1j * oh if np.any(oh) else plant.Oq), (1, plant.Ov), (2, plant.Oa)]
+    hz = plant.Hz
+    rhs = [(0, plant.F, False), (0, -(plant.Kz + 1j * hz) if np.any(hz) else -plant.Kz, True),
+           (1, -plant.Cz, True), (2, -plant.Mz, True)]
+    out = [(k, a) for k, a in out if np.any(a)]
+    rhs = [(k, a, z) for k, a, z in rhs if np.any(a)]
+    return out, rhs, plant.order
+
+
+def _zfactor(s: np.ndarray, order: np.ndarray) -> np.ndarray:
+    """(nf, m) factor z/u = s^-order (1 for force inputs)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(order[None, :] > 0, s[:, None] ** (-np.maximum(order, 0))[None, :], 1.0)
+
+
+def _feedthrough(plant: Plant, s: np.ndarray, zf: np.ndarray) -> np.ndarray:
+    """(nf, p, m) ``P(s) Z(s) + Pf``."""
+    ph = plant.Ph if plant.Ph is not None else 0.0
+    p0 = plant.Pz + 1j * ph
+    y = (p0[None] + s[:, None, None] * plant.Pv[None] + (s**2)[:, None, None] * plant.Pa[None])
+    return y * zf[:, None, :] + plant.Pf[None]
+
+
+def direct(plant: Plant, s: np.ndarray) -> np.ndarray:
+    """Direct solve of ``(K + iH + sC + s^2 M) X = R`` per frequency; returns (p, m, nf)."""
+    s = np.asarray(s, dtype=complex)
+    n, m, p = plant.n, len(plant.inputs), len(plant.outputs)
+    k0 = plant.K + 1j * plant.H if np.any(plant.H) else plant.K
+    hz = plant.Hz
+    kz = plant.Kz + 1j * hz if np.any(hz) else plant.Kz
+    oh = plant.Oh if plant.Oh is not None else 0.0
+    oq = plant.Oq + 1j * oh
+    out = np.empty((s.size, p, m), dtype=complex)
+    zf = _zfactor(s, plant.order)
+    chunk = max(1, _CHUNK_BYTES // (16 * n * n))
+    for lo in range(0, s.size, chunk):
+        sc = s[lo:lo + chunk, None, None]
+        dyn = k0[None] + sc * plant.C[None] + sc**2 * plant.M[None]
+        rhs = plant.F[None] - (kz[None] + sc * plant.Cz[None] + sc**2 * plant.Mz[None]) * zf[lo:lo + chunk, None, :]
+        x = np.linalg.solve(dyn, rhs)
+        obs = oq[None] + sc * plant.Ov[None] + sc**2 * plant.Oa[None]
+        out[lo:lo + chunk] = obs @ x
+    out += _feedthrough(plant, s, zf)
+    return np.moveaxis(out, 0, -1)
+
+
+def _superpose(plant: Plant, s: np.ndarray, left: np.ndarray, right: np.ndarray,
+               d: np.ndarray) -> np.ndarray:
+    """``Y = sum_ab s^(a+b) Z (O_a left) diag(d) (right R_b)`` + feedthrough; returns (p, m, nf).
+
+    ``left`` (n, r) maps modal amplitudes to DOFs, ``right`` (r, n) maps generalised forces to
+    modal forces, ``d`` (nf, r) the modal transfer functions.
+    """
+    outs, rhs, order = _terms(plant)
+    p, m, nf = len(plant.outputs), len(plant.inputs), s.size
+    zf = _zfactor(s, order)
+    y = np.zeros((nf, p * m), dtype=complex)
+    lefts = [(a, oa @ left) for a, oa in outs]
+    rights = [(b, right @ rb, scaled) for b, rb, scaled in rhs]
+    for a, lo in lefts:
+        for b, ro, scaled in rights:
+            w = (lo[:, :, None] * ro[None, :, :]).transpose(1, 0, 2).reshape(-1, p * m)
+            if np.isrealobj(w) and not np.isrealobj(d):
+                t = d.real @ w + 1j * (d.imag @ w)
+            else:
+                t = d @ w
+            fac = s[:, None] ** (a + b) * (zf if scaled else np.ones((1, m)))   # (nf, m)
+            y += (t.reshape(nf, p, m) * fac[:, None, :]).reshape(nf, p * m)
+    out = y.reshape(nf, p, m) + _feedthrough(plant, s, zf)
+    return np.moveaxis(out, 0, -1)
+
+
+def classical_damping(plant: Plant, basis: ModalBasis | None = None) -> tuple[bool, str]:
+    """Whether ``Phi^T C Phi`` and ``Phi^T H Phi`` are diagonal (classical damping), and why not.
+
+    Parameters
+    ----------
+    plant : Plant
+    basis : ModalBasis or None
+        Undamped modes (computed if None).
+
+    Returns
+    -------
+    ok : bool
+    reason : str
+    """
+    basis = basis or modal_basis(plant)
+    phi = basis.phi
+    for name, mat in (("viscous damping", plant.C), ("hysteretic damping", plant.H)):
+        if not np.any(mat):
+            continue
+        g = phi.T @ mat @ phi
+        dg = np.abs(np.diag(g))
+        off = np.abs(g - np.diag(np.diag(g)))
+        bound = CLASSICAL_TOL * np.sqrt(np.outer(dg, dg)) + 64 * np.finfo(float).eps * dg.max()
+        if np.any(off > bound):
+            i, j = np.unravel_index(np.argmax(off - bound), off.shape)
+            return False, (f"{name} is not classical: modes {i + 1} and {j + 1} are coupled "
+                           f"(|Phi^T C Phi| off-diagonal {off[i, j]:.3g} vs diagonal {dg[i]:.3g}, {dg[j]:.3g})")
+    return True, "classical damping (Phi^T C Phi and Phi^T H Phi diagonal)"
+
+
+def modal(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) -> np.ndarray:
+    """Modal superposition over the undamped modes (classical damping only); returns (p, m, nf).
+
+    Raises
+    ------
+    AnalysisError
+        The damping is not classical (use ``complex_modal`` or ``direct``).
+    """
+    s = np.asarray(s, dtype=complex)
+    basis = basis or modal_basis(plant)
+    ok, why = classical_damping(plant, basis)
+    if not ok:
+        raise AnalysisError(f"method 'modal' needs classical damping: {why}; use 'complex_modal' or 'direct'")
+    phi = basis.phi
+    gamma = np.einsum("ir,ij,jr->r", phi, plant.C, phi) if np.any(plant.C) else np.zeros(plant.n)
+    hyst = np.einsum("ir,ij,jr->r", phi, plant.H, phi) if np.any(plant.H) else np.zeros(plant.n)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        d = 1.0 / (basis.omega2[None, :] + 1j * hyst[None, :] + s[:, None] * gamma[None, :] + (s**2)[:, None])
+    return _superpose(plant, s, phi, phi.T, d)
+
+
+def complex_modal(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) -> np.ndarray:
+    """Complex modes of the scaled first-order modal form (general damping); returns (p, m, nf)."""
+    s = np.asarray(s, dtype=complex)
+    basis = basis or modal_basis(plant)
+    n, phi, sc = plant.n, basis.phi, basis.scale
+    stiff = np.diag(basis.omega2).astype(complex if np.any(plant.H) else float)
+    if np.any(plant.H):
+        stiff = stiff + 1j * (phi.T @ plant.H @ phi)
+    a = np.zeros((2 * n, 2 * n), dtype=stiff.dtype)
+    a[:n, n:] = np.diag(sc)
+    a[n:, :n] = -stiff / sc[None, :]
+    a[n:, n:] = -(phi.T @ plant.C @ phi)
+    lam, v = sl.eig(a, check_finite=False)
+    sel = np.zeros((2 * n, n))
+    sel[n:] = np.eye(n)
+    wr = sl.solve(v, sel, check_finite=False)          # rows of V^-1 acting on the forcing
+    left = phi @ (v[:n] / sc[:, None])                  # eta = S^-1 y1
+    with np.errstate(divide="ignore", invalid="ignore"):
+        d = 1.0 / (s[:, None] - lam[None, :])
+    return _superpose(plant, s, left, wr @ phi.T, d)
+
+
+def via_statespace(plant: Plant, s: np.ndarray) -> np.ndarray:
+    """``control.frequency_response`` of :func:`vibss.statespace.statespace` (s = i w only)."""
+    s = np.asarray(s, dtype=complex)
+    if np.any(plant.H) or np.any(plant.Hz) or (plant.Oh is not None and np.any(plant.Oh)):
+        raise AnalysisError("method 'statespace' cannot represent hysteretic damping (loss factors); "
+                            "use 'modal', 'complex_modal' or 'direct'")
+    if np.any(s.real != 0) or np.any(s.imag <= 0):
+        raise AnalysisError("method 'statespace' evaluates positive frequencies only")
+    sys = statespace(plant)
+    return np.asarray(control.frequency_response(sys, s.imag).complex).reshape(
+        len(plant.outputs), len(plant.inputs), s.size)
+
+
+METHODS: dict[str, Callable[..., np.ndarray]] = {
+    "direct": direct,
+    "modal": modal,
+    "complex_modal": complex_modal,
+    "statespace": via_statespace,
+}
+"""Frequency-response kernels by name: ``f(plant, s) -> (p, m, nf)`` complex."""
+
+
+def zero_frequency_limit(plant: Plant, power: int = 0, n_points: int = 32) -> np.ndarray:
+    """The limit ``w -> 0+`` of ``s^power Y(s)`` (p, m): finite values, or ``inf`` where it diverges.
+
+    Computed from the Laurent series of the direct response about ``s = 0`` (trapezoidal rule on
+    two small circles; ``i H`` is held at its ``w > 0`` value), so rigid-body modes, velocity and
+    acceleration inputs and mobility/accelerance are all handled exactly.
+
+    Parameters
+    ----------
+    plant : Plant
+    power : int
+        Extra factor ``s^power`` (1 mobility, 2 accelerance).
+    n_points : int
+        Points per circle.
+
+    Returns
+    -------
+    (p, m) complex ndarray
+        ``complex(inf, 0)`` where the response is unbounded at 0 Hz (e.g. a displacement output
+        of a constant-velocity input, or receptance of an unrestrained rigid-body motion).
+    """
+    w2 = sl.eigh(plant.K, plant.M, eigvals_only=True)
+    top = max(float(np.abs(w2).max()), 1e-300)
+    elastic = w2[w2 > 1e-10 * top]
+    rho0 = 0.05 * (float(np.sqrt(elastic.min())) if elastic.size else 1.0)
+    theta = 2 * np.pi * (np.arange(n_points) + 0.5) / n_points
+
+    def laurent(r: float) -> np.ndarray:
+        z = r * np.exp(1j * theta)
+        t = direct(plant, z) * z[None, None, :] ** power         # (p, m, N)
+        coef = {k: np.mean(t * z[None, None, :] ** (-k), axis=-1) for k in range(-4, 1)}
+        sing = sum(np.abs(coef[k]) * r**k for k in range(-4, 0))
+        return np.where(sing > 1e-6 * np.abs(t).max(axis=-1), complex(np.inf, 0.0), coef[0])
+
+    for shrink in (1.0, 1e-1, 1e-2, 1e-3):   # a heavily damped (slow) pole may need a smaller circle
+        a, b = laurent(rho0 * shrink), laurent(rho0 * shrink / 4)
+        finite = np.isfinite(a) & np.isfinite(b)
+        scale = max(float(np.abs(b[finite]).max()) if np.any(finite) else 0.0, 1e-300)
+        if np.all(np.isfinite(a) == np.isfinite(b)) and np.all(np.abs(a[finite] - b[finite]) <= 1e-7 * scale):
+            return b
+    raise AnalysisError("the 0 Hz limit of the response could not be resolved (a pole lies very "
+                        "close to 0 Hz); start the frequency grid above 0")
