@@ -97,8 +97,8 @@ class SimulationJob:
 
     def sampled(self, grid: tm.Grid) -> tm.Kinematics:
         """Exact PWL kinematics of the inputs on ``grid`` (right and left limits at its points)."""
-        up = np.nextafter(grid.t, np.inf)
-        dn = np.nextafter(grid.t, -np.inf)
+        d = tm.nudge(grid.t, float(self.time[1] - self.time[0]))
+        up, dn = grid.t + d, grid.t - d
         u_r = np.column_stack([np.broadcast_to(f(up), up.shape) for f in self.funcs]) if self.funcs \
             else np.zeros((len(up), 0))
         u_l = np.column_stack([np.broadcast_to(f(dn), dn.shape) for f in self.funcs]) if self.funcs \

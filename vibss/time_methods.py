@@ -38,8 +38,9 @@ from threadpoolctl import threadpool_limits
 
 from .errors import AnalysisError
 from .plant import Plant
+from .statespace import modal_basis, statespace
 
-__all__ = ["Prepared", "Grid", "Kinematics", "prepare", "make_grid", "kinematics",
+__all__ = ["Prepared", "Grid", "Kinematics", "prepare", "make_grid", "nudge", "kinematics",
            "run_modal", "run_forced_response", "run_ivp", "realization"]
 
 DEGREE = {"force": 1, "displacement": 1, "velocity": 2, "acceleration": 3}
@@ -120,6 +121,15 @@ class Grid:
     hkey: np.ndarray
     steps: np.ndarray
     samples: np.ndarray
+
+
+def nudge(t: np.ndarray, dt: float) -> np.ndarray:
+    """(len(t),) offsets [s] at which inputs are evaluated for their right/left limits at ``t``.
+
+    A few ulps are not enough: a function's own rounding (e.g. ``(t - start) / duration < 1``)
+    can put its edge a few ulps away from its breakpoint; 1e-10 dt is far below any step.
+    """
+    return np.maximum(1e-10 * dt, 64 * np.spacing(np.abs(np.asarray(t, float)) + dt))
 
 
 def make_grid(n_samples: int, dt: float, breakpoints: np.ndarray) -> Grid:
@@ -493,28 +503,35 @@ def realization(prep: Prepared) -> Realization:
 
 def run_forced_response(prep: Prepared, t: np.ndarray, u: np.ndarray, kin: Kinematics,
                         q0: np.ndarray, v0: np.ndarray) -> tuple[np.ndarray, str]:
-    """python-control ``forced_response`` of the z-only realization on the uniform grid ``t``.
+    """python-control ``forced_response`` on the uniform grid ``t`` [s]; (ns, p) outputs and a note.
 
-    Returns (ns, p) outputs and a note.
+    The system is :func:`vibss.statespace.statespace` (modal realization) of the plant. Where that
+    refuses an output that needs an input's derivative, the local z-only realization is used and
+    the derivative term is added from the inputs' piecewise-linear slopes.
     """
-    r = realization(prep)
     plant = prep.plant
-    # python-control does not allow '.' in signal names
-    sys = control.ss(r.A, r.B, r.C, r.D, inputs=[_label(s) for s in plant.inputs],
-                     outputs=[_label(s) for s in plant.outputs],
-                     states=[_label(s) for s in r.states], name=_label(plant.name))
-    x0 = np.zeros(r.A.shape[0])
     n = plant.n
-    x0[:n], x0[n:2 * n] = q0, v0
+    try:
+        sys = statespace(plant)
+    except AnalysisError as exc:
+        r = realization(prep)
+        sys = control.ss(r.A, r.B, r.C, r.D)
+        x0 = np.zeros(r.A.shape[0])
+        x0[:n], x0[n:2 * n] = q0, v0
+        post = kin.z1 @ r.post1.T + kin.z2 @ r.post2.T
+        note = f"python-control forced_response of the local z-only realization ({exc})"
+    else:
+        mb = modal_basis(plant)
+        M = np.asarray(plant.M, float)
+        x0 = np.zeros(sys.nstates)
+        x0[:n] = mb.scale * (mb.phi.T @ (M @ q0))
+        x0[n:2 * n] = mb.phi.T @ (M @ v0)
+        post = 0.0
+        note = "python-control forced_response of vibss.statespace (modal realization), FOH of the samples"
     with threadpool_limits(1):
         res = control.forced_response(sys, timepts=t, inputs=u.T, initial_state=x0)
     y = np.asarray(res.outputs).reshape(len(plant.outputs), -1).T
-    y = y + kin.z1 @ r.post1.T + kin.z2 @ r.post2.T
-    return y, "python-control forced_response of the z-only realization (FOH of the samples)"
-
-
-def _label(name: str) -> str:
-    return name.replace(".", "_")
+    return y + post, note
 
 
 def run_ivp(prep: Prepared, funcs: list[Callable[[np.ndarray], np.ndarray]], edges: np.ndarray,
@@ -535,6 +552,7 @@ def run_ivp(prep: Prepared, funcs: list[Callable[[np.ndarray], np.ndarray]], edg
     plant = prep.plant
     n = plant.n
     ns = r.A.shape[0]
+    dt = ts[1] - ts[0]
     x = np.zeros(ns)
     x[:n], x[n:2 * n] = q0, v0
     scale = max(np.abs(x).max(), 1e-300)
@@ -549,7 +567,7 @@ def run_ivp(prep: Prepared, funcs: list[Callable[[np.ndarray], np.ndarray]], edg
     A, B = r.A, r.B
     nfev = 0
     for a, b in zip(cuts[:-1], cuts[1:]):
-        lo, hi = np.nextafter(a, np.inf), np.nextafter(b, -np.inf)
+        lo, hi = a + nudge(a, dt), b - nudge(b, dt)
 
         def rhs(t: float, x: np.ndarray, lo: float = lo, hi: float = hi) -> np.ndarray:
             return A @ x + B @ inputs(min(max(t, lo), hi))
@@ -564,8 +582,8 @@ def run_ivp(prep: Prepared, funcs: list[Callable[[np.ndarray], np.ndarray]], edg
         X[inside] = sol.y.T[:inside.size]
         x = sol.y[:, -1]
     # inputs and their one-sided derivatives at the samples (right limits, left at the end)
-    tr = np.nextafter(ts, np.inf)
-    tr[-1] = np.nextafter(ts[-1], -np.inf)
+    tr = ts + nudge(ts, dt)
+    tr[-1] = ts[-1] - nudge(ts[-1], dt)
     U = inputs(tr).T
     y = X @ r.C.T + U @ r.D.T
     if np.any(r.post1) or np.any(r.post2):

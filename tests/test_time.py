@@ -1,0 +1,251 @@
+"""Time response: closed forms, invariants and the methods against each other."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+from vibss import Body, Model, Mount, MountType, assemble
+from vibss.errors import ModelError
+from vibss.excitation import Excitation, HalfSine, Rectangular, Sine, Step, Triangle
+from vibss.signals import build_plant
+from vibss.time import METHODS, TimeResponse, simulate
+
+M, K, C = 2.0, 800.0, 4.0          # single DOF: w_n = 20 rad/s, zeta = 0.05
+WN = np.sqrt(K / M)
+
+
+def sdof(c: float = 0.0) -> Model:
+    """One body on one mount at its COG: x, y, z are single DOFs (rotations are free rigid modes)."""
+    t = MountType("t", [K, K, K], [c, c, c])
+    return Model([Body("b", M, [1.0, 1.0, 1.0])], [Mount("m", t, "b")], name="sdof")
+
+
+def free(t: np.ndarray, x0: float, v0: float, c: float) -> np.ndarray:
+    """Closed-form free response of m x'' + c x' + k x = 0 (underdamped)."""
+    z = c / (2 * np.sqrt(K * M))
+    wd = WN * np.sqrt(1 - z**2)
+    return np.exp(-z * WN * t) * (x0 * np.cos(wd * t) + (v0 + z * WN * x0) / wd * np.sin(wd * t))
+
+
+def step_response(t: np.ndarray, f: float, t0: float, c: float) -> np.ndarray:
+    tau = np.clip(t - t0, 0.0, None)
+    return np.where(t >= t0, f / K + free(tau, -f / K, 0.0, c), 0.0)
+
+
+def two_body(damping: str = "general") -> Model:
+    """Asymmetric two-body model: inclined mounts, products of inertia, non-proportional damping."""
+    rng = np.random.default_rng(3)
+    b1 = Body("base", 40.0, [[2.0, 0.3, -0.1], [0.3, 3.0, 0.2], [-0.1, 0.2, 2.5]], cog=[0.0, 0.0, 0.0])
+    b2 = Body("top", 15.0, [0.4, 0.6, 0.5], cog=[0.1, -0.05, 0.4],
+              principal_axes=Rotation.from_euler("ZYX", [20.0, 10.0, 5.0], degrees=True).as_matrix())
+    mounts = []
+    for i, (body, to, at) in enumerate([("base", "ground", [0.3, 0.2, -0.1]), ("base", "ground", [-0.3, 0.25, -0.1]),
+                                        ("base", "ground", [0.0, -0.3, -0.1]), ("top", "base", [0.15, 0.1, -0.1]),
+                                        ("top", "base", [-0.1, -0.1, -0.1]), ("top", "base", [0.0, 0.15, -0.1])]):
+        k = rng.uniform(2e4, 8e4, 3)
+        c = {"general": rng.uniform(100.0, 600.0, 3), "classical": 5e-3 * k, "none": np.zeros(3)}[damping]
+        rot = np.linalg.qr(rng.normal(size=(3, 3)))[0]
+        rot *= np.sign(np.linalg.det(rot))
+        mounts.append(Mount(f"m{i}", MountType(f"t{i}", k, c), body, at=at, to=to, orientation=rot))
+    return Model([b1, b2], mounts, name="two bodies")
+
+
+# --------------------------------------------------------------------------------------------
+# single DOF closed forms, every method
+
+TOL = {"modal": 1e-10, "forced_response": 1e-9, "ivp": 1e-6}
+
+
+@pytest.mark.parametrize("method", list(METHODS))
+@pytest.mark.parametrize("c", [0.0, C])
+def test_step_force_closed_form(method: str, c: float) -> None:
+    # a step at t = 0: forced_response's FOH of the samples is exact too (no edge to smear)
+    e = Excitation("s", "force", "b", Step(10.0), dof="z")
+    r = simulate(sdof(c), [e], outputs=["b.z"], t_end=0.6, dt=1e-3, method=method, rtol=1e-10)
+    x = step_response(r.time, 10.0, 0.0, c)
+    assert np.abs(r.output("b.z") - x).max() <= TOL[method] * 10.0 / K * 2
+
+
+@pytest.mark.parametrize("method", ["modal", "ivp"])
+def test_rectangular_pulse_edges_between_samples_not_smeared(method: str) -> None:
+    t1, t2 = 0.01234, 0.04567                                       # not on the 1 ms grid
+    e = Excitation("p", "force", "b", Rectangular(10.0, t1, t2 - t1), dof="z")
+    r = simulate(sdof(C), [e], outputs=["b.z"], t_end=0.3, dt=1e-3, method=method, rtol=1e-10)
+    x = step_response(r.time, 10.0, t1, C) - step_response(r.time, 10.0, t2, C)
+    assert np.abs(r.output("b.z") - x).max() <= TOL[method] * 10.0 / K * 2
+    # forced_response sees the sampled pulse and smears each edge over a step
+    fr = simulate(sdof(C), [e], outputs=["b.z"], t_end=0.3, dt=1e-3, method="forced_response")
+    assert np.abs(fr.output("b.z") - x).max() > 1e-4 * 10.0 / K
+
+
+def test_half_sine_pulse_duhamel() -> None:
+    T, F = 0.03, 50.0
+    w = np.pi / T
+    e = Excitation("p", "force", "b", HalfSine(F, 0.0, T), dof="z")
+    r = simulate(sdof(), [e], outputs=["b.z"], t_end=0.5, dt=1e-4)
+    t = r.time
+    rr = w / WN
+    during = F / K / (1 - rr**2) * (np.sin(w * t) - rr * np.sin(WN * t))
+    xT = F / K / (1 - rr**2) * (np.sin(w * T) - rr * np.sin(WN * T))
+    vT = F / K / (1 - rr**2) * (w * np.cos(w * T) - rr * WN * np.cos(WN * T))
+    after = free(t - T, xT, vT, 0.0)
+    x = np.where(t <= T, during, after)
+    # FOH of a sine sampled at 0.1 ms: error O((w dt)^2)
+    assert np.abs(r.output("b.z") - x).max() < 1e-4 * np.abs(x).max()
+
+
+@pytest.mark.parametrize("method", ["modal", "ivp"])
+def test_base_acceleration_pulse(method: str) -> None:
+    a0, t1, t2 = 3.0, 0.0105, 0.0405
+    e = Excitation("g", "acceleration", "ground", Rectangular(a0, t1, t2 - t1), dof="z")
+    r = simulate(sdof(), [e], outputs=["b.z"], t_end=0.4, dt=1e-3, method=method, rtol=1e-10)
+    t = r.time
+
+    def ramp2(t0: float) -> np.ndarray:
+        return np.where(t >= t0, (t - t0) ** 2 / 2, 0.0)
+
+    def rel(t0: float) -> np.ndarray:
+        return np.where(t >= t0, 1 - np.cos(WN * (t - t0)), 0.0)
+
+    zg = a0 * (ramp2(t1) - ramp2(t2))
+    x = zg - a0 / WN**2 * (rel(t1) - rel(t2))
+    assert np.abs(r.output("b.z") - x).max() < TOL[method] * np.abs(x).max() * 10
+
+
+@pytest.mark.parametrize("method", list(METHODS))
+def test_free_decay_from_initial_conditions(method: str) -> None:
+    init = {"b": {"displacement": [0.0, 0.0, 0.01, 0, 0, 0], "velocity": [0.0, 0.0, -0.3, 0, 0, 0.5]}}
+    r = simulate(sdof(C), inputs={"b.fz": lambda t: 0.0 * t}, outputs=["b.z", "b.rz"], t_end=0.5,
+                 dt=1e-3, initial=init, method=method, rtol=1e-10, atol=1e-14)
+    assert np.abs(r.output("b.z") - free(r.time, 0.01, -0.3, C)).max() < TOL[method] * 0.03
+    # the free rotation is a rigid-body mode (omega = 0): rz = 0.5 t exactly
+    assert np.abs(r.output("b.rz") - 0.5 * r.time).max() < TOL[method] * 0.25
+
+
+def test_displacement_step_through_damper_is_an_impulse() -> None:
+    Z, t0 = 0.002, 0.0333
+    e = Excitation("g", "displacement", "ground", Step(Z, start=t0), dof="z")
+    for method in ("modal", "ivp"):
+        r = simulate(sdof(C), [e], outputs=["b.z"], t_end=0.4, dt=1e-3, method=method, rtol=1e-10)
+        x = np.where(r.time >= t0, Z + free(np.clip(r.time - t0, 0, None), -Z, C * Z / M, C), 0.0)
+        assert np.abs(r.output("b.z") - x).max() < TOL[method] * Z * 10
+
+
+# --------------------------------------------------------------------------------------------
+# multi-body invariants and agreement
+
+def test_sine_steady_state_equals_frf_amplitude() -> None:
+    model = two_body()
+    f = 7.0
+    e = Excitation("s", "force", "top", Sine(25.0, f), dof="y")
+    r = simulate(model, [e], t_end=6.0, dt=5e-4, record_from=5.0)
+    p = build_plant(model, ["top.fy"])
+    w = 2 * np.pi * f
+    X = np.linalg.solve(p.K - w**2 * p.M + 1j * w * p.C, p.F[:, 0] * 25.0)
+    amp = np.abs(p.Oq @ X)
+    got = np.abs(r.outputs).max(axis=1)
+    big = amp > 1e-3 * amp.max()
+    np.testing.assert_allclose(got[big], amp[big], rtol=2e-3)
+
+
+def test_step_settles_to_static_deflection() -> None:
+    model = two_body()
+    e = Excitation("s", "force", "top", Step(100.0), dof="x")
+    r = simulate(model, [e], t_end=20.0, dt=2e-3, record_from=19.0)
+    a = assemble(model)
+    f = np.zeros(a.n)
+    f[a.dof_index("top.x")] = 100.0
+    q = np.linalg.solve(a.K, f)
+    np.testing.assert_allclose(r.outputs[:, -1], q, atol=1e-6 * np.abs(q).max())
+
+
+def test_undamped_model_conserves_energy() -> None:
+    model = two_body("none")
+    dofs = assemble(model).dofs
+    init = {"base": {"velocity": [0.1, -0.05, 0.2, 0.3, 0.1, -0.2]},
+            "top": {"displacement": [0.001, 0.0, -0.002, 0.0, 0.01, 0.0]}}
+    r = simulate(model, outputs=list(dofs) + [d + ".vel" for d in dofs], inputs={"top.fz": lambda t: 0 * t}, t_end=2.0,
+                 dt=1e-3, initial=init)
+    a = assemble(model)
+    q, v = r.outputs[:12], r.outputs[12:]
+    energy = 0.5 * np.einsum("it,ij,jt->t", v, a.M, v) + 0.5 * np.einsum("it,ij,jt->t", q, a.K, q)
+    assert np.ptp(energy) < 1e-10 * energy[0]
+
+
+def excitations_2body() -> list[Excitation]:
+    return [Excitation("hit", "force", "top", HalfSine(200.0, 0.01, 0.02), direction=[1.0, 0.5, -0.3],
+                       at=[0.1, 0.0, 0.1]),
+            Excitation("quake", "acceleration", "ground", Triangle(2.0, 0.005, 0.05), dof="x")]
+
+
+def test_methods_agree_on_asymmetric_damped_two_body() -> None:
+    model = two_body("general")
+    outs = ["top.x", "top.rz", "base.z", "top.z.vel", "top.y.acc", "mount.m3.fz", "ground.fx"]
+    kw = dict(outputs=outs, t_end=0.3, dt=5e-4)
+    ref = simulate(model, excitations_2body(), method="forced_response", **kw)
+    scale = np.abs(ref.outputs).max(axis=1, keepdims=True)
+    modal = simulate(model, excitations_2body(), method="modal", **kw)
+    # continuous inputs, kinks on samples: both are the exact FOH of the same samples
+    assert np.abs(modal.outputs - ref.outputs).max(axis=None) < 1e-8 * scale.max()
+    assert np.all(np.abs(modal.outputs - ref.outputs) <= 1e-8 * scale)
+    ivp = simulate(model, excitations_2body(), method="ivp", rtol=1e-9, **kw)
+    assert np.all(np.abs(ivp.outputs - modal.outputs) <= 2e-3 * scale)   # FOH error of the half-sine
+
+
+def test_classical_and_general_paths_agree() -> None:
+    model = two_body("classical")
+    kw = dict(t_end=0.2, dt=5e-4)
+    a = simulate(model, excitations_2body(), method="modal", **kw)
+    b = simulate(model, excitations_2body(), method="forced_response", **kw)
+    assert "classical" in a.note
+    np.testing.assert_allclose(a.outputs, b.outputs, atol=1e-9 * np.abs(b.outputs).max())
+
+
+def test_displacement_velocity_acceleration_inputs_give_the_same_response() -> None:
+    A, W = 2.0, 2 * np.pi * 15.0                      # starts at rest: a = A sin(W t)
+    motion = {"acc": lambda t: A * np.sin(W * t),
+              "vel": lambda t: A / W * (1 - np.cos(W * t)),
+              "disp": lambda t: A / W * (t - np.sin(W * t) / W)}
+    model = two_body("general")
+    outs = ["top.x", "base.rx", "top.z.vel"]
+    res = {k: simulate(model, inputs={f"ground.x.{k}": fn}, outputs=outs, t_end=0.25, dt=1e-4,
+                       method="ivp", rtol=1e-10, atol=1e-14) for k, fn in motion.items()}
+    scale = np.abs(res["acc"].outputs).max(axis=1, keepdims=True)
+    for k in ("vel", "disp"):
+        assert np.all(np.abs(res[k].outputs - res["acc"].outputs) <= 1e-6 * scale), k
+    modal = {k: simulate(model, inputs={f"ground.x.{k}": fn}, outputs=outs, t_end=0.25, dt=1e-4)
+             for k, fn in motion.items()}
+    for k in motion:
+        assert np.all(np.abs(modal[k].outputs - res["acc"].outputs) <= 1e-3 * scale), k
+
+
+# --------------------------------------------------------------------------------------------
+# API
+
+def test_result_object_and_api_errors() -> None:
+    e = Excitation("s", "force", "b", Step(10.0, start=0.05), dof="z")
+    r = simulate(sdof(C), [e], t_end=0.5, dt=1e-3, record_from=0.1)
+    assert isinstance(r, TimeResponse) and r.method == "modal" and "auto" in r.note
+    assert r.time[0] == pytest.approx(0.1) and r.outputs.shape == (6, 401)
+    d = r.to_dict()
+    assert set(d["outputs"]) == {f"b.{x}" for x in ("x", "y", "z", "rx", "ry", "rz")}
+    assert len(d["time"]) == 401
+    pk = r.peaks()
+    i = list(pk.outputs).index("b.z")
+    assert pk.value[i] == pytest.approx(np.abs(step_response(r.time, 10.0, 0.05, C)).max(), rel=1e-9)
+    assert "b.z" in r.report()
+    assert r.data.outputs.shape == (6, 401)
+    with pytest.raises(ValueError, match="modal"):
+        simulate(sdof(), [e], t_end=0.1, dt=1e-3, method="rk4")
+    with pytest.raises(ModelError, match="dt"):
+        simulate(sdof(), [e], t_end=0.1, dt=0.0)
+    calls = []
+
+    def mine(job):
+        calls.append(job)
+        return np.zeros((len(job.time), len(job.plant.outputs))), "zeros"
+
+    z = simulate(sdof(), [e], t_end=0.1, dt=1e-3, method=mine)
+    assert calls and z.method == "mine" and not z.outputs.any()
