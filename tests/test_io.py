@@ -271,7 +271,7 @@ def test_bad_input_is_located(old, new, words):
     with pytest.raises(ModelFileError) as info:
         loads_model(BASE.replace(old, new, 1), source="bad.toml")
     msg = str(info.value)
-    assert msg.startswith("bad.toml")
+    assert msg.startswith("bad.toml") and msg.count("bad.toml") == 1, msg
     for w in words:
         assert w in msg, msg
 

@@ -197,7 +197,11 @@ def _entries(data: Mapping[str, Any], table: str, source: str, units: Units) -> 
 
 
 def _wrap(entry: _Entry, exc: ModelError) -> ModelFileError:
-    return ModelFileError(f"{entry.where}: {exc}")
+    """A constructor's ModelError located at ``entry`` (a ModelFileError is already located)."""
+    if isinstance(exc, ModelFileError):
+        return exc
+    text = str(exc)
+    return ModelFileError(text if text.startswith(entry.where) else f"{entry.where}: {text}")
 
 
 # -- the tables ------------------------------------------------------------------------------------
@@ -267,8 +271,6 @@ def _mounts(e: _Entry, i: int, types: Mapping[str, MountType], bodies: Sequence[
                       _reference(e, "to", bodies, GROUND, ground=True),
                       e.orientation("orientation"), e.string("frame", "body", ("body", "global")))
         return symmetric(mount, symmetry)
-    except ModelFileError:
-        raise
     except ModelError as exc:
         raise _wrap(e, exc) from None
 
@@ -314,10 +316,8 @@ def _excitation(e: _Entry, i: int, bodies: Sequence[str], base: Path | None) -> 
                           e.array("direction", [(3,)], "dimensionless", None),
                           e.array("at", [(3,)], "length", None),
                           e.string("frame", "body", ("body", "global")))
-    except ModelFileError:
-        raise
     except ModelError as exc:
-        raise ModelFileError(str(exc) if str(exc).startswith(e.where) else f"{e.where}: {exc}") from None
+        raise _wrap(e, exc) from None
 
 
 def _analysis(e: _Entry) -> dict[str, Any]:
