@@ -155,9 +155,11 @@ def test_table_from_file(tmp_path):
 
 
 @pytest.mark.parametrize("data, words", [
-    ({"type": "half_sine", "amplitude": 1.0, "start": 0.0, "duration": -1.0}, ["half_sine", "duration", "> 0"]),
+    ({"type": "half_sine", "amplitude": 1.0, "start": 0.0, "duration": -1.0},
+     ["half_sine", "duration", "> 0"]),
     ({"type": "half_sine", "amplitude": 1.0, "start": 0.0, "duration": 0.0}, ["half_sine", "duration"]),
-    ({"type": "rectangular", "amplitude": 1.0, "duraton": 1.0}, ["rectangular", "duraton", "did you mean 'duration'"]),
+    ({"type": "rectangular", "amplitude": 1.0, "duraton": 1.0},
+     ["rectangular", "duraton", "did you mean 'duration'"]),
     ({"type": "halfsine", "amplitude": 1.0}, ["type", "did you mean 'half_sine'"]),
     ({"amplitude": 1.0}, ["type"]),
     ({"type": "triangle", "start": 0.0, "duration": 1.0}, ["triangle", "missing", "amplitude"]),
@@ -167,7 +169,8 @@ def test_table_from_file(tmp_path):
     ({"type": "sine", "amplitude": 1.0, "frequency": -1.0}, ["sine", "frequency"]),
     ({"type": "sine_sweep", "f1": 0.0, "f2": 5.0, "a1": 1, "a2": 1, "law": "log"}, ["sine_sweep", "log"]),
     ({"type": "sine_sweep", "f1": 1.0, "f2": 5.0, "a1": 1, "a2": 1, "law": "cubic"}, ["sine_sweep", "law"]),
-    ({"type": "sine_sweep", "f1": 1.0, "f2": 5.0, "a1": 1, "a2": 1, "sweep_time": -1}, ["sine_sweep", "sweep_time"]),
+    ({"type": "sine_sweep", "f1": 1.0, "f2": 5.0, "a1": 1, "a2": 1, "sweep_time": -1},
+     ["sine_sweep", "sweep_time"]),
     ({"type": "table", "time": [0.0, 1.0, 1.0], "value": [0, 1, 2]}, ["table", "time", "increasing"]),
     ({"type": "table", "time": [0.0, 1.0], "value": [0, 1, 2]}, ["table", "lengths"]),
     ({"type": "table", "file": "x.csv", "time": [0, 1]}, ["table", "file"]),

@@ -136,7 +136,8 @@ def test_dump_load_round_trip_is_exact(name, fmt):
         np.testing.assert_array_equal(getattr(a, key), getattr(b, key))
     assert [m.name for m in again.mounts] == [m.name for m in model.mounts]
     assert again.settings == model.settings
-    assert np.array_equal(again.gravity, model.gravity) if model.gravity is not None else again.gravity is None
+    assert (again.gravity is None) == (model.gravity is None)
+    assert model.gravity is None or np.array_equal(again.gravity, model.gravity)
     t = np.linspace(0.0, 2.0, 1001)
     for x, y in zip(model.excitations, again.excitations, strict=True):
         assert (x.name, x.signal) == (y.name, y.signal)
@@ -253,7 +254,8 @@ def test_base_is_valid():
     ("[[mount_type]]", "[[mount_typ]]", ["mount_typ", "did you mean 'mount_type'"]),
     ("[[body]]", "[body]", ["body", "[[body]]"]),
     ("target = \"prism\"", "target = \"ground\"", ["excitation[1] ('shock')", "force", "ground"]),
-    ("target = \"prism\"", "target = \"prisma\"", ["excitation[1] ('shock')", "target", "did you mean 'prism'"]),
+    ("target = \"prism\"", "target = \"prisma\"",
+     ["excitation[1] ('shock')", "target", "did you mean 'prism'"]),
     ("dof = \"z\"", "dof = \"up\"", ["excitation[1] ('shock')", "dof"]),
     ("dof = \"z\"", "dof = \"rz\"\nat = [1, 0, 0]", ["excitation[1] ('shock')", "at", "moment"]),
     ("duration = 0.01", "duration = -0.01", ["excitation[1] ('shock')", "half_sine", "duration"]),

@@ -77,7 +77,8 @@ def read_table_file(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
         except ValueError:
             if is_first:
                 continue  # a header line
-            raise ModelError(f"table file {str(path)!r}: line {n}: expected two numbers, got {text!r}") from None
+            raise ModelError(f"table file {str(path)!r}: line {n}: expected two numbers, "
+                             f"got {text!r}") from None
         if len(numbers) != 2:
             raise ModelError(f"table file {str(path)!r}: line {n}: expected two columns (time, value), "
                              f"got {len(numbers)}")

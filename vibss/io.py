@@ -23,11 +23,9 @@ Examples
 
 from __future__ import annotations
 
-import difflib
 import json
 import tomllib
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -35,7 +33,8 @@ import numpy as np
 
 from .errors import ModelError, ModelFileError
 from .excitation import Excitation, amplitude_quantity, function_from_dict
-from .geometry import DEFAULT_SEQUENCE, Orientation
+from .filetable import MISSING, Entry, did_you_mean
+from .geometry import Orientation
 from .model import (DOF_NAMES, GROUND, SYMMETRIES, Body, ControlPoint, Load, Model, Mount,
                     MountType, symmetric)
 from .tomlwriter import dumps_toml
@@ -48,138 +47,9 @@ EXAMPLES_DIR = Path(__file__).parent / "examples"
 """Folder of the built-in example model files."""
 
 _TABLES = ("model", "body", "mount_type", "mount", "control_point", "load", "excitation", "analysis")
-_MISSING: Any = object()
 
 
-# -- reading one entry ---------------------------------------------------------------------------
-def _numbers(value: Any) -> np.ndarray | None:
-    """``value`` as a float array if it is a number or a (nested) list of numbers, else None."""
-    if isinstance(value, bool):
-        return None
-    if isinstance(value, (int, float)):
-        return np.array(float(value))
-    if isinstance(value, (list, tuple)):
-        items = [_numbers(v) for v in value]
-        if any(i is None for i in items):
-            return None
-        try:
-            return np.array(items, dtype=float)
-        except ValueError:  # ragged
-            return None
-    return None
-
-
-def _did_you_mean(name: Any, options: Any) -> str:
-    close = difflib.get_close_matches(str(name), [str(o) for o in options], n=1)
-    return f" (did you mean {close[0]!r}?)" if close else ""
-
-
-def _shape_text(shape: tuple[int, ...]) -> str:
-    if shape == ():
-        return "a number"
-    if len(shape) == 1:
-        return f"{shape[0]} numbers"
-    return "a " + "x".join(map(str, shape)) + " array of numbers"
-
-
-@dataclass(frozen=True)
-class _Entry:
-    """One table of the file, with the text that locates it in error messages."""
-
-    data: Mapping[str, Any]
-    where: str
-    units: Units
-
-    def fail(self, key: str | None, message: str) -> ModelFileError:
-        return ModelFileError(f"{self.where}: {key}: {message}" if key else f"{self.where}: {message}")
-
-    def check_keys(self, allowed: Sequence[str], required: Sequence[str] = ()) -> None:
-        for key in self.data:
-            if key not in allowed:
-                raise self.fail(key, f"unknown key; expected some of {list(allowed)}"
-                                + _did_you_mean(key, allowed))
-        for key in required:
-            if key not in self.data:
-                raise self.fail(key, "missing (required)")
-
-    def __contains__(self, key: str) -> bool:
-        return key in self.data
-
-    def string(self, key: str, default: Any = _MISSING, choices: Sequence[str] | None = None) -> Any:
-        value = self.data.get(key, default)
-        if value is _MISSING:
-            raise self.fail(key, "missing (required)")
-        if value is default and default is not _MISSING:
-            return value
-        if not isinstance(value, str) or not value:
-            raise self.fail(key, f"expected a non-empty string, got {value!r}")
-        if choices is not None and value not in choices:
-            raise self.fail(key, f"expected one of {list(choices)}, got {value!r}"
-                            + _did_you_mean(value, choices))
-        return value
-
-    def array(self, key: str, shapes: Sequence[tuple[int, ...]], quantity: str | Sequence[str],
-              default: Any = _MISSING, *, positive: bool = False, nonnegative: bool = False) -> Any:
-        """Numbers of one of ``shapes``, converted from the file's units of ``quantity`` to SI."""
-        value = self.data.get(key, default)
-        if value is _MISSING:
-            raise self.fail(key, "missing (required)")
-        if value is default and default is not _MISSING:
-            return value
-        if isinstance(quantity, str):
-            label, factor = self.units.label(quantity), np.asarray(self.units.factor(quantity))
-        else:
-            label = ", ".join(self.units.label(q) for q in quantity)
-            factor = np.array([self.units.factor(q) for q in quantity])
-        a = _numbers(value)
-        if a is None or a.shape not in shapes:
-            expected = " or ".join(_shape_text(s) for s in shapes)
-            raise self.fail(key, f"expected {expected} [{label}], got {value!r}")
-        if not np.all(np.isfinite(a)):
-            raise self.fail(key, f"values must be finite, got {value!r}")
-        if positive and np.any(a <= 0):
-            raise self.fail(key, f"must be positive, got {value!r} [{label}]")
-        if nonnegative and np.any(a < 0):
-            raise self.fail(key, f"must not be negative, got {value!r} [{label}]")
-        return a * factor
-
-    def number(self, key: str, quantity: str = "dimensionless", default: Any = _MISSING,
-               **checks: bool) -> Any:
-        a = self.array(key, [()], quantity, default, **checks)
-        return a if a is default else float(a)
-
-    def table(self, key: str) -> Mapping[str, Any] | None:
-        value = self.data.get(key)
-        if value is not None and not isinstance(value, Mapping):
-            raise self.fail(key, f"expected a table {{ ... }}, got {value!r}")
-        return value
-
-    def sub(self, key: str) -> _Entry | None:
-        value = self.table(key)
-        return None if value is None else _Entry(value, f"{self.where}: {key}", self.units)
-
-    def orientation(self, key: str) -> Orientation | None:
-        e = self.sub(key)
-        if e is None:
-            return None
-        e.check_keys(("euler", "sequence", "matrix"))
-        if ("euler" in e) == ("matrix" in e):
-            raise self.fail(key, "expected { euler = [a, b, c], sequence = \"ZYX\" } or "
-                            "{ matrix = [[...], [...], [...]] } (columns = local axes)")
-        try:
-            if "matrix" in e:
-                if "sequence" in e:
-                    raise e.fail("sequence", "only applies to euler angles")
-                return Orientation(e.array("matrix", [(3, 3)], "dimensionless"))
-            return Orientation.from_euler(e.array("euler", [(3,)], "angle"),
-                                          e.string("sequence", DEFAULT_SEQUENCE))
-        except ModelFileError:
-            raise
-        except ModelError as exc:
-            raise self.fail(key, str(exc)) from None
-
-
-def _entries(data: Mapping[str, Any], table: str, source: str, units: Units) -> list[_Entry]:
+def _entries(data: Mapping[str, Any], table: str, source: str, units: Units) -> list[Entry]:
     items = data.get(table, [])
     if isinstance(items, Mapping):
         raise ModelFileError(f"{source}: {table}: expected [[{table}]] tables (an array of tables), "
@@ -192,11 +62,11 @@ def _entries(data: Mapping[str, Any], table: str, source: str, units: Units) -> 
         where = f"{source}: {table}[{i}]" + (f" ({name!r})" if isinstance(name, str) else "")
         if not isinstance(item, Mapping):
             raise ModelFileError(f"{where}: expected a table, got {item!r}")
-        out.append(_Entry(item, where, units))
+        out.append(Entry(item, where, units))
     return out
 
 
-def _wrap(entry: _Entry, exc: ModelError) -> ModelFileError:
+def _wrap(entry: Entry, exc: ModelError) -> ModelFileError:
     """A constructor's ModelError located at ``entry`` (a ModelFileError is already located)."""
     if isinstance(exc, ModelFileError):
         return exc
@@ -205,7 +75,7 @@ def _wrap(entry: _Entry, exc: ModelError) -> ModelFileError:
 
 
 # -- the tables ------------------------------------------------------------------------------------
-def _body(e: _Entry, i: int, initial: dict[str, Any]) -> Body:
+def _body(e: Entry, i: int, initial: dict[str, Any]) -> Body:
     e.check_keys(("name", "mass", "inertia", "inertia_tensor", "principal_axes", "cog", "initial"),
                  ("mass",))
     name = e.string("name", f"body{i}")
@@ -236,7 +106,7 @@ def _body(e: _Entry, i: int, initial: dict[str, Any]) -> Body:
         raise _wrap(e, exc) from None
 
 
-def _mount_type(e: _Entry) -> MountType:
+def _mount_type(e: Entry) -> MountType:
     e.check_keys(("name", "stiffness", "damping", "loss_factor"), ("name", "stiffness"))
     try:
         return MountType(e.string("name"),
@@ -247,23 +117,23 @@ def _mount_type(e: _Entry) -> MountType:
         raise _wrap(e, exc) from None
 
 
-def _reference(e: _Entry, key: str, names: Sequence[str], default: Any = _MISSING,
+def _reference(e: Entry, key: str, names: Sequence[str], default: Any = MISSING,
                ground: bool = False) -> str:
     value = e.string(key, default)
     if value not in names and not (ground and value == GROUND):
         options = list(names) + ([GROUND] if ground else [])
         raise e.fail(key, f"unknown body {value!r}; expected one of {options}"
-                     + _did_you_mean(value, options))
+                     + did_you_mean(value, options))
     return value
 
 
-def _mounts(e: _Entry, i: int, types: Mapping[str, MountType], bodies: Sequence[str]) -> tuple[Mount, ...]:
+def _mounts(e: Entry, i: int, types: Mapping[str, MountType], bodies: Sequence[str]) -> tuple[Mount, ...]:
     e.check_keys(("name", "type", "body", "to", "at", "frame", "orientation", "symmetry"),
                  ("type", "body"))
     tname = e.string("type")
     if tname not in types:
         raise e.fail("type", f"unknown mount type {tname!r}; [[mount_type]] names are {list(types)}"
-                     + _did_you_mean(tname, types))
+                     + did_you_mean(tname, types))
     symmetry = e.string("symmetry", "none", SYMMETRIES)
     try:
         mount = Mount(e.string("name", f"mount{i}"), types[tname], _reference(e, "body", bodies),
@@ -275,7 +145,7 @@ def _mounts(e: _Entry, i: int, types: Mapping[str, MountType], bodies: Sequence[
         raise _wrap(e, exc) from None
 
 
-def _control_point(e: _Entry, i: int, bodies: Sequence[str]) -> ControlPoint:
+def _control_point(e: Entry, i: int, bodies: Sequence[str]) -> ControlPoint:
     e.check_keys(("name", "body", "at", "frame"), ("body", "at"))
     try:
         return ControlPoint(e.string("name", f"point{i}"), _reference(e, "body", bodies),
@@ -284,7 +154,7 @@ def _control_point(e: _Entry, i: int, bodies: Sequence[str]) -> ControlPoint:
         raise _wrap(e, exc) from None
 
 
-def _load(e: _Entry, i: int, bodies: Sequence[str], cases: dict[str, list[str]]) -> Load:
+def _load(e: Entry, i: int, bodies: Sequence[str], cases: dict[str, list[str]]) -> Load:
     e.check_keys(("name", "case", "body", "force", "moment", "at", "frame"), ("body",))
     name = e.string("name", f"load{i}")
     cases.setdefault(e.string("case", "default"), []).append(name)
@@ -297,7 +167,7 @@ def _load(e: _Entry, i: int, bodies: Sequence[str], cases: dict[str, list[str]])
         raise _wrap(e, exc) from None
 
 
-def _excitation(e: _Entry, i: int, bodies: Sequence[str], base: Path | None) -> Excitation:
+def _excitation(e: Entry, i: int, bodies: Sequence[str], base: Path | None) -> Excitation:
     e.check_keys(("name", "kind", "target", "dof", "direction", "at", "frame", "function"),
                  ("kind", "target", "function"))
     kind = e.string("kind", choices=("force", "displacement", "velocity", "acceleration"))
@@ -320,7 +190,7 @@ def _excitation(e: _Entry, i: int, bodies: Sequence[str], base: Path | None) -> 
         raise _wrap(e, exc) from None
 
 
-def _analysis(e: _Entry) -> dict[str, Any]:
+def _analysis(e: Entry) -> dict[str, Any]:
     e.check_keys(("time", "frequency"))
     out: dict[str, Any] = {}
     t = e.sub("time")
@@ -362,17 +232,17 @@ def _build(data: Any, source: str, base: Path | None, default_name: str) -> Mode
     for key in data:
         if key not in _TABLES:
             raise ModelFileError(f"{source}: unknown table [{key}]; expected some of {list(_TABLES)}"
-                                 + _did_you_mean(key, _TABLES))
+                                 + did_you_mean(key, _TABLES))
     head = data.get("model", {})
     if not isinstance(head, Mapping):
         raise ModelFileError(f"{source}: model: expected a [model] table, got {head!r}")
-    m = _Entry(head, f"{source}: [model]", Units())
+    m = Entry(head, f"{source}: [model]", Units())
     m.check_keys(("name", "units", "gravity"))
     try:
         units = Units.from_mapping(m.table("units"))
     except ModelError as exc:
         raise ModelFileError(f"{source}: [model]: {exc}") from None
-    m = _Entry(head, m.where, units)
+    m = Entry(head, m.where, units)
     initial: dict[str, Any] = {}
     bodies = [_body(e, i, initial) for i, e in enumerate(_entries(data, "body", source, units), 1)]
     if not bodies:
@@ -401,14 +271,14 @@ def _build(data: Any, source: str, base: Path | None, default_name: str) -> Mode
     analysis = data.get("analysis", {})
     if not isinstance(analysis, Mapping):
         raise ModelFileError(f"{source}: analysis: expected an [analysis] table, got {analysis!r}")
-    settings = _analysis(_Entry(analysis, f"{source}: [analysis]", units))
+    settings = _analysis(Entry(analysis, f"{source}: [analysis]", units))
     if initial:
         settings["initial"] = initial
     if set(cases) - {"default"}:
         settings["load_cases"] = cases
+    gravity, name = m.array("gravity", [(3,)], "acceleration", None), m.string("name", default_name)
     try:
-        return Model(bodies, mounts, points, loads, m.array("gravity", [(3,)], "acceleration", None),
-                     m.string("name", default_name), excitations, settings)
+        return Model(bodies, mounts, points, loads, gravity, name, excitations, settings)
     except ModelError as exc:
         raise ModelFileError(f"{source}: {exc}") from None
 
@@ -625,7 +495,7 @@ def example_path(name: str) -> Path:
     stem = name[:-5] if name.endswith(".toml") else name
     names = example_names()
     if stem not in names:
-        raise ModelError(f"unknown example {name!r}; examples are {names}" + _did_you_mean(stem, names))
+        raise ModelError(f"unknown example {name!r}; examples are {names}" + did_you_mean(stem, names))
     return EXAMPLES_DIR / f"{stem}.toml"
 
 
