@@ -353,35 +353,40 @@ def run_modal(prep: Prepared, grid: Grid, kin: Kinematics, rows: np.ndarray,
     want = np.zeros(len(grid.t), bool)
     want[rows] = True
     out_pos = np.cumsum(want) - 1
+    # channel values per Taylor order k: [f_k, z_k, z_{k+1}] (zero-padded), one row per interval
+    pad = np.concatenate([coef, np.zeros((ni, 1, m))], axis=1)
+    V = np.concatenate([np.concatenate([pad[:, k], pad[:, k], pad[:, k + 1]], axis=1)
+                        for k in range(degree + 1)], axis=1)           # (ni, (degree+1) 3m)
+    J = np.concatenate([np.zeros((ni, 2 * m)), kin.jump], axis=1)       # (ni, 3m)
+    jumps = np.flatnonzero(np.any(kin.jump != 0, axis=1))
     with threadpool_limits(1):
         for ms in sets:
             E, gam = _foh_blocks(ms.A, grid.steps, degree)
+            nb, b = ms.A.shape[0], ms.A.shape[1]
             PW = ms.P @ Wg  # (nb, 3m)
-            b = ms.A.shape[1]
+            active = np.flatnonzero(np.any(PW != 0, axis=0))
+            Va = V.reshape(ni, degree + 1, 3 * m)[:, :, active].reshape(ni, -1)
+            # per step length: drive = Va[i] @ fold[h]  (the FOH coefficients folded into the map)
+            fold = np.einsum("mc,hkmb->hkcmb", PW[:, active], gam).reshape(len(grid.steps), -1, nb * b)
+            jfold = np.einsum("mc,hmb->hcmb", PW, E[:, :, :, b - 1]).reshape(len(grid.steps), 3 * m, nb * b)
             x = ms.x0.copy()
             if want[0]:
                 y[0] += np.real(np.einsum("pnb,nb->p", ms.Y, x))
             Yflat = ms.Y.reshape(ms.Y.shape[0], -1)
             for start in range(0, ni, BLOCK):
                 stop = min(start + BLOCK, ni)
-                sl_ = slice(start, stop)
-                hk = grid.hkey[sl_]
-                uniform = bool(np.all(hk == hk[0]))
-                drive = np.zeros((stop - start, ms.A.shape[0], b), dtype=ms.A.dtype)
-                # Taylor orders k: channel value = [f_k, z_k, z_{k+1}]
-                for k in range(degree + 1):
-                    v = np.concatenate([coef[sl_, k, :],
-                                        coef[sl_, k, :],
-                                        coef[sl_, k + 1, :] if k + 1 < 4 else np.zeros((stop - start, m))], axis=1)
-                    bk = v @ PW.T  # (L, nb)
-                    g = gam[hk[0], k] if uniform else gam[hk, k]
-                    drive += bk[:, :, None] * g
-                if np.any(kin.jump[sl_]):
-                    v = np.concatenate([np.zeros((stop - start, 2 * m)), kin.jump[sl_]], axis=1)
-                    bk = v @ PW.T
-                    Ecol = E[hk, :, :, b - 1]  # response to a unit impulse into the last row
-                    drive += bk[:, :, None] * Ecol
-                X = _recur(E, hk, x, drive)
+                hk = grid.hkey[start:stop]
+                keys = np.unique(hk)
+                if len(keys) == 1:
+                    drive = Va[start:stop] @ fold[keys[0]]
+                else:
+                    drive = np.empty((stop - start, nb * b), dtype=fold.dtype)
+                    for key in keys:
+                        idx = np.flatnonzero(hk == key)
+                        drive[idx] = Va[start + idx] @ fold[key]
+                for i in jumps[(jumps >= start) & (jumps < stop)]:
+                    drive[i - start] += J[i] @ jfold[grid.hkey[i]]
+                X = _recur(E, hk, x, drive.reshape(stop - start, nb, b))
                 x = X[-1]
                 sel = want[start + 1:stop + 1]
                 if sel.any():
