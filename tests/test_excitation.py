@@ -98,6 +98,9 @@ def test_sweep_amplitude_linear_in_frequency():
 def test_steady_state_sweep_has_no_time_history():
     s = SineSweep(f1=1.0, f2=5.0, a1=1.0, a2=1.0, sweep_time=0.0)
     assert s.steady_state and s.breakpoints == ()
+    assert Excitation("e", "force", "b", s, dof="x").steady_state
+    assert not Excitation("e", "force", "b", Step(1.0), dof="x").steady_state
+    assert not SineSweep(1.0, 5.0, 1.0, 1.0, 2.0).steady_state
     with pytest.raises(AnalysisError, match="sweep_time"):
         s.value([0.0])
 

@@ -314,6 +314,14 @@ class Excitation:
         """SI unit of the values, e.g. ``'N'``, ``'N m'``, ``'m/s^2'``, ``'rad'``."""
         return Units().label(amplitude_quantity(self.kind, self.dof))
 
+    @property
+    def steady_state(self) -> bool:
+        """Whether this excitation is for frequency studies only (a sweep with ``sweep_time = 0``).
+
+        Time studies should leave such excitations out; frequency studies take only these.
+        """
+        return self.function.steady_state
+
     def value(self, t: npt.ArrayLike) -> np.ndarray:
         """The function's value at times ``t`` [s] (see :meth:`TimeFunction.value`)."""
         return self.function.value(t)

@@ -86,6 +86,11 @@ class TimeFunction:
         """Time [s] after which the value is identically zero or constant (``inf``: never)."""
         return math.inf
 
+    @property
+    def steady_state(self) -> bool:
+        """Whether this is a frequency-domain (steady-state) excitation with no time history."""
+        return False
+
     def to_dict(self) -> dict[str, Any]:
         """Plain data (SI) that :func:`function_from_dict` turns back into this function."""
         out: dict[str, Any] = {"type": self.type}
@@ -549,6 +554,10 @@ class Sum(TimeFunction):
     @property
     def end_time(self) -> float:
         return max(f.end_time for f in self.terms)
+
+    @property
+    def steady_state(self) -> bool:
+        return all(f.steady_state for f in self.terms)
 
     def to_dict(self) -> dict[str, Any]:
         return {"type": self.type, "terms": [f.to_dict() for f in self.terms]}
