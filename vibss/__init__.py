@@ -18,7 +18,10 @@ from __future__ import annotations
 from .assemble import Assembly, assemble
 from .damped import DampedModes, damped_modes
 from .errors import AnalysisError, ModelError, ModelFileError, VibssError
+from .excitation import Excitation
 from .geometry import Orientation
+from .io import (dump_model, dumps_model, example_names, load_example, load_model,
+                 loads_model)
 from .modal import Modes, modes
 from .model import (DOF_NAMES, GROUND, Body, ControlPoint, Load, Model, Mount, MountType,
                     symmetric)
@@ -27,7 +30,9 @@ from .static import StaticResult, static
 __version__ = "0.1.0"
 
 __all__ = [
-    "AnalysisError", "Assembly", "Body", "ControlPoint", "DOF_NAMES", "DampedModes", "GROUND",
-    "Load", "Model", "ModelError", "ModelFileError", "Modes", "Mount", "MountType", "Orientation",
-    "StaticResult", "VibssError", "assemble", "damped_modes", "modes", "static", "symmetric",
+    "AnalysisError", "Assembly", "Body", "ControlPoint", "DOF_NAMES", "DampedModes", "Excitation",
+    "GROUND", "Load", "Model", "ModelError", "ModelFileError", "Modes", "Mount", "MountType",
+    "Orientation", "StaticResult", "VibssError", "assemble", "damped_modes", "dump_model",
+    "dumps_model", "example_names", "load_example", "load_model", "loads_model", "modes", "static",
+    "symmetric",
 ]

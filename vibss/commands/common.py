@@ -7,6 +7,8 @@ import json
 import sys
 from typing import Any
 
+from ..errors import ModelError
+from ..io import load_example, load_model
 from ..model import Model
 
 __all__ = ["add_model_arguments", "load_from_args", "emit"]
@@ -23,9 +25,6 @@ def add_model_arguments(parser: argparse.ArgumentParser) -> None:
 
 def load_from_args(args: argparse.Namespace) -> Model:
     """The model named by ``FILE`` or ``--example``."""
-    from ..errors import ModelError
-    from ..io import load_example, load_model
-
     if args.example and args.file:
         raise ModelError("give either FILE or --example, not both")
     if args.example:
