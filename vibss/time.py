@@ -311,8 +311,7 @@ def _initial(plant: Plant, initial: Any, model: Model | None) -> tuple[np.ndarra
     """Initial free-DOF displacement and velocity from per-body data."""
     q0, v0 = np.zeros(plant.n), np.zeros(plant.n)
     if initial is None and model is not None:
-        initial = {b.name: b.initial for b in model.bodies if getattr(b, "initial", None)}
-        initial.update((model.settings or {}).get("initial", {}) or {})
+        initial = (model.settings or {}).get("initial")
     if not initial:
         return q0, v0
     if not isinstance(initial, Mapping):

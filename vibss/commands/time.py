@@ -1,0 +1,60 @@
+"""``vibss time``: time response to the model file's excitations (shocks, forces, base motion)."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from ..errors import ModelError
+from ..signals import default_outputs
+from ..time import METHODS, simulate
+from .common import add_model_arguments, emit, load_from_args
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    """Add the ``time`` sub-command."""
+    p = sub.add_parser("time", help="time response to the file's excitations",
+                       description="Simulate from t = 0 the response to the model file's "
+                                   "[[excitation]] entries and initial conditions, with the "
+                                   "settings of [analysis] time = {end, step, record_from, "
+                                   "tolerance} unless given here. Prints the peak and RMS of each "
+                                   "output (text) or the whole history (--format json).")
+    add_model_arguments(p)
+    p.add_argument("--end", type=float, metavar="T", help="end time [s] (default: file, else 1 s)")
+    p.add_argument("--step", type=float, metavar="DT", help="sample interval [s] (default: file, else end/1000)")
+    p.add_argument("--record-from", type=float, metavar="T", help="first recorded time [s]")
+    p.add_argument("--method", default="auto", choices=["auto", *METHODS],
+                   help="simulation method (default auto = exact modal)")
+    p.add_argument("--output", action="append", metavar="SIGNAL",
+                   help="an output signal (repeatable), e.g. engine.z, sensor.x.acc, mount.front.fz; "
+                        "default: every body DOF's displacement")
+    p.add_argument("--plot", metavar="PNG", help="also save a plot of the outputs to this file")
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run the simulation and print it."""
+    model = load_from_args(args)
+    # a sweep with sweep_time = 0 is a steady state: frequency studies only
+    steady = [e for e in model.excitations if getattr(e.function, "steady_state", False)]
+    excitations = [e for e in model.excitations if e not in steady]
+    for e in steady:
+        print(f"vibss time: skipping excitation {e.name!r} (sweep_time = 0: steady state, "
+              "frequency studies only)", file=sys.stderr)
+    if not excitations:
+        raise ModelError("the model has no time-domain [[excitation]]: nothing drives a time response")
+    cfg = dict((model.settings or {}).get("time", {}) or {})
+    end = args.end if args.end is not None else float(cfg.get("end", 1.0))
+    step = args.step if args.step is not None else float(cfg.get("step", end / 1000))
+    record = args.record_from if args.record_from is not None else float(cfg.get("record_from", 0.0))
+    outputs = args.output or list(default_outputs(model))
+    result = simulate(model, excitations, outputs=outputs, t_end=end, dt=step, record_from=record,
+                      method=args.method, rtol=float(cfg.get("tolerance", 1e-6)))
+    emit(result, args.format)
+    if args.plot:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        result.plot().savefig(args.plot, dpi=120)
+        print(f"plot written to {args.plot}", file=sys.stderr)
+    return 0
