@@ -75,7 +75,7 @@ def test_powertrain_is_realistic():
     assert assemble(model).has_damping and model.gravity is not None
     assert {x.signal for x in model.excitations} == {"powertrain.mx", "ground.z.acc"}
     assert model.settings["load_cases"] == {"full-load": ["drive-torque"]}
-    assert model.loads[0].moment.tolist() == pytest.approx([1700.0, 0.0, 0.0])   # N mm -> N m
+    assert model.loads[0].moment.tolist() == pytest.approx([420.0, 0.0, 0.0])   # 4.2e5 N mm -> N m
 
 
 def test_units_are_converted_once(tmp_path):
