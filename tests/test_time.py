@@ -249,3 +249,19 @@ def test_result_object_and_api_errors() -> None:
 
     z = simulate(sdof(), [e], t_end=0.1, dt=1e-3, method=mine)
     assert calls and z.method == "mine" and not z.outputs.any()
+
+
+def test_finite_rate_sweep_envelope() -> None:
+    from vibss.excitation import SineSweep
+    from vibss.time_sweep import sweep_envelope
+
+    def run(T: float):
+        e = Excitation("sw", "force", "b", SineSweep(f1=1.0, f2=6.0, a1=10.0, a2=10.0, sweep_time=T), dof="z")
+        return sweep_envelope(sdof(C), e, outputs=["b.z"], points=300)
+
+    slow, fast = run(200.0), run(5.0)
+    assert abs(slow.peak_ratio()[0] - 1.0) < 0.03            # quasi-static sweep = steady state
+    np.testing.assert_allclose(slow.steady.max(), 10.0 / (C * WN), rtol=2e-3)  # F / (c w_n) at resonance
+    assert fast.peak_ratio()[0] < 0.8                          # a fast sweep does not build up ...
+    f_peak = fast.frequency_hz[np.argmax(fast.envelope[0])]
+    assert f_peak > WN / (2 * np.pi) * 1.05                    # ... and peaks late (upward sweep)
