@@ -14,5 +14,6 @@ from __future__ import annotations
 from .energy import plot_energy
 from .layout import plot_model
 from .modes import animate_mode, mode_title, plot_modes
+from .response import plot_time_groups
 
-__all__ = ["plot_modes", "animate_mode", "plot_energy", "plot_model", "mode_title"]
+__all__ = ["plot_modes", "animate_mode", "plot_energy", "plot_model", "plot_time_groups", "mode_title"]

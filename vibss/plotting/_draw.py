@@ -182,6 +182,7 @@ class Drawing:
         self.p = _Painter(ax, view)
         self.scene = scene
         self.width = 0.035 * scene.size
+        model = scene.model
         self.boxes: list[Any] = []
         self.cogs: list[Any] = []
         for i, c in enumerate(moved.corners):
@@ -190,13 +191,14 @@ class Drawing:
             self.cogs.append(self.p.line(moved.cogs[i], marker="o", ms=4 if deformed else 3, ls="none",
                                          color=style["color"]))
         sstyle = SPRING if deformed else SPRING_UNDEFORMED
-        self.springs = [self.p.line(self._spring(moved, k), **sstyle) for k in range(len(scene.model.mounts))]
-        self.points = [self.p.line(moved.mount_body[k], marker="s" if m.to == GROUND else "D", ms=3.5,
-                                   ls="none", color=sstyle["color"])
-                       for k, m in enumerate(scene.model.mounts)]
-        self.controls = [self.p.line(moved.control_points[k], marker="^", ms=6, ls="none", mfc="w",
-                                     mec="k" if deformed else "0.6")
-                         for k in range(len(scene.model.control_points))]
+        self.to_ground = np.array([m.to == GROUND for m in model.mounts], dtype=bool)
+        self.springs = self.p.line(self._springs(moved), **sstyle)
+        self.ground_points = self.p.line(moved.mount_body[self.to_ground], marker="s", ms=3.5, ls="none",
+                                         color=sstyle["color"])
+        self.body_points = self.p.line(moved.mount_body[~self.to_ground], marker="D", ms=4, ls="none",
+                                       color=sstyle["color"])
+        self.controls = self.p.line(moved.control_points, marker="^", ms=6, ls="none", mfc="w",
+                                    mec="k" if deformed else "0.6")
         if (not deformed) if ground is None else ground:
             self._ground()
         if labels:
@@ -208,15 +210,20 @@ class Drawing:
         segs = [np.vstack([corners[a], corners[b], [np.nan] * 3]) for a, b in BOX_EDGES]
         return np.vstack(segs)
 
-    def _spring(self, moved: Moved, k: int) -> np.ndarray:
-        m = self.scene.model.mounts[k]
-        if m.to == GROUND:
-            return self.p.spring(moved.mount_to[k], moved.mount_body[k], self.width)
-        # body-to-body: zero length; draw the stretch between the two sides
-        return np.vstack([moved.mount_to[k], moved.mount_body[k]])
+    def _springs(self, moved: Moved) -> np.ndarray:
+        """All spring symbols as one polyline with NaN breaks."""
+        parts = []
+        for k, m in enumerate(self.scene.model.mounts):
+            if m.to == GROUND:
+                parts.append(self.p.spring(moved.mount_to[k], moved.mount_body[k], self.width))
+            else:   # body-to-body: zero length; draw the stretch between the two sides
+                parts.append(np.vstack([moved.mount_to[k], moved.mount_body[k]]))
+            parts.append(np.full((1, 3), np.nan))
+        return np.vstack(parts) if parts else np.zeros((0, 3))
 
     def _ground(self) -> None:
-        """A hatched ground symbol at the fixed end of every ground spring."""
+        """A hatched ground symbol at the fixed end of every ground spring (one artist)."""
+        segs = []
         for k, m in enumerate(self.scene.model.mounts):
             if m.to != GROUND:
                 continue
@@ -225,10 +232,12 @@ class Drawing:
             if side is None:
                 continue
             side = 1.6 * self.width * side
-            self.p.line(np.vstack([a - side, a + side]), color="0.35", lw=1.2)
+            segs += [a - side, a + side, [np.nan] * 3]
             for s in np.linspace(-1, 1, 4):
                 t = a + s * side
-                self.p.line(np.vstack([t, t - 0.6 * self.width * d - 0.3 * side]), color="0.35", lw=0.7)
+                segs += [t, t - 0.6 * self.width * d - 0.3 * side, [np.nan] * 3]
+        if segs:
+            self.p.line(np.array(segs), color="0.35", lw=0.9)
 
     def _labels(self, moved: Moved) -> None:
         model = self.scene.model
@@ -244,15 +253,14 @@ class Drawing:
         for i, c in enumerate(moved.corners):
             self.p.set(self.boxes[i], self._edges(c))
             self.p.set(self.cogs[i], moved.cogs[i])
-        for k in range(len(self.springs)):
-            self.p.set(self.springs[k], self._spring(moved, k))
-            self.p.set(self.points[k], moved.mount_body[k])
-        for k in range(len(self.controls)):
-            self.p.set(self.controls[k], moved.control_points[k])
+        self.p.set(self.springs, self._springs(moved))
+        self.p.set(self.ground_points, moved.mount_body[self.to_ground])
+        self.p.set(self.body_points, moved.mount_body[~self.to_ground])
+        self.p.set(self.controls, moved.control_points)
 
     def artists(self) -> list[Any]:
         """Every artist that :meth:`update` changes."""
-        return self.boxes + self.cogs + self.springs + self.points + self.controls
+        return self.boxes + self.cogs + [self.springs, self.ground_points, self.body_points, self.controls]
 
 
 def new_figure(width: float, height: float) -> Figure:

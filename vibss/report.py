@@ -1,0 +1,514 @@
+"""The engineer's report of a model: every analysis that applies, as text, PNG figures and HTML.
+
+:func:`study` runs, in order, the model summary, the static deflection (under the model's loads
+and, where the model sets it, gravity), the undamped modes with their kinetic-energy table, the
+damped modes, the steady-state response to the model's sine-sweep excitations (with the
+transmissibility from each swept input) and the time response to its transient excitations. An
+analysis that does not apply (no loads, no damping, no excitation of that kind) or whose module is
+not installed is skipped with a one-line note; one that fails is reported with its error message
+and the others still run. :meth:`Report.text` is the text report, :func:`write_report` writes the
+PNG figures and one self-contained ``index.html`` (figures embedded as base64) into a folder.
+
+This module imports matplotlib (through :mod:`vibss.plotting`) only when figures are asked for.
+
+Examples
+--------
+>>> import vibss, tempfile
+>>> from vibss.report import study
+>>> t = vibss.MountType("t", [1e4, 2e4, 3e4])
+>>> m = vibss.Model([vibss.Body("b", 1000.0, [10, 20, 30])],
+...                 vibss.symmetric(vibss.Mount("m", t, "b", at=[1, 2, 0])), name="prism")
+>>> r = study(m, figures=False)
+>>> [s.key for s in r.sections if not s.skipped]
+['model', 'modes']
+"""
+
+from __future__ import annotations
+
+import base64
+import datetime
+import html
+import importlib.util
+import re
+import sys
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .damped import damped_modes
+from .errors import VibssError
+from .modal import modes
+from .model import DOF_NAMES, Model
+from .results import Table
+from .static import StaticResult, static
+
+__all__ = ["Section", "Report", "study", "write_report", "html_table", "slug", "default_folder",
+           "progress_on_stderr", "STEPS", "MAX_MODE_PANELS"]
+
+STEPS = ("model", "static", "modes", "damped", "frequency", "time")
+"""The report's sections, in order."""
+
+TITLES = {"model": "Model", "static": "Static deflection", "modes": "Undamped modes",
+          "damped": "Damped modes", "frequency": "Frequency response (sine sweeps)",
+          "time": "Time response (transient excitations)"}
+
+MAX_MODE_PANELS = 12
+"""At most this many modes are drawn (the lowest); the tables list them all."""
+
+Progress = Callable[[int, int, str], None]
+
+
+@dataclass(frozen=True)
+class Section:
+    """One part of the report.
+
+    Attributes
+    ----------
+    key : str
+        One of :data:`STEPS`.
+    title : str
+        Heading.
+    text : str
+        Text report of the analysis ('' when skipped).
+    tables : tuple of Table
+        The same results as tables (rendered as HTML tables).
+    figures : tuple of (str, Any)
+        ``(file name, matplotlib Figure)`` pairs; empty without figures.
+    note : str
+        One line: why the section was skipped, or a remark on how it was run.
+    skipped : bool
+        Whether the analysis did not run.
+    """
+
+    key: str
+    title: str
+    text: str = ""
+    tables: tuple[Table, ...] = ()
+    figures: tuple[tuple[str, Any], ...] = ()
+    note: str = ""
+    skipped: bool = False
+
+
+@dataclass(frozen=True)
+class Report:
+    """Results of :func:`study`.
+
+    Attributes
+    ----------
+    model : Model
+        The model studied.
+    sections : tuple of Section
+        In the order of :data:`STEPS`.
+    source : str
+        Where the model came from (file name or example).
+    results : dict
+        The result objects by section key (``Modes``, ``StaticResult`` ...).
+    """
+
+    model: Model
+    sections: tuple[Section, ...]
+    source: str = ""
+    results: dict[str, Any] = field(default_factory=dict)
+
+    def text(self) -> str:
+        """The whole report as text: each section's heading and its text report or note."""
+        head = f"vibss report: {self.model.name}" + (f"  ({self.source})" if self.source else "")
+        parts = [head, "=" * len(head)]
+        for s in self.sections:
+            parts.append(f"\n== {s.title} ==")
+            if s.note:
+                parts.append(("skipped: " if s.skipped else "note: ") + s.note)
+            if s.text:
+                parts.append(s.text)
+        return "\n".join(parts) + "\n"
+
+    def section(self, key: str) -> Section:
+        """The section called ``key``."""
+        for s in self.sections:
+            if s.key == key:
+                return s
+        raise KeyError(f"no section {key!r}; sections are {[s.key for s in self.sections]}")
+
+
+def slug(name: str) -> str:
+    """A file-name-safe version of ``name`` (letters, digits, ``-`` and ``_``)."""
+    s = re.sub(r"[^A-Za-z0-9_-]+", "-", name).strip("-")
+    return s or "model"
+
+
+def _stderr_progress(step: int, total: int, label: str) -> None:
+    print(f"[{step}/{total}] {label} ...", file=sys.stderr, flush=True)
+
+
+# -- the analyses ---------------------------------------------------------------------------------
+def _model_section(model: Model, figures: bool) -> Section:
+    bodies = Table(["body", "mass [kg]", "Ixx", "Iyy", "Izz", "Ixy", "Ixz", "Iyz", "COG x [m]",
+                    "COG y [m]", "COG z [m]"],
+                   [[b.name, " ".join(f"{m:.4g}" for m in np.unique(b.masses))]
+                    + [f"{b.tensor[i, j]:.4g}" for i, j in ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))]
+                    + [f"{c:.4g}" for c in b.cog] for b in model.bodies],
+                   title="Bodies (inertia tensor about the COG in global axes [kg m^2]; "
+                         "off-diagonals are minus the products of inertia)")
+    types = Table(["mount type", "k1 [N/m]", "k2 [N/m]", "k3 [N/m]", "c1 [N s/m]", "c2 [N s/m]",
+                   "c3 [N s/m]", "loss factor"],
+                  [[t.name] + [f"{v:.4g}" for v in t.stiffness] + [f"{v:.4g}" for v in t.damping]
+                   + [" ".join(f"{v:.3g}" for v in np.unique(t.loss_factor))]
+                   for t in model.mount_types.values()], title="Mount types")
+    mounts = Table(["mount", "type", "joins", "x [m]", "y [m]", "z [m]", "orientation"],
+                   [[m.name, m.type.name, f"{m.body}->{m.to}"]
+                    + [f"{v:.4g}" for v in model.mount_point(m)] + [m.orientation.describe()]
+                    for m in model.mounts],
+                   title="Mounts (attachment points in global coordinates; Euler angles in "
+                         "scipy's spelling, upper case = intrinsic)")
+    tables = [bodies, types, mounts] if model.mounts else [bodies]
+    if model.control_points:
+        pts = [[c.name, c.body] + [f"{v:.4g}" for v in model.body(c.body).cog + model.point(c.body, c.at, c.frame)]
+               for c in model.control_points]
+        tables.append(Table(["point", "body", "x [m]", "y [m]", "z [m]"], pts, title="Control points"))
+    if model.excitations:
+        rows = [[e.name, e.kind, e.target, e.dof or "direction " + str(np.round(e.direction, 3).tolist()),
+                 type(e.function).__name__, e.unit] for e in model.excitations]
+        tables.append(Table(["excitation", "kind", "target", "dof", "function", "unit"], rows,
+                            title="Excitations"))
+    text = (f"{len(model.bodies)} bodies, {len(model.mounts)} mounts, total mass "
+            f"{model.total_mass:.4g} kg" + ("" if model.gravity is None else
+                                             f", gravity {model.gravity.tolist()} m/s^2"))
+    figs: tuple[tuple[str, Any], ...] = ()
+    if figures:
+        from .plotting import plot_model
+
+        figs = (("model.png", plot_model(model)), ("model_views.png", plot_model(model, view="three")))
+    return Section("model", TITLES["model"], text + "\n\n" + "\n\n".join(t.render() for t in tables),
+                   tuple(tables), figs)
+
+
+def _static_tables(r: StaticResult) -> tuple[Table, ...]:
+    rows = []
+    for b in r.model.bodies:
+        d, c = r.body(b.name), r.centre_of_rotation(b.name)
+        rows.append([b.name] + [f"{1e3 * v:.4f}" for v in d]
+                    + ["pure translation" if c is None else "(" + ", ".join(f"{v:.4f}" for v in c) + ")"])
+    out = [Table(["body", "x [mm]", "y [mm]", "z [mm]", "rx [mrad]", "ry [mrad]", "rz [mrad]",
+                  "centre of rotation [m]"], rows, title="Bodies (COG)")]
+    if r.model.control_points:
+        out.append(Table(["point", "x [mm]", "y [mm]", "z [mm]"],
+                         [[k] + [f"{1e3 * v:.4f}" for v in x] for k, x in r.control_points.items()],
+                         title="Control points"))
+    if r.model.mounts:
+        out.append(Table(["mount", "joins", "dx [mm]", "dy [mm]", "dz [mm]", "d1 [mm]", "d2 [mm]", "d3 [mm]",
+                          "Fx [N]", "Fy [N]", "Fz [N]"],
+                         [[m.name, f"{m.body}->{m.to}"] + [f"{1e3 * v:.4f}" for v in r.mount_deflection[p]]
+                          + [f"{1e3 * v:.4f}" for v in r.mount_deflection_local[p]]
+                          + [f"{v:.2f}" for v in r.mount_force[p]] for p, m in enumerate(r.model.mounts)],
+                         title="Mounts (deflection = body side minus other side; force into the other side)"))
+    return tuple(out)
+
+
+def _static_section(model: Model, figures: bool, results: dict[str, Any]) -> Section:
+    if not model.loads and model.gravity is None:
+        return Section("static", TITLES["static"], note="the model has no loads and no gravity",
+                       skipped=True)
+    r = static(model)
+    results["static"] = r
+    what = ", ".join(x for x in (f"{len(model.loads)} load(s)" if model.loads else "",
+                                 "self-weight" if model.gravity is not None else "") if x)
+    return Section("static", TITLES["static"], r.report(), _static_tables(r), note=f"under {what}")
+
+
+def _modes_section(model: Model, figures: bool, results: dict[str, Any]) -> Section:
+    m = modes(model)
+    results["modes"] = m
+    figs: list[tuple[str, Any]] = []
+    note = ""
+    if figures:
+        from .plotting import plot_energy, plot_modes
+
+        which = list(range(min(len(m), MAX_MODE_PANELS)))
+        if len(m) > MAX_MODE_PANELS:
+            note = f"figures show the lowest {MAX_MODE_PANELS} of {len(m)} modes"
+        figs = [("modes.png", plot_modes(m, which=which)),
+                ("modes_views.png", plot_modes(m, which=which[:6], view="three")),
+                ("energy.png", plot_energy(m, which=which))]
+    return Section("modes", TITLES["modes"], m.report(),
+                   (m.frequency_table(), m.shape_table(), m.energy_table()), tuple(figs), note)
+
+
+def _damped_section(model: Model, figures: bool, results: dict[str, Any]) -> Section:
+    if not any(np.any(t.damping > 0) for t in model.mount_types.values()):
+        return Section("damped", TITLES["damped"], skipped=True,
+                       note="no viscous damping in the mounts: the damped modes are the undamped ones")
+    d = damped_modes(model, undamped=results.get("modes"))
+    results["damped"] = d
+    return Section("damped", TITLES["damped"], d.report(), (d.table(),), note=d.method)
+
+
+def _is_sweep(e: Any) -> bool:
+    fn = e.function
+    return type(fn).__name__ == "SineSweep" and not getattr(fn, "sweep_time", 0.0)
+
+
+def _available(module: str) -> bool:
+    return importlib.util.find_spec(f"vibss.{module}") is not None
+
+
+def _bode(r: Any, name: str) -> tuple[str, Any]:
+    from .plotting._draw import new_figure
+
+    fig = new_figure(8.0, 6.0)
+    axes = fig.subplots(2, 1, sharex=True)
+    r.plot(ax=axes)
+    units = sorted(set(r.units))
+    axes[0].set_ylabel(f"|{r.quantity}|" + (f" [{units[0]}]" if len(units) == 1 else ""))
+    axes[0].set_title(f"{r.name}: {r.quantity} from {', '.join(r.inputs)} (method {r.method})", fontsize=10)
+    return name, fig
+
+
+def _frequency_section(model: Model, figures: bool, results: dict[str, Any]) -> Section:
+    sweeps = [e for e in model.excitations if _is_sweep(e)]
+    if not sweeps:
+        return Section("frequency", TITLES["frequency"], skipped=True,
+                       note="no steady-state sine-sweep excitation (sweep_time = 0) in the model")
+    if not _available("frequency"):
+        return Section("frequency", TITLES["frequency"], skipped=True,
+                       note="vibss.frequency is not installed in this version")
+    from .frequency import sweep_response, transmissibility
+
+    spec = dict(model.settings.get("frequency", {}))
+    r = sweep_response(model, sweeps, points=int(spec.get("points", 400)),
+                       spacing=spec.get("spacing", "log"))
+    results["frequency"] = r
+    texts = [r.report()]
+    tables = [_frf_table(r, f"Steady-state sweep response of {', '.join(e.name for e in sweeps)}")]
+    figs = [_bode(r, "sweep.png")] if figures else []
+    grid = {k: spec[k] for k in ("f1", "f2", "points", "spacing") if k in spec} or None
+    for e in sweeps:
+        ground = None if e.target == "ground" else [f"ground.{c}" for c in ("fx", "fy", "fz", "mx", "my", "mz")]
+        tr = transmissibility(model, [e.signal], ground, frequencies=grid)
+        results[f"transmissibility:{e.name}"] = tr
+        texts.append(tr.report())
+        tables.append(_frf_table(tr, f"Transmissibility from {e.signal} (excitation {e.name!r})"))
+        if figures:
+            figs.append(_bode(tr, f"transmissibility_{slug(e.name)}.png"))
+    return Section("frequency", TITLES["frequency"], "\n\n".join(texts), tuple(tables), tuple(figs),
+                   note=f"method {r.method}")
+
+
+def _frf_table(r: Any, title: str) -> Table:
+    rows = []
+    for i, y in enumerate(r.outputs):
+        for j, u in enumerate(r.inputs):
+            peaks = r.peaks(y, u, 1)
+            f, a = peaks[0] if peaks else (float("nan"), 0.0)
+            rows.append([y, u, f"{f:.4f}", f"{a:.4e}", r.units[i]])
+    return Table(["output", "input", "peak f [Hz]", "amplitude", "unit"], rows, title=title)
+
+
+def _time_defaults(model: Model, transient: Sequence[Any], results: dict[str, Any]) -> dict[str, float]:
+    spec = dict(model.settings.get("time", {}))
+    m = results.get("modes")
+    f = m.frequency_hz[~m.rigid] if m is not None else np.array([])
+    if "end" not in spec:
+        last = max((e.function.end_time() for e in transient), default=0.0)
+        last = last if np.isfinite(last) else 0.0
+        spec["end"] = last + (5.0 / f.min() if f.size else 1.0)
+    if "step" not in spec:
+        spec["step"] = min(spec["end"] / 200.0, 1.0 / (20.0 * f.max()) if f.size else np.inf)
+    return spec
+
+
+def _time_section(model: Model, figures: bool, results: dict[str, Any]) -> Section:
+    transient = [e for e in model.excitations if not _is_sweep(e)]
+    if not transient:
+        return Section("time", TITLES["time"], skipped=True,
+                       note="no transient excitation (pulse, step, sine, table or timed sweep) in the model")
+    if not _available("time"):
+        return Section("time", TITLES["time"], skipped=True, note="vibss.time is not installed in this version")
+    from .time import simulate
+
+    spec = _time_defaults(model, transient, results)
+    outputs = [f"{b}.{d}" for b in model.body_names for d in DOF_NAMES]
+    outputs += [f"{b}.{d}.acc" for b in model.body_names for d in "xyz"]
+    outputs += [f"mount.{m.name}.{d}" for m in model.mounts for d in ("dx", "dy", "dz")]
+    r = simulate(model, transient, outputs=outputs, t_end=spec["end"], dt=spec["step"],
+                 record_from=spec.get("record_from", 0.0))
+    results["time"] = r
+    pk = r.peaks()
+    table = Table(["output", "peak", "at [s]", "RMS", "unit"],
+                  [[n, f"{v:.5e}", f"{t:.5f}", f"{s:.5e}", u]
+                   for n, u, v, t, s in zip(pk.outputs, pk.units, pk.value, pk.time, pk.rms)],
+                  title=f"Peaks of the response to {', '.join(e.name for e in transient)} "
+                        "(body motions absolute; mount deflection = body side minus other side)")
+    figs: list[tuple[str, Any]] = []
+    if figures:
+        from .plotting import plot_time_groups
+
+        figs.append(("time.png", plot_time_groups(r)))
+    return Section("time", TITLES["time"], r.report(), (table,), tuple(figs),
+                   note=f"0 to {spec['end']:g} s, step {spec['step']:g} s, method {r.method}")
+
+
+_RUNNERS = {"static": _static_section, "modes": _modes_section, "damped": _damped_section,
+            "frequency": _frequency_section, "time": _time_section}
+
+
+def study(model: Model, figures: bool = True, progress: Progress | None = None,
+          source: str = "") -> Report:
+    """Run every analysis that applies to ``model``.
+
+    Parameters
+    ----------
+    model : Model
+        The model (its loads, gravity, excitations and ``settings`` drive the studies).
+    figures : bool
+        Make the matplotlib figures too (needs matplotlib).
+    progress : callable or None
+        ``progress(step, total, label)`` called before each analysis (the command line prints
+        ``[3/6] damped modes ...`` on stderr).
+    source : str
+        Where the model came from, for the heading.
+
+    Returns
+    -------
+    Report
+    """
+    results: dict[str, Any] = {}
+    sections = []
+    for n, key in enumerate(STEPS, start=1):
+        if progress is not None:
+            progress(n, len(STEPS), TITLES[key].lower())
+        if key == "model":
+            sections.append(_model_section(model, figures))
+            continue
+        try:
+            sections.append(_RUNNERS[key](model, figures, results))
+        except VibssError as exc:
+            sections.append(Section(key, TITLES[key], skipped=True,
+                                    note=f"failed: {type(exc).__name__}: {exc}"))
+    return Report(model, tuple(sections), source, results)
+
+
+# -- HTML -----------------------------------------------------------------------------------------
+_NUMBER = re.compile(r"^[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$")
+
+
+def html_table(table: Table, shade_from: int | None = None) -> str:
+    """An HTML ``<table>`` of a :class:`~vibss.results.Table` (numbers right-aligned).
+
+    Parameters
+    ----------
+    table : Table
+        The table.
+    shade_from : int or None
+        Shade numeric cells from this column on by their value as a percentage (energy tables).
+    """
+    out = ["<table>"]
+    if table.title:
+        out.append(f"<caption>{html.escape(table.title)}</caption>")
+    out.append("<thead><tr>" + "".join(f"<th>{html.escape(h)}</th>" for h in table.header) + "</tr></thead>")
+    out.append("<tbody>")
+    for row in table.rows:
+        cells = []
+        for j, c in enumerate(row):
+            num = bool(_NUMBER.match(c.strip()))
+            style = ""
+            if shade_from is not None and j >= shade_from and num:
+                v = min(max(float(c) / 100.0, 0.0), 1.0)
+                style = f' style="background: rgba(31, 119, 180, {0.85 * v:.2f}){"; color: #fff" if v > 0.6 else ""}"'
+            cells.append(f'<td class="{"n" if num else "t"}"{style}>{html.escape(c)}</td>')
+        out.append("<tr>" + "".join(cells) + "</tr>")
+    out.append("</tbody>")
+    out.extend(f'<tfoot><tr><td colspan="{len(table.header)}">{html.escape(n)}</td></tr></tfoot>'
+               for n in table.notes)
+    out.append("</table>")
+    return "\n".join(out)
+
+
+_CSS = """
+body { font-family: system-ui, -apple-system, "Segoe UI", sans-serif; margin: 2em auto; max-width: 1200px;
+       color: #222; padding: 0 1em; }
+h1 { font-size: 1.6em; margin-bottom: 0.2em; } h2 { border-bottom: 2px solid #1f77b4; padding-bottom: 0.2em;
+       margin-top: 2em; } .meta { color: #666; } .note { color: #555; font-style: italic; }
+.skipped { color: #999; } nav a { margin-right: 1em; }
+table { border-collapse: collapse; margin: 1em 0; font-size: 0.85em; }
+caption { text-align: left; font-weight: bold; padding: 0.3em 0; }
+th, td { border: 1px solid #ccc; padding: 0.2em 0.5em; } th { background: #eef3f8; }
+td.n { text-align: right; font-variant-numeric: tabular-nums; } td.t { text-align: left; }
+img { max-width: 100%; border: 1px solid #eee; margin: 0.5em 0; display: block; }
+"""
+
+
+def _html(report: Report, images: dict[str, bytes]) -> str:
+    m = report.model
+    now = datetime.datetime.now().strftime("%Y-%m-%d %H:%M")
+    from . import __version__
+
+    parts = ["<!DOCTYPE html>", '<html lang="en"><head><meta charset="utf-8">',
+             f"<title>vibss report: {html.escape(m.name)}</title><style>{_CSS}</style></head><body>",
+             f"<h1>{html.escape(m.name)}</h1>",
+             f'<p class="meta">vibss {__version__} report, {now}'
+             + (f", model {html.escape(report.source)}" if report.source else "")
+             + ". SI units unless a column says otherwise.</p>",
+             "<nav>" + "".join(f'<a href="#{s.key}">{html.escape(s.title)}</a>' for s in report.sections)
+             + "</nav>"]
+    for s in report.sections:
+        parts.append(f'<h2 id="{s.key}">{html.escape(s.title)}</h2>')
+        if s.note:
+            cls = "skipped" if s.skipped else "note"
+            parts.append(f'<p class="{cls}">{"Skipped: " if s.skipped else ""}{html.escape(s.note)}</p>')
+        if s.key == "model" and s.text:
+            parts.append(f"<p>{html.escape(s.text.splitlines()[0])}</p>")
+        for name, _ in s.figures:
+            data = base64.b64encode(images[name]).decode("ascii")
+            parts.append(f'<img src="data:image/png;base64,{data}" alt="{html.escape(name)}" '
+                         f'title="{html.escape(name)}">')
+        for t in s.tables:
+            energy = t.title.startswith("Modal kinetic-energy")
+            parts.append(html_table(t, shade_from=3 if energy else None))
+    parts.append("</body></html>")
+    return "\n".join(parts)
+
+
+def write_report(report: Report, out: str | Path, dpi: int = 110) -> Path:
+    """Write the figures (PNG) and ``index.html`` of a report into folder ``out``.
+
+    Parameters
+    ----------
+    report : Report
+        From :func:`study` (with figures).
+    out : str or Path
+        Folder, created if needed; existing files of the same names are replaced.
+    dpi : int
+        Resolution of the PNG files [dots per inch].
+
+    Returns
+    -------
+    Path
+        The ``index.html`` written.
+    """
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    images: dict[str, bytes] = {}
+    for s in report.sections:
+        for name, fig in s.figures:
+            path = out / name
+            fig.savefig(path, dpi=dpi)
+            images[name] = path.read_bytes()
+    index = out / "index.html"
+    index.write_text(_html(report, images), encoding="utf-8")
+    (out / "report.txt").write_text(report.text(), encoding="utf-8")
+    return index
+
+
+def default_folder(source: str, model: Model) -> Path:
+    """``./vibss-report-<name>``: the file's stem or example name, else the model's name."""
+    stem = Path(source).stem if source else model.name
+    return Path(f"vibss-report-{slug(stem)}")
+
+
+def progress_on_stderr() -> Progress:
+    """The command line's progress display (``[3/6] damped modes ...`` on stderr)."""
+    return _stderr_progress
+
