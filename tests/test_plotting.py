@@ -1,0 +1,107 @@
+"""Figures build for one- and two-body models, with the right panels; the GIF is written."""
+
+from __future__ import annotations
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import numpy as np
+import pytest
+
+import vibss
+from vibss.errors import ModelError
+from vibss.plotting import animate_mode, plot_energy, plot_model, plot_modes
+from vibss.plotting._scene import Scene, box_half_sides
+
+
+@pytest.fixture(scope="module")
+def prism_modes(request):
+    from cases import prism_model
+
+    return vibss.modes(prism_model())
+
+
+@pytest.fixture(scope="module")
+def two_modes():
+    from cases import two_mass_model
+
+    return vibss.modes(two_mass_model())
+
+
+def test_box_has_the_body_inertia():
+    m, (a, b, c) = 30.0, (0.4, 1.0, 2.2)          # uniform box: I1 = m (b^2 + c^2) / 12 ...
+    moments = m / 12 * np.array([b * b + c * c, a * a + c * c, a * a + b * b])
+    assert np.allclose(2 * box_half_sides(m, moments), [a, b, c])
+
+
+def test_iso_one_panel_per_mode(prism_modes):
+    fig = plot_modes(prism_modes)
+    assert len(fig.axes) == 6
+    assert all(ax.name == "3d" for ax in fig.axes)
+    titles = [ax.get_title() for ax in fig.axes]
+    assert titles[0] == "mode 1: 1.01 Hz (60 CPM), x"
+    assert fig.axes[0].get_xlabel() == "x [m]" and fig.axes[0].get_zlabel() == "z [m]"
+
+
+def test_three_views_per_mode(two_modes):
+    fig = plot_modes(two_modes, which=[0, 5], view="three")
+    assert len(fig.axes) == 6
+    assert [ax.get_xlabel() for ax in fig.axes[:3]] == ["x [m]", "y [m]", "x [m]"]
+    assert [ax.get_ylabel() for ax in fig.axes[:3]] == ["z [m]", "z [m]", "y [m]"]
+
+
+def test_single_view_and_given_axes(two_modes):
+    assert len(plot_modes(two_modes, which=range(4), view="xz").axes) == 4
+    fig = plot_modes(two_modes, which=[2], view="yz", ax=plot_model(two_modes.model, view="xy").axes[0])
+    assert len(fig.axes) == 1
+
+
+def test_deformed_shape_has_the_requested_scale(prism_modes):
+    scene = Scene.of(prism_modes.model)
+    from vibss.plotting.modes import mode_motion
+
+    q, length = mode_motion(prism_modes, 0, scene, scale=0.25)
+    assert length == 0.25
+    assert scene.max_displacement(q) == pytest.approx(0.25)
+    moved = scene.moved(q)
+    assert np.allclose(moved.cogs[0] - scene.cogs[0], [0.25, 0, 0])   # pure x mode
+
+
+def test_bad_arguments(prism_modes):
+    with pytest.raises(ModelError, match="view"):
+        plot_modes(prism_modes, view="perspective")
+    with pytest.raises(ModelError, match="which"):
+        plot_modes(prism_modes, which=[6])
+    with pytest.raises(ModelError, match="kind"):
+        plot_energy(prism_modes, kind="pie")
+
+
+def test_energy_and_model_figures(two_modes):
+    fig = plot_energy(two_modes)
+    assert len(fig.axes[0].get_xticklabels()) == 12       # one column per body DOF
+    assert fig.axes[1].get_ylabel() == "kinetic energy [%]"
+    assert len(plot_energy(two_modes, kind="bar").axes) == 1
+    assert len(plot_model(two_modes.model, view="three").axes) == 3
+
+
+def test_model_marks_control_points():
+    from cases import asymmetric_model
+
+    model = asymmetric_model()
+    body = model.bodies[0].name
+    model = model.replace(control_points=[vibss.ControlPoint("sensor", body, [0.1, 0.0, 0.2])])
+    fig = plot_model(model)
+    texts = {t.get_text().strip() for t in fig.axes[0].texts}
+    assert {b.name for b in model.bodies} <= texts
+    assert "sensor" in texts
+
+
+def test_gif_written(prism_modes, tmp_path):
+    out = animate_mode(prism_modes, 3, tmp_path / "rx.gif", frames=4, view="yz")
+    data = out.read_bytes()
+    assert data[:6] in (b"GIF89a", b"GIF87a") and len(data) > 1000
+
+
+def test_modes_plot_method(prism_modes):
+    assert len(prism_modes.plot(which=[0]).axes) == 1

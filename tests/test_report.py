@@ -1,0 +1,87 @@
+"""`vibss report` on the examples: the text, the figures and one self-contained HTML page."""
+
+from __future__ import annotations
+
+import argparse
+import re
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import pytest
+
+import vibss
+from vibss.commands import example as example_command
+from vibss.commands import report as report_command
+from vibss.io import example_names, load_example
+from vibss.report import html_table, study
+from vibss.results import Table
+
+
+def run(argv: list[str]) -> int:
+    parser = argparse.ArgumentParser(prog="vibss")
+    sub = parser.add_subparsers()
+    report_command.register(sub)
+    example_command.register(sub)
+    args = parser.parse_args(argv)
+    return args.func(args)
+
+
+@pytest.fixture(scope="module", params=["prism", "two_mass"])
+def written(request, tmp_path_factory):
+    out = tmp_path_factory.mktemp(request.param)
+    assert run(["report", "--example", request.param, "--out", str(out)]) == 0
+    return request.param, out
+
+
+def test_report_writes_html_and_figures(written, capfd):
+    name, out = written
+    html = (out / "index.html").read_text(encoding="utf-8")
+    for png in ("model.png", "modes.png", "modes_views.png", "energy.png"):
+        assert (out / png).stat().st_size > 1000
+    assert html.count("data:image/png;base64,") == 5          # self-contained: every figure embedded
+    assert 'src="' not in html.replace('src="data:', "")      # ... and nothing referenced outside
+    # the HTML shows the frequencies that vibss.modes computes, as the tables print them
+    freqs = vibss.modes(load_example(name)).frequency_hz
+    cells = re.findall(r'<td class="n">([0-9.]+)</td>', html)
+    for f in freqs:
+        assert f"{f:.4f}" in cells
+    assert "<table>" in html and "Modal kinetic-energy distribution" in html
+
+
+def test_report_text_and_progress(capsys, tmp_path):
+    assert run(["report", "--example", "prism", "--no-figures"]) == 0
+    out, err = capsys.readouterr()
+    assert "[1/6] model ..." in err and "[4/6] damped modes ..." in err
+    assert "1.0066" in out and "34.8" in out                  # x and rx modes of reference case 1
+    assert "skipped: the model has no loads and no gravity" in out
+    assert not list(tmp_path.iterdir())
+
+
+def test_sections_that_apply_run():
+    r = study(load_example("powertrain"), figures=False)
+    assert [s.key for s in r.sections if s.skipped] == []
+    assert r.section("frequency").tables[0].rows                 # the firing-torque sweep
+    assert r.section("time").note.startswith("0 to 1 s")          # the pothole, [analysis] time
+    assert "static" in r.results and "damped" in r.results
+
+
+def test_html_table_escapes_and_aligns():
+    t = Table(["name", "value"], [["<a>", "1.5"], ["b", "-2e-3"]], title="T & U")
+    h = html_table(t)
+    assert "&lt;a&gt;" in h and "T &amp; U" in h
+    assert h.count('class="n"') == 2 and h.count('class="t"') == 2
+
+
+def test_example_list_and_write(capsys, tmp_path):
+    assert run(["example", "list"]) == 0
+    out = capsys.readouterr().out
+    for name in example_names():
+        assert re.search(rf"^{name}\s", out, re.M)
+    assert run(["example", "write", "prism", str(tmp_path)]) == 0
+    written = tmp_path / "prism.toml"
+    assert written.read_text() == (vibss.io.example_path("prism")).read_text()
+    assert run(["example", "write", "prism", str(written)]) == 1      # refuses to overwrite
+    assert "--force" in capsys.readouterr().err
+    assert run(["example", "write", "prism", str(written), "--force"]) == 0
