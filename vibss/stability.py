@@ -38,7 +38,7 @@ from __future__ import annotations
 
 import warnings
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -78,6 +78,8 @@ class Finding:
         The measured quantity (see each check).
     limit : float
         The limit it was compared with.
+    data : dict of str to float
+        Further numbers of the check (e.g. the estimated step counts), by name.
     """
 
     check: str
@@ -85,6 +87,7 @@ class Finding:
     message: str
     value: float = float("nan")
     limit: float = float("nan")
+    data: dict[str, float] = field(default_factory=dict)
 
     def warn(self, stacklevel: int = 3) -> None:
         """Issue a :class:`VibssWarning` with the message if the finding is not ok."""
@@ -141,12 +144,15 @@ def check_central_difference(M: Any, K: Any, dt: float, omega: Any = None) -> Fi
 
 
 def check_explicit_rk(M: Any, K: Any, t_end: float, rtol: float = 1e-6, solver: str = "RK45",
-                      omega: Any = None, ratio_limit: float = 10.0) -> Finding:
+                      omega: Any = None, ratio_limit: float = 10.0, C: Any = None) -> Finding:
     """Explicit Runge-Kutta on a stiff model: estimate the step-count explosion.
 
-    An explicit solver must keep ``h omega_max`` inside its stability region (about
-    ``RK_IMAG_BOUND[solver]`` along the imaginary axis) whatever the accuracy needs, so it takes at
-    least ``t_end omega_max / bound`` steps. Accuracy alone would need about
+    An explicit solver must keep ``h |lambda|_max`` inside its stability region (about
+    ``RK_IMAG_BOUND[solver]``; lightly damped poles lie next to the imaginary axis, overdamped ones
+    on the negative real axis where the bound is similar) whatever the accuracy needs, so it takes
+    at least ``t_end |lambda|_max / bound`` steps. ``|lambda|_max`` is ``omega_max`` without damping;
+    with ``C`` it is the largest pole magnitude of the (modally projected) damped modes, which for
+    an overdamped stiff mode is ``omega (zeta + sqrt(zeta^2 - 1))``. Accuracy alone would need about
     ``t_end omega_min / (2 pi) * 2 pi rtol^(-1/order) / 3`` steps (a few steps per period of the
     slowest mode at the tolerance). The ratio of the two is the explosion factor.
 
@@ -161,9 +167,11 @@ def check_explicit_rk(M: Any, K: Any, t_end: float, rtol: float = 1e-6, solver: 
     solver : {"RK23", "RK45", "DOP853"}
         Explicit solve_ivp method.
     omega : array_like or None
-        Natural frequencies [rad/s], if known.
+        Natural frequencies [rad/s], if known (ignored when ``C`` is given).
     ratio_limit : float
         Explosion factor above which the finding is not ok.
+    C : (n, n) array_like or None
+        Viscous damping [N s/m]; its modal diagonal sets the pole magnitude of overdamped modes.
 
     Returns
     -------
@@ -171,22 +179,34 @@ def check_explicit_rk(M: Any, K: Any, t_end: float, rtol: float = 1e-6, solver: 
         ``value`` = estimated explosion factor, ``limit`` = ``ratio_limit``; the message gives the
         stiffness ratio and both step counts.
     """
-    w = _omega(M, K, omega)
+    if C is not None:
+        Md, Kd, Cd = (np.asarray(x.toarray() if hasattr(x, "toarray") else x, float) for x in (M, K, C))
+        w2, phi = sl.eigh(Kd, Md)
+        w = np.sqrt(np.where(w2 < 1e-11 * max(w2.max(), 0.0), 0.0, w2))
+        cm = np.einsum("ij,ij->j", phi, Cd @ phi)                 # modal damping 2 zeta omega
+        zeta = np.divide(cm, 2 * w, out=np.zeros_like(w), where=w > 0)
+        radius = np.where(zeta > 1, w * (zeta + np.sqrt(np.maximum(zeta**2 - 1, 0.0))), w)
+        radius = np.where(w > 0, radius, cm)                      # damped rigid mode: pole -c
+    else:
+        w = _omega(M, K, omega)
+        radius = w
     el = w[w > 0]
     if el.size == 0:
         return Finding("explicit_rk", True, "no elastic modes", 1.0, ratio_limit)
     bound = RK_IMAG_BOUND.get(solver, 3.3)
     order = RK_ORDER.get(solver, 5)
-    wmin, wmax = float(el.min()), float(el.max())
+    wmin, wmax = float(el.min()), float(radius.max())
     n_stab = t_end * wmax / bound
     n_acc = max(t_end * wmin * rtol ** (-1.0 / order) / 3.0, 1.0)
     ratio = n_stab / n_acc
     ok = ratio <= ratio_limit
-    msg = (f"stiffness ratio omega_max/omega_min = {wmax / wmin:.3g}; {solver} needs about "
+    msg = (f"stiffness ratio |lambda|_max/omega_min = {wmax / wmin:.3g}; {solver} needs about "
            f"{n_stab:.3g} steps for stability against about {n_acc:.3g} for accuracy "
            f"(x{ratio:.3g})" + ("" if ok else ": the model is stiff for an explicit solver; use the "
                                  "exact modal method, or an implicit solver (Radau, BDF, LSODA)"))
-    return Finding("explicit_rk", bool(ok), msg, float(ratio), float(ratio_limit))
+    return Finding("explicit_rk", bool(ok), msg, float(ratio), float(ratio_limit),
+                   {"stiffness_ratio": wmax / wmin, "steps_stability": n_stab, "steps_accuracy": n_acc,
+                    "pole_radius_max": wmax, "omega_min": wmin})
 
 
 def check_sampling(dt: float, *, pulses: Iterable[tuple[float, float]] = (),
