@@ -26,13 +26,15 @@ from .modal import Modes, modes
 from .model import (DOF_NAMES, GROUND, Body, ControlPoint, Load, Model, Mount, MountType,
                     symmetric)
 from .static import StaticResult, static
+from .time import TimeResponse, simulate
+from .time_sweep import SweepEnvelope, sweep_envelope
 
 __version__ = "0.1.0"
 
 __all__ = [
     "AnalysisError", "Assembly", "Body", "ControlPoint", "DOF_NAMES", "DampedModes", "Excitation",
     "GROUND", "Load", "Model", "ModelError", "ModelFileError", "Modes", "Mount", "MountType",
-    "Orientation", "StaticResult", "VibssError", "assemble", "damped_modes", "dump_model",
-    "dumps_model", "example_names", "load_example", "load_model", "loads_model", "modes", "static",
-    "symmetric",
+    "Orientation", "StaticResult", "SweepEnvelope", "TimeResponse", "VibssError", "assemble", "damped_modes", "dump_model",
+    "dumps_model", "example_names", "load_example", "load_model", "loads_model", "modes", "simulate", "static",
+    "sweep_envelope", "symmetric",
 ]
