@@ -138,8 +138,8 @@ def _modal_zeta(plant: Plant, basis: ModalBasis) -> np.ndarray:
     """Modal damping-ratio estimate per mode: diag(Phi^T C Phi) / 2w + eta / 2."""
     phi = basis.phi
     w = np.where(basis.rigid, 1.0, basis.omega)
-    gam = np.einsum("ir,ij,jr->r", phi, plant.C, phi) if np.any(plant.C) else 0.0
-    hys = np.einsum("ir,ij,jr->r", phi, plant.H, phi) if np.any(plant.H) else 0.0
+    gam = (phi * (plant.C @ phi)).sum(axis=0) if np.any(plant.C) else 0.0
+    hys = (phi * (plant.H @ phi)).sum(axis=0) if np.any(plant.H) else 0.0
     return np.abs(gam / (2 * w) + hys / (2 * w**2)) * np.ones(plant.n)
 
 

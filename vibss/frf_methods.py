@@ -91,32 +91,75 @@ def direct(plant: Plant, s: np.ndarray) -> np.ndarray:
 
 
 def _superpose(plant: Plant, s: np.ndarray, left: np.ndarray, right: np.ndarray,
-               d: np.ndarray) -> np.ndarray:
+               d: np.ndarray, d_acc: np.ndarray | None = None) -> np.ndarray:
     """``Y = sum_ab s^(a+b) Z (O_a left) diag(d) (right R_b)`` + feedthrough; returns (p, m, nf).
 
     ``left`` (n, r) maps modal amplitudes to DOFs, ``right`` (r, n) maps generalised forces to
-    modal forces, ``d`` (nf, r) the modal transfer functions.
+    modal forces, ``d`` (nf, r) the modal transfer functions. With ``d_acc`` (the same transfer
+    functions less their static part, ``d - d(0)``) the *mode-acceleration* form
+    ``Y = O (K + iH)^-1 R + sum(d_acc)`` is evaluated too (static part by a direct solve), and each
+    frequency takes the form with the smaller cancellation (sum of term magnitudes): the plain sum
+    loses digits below the modes, where many high-mode terms cancel, the other above them.
     """
     outs, rhs, order = _terms(plant)
     p, m, nf = len(plant.outputs), len(plant.inputs), s.size
     zf = _zfactor(s, order)
-    y = np.zeros((nf, p * m), dtype=complex)
     lefts = [(a, oa @ left) for a, oa in outs]
-    rights = [(b, right @ rb, scaled) for b, rb, scaled in rhs]
-    for a, lo in lefts:
-        for b, ro, scaled in rights:
-            w = (lo[:, :, None] * ro[None, :, :]).transpose(1, 0, 2).reshape(-1, p * m)
-            if np.isrealobj(w) and not np.isrealobj(d):
-                t = d.real @ w + 1j * (d.imag @ w)
-            else:
-                t = d @ w
-            fac = s[:, None] ** (a + b) * (zf if scaled else np.ones((1, m)))   # (nf, m)
-            y += (t.reshape(nf, p, m) * fac[:, None, :]).reshape(nf, p * m)
+    rights = [(b, right @ rb, scaled, rb) for b, rb, scaled in rhs]
+    static = None
+    if d_acc is not None:
+        k0 = plant.K + 1j * plant.H if np.any(plant.H) else plant.K
+        try:
+            lu = sl.lu_factor(k0, check_finite=False)
+        except (np.linalg.LinAlgError, ValueError):
+            d_acc = None
+        else:
+            static = [sl.lu_solve(lu, rb, check_finite=False) for _, _, _, rb in rights]
+    forms = [(d, None)] + ([(d_acc, static)] if d_acc is not None else [])
+    results, costs = [], []
+    wl = sum(np.linalg.norm(lo, axis=0) for _, lo in lefts)
+    wr = sum(np.linalg.norm(ro, axis=1) for _, ro, _, _ in rights)
+    omap = dict(outs)
+    for dd, st in forms:
+        y = np.zeros((nf, p * m), dtype=complex)
+        cost = np.abs(dd) @ (wl * wr)                   # sum of term magnitudes, per frequency
+        for a, lo in lefts:
+            for i, (b, ro, scaled, _) in enumerate(rights):
+                w = (lo[:, :, None] * ro[None, :, :]).transpose(1, 0, 2).reshape(-1, p * m)
+                if np.isrealobj(w) and not np.isrealobj(dd):
+                    t = dd.real @ w + 1j * (dd.imag @ w)
+                else:
+                    t = dd @ w
+                if st is not None:
+                    y0 = omap[a] @ st[i]
+                    t = t + y0.reshape(1, p * m)
+                    cost = cost + np.linalg.norm(y0)
+                fac = s[:, None] ** (a + b) * (zf if scaled else np.ones((1, m)))   # (nf, m)
+                y += (t.reshape(nf, p, m) * fac[:, None, :]).reshape(nf, p * m)
+        results.append(y)
+        costs.append(cost)
+    y = results[0]
+    if len(results) == 2:
+        y = np.where((costs[1] < costs[0])[:, None], results[1], results[0])
     out = y.reshape(nf, p, m) + _feedthrough(plant, s, zf)
     return np.moveaxis(out, 0, -1)
 
 
-def classical_damping(plant: Plant, basis: ModalBasis | None = None) -> tuple[bool, str]:
+def _project(plant: Plant, basis: ModalBasis) -> tuple[np.ndarray, np.ndarray]:
+    """``Phi^T C Phi`` and ``Phi^T H Phi`` (zeros when absent)."""
+    phi = basis.phi
+    out = []
+    for mat in (plant.C, plant.H):
+        if np.any(mat):
+            g = phi.T @ (mat @ phi)
+            out.append(0.5 * (g + g.T))
+        else:
+            out.append(np.zeros((plant.n, plant.n)))
+    return out[0], out[1]
+
+
+def classical_damping(plant: Plant, basis: ModalBasis | None = None,
+                      projected: tuple[np.ndarray, np.ndarray] | None = None) -> tuple[bool, str]:
     """Whether ``Phi^T C Phi`` and ``Phi^T H Phi`` are diagonal (classical damping), and why not.
 
     Parameters
@@ -124,6 +167,8 @@ def classical_damping(plant: Plant, basis: ModalBasis | None = None) -> tuple[bo
     plant : Plant
     basis : ModalBasis or None
         Undamped modes (computed if None).
+    projected : (Phi^T C Phi, Phi^T H Phi) or None
+        The projected damping matrices, if already computed.
 
     Returns
     -------
@@ -131,18 +176,17 @@ def classical_damping(plant: Plant, basis: ModalBasis | None = None) -> tuple[bo
     reason : str
     """
     basis = basis or modal_basis(plant)
-    phi = basis.phi
-    for name, mat in (("viscous damping", plant.C), ("hysteretic damping", plant.H)):
-        if not np.any(mat):
+    projected = projected or _project(plant, basis)
+    for name, g in zip(("viscous damping", "hysteretic damping"), projected):
+        if not np.any(g):
             continue
-        g = phi.T @ mat @ phi
         dg = np.abs(np.diag(g))
         off = np.abs(g - np.diag(np.diag(g)))
         bound = CLASSICAL_TOL * np.sqrt(np.outer(dg, dg)) + 64 * np.finfo(float).eps * dg.max()
         if np.any(off > bound):
             i, j = np.unravel_index(np.argmax(off - bound), off.shape)
             return False, (f"{name} is not classical: modes {i + 1} and {j + 1} are coupled "
-                           f"(|Phi^T C Phi| off-diagonal {off[i, j]:.3g} vs diagonal {dg[i]:.3g}, {dg[j]:.3g})")
+                           f"(Phi^T C Phi off-diagonal {off[i, j]:.3g} vs diagonal {dg[i]:.3g}, {dg[j]:.3g})")
     return True, "classical damping (Phi^T C Phi and Phi^T H Phi diagonal)"
 
 
@@ -156,15 +200,17 @@ def modal(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) -> np.nd
     """
     s = np.asarray(s, dtype=complex)
     basis = basis or modal_basis(plant)
-    ok, why = classical_damping(plant, basis)
+    projected = _project(plant, basis)
+    ok, why = classical_damping(plant, basis, projected)
     if not ok:
         raise AnalysisError(f"method 'modal' needs classical damping: {why}; use 'complex_modal' or 'direct'")
     phi = basis.phi
-    gamma = np.einsum("ir,ij,jr->r", phi, plant.C, phi) if np.any(plant.C) else np.zeros(plant.n)
-    hyst = np.einsum("ir,ij,jr->r", phi, plant.H, phi) if np.any(plant.H) else np.zeros(plant.n)
+    gamma, hyst = np.diag(projected[0]), np.diag(projected[1])
     with np.errstate(divide="ignore", invalid="ignore"):
-        d = 1.0 / (basis.omega2[None, :] + 1j * hyst[None, :] + s[:, None] * gamma[None, :] + (s**2)[:, None])
-    return _superpose(plant, s, phi, phi.T, d)
+        kappa = basis.omega2 + 1j * hyst
+        d = 1.0 / (kappa[None, :] + s[:, None] * gamma[None, :] + (s**2)[:, None])
+        d_acc = None if np.any(basis.rigid) else -(s[:, None] * gamma[None, :] + (s**2)[:, None]) * d / kappa[None, :]
+    return _superpose(plant, s, phi, phi.T, d, d_acc)
 
 
 def complex_modal(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) -> np.ndarray:
@@ -172,13 +218,14 @@ def complex_modal(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) 
     s = np.asarray(s, dtype=complex)
     basis = basis or modal_basis(plant)
     n, phi, sc = plant.n, basis.phi, basis.scale
+    gam, hys = _project(plant, basis)
     stiff = np.diag(basis.omega2).astype(complex if np.any(plant.H) else float)
     if np.any(plant.H):
-        stiff = stiff + 1j * (phi.T @ plant.H @ phi)
+        stiff = stiff + 1j * hys
     a = np.zeros((2 * n, 2 * n), dtype=stiff.dtype)
     a[:n, n:] = np.diag(sc)
     a[n:, :n] = -stiff / sc[None, :]
-    a[n:, n:] = -(phi.T @ plant.C @ phi)
+    a[n:, n:] = -gam
     lam, v = sl.eig(a, check_finite=False)
     sel = np.zeros((2 * n, n))
     sel[n:] = np.eye(n)
@@ -186,7 +233,8 @@ def complex_modal(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) 
     left = phi @ (v[:n] / sc[:, None])                  # eta = S^-1 y1
     with np.errstate(divide="ignore", invalid="ignore"):
         d = 1.0 / (s[:, None] - lam[None, :])
-    return _superpose(plant, s, left, wr @ phi.T, d)
+        d_acc = None if np.any(basis.rigid) else s[:, None] * d / lam[None, :]
+    return _superpose(plant, s, left, wr @ phi.T, d, d_acc)
 
 
 def via_statespace(plant: Plant, s: np.ndarray) -> np.ndarray:
@@ -243,12 +291,13 @@ def zero_frequency_limit(plant: Plant, power: int = 0, n_points: int = 32) -> np
         t = direct(plant, z) * z[None, None, :] ** power         # (p, m, N)
         coef = {k: np.mean(t * z[None, None, :] ** (-k), axis=-1) for k in range(-4, 1)}
         sing = sum(np.abs(coef[k]) * r**k for k in range(-4, 0))
-        return np.where(sing > 1e-6 * np.abs(t).max(axis=-1), complex(np.inf, 0.0), coef[0])
+        big = np.abs(t).max(axis=-1)
+        return np.where(sing > 1e-6 * big, complex(np.inf, 0.0), coef[0]), big
 
     for shrink in (1.0, 1e-1, 1e-2, 1e-3):   # a heavily damped (slow) pole may need a smaller circle
-        a, b = laurent(rho0 * shrink), laurent(rho0 * shrink / 4)
+        (a, _), (b, big) = laurent(rho0 * shrink), laurent(rho0 * shrink / 4)
         finite = np.isfinite(a) & np.isfinite(b)
-        scale = max(float(np.abs(b[finite]).max()) if np.any(finite) else 0.0, 1e-300)
+        scale = max(float(big[finite].max()) if np.any(finite) else 0.0, 1e-300)
         if np.all(np.isfinite(a) == np.isfinite(b)) and np.all(np.abs(a[finite] - b[finite]) <= 1e-7 * scale):
             return b
     raise AnalysisError("the 0 Hz limit of the response could not be resolved (a pole lies very "

@@ -1,0 +1,86 @@
+"""FRF benchmark: python-control's stock path vs vibss's kernels on a 600-DOF chain.
+
+``chain_model(100)`` (600 DOF), 6 force inputs x 36 displacement outputs x 1000 log-spaced
+frequencies, zeta ~ 0.001, single BLAS thread. Timed in the same run:
+
+- ``control.frequency_response`` on the plain physical state space ``A = [[0, I], [-M^-1 K, -M^-1 C]]``
+  (the stock path: SLICOT TB05AD, no balancing);
+- vibss ``modal`` (classical damping) / ``complex_modal`` (general damping), and ``direct`` (the
+  reference: one complex solve per frequency).
+
+Error: max over frequencies of ||H - H_ref||_F / ||H_ref||_F against ``direct``. Results are printed and
+written to ``benchmarks/results/frf.json``. Run: ``python benchmarks/bench_frf.py [n_bodies]``.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+import time
+from pathlib import Path
+
+import control
+import numpy as np
+from threadpoolctl import threadpool_limits
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+from benchmarks.models import chain_model  # noqa: E402
+from vibss.frf_methods import METHODS  # noqa: E402
+from vibss.signals import build_plant  # noqa: E402
+
+
+def _stock(plant, omega):
+    n = plant.n
+    minv = np.linalg.inv(plant.M)
+    a = np.block([[np.zeros((n, n)), np.eye(n)], [-minv @ plant.K, -minv @ plant.C]])
+    b = np.vstack([np.zeros_like(plant.F), minv @ plant.F])
+    c = np.hstack([plant.Oq, np.zeros_like(plant.Oq)])
+    sys_ = control.ss(a, b, c, np.zeros((c.shape[0], b.shape[1])))
+    return np.asarray(control.frequency_response(sys_, omega).complex)
+
+
+def _err(h, ref):
+    num = np.linalg.norm(h - ref, axis=(0, 1))
+    return float(np.max(num / np.linalg.norm(ref, axis=(0, 1))))
+
+
+def run(n_bodies: int = 100, n_freq: int = 1000) -> dict:
+    out = {"n_bodies": n_bodies, "n_dof": 6 * n_bodies, "inputs": 6, "outputs": 36,
+           "frequencies": n_freq, "threads": 1, "cases": {}}
+    for damping, fast in (("classical", "modal"), ("general", "complex_modal")):
+        model = chain_model(n_bodies, damping=damping, zeta=1e-3)
+        step = max(1, n_bodies // 6)
+        inputs = [f"b{i * step}.f{'xyz'[i % 3]}" for i in range(6)]
+        outputs = [f"b{i * step}.{d}" for i in range(6) for d in ("x", "y", "z", "rx", "ry", "rz")]
+        plant = build_plant(model, inputs, outputs)
+        w2 = np.linalg.eigvalsh(np.linalg.solve(np.linalg.cholesky(plant.M), np.linalg.solve(
+            np.linalg.cholesky(plant.M), plant.K).T))
+        f = np.geomspace(0.5 * np.sqrt(w2.min()), 1.5 * np.sqrt(w2.max()), n_freq) / (2 * np.pi)
+        omega = 2 * np.pi * f
+        s = 1j * omega
+        res = {}
+        with threadpool_limits(1):
+            t = time.perf_counter(); href = METHODS["direct"](plant, s); res["direct_s"] = time.perf_counter() - t
+            t = time.perf_counter(); hf = METHODS[fast](plant, s); res[f"{fast}_s"] = time.perf_counter() - t
+            t = time.perf_counter(); hs = _stock(plant, omega); res["control_s"] = time.perf_counter() - t
+            t = time.perf_counter(); hv = METHODS["statespace"](plant, s); res["vibss_statespace_s"] = time.perf_counter() - t
+        res.update({f"{fast}_error": _err(hf, href), "control_error": _err(hs, href),
+                    "vibss_statespace_error": _err(hv, href),
+                    f"speedup_{fast}_vs_control": res["control_s"] / res[f"{fast}_s"],
+                    f"speedup_{fast}_vs_direct": res["direct_s"] / res[f"{fast}_s"]})
+        out["cases"][damping] = res
+        print(f"{damping:9s} n={plant.n}: control {res['control_s']:.2f} s (err {res['control_error']:.2e}), "
+              f"{fast} {res[f'{fast}_s']:.3f} s (err {res[f'{fast}_error']:.2e}), direct {res['direct_s']:.2f} s; "
+              f"{fast} is {res[f'speedup_{fast}_vs_control']:.0f}x faster than control, "
+              f"{res[f'speedup_{fast}_vs_direct']:.0f}x than direct; vibss statespace (scaled modal + TB05AD) "
+              f"{res['vibss_statespace_s']:.2f} s err {res['vibss_statespace_error']:.2e}", flush=True)
+    return out
+
+
+if __name__ == "__main__":
+    nb = int(sys.argv[1]) if len(sys.argv) > 1 else 100
+    result = run(nb)
+    path = Path(__file__).resolve().parent / "results" / "frf.json"
+    path.parent.mkdir(exist_ok=True)
+    path.write_text(json.dumps(result, indent=2))
+    print(f"wrote {path}")

@@ -1,0 +1,181 @@
+"""Frequency response against closed forms, statics, reciprocity and between methods."""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from vibss import AnalysisError, Body, Model, ModelError, Mount, MountType, assemble, symmetric
+from vibss.frequency import (FrequencyGrid, frequency_grid, frequency_response, sweep_response,
+                             transmissibility)
+from vibss.frf_methods import METHODS
+from vibss.signals import build_plant
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from test_signals import two_body  # noqa: E402
+
+
+def sdof(zeta: float = 0.05, fn: float = 1.0, mass: float = 1.0) -> Model:
+    """A point mass on one mount at its COG: z is a single DOF (rotations decouple)."""
+    k = mass * (2 * np.pi * fn) ** 2
+    c = 2 * zeta * np.sqrt(k * mass)
+    return Model([Body("m", mass, [1.0, 1.0, 1.0])], [Mount("s", MountType("t", [k] * 3, [c] * 3), "m")])
+
+
+def closed_form_t(r, zeta):
+    return np.sqrt(1 + (2 * zeta * r) ** 2) / np.sqrt((1 - r**2) ** 2 + (2 * zeta * r) ** 2)
+
+
+@pytest.mark.parametrize("zeta", [0.01, 0.1, 0.5])
+def test_sdof_transmissibility_closed_form(zeta):
+    f = np.concatenate([[0.0], np.geomspace(0.05, 20, 200), [1.0]])
+    t = closed_form_t(f / 1.0, zeta)
+    base = transmissibility(sdof(zeta), ["ground.z"], ["m.z"], frequencies=f)
+    force = transmissibility(sdof(zeta), ["m.fz"], ["ground.fz", "mount.s.fz"], frequencies=f)
+    np.testing.assert_allclose(np.abs(base.response[0, 0]), t, rtol=1e-10)
+    np.testing.assert_allclose(np.abs(force.response[0, 0]), t, rtol=1e-10)
+    np.testing.assert_allclose(force.response[1, 0], force.response[0, 0], rtol=1e-12)
+    assert base.quantity == "transmissibility" and np.all(np.isfinite(base.response))
+
+
+def test_zero_hz_is_static_deflection():
+    m = two_body()
+    a = assemble(m)
+    f = np.zeros(12)
+    f[8] = 1.0                               # engine.fz
+    q = np.linalg.solve(a.K, f)              # independent static solve
+    for method in ("auto", "direct", "modal", "complex_modal"):
+        if method == "modal":
+            continue                         # general damping: not eligible
+        r = frequency_response(m, ["engine.fz"], frequencies=[0.0, 0.3], method=method)
+        np.testing.assert_allclose(r.response[:, 0, 0].real, q, rtol=1e-9, atol=1e-12 * np.abs(q).max())
+        assert np.all(r.response[:, 0, 0].imag == pytest.approx(0.0, abs=1e-12 * np.abs(q).max()))
+
+
+def test_reciprocity_collocated():
+    m = two_body()
+    pairs = ["engine.fz", "frame.fx", "sensor.fy", "engine.mx"]
+    outs = ["engine.z", "frame.x", "sensor.y", "engine.rx"]
+    r = frequency_response(m, pairs, outs, frequencies=np.geomspace(0.5, 50, 60), method="direct")
+    h = r.response
+    np.testing.assert_allclose(h, np.swapaxes(h, 0, 1), rtol=1e-9, atol=1e-12 * np.abs(h).max())
+
+
+@pytest.mark.parametrize("hysteretic", [False, True])
+def test_all_methods_agree_on_asymmetric_nonproportional_case(hysteretic):
+    m = two_body()
+    if hysteretic:
+        m = m.replace(mounts=[Mount(x.name, MountType(x.type.name + "h", x.type.stiffness, x.type.damping, 0.08),
+                                    x.body, x.at, x.to, x.orientation) for x in m.mounts])
+    ins = ["engine.fz", "sensor.fx", "ground.y.acc", "frame.rz.vel"]
+    outs = ["engine.z", "sensor.x.acc", "mount.e2.f1", "ground.fz", "frame.x.vel", "mount.g1.d3"]
+    p = build_plant(m, ins, outs)
+    f = frequency_grid(p, FrequencyGrid(0.2, 60.0, 300))
+    ref = frequency_response(p, frequencies=f, method="direct").response
+    methods = ["complex_modal", "auto"] + ([] if hysteretic else ["statespace"])
+    for method in methods:
+        h = frequency_response(p, frequencies=f, method=method).response
+        err = np.max(np.linalg.norm(h - ref, axis=(0, 1)) / np.linalg.norm(ref, axis=(0, 1)))
+        assert err < 1e-9, (method, err)
+    with pytest.raises(AnalysisError, match="classical"):
+        frequency_response(p, frequencies=f, method="modal")
+
+
+def test_modal_on_classical_damping_and_rigid_modes():
+    t = MountType("t", [1e4, 2e4, 3e4], [10.0, 20.0, 30.0])           # C = 1e-3 K: classical
+    m = Model([Body("b", 50.0, [[2, 0.3, 0], [0.3, 3, 0.1], [0, 0.1, 4]], cog=[0.1, 0, 0.2])],
+              list(symmetric(Mount("m", t, "b", at=[0.4, 0.3, -0.2]), "double")))
+    free = Model([Body("f", 2.0, [1.0, 2.0, 3.0])])                      # six rigid-body modes
+    for model, ins in ((m, ["b.fz", "b.mx", "ground.x.acc"]), (free, ["f.fz", "f.my"])):
+        p = build_plant(model, ins)
+        f = np.geomspace(0.1, 30, 150)
+        ref = frequency_response(p, frequencies=f, method="direct").response
+        h = frequency_response(p, frequencies=f, method="modal").response
+        assert np.max(np.abs(h - ref)) < 1e-10 * np.abs(ref).max()
+    r = frequency_response(free, ["f.fz"], ["f.z", "f.x"], frequencies=[0.0, 1.0], quantity="accelerance")
+    assert r.response[0, 0, 0] == pytest.approx(-0.5) or r.response[0, 0, 0] == pytest.approx(0.5)
+    assert r.response[1, 0, 0] == 0
+    assert np.isinf(frequency_response(free, ["f.fz"], ["f.z"], frequencies=[0.0]).response[0, 0, 0])
+
+
+def test_displacement_velocity_acceleration_inputs_agree():
+    m = two_body()
+    f = np.concatenate([[0.0], np.geomspace(0.3, 40, 80)])
+    outs = ["engine.z", "mount.g2.d3", "ground.fz", "sensor.x.vel"]
+    res = {k: frequency_response(m, [f"frame.ry.{k}", f"ground.z.{k}"], outs, frequencies=f).response
+           for k in ("disp", "vel", "acc")}
+    s = 2j * np.pi * f[1:]
+    np.testing.assert_allclose(res["vel"][..., 1:] * s, res["disp"][..., 1:], rtol=1e-9)
+    np.testing.assert_allclose(res["acc"][..., 1:] * s**2, res["disp"][..., 1:], rtol=1e-9)
+    # 0 Hz: the displacement of a constant-velocity/acceleration input is unbounded; relative quantities are not
+    assert np.isinf(res["vel"][0, 1, 0]) and np.isinf(res["acc"][0, 1, 0])
+    assert np.isfinite(res["acc"][1, 1, 0])        # mount deflection under constant ground acceleration
+    assert not np.any(np.isnan(res["vel"])) and not np.any(np.isnan(res["acc"]))
+
+
+def test_reference_case_2_resonances():
+    t = MountType("k", [12000.0] * 3)
+    b1 = Body("b1", 1000.0, [10.0, 20.0, 30.0])
+    b2 = Body("b2", 1000.0, [10.0, 20.0, 30.0])
+    pts = [(1, 1, -1), (-1, 1, -1), (-1, -1, -1), (1, -1, -1)]
+    mounts = [Mount(f"g{i}", t, "b1", at=p) for i, p in enumerate(pts)]
+    mounts += [Mount(f"c{i}", t, "b2", at=p, to="b1") for i, p in enumerate(pts)]
+    m = Model([b1, b2], mounts).replace(mounts=[Mount(x.name, MountType("kd", [12000.0] * 3, [12.0] * 3), x.body,
+                                                      x.at, x.to) for x in mounts])
+    r = frequency_response(m, ["b2.fx", "b2.fz"], ["b1.x", "b2.x", "b1.z", "b2.z"],
+                           frequencies={"f1": 0.2, "f2": 3.0, "points": 300})
+    peaks_x = sorted(f for f, _ in r.peaks("b2.x", "b2.fx", 2))
+    peaks_z = sorted(f for f, _ in r.peaks("b2.z", "b2.fz", 2))
+    np.testing.assert_allclose(peaks_x, [0.48, 1.26], atol=0.005)
+    np.testing.assert_allclose(peaks_z, [0.68, 1.78], atol=0.005)
+    for f in (0.48, 0.68, 1.26, 1.78):
+        assert np.min(np.abs(r.natural_hz - f)) < 0.005
+
+
+def test_grid_refinement_resolves_light_damping():
+    m = sdof(zeta=0.001)
+    coarse = frequency_response(m, ["m.fz"], ["m.z"], frequencies={"f1": 0.1, "f2": 10, "points": 50, "refine": False})
+    fine = frequency_response(m, ["m.fz"], ["m.z"], frequencies={"f1": 0.1, "f2": 10, "points": 50})
+    k = (2 * np.pi) ** 2
+    exact_peak = 1 / (k * 2 * 0.001 * np.sqrt(1 - 0.001**2))
+    assert np.abs(fine.response).max() == pytest.approx(exact_peak, rel=1e-5)
+    assert np.abs(coarse.response).max() < 0.5 * exact_peak
+
+
+def test_sweep_response_and_dict():
+    m = sdof(zeta=0.05)
+    sw = sweep_response(m, [("m.fz", (10.0, 30.0))], f1=0.5, f2=2.0, points=40, outputs=["m.z"])
+    single = frequency_response(m, ["m.fz"], ["m.z"], frequencies=sw.frequency_hz)
+    a = 10.0 + 20.0 * (sw.frequency_hz - 0.5) / 1.5
+    np.testing.assert_allclose(sw.response[0, 0], single.response[0, 0] * a, rtol=1e-12)
+    d = json.loads(json.dumps(sw.to_dict()))
+    assert set(d) >= {"frequency_hz", "outputs"} and set(d["outputs"]["m.z"]) >= {"amplitude", "phase_deg"}
+    assert len(d["outputs"]["m.z"]["amplitude"]) == sw.frequency_hz.size
+    assert "m.z" in sw.report()
+    from vibss.excitation import Excitation, SineSweep
+    e = Excitation("sw", "force", "m", SineSweep(f1=0.5, f2=2.0, a1=10.0, a2=30.0), dof="z")
+    sw2 = sweep_response(m.replace(excitations=[e]), points=40, outputs=["m.z"])
+    np.testing.assert_allclose(sw2.response, sw.response, rtol=1e-12)
+    with pytest.raises(AnalysisError, match="transient"):
+        sweep_response(m, [Excitation("t", "force", "m", SineSweep(0.5, 2.0, 1.0, 1.0, sweep_time=5.0), dof="z")])
+
+
+def test_errors_and_result_api():
+    m = sdof()
+    with pytest.raises(ValueError, match="direct"):
+        frequency_response(m, ["m.fz"], method="fast")
+    with pytest.raises(ValueError, match="quantity"):
+        frequency_response(m, ["m.fz"], quantity="compliance")
+    with pytest.raises(ModelError, match="did you mean"):
+        frequency_response(m, ["m.fzz"])
+    r = frequency_response(m, ["m.fz", "m.fx"], ["m.z", "m.x"], frequencies=[0.5, 1.0, 2.0],
+                           method=lambda p, s: METHODS["direct"](p, s))
+    assert r.method == "<lambda>" and r.frd.noutputs == 2
+    assert r.to_pandas().shape == (3, 4)
+    assert set(r.to_dict()["inputs"]) == {"m.fz", "m.fx"}
+    mob = frequency_response(m, ["m.fz"], ["m.z"], frequencies=[0.0, 1.5], quantity="mobility")
+    assert abs(mob.response[0, 0, 0]) < 1e-15 and np.isfinite(mob.response).all()

@@ -1,0 +1,78 @@
+"""State-space realizations: python-control's frequency response equals the second-order solve."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import control
+import numpy as np
+import pytest
+
+from vibss import AnalysisError, Body, Model
+from vibss.frf_methods import direct
+from vibss.signals import build_plant
+from vibss.statespace import statespace
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from test_signals import two_body  # noqa: E402
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+from benchmarks.models import chain_model  # noqa: E402
+
+
+def _rel(h, ref):
+    return float(np.max(np.linalg.norm(h - ref, axis=(0, 1)) / np.linalg.norm(ref, axis=(0, 1))))
+
+
+@pytest.mark.parametrize("realization", ["modal", "physical"])
+@pytest.mark.parametrize("inputs, outputs", [
+    (["engine.fz", "frame.my", "sensor.fx"], ["engine.z", "sensor.x.acc", "mount.e1.f1", "ground.fz", "frame.rx.vel"]),
+    (["ground.z.acc", "frame.x.vel", "engine.rz.acc"], ["engine.z.acc", "mount.g2.f3", "ground.mx", "sensor.y.vel"]),
+    (["ground.y.disp", "frame.rx.disp", "engine.fz"], ["engine.z", "sensor.y", "mount.g1.d1"]),
+])
+def test_frequency_response_matches_second_order(realization, inputs, outputs):
+    p = build_plant(two_body(), inputs, outputs)
+    sys_ = statespace(p, realization=realization)
+    w = np.geomspace(0.5, 500, 200)
+    h = control.frequency_response(sys_, w).complex
+    assert _rel(h, direct(p, 1j * w)) < 1e-10
+    assert sys_.input_labels == [u.replace(".", ":") for u in inputs]
+
+
+def test_100_dof_lightly_damped():
+    model = chain_model(17, damping="general", zeta=1e-3)     # 102 DOF
+    p = build_plant(model, ["b0.fz", "b8.mx", "ground.x.acc"], ["b0.z", "b8.rx", "b16.y", "b4.x.acc"])
+    sys_ = statespace(p)
+    w2 = np.linalg.eigvals(np.linalg.solve(p.M, p.K)).real
+    w = np.union1d(np.geomspace(0.5, 2, 300) * np.sqrt(w2.min()), np.sqrt(np.sort(w2)))   # on resonances too
+    h = control.frequency_response(sys_, w).complex
+    assert _rel(h, direct(p, 1j * w)) < 1e-8
+
+
+def test_free_body_rigid_modes():
+    p = build_plant(Model([Body("f", 2.0, [[1, 0.1, 0], [0.1, 2, 0], [0, 0, 3]])]), ["f.fz", "f.mx"],
+                    ["f.z", "f.rx", "f.z.acc"])
+    sys_ = statespace(p)
+    assert np.all(np.isfinite(sys_.A)) and np.allclose(sys_.poles(), 0)
+    w = np.geomspace(0.1, 10, 20)
+    assert _rel(control.frequency_response(sys_, w).complex, direct(p, 1j * w)) < 1e-12
+
+
+def test_displacement_input_is_the_only_input_and_improper_outputs_raise():
+    p = build_plant(two_body(), ["ground.z.disp"], ["engine.z"])
+    sys_ = statespace(p)
+    assert sys_.ninputs == 1 and sys_.nstates == 24
+    with pytest.raises(AnalysisError, match="velocity or acceleration"):
+        statespace(build_plant(two_body(), ["ground.z.disp"], ["frame.z.acc"]))
+    statespace(build_plant(two_body(), ["ground.z.disp"], ["engine.z.acc"]))   # no damper between: proper
+    with pytest.raises(ValueError, match="realization"):
+        statespace(p, realization="balanced")
+
+
+def test_state_names():
+    p = build_plant(two_body(), ["ground.z.acc"], ["engine.z"])
+    modal = statespace(p)
+    assert modal.state_labels[0] == "mode1:pos" and modal.state_labels[-2:] == ["ground:z:acc:z", "ground:z:acc:zdot"]
+    phys = statespace(p, realization="physical")
+    assert phys.state_labels[:2] == ["frame:x", "frame:y"] and phys.state_labels[12] == "frame:x:vel"
