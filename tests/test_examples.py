@@ -75,3 +75,25 @@ def test_every_example_loads_and_has_modes():
     for name in vibss.io.example_names():
         modes = vibss.modes(load_example(name))
         assert np.all(np.isfinite(modes.frequency_hz))
+
+
+def _blocks(doc: str, lang: str) -> list[str]:
+    text = (ROOT / "docs" / doc).read_text(encoding="utf-8")
+    return [b.split("```", 1)[0] for b in text.split(f"```{lang}\n")[1:]]
+
+
+def test_getting_started_code_runs_and_matches_quickstart(tmp_path, monkeypatch, capsys):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    monkeypatch.chdir(tmp_path)
+    scope: dict = {}
+    for block in _blocks("getting-started.md", "python"):
+        exec(compile(block, "getting-started.md", "exec"), scope)
+    assert (tmp_path / "mode5.gif").exists() and (tmp_path / "modes.png").exists()
+    (toml,) = _blocks("getting-started.md", "toml")
+    from_file = vibss.io.loads_model(toml)
+    qs = _quickstart().build_model()
+    for model in (scope["model"], from_file):
+        assert np.allclose(vibss.modes(model).frequency_hz, vibss.modes(qs).frequency_hz, rtol=1e-12)
+        assert np.allclose(vibss.static(model).q, vibss.static(qs).q, rtol=1e-12, atol=1e-15)

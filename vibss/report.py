@@ -246,8 +246,8 @@ def _damped_section(model: Model, figures: bool, results: dict[str, Any]) -> Sec
 
 
 def _is_sweep(e: Any) -> bool:
-    fn = e.function
-    return type(fn).__name__ == "SineSweep" and not getattr(fn, "sweep_time", 0.0)
+    """A steady-state sine sweep (``sweep_time = 0``): a frequency-domain excitation."""
+    return bool(getattr(e.function, "steady_state", False))
 
 
 def _available(module: str) -> bool:

@@ -214,6 +214,8 @@ def animate_mode(modes: Modes, k: int, path: str | Path, frames: int = 24, view:
         drawing.update(scene.moved(phases[i] * q))
         return drawing.artists()
 
+    fig.canvas.draw()                 # lay out once; the frames keep that layout
+    fig.set_layout_engine("none")
     anim = FuncAnimation(fig, step, frames=frames, blit=False)
     out = Path(path)
     anim.save(out, writer=PillowWriter(fps=fps))
