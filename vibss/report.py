@@ -159,7 +159,7 @@ def _model_section(model: Model, figures: bool) -> Section:
                    for t in model.mount_types.values()], title="Mount types")
     mounts = Table(["mount", "type", "joins", "x [m]", "y [m]", "z [m]", "orientation"],
                    [[m.name, m.type.name, f"{m.body}->{m.to}"]
-                    + [f"{v:.4g}" for v in model.mount_point(m)] + [m.orientation.describe()]
+                    + [f"{v:.4g}" for v in model.mount_point(m)] + [_describe(m.orientation)]
                     for m in model.mounts],
                    title="Mounts (attachment points in global coordinates; Euler angles in "
                          "scipy's spelling, upper case = intrinsic)")
@@ -173,7 +173,8 @@ def _model_section(model: Model, figures: bool) -> Section:
                  type(e.function).__name__, e.unit] for e in model.excitations]
         tables.append(Table(["excitation", "kind", "target", "dof", "function", "unit"], rows,
                             title="Excitations"))
-    text = (f"{len(model.bodies)} bodies, {len(model.mounts)} mounts, total mass "
+    nb = len(model.bodies)
+    text = (f"{nb} bod{'y' if nb == 1 else 'ies'}, {len(model.mounts)} mounts, total mass "
             f"{model.total_mass:.4g} kg" + ("" if model.gravity is None else
                                              f", gravity {model.gravity.tolist()} m/s^2"))
     figs: tuple[tuple[str, Any], ...] = ()
@@ -183,6 +184,19 @@ def _model_section(model: Model, figures: bool) -> Section:
         figs = (("model.png", plot_model(model)), ("model_views.png", plot_model(model, view="three")))
     return Section("model", TITLES["model"], text + "\n\n" + "\n\n".join(t.render() for t in tables),
                    tuple(tables), figs)
+
+
+def _describe(o: Any) -> str:
+    """An orientation as Euler angles in the default sequence, also when given as a matrix."""
+    text = o.describe()
+    if text != "matrix":
+        return text
+    from scipy.spatial.transform import Rotation
+
+    from .geometry import DEFAULT_SEQUENCE
+
+    a = Rotation.from_matrix(o.matrix).as_euler(DEFAULT_SEQUENCE, degrees=True)
+    return f"{DEFAULT_SEQUENCE} ({a[0]:.2f}, {a[1]:.2f}, {a[2]:.2f}) deg"
 
 
 def _static_tables(r: StaticResult) -> tuple[Table, ...]:

@@ -2,10 +2,10 @@
 
 from __future__ import annotations
 
+import numpy as np
+from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
-
-import numpy as np
 
 from ..model import Model
 from ._draw import (VIEW_TITLES, VIEWS, Drawing, add_view_axes, check_view, legend_handles,
@@ -18,7 +18,8 @@ AXIS_COLOURS = ("tab:red", "tab:green", "tab:blue")
 """Colours of a mount's local axes 1, 2, 3."""
 
 
-def _axes_arrows(ax, view: str, scene: Scene, length: float) -> None:
+def _axes_arrows(ax: Axes, view: str, scene: Scene, length: float) -> None:
+    """Short arrows along each mount's local axes 1, 2, 3."""
     model = scene.model
     for k, m in enumerate(model.mounts):
         p = scene.mount_points[k]
