@@ -17,8 +17,9 @@ $(STAMP): pyproject.toml
 venv: $(STAMP)
 
 demo: $(STAMP)
-	$(BIN)/vibss modes --example powertrain
-	$(BIN)/vibss static --example powertrain
+	$(BIN)/vibss report --example powertrain --out demo-report
+	@echo "Figures and the HTML report: demo-report/index.html"
+
 
 test: $(STAMP)
 	$(BIN)/python -m pytest -n 2 -q vibss tests
