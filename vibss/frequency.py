@@ -492,7 +492,8 @@ def sweep_response(system: Model | Assembly, excitations: Sequence[Any] | None =
     excitations : sequence or None
         Excitation objects with a ``sine_sweep`` function (``.signal`` and
         ``.function.amplitude_at(f_hz)``), or ``(signal, (a1, a2))`` pairs (amplitudes at ``f1``
-        and ``f2`` of this call); default: the model's excitations.
+        and ``f2`` of this call); default: the model's steady (``sweep_time = 0``) sine-sweep
+        excitations (time-domain ones are for the time response and are skipped).
     f1, f2 : float or None
         Band [Hz]; default: the excitations' own band (their sweep limits).
     points, spacing, refine :
@@ -516,9 +517,17 @@ def sweep_response(system: Model | Assembly, excitations: Sequence[Any] | None =
         frequency-domain amplitude.
     """
     model = system.model if isinstance(system, Assembly) else system
-    excitations = list(model.excitations if excitations is None else excitations)
+    if excitations is None:      # the model's frequency-domain (steady sine sweep) excitations only
+        excitations = [e for e in model.excitations
+                       if hasattr(getattr(e, "function", None), "amplitude_at")
+                       and not getattr(e.function, "sweep_time", 0.0)]
+        if not excitations:
+            raise ModelError("excitations: the model has no sine_sweep excitation with sweep_time = 0 "
+                             f"(it has {[getattr(e, 'name', e) for e in model.excitations]}); "
+                             "name inputs instead")
+    excitations = list(excitations)
     if not excitations:
-        raise ModelError("excitations: none given and the model has none")
+        raise ModelError("excitations: none given")
     signals, amps = [], []
     bands = []
     for e in excitations:

@@ -115,14 +115,20 @@ def _superpose(plant: Plant, s: np.ndarray, left: np.ndarray, right: np.ndarray,
             d_acc = None
         else:
             static = [sl.lu_solve(lu, rb, check_finite=False) for _, _, _, rb in rights]
-    forms = [(d, None)] + ([(d_acc, static)] if d_acc is not None else [])
-    results, costs = [], []
     wl = sum(np.linalg.norm(lo, axis=0) for _, lo in lefts)
     wr = sum(np.linalg.norm(ro, axis=1) for _, ro, _, _ in rights)
     omap = dict(outs)
-    for dd, st in forms:
-        y = np.zeros((nf, p * m), dtype=complex)
-        cost = np.abs(dd) @ (wl * wr)                   # sum of term magnitudes, per frequency
+    use_acc = np.zeros(nf, dtype=bool)
+    if d_acc is not None:   # pick per frequency the form with the smaller sum of term magnitudes
+        y0s = {(a, i): omap[a] @ static[i] for a, _ in lefts for i in range(len(rights))}
+        cost_acc = np.abs(d_acc) @ (wl * wr) + sum(np.linalg.norm(v) for v in y0s.values())
+        use_acc = cost_acc < np.abs(d) @ (wl * wr)
+    y = np.zeros((nf, p * m), dtype=complex)
+    for rows, dd, acc in ((~use_acc, d, False), (use_acc, d_acc, True)):
+        if not np.any(rows):
+            continue
+        dd, sr, zr = dd[rows], s[rows], zf[rows]
+        part = np.zeros((sr.size, p * m), dtype=complex)
         for a, lo in lefts:
             for i, (b, ro, scaled, _) in enumerate(rights):
                 w = (lo[:, :, None] * ro[None, :, :]).transpose(1, 0, 2).reshape(-1, p * m)
@@ -130,17 +136,11 @@ def _superpose(plant: Plant, s: np.ndarray, left: np.ndarray, right: np.ndarray,
                     t = dd.real @ w + 1j * (dd.imag @ w)
                 else:
                     t = dd @ w
-                if st is not None:
-                    y0 = omap[a] @ st[i]
-                    t = t + y0.reshape(1, p * m)
-                    cost = cost + np.linalg.norm(y0)
-                fac = s[:, None] ** (a + b) * (zf if scaled else np.ones((1, m)))   # (nf, m)
-                y += (t.reshape(nf, p, m) * fac[:, None, :]).reshape(nf, p * m)
-        results.append(y)
-        costs.append(cost)
-    y = results[0]
-    if len(results) == 2:
-        y = np.where((costs[1] < costs[0])[:, None], results[1], results[0])
+                if acc:
+                    t = t + y0s[(a, i)].reshape(1, p * m)
+                fac = sr[:, None] ** (a + b) * (zr if scaled else np.ones((1, m)))   # (nr, m)
+                part += (t.reshape(sr.size, p, m) * fac[:, None, :]).reshape(sr.size, p * m)
+        y[rows] = part
     out = y.reshape(nf, p, m) + _feedthrough(plant, s, zf)
     return np.moveaxis(out, 0, -1)
 
@@ -226,7 +226,7 @@ def complex_modal(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) 
     a[:n, n:] = np.diag(sc)
     a[n:, :n] = -stiff / sc[None, :]
     a[n:, n:] = -gam
-    lam, v = sl.eig(a, check_finite=False)
+    lam, v = sl.eig(a, check_finite=False, overwrite_a=True)
     sel = np.zeros((2 * n, n))
     sel[n:] = np.eye(n)
     wr = sl.solve(v, sel, check_finite=False)          # rows of V^-1 acting on the forcing
