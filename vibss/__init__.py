@@ -25,6 +25,11 @@ from .io import (dump_model, dumps_model, example_names, load_example, load_mode
 from .modal import Modes, modes
 from .model import (DOF_NAMES, GROUND, Body, ControlPoint, Load, Model, Mount, MountType,
                     symmetric)
+from .frequency import (FrequencyGrid, FrequencyResponse, frequency_grid, frequency_response,
+                        sweep_response, transmissibility)
+from .plant import Plant
+from .signals import build_plant
+from .statespace import statespace
 from .static import StaticResult, static
 from .time import TimeResponse, simulate
 from .time_sweep import SweepEnvelope, sweep_envelope
@@ -33,8 +38,8 @@ __version__ = "0.1.0"
 
 __all__ = [
     "AnalysisError", "Assembly", "Body", "ControlPoint", "DOF_NAMES", "DampedModes", "Excitation",
-    "GROUND", "Load", "Model", "ModelError", "ModelFileError", "Modes", "Mount", "MountType",
-    "Orientation", "StaticResult", "SweepEnvelope", "TimeResponse", "VibssError", "assemble", "damped_modes", "dump_model",
-    "dumps_model", "example_names", "load_example", "load_model", "loads_model", "modes", "simulate", "static",
-    "sweep_envelope", "symmetric",
+    "FrequencyGrid", "FrequencyResponse", "GROUND", "Load", "Model", "ModelError", "ModelFileError", "Modes", "Mount", "MountType",
+    "Orientation", "Plant", "StaticResult", "SweepEnvelope", "TimeResponse", "VibssError", "assemble", "build_plant", "damped_modes", "dump_model",
+    "dumps_model", "example_names", "frequency_grid", "frequency_response", "load_example", "load_model", "loads_model", "modes", "simulate", "static",
+    "statespace", "sweep_envelope", "sweep_response", "symmetric", "transmissibility",
 ]

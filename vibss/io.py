@@ -502,6 +502,15 @@ def example_path(name: str) -> Path:
 def load_example(name: str) -> Model:
     """Load the built-in example model ``name`` (see :func:`example_names`).
 
+    Parameters
+    ----------
+    name : str
+        Example name, e.g. ``"powertrain"`` (``vibss example list`` shows them all).
+
+    Returns
+    -------
+    Model
+
     Examples
     --------
     >>> load_example("two_mass").n_dof

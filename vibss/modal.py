@@ -246,7 +246,13 @@ class Modes:
         return df
 
     def plot(self, **kwargs: Any) -> Any:
-        """Draw the mode shapes (see :func:`vibss.plotting.plot_modes`)."""
+        """Draw the mode shapes.
+
+        Parameters
+        ----------
+        **kwargs
+            Passed to :func:`vibss.plotting.plot_modes` (``which``, ``view``, ``scale``, ``ax`` ...).
+        """
         from .plotting import plot_modes
 
         return plot_modes(self, **kwargs)

@@ -530,7 +530,13 @@ class Model:
 
     # -- copies ----------------------------------------------------------------------------
     def replace(self, **changes: Any) -> Model:
-        """Copy with fields replaced (see :func:`dataclasses.replace`)."""
+        """Copy with fields replaced (see :func:`dataclasses.replace`).
+
+        Parameters
+        ----------
+        **changes
+            New values of Model fields, e.g. ``mounts=[...]``; validated like the constructor's.
+        """
         return dataclasses.replace(self, **changes)
 
     def transformed(self, rotation: npt.ArrayLike | None = None,
