@@ -59,7 +59,7 @@ OUT = Path(__file__).parent / "results" / "stability.json"
 
 def _save(fig: Any, name: str) -> None:
     stamp(fig)
-    fig.tight_layout(rect=(0, 0.03, 1, 1))
+    fig.tight_layout(rect=(0, 0.05, 1, 1))
     fig.savefig(FIG / f"stability_{name}.png", dpi=110)
     plt.close(fig)
 

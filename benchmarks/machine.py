@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import os
 import platform
+import textwrap
 import time
 from collections.abc import Callable
 from typing import Any
@@ -62,7 +63,9 @@ def machine_line() -> str:
 
 def stamp(fig: Any) -> None:
     """Write the machine line at the bottom of a matplotlib figure."""
-    fig.text(0.005, 0.003, machine_line(), fontsize=6, color="0.4", ha="left", va="bottom")
+    width = max(60, int(fig.get_figwidth() * 22))          # characters per line at 6 pt
+    fig.text(0.005, 0.003, "\n".join(textwrap.wrap(machine_line(), width)), fontsize=6, color="0.4",
+             ha="left", va="bottom")
 
 
 def timed(f: Callable[[], Any], min_time: float = 0.2, repeat: int = 3) -> tuple[float, Any]:
