@@ -131,7 +131,11 @@ def eigen_tables(res: dict[str, Any]) -> list[str]:
     for scale, r in res.items():
         out.append(f"**Eigen-analysis, {scale} scale** ({r['dofs']} DOF, C = β K, ζ from "
                    f"{r['zeta_range'][0]:.1e} to {r['zeta_range'][1]:.1e}; shift-invert frequencies "
-                   f"differ from dense by {r['max_rel_freq_diff_shift_invert']:.1e})")
+                   f"differ from dense by {r['max_rel_freq_diff_shift_invert']:.1e}"
+                   + (f"; **{r['elastic_modes_reported_as_rigid']} elastic mode(s) reported as rigid "
+                      f"(omega = 0) by vibss.modes**, shift-invert finds omega_1 = "
+                      f"{r['lowest_shift_invert_omega']:.3g} rad/s" if r.get("elastic_modes_reported_as_rigid") else "")
+                   + ")")
         out.append("")
         out += _table(["method", "time [s]"], [[k, v] for k, v in r["time_s"].items()])
         out += _table(["poles from", "max relative ζ error (exact: ζ = β|p|/2)"],
