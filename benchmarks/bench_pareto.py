@@ -40,6 +40,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import scipy.linalg as sl  # noqa: E402
+from scipy.integrate import solve_ivp  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).parent))
 from machine import machine, stamp, timed  # noqa: E402
@@ -47,6 +48,7 @@ from models import chain_model  # noqa: E402
 
 from vibss import assemble, damped_modes, modes  # noqa: E402
 from vibss import frf_methods as fm  # noqa: E402
+from vibss import time_methods as tm  # noqa: E402
 from vibss.excitation import Excitation, Rectangular, SineSweep  # noqa: E402
 from vibss.integrators import central_difference_method, critical_step, newmark_method  # noqa: E402
 from vibss.signals import build_plant  # noqa: E402
@@ -71,9 +73,6 @@ def lsoda_method(rtol: float) -> Any:
     every breakpoint, with the Jacobian as a callable. (``method="ivp", solver="LSODA"`` fails in
     scipy 1.17 because vibss.time_methods.run_ivp passes the Jacobian as an array, which LSODA
     rejects; reported to the time module's owner.)"""
-    from scipy.integrate import solve_ivp
-    from vibss import time_methods as tm
-
     def run(job: Any) -> tuple[np.ndarray, str]:
         r = tm.realization(tm.prepare(job.plant))
         n, ts = job.plant.n, job.time
@@ -439,6 +438,12 @@ def scaling(quick: bool) -> dict[str, Any]:
 def main(quick: bool = False, parts: tuple[str, ...] = ("time", "frf", "eigen", "scaling")) -> dict[str, Any]:
     FIG.mkdir(parents=True, exist_ok=True)
     res: dict[str, Any] = {"machine": machine(), "quick": quick}
+    everything = ("time", "frf", "eigen", "scaling")
+    if set(parts) != set(everything) and OUT.exists():
+        # a partial run updates its parts of the previous results (same size only)
+        old = json.loads(OUT.read_text())
+        if old.get("quick") == quick:
+            res = {**old, **res}
     for name, fn in (("time", time_pareto), ("frf", frf_pareto), ("eigen", eigen_bench), ("scaling", scaling)):
         if name in parts:
             res[name] = fn(quick)

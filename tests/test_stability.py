@@ -24,7 +24,6 @@ from vibss.stability import (Finding, VibssWarning, check_central_difference, ch
                              check_excitations, check_explicit_rk, check_repeated, check_sampling,
                              check_static, conditioning, equilibrate, natural_frequencies,
                              repeated_frequencies)
-from vibss.statespace import statespace
 from vibss.time import simulate
 
 MASS, KZ = 2.0, 800.0                  # z of a body on one mount at its COG: SDOF, w = 20 rad/s
