@@ -146,6 +146,7 @@ def stiff_case(quick: bool) -> dict[str, Any]:
         rows.append(row)
         print("stiff: " + ", ".join(f"{k}={v:.3g}" if isinstance(v, float) else f"{k}={v}" for k, v in row.items()))
     fig, axes = plt.subplots(1, 2, figsize=(12, 4.5))
+    rows = sorted(rows, key=lambda r: r["stiffness_ratio"])
     sr = [r["stiffness_ratio"] for r in rows]
     axes[0].loglog(sr, [r["nfev_RK45"] for r in rows], "o-", label="RK45 evaluations (measured)")
     axes[0].loglog(sr, [6 * r["predicted_rk45_steps"] for r in rows], "k--",
