@@ -195,12 +195,40 @@ def _job_forces(job: Any) -> np.ndarray:
 
 
 def newmark_method(job: Any) -> tuple[np.ndarray, str]:
-    """:data:`vibss.time.METHODS`-style wrapper of :func:`newmark` (takes a SimulationJob)."""
+    """:data:`vibss.time.METHODS`-style wrapper of :func:`newmark`.
+
+    Parameters
+    ----------
+    job : vibss.time.SimulationJob
+        Uses ``plant`` (force inputs only), ``time`` (uniform, the step), ``funcs`` (sampled at
+        ``time``), ``q0``, ``v0``.
+
+    Returns
+    -------
+    y : (ns, p) ndarray
+        Outputs at ``job.time``.
+    note : str
+        How it ran.
+    """
     y = newmark(job.plant, job.time, _job_forces(job), job.q0, job.v0)
     return y, f"Newmark average acceleration, fixed step {job.time[1] - job.time[0]:g} s, forces sampled"
 
 
 def central_difference_method(job: Any) -> tuple[np.ndarray, str]:
-    """:data:`vibss.time.METHODS`-style wrapper of :func:`central_difference` (takes a SimulationJob)."""
+    """:data:`vibss.time.METHODS`-style wrapper of :func:`central_difference`.
+
+    Parameters
+    ----------
+    job : vibss.time.SimulationJob
+        As :func:`newmark_method`. The step must be below ``2 / omega_max``
+        (:func:`vibss.stability.check_central_difference`).
+
+    Returns
+    -------
+    y : (ns, p) ndarray
+        Outputs at ``job.time``.
+    note : str
+        How it ran.
+    """
     y = central_difference(job.plant, job.time, _job_forces(job), job.q0, job.v0)
     return y, f"explicit central difference, fixed step {job.time[1] - job.time[0]:g} s, forces sampled"

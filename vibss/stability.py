@@ -90,7 +90,13 @@ class Finding:
     data: dict[str, float] = field(default_factory=dict)
 
     def warn(self, stacklevel: int = 3) -> None:
-        """Issue a :class:`VibssWarning` with the message if the finding is not ok."""
+        """Issue a :class:`VibssWarning` with the message if the finding is not ok.
+
+        Parameters
+        ----------
+        stacklevel : int
+            Passed to :func:`warnings.warn` (3: the caller of the analysis that checks).
+        """
         if not self.ok:
             warnings.warn(f"{self.check}: {self.message}", VibssWarning, stacklevel=stacklevel)
 
@@ -445,7 +451,20 @@ def repeated_frequencies(omega: Any, rtol: float = 1e-6) -> list[np.ndarray]:
 
 
 def check_repeated(omega: Any, rtol: float = 1e-6) -> Finding:
-    """Finding for :func:`repeated_frequencies` (ok means: none, or vibss must pick directions)."""
+    """Finding for :func:`repeated_frequencies` (not ok: shapes within a group are not unique).
+
+    Parameters
+    ----------
+    omega : (n,) array_like
+        Natural frequencies, ascending [rad/s].
+    rtol : float
+        Relative gap below which neighbours belong to one group.
+
+    Returns
+    -------
+    Finding
+        ``value`` = number of groups.
+    """
     groups = repeated_frequencies(omega, rtol)
     w = np.asarray(omega, float)
     if not groups:
