@@ -28,8 +28,9 @@
 
 Every reduced Plant runs unchanged through the analyses that take a Plant
 (:func:`vibss.time.simulate`, frequency responses). Initial conditions given per body do not map
-to modal coordinates. Accuracy is relative per channel: ``max_w |H_red - H_full| / max_w |H_full|``
-over the band; ``verify=True`` measures it against the full model.
+to modal coordinates. Accuracy is relative per output: ``max_w |H_red,ij - H_full,ij|`` divided by
+the output's largest response ``max_j max_w |H_full,ij|`` to the scope's inputs over the band;
+``verify=True`` measures it against the full model.
 
 Examples
 --------
@@ -60,9 +61,6 @@ __all__ = ["reduce", "Reduction", "Removal", "METHODS", "BALANCED_MAX_STATES", "
 
 BALANCED_MAX_STATES = 2000
 """Largest state count given to balanced truncation (dense Gramians)."""
-
-DEAD_RTOL = 1e-9
-"""Channels below this fraction of their output's largest response count as not responding."""
 
 MODE_PRUNE_MAX = 3000
 """Largest number of DOFs for which zero-participation modes are searched (dense eigh)."""
@@ -190,7 +188,7 @@ class Reduction:
             lines.append(f"  static correction: {self.correction}")
         if self.hsv is not None:
             lines.append(f"  Hankel singular values: {self.hsv.size} (largest {self.hsv.max():.4g})")
-        lines.append(f"  error over the band (relative per channel): {self.estimate:.3g} ({self.estimate_kind})")
+        lines.append(f"  error over the band (relative per output): {self.estimate:.3g} ({self.estimate_kind})")
         if self.measured is not None:
             ok = "within" if self.measured <= s.tolerance else "ABOVE"
             lines.append(f"  measured error: {self.measured:.3g} on {self.n_check} frequencies ({ok} tolerance)")
@@ -218,10 +216,10 @@ class Reduction:
 
 
 def relative_error(h_full: np.ndarray, h_red: np.ndarray) -> float:
-    """``max_ij max_w |dH_ij| / max_w |H_full,ij|`` of (p, m, nf) responses.
+    """``max_ij max_w |dH_ij| / max_j max_w |H_full,ij|`` of (p, m, nf) responses.
 
-    A channel with no response (a decoupled pair) is measured against ``DEAD_RTOL`` times the largest
-    response of its output, so that round-off there does not count as an error.
+    Each output's error is relative to its largest response to any of the scope's inputs over the
+    band (an output that does not respond at all: relative to the largest response of all).
     """
     peak = np.abs(h_full).max(axis=2)
     err = np.abs(h_red - h_full).max(axis=2)
@@ -229,10 +227,11 @@ def relative_error(h_full: np.ndarray, h_red: np.ndarray) -> float:
 
 
 def _floor(peak: np.ndarray) -> np.ndarray:
-    """Channel peaks (p, m), floored at DEAD_RTOL of the output's largest (of all, for a dead output)."""
+    """(p, m) reference magnitude of each channel: its output's largest peak over the scope's inputs
+    (over all outputs, for an output that does not respond)."""
     row = peak.max(axis=1, keepdims=True)
     row = np.where(row > 0, row, max(float(peak.max()), 1e-300))
-    return np.maximum(peak, DEAD_RTOL * row)
+    return np.broadcast_to(row, peak.shape)
 
 
 def check_grid(scope: Scope, n_points: int, resonances: np.ndarray) -> np.ndarray:

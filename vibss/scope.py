@@ -6,8 +6,8 @@ A :class:`Scope` says what a reduced model must reproduce (:func:`vibss.reductio
   :class:`vibss.excitation.Excitation`, which names its own signal);
 - a frequency band ``[f1, f2]`` [Hz], given directly (a frequency response) or derived from a time
   span (a simulation): ``[0, f_max]`` with ``f_max`` the inputs' highest significant frequency;
-- ``tolerance``: the relative accuracy asked for, per input/output channel, relative to that
-  channel's largest response magnitude over the band.
+- ``tolerance``: the relative accuracy asked for: the error of every input/output channel over the
+  band, relative to its output's largest response to any of the scope's inputs over the band.
 
 Time scopes and input content
 -----------------------------
@@ -61,8 +61,8 @@ class Scope:
     f1, f2 : float
         Frequency band [Hz], ``0 <= f1 < f2``.
     tolerance : float
-        Relative accuracy in ``(0, 1)``: the largest allowed ``max_w |H_red - H_full|`` of a channel
-        divided by that channel's ``max_w |H_full|`` over the band [-].
+        Relative accuracy in ``(0, 1)``: the largest allowed ``max_w |H_red,ij - H_full,ij|`` divided
+        by output i's largest response ``max_j max_w |H_full,ij|`` over the band [-].
     t_end : float or None
         Simulation length [s] of a time scope (informational; None for a frequency scope).
     origin : str

@@ -1,0 +1,107 @@
+"""Benchmark: study-driven reduction of a 1,000-body chain (6,000 DOF) against the full model.
+
+A frequency response and a time response of a few outputs over a band holding a few dozen modes:
+the full model's fastest exact path (FRF: sparse LU per frequency; time: vibss.time.simulate's exact
+modal method, dense eigh) against reduce() + the same analyses on the reduced plant, single thread.
+Writes benchmarks/results/reduction.json.
+
+Run: ``OPENBLAS_NUM_THREADS=1 .venv/bin/python benchmarks/bench_reduction.py [n_bodies]``
+"""
+
+from __future__ import annotations
+
+import json
+import platform
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import scipy.sparse.linalg as spl
+from threadpoolctl import threadpool_limits
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from benchmarks.models import chain_model  # noqa: E402
+from vibss import Mount, MountType, assemble  # noqa: E402
+from vibss.excitation import Excitation  # noqa: E402
+from vibss.reduction import reduce, relative_error  # noqa: E402
+from vibss.reduction_methods import frf  # noqa: E402
+from vibss.scope import Scope  # noqa: E402
+from vibss.signals import build_plant  # noqa: E402
+from vibss.time import simulate  # noqa: E402
+from vibss.timefunctions import HalfSine  # noqa: E402
+
+OUT = Path(__file__).resolve().parent / "results" / "reduction.json"
+
+
+def damped_chain(n_bodies: int, zeta: float = 2e-3, seed: int = 0):
+    """chain_model without its dense eigh: c = beta k on every mount, beta from a sparse eigsh."""
+    model = chain_model(n_bodies, damping="none", seed=seed)
+    a = assemble(model, sparse=True)
+    w2 = spl.eigsh(a.K.tocsc(), k=1, M=a.M.tocsc(), sigma=-1.0, which="LM", return_eigenvectors=False)
+    beta = 2 * zeta / float(np.sqrt(w2[0]))
+    mounts = [Mount(m.name, MountType(m.type.name, m.type.stiffness, beta * np.asarray(m.type.stiffness)),
+                    m.body, at=m.at, to=m.to, orientation=m.orientation) for m in model.mounts]
+    return model.replace(mounts=mounts), beta
+
+
+def main(n_bodies: int = 1000, n_modes_band: int = 60, tol: float = 1e-6, nf: int = 200) -> dict:
+    t0 = time.perf_counter()
+    model, beta = damped_chain(n_bodies)
+    mid = n_bodies // 2
+    inputs = [f"b{mid}.fz"]
+    outputs = [f"b{mid}.z", f"b{mid + 2}.x", f"mount.n{mid + 1}.fz"]
+    plant = build_plant(model, inputs, outputs)
+    setup = time.perf_counter() - t0
+    a = assemble(model, sparse=True)
+    w2 = np.sort(spl.eigsh(a.K.tocsc(), k=n_modes_band + 1, M=a.M.tocsc(), sigma=-1.0, which="LM",
+                           return_eigenvectors=False))
+    # band top at half the frequency of mode n_modes_band: a gap above the band for truncation
+    f2 = 0.5 * float(np.sqrt(w2[n_modes_band - 1])) / (2 * np.pi)
+    scope = Scope(inputs, outputs, 0.0, f2, tol)
+    w = np.linspace(2 * np.pi * f2 * 1e-3, 2 * np.pi * f2, nf)
+    out: dict = {"n_bodies": n_bodies, "n_dof": plant.n, "band_hz": [0.0, f2], "tolerance": tol,
+                 "n_frequencies": nf, "inputs": inputs, "outputs": outputs, "beta": beta,
+                 "setup_s": setup, "threads": 1, "machine": platform.processor() or platform.machine(),
+                 "caveat": "2 shared cores, other developers' jobs running: timings are noisy"}
+    with threadpool_limits(1):
+        t = time.perf_counter()
+        red = reduce(plant, scope)
+        t_red = time.perf_counter() - t
+        t = time.perf_counter()
+        h_full = frf(plant, 1j * w)
+        t_full = time.perf_counter() - t
+        t = time.perf_counter()
+        h_red = frf(red.plant, 1j * w)
+        t_rfrf = time.perf_counter() - t
+        out["frf"] = {"full_sparse_lu_s": t_full, "reduce_s": t_red, "reduced_s": t_rfrf,
+                      "speedup": t_full / (t_red + t_rfrf), "error": relative_error(h_full, h_red),
+                      "estimate": red.estimate, "estimate_kind": red.estimate_kind,
+                      "dofs_after": red.plant.n, "modes_kept": int(red.kept_hz.size)}
+        tau = 5.0 / f2
+        shock = Excitation("shock", "force", f"b{mid}", HalfSine(1000.0, 0.0, tau), dof="z")
+        t_end, dt = 20 * tau, tau / 20
+        t = time.perf_counter()
+        r_red = simulate(red.plant, [shock], t_end=t_end, dt=dt)
+        t_rsim = time.perf_counter() - t
+        t = time.perf_counter()
+        r_full = simulate(plant, [shock], t_end=t_end, dt=dt)
+        t_fsim = time.perf_counter() - t
+        yf, yr = r_full.outputs, r_red.outputs
+        err_t = float((np.abs(yr - yf).max(axis=1) / np.abs(yf).max(axis=1)).max())
+        out["time"] = {"pulse": f"half-sine {tau:.4g} s", "t_end_s": t_end, "dt_s": dt,
+                       "full_modal_s": t_fsim, "reduce_s": t_red, "reduced_s": t_rsim,
+                       "speedup": t_fsim / (t_red + t_rsim), "error": err_t}
+    out["frf"]["modes_in_band"] = int(np.sum(np.sqrt(w2) / (2 * np.pi) <= f2))
+    out["report"] = red.report()
+    return out
+
+
+if __name__ == "__main__":
+    n = int(sys.argv[1]) if len(sys.argv) > 1 else 1000
+    res = main(n)
+    OUT.parent.mkdir(exist_ok=True)
+    OUT.write_text(json.dumps(res, indent=2))
+    print(json.dumps({k: v for k, v in res.items() if k != "report"}, indent=2))
+    print(res["report"])
