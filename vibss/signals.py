@@ -62,6 +62,7 @@ import scipy.linalg as sl
 from .assemble import Assembly, assemble
 from .errors import ModelError
 from .geometry import point_transfer
+from .modal import rigid_mask
 from .model import DOF_NAMES, GROUND, Model
 from .plant import INPUT_KINDS, Plant
 
@@ -396,7 +397,7 @@ def _modal_damping(M: np.ndarray, K: np.ndarray, zeta: float | Sequence[float]) 
     z = np.broadcast_to(np.asarray(zeta, dtype=float), w.shape) if np.ndim(zeta) == 0 else np.asarray(zeta, float)
     if z.shape != w.shape or np.any(z < 0) or not np.all(np.isfinite(z)):
         raise ModelError(f"modal_damping: expected a ratio >= 0 or {w.size} of them, got {zeta!r}")
-    rigid = w2 <= 1e-10 * max(float(w2.max()), 1e-300)
+    rigid = rigid_mask(w2, phi, np.diag(K))
     g = np.where(rigid, 0.0, 2.0 * z * w)
     mp = M @ phi
     c = (mp * g) @ mp.T

@@ -58,16 +58,14 @@ import numpy as np
 import scipy.linalg as sl
 
 from .errors import AnalysisError, ModelError
+from .modal import rigid_mask
 from .plant import Plant
 from .signals import control_name
 
-__all__ = ["statespace", "modal_basis", "ModalBasis", "REALIZATIONS", "RIGID_TOL"]
+__all__ = ["statespace", "modal_basis", "ModalBasis", "REALIZATIONS"]
 
 REALIZATIONS = ("modal", "physical")
 """Valid ``realization`` names."""
-
-RIGID_TOL = 1e-10
-"""A mode with omega^2 below this times the largest omega^2 is a rigid-body (zero-frequency) mode."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -109,9 +107,8 @@ def modal_basis(plant: Plant) -> ModalBasis:
     ModalBasis
     """
     w2, phi = sl.eigh(plant.K, plant.M)
-    top = max(float(np.abs(w2).max()), 1e-300)
-    rigid = w2 <= RIGID_TOL * top
-    w2 = np.where(rigid, 0.0, w2)
+    rigid = rigid_mask(w2, phi, np.diag(plant.K))
+    w2 = np.where(rigid, 0.0, np.maximum(w2, 0.0))
     if not np.any(rigid):
         w2, phi = _refine_low_modes(plant, w2, phi)
     elastic = np.sqrt(w2[~rigid])

@@ -37,6 +37,7 @@ from scipy.integrate import solve_ivp
 from threadpoolctl import threadpool_limits
 
 from .errors import AnalysisError
+from .modal import rigid_mask
 from .plant import Plant
 from .statespace import modal_basis, statespace
 
@@ -45,9 +46,6 @@ __all__ = ["Prepared", "Grid", "Kinematics", "prepare", "make_grid", "nudge", "k
 
 DEGREE = {"force": 1, "displacement": 1, "velocity": 2, "acceleration": 3}
 """Polynomial degree (per interval) of the prescribed coordinate (or force) for a PWL input."""
-
-RIGID_TOL = 1e-11
-"""Eigenvalues omega^2 below this fraction of the largest are rigid-body modes (omega = 0)."""
 
 COUPLING_TOL = 1e-12
 """Modal damping off-diagonals below this fraction of the largest entry count as zero."""
@@ -287,7 +285,7 @@ def _modal_sets(prep: Prepared, q0: np.ndarray, v0: np.ndarray) -> tuple[list[_M
     plant = prep.plant
     M, K, C = (np.asarray(a, float) for a in (plant.M, plant.K, plant.C))
     w2, phi = sl.eigh(K, M)
-    w2 = np.where(w2 < RIGID_TOL * max(w2.max(), 0.0), 0.0, w2)
+    w2 = np.where(rigid_mask(w2, phi, np.diag(K)), 0.0, np.maximum(w2, 0.0))
     w = np.sqrt(w2)
     chat = phi.T @ C @ phi
     off = chat - np.diag(np.diag(chat))
@@ -580,7 +578,7 @@ def run_ivp(prep: Prepared, funcs: list[Callable[[np.ndarray], np.ndarray]], edg
         inside = np.flatnonzero((ts > a) & (ts <= b))
         t_eval = ts[inside] if inside.size and ts[inside[-1]] == b else np.append(ts[inside], b)
         sol = solve_ivp(rhs, (a, b), x, method=solver, t_eval=t_eval, rtol=rtol, atol=atol_,
-                        **({"jac": A} if solver in ("Radau", "BDF", "LSODA") else {}))
+                        **({"jac": (lambda t, x: A)} if solver in ("Radau", "BDF", "LSODA") else {}))
         if not sol.success:
             raise AnalysisError(f"solve_ivp ({solver}) failed on [{a:g}, {b:g}] s: {sol.message}")
         nfev += sol.nfev
