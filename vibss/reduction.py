@@ -292,8 +292,12 @@ def _method_modal(p: Plant, scope: Scope, max_modes: int | None = None, n_grid: 
     grid = np.linspace(w1 if w1 > 0 else w2 * 1e-3, w2, n_grid)
     tr = truncate(p1, (w1, w2), scope.tolerance, grid, max_modes=max_modes, residual=residual)
     if tr.n_kept < p1.n:
+        why = "truncated, accounted for by the residual correction"
+        if tr.dropped_in_band:
+            why += (f"; {tr.dropped_in_band} of them in the band, with negligible participation "
+                    "(e.g. localised away from the inputs and outputs)")
         rem = rem + [Removal("modes", (f"{p1.n - tr.n_kept} modes from {tr.first_truncated_hz:.4g} Hz up",),
-                             "outside the band: truncated, accounted for quasi-statically", exact=False)]
+                             why, exact=False)]
     corr = VECTORS_NOTE if residual == "vectors" else STATIC_NOTE
     return dict(plant=tr.plant, removed=rem, estimate=tr.estimate, estimate_kind=tr.bound_kind,
                 correction=corr, kept_hz=tr.kept_hz, notes=list(tr.notes))

@@ -269,6 +269,7 @@ class Truncation:
     n_computed: int
     kept_hz: np.ndarray
     first_truncated_hz: float
+    dropped_in_band: int
     estimate: float
     bound_kind: str
     classical: bool
@@ -336,6 +337,7 @@ class _Modes:
 
     def __init__(self, p: Plant, nc: int, mats: dict, static: "_Static | None", vecs: np.ndarray):
         self.p = p
+        self.score = None
         ev, phi = _lowest_modes(p, nc, mats)
         scale = float(np.max(np.diag(p.K) / np.diag(p.M)))
         self.rigid = ev <= 1e-10 * max(scale, 1e-300)
@@ -361,6 +363,43 @@ class _Modes:
         off = np.abs(self.Cm - np.diag(self.gam))
         g = np.abs(self.gam)
         self.classical = bool(np.all(off <= 1e-8 * np.sqrt(np.outer(g, g)) + 1e-14 * (g.max() + 1e-300)))
+
+    def rank(self, wgrid: np.ndarray, row: np.ndarray, m: int, q: int) -> int:
+        """Reorder the modes by their importance to the scope; returns how many matter at all.
+
+        Score of mode r: its largest contribution over the grid ``wgrid`` [rad/s] to any channel,
+        beyond the static correction (``w^2 / (w_r^2 |w_r^2 - w^2 + i w g_r|)`` times the modal
+        participations), relative to the output's peak ``row`` (q,). Rigid-body modes come first.
+        Modes far from the inputs or outputs (localised elsewhere) then drop to the end.
+        """
+        W = wgrid[:, None]
+        ev = np.maximum(self.ev, 1e-300)
+        den = np.abs(ev[None, :] - W**2 + 1j * W * self.gam[None, :])
+        f = W**2 / np.where(den > 0, den, 1e-300) / ev[None, :]                  # (nf, nc)
+        ca = np.abs(self.c)
+        b = sum(ca[:, i * m:(i + 1) * m] for i in range(3))                      # (nc, m)
+        o = sum(ca[:, 3 * m + i * q:3 * m + (i + 1) * q] for i in range(3)) / np.maximum(row, 1e-300)
+        wmax = float(wgrid.max())
+        scale = max(1.0, wmax) ** 2
+        score = f.max(axis=0) * o.max(axis=1) * b.max(axis=1) * scale
+        score = np.where(self.rigid, np.inf, score)
+        order = np.argsort(-score, kind="stable")
+        self._permute(order)
+        self.score = score[order]
+        return int(np.sum(self.score > 0))
+
+    def _permute(self, order: np.ndarray) -> None:
+        for name in ("ev", "phi", "rigid", "inv", "c", "contrib", "gam"):
+            a = getattr(self, name)
+            setattr(self, name, a[:, order] if name == "phi" else a[order])
+        self.Cm = self.Cm[np.ix_(order, order)]
+        self.Hm = self.Hm[np.ix_(order, order)]
+        for key in ("F", "Kz", "Cz", "Mz", "Hz"):
+            self.proj[key] = self.proj[key][order]
+        for key in ("Oq", "Ov", "Oa"):
+            self.proj[key] = self.proj[key][:, order]
+        if self.proj["Oh"] is not None:
+            self.proj["Oh"] = self.proj["Oh"][:, order]
 
     def plant(self, k: int) -> Plant:
         """Kept modes 1..k plus the static correction of ``b0 = F - Kz`` on ``Oq``."""
@@ -402,7 +441,7 @@ def _estimate(md: _Modes, k: int, wgrid: np.ndarray, zf: np.ndarray, peak: np.nd
     sb = [sq[i * m:(i + 1) * m] for i in range(3)]
     so = [sq[3 * m + i * q:3 * m + (i + 1) * q] for i in range(3)]
     if tail:
-        top = float(np.sqrt(ev[-1]))
+        top = float(np.sqrt(ev.max()))
         eta = float(np.max(gr / np.maximum(wr2, 1e-300))) if gr.size else 0.0
         g00, g, gv = _gain_factors(wgrid, np.zeros(0), np.zeros(0), eta, tail=True, top=top)
     est = np.zeros((wgrid.size, q, m))
@@ -486,16 +525,22 @@ def truncate(p: Plant, band: tuple[float, float], tol: float, grid: np.ndarray,
     # exact response of the full plant at check frequencies: the band's top region and beside
     # the in-band resonances (sparse LU per frequency when large)
     w_lo = max(float(np.min(grid)), 1e-300)
-    wc = np.unique(np.r_[np.linspace(w_lo, w2b, N_CHECK), np.linspace(0.9 * w2b, w2b, 5)])
+    res = np.sqrt(md.ev[(md.ev > 0) & (md.ev <= w2b**2)])
+    side = np.r_[res * (1 - 2e-4), res * (1 + 2e-4), res * (1 - 2e-3), res * (1 + 2e-3)]
+    wc = np.unique(np.r_[np.linspace(w_lo, w2b, N_CHECK), np.linspace(0.9 * w2b, w2b, 5),
+                         side[(side >= w_lo) & (side <= w2b)]])
     h_ref = frf(p, 1j * wc)
     row = np.abs(h_ref).max(axis=(1, 2))
     best, history = None, []
     while True:
         ev = md.ev
-        k_min = max(int(np.searchsorted(ev, w2b**2, side="right")), int(md.rigid.sum()), 1)
+        res = np.sqrt(ev[(ev > 0) & (ev <= w2b**2)])
+        md.rank(np.unique(np.r_[wc, res]), row, m, q)
+        k_min = max(int(np.sum(md.rigid)), 1)
+        best = None
         last = md.nc + (1 if md.nc == n else 0)
         steps = np.unique(np.r_[np.arange(8), np.round(8 * 1.25 ** np.arange(40))]).astype(int)
-        for k in [int(k_min + s) for s in steps if k_min + s < last]:
+        for k in sorted({int(k_min + s) for s in steps if k_min + s < last} | {last - 1}):
             plant_k = build(md, k)
             err = np.abs(frf(plant_k, 1j * wc) - h_ref).max(axis=(1, 2))
             worst = float((err / np.where(row > 0, row, max(float(row.max()), 1e-300))).max())
@@ -507,7 +552,7 @@ def truncate(p: Plant, band: tuple[float, float], tol: float, grid: np.ndarray,
         history.append(best[1] if best else np.inf)
         done = best is not None and (best[1] <= CHECK_SAFETY * tol or best[0] == n
                                      or (max_modes is not None and best[0] >= max_modes))
-        stalled = len(history) >= 2 and history[-1] > 0.5 * history[-2]
+        stalled = len(history) >= 2 and history[-1] > 0.9 * history[-2]
         if done or stalled or not mats or md.nc >= min(n - 2, SPARSE_MODES_MAX):
             break
         md = _Modes(p, min(n - 2, SPARSE_MODES_MAX, 2 * md.nc), mats, md.static, vecs)
@@ -518,8 +563,9 @@ def truncate(p: Plant, band: tuple[float, float], tol: float, grid: np.ndarray,
     if worst > tol:
         notes.append(f"the requested tolerance {tol:g} was not reached (estimate {worst:.3g} with "
                      f"{k} modes): damping, velocity or acceleration terms limit the static correction")
-    kind = (f"sampled: exact error at {wc.size} check frequencies over the band (its top and "
-            f"evenly spaced), relative per output; modes chosen to reach {CHECK_SAFETY:g} x tolerance")
+    kind = (f"sampled: exact error at {wc.size} check frequencies over the band (evenly spaced, its "
+            f"top, beside each resonance in it), relative per output; modes added in order of their "
+            f"contribution to the scope until below {CHECK_SAFETY:g} x tolerance")
     if k < n:
         ev = md.ev
         inband = np.sqrt(ev[(ev > band[0]**2) & (ev <= w2b**2)])
@@ -536,8 +582,9 @@ def truncate(p: Plant, band: tuple[float, float], tol: float, grid: np.ndarray,
     if np.any(p.H):
         notes.append("hysteretic damping is projected on the kept modes; the estimate does not include it")
     fr = np.sqrt(md.ev) / (2 * np.pi)
-    return Truncation(plant=plant_k, n_kept=k, n_computed=md.nc, kept_hz=fr[:k],
-                      first_truncated_hz=float(fr[k]) if k < fr.size else float("inf"),
+    return Truncation(plant=plant_k, n_kept=k, n_computed=md.nc, kept_hz=np.sort(fr[:k]),
+                      first_truncated_hz=float(fr[k:].min()) if k < fr.size else float("inf"),
+                      dropped_in_band=int(np.sum(md.ev[k:] <= w2b**2)),
                       estimate=worst, bound_kind=kind, classical=md.classical, notes=tuple(notes))
 
 
