@@ -7,7 +7,7 @@ about vibss.
 
 from __future__ import annotations
 
-__all__ = ["VibssError", "ModelError", "AnalysisError", "ModelFileError"]
+__all__ = ["VibssError", "ModelError", "AnalysisError", "ModelFileError", "VibssWarning"]
 
 
 class VibssError(Exception):
@@ -24,3 +24,7 @@ class ModelFileError(ModelError):
 
 class AnalysisError(RuntimeError, VibssError):
     """An analysis cannot give a meaningful answer (e.g. a load the mounts do not restrain)."""
+
+
+class VibssWarning(UserWarning):
+    """A method is expected to lose accuracy or fail here; the message names the cause and the fix."""

@@ -45,14 +45,12 @@ import numpy as np
 import scipy.linalg as sl
 from threadpoolctl import threadpool_info
 
+from .errors import VibssWarning
+
 __all__ = ["VibssWarning", "Finding", "Conditioning", "natural_frequencies",
            "check_central_difference", "check_explicit_rk", "check_sampling", "check_excitations",
            "conditioning", "equilibrate", "check_static", "repeated_frequencies", "check_repeated",
            "check_damping_resolution", "blas_threads", "RK_IMAG_BOUND"]
-
-
-class VibssWarning(UserWarning):
-    """A numerical method is being used where it is unreliable; the message names the cause."""
 
 
 RK_IMAG_BOUND = {"RK23": 1.73, "RK45": 3.3, "DOP853": 4.6}

@@ -48,15 +48,16 @@ import control
 import numpy as np
 import numpy.typing as npt
 
+from . import time_methods as tm
 from .errors import AnalysisError, ModelError
+from .integrators import central_difference_method, newmark_method
 from .model import DOF_NAMES, Model
 from .plant import Plant
-from . import time_methods as tm
+from .signals import build_plant
+from .stability import check_central_difference, check_excitations, check_explicit_rk
 
-try:  # pragma: no cover - colleagues' module; see the report
-    from .signals import build_plant
-except ImportError:  # pragma: no cover
-    build_plant = None
+EXPLICIT_RK = ("RK23", "RK45", "DOP853")
+
 
 __all__ = ["simulate", "TimeResponse", "PeakTable", "SimulationJob", "METHODS"]
 
@@ -132,12 +133,23 @@ def _method_ivp(job: SimulationJob) -> tuple[np.ndarray, str]:
                       job.v0, rtol=job.rtol, atol=job.atol, solver=job.solver)
 
 
+def _method_central_difference(job: SimulationJob) -> tuple[np.ndarray, str]:
+    finding = check_central_difference(job.plant.M, job.plant.K, float(job.time[1] - job.time[0]))
+    if not finding.ok:
+        raise AnalysisError(f"central_difference would blow up: {finding.message}")
+    return central_difference_method(job)
+
+
 METHODS: dict[str, Callable[[SimulationJob], tuple[np.ndarray, str]]] = {
     "modal": _method_modal,
     "forced_response": _method_forced_response,
     "ivp": _method_ivp,
+    "newmark": newmark_method,
+    "central_difference": _method_central_difference,
 }
-"""Simulation methods by name (``"auto"`` picks ``"modal"``)."""
+"""Simulation methods by name (``"auto"`` picks ``"modal"``). ``newmark`` (average acceleration,
+unconditionally stable, second order) and ``central_difference`` (explicit; refused beyond
+``dt = 2 / w_max``) take force inputs only and are there for comparison (docs/performance.md)."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -385,8 +397,10 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
     initial : mapping or None
         Per body ``{"displacement": [6], "velocity": [6]}`` [m, rad, m/s, rad/s] at ``t = 0-``.
         Default: the model's bodies' ``initial``.
-    method : {"auto", "modal", "forced_response", "ivp"} or callable
+    method : {"auto", "modal", "forced_response", "ivp", "newmark", "central_difference"} or callable
         See the module docstring and :data:`METHODS`; a callable takes a :class:`SimulationJob`.
+        A :class:`~vibss.errors.VibssWarning` says when the sampling smears a pulse or aliases a
+        sweep for the method chosen, or when an explicit ``solver`` meets a stiff model.
     rtol, atol : float, float or None
         Tolerances of ``ivp`` (atol default: 1e-12 of the initial state, or 1e-15).
     solver : str
@@ -436,8 +450,6 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
         if outputs is not None and tuple(outputs) != plant.outputs:
             plant = _select_outputs(plant, outputs)
     elif model is not None:
-        if build_plant is None:  # pragma: no cover
-            raise AnalysisError("simulate: vibss.signals.build_plant is not available")
         plant = build_plant(model, list(sources.values()), outputs)
     else:
         raise ModelError(f"simulate: model_or_plant: expected a Model or a Plant, got {model_or_plant!r}")
@@ -459,6 +471,10 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
     else:
         raise ValueError(f"simulate: method: unknown {method!r}; expected one of "
                          f"{['auto', *METHODS]} or a callable")
+    for finding in check_excitations(excitations, dt, inserts_breakpoints=name in ("modal", "ivp")):
+        finding.warn(stacklevel=3)
+    if name == "ivp" and solver in EXPLICIT_RK:
+        check_explicit_rk(plant.M, plant.K, t_end, rtol=rtol, solver=solver, C=plant.C).warn(stacklevel=3)
     y, note = fn(job)
     y = np.asarray(y, float)
     if y.shape != (ns, len(plant.outputs)):
