@@ -353,8 +353,7 @@ def truncate(p: Plant, band: tuple[float, float], tol: float, grid: np.ndarray,
         history.append(best[1] if best else np.inf)
         done = best is not None and (best[1] <= CHECK_SAFETY * tol or best[0] == n
                                      or (max_modes is not None and best[0] >= max_modes))
-        stalled = len(history) >= 2 and history[-1] > 0.9 * history[-2]
-        if done or stalled or not mats or md.nc >= min(n - 2, SPARSE_MODES_MAX):
+        if done or not mats or md.nc >= min(n - 2, SPARSE_MODES_MAX):
             break
         md = _Modes(p, min(n - 2, SPARSE_MODES_MAX, 2 * md.nc), mats, md.static, vecs)
     if best is None:   # every mode lies in or below the band
