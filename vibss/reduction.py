@@ -52,8 +52,7 @@ import numpy as np
 from .errors import AnalysisError, ModelError
 from .model import Model
 from .plant import Plant
-from .modal_truncation import truncate
-from .reduction_methods import Removal, frf, prune_dofs, prune_modes
+from .reduction_methods import Removal, frf, prune_dofs, prune_modes, truncate
 from .scope import Scope
 from .signals import build_plant, control_name
 from .statespace import statespace

@@ -47,8 +47,8 @@ import scipy.linalg as sl
 import scipy.sparse as sp
 import scipy.sparse.linalg as spl
 
-from .plant import Plant
-from .reduction_methods import DENSE_MAX, frf
+from ..plant import Plant
+from .prune import DENSE_MAX, frf
 
 __all__ = ["truncate", "Truncation", "N_CHECK", "CHECK_SAFETY", "SPARSE_MODES_MAX"]
 

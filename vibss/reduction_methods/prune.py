@@ -13,7 +13,7 @@ so that the inputs excite as few of them as possible (SVD of the cluster's parti
 component whose modal participation is zero to round-off (``PART_RTOL``) on the input or output
 side is removed.
 
-Modal truncation lives in :mod:`vibss.modal_truncation`.
+Modal truncation lives in :mod:`vibss.reduction_methods.truncation`.
 """
 
 from __future__ import annotations
@@ -26,7 +26,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spl
 from scipy.sparse.csgraph import connected_components
 
-from .plant import Plant
+from ..plant import Plant
 
 __all__ = ["Removal", "sub_plant", "modal_plant", "prune_dofs", "prune_modes", "frf", "ZERO_RTOL",
            "PART_RTOL", "DENSE_MAX"]

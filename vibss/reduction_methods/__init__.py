@@ -1,0 +1,12 @@
+"""Kernels of :mod:`vibss.reduction`: exact pruning (:mod:`.prune`) and modal truncation
+(:mod:`.truncation`), plus the exact response used to check reductions (:func:`frf`)."""
+
+from __future__ import annotations
+
+from .prune import (DENSE_MAX, PART_RTOL, ZERO_RTOL, Removal, frf, modal_plant, prune_dofs, prune_modes,
+                    sub_plant)
+from .truncation import CHECK_SAFETY, N_CHECK, SPARSE_MODES_MAX, Truncation, truncate
+
+__all__ = ["CHECK_SAFETY", "DENSE_MAX", "N_CHECK", "PART_RTOL", "Removal", "SPARSE_MODES_MAX",
+           "Truncation", "ZERO_RTOL", "frf", "modal_plant", "prune_dofs", "prune_modes", "sub_plant",
+           "truncate"]
