@@ -62,6 +62,8 @@ def _zfactor(s: np.ndarray, order: np.ndarray) -> np.ndarray:
 def _feedthrough(plant: Plant, s: np.ndarray, zf: np.ndarray) -> np.ndarray:
     """(nf, p, m) ``P(s) Z(s) + Pf``."""
     ph = plant.Ph if plant.Ph is not None else 0.0
+    if not (np.any(plant.Pz) or np.any(ph) or np.any(plant.Pv) or np.any(plant.Pa) or np.any(plant.Pf)):
+        return np.zeros((s.size, len(plant.outputs), len(plant.inputs)))   # force inputs, motion outputs
     p0 = plant.Pz + 1j * ph
     y = (p0[None] + s[:, None, None] * plant.Pv[None] + (s**2)[:, None, None] * plant.Pa[None])
     return y * zf[:, None, :] + plant.Pf[None]

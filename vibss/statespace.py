@@ -52,10 +52,12 @@ Examples
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import control
 import numpy as np
 import scipy.linalg as sl
+import scipy.sparse as sp
 
 from .errors import AnalysisError, ModelError
 from .modal import rigid_mask
@@ -117,6 +119,11 @@ def modal_basis(plant: Plant) -> ModalBasis:
     return ModalBasis(w2, phi, rigid, scale)
 
 
+def _fast_matrix(a: np.ndarray) -> Any:
+    """``a`` as CSR when it is mostly zeros (a mass matrix: 6x6 blocks), for cheap products."""
+    return sp.csr_matrix(a) if np.count_nonzero(a) < 0.05 * a.size else a
+
+
 def _refine_low_modes(plant: Plant, w2: np.ndarray, phi: np.ndarray,
                       spread: float = 1e-3) -> tuple[np.ndarray, np.ndarray]:
     """Rayleigh-Ritz refinement of the low modes (omega^2 < spread * max) on ``K^-1 M Phi_low``.
@@ -134,10 +141,11 @@ def _refine_low_modes(plant: Plant, w2: np.ndarray, phi: np.ndarray,
         cho = sl.cho_factor(plant.K, check_finite=False)
     except np.linalg.LinAlgError:
         return w2, phi
-    mphi = plant.M @ phi[:, low]
+    mass = _fast_matrix(plant.M)
+    mphi = mass @ phi[:, low]
     x = sl.cho_solve(cho, mphi, check_finite=False)
     kr = x.T @ mphi
-    mr = x.T @ (plant.M @ x)
+    mr = x.T @ (mass @ x)
     try:
         lam, q = sl.eigh(0.5 * (kr + kr.T), 0.5 * (mr + mr.T))
     except np.linalg.LinAlgError:
