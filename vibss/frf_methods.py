@@ -30,7 +30,7 @@ import scipy.linalg as sl
 
 from .errors import AnalysisError
 from .plant import Plant
-from .statespace import ModalBasis, modal_basis, statespace
+from .statespace import ModalBasis, fast_matrix, modal_basis, statespace, stiffness_solver
 
 __all__ = ["METHODS", "direct", "modal", "complex_modal", "via_statespace", "classical_damping",
            "zero_frequency_limit", "CLASSICAL_TOL"]
@@ -112,11 +112,10 @@ def _superpose(plant: Plant, s: np.ndarray, left: np.ndarray, right: np.ndarray,
     if d_acc is not None:
         k0 = plant.K + 1j * plant.H if np.any(plant.H) else plant.K
         try:
-            lu = sl.lu_factor(k0, check_finite=False)
-        except (np.linalg.LinAlgError, ValueError):
+            solve = stiffness_solver(k0)
+            static = [solve(rb) for _, _, _, rb in rights]
+        except (np.linalg.LinAlgError, ValueError, RuntimeError):
             d_acc = None
-        else:
-            static = [sl.lu_solve(lu, rb, check_finite=False) for _, _, _, rb in rights]
     wl = sum(np.linalg.norm(lo, axis=0) for _, lo in lefts)
     wr = sum(np.linalg.norm(ro, axis=1) for _, ro, _, _ in rights)
     omap = dict(outs)
@@ -153,7 +152,7 @@ def _project(plant: Plant, basis: ModalBasis) -> tuple[np.ndarray, np.ndarray]:
     out = []
     for mat in (plant.C, plant.H):
         if np.any(mat):
-            g = phi.T @ (mat @ phi)
+            g = phi.T @ (fast_matrix(mat) @ phi)
             out.append(0.5 * (g + g.T))
         else:
             out.append(np.zeros((plant.n, plant.n)))
@@ -210,8 +209,16 @@ def modal(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) -> np.nd
     gamma, hyst = np.diag(projected[0]), np.diag(projected[1])
     with np.errstate(divide="ignore", invalid="ignore"):
         kappa = basis.omega2 + 1j * hyst
-        d = 1.0 / (kappa[None, :] + s[:, None] * gamma[None, :] + (s**2)[:, None])
-        d_acc = None if np.any(basis.rigid) else -(s[:, None] * gamma[None, :] + (s**2)[:, None]) * d / kappa[None, :]
+        dyn = s[:, None] * gamma[None, :]           # s c_r + s^2 (the dynamic part), in place
+        dyn += (s**2)[:, None]
+        d = dyn + kappa[None, :]
+        np.reciprocal(d, out=d)
+        if np.any(basis.rigid):
+            d_acc = None
+        else:
+            d_acc = dyn
+            d_acc *= d
+            d_acc /= -kappa[None, :]
     return _superpose(plant, s, phi, phi.T, d, d_acc)
 
 

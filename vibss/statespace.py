@@ -58,6 +58,7 @@ import control
 import numpy as np
 import scipy.linalg as sl
 import scipy.sparse as sp
+import scipy.sparse.linalg as spl
 
 from .errors import AnalysisError, ModelError
 from .modal import rigid_mask
@@ -119,31 +120,64 @@ def modal_basis(plant: Plant) -> ModalBasis:
     return ModalBasis(w2, phi, rigid, scale)
 
 
-def _fast_matrix(a: np.ndarray) -> Any:
+def fast_matrix(a: np.ndarray) -> Any:
     """``a`` as CSR when it is mostly zeros (a mass matrix: 6x6 blocks), for cheap products."""
     return sp.csr_matrix(a) if np.count_nonzero(a) < 0.05 * a.size else a
 
 
-def _refine_low_modes(plant: Plant, w2: np.ndarray, phi: np.ndarray,
-                      spread: float = 1e-3) -> tuple[np.ndarray, np.ndarray]:
-    """Rayleigh-Ritz refinement of the low modes (omega^2 < spread * max) on ``K^-1 M Phi_low``.
+def stiffness_solver(k: np.ndarray) -> Any:
+    """``b -> k^-1 b`` by sparse LU when ``k`` is mostly zeros, else dense LU (raises if singular)."""
+    if np.count_nonzero(k) < 0.05 * k.size:
+        lu = spl.splu(sp.csc_matrix(k))
+        return lambda b: lu.solve(np.asarray(b, dtype=lu.U.dtype) if np.isrealobj(b) else b)
+    fac = sl.lu_factor(k, check_finite=False)
+    if np.any(np.diag(fac[0]) == 0):
+        raise np.linalg.LinAlgError("singular stiffness")
+    return lambda b: sl.lu_solve(fac, b, check_finite=False)
+
+
+REFINE_TOL = 1e-10
+"""Refine a low mode when its predicted relative FRF error at resonance exceeds this."""
+
+
+def _needs_refinement(plant: Plant, w2: np.ndarray, phi: np.ndarray) -> np.ndarray:
+    """Modes whose ``eigh`` error, amplified at their resonance, would exceed :data:`REFINE_TOL`.
+
+    ``eigh(K, M)`` gives omega_r^2 to an absolute error of about eps * max(omega^2), a relative error
+    eps (omega_max / omega_r)^2; at resonance a damping ratio zeta_r amplifies it by 1 / (2 zeta_r).
+    zeta_r comes from the diagonal of Phi^T C Phi (and eta_r / 2 from Phi^T H Phi).
+    """
+    w2c = np.maximum(w2, np.finfo(float).tiny)
+    zeta = np.full(w2.shape, 1e-6)
+    for mat, hyst in ((plant.C, False), (plant.H, True)):
+        if np.any(mat):
+            g = np.einsum("ij,ij->j", phi, fast_matrix(mat) @ phi)
+            zeta = np.maximum(zeta, g / (2 * w2c) if hyst else g / (2 * np.sqrt(w2c)))
+    predicted = np.finfo(float).eps * w2.max() / w2c / (2 * zeta)
+    return predicted > REFINE_TOL
+
+
+def _refine_low_modes(plant: Plant, w2: np.ndarray, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Rayleigh-Ritz refinement of the low modes that need it, on ``K^-1 M Phi_low``.
 
     ``eigh(K, M)`` has an absolute eigenvalue error of about eps * omega_max^2, i.e. a *relative*
     error eps (omega_max / omega_r)^2 on a low mode, which a lightly damped resonance amplifies by
-    1 / 2 zeta. One inverse iteration with a Cholesky factor of K, and the projected matrices
-    formed without K (``X^T K X = X^T M Phi_low`` since ``K X = M Phi_low``), give the low modes to
-    relative accuracy (a flexibility formulation). Returns the inputs unchanged if K is singular.
+    1 / 2 zeta (:func:`_needs_refinement` picks the modes where that matters). One inverse
+    iteration with a Cholesky factor of K, and the projected matrices formed without K
+    (``X^T K X = X^T M Phi_low`` since ``K X = M Phi_low``), give the low modes to relative
+    accuracy (a flexibility formulation). Returns the inputs unchanged if K is singular.
     """
-    low = np.flatnonzero(w2 < spread * w2.max())
+    low = np.flatnonzero(_needs_refinement(plant, w2, phi))
     if low.size == 0:
         return w2, phi
-    try:
-        cho = sl.cho_factor(plant.K, check_finite=False)
-    except np.linalg.LinAlgError:
-        return w2, phi
-    mass = _fast_matrix(plant.M)
+    # a Ritz space must hold whole groups of close modes: extend to every mode below the top one
+    low = np.arange(low.max() + 1)
+    mass = fast_matrix(plant.M)
     mphi = mass @ phi[:, low]
-    x = sl.cho_solve(cho, mphi, check_finite=False)
+    try:
+        x = stiffness_solver(plant.K)(mphi)
+    except (np.linalg.LinAlgError, RuntimeError):
+        return w2, phi
     kr = x.T @ mphi
     mr = x.T @ (mass @ x)
     try:
