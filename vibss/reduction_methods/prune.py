@@ -230,7 +230,8 @@ def prune_modes(p: Plant) -> tuple[Plant, list[Removal], bool]:
 # ------------------------------------------------------------------------------- evaluation
 
 def frf(p: Plant, s: np.ndarray) -> np.ndarray:
-    """Exact response ``Y(s)`` (p, m, nf) of a plant at Laplace points ``s`` (sparse LU when large).
+    """Exact response ``Y(s)`` (p, m, nf) of a plant at Laplace points ``s`` (sparse LU when large
+    or when the plant's matrices are scipy.sparse).
 
     ``(K + iH + sC + s^2 M) X = F - (Kz + iHz + s Cz + s^2 Mz) Z``, ``Y = O(s) X + P(s) Z + Pf``,
     ``Z = diag(s^-order)``.
@@ -242,7 +243,7 @@ def frf(p: Plant, s: np.ndarray) -> np.ndarray:
     oh = 0.0 if p.Oh is None else p.Oh
     ph = 0.0 if p.Ph is None else p.Ph
     out = np.empty((s.size, p.Oq.shape[0], p.F.shape[1]), complex)
-    large = p.n > DENSE_MAX
+    large = p.n > DENSE_MAX or sp.issparse(p.K)
     if large:
         mats = [sp.csc_matrix(a) for a in (p.K, p.H, p.C, p.M)]
     for i, si in enumerate(s):
