@@ -235,10 +235,10 @@ def complex_modal(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) 
     a[:n, n:] = np.diag(sc)
     a[n:, :n] = -stiff / sc[None, :]
     a[n:, n:] = -gam
-    lam, v = sl.eig(a, check_finite=False, overwrite_a=True)
-    sel = np.zeros((2 * n, n))
-    sel[n:] = np.eye(n)
-    wr = sl.solve(v, sel, check_finite=False)          # rows of V^-1 acting on the forcing
+    # left and right eigenvectors in one call (cheaper than a solve with V): for distinct
+    # eigenvalues the rows of V^-1 are the left eigenvectors scaled by 1 / (w_i^H v_i)
+    lam, w, v = sl.eig(a, left=True, right=True, check_finite=False, overwrite_a=True)
+    wr = (w[n:].conj() / np.einsum("ij,ij->j", w.conj(), v)[None, :]).T   # rows of V^-1, forcing part
     left = phi @ (v[:n] / sc[:, None])                  # eta = S^-1 y1
     with np.errstate(divide="ignore", invalid="ignore"):
         d = 1.0 / (s[:, None] - lam[None, :])
