@@ -28,6 +28,8 @@ from .model import (DOF_NAMES, GROUND, Body, ControlPoint, Load, Model, Mount, M
 from .frequency import (FrequencyGrid, FrequencyResponse, frequency_grid, frequency_response,
                         sweep_response, transmissibility)
 from .plant import Plant
+from .reduction import Reduction, reduce
+from .scope import Scope
 from .signals import build_plant
 from .statespace import statespace
 from .static import StaticResult, static
@@ -39,7 +41,7 @@ __version__ = "0.1.0"
 __all__ = [
     "AnalysisError", "Assembly", "Body", "ControlPoint", "DOF_NAMES", "DampedModes", "Excitation",
     "FrequencyGrid", "FrequencyResponse", "GROUND", "Load", "Model", "ModelError", "ModelFileError", "Modes", "Mount", "MountType",
-    "Orientation", "Plant", "StaticResult", "SweepEnvelope", "TimeResponse", "VibssError", "VibssWarning", "assemble", "build_plant", "damped_modes", "dump_model",
-    "dumps_model", "example_names", "frequency_grid", "frequency_response", "load_example", "load_model", "loads_model", "modes", "simulate", "static",
+    "Orientation", "Plant", "Reduction", "Scope", "StaticResult", "SweepEnvelope", "TimeResponse", "VibssError", "VibssWarning", "assemble", "build_plant", "damped_modes", "dump_model",
+    "dumps_model", "example_names", "frequency_grid", "frequency_response", "load_example", "load_model", "loads_model", "modes", "reduce", "simulate", "static",
     "statespace", "sweep_envelope", "sweep_response", "symmetric", "transmissibility",
 ]

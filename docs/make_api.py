@@ -1,0 +1,85 @@
+"""Write docs/api.md, the API reference, from the docstrings of ``vibss.__all__``.
+
+Run ``python docs/make_api.py``; ``tests/test_docs.py`` fails when the file is stale or a public
+object has no docstring (the "docs build without warnings" check).
+"""
+
+from __future__ import annotations
+
+import inspect
+import sys
+from pathlib import Path
+
+import vibss
+
+OUT = Path(__file__).with_name("api.md")
+
+
+def _first_paragraph(doc: str) -> str:
+    return inspect.cleandoc(doc).split("\n\n")[0].replace("\n", " ")
+
+
+def render() -> tuple[str, list[str]]:
+    """The Markdown text and the list of problems (public objects without a docstring)."""
+    problems: list[str] = []
+    lines = ["# API reference", "",
+             "Generated from the docstrings by `docs/make_api.py`; every name is importable as "
+             "`vibss.<name>`. Full docstrings (parameters with units, examples): `help(vibss.<name>)`.", ""]
+    groups = {"Model": [], "Analyses": [], "Results": [], "Files": [], "Errors": [], "Other": []}
+    for name in sorted(vibss.__all__, key=str.lower):
+        obj = getattr(vibss, name)
+        if inspect.isclass(obj) and issubclass(obj, Warning | Exception):
+            group = "Errors"
+        elif name in ("Body", "MountType", "Mount", "ControlPoint", "Load", "Model", "Orientation",
+                      "Excitation", "symmetric", "GROUND", "DOF_NAMES", "Assembly", "assemble", "Plant",
+                      "build_plant"):
+            group = "Model"
+        elif inspect.isclass(obj):
+            group = "Results"
+        elif name.startswith(("load", "dump", "example")):
+            group = "Files"
+        elif inspect.isfunction(obj):
+            group = "Analyses"
+        else:
+            group = "Other"
+        groups[group].append(name)
+    for group, names in groups.items():
+        if not names:
+            continue
+        lines += [f"## {group}", ""]
+        for name in names:
+            obj = getattr(vibss, name)
+            doc = getattr(obj, "__doc__", None) if (inspect.isclass(obj) or callable(obj)) else None
+            if inspect.isfunction(obj) or inspect.isclass(obj):
+                if not doc:
+                    problems.append(f"{name} has no docstring")
+                    continue
+                try:
+                    sig = str(inspect.signature(obj))
+                except (TypeError, ValueError):
+                    sig = "(...)"
+                kind = "class" if inspect.isclass(obj) else "function"
+                lines += [f"### `{name}{sig if kind == 'function' else ''}`", "",
+                          f"*{kind}* — {_first_paragraph(doc)}", ""]
+                if inspect.isclass(obj):
+                    members = [m for m, v in vars(obj).items() if not m.startswith("_")
+                               and (inspect.isfunction(v) or isinstance(v, property))]
+                    for m in members:
+                        v = vars(obj)[m]
+                        mdoc = (v.fget.__doc__ if isinstance(v, property) else v.__doc__) or ""
+                        if not mdoc:
+                            problems.append(f"{name}.{m} has no docstring")
+                        lines.append(f"- `.{m}`: {_first_paragraph(mdoc) if mdoc else ''}")
+                    if members:
+                        lines.append("")
+            else:
+                lines += [f"### `{name}`", "", f"constant: `{obj!r}`", ""]
+    return "\n".join(lines).rstrip() + "\n", problems
+
+
+if __name__ == "__main__":
+    text, problems = render()
+    OUT.write_text(text)
+    for p in problems:
+        print(f"warning: {p}", file=sys.stderr)
+    sys.exit(1 if problems else 0)
