@@ -66,7 +66,7 @@ def main(n_bodies: int = 1000, n_modes_band: int = 36, tol: float = 1e-6, nf: in
     out: dict = {"n_bodies": n_bodies, "n_dof": 6 * n_bodies, "band_hz": [0.0, f2], "modes_in_band": n_modes_band,
                  "tolerance": tol, "n_frequencies": nf, "inputs": inputs, "outputs": outputs, "beta": beta,
                  "setup_s": setup, "threads": 1, "machine": platform.processor() or platform.machine(),
-                 "caveat": "2 shared cores, other developers' jobs running: timings are noisy"}
+                 "caveat": "2-core VM, single BLAS thread: expect +-10 % between runs"}
     with threadpool_limits(1):
         # full model, fastest exact path: sparse assembly + one complex sparse LU per frequency
         t = time.perf_counter()
