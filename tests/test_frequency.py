@@ -179,3 +179,18 @@ def test_errors_and_result_api():
     assert set(r.to_dict()["inputs"]) == {"m.fz", "m.fx"}
     mob = frequency_response(m, ["m.fz"], ["m.z"], frequencies=[0.0, 1.5], quantity="mobility")
     assert abs(mob.response[0, 0, 0]) < 1e-15 and np.isfinite(mob.response).all()
+
+
+def test_plot_all_and_by_body() -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from cases import two_mass_model
+
+    r = frequency_response(two_mass_model(), ["body1.fx"], ["body1.x", "body2.x", "body2.z"],
+                           frequencies=np.linspace(0.1, 3.0, 50))
+    assert len(r.plot().axes) == 2
+    fig = r.plot(by="body")
+    assert len(fig.axes) == 4 and [a.get_title() for a in fig.axes[:2]] == ["body1", "body2"]
+    with pytest.raises(ValueError, match="by must be"):
+        r.plot(by="mount")

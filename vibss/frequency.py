@@ -269,7 +269,8 @@ class FrequencyResponse:
         return "\n".join(lines)
 
     def plot(self, outputs: Sequence[str] | None = None, inputs: Sequence[str] | None = None,
-             max_channels: int = 12, mark_resonances: bool = True, ax: Any = None) -> Any:
+             max_channels: int = 12, mark_resonances: bool = True, ax: Any = None,
+             by: str = "all") -> Any:
         """Bode plot (magnitude and phase) of selected channels, overlaid on one pair of axes.
 
         Parameters
@@ -281,13 +282,32 @@ class FrequencyResponse:
         mark_resonances : bool
             Dotted vertical lines at the undamped natural frequencies.
         ax : (2,) sequence of matplotlib Axes or None
-            Magnitude and phase axes to draw in.
+            Magnitude and phase axes to draw in (``by="all"`` only).
+        by : {"all", "body"}
+            ``"all"``: every channel on one pair of axes; ``"body"``: one magnitude/phase column per
+            body (outputs grouped by the part of their name before the first ``.``: a body, a
+            control point, ``mount`` or ``ground``).
 
         Returns
         -------
         matplotlib.figure.Figure
         """
         import matplotlib.pyplot as plt
+
+        if by not in ("all", "body"):
+            raise ValueError(f"plot: by must be 'all' or 'body', got {by!r}")
+        if by == "body":
+            names = list(self.outputs) if outputs is None else list(outputs)
+            groups: dict[str, list[str]] = {}
+            for name in names:
+                groups.setdefault(name.split(".")[0], []).append(name)
+            fig, axes = plt.subplots(2, len(groups), sharex=True, squeeze=False,
+                                     figsize=(4.5 * len(groups) + 1, 6))
+            for col, (group, outs_g) in enumerate(groups.items()):
+                self.plot(outs_g, inputs, max_channels, mark_resonances, ax=axes[:, col])
+                axes[0, col].set_title(group)
+            fig.suptitle(f"{self.name}: method {self.method}")
+            return fig
 
         outs = list(self.outputs) if outputs is None else list(outputs)
         ins = list(self.inputs) if inputs is None else list(inputs)
