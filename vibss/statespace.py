@@ -51,6 +51,7 @@ Examples
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -60,10 +61,12 @@ import scipy.linalg as sl
 import scipy.sparse as sp
 import scipy.sparse.linalg as spl
 
+from .assemble import Assembly
 from .errors import AnalysisError, ModelError
 from .modal import rigid_mask
+from .model import Model
 from .plant import Plant
-from .signals import control_name
+from .signals import build_plant, control_name
 
 __all__ = ["statespace", "modal_basis", "ModalBasis", "REALIZATIONS"]
 
@@ -234,14 +237,16 @@ def _improper(plant: Plant, coef: np.ndarray, scale: np.ndarray, cols: np.ndarra
             f"differentiating it. Prescribe the same motion as a {better} input, or drop the output")
 
 
-def statespace(plant: Plant, realization: str = "modal", balance: bool = True,
-               name: str | None = None) -> control.StateSpace:
+def statespace(plant: Plant | Model | Assembly, realization: str = "modal", balance: bool = True,
+               name: str | None = None, *, inputs: Sequence[Any] | None = None,
+               outputs: Sequence[str] | None = None) -> control.StateSpace:
     """A python-control StateSpace of the plant, with named inputs, outputs and states.
 
     Parameters
     ----------
-    plant : Plant
-        From :func:`vibss.signals.build_plant`.
+    plant : Plant, Model or Assembly
+        From :func:`vibss.signals.build_plant`; or a model, with ``inputs`` and ``outputs``, to
+        build the study's system in one call.
     realization : {"modal", "physical"}
         State coordinates (see the module docstring). ``"modal"`` (default) is well scaled for
         SLICOT's frequency response and for ``expm``.
@@ -249,6 +254,8 @@ def statespace(plant: Plant, realization: str = "modal", balance: bool = True,
         Diagonally balance the ``"physical"`` realization (ignored for ``"modal"``).
     name : str or None
         System name (default: the plant's, with ``.`` replaced by ``:``).
+    inputs, outputs : sequence of str, optional
+        Signals of the study when ``plant`` is a model (see :mod:`vibss.signals`).
 
     Returns
     -------
@@ -271,7 +278,15 @@ def statespace(plant: Plant, realization: str = "modal", balance: bool = True,
     >>> sys = statespace(build_plant(m, ["b.fz"], ["b.z"]))
     >>> sys.nstates, sys.state_labels[:2], sys.output_labels
     (12, ['mode1:pos', 'mode2:pos'], ['b:z'])
+    >>> statespace(m, inputs=["ground.z.acc"], outputs=["b.z.acc"]).input_labels   # in one call
+    ['ground:z:acc']
     """
+    if not isinstance(plant, Plant):
+        if inputs is None:
+            raise ModelError("statespace: a model needs inputs=[...] (and optionally outputs=[...])")
+        plant = build_plant(plant, inputs, outputs)
+    elif inputs is not None or outputs is not None:
+        raise ModelError("statespace: inputs/outputs are fixed by the Plant; pass them to build_plant")
     if realization not in REALIZATIONS:
         raise ValueError(f"realization: expected one of {list(REALIZATIONS)}, got {realization!r}")
     basis = _modal(plant) if realization == "modal" else _physical(plant)
