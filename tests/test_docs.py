@@ -30,6 +30,17 @@ def test_frequency_guide(capsys):
                                vibss.modes(scope["model"]).directions) if d == "x"][0]
     assert scope["peaks"][0][0] == pytest.approx(low_x, rel=1e-3)
     np.testing.assert_allclose(abs(scope["t"].response[:, 0, 0]), 1.0, rtol=1e-9)   # 0 Hz
+    # the closed skyhook loop: its poles are those of the model with a 4000 N s/m damper from
+    # body2 z to ground, assembled independently
+    from vibss import Mount, MountType, damped_modes
+
+    damper = Mount("sky", MountType("sky", [0.0, 0.0, 0.0], [0.0, 0.0, 4000.0]), "body2")
+    ref = damped_modes(scope["model"].replace(mounts=list(scope["model"].mounts) + [damper])).poles
+    got = scope["skyhook"].poles()
+    got = np.sort_complex(got[got.imag > 1e-9])
+    want = np.sort_complex(ref[ref.imag > 1e-9])
+    assert "all stable: True" in out
+    np.testing.assert_allclose(got, want, rtol=1e-8)
 
 
 def test_time_guide(capsys):
