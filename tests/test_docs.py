@@ -37,10 +37,11 @@ def test_frequency_guide(capsys):
     damper = Mount("sky", MountType("sky", [0.0, 0.0, 0.0], [0.0, 0.0, 4000.0]), "body2")
     ref = damped_modes(scope["model"].replace(mounts=list(scope["model"].mounts) + [damper])).poles
     got = scope["skyhook"].poles()
-    got = np.sort_complex(got[got.imag > 1e-9])
-    want = np.sort_complex(ref[ref.imag > 1e-9])
-    assert "all stable: True" in out
-    np.testing.assert_allclose(got, want, rtol=1e-8)
+    got = got[got.imag > 1e-9]
+    want = ref[ref.imag > 1e-9]
+    got, want = got[np.argsort(got.imag)], want[np.argsort(want.imag)]   # real parts ~0: sort by imag
+    assert f"{np.sum(ref.real < -1e-9) * 2} of 24 poles damped" in out   # one pair per damped mode
+    np.testing.assert_allclose(got, want, rtol=1e-8, atol=1e-9 * np.abs(want).max())
 
 
 def test_time_guide(capsys):
