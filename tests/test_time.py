@@ -6,12 +6,12 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from vibss import Body, Model, Mount, MountType, assemble
+from vibss import Body, Model, Mount, MountType, VibssWarning, assemble
 from vibss.errors import ModelError
-from vibss.excitation import Excitation, HalfSine, Rectangular, Sine, Step, Triangle
+from vibss.excitation import Excitation, HalfSine, Rectangular, Sine, SineSweep, Step, Triangle
 from vibss.signals import build_plant
-from vibss import VibssWarning
 from vibss.time import METHODS, TimeResponse, simulate
+from vibss.time_sweep import sweep_envelope
 
 M, K, C = 2.0, 800.0, 4.0          # single DOF: w_n = 20 rad/s, zeta = 0.05
 WN = np.sqrt(K / M)
@@ -270,3 +270,20 @@ def test_finite_rate_sweep_envelope() -> None:
     assert fast.peak_ratio()[0] < 0.8                          # a fast sweep does not build up ...
     f_peak = fast.frequency_hz[np.argmax(fast.envelope[0])]
     assert f_peak > WN / (2 * np.pi) * 1.05                    # ... and peaks late (upward sweep)
+
+
+def test_plots_build_with_peaks_and_panels() -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    model = two_body()
+    e = Excitation("p", "force", "base", HalfSine(100.0, 0.0, 0.02), dof="z")
+    r = simulate(model, [e], outputs=["base.z", "top.z", "base.z.acc"], t_end=0.3, dt=1e-3)
+    fig = r.plot(by="body")
+    assert len(fig.axes) >= 2                       # one panel per body at least
+    fig_all = r.plot(by="all")
+    assert len(fig_all.axes) >= 1
+    sweep = Excitation("s", "force", "base", SineSweep(f1=2.0, f2=40.0, a1=50.0, a2=50.0, sweep_time=2.0),
+                       dof="z")
+    env = sweep_envelope(model, sweep, outputs=["base.z"])
+    assert len(env.plot().axes) == 1
