@@ -89,6 +89,7 @@ def plot_model(model: Model, view: str = "iso", labels: bool = True,
     handles = legend_handles(deformed=False, control_points=bool(model.control_points))[1:]
     handles = [Line2D([], [], color="C0", lw=1.6, label="body outline")] + handles
     handles += [Line2D([], [], color=c, lw=1.5, label=f"mount axis {j + 1}") for j, c in enumerate(AXIS_COLOURS)]
-    fig.legend(handles=handles, loc="outside lower center", ncols=min(len(handles), 7), fontsize=8,
-               frameon=False)
+    # a single panel is half as wide: two legend rows instead of one clipped row
+    fig.legend(handles=handles, loc="outside lower center", ncols=min(len(handles), 7 if len(views) > 1 else 4),
+               fontsize=8, frameon=False)
     return fig
