@@ -9,7 +9,7 @@ update them in place, which is what the animation needs.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 from matplotlib.axes import Axes
@@ -20,6 +20,9 @@ from ..errors import ModelError
 from ..model import GROUND
 from ._scene import BOX_EDGES, Moved, Scene, zigzag
 
+if TYPE_CHECKING:
+    from mpl_toolkits.mplot3d import Axes3D
+
 __all__ = ["VIEWS", "VIEW_TITLES", "Drawing", "add_view_axes", "set_limits", "legend_handles",
            "check_view", "body_colour"]
 
@@ -28,9 +31,9 @@ VIEW_TITLES = {"iso": "isometric", "xz": "front (x-z)", "yz": "side (y-z)", "xy"
 _AXES = {"xz": (0, 2), "yz": (1, 2), "xy": (0, 1)}
 _ELEV, _AZIM = 35.264, -50.0
 
-UNDEFORMED = {"color": "0.6", "lw": 0.9, "ls": "--"}
-SPRING = {"color": "0.2", "lw": 1.0}
-SPRING_UNDEFORMED = {"color": "0.7", "lw": 0.8}
+UNDEFORMED: dict[str, Any] = {"color": "0.6", "lw": 0.9, "ls": "--"}
+SPRING: dict[str, Any] = {"color": "0.2", "lw": 1.0}
+SPRING_UNDEFORMED: dict[str, Any] = {"color": "0.7", "lw": 0.8}
 
 
 def body_colour(i: int) -> str:
@@ -74,10 +77,11 @@ def set_limits(ax: Axes, view: str, points: Sequence[np.ndarray], margin: float 
     half = 0.5 * float((hi - lo).max()) * (1 + margin) or 0.5
     mid = 0.5 * (lo + hi)
     if view == "iso":
-        ax.set_xlim(mid[0] - half, mid[0] + half)
-        ax.set_ylim(mid[1] - half, mid[1] + half)
-        ax.set_zlim(mid[2] - half, mid[2] + half)
-        ax.set_box_aspect((1, 1, 1))
+        ax3 = cast("Axes3D", ax)  # add_view_axes made it a 3-D axes
+        ax3.set_xlim(mid[0] - half, mid[0] + half)
+        ax3.set_ylim(mid[1] - half, mid[1] + half)
+        ax3.set_zlim(mid[2] - half, mid[2] + half)
+        ax3.set_box_aspect((1, 1, 1))
     else:
         i, j = _AXES[view]
         pad = max(float((hi - lo)[[i, j]].max()) * margin, 0.04 * half)
@@ -125,7 +129,8 @@ class _Painter:
 
     def text(self, pt: np.ndarray, s: str, **style: Any) -> None:
         xy = [float(v[0]) for v in self._xy(pt)]
-        self.ax.text(*xy, s, **style)
+        ax: Any = self.ax  # Axes.text(x, y, s) or Axes3D.text(x, y, z, s)
+        ax.text(*xy, s, **style)
 
     def side(self, d: np.ndarray) -> np.ndarray | None:
         """Unit vector across direction ``d`` that shows in this view; None if seen end-on."""

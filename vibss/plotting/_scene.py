@@ -137,13 +137,13 @@ class Scene:
             frames.append((axes, lo, hi))
         biggest = max(float(np.max(hi - lo)) for _, lo, hi in frames) / 2
         size = max(span, 2 * biggest, 1e-3)
-        boxes = []
+        box_list = []
         for g, (ax, lo, hi) in zip(cogs, frames):
             # a box too thin to see gets a minimum thickness (8 % of the drawing)
             thin = np.maximum(0.04 * size - 0.5 * (hi - lo), 0.0)
             lo, hi = lo - thin, hi + thin
-            boxes.append(g + (np.where(_SIGNS > 0, hi, lo)) @ ax.T)
-        boxes = np.array(boxes)
+            box_list.append(g + (np.where(_SIGNS > 0, hi, lo)) @ ax.T)
+        boxes = np.array(box_list)
         axis = np.zeros_like(mpts)
         anchors = mpts.copy()
         length = spring_length * size

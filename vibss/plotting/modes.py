@@ -4,11 +4,11 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
+from typing import Any, cast, overload
 
 import numpy as np
 from matplotlib.axes import Axes
-from matplotlib.figure import Figure
+from matplotlib.figure import Figure, SubFigure
 
 from ..errors import ModelError
 from ..modal import Modes
@@ -72,9 +72,16 @@ def _draw_mode(ax: Axes, view: str, scene: Scene, q: np.ndarray) -> Drawing:
     return drawing
 
 
+@overload
+def plot_modes(modes: Modes, which: int | Sequence[int] | None = ..., view: str = ...,
+               scale: float | None = ..., ax: None = ..., ncols: int = ..., box: str = ...) -> Figure: ...
+@overload
+def plot_modes(modes: Modes, which: int | Sequence[int] | None = ..., view: str = ...,
+               scale: float | None = ..., ax: Axes | Sequence[Axes] | None = ..., ncols: int = ...,
+               box: str = ...) -> Figure | SubFigure: ...
 def plot_modes(modes: Modes, which: int | Sequence[int] | None = None, view: str = "iso",
                scale: float | None = None, ax: Axes | Sequence[Axes] | None = None,
-               ncols: int = 3, box: str = "auto") -> Figure:
+               ncols: int = 3, box: str = "auto") -> Figure | SubFigure:
     """Draw mode shapes: each body as a box, mounts as springs, undeformed (grey) and deformed.
 
     Each body is drawn as the uniform box with its mass and principal moments of inertia, at its
@@ -130,10 +137,10 @@ def plot_modes(modes: Modes, which: int | Sequence[int] | None = None, view: str
         for a, v in zip(axes, views):
             _draw_mode(a, v, scene, q)
             a.set_title(mode_title(modes, ks[0]) if len(views) == 1 else VIEW_TITLES[v], fontsize=9)
-        return axes[0].figure
+        return axes[0].figure  # a SubFigure where the given axes are in one
     if view == "three":
         fig = new_figure(10.5, 3.1 * len(ks) + 0.5)
-        subs = np.atleast_1d(fig.subfigures(len(ks), 1))
+        subs = np.atleast_1d(cast(Any, fig.subfigures(len(ks), 1)))  # one SubFigure or an array
         for sub, k in zip(subs, ks):
             q, length = mode_motion(modes, k, scene, scale)
             sub.suptitle(f"{mode_title(modes, k)}   (largest drawn displacement {length:.3g} m)",
