@@ -52,7 +52,7 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
-from typing import Any
+from typing import Any, cast
 
 import control
 import numpy as np
@@ -164,7 +164,7 @@ class Reduction:
         s = np.atleast_1d(np.asarray(s, complex))
         if self.plant is not None:
             return frf(self.plant, s)
-        sys = self.system
+        sys = cast("control.StateSpace", self.system)  # no plant: reduce() set the system
         out = np.empty((sys.noutputs, sys.ninputs, s.size), complex)
         eye = np.eye(sys.nstates)
         for i, si in enumerate(s):
@@ -225,7 +225,7 @@ class Reduction:
         if self.full_s is not None:
             lines.append(f"  FRF on {self.n_check} frequencies: full {self.full_s:.3g} s, reduced "
                          f"{self.reduced_s:.3g} s (+ reduction {self.reduce_s:.3g} s): "
-                         f"{self.full_s / max(self.reduced_s + self.reduce_s, 1e-12):.3g}x")
+                         f"{self.full_s / max(cast(float, self.reduced_s) + self.reduce_s, 1e-12):.3g}x")
         lines += [f"  note: {n}" for n in self.notes]
         return "\n".join(lines)
 
@@ -300,7 +300,7 @@ def _states(p: Plant) -> int:
 
 def _prune(p: Plant) -> tuple[Plant, list[Removal], list[str]]:
     p1, rem = prune_dofs(p)
-    notes = []
+    notes: list[str] = []
     if p1.n <= MODE_PRUNE_MAX:
         p2, rem2, _ = prune_modes(p1)
         return p2, rem + rem2, notes
@@ -488,7 +488,7 @@ def reduce(model_or_plant: Model | Plant, scope: Scope, method: str = "auto", *,
     r = Reduction(method=name, scope=scope, plant=plant, system=system, full=full,
                   dofs_before=full.n, dofs_after=0 if plant is None else plant.n,
                   states_before=_states(full),
-                  states_after=system.nstates if plant is None else _states(plant),
+                  states_after=cast(Any, system).nstates if plant is None else _states(plant),
                   removed=tuple(out.get("removed", ())), estimate=float(out.get("estimate", 0.0)),
                   estimate_kind=out.get("estimate_kind", "exact"), correction=out.get("correction", ""),
                   kept_hz=np.asarray(out.get("kept_hz", np.zeros(0)), float), hsv=out.get("hsv"),

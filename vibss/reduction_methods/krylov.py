@@ -37,7 +37,7 @@ from __future__ import annotations
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 import scipy.linalg as sl
@@ -229,7 +229,7 @@ def exact_response(p: Plant, s: complex, adjoint: bool = False) -> tuple[np.ndar
         Adjoint solutions (``adjoint``).
     """
     zf = _zf(p, s)
-    a = (p.K + 1j * p.H + s * p.C + s**2 * p.M).tocsc()
+    a = cast("sp.spmatrix", p.K + 1j * p.H + s * p.C + s**2 * p.M).tocsc()  # a sparse plant
     try:
         lu = spl.splu(a)
     except RuntimeError as exc:
@@ -292,7 +292,7 @@ def _shift_lu(p: Plant, w: float, w2: float) -> tuple[Any, float]:
     sigma = w * w
     for k in range(4):
         try:
-            return spl.splu((p.K - sigma * p.M).tocsc()), sigma
+            return spl.splu(cast("sp.spmatrix", p.K - sigma * p.M).tocsc()), sigma
         except RuntimeError:
             sigma = sigma * (1 + 1e-3 * (k + 1)) if sigma > 0 else -((1e-2 * (k + 1) * w2) ** 2)
     raise AnalysisError(f"krylov: K - sigma M is singular near sigma = {w * w:.6g} (rad/s)^2")
@@ -315,7 +315,7 @@ def project(p: Plant, V: np.ndarray) -> Plant:
     w2 = np.where(np.abs(w2) <= 1e-12 * top, 0.0, w2)
     tt = t.T
     c = tt @ sym(p.C) @ t
-    h = tt @ sym(p.H) @ t if p.H.nnz else np.zeros_like(c)
+    h = tt @ sym(p.H) @ t if cast("sp.spmatrix", p.H).nnz else np.zeros_like(c)
     r = V.shape[1]
     return replace(p, dofs=tuple(f"krylov{k + 1}" for k in range(r)), M=np.eye(r), K=np.diag(w2),
                    C=0.5 * (c + c.T), H=0.5 * (h + h.T), F=vt.T @ p.F, Kz=vt.T @ p.Kz, Cz=vt.T @ p.Cz,
@@ -472,6 +472,7 @@ def krylov(p: Plant, band: tuple[float, float], tol: float, n_shifts: int = N_SH
                      f"(sampled error {estimate:.3g} with {basis.V.shape[1]} vectors)")
     timings["total_s"] = time.perf_counter() - t_start
     two_pi = 2 * np.pi
+    red = cast(Plant, red)  # projected in every round (max_rounds >= 0)
     return KrylovBasis(plant=red, ritz_hz=np.sqrt(np.maximum(np.diag(red.K), 0.0)) / two_pi,
                        shifts_hz=np.sign(sigmas) * np.sqrt(np.abs(sigmas)) / two_pi, moments=int(moments),
                        interpolation_hz=np.array(added) / two_pi, check_hz=np.array(all_checks) / two_pi,

@@ -138,7 +138,7 @@ class _Modes:
 
     def __init__(self, p: Plant, nc: int, mats: dict, static: "_Static | None", vecs: np.ndarray):
         self.p = p
-        self.score = None
+        self.score: np.ndarray | None = None
         ev, phi = _lowest_modes(p, nc, mats)
         scale = float(np.max(np.diag(p.K) / np.diag(p.M)))
         self.rigid = ev <= 1e-10 * max(scale, 1e-300)
@@ -257,6 +257,7 @@ def _estimate(md: _Modes, k: int, wgrid: np.ndarray, zf: np.ndarray, peak: np.nd
                 f = f * inv
             term = np.einsum("fr,ri,rj->fij", f, O[a], B[b])
             if tail:
+                assert gt is not None  # set with the tail
                 term = term + gt[:, None, None] * so[a][None, :, None] * sb[b][None, None, :]
             est += term * (wgrid ** (a + b))[:, None, None]
     est = (est * zf[:, None, :]).max(axis=0)
@@ -312,6 +313,7 @@ def truncate(p: Plant, band: tuple[float, float], tol: float, grid: np.ndarray,
     """
     if residual not in ("static", "vectors"):
         raise ValueError(f"residual: expected 'static' or 'vectors', got {residual!r}")
+    mats: dict[str, sp.csr_matrix]
     build = (lambda md, k: md.plant(k)) if residual == "static" else (lambda md, k: _ritz_plant(md, k, mats))
     n = p.n
     mats = {k: sp.csr_matrix(getattr(p, k)) for k in ("M", "C", "K", "H")} if n > DENSE_MAX else {}
