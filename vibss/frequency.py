@@ -27,7 +27,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, cast
 
 import control
 import numpy as np
@@ -420,7 +420,8 @@ def frequency_response(system: Model | Assembly | Plant, inputs: Sequence[Any] |
     name, reason = (method, "") if isinstance(method, str) else (getattr(method, "__name__", "custom"), "")
     if method == "auto":
         name, reason = _choose(plant, f.size, basis)
-    kernel = METHODS.get(name, method) if isinstance(name, str) else method
+    # a callable: "auto" and unknown names were resolved or refused above
+    kernel = cast("Callable[..., np.ndarray]", METHODS.get(name, method) if isinstance(name, str) else method)
     k = QUANTITIES[quantity]
     h = np.empty((len(plant.outputs), len(plant.inputs), f.size), dtype=complex)
     pos = f > 0
@@ -548,7 +549,8 @@ def sweep_response(system: Model | Assembly, excitations: Sequence[Any] | None =
     excitations = list(excitations)
     if not excitations:
         raise ModelError("excitations: none given")
-    signals, amps = [], []
+    signals: list[Any] = []
+    amps: list[tuple[Any, ...]] = []
     bands = []
     for e in excitations:
         if isinstance(e, tuple) and len(e) == 2 and not hasattr(e, "signal"):

@@ -121,6 +121,7 @@ def _superpose(plant: Plant, s: np.ndarray, left: np.ndarray, right: np.ndarray,
     omap = dict(outs)
     use_acc = np.zeros(nf, dtype=bool)
     if d_acc is not None:   # pick per frequency the form with the smaller sum of term magnitudes
+        assert static is not None  # solved above, else d_acc was reset
         y0s = {(a, i): omap[a] @ static[i] for a, _ in lefts for i in range(len(rights))}
         cost_acc = np.abs(d_acc) @ (wl * wr) + sum(np.linalg.norm(v) for v in y0s.values())
         use_acc = cost_acc < np.abs(d) @ (wl * wr)
@@ -128,6 +129,7 @@ def _superpose(plant: Plant, s: np.ndarray, left: np.ndarray, right: np.ndarray,
     for rows, dd, acc in ((~use_acc, d, False), (use_acc, d_acc, True)):
         if not np.any(rows):
             continue
+        assert dd is not None  # use_acc rows only when d_acc is set
         dd, sr, zr = dd[rows], s[rows], zf[rows]
         part = np.zeros((sr.size, p * m), dtype=complex)
         for a, lo in lefts:
@@ -295,7 +297,7 @@ def zero_frequency_limit(plant: Plant, power: int = 0, n_points: int = 32) -> np
     rho0 = 0.05 * (float(np.sqrt(elastic.min())) if elastic.size else 1.0)
     theta = 2 * np.pi * (np.arange(n_points) + 0.5) / n_points
 
-    def laurent(r: float) -> np.ndarray:
+    def laurent(r: float) -> tuple[np.ndarray, np.ndarray]:
         z = r * np.exp(1j * theta)
         t = direct(plant, z) * z[None, None, :] ** power         # (p, m, N)
         coef = {k: np.mean(t * z[None, None, :] ** (-k), axis=-1) for k in range(-4, 1)}

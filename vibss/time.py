@@ -42,7 +42,7 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, cast
 
 import control
 import numpy as np
@@ -367,7 +367,7 @@ def _as_function(value: Any, ts: np.ndarray, name: str) -> tuple[Callable[[np.nd
     if a.shape != ts.shape or not np.all(np.isfinite(a)):
         raise ModelError(f"simulate: inputs[{name!r}]: expected a callable u(t) or {ts.size} finite "
                          f"samples (one per dt from 0 to t_end), got shape {a.shape}")
-    return (lambda t, a=a: np.interp(t, ts, a)), ()
+    return cast("Callable[[np.ndarray], np.ndarray]", lambda t, a=a: np.interp(t, ts, a)), ()
 
 
 def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = None, *,
@@ -494,7 +494,7 @@ def _sum(terms: list[tuple[Callable[[np.ndarray], np.ndarray], tuple[float, ...]
     if len(terms) == 1:
         return terms[0][0]
     fns = [f for f, _ in terms]
-    return lambda t: sum(np.asarray(f(t), float) for f in fns)
+    return cast("Callable[[np.ndarray], np.ndarray]", lambda t: sum(np.asarray(f(t), float) for f in fns))
 
 
 def _select_outputs(plant: Plant, outputs: Sequence[str]) -> Plant:

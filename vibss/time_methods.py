@@ -28,7 +28,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, cast
 
 import control
 import numpy as np
@@ -561,8 +561,10 @@ def run_ivp(prep: Prepared, funcs: list[Callable[[np.ndarray], np.ndarray]], edg
     scale = max(np.abs(x).max(), 1e-300)
     atol_ = atol if atol is not None else 1e-12 * scale if np.any(x) else 1e-15
 
+    u_of_t = cast("list[Callable[[float | np.ndarray], np.ndarray]]", funcs)  # u(t) takes a scalar t too
+
     def inputs(t: float | np.ndarray) -> np.ndarray:
-        return np.array([np.asarray(fn(t), float) for fn in funcs])
+        return np.array([np.asarray(fn(t), float) for fn in u_of_t])
 
     cuts = np.concatenate([[0.0], np.sort(edges[(edges > 0) & (edges < ts[-1])]), [ts[-1]]])
     X = np.zeros((len(ts), ns))
