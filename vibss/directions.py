@@ -10,6 +10,7 @@ as the subspace allows.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import cast
 
 import numpy as np
 
@@ -99,7 +100,7 @@ def describe_motion(vector: np.ndarray, bodies: Sequence[str], tol: float = 0.05
     big = np.abs(v).max()
     if big == 0:
         return "no motion"
-    parts = [(i, v[i] / big) for i in np.flatnonzero(np.abs(v) > tol * big)]
+    parts = cast("list[tuple[int, float]]", [(i, v[i] / big) for i in np.flatnonzero(np.abs(v) > tol * big)])
     if len(parts) == 1:
         i = parts[0][0]
         dof = DOF_NAMES[i % 6]

@@ -151,7 +151,7 @@ def function_from_dict(data: Any, who: str = "function", *, value_scale: float =
         if key not in allowed:
             raise ModelError(f"{who}: {kind} function: unknown key {key!r}; expected some of "
                              f"{sorted(allowed - {'type'})}" + _did_you_mean(key, allowed))
-    params = {k: v for k, v in data.items() if k != "type"}
+    params: dict[str, Any] = {k: v for k, v in data.items() if k != "type"}
     if cls is Table and "file" in params:
         if "time" in params or "value" in params:
             raise ModelError(f"{who}: table function: file: give either file or time and value, not both")

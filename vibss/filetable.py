@@ -10,7 +10,7 @@ Used by :mod:`vibss.io`.
 from __future__ import annotations
 
 import difflib
-from collections.abc import Mapping, Sequence
+from collections.abc import Collection, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -90,7 +90,7 @@ class Entry:
     def __contains__(self, key: str) -> bool:
         return key in self.data
 
-    def string(self, key: str, default: Any = MISSING, choices: Sequence[str] | None = None) -> Any:
+    def string(self, key: str, default: Any = MISSING, choices: Collection[str] | None = None) -> Any:
         value = self.data.get(key, default)
         if value is MISSING:
             raise self.fail(key, "missing (required)")

@@ -29,7 +29,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 import numpy.typing as npt
@@ -160,7 +160,8 @@ class Scope:
         f = np.asarray(frequencies, dtype=float).ravel()
         if f.size < 2 or not np.all(np.isfinite(f)):
             raise ModelError(f"scope: frequencies: expected at least two finite frequencies [Hz], got {frequencies!r}")
-        return cls(tuple(inputs) if not isinstance(inputs, str) else (inputs,), outputs,
+        # __post_init__ makes a tuple of any sequence of outputs
+        return cls(tuple(inputs) if not isinstance(inputs, str) else (inputs,), cast("tuple[str, ...]", outputs),
                    float(f.min()), float(f.max()), tolerance, origin="frequency-response grid")
 
     @classmethod
@@ -211,7 +212,8 @@ class Scope:
             origin = f"time span: f_max = {f_max:.6g} Hz from the excitations' content"
         else:
             origin = f"time span: f_max = {float(f_max):.6g} Hz given"
-        return cls(tuple(exc), outputs, 0.0, f_max, tolerance, t_end=t_end, origin=origin)
+        return cls(tuple(exc), cast("tuple[str, ...]", outputs), 0.0, f_max, tolerance, t_end=t_end,
+                   origin=origin)
 
     def to_dict(self) -> dict[str, Any]:
         """Plain data (names, band [Hz], tolerance, t_end [s])."""

@@ -288,7 +288,7 @@ def _output_row(asm: Assembly, name: Any, cache: dict) -> tuple[_Rows, str]:
     unit += ("", "/s", "/s^2")[order]
     parts = [zero, zero, zero]
     parts[order] = row
-    return _Rows(*parts, zero), unit
+    return _Rows(parts[0], parts[1], parts[2], zero), unit
 
 
 def build_plant(model_or_assembly: Model | Assembly, inputs: Sequence[Any],

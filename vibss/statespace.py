@@ -51,7 +51,7 @@ Examples
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -201,7 +201,7 @@ class _Basis:
     R: np.ndarray      # Tw^-1 Tv
     Kt: np.ndarray     # Tv^-1 M^-1 K Tw
     Ct: np.ndarray     # Tv^-1 M^-1 C Tv
-    lm: object         # X -> Tv^-1 M^-1 X
+    lm: Callable[[np.ndarray], np.ndarray]  # X -> Tv^-1 M^-1 X
     names: tuple[list[str], list[str]]
 
 
