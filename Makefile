@@ -20,8 +20,8 @@ demo: $(STAMP)
 	$(BIN)/vibss report --example powertrain --out demo-report
 	@echo "Figures and the HTML report: demo-report/index.html"
 
-
 test: $(STAMP)
+	$(BIN)/python -m mypy
 	$(BIN)/python -m pytest -n 2 -q vibss tests
 
 bench: $(STAMP)
