@@ -97,3 +97,22 @@ def test_json(asym):
     d = static(asym.replace(loads=[Load("motor", force=[0, 0, -100])])).to_dict()
     assert set(d["bodies"]) == {"frame", "motor"}
     assert len(d["mounts"]) == 7 and len(d["mounts"][0]["deflection_local"]) == 3
+
+
+def test_load_cases_are_alternatives_not_a_sum(prism):
+    """Unnamed loads always apply; each named case adds its own; several cases need a choice."""
+    base = Load("prism", force=[0, 0, -1000.0])
+    idle = Load("prism", force=[100.0, 0, 0], case="idle")
+    full = Load("prism", force=[0, 400.0, 0], case="full")
+    m = prism.replace(loads=[base, idle, full])
+    with pytest.raises(AnalysisError, match=r"load cases \['idle', 'full'\]"):
+        static(m)
+    r = static(m, case="full")
+    # closed form per direction: 4 mounts, kx = 1e4, ky = 2e4, kz = 3e4 N/m
+    np.testing.assert_allclose(r.body("prism")[:3], [0.0, 400.0 / 8e4, -1000.0 / 12e4], atol=1e-15)
+    assert r.case == "full" and r.to_dict()["case"] == "full"
+    with pytest.raises(Exception, match="unknown load case 'ful'"):
+        static(m, case="ful")
+    # one named case is the default
+    only = static(prism.replace(loads=[base, idle]))
+    assert only.case == "idle" and only.body("prism")[0] == pytest.approx(100.0 / 4e4)

@@ -147,10 +147,20 @@ class Assembly:
             self._cache["B"] = sp.csr_matrix((vv, (rr, cc)), shape=(3 * nm, 6 * nb + 6))
         return self._cache["B"]
 
-    def load_vector(self, include_gravity: bool = True) -> np.ndarray:
-        """(n,) generalised force of the model's static loads (and self-weight) [N, N m]."""
+    def load_vector(self, include_gravity: bool = True, case: str | None = None) -> np.ndarray:
+        """(n,) generalised force of the model's static loads (and self-weight) [N, N m].
+
+        Parameters
+        ----------
+        include_gravity : bool
+            Add self-weight when the model defines gravity.
+        case : str or None
+            Load case: the unnamed loads plus those of this case; None: every load.
+        """
         f = np.zeros(self.n)
         for ld in self.model.loads:
+            if case is not None and ld.case not in ("", case):
+                continue
             i = self.model.body_index(ld.body)
             r = np.zeros(3) if ld.at is None else self.model.point(ld.body, ld.at, ld.frame)
             f[6 * i:6 * i + 6] += point_transfer(r).T @ ld.force

@@ -157,12 +157,13 @@ def _control_point(e: Entry, i: int, bodies: Sequence[str]) -> ControlPoint:
 def _load(e: Entry, i: int, bodies: Sequence[str], cases: dict[str, list[str]]) -> Load:
     e.check_keys(("name", "case", "body", "force", "moment", "at", "frame"), ("body",))
     name = e.string("name", f"load{i}")
-    cases.setdefault(e.string("case", "default"), []).append(name)
+    case = e.string("case", "")
+    cases.setdefault(case or "default", []).append(name)
     try:
         return Load(_reference(e, "body", bodies), e.array("force", [(3,)], "force", np.zeros(3)),
                     e.array("moment", [(3,)], "moment", np.zeros(3)),
                     e.array("at", [(3,)], "length", None), e.string("frame", "body", ("body", "global")),
-                    name)
+                    name, case)
     except ModelError as exc:
         raise _wrap(e, exc) from None
 
@@ -414,14 +415,13 @@ def model_to_dict(model: Model) -> dict[str, Any]:
         out["mount"].append(d)
     out["control_point"] = [{"name": c.name, "body": c.body, "at": c.at.tolist(), "frame": c.frame}
                             for c in model.control_points]
-    case_of = {n: c for c, names in settings.get("load_cases", {}).items() for n in names}
     out["load"] = []
     for ld in model.loads:
         d = {"name": ld.name, "body": ld.body, "force": ld.force.tolist(), "moment": ld.moment.tolist()}
         if ld.at is not None:
             d.update(at=ld.at.tolist(), frame=ld.frame)
-        if ld.name in case_of:
-            d["case"] = case_of[ld.name]
+        if ld.case:
+            d["case"] = ld.case
         out["load"].append(d)
     out["excitation"] = []
     for x in model.excitations:

@@ -389,6 +389,9 @@ class Load:
         How ``at`` is measured.
     name : str
         Label for reports.
+    case : str
+        Load case. Unnamed loads (``""``) always apply; a named case is one alternative set of
+        loads added to them (:func:`vibss.static`'s ``case``).
     """
 
     body: str
@@ -397,6 +400,7 @@ class Load:
     at: Any = None
     frame: str = "body"
     name: str = ""
+    case: str = ""
 
     def __post_init__(self) -> None:
         who = f"load {self.name or 'on ' + repr(self.body)}"
@@ -405,6 +409,8 @@ class Load:
         if self.at is not None:
             object.__setattr__(self, "at", _vec(self.at, 3, who, "at"))
         object.__setattr__(self, "frame", _frame(self.frame, who))
+        if not isinstance(self.case, str):
+            raise ModelError(f"{who}: case must be a string (a load case name), got {self.case!r}")
 
 
 @dataclass(frozen=True, eq=False)
@@ -515,6 +521,11 @@ class Model:
     def mount_point(self, mount: Mount) -> np.ndarray:
         """Global coordinates of a mount's attachment point [m]."""
         return mount.at + self.body(mount.body).cog if mount.frame == "body" else mount.at
+
+    @property
+    def load_cases(self) -> list[str]:
+        """Names of the load cases, in order of first use (unnamed loads always apply)."""
+        return list(dict.fromkeys(ld.case for ld in self.loads if ld.case))
 
     @property
     def total_mass(self) -> float:

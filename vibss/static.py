@@ -81,6 +81,8 @@ class StaticResult:
         the force on ``body`` is its negative.
     free_motions : tuple of str
         Descriptions of unrestrained motions the load did not excite (empty if fully restrained).
+    case : str
+        The load case solved ("" when the model names none).
     """
 
     model: Model
@@ -91,6 +93,7 @@ class StaticResult:
     mount_deflection_local: np.ndarray
     mount_force: np.ndarray
     free_motions: tuple[str, ...] = field(default=())
+    case: str = ""
 
     def body(self, name: str) -> np.ndarray:
         """(6,) deflection of body ``name``."""
@@ -139,7 +142,7 @@ class StaticResult:
                    "force_global": self.mount_force[p].tolist(),
                    "force_local": (m.orientation.matrix.T @ self.mount_force[p]).tolist()}
                   for p, m in enumerate(self.model.mounts)]
-        return {"model": self.model.name, "bodies": bodies, "mounts": mounts,
+        return {"model": self.model.name, "case": self.case, "bodies": bodies, "mounts": mounts,
                 "control_points": {k: v.tolist() for k, v in self.control_points.items()},
                 "reaction": self.reaction.tolist(), "free_motions": list(self.free_motions)}
 
@@ -151,7 +154,7 @@ class StaticResult:
             c = self.centre_of_rotation(b.name)
             rows.append([b.name] + [f"{1e3 * v:.4f}" for v in d[:3]] + [f"{1e3 * v:.4f}" for v in d[3:]]
                         + ["pure translation" if c is None else "(" + ", ".join(f"{v:.4f}" for v in c) + ")"])
-        parts = [f"Static deflection of {self.model.name!r}",
+        parts = [f"Static deflection of {self.model.name!r}" + (f", load case {self.case!r}" if self.case else ""),
                  Table(["body", "x [mm]", "y [mm]", "z [mm]", "rx [mrad]", "ry [mrad]", "rz [mrad]",
                         "centre of rotation [m]"], rows, title="Bodies (COG)").render()]
         if self.model.control_points:
@@ -184,7 +187,8 @@ class StaticResult:
 
 
 def static(model: Model | Assembly, loads: np.ndarray | None = None, *,
-           prescribed: Mapping[str, float] | None = None, gravity: bool = True) -> StaticResult:
+           prescribed: Mapping[str, float] | None = None, gravity: bool = True,
+           case: str | None = None) -> StaticResult:
     """Static deflection under loads, self-weight and prescribed displacements.
 
     Parameters
@@ -199,6 +203,9 @@ def static(model: Model | Assembly, loads: np.ndarray | None = None, *,
         (``"ground.z"``: every ground attachment moves; ground rotations are about the origin).
     gravity : bool
         Include self-weight when the model defines gravity.
+    case : str or None
+        Load case: the unnamed loads plus the loads of this case. Default: the only case when the
+        model names one (or none); a model with several cases needs one chosen.
 
     Returns
     -------
@@ -220,7 +227,14 @@ def static(model: Model | Assembly, loads: np.ndarray | None = None, *,
     """
     a = model if isinstance(model, Assembly) else assemble(model)
     n = a.n
-    f = a.load_vector(include_gravity=gravity) if loads is None else _vector(loads, n, "loads")
+    cases = a.model.load_cases
+    if case is None and len(cases) > 1 and loads is None:
+        raise AnalysisError(f"the model has load cases {cases}: choose one (static(..., case=NAME), "
+                            "or --case NAME on the command line); adding them up is not a load case")
+    if case is not None and case not in cases:
+        raise ModelError(f"case: unknown load case {case!r}; the model's cases are {cases}")
+    case = case if case is not None else (cases[0] if cases else None)
+    f = a.load_vector(include_gravity=gravity, case=case) if loads is None else _vector(loads, n, "loads")
     q = np.zeros(n)
     qg = np.zeros(6)
     fixed = np.zeros(n, dtype=bool)
@@ -246,7 +260,8 @@ def static(model: Model | Assembly, loads: np.ndarray | None = None, *,
     local = np.einsum("pji,pj->pi", t, delta)
     force = np.einsum("pij,pj->pi", a.kp, delta)
     return StaticResult(model=a.model, q=q, ground=qg, load=f, mount_deflection=delta,
-                        mount_deflection_local=local, mount_force=force, free_motions=notes)
+                        mount_deflection_local=local, mount_force=force, free_motions=notes,
+                        case=case or "")
 
 
 def _vector(v: Any, n: int, what: str) -> np.ndarray:

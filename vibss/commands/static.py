@@ -17,10 +17,12 @@ def register(sub: argparse._SubParsersAction) -> None:
                                    "if [model] sets gravity, self-weight.")
     add_model_arguments(p)
     p.add_argument("--no-gravity", action="store_true", help="leave out self-weight")
+    p.add_argument("--case", metavar="NAME", default=None,
+                   help="load case: the unnamed loads plus this case's (needed when the file names several)")
     p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
     """Print the static deflection."""
-    emit(static(load_from_args(args), gravity=not args.no_gravity), args.format)
+    emit(static(load_from_args(args), gravity=not args.no_gravity, case=args.case), args.format)
     return 0
