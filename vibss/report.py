@@ -225,11 +225,16 @@ def _static_section(model: Model, figures: bool, results: dict[str, Any]) -> Sec
     if not model.loads and model.gravity is None:
         return Section("static", TITLES["static"], note="the model has no loads and no gravity",
                        skipped=True)
-    r = static(model)
-    results["static"] = r
+    cases: list[str | None] = list(model.load_cases) or [None]   # each load case on its own
+    solved = [static(model, case=c) for c in cases]
+    results["static"] = solved[0]
     what = ", ".join(x for x in (f"{len(model.loads)} load(s)" if model.loads else "",
                                  "self-weight" if model.gravity is not None else "") if x)
-    return Section("static", TITLES["static"], r.report(), _static_tables(r), note=f"under {what}")
+    if cases != [None]:
+        what += "; load case" + ("s " if len(cases) > 1 else " ") + ", ".join(repr(c) for c in cases)
+    tables = tuple(t for r in solved for t in _static_tables(r))
+    return Section("static", TITLES["static"], "\n\n".join(r.report() for r in solved), tables,
+                   note=f"under {what}")
 
 
 def _modes_section(model: Model, figures: bool, results: dict[str, Any]) -> Section:
