@@ -194,3 +194,30 @@ def test_plot_all_and_by_body() -> None:
     assert len(fig.axes) == 4 and [a.get_title() for a in fig.axes[:2]] == ["body1", "body2"]
     with pytest.raises(ValueError, match="by must be"):
         r.plot(by="mount")
+
+
+@pytest.mark.parametrize("case", ["free body", "bodies joined only to each other", "damper-only mounts"])
+def test_complex_modal_with_rigid_modes_matches_direct(case: str) -> None:
+    """Rigid modes untouched by dampers are exact 1/s^2 terms; damped ones repeat eigenvalue 0."""
+    t1 = MountType("t1", [1e4, 2e4, 3e4], [20.0, 5.0, 1.0])
+    t2 = MountType("t2", [5e3] * 3, [50.0] * 3)
+    a, b = Body("a", 10.0, [1, 2, 3]), Body("b", 5.0, [1, 1, 1])
+    if case == "free body":
+        model = Model([a, b, Body("free", 2.0, [1, 1, 1])],
+                      [Mount("m1", t1, "a", at=[0.3, 0.2, -0.1]), Mount("m2", t1, "a", at=[-0.3, 0.1, -0.1]),
+                       Mount("m3", t1, "a", at=[0, -0.2, -0.1]), Mount("m4", t2, "b", to="a", at=[0.1, 0, 0.2])])
+        inputs, outputs = ["free.fz", "a.fz"], ["free.z", "b.x", "a.z"]
+    elif case == "bodies joined only to each other":
+        model = Model([a, b], [Mount("m4", t2, "b", to="a", at=[0.1, 0, 0.2]),
+                               Mount("m5", t1, "b", to="a", at=[-0.1, 0.1, -0.2])])
+        inputs, outputs = ["a.fz", "b.fx"], ["b.z", "a.x"]
+    else:
+        dashpot = MountType("dashpot", [0.0, 0.0, 0.0], [30.0, 40.0, 50.0])
+        model = Model([a, b], [Mount("d1", dashpot, "a", at=[0.2, 0, 0]), Mount("d2", dashpot, "a", at=[-0.2, 0.1, 0]),
+                               Mount("d3", dashpot, "a", at=[0, -0.2, 0.1]), Mount("m4", t2, "b", to="a", at=[0.1, 0, 0.2])])
+        inputs, outputs = ["a.fz", "b.fx"], ["b.z", "a.x"]
+    f = np.linspace(0.5, 40.0, 40)
+    ref = frequency_response(model, inputs, outputs, frequencies=f, method="direct").response
+    got = frequency_response(model, inputs, outputs, frequencies=f, method="complex_modal").response
+    err = max(np.linalg.norm(got[..., k] - ref[..., k]) / np.linalg.norm(ref[..., k]) for k in range(f.size))
+    assert err < 1e-9

@@ -225,27 +225,87 @@ def modal(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) -> np.nd
 
 
 def complex_modal(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) -> np.ndarray:
-    """Complex modes of the scaled first-order modal form (general damping); returns (p, m, nf)."""
+    """Complex modes of the scaled first-order modal form (general damping); returns (p, m, nf).
+
+    Rigid-body modes have no displacement feedback (w = 0), so their displacement states leave the
+    eigenproblem, where they would be zero eigenvalues (2x2 Jordan blocks when undamped, repeated
+    and ill-conditioned when damped). Rigid modes that no damper touches are exact ``1 / s^2``
+    terms; damped rigid modes keep their velocity state and get ``eta = eta' / s`` by partial
+    fractions, ``1 / (s (s - lam)) = (1 / (s - lam) - 1 / s) / lam``. The rows of ``V^-1`` come
+    from the left eigenvectors of the same ``eig`` call (a solve with V if eigenvalues repeat).
+    """
     s = np.asarray(s, dtype=complex)
     basis = basis or modal_basis(plant)
-    n, phi, sc = plant.n, basis.phi, basis.scale
+    phi, sc = basis.phi, basis.scale
     gam, hys = _project(plant, basis)
-    stiff = np.diag(basis.omega2).astype(complex if np.any(plant.H) else float)
-    if np.any(plant.H):
-        stiff = stiff + 1j * hys
-    a = np.zeros((2 * n, 2 * n), dtype=stiff.dtype)
-    a[:n, n:] = np.diag(sc)
-    a[n:, :n] = -stiff / sc[None, :]
-    a[n:, n:] = -gam
-    # left and right eigenvectors in one call (cheaper than a solve with V): for distinct
-    # eigenvalues the rows of V^-1 are the left eigenvectors scaled by 1 / (w_i^H v_i)
-    lam, w, v = sl.eig(a, left=True, right=True, check_finite=False, overwrite_a=True)
-    wr = (w[n:].conj() / np.einsum("ij,ij->j", w.conj(), v)[None, :]).T   # rows of V^-1, forcing part
-    left = phi @ (v[:n] / sc[:, None])                  # eta = S^-1 y1
+    rid = np.flatnonzero(basis.rigid)
+    if rid.size:
+        # rotate the rigid subspace so its damping block is diagonal: undamped combinations of rigid
+        # modes (e.g. a body free to turn about its single mount) then stand out as modes of their own
+        _, q = np.linalg.eigh(gam[np.ix_(rid, rid)])
+        phi, gam, hys = phi.copy(), gam.copy(), hys.copy()
+        phi[:, rid] = phi[:, rid] @ q
+        for g in (gam, hys):
+            g[rid, :] = q.T @ g[rid, :]
+            g[:, rid] = g[:, rid] @ q
+    top = max(float(np.abs(gam).max()), float(np.abs(hys).max()), np.finfo(float).tiny)
+    untouched = (np.abs(gam).max(axis=1) <= 1e-12 * top) & (np.abs(hys).max(axis=1) <= 1e-12 * top)
+    free = basis.rigid & untouched
+    el = np.flatnonzero(~basis.rigid)                 # elastic: displacement and velocity states
+    kept = np.flatnonzero(~free)                      # velocity states: elastic + damped rigid
+    ne, nk = el.size, kept.size
+    lefts, rights, ds = [], [], []
     with np.errstate(divide="ignore", invalid="ignore"):
-        d = 1.0 / (s[:, None] - lam[None, :])
-        d_acc = None if np.any(basis.rigid) else s[:, None] * d / lam[None, :]
-    return _superpose(plant, s, left, wr @ phi.T, d, d_acc)
+        inv_s = 1.0 / s
+    if free.any():                                    # eta'' = f: 1 / s^2 exactly
+        lefts.append(phi[:, free])
+        rights.append(phi[:, free].T)
+        ds.append(np.repeat((inv_s**2)[:, None], int(free.sum()), axis=1))
+    lam = np.zeros(0, complex)
+    if nk:
+        se = sc[el]
+        pos = np.searchsorted(kept, el)                # elastic rows among the kept modes
+        cplx = bool(np.any(plant.H))
+        a = np.zeros((ne + nk, ne + nk), dtype=complex if cplx else float)
+        a[np.arange(ne), ne + pos] = se                # y1' = S eta' (elastic rows)
+        stiff = np.zeros((nk, ne), dtype=a.dtype)      # (Omega^2 + i Phi^T H Phi) S^-1 on y1
+        stiff[pos, np.arange(ne)] = basis.omega2[el] / se
+        if cplx:
+            stiff = stiff + 1j * hys[np.ix_(kept, el)] / se[None, :]
+        a[ne:, :ne] = -stiff
+        a[ne:, ne:] = -gam[np.ix_(kept, kept)]
+        lam, w, v = sl.eig(a, left=True, right=True, check_finite=False)
+        tol = 1e-9 * max(float(np.abs(lam).max()), np.finfo(float).tiny)
+        if np.any(np.abs(lam) <= tol):
+            raise AnalysisError("method 'complex_modal': a combination of rigid-body modes is neither "
+                                "free nor damped; use method='direct'")
+        if np.unique(np.round(lam.real / tol) + 1j * np.round(lam.imag / tol)).size == lam.size:
+            wb = (w[ne:].conj() / np.einsum("ij,ij->j", w.conj(), v)[None, :]).T   # rows of V^-1
+        else:                                         # repeated eigenvalues: solve with V
+            sel = np.zeros((ne + nk, nk))
+            sel[ne:] = np.eye(nk)
+            wb = sl.solve(v, sel, check_finite=False)
+        right = wb @ phi[:, kept].T                   # modal forces of the kept modes
+        left = phi[:, el] @ (v[:ne] / se[:, None])    # elastic eta = S^-1 y1
+        rig = np.flatnonzero(basis.rigid[kept])       # damped rigid modes among the kept ones
+        if rig.size:
+            vr = v[ne + rig] / lam[None, :]
+            left = left + phi[:, kept[rig]] @ vr      # the 1/(s - lam) part of eta' / s
+            lefts.append(phi[:, kept[rig]])           # and the 1/s part
+            rights.append(-(vr @ right))
+            ds.append(np.repeat(inv_s[:, None], rig.size, axis=1))
+        lefts.append(left)
+        rights.append(right)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ds.append(1.0 / (s[:, None] - lam[None, :]))
+    d = np.hstack(ds)
+    d_acc = None
+    if not basis.rigid.any():
+        with np.errstate(divide="ignore", invalid="ignore"):
+            d_acc = s[:, None] * d / lam[None, :]
+    left_all = np.hstack(lefts).astype(complex)
+    right_all = np.vstack(rights).astype(complex)
+    return _superpose(plant, s, left_all, right_all, d, d_acc)
 
 
 def via_statespace(plant: Plant, s: np.ndarray) -> np.ndarray:
