@@ -318,3 +318,15 @@ def test_unknown_example_lists_the_names():
     with pytest.raises(ModelError, match="did you mean 'prism'"):
         example_path("prisma")
     assert example_path("prism.toml").name == "prism.toml"
+
+
+def test_non_string_function_type_and_unit_are_located_errors(tmp_path):
+    """Found in review: these crashed the loader with 'unhashable type: list'."""
+    body = '[[body]]\nname = "b"\nmass = 1.0\ninertia = [1.0, 1.0, 1.0]\n'
+    for extra, pattern in (('[model]\nunits = { length = ["mm"] }\n', r"units: length: unknown unit \['mm'\]"),
+                           ('[[excitation]]\nkind = "force"\ntarget = "b"\ndof = "z"\nfunction = { type = [1] }\n',
+                            r"excitation\[1\].*type: expected one of")):
+        f = tmp_path / "m.toml"
+        f.write_text(extra + body if extra.startswith("[model]") else body + extra)
+        with pytest.raises(ModelFileError, match=pattern):
+            load_model(f)

@@ -104,3 +104,58 @@ def test_mirrored_orientation_mirrors_stiffness():
     km = m.orientation.matrix @ np.diag(t.stiffness) @ m.orientation.matrix.T
     np.testing.assert_allclose(km, s @ k @ s, atol=1e-14)
     assert np.linalg.det(m.orientation.matrix) == pytest.approx(1.0)
+
+
+# --- defects found in review: each reproduced first, then fixed -----------------------------------
+
+@pytest.mark.parametrize("bad", ["5", True, None, [True, False, True]])
+def test_strings_and_bools_are_not_numbers(bad):
+    with pytest.raises(ModelError, match=r"body 'b': mass: expected a number"):
+        Body("b", bad, [1.0, 1.0, 1.0])
+    with pytest.raises(ModelError, match=r"mount type 't': stiffness: expected 3 numbers"):
+        MountType("t", [bad, 1.0, 1.0] if not isinstance(bad, list) else bad)
+
+
+def test_control_point_named_like_a_body_is_refused():
+    b = Body("b", 100.0, [10, 20, 25])
+    with pytest.raises(ModelError, match=r"control point 'b': the name is taken"):
+        Model([b], control_points=[ControlPoint("b", "b", [1.0, 0, 0])])
+
+
+@pytest.mark.parametrize("call,pattern", [
+    (lambda b: Model(None), r"bodies: expected a sequence of Body"),
+    (lambda b: Model(b), r"bodies: expected a sequence of Body"),
+    (lambda b: Model([b], settings=[1]), r"settings: expected a mapping"),
+    (lambda b: Model([b], excitations=5), r"excitations: expected a sequence"),
+    (lambda b: Model([b], control_points=[ControlPoint("p", ["b"], [0, 0, 0])]), r"body must be a body name"),
+    (lambda b: Model([b], loads=[Load(["b"])]), r"body must be a body name"),
+    (lambda b: symmetric(Mount("m", T, "b"), ["xz"]), r"unknown symmetry"),
+])
+def test_malformed_arguments_are_model_errors(call, pattern):
+    with pytest.raises(ModelError, match=pattern):
+        call(Body("b", 1.0, [1, 1, 1]))
+
+
+def test_settings_are_not_shared_with_the_caller():
+    given = {"frequency": {"f1": 1.0}}
+    m = Model([Body("b", 1.0, [1, 1, 1])], settings=given)
+    m.settings["frequency"]["f1"] = 99.0
+    assert given == {"frequency": {"f1": 1.0}}
+
+
+def test_transformed_refuses_to_leave_excitations_unrotated():
+    from vibss.excitation import Excitation, Step
+
+    e = Excitation("e", "force", "b", Step(1.0), direction=[1, 0, 0])
+    m = Model([Body("b", 1.0, [1, 1, 1])], excitations=[e])
+    with pytest.raises(ModelError, match="not rotated"):
+        m.transformed(Orientation.from_euler([90, 0, 0], degrees=True).matrix)
+    assert m.transformed(offset=[1.0, 0, 0]).excitations == (e,)      # a pure shift is fine
+
+
+def test_overflowing_mount_is_named():
+    from vibss import assemble
+
+    m = Model([Body("b", 1.0, [1, 1, 1])], [Mount("far", MountType("t", [1e4] * 3), "b", at=[1e200, 1e200, 0])])
+    with pytest.raises(ModelError, match=r"mount 'far': .*overflows"):
+        assemble(m)

@@ -116,3 +116,15 @@ def test_load_cases_are_alternatives_not_a_sum(prism):
     # one named case is the default
     only = static(prism.replace(loads=[base, idle]))
     assert only.case == "idle" and only.body("prism")[0] == pytest.approx(100.0 / 4e4)
+
+
+@pytest.mark.parametrize("prescribed,pattern", [
+    ({"prism.z": "0.01"}, r"expected a finite number"), ({"prism.z": None}, r"expected a finite number"),
+    ({"prism.z": [0.01]}, r"expected a finite number"), ({5: 0.01}, r"keys are DOF labels"),
+    ([("prism.z", 0.01)], r"expected a mapping"),
+])
+def test_bad_prescribed_values_are_model_errors(prism, prescribed, pattern):
+    from vibss import ModelError
+
+    with pytest.raises(ModelError, match=pattern):
+        static(prism, prescribed=prescribed)

@@ -229,8 +229,13 @@ def assemble(model: Model, sparse: bool | None = None) -> Assembly:
 
     def full(kmat: np.ndarray) -> sp.csr_matrix:
         kb, ka = kmat @ lb, kmat @ la                       # (nm, 3, 6) each
-        vals = np.concatenate([(lbt @ kb).ravel(), (lat @ ka).ravel(),
-                               -(lbt @ ka).ravel(), -(lat @ kb).ravel()])
+        with np.errstate(over="ignore", invalid="ignore"):
+            vals = np.concatenate([(lbt @ kb).ravel(), (lat @ ka).ravel(),
+                                   -(lbt @ ka).ravel(), -(lat @ kb).ravel()])
+        if not np.all(np.isfinite(vals)):
+            bad = int(np.flatnonzero((~np.isfinite(vals.reshape(4, nm, 36))).any(axis=(0, 2)))[0])
+            raise ModelError(f"mount {model.mounts[bad].name!r}: its stiffness or damping about the COG "
+                             "overflows (an extreme value or position); check its point and type")
         return sp.csr_matrix((vals, (rows, cols)), shape=(n + 6, n + 6))
 
     mass = sp.block_diag([b.mass_matrix for b in model.bodies], format="csr")

@@ -54,6 +54,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except AnalysisError as exc:
         print(f"vibss: analysis failed: {exc}", file=sys.stderr)
         return 3
+    except ValueError as exc:  # e.g. an unknown method name: the library's message names it
+        print(f"vibss: error: {exc}", file=sys.stderr)
+        return 2
     except (FileNotFoundError, IsADirectoryError, PermissionError) as exc:
         print(f"vibss: {exc.strerror}: {exc.filename}", file=sys.stderr)
         return 2

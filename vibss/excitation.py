@@ -139,9 +139,9 @@ def function_from_dict(data: Any, who: str = "function", *, value_scale: float =
         raise ModelError(f"{who}: expected a function table like {{ type = \"half_sine\", amplitude = ..., "
                          f"start = ..., duration = ... }}, got {data!r}")
     kind = data.get("type")
-    if kind not in FUNCTIONS:
+    if not isinstance(kind, str) or kind not in FUNCTIONS:
         raise ModelError(f"{who}: type: expected one of {list(FUNCTIONS)}, got {kind!r}"
-                         + _did_you_mean(kind, FUNCTIONS))
+                         + (_did_you_mean(kind, FUNCTIONS) if isinstance(kind, str) else ""))
     cls = FUNCTIONS[kind]
     if cls is Sum:
         return function_from_dict(list(data.get("terms") or []), f"{who}.terms", value_scale=value_scale,

@@ -28,7 +28,7 @@ import scipy.sparse.linalg as spl
 
 from .assemble import Assembly, assemble
 from .directions import align_cluster, cluster_slices, direction_shares, dominant_direction, energy_fractions
-from .errors import ModelError
+from .errors import AnalysisError, ModelError
 from .model import DOF_NAMES, Model
 from .results import Table
 
@@ -324,7 +324,11 @@ def modes(model: Model | Assembly, n_modes: int | None = None,
     if n_modes is not None:
         n_modes = min(int(n_modes), n)
     name, solver = _pick(method, a, n_modes)
-    w2, phi = solver(a.K, a.M, n_modes)
+    try:
+        w2, phi = solver(a.K, a.M, n_modes)
+    except (np.linalg.LinAlgError, ValueError) as exc:
+        raise AnalysisError(f"the eigen-solver ({name}) failed: {exc}; check the model for extreme "
+                            "values (masses, inertias, stiffnesses or positions many decades apart)") from None
     M = a.dense("M")
     k_diag = np.asarray(a.K.diagonal()).ravel()
     rigid = rigid_mask(w2, phi, k_diag)

@@ -17,9 +17,10 @@ Examples
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 import difflib
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -60,7 +61,26 @@ def _freeze(a: np.ndarray) -> np.ndarray:
     return a
 
 
+def _is_numeric(value: Any) -> bool:
+    """True for a number or (nested) sequence of numbers; bools and strings are not numbers."""
+    if isinstance(value, (str, bytes, bool, np.bool_)) or value is None:
+        return False
+    if isinstance(value, (list, tuple)):        # numpy would upcast [True, 1.0] to floats
+        return all(_is_numeric(v) for v in value)
+    try:
+        a = np.asarray(value)
+    except (TypeError, ValueError):
+        return False
+    if a.dtype.kind in "iuf":
+        return True
+    if a.dtype.kind == "O" and a.size:
+        return all(_is_numeric(v) for v in a.ravel())
+    return False
+
+
 def _vec(value: Any, n: int, who: str, key: str) -> np.ndarray:
+    if not _is_numeric(value):
+        raise ModelError(f"{who}: {key}: expected {n} numbers, got {value!r}")
     try:
         a = np.array(value, dtype=float)
     except (TypeError, ValueError):
@@ -189,13 +209,6 @@ class Body:
         """Copy of the body translated by ``offset`` [m]."""
         return dataclasses.replace(self, cog=self.cog + np.asarray(offset, float))
 
-
-def _is_numeric(value: Any) -> bool:
-    try:
-        np.array(value, dtype=float)
-    except (TypeError, ValueError):
-        return False
-    return True
 
 
 def _check_moments(moments: np.ndarray, who: str) -> None:
@@ -336,7 +349,7 @@ def symmetric(mount: Mount, symmetry: str = "double") -> tuple[Mount, ...]:
     >>> [m.at.tolist() for m in symmetric(Mount("a", t, "b", at=[1, 2, 3]), "xz")]
     [[1.0, 2.0, 3.0], [1.0, -2.0, 3.0]]
     """
-    if symmetry not in SYMMETRIES:
+    if not isinstance(symmetry, str) or symmetry not in SYMMETRIES:
         raise ModelError(f"mount {mount.name!r}: unknown symmetry {symmetry!r}; expected one of "
                          f"{list(SYMMETRIES)}")
     return tuple(mount.mirrored(planes) for planes in SYMMETRIES[symmetry])
@@ -367,6 +380,8 @@ class ControlPoint:
         who = f"control point {self.name!r}"
         if not isinstance(self.name, str) or not self.name:
             raise ModelError(f"control point: name must be a non-empty string, got {self.name!r}")
+        if not isinstance(self.body, str):
+            raise ModelError(f"{who}: body must be a body name, got {self.body!r}")
         object.__setattr__(self, "at", _vec(self.at, 3, who, "at"))
         object.__setattr__(self, "frame", _frame(self.frame, who))
 
@@ -403,6 +418,10 @@ class Load:
     case: str = ""
 
     def __post_init__(self) -> None:
+        if not isinstance(self.body, str):
+            raise ModelError(f"load {self.name!r}: body must be a body name, got {self.body!r}")
+        if not isinstance(self.name, str):
+            raise ModelError(f"load: name must be a string, got {self.name!r}")
         who = f"load {self.name or 'on ' + repr(self.body)}"
         object.__setattr__(self, "force", _vec(self.force, 3, who, "force"))
         object.__setattr__(self, "moment", _vec(self.moment, 3, who, "moment"))
@@ -450,17 +469,27 @@ class Model:
     def __post_init__(self) -> None:
         for key, cls in (("bodies", Body), ("mounts", Mount),
                          ("control_points", ControlPoint), ("loads", Load)):
-            items = tuple(getattr(self, key))
+            value = getattr(self, key)
+            if isinstance(value, (str, bytes, cls)) or not isinstance(value, Iterable):
+                raise ModelError(f"model: {key}: expected a sequence of {cls.__name__}, got {value!r}")
+            items = tuple(value)
             for i, item in enumerate(items):
                 if not isinstance(item, cls):
                     raise ModelError(f"model: {key}[{i}] must be a {cls.__name__}, got {item!r}")
             object.__setattr__(self, key, items)
         if not self.bodies:
             raise ModelError("model: needs at least one body")
+        if isinstance(self.excitations, (str, bytes)) or not isinstance(self.excitations, Iterable):
+            raise ModelError(f"model: excitations: expected a sequence of Excitation, got {self.excitations!r}")
         object.__setattr__(self, "excitations", tuple(self.excitations))
         _unique([b.name for b in self.bodies], "body")
         _unique([m.name for m in self.mounts], "mount")
         _unique([c.name for c in self.control_points], "control point")
+        reserved = {b.name for b in self.bodies} | {GROUND, "mount"}
+        for c in self.control_points:
+            if c.name in reserved:
+                raise ModelError(f"control point {c.name!r}: the name is taken by a body (or reserved: "
+                                 f"'ground', 'mount'); signals like '{c.name}.x' would be ambiguous")
         names = {b.name for b in self.bodies}
         for m in self.mounts:
             for key in ("body", "to"):
@@ -481,7 +510,9 @@ class Model:
                 raise ModelError(f"load {ld.name or ''}: unknown body {ld.body!r}" + _did_you_mean(ld.body, names))
         if self.gravity is not None:
             object.__setattr__(self, "gravity", _vec(self.gravity, 3, "model", "gravity"))
-        object.__setattr__(self, "settings", dict(self.settings or {}))
+        if self.settings is not None and not isinstance(self.settings, Mapping):
+            raise ModelError(f"model: settings: expected a mapping, got {self.settings!r}")
+        object.__setattr__(self, "settings", copy.deepcopy(dict(self.settings or {})))  # not shared
 
     # -- lookups ---------------------------------------------------------------------------
     @property
@@ -560,6 +591,10 @@ class Model:
         """
         q = np.eye(3) if rotation is None else Orientation.coerce(rotation).matrix
         off = np.asarray(offset, dtype=float)
+        if rotation is not None and (self.excitations or self.settings.get("initial")):
+            raise ModelError("transformed: the model has excitations or initial conditions, which are "
+                             "given along global axes and are not rotated; rotate a model without them "
+                             "and add them in the new axes")
         bodies = []
         for b in self.bodies:
             if not np.allclose(b.masses, b.masses[0]):

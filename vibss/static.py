@@ -238,9 +238,14 @@ def static(model: Model | Assembly, loads: np.ndarray | None = None, *,
     q = np.zeros(n)
     qg = np.zeros(6)
     fixed = np.zeros(n, dtype=bool)
+    if prescribed is not None and not isinstance(prescribed, Mapping):
+        raise ModelError(f"prescribed: expected a mapping of DOF label to value, got {prescribed!r}")
     for label, value in (prescribed or {}).items():
-        if not np.isfinite(value):
-            raise ModelError(f"prescribed[{label!r}]: value must be finite, got {value!r}")
+        if not isinstance(label, str):
+            raise ModelError(f"prescribed: keys are DOF labels like 'engine.z' or 'ground.z', got {label!r}")
+        if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer, np.floating)) \
+                or not np.isfinite(value):
+            raise ModelError(f"prescribed[{label!r}]: expected a finite number [m or rad], got {value!r}")
         body, _, dof = label.partition(".")
         if body == GROUND:
             if dof not in DOF_NAMES:

@@ -87,10 +87,10 @@ class Units:
     def __post_init__(self) -> None:
         for dim, table in BASE_UNITS.items():
             unit = getattr(self, dim)
-            if unit not in table:
+            if not isinstance(unit, str) or unit not in table:
                 raise ModelError(
                     f"units: {dim}: unknown unit {unit!r}; expected one of {list(table)}"
-                    + _did_you_mean(unit, table)
+                    + (_did_you_mean(unit, table) if isinstance(unit, str) else "")
                 )
 
     @classmethod

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import sys
 from typing import Any
 
@@ -11,7 +12,7 @@ from ..errors import ModelError
 from ..io import load_example, load_model
 from ..model import Model
 
-__all__ = ["add_model_arguments", "load_from_args", "emit"]
+__all__ = ["add_model_arguments", "load_from_args", "emit", "finite_json"]
 
 
 def add_model_arguments(parser: argparse.ArgumentParser) -> None:
@@ -34,11 +35,22 @@ def load_from_args(args: argparse.Namespace) -> Model:
     return load_model(args.file)
 
 
+def finite_json(value: Any) -> Any:
+    """``value`` with every NaN or infinite float replaced by None (JSON has no such numbers)."""
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, dict):
+        return {k: finite_json(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [finite_json(v) for v in value]
+    return value
+
+
 def emit(result: Any, fmt: str, out: Any = None) -> None:
-    """Print a result as its text report or as JSON."""
+    """Print a result as its text report or as strict JSON (non-finite numbers as null)."""
     out = out or sys.stdout
     if fmt == "json":
-        json.dump(result.to_dict(), out, indent=2)
+        json.dump(finite_json(result.to_dict()), out, indent=2, allow_nan=False)
         out.write("\n")
     else:
         out.write(result.report())
