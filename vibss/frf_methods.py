@@ -85,9 +85,19 @@ def direct(plant: Plant, s: np.ndarray) -> np.ndarray:
         sc = s[lo:lo + chunk, None, None]
         dyn = k0[None] + sc * plant.C[None] + sc**2 * plant.M[None]
         rhs = plant.F[None] - (kz[None] + sc * plant.Cz[None] + sc**2 * plant.Mz[None]) * zf[lo:lo + chunk, None, :]
-        x = np.linalg.solve(dyn, rhs)
+        singular = np.zeros(dyn.shape[0], dtype=bool)
+        try:
+            x = np.linalg.solve(dyn, rhs)
+        except np.linalg.LinAlgError:      # an undamped model exactly at a natural frequency
+            x = np.zeros_like(rhs)
+            for k in range(dyn.shape[0]):
+                try:
+                    x[k] = np.linalg.solve(dyn[k], rhs[k])
+                except np.linalg.LinAlgError:
+                    singular[k] = True
         obs = oq[None] + sc * plant.Ov[None] + sc**2 * plant.Oa[None]
         out[lo:lo + chunk] = obs @ x
+        out[lo:lo + chunk][singular] = np.inf      # unbounded response there (reported as inf)
     out += _feedthrough(plant, s, zf)
     return np.moveaxis(out, 0, -1)
 
