@@ -321,40 +321,55 @@ class TimeResponse:
 
 # ----------------------------------------------------------------------------------------------
 
+def _six(body: str, what: str, vec: Any) -> np.ndarray:
+    """6 finite numbers (x y z rx ry rz) of one body's initial displacement or velocity."""
+    try:
+        a = np.asarray(vec, float)
+    except (TypeError, ValueError):
+        a = np.empty(0)
+    if a.shape != (6,) or not np.all(np.isfinite(a)):
+        raise ModelError(f"simulate: initial[{body!r}]: {what}: expected 6 finite numbers "
+                         f"(x y z rx ry rz), got {vec!r}")
+    return a
+
+
 def _initial(plant: Plant, initial: Any, model: Model | None) -> tuple[np.ndarray, np.ndarray]:
-    """Initial free-DOF displacement and velocity from per-body data."""
+    """Initial free-DOF displacement and velocity from per-body data.
+
+    ``initial`` maps a body name to ``{"displacement": [6], "velocity": [6]}`` (either key may be
+    left out: zero); anything else (a bare list, a number, an unknown body or key) is refused.
+    """
     q0, v0 = np.zeros(plant.n), np.zeros(plant.n)
     if initial is None and model is not None:
         initial = (model.settings or {}).get("initial")
-    if not initial:
+    if initial is None or (isinstance(initial, Mapping) and not initial):
         return q0, v0
     if not isinstance(initial, Mapping):
         raise ModelError(f"simulate: initial: expected {{body: {{'displacement': [6], 'velocity': "
                          f"[6]}}}}, got {initial!r}")
     index = {d: i for i, d in enumerate(plant.dofs)}
+    bodies = set(model.body_names) if model is not None else {d.rsplit(".", 1)[0] for d in plant.dofs}
     for body, data in initial.items():
-        if isinstance(data, Mapping):
-            unknown = set(data) - {"displacement", "velocity"}
-            if unknown:
-                raise ModelError(f"simulate: initial[{body!r}]: unknown key(s) {sorted(unknown)}; "
-                                 "expected 'displacement' and/or 'velocity'")
-            pairs = (data.get("displacement"), data.get("velocity"))
-        else:
-            pairs = tuple(data) if len(data) == 2 else (None, None)
-        for vec, target, what in ((pairs[0], q0, "displacement"), (pairs[1], v0, "velocity")):
-            if vec is None:
+        if body not in bodies:
+            raise ModelError(f"simulate: initial: unknown body {body!r}; bodies are {sorted(bodies)}")
+        if not isinstance(data, Mapping):
+            raise ModelError(f"simulate: initial[{body!r}]: expected {{'displacement': [6 numbers], "
+                             f"'velocity': [6 numbers]}} (either key optional), got {data!r}")
+        unknown = set(data) - {"displacement", "velocity"}
+        if unknown:
+            raise ModelError(f"simulate: initial[{body!r}]: unknown key(s) {sorted(map(str, unknown))}; "
+                             "expected 'displacement' and/or 'velocity'")
+        for target, what in ((q0, "displacement"), (v0, "velocity")):
+            if data.get(what) is None:
                 continue
-            a = np.asarray(vec, float)
-            if a.shape != (6,) or not np.all(np.isfinite(a)):
-                raise ModelError(f"simulate: initial[{body!r}]: {what}: expected 6 finite numbers "
-                                 f"(x y z rx ry rz), got {vec!r}")
+            a = _six(body, what, data[what])
             for d, val in zip(DOF_NAMES, a):
                 label = f"{body}.{d}"
                 if label in index:
                     target[index[label]] = val
                 elif val != 0.0:
                     raise ModelError(f"simulate: initial[{body!r}]: {what}: {label!r} is not a free "
-                                     f"DOF (unknown body, or a prescribed DOF)")
+                                     f"DOF (it is prescribed by an input)")
     return q0, v0
 
 
@@ -395,8 +410,10 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
     record_from : float
         First recorded time [s] (the simulation still starts at 0).
     initial : mapping or None
-        Per body ``{"displacement": [6], "velocity": [6]}`` [m, rad, m/s, rad/s] at ``t = 0-``.
-        Default: the model's bodies' ``initial``.
+        Per body ``{"displacement": [6], "velocity": [6]}`` [m, rad, m/s, rad/s] at ``t = 0-``
+        (either key may be left out). Default: the model's bodies' ``initial``. With no
+        excitations and no inputs, the free vibration from these initial conditions is simulated
+        (the result then has no inputs).
     method : {"auto", "modal", "forced_response", "ivp", "newmark", "central_difference"} or callable
         See the module docstring and :data:`METHODS`; a callable takes a :class:`SimulationJob`.
         A :class:`~vibss.errors.VibssWarning` says when the sampling smears a pulse or aliases a
@@ -413,20 +430,28 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
     Raises
     ------
     ModelError
-        Bad argument (the message names it).
+        Bad argument (the message names it), more than :data:`MAX_SAMPLES` samples, or nothing
+        driving the response (no excitation, input or initial condition).
     AnalysisError
-        A method cannot answer (e.g. solve_ivp failed).
+        A method cannot answer (e.g. solve_ivp failed), or an output needs the second derivative
+        of a displacement input (impulsive: prescribe the motion as an acceleration input).
     """
-    t_end, dt, record_from = float(t_end), float(dt), float(record_from)
+    t_end, dt, record_from = _seconds("t_end", t_end), _seconds("dt", dt), _seconds("record_from", record_from)
     if not (np.isfinite(dt) and dt > 0):
         raise ModelError(f"simulate: dt: must be a positive time step [s], got {dt!r}")
     if not (np.isfinite(t_end) and t_end >= dt):
         raise ModelError(f"simulate: t_end: must be at least dt = {dt:g} s, got {t_end!r}")
     if not (0.0 <= record_from <= t_end):
         raise ModelError(f"simulate: record_from: must lie in [0, t_end = {t_end:g}] s, got {record_from!r}")
-    ns = int(np.floor(t_end / dt + 1e-9)) + 1
+    samples = np.floor(t_end / dt + 1e-9) + 1
+    if samples > MAX_SAMPLES:
+        raise ModelError(f"simulate: t_end / dt: {t_end:g} s every {dt:g} s is {samples:.3g} samples, "
+                         f"more than {MAX_SAMPLES:.0e}; use a larger dt or a shorter t_end")
+    rtol, atol, solver = _tolerances(rtol, atol, solver)
+    ns = int(samples)
     ts = dt * np.arange(ns)
     model = model_or_plant if isinstance(model_or_plant, Model) else None
+    hidden = False
     if excitations is None and model is not None and inputs is None:
         excitations = model.excitations
     excitations = list(excitations or [])
@@ -450,7 +475,12 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
         if outputs is not None and tuple(outputs) != plant.outputs:
             plant = _select_outputs(plant, outputs)
     elif model is not None:
-        plant = build_plant(model, list(sources.values()), outputs)
+        if sources:
+            plant = build_plant(model, list(sources.values()), outputs)
+        else:
+            # free vibration from initial conditions: a zero force input, internal and not reported
+            plant = build_plant(model, [f"{model.body_names[0]}.fx"], outputs)
+            hidden = True
     else:
         raise ModelError(f"simulate: model_or_plant: expected a Model or a Plant, got {model_or_plant!r}")
     funcs = []
@@ -460,6 +490,11 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
         bps.extend(b for _, bb in terms for b in bb)
         funcs.append(_sum(terms))
     q0, v0 = _initial(plant, initial, model)
+    if hidden and not (np.any(q0) or np.any(v0)):
+        raise ModelError("simulate: nothing drives the response: no excitations, no inputs and no "
+                         "nonzero initial conditions (initial={body: {'displacement': [6], "
+                         "'velocity': [6]}})")
+    _check_derivatives(plant)
     job = SimulationJob(plant=plant, time=ts, funcs=tuple(funcs), breakpoints=np.array(bps, float),
                         q0=q0, v0=v0, rtol=float(rtol), atol=atol, solver=solver)
     if callable(method):
@@ -469,7 +504,7 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
     elif method in METHODS:
         name, fn = method, METHODS[method]
     else:
-        raise ValueError(f"simulate: method: unknown {method!r}; expected one of "
+        raise ModelError(f"simulate: method: unknown {method!r}; expected one of "
                          f"{['auto', *METHODS]} or a callable")
     for finding in check_excitations(excitations, dt, inserts_breakpoints=name in ("modal", "ivp")):
         finding.warn(stacklevel=3)
@@ -482,10 +517,84 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
     if method == "auto":
         note = "auto -> modal: exact for piecewise-linear inputs and the fastest; " + note
     keep = ts >= record_from - 1e-9 * dt
-    u = np.array([np.broadcast_to(f(ts[keep]), (int(keep.sum()),)) for f in funcs]).reshape(len(funcs), -1)
+    shown = [] if hidden else funcs
+    u = np.array([np.broadcast_to(f(ts[keep]), (int(keep.sum()),)) for f in shown]).reshape(len(shown), int(keep.sum()))
+    if hidden:
+        note = "free vibration from the initial conditions; " + note
     return TimeResponse(time=ts[keep], outputs=y[keep].T.copy(), output_names=tuple(plant.outputs),
-                        units=tuple(plant.units), inputs=u, input_names=tuple(plant.inputs),
+                        units=tuple(plant.units), inputs=u,
+                        input_names=() if hidden else tuple(plant.inputs),
                         method=name, note=note, name=plant.name)
+
+
+MAX_SAMPLES = 5e7
+"""Most samples ``t_end / dt + 1`` that :func:`simulate` accepts (each output row is stored)."""
+
+SOLVERS = ("RK23", "RK45", "DOP853", "Radau", "BDF", "LSODA")
+"""``solve_ivp`` methods accepted as ``solver``."""
+
+
+def _seconds(name: str, value: Any) -> float:
+    """A time argument as a float, or a ModelError naming it."""
+    if isinstance(value, (bool, np.bool_)):
+        value = None
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        raise ModelError(f"simulate: {name}: expected a number of seconds, got {value!r}") from None
+
+
+def _tolerances(rtol: Any, atol: Any, solver: Any) -> tuple[float, float | None, str]:
+    """Checked ``rtol`` (> 0), ``atol`` (None or >= 0) and ``solver`` (a solve_ivp method)."""
+    try:
+        r = float(rtol)
+    except (TypeError, ValueError):
+        r = float("nan")
+    if isinstance(rtol, (bool, np.bool_)) or not (np.isfinite(r) and r > 0):
+        raise ModelError(f"simulate: rtol: expected a positive relative tolerance, got {rtol!r}")
+    a: float | None = None
+    if atol is not None:
+        try:
+            a = float(atol)
+        except (TypeError, ValueError):
+            a = float("nan")
+        if isinstance(atol, (bool, np.bool_)) or not (np.isfinite(a) and a >= 0):
+            raise ModelError(f"simulate: atol: expected None or an absolute tolerance >= 0, got {atol!r}")
+    if solver not in SOLVERS:
+        raise ModelError(f"simulate: solver: expected one of {list(SOLVERS)}, got {solver!r}")
+    return r, a, str(solver)
+
+
+def _check_derivatives(plant: Plant) -> None:
+    """Refuse an output that needs the second derivative of a prescribed displacement.
+
+    A piecewise-linear displacement has an impulsive second derivative (a delta at every kink), so
+    such an output (the acceleration of the prescribed DOF itself, or of a body mass-coupled to it)
+    cannot be sampled; its first derivative (piecewise constant) and the second derivative of a
+    velocity input are representable and are kept.
+    """
+    disp = [j for j, k in enumerate(plant.kinds) if k == "displacement"]
+    if not disp:
+        return
+    M = np.asarray(plant.M, float)
+    Mz = np.asarray(plant.Mz, float)[:, disp]
+    Oa = np.asarray(plant.Oa, float)
+    try:
+        G = np.linalg.solve(M, Mz) if plant.n else np.zeros((0, len(disp)))
+    except np.linalg.LinAlgError:
+        return   # the methods refuse a singular mass matrix themselves
+    d2 = np.asarray(plant.Pa, float)[:, disp] - Oa @ G
+    scale = np.abs(np.asarray(plant.Pa, float)[:, disp]) + np.abs(Oa) @ np.abs(G)
+    bad = (np.abs(d2) > 1e-8 * scale) & (scale > 0)
+    if np.any(bad):
+        i, jj = map(int, np.argwhere(bad)[0])
+        u = plant.inputs[disp[jj]]
+        acc = u[:-len(".disp")] + ".acc" if u.endswith(".disp") else "an acceleration input"
+        raise AnalysisError(
+            f"simulate: output {plant.outputs[i]!r} depends on the second derivative of input {u!r} "
+            f"(displacement), which is impulsive for a piecewise-linear displacement (a delta at "
+            f"every kink). Prescribe the same motion as an acceleration input ({acc}), or drop "
+            f"the output")
 
 
 def _sum(terms: list[tuple[Callable[[np.ndarray], np.ndarray], tuple[float, ...]]]) -> Callable[[np.ndarray], np.ndarray]:
