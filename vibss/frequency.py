@@ -25,6 +25,7 @@ Examples
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any, cast
@@ -75,19 +76,44 @@ class FrequencyGrid:
     spacing: str = "log"
     refine: bool = True
 
+    def _checked(self) -> FrequencyGrid:
+        """This grid with its values checked and converted (a ModelError names the bad key)."""
+        vals: dict[str, Any] = {}
+        for key in ("f1", "f2"):
+            v = getattr(self, key)
+            if v is not None:
+                ok = not isinstance(v, (bool, np.bool_, str))
+                try:
+                    v = float(v) if ok else v
+                except (TypeError, ValueError):
+                    ok = False
+                if not ok or not np.isfinite(v) or v < 0:
+                    raise ModelError(f"frequencies: {key}: expected a frequency >= 0 [Hz] or None, "
+                                     f"got {getattr(self, key)!r}")
+            vals[key] = v
+        pts = self.points
+        integral = isinstance(pts, (int, np.integer)) or (isinstance(pts, (float, np.floating))
+                                                          and float(pts).is_integer())
+        if isinstance(pts, (bool, np.bool_)) or not integral or pts < 2:
+            raise ModelError(f"frequencies: points: expected an integer >= 2, got {pts!r}")
+        if self.spacing not in ("log", "linear"):
+            raise ModelError(f"frequencies: spacing: expected 'log' or 'linear', got {self.spacing!r}")
+        return dataclasses.replace(self, f1=vals["f1"], f2=vals["f2"], points=int(pts),
+                                   refine=bool(self.refine))
+
     @classmethod
     def coerce(cls, spec: Any) -> FrequencyGrid:
         """From a FrequencyGrid, a mapping (keys f1, f2, points, spacing, refine) or None."""
         if spec is None:
             return cls()
         if isinstance(spec, cls):
-            return spec
+            return spec._checked()
         if isinstance(spec, Mapping):
             unknown = set(spec) - {"f1", "f2", "points", "spacing", "refine"}
             if unknown:
                 raise ModelError(f"frequencies: unknown grid key(s) {sorted(unknown)}; expected "
                                  "f1, f2, points, spacing, refine")
-            return cls(**dict(spec))
+            return cls(**dict(spec))._checked()
         raise ModelError(f"frequencies: expected frequencies in Hz, a grid mapping or None, got {spec!r}")
 
 
@@ -221,12 +247,22 @@ class FrequencyResponse:
         return self.response[i, j]
 
     def peaks(self, output: str, input: str | None = None, count: int = 3) -> list[tuple[float, float]]:
-        """The ``count`` largest local maxima ``(frequency [Hz], amplitude)`` of one channel."""
+        """The ``count`` largest local maxima ``(frequency [Hz], amplitude)`` of one channel.
+
+        Only finite points are listed. A non-finite point (``inf`` at 0 Hz, or exactly on an
+        undamped resonance) counts as larger than anything when its neighbours are tested, so a
+        finite point beside it is never a peak; it is not listed itself (``inf`` has no
+        frequency-resolved peak to report; :meth:`channel` shows it).
+        """
         a = np.abs(self.channel(output, input))
-        a = np.where(np.isfinite(a), a, 0.0)
+        finite = np.isfinite(a)
         if a.size < 3:
-            return [(float(self.frequency_hz[int(np.argmax(a))]), float(a.max()))] if a.size else []
-        inner = np.flatnonzero((a[1:-1] >= a[:-2]) & (a[1:-1] > a[2:])) + 1
+            if not finite.any():
+                return []
+            i = int(np.argmax(np.where(finite, a, -1.0)))
+            return [(float(self.frequency_hz[i]), float(a[i]))]
+        a = np.where(finite, a, np.inf)
+        inner = np.flatnonzero((a[1:-1] >= a[:-2]) & (a[1:-1] > a[2:]) & finite[1:-1]) + 1
         idx = [int(i) for i in inner[np.argsort(a[inner])[::-1]][:count]]
         return [(float(self.frequency_hz[i]), float(a[i])) for i in idx]
 
@@ -263,9 +299,13 @@ class FrequencyResponse:
                  f"{'output':<28} {'input':<22} {'peak f [Hz]':>12} {'amplitude':>12}  unit"]
         for i, y in enumerate(self.outputs):
             for j, u in enumerate(self.inputs):
-                for k, (f, a) in enumerate(self.peaks(y, u, count) or [(float("nan"), 0.0)]):
+                rows = [(f, f"{a:>12.4e}") for f, a in self.peaks(y, u, count)]
+                bad = np.flatnonzero(~np.isfinite(self.response[i, j]))
+                if bad.size:        # not a peak: say where the response is unbounded instead
+                    rows.append((float(self.frequency_hz[bad[0]]), f"{'infinite':>12}"))
+                for k, (f, a) in enumerate(rows or [(float("nan"), f"{0.0:>12.4e}")]):
                     lines.append(f"{y if k == 0 else '':<28} {u if k == 0 else '':<22} "
-                                 f"{f:>12.4f} {a:>12.4e}  {self.units[i]}")
+                                 f"{f:>12.4f} {a}  {self.units[i]}")
         return "\n".join(lines)
 
     def plot(self, outputs: Sequence[str] | None = None, inputs: Sequence[str] | None = None,
@@ -370,9 +410,15 @@ def _as_plant(system: Model | Assembly | Plant, inputs: Any, outputs: Any) -> Pl
 def _frequencies(plant: Plant, frequencies: Any, basis: ModalBasis) -> np.ndarray:
     if frequencies is None or isinstance(frequencies, (Mapping, FrequencyGrid)):
         return frequency_grid(plant, frequencies, basis)
-    f = np.atleast_1d(np.asarray(frequencies, dtype=float))
+    try:
+        f = np.atleast_1d(np.asarray(frequencies, dtype=float))
+    except (TypeError, ValueError):
+        f = np.array([np.nan])
     if f.ndim != 1 or not np.all(np.isfinite(f)) or np.any(f < 0):
         raise ModelError(f"frequencies: expected finite frequencies >= 0 [Hz], got {frequencies!r}")
+    if f.size == 0:
+        raise ModelError("frequencies: got an empty list; give at least one frequency [Hz], a grid "
+                         "mapping {f1, f2, points} or None")
     return f
 
 
