@@ -354,10 +354,22 @@ def _resonance_checks(red: Plant, row: np.ndarray, lo: float, hi: float, tol: fl
     sig = inb & (contrib.max(axis=0) > CHECK_SAFETY * tol)
     half = 0.5 * g                                  # half-power half-width [rad/s]
     out = []
-    for w, hw in zip(wk[sig], half[sig]):
+    for w, hw, at in zip(wk[sig], half[sig], _off_undamped(red, wk)[sig]):
         if checked.size == 0 or np.min(np.abs(checked - w)) > 0.25 * hw:
-            out.append(w)
+            out.append(at)
     return np.array(out)
+
+
+UNDAMPED_OFFSET = 5e-8
+"""Relative offset [-] of a check placed at an undamped Ritz resonance (a tenth of the 1e-6
+half-power width assumed for undamped modes): exactly on it the reduced response is singular."""
+
+
+def _off_undamped(red: Plant, wk: np.ndarray) -> np.ndarray:
+    """``wk`` [rad/s], each undamped mode's (no C or H on its diagonal) moved up by
+    ``UNDAMPED_OFFSET``, so no response is evaluated exactly on an undamped pole."""
+    g = np.abs(np.diag(red.C)) + np.abs(np.diag(red.H))
+    return np.where(g > 0, wk, wk * (1.0 + UNDAMPED_OFFSET))
 
 
 def krylov(p: Plant, band: tuple[float, float], tol: float, n_shifts: int = N_SHIFTS,
@@ -433,7 +445,7 @@ def krylov(p: Plant, band: tuple[float, float], tol: float, n_shifts: int = N_SH
         h_seen.append(hf)
         # reference per output: its largest response over the band (full at the checks so far,
         # reduced at its own in-band resonances)
-        wr = np.sqrt(np.maximum(np.diag(red.K), 0.0))
+        wr = _off_undamped(red, np.sqrt(np.maximum(np.diag(red.K), 0.0)))
         wr = wr[(wr >= lo) & (wr <= w2)]
         peak = np.max([np.abs(h).max(axis=(1, 2)) for h in h_seen], axis=0)
         if wr.size:

@@ -234,7 +234,8 @@ def frf(p: Plant, s: np.ndarray) -> np.ndarray:
     or when the plant's matrices are scipy.sparse).
 
     ``(K + iH + sC + s^2 M) X = F - (Kz + iHz + s Cz + s^2 Mz) Z``, ``Y = O(s) X + P(s) Z + Pf``,
-    ``Z = diag(s^-order)``.
+    ``Z = diag(s^-order)``. Where the dynamic matrix is exactly singular (``s`` on an undamped
+    resonance, or 0 with a rigid-body mode) the response there is ``inf``.
     """
     s = np.atleast_1d(np.asarray(s, complex))
     order = p.order
@@ -248,11 +249,15 @@ def frf(p: Plant, s: np.ndarray) -> np.ndarray:
         mats = [sp.csc_matrix(a) for a in (p.K, p.H, p.C, p.M)]
     for i, si in enumerate(s):
         rhs = p.F - (p.Kz + 1j * p.Hz + si * p.Cz + si**2 * p.Mz) * zf[i][None, :]
-        if large:
-            a = (mats[0] + 1j * mats[1] + si * mats[2] + si**2 * mats[3]).tocsc()
-            x = spl.splu(a).solve(np.asarray(rhs, complex))
-        else:
-            x = np.linalg.solve(p.K + 1j * p.H + si * p.C + si**2 * p.M, rhs)
+        try:
+            if large:
+                a = (mats[0] + 1j * mats[1] + si * mats[2] + si**2 * mats[3]).tocsc()
+                x = spl.splu(a).solve(np.asarray(rhs, complex))
+            else:
+                x = np.linalg.solve(p.K + 1j * p.H + si * p.C + si**2 * p.M, rhs)
+        except (np.linalg.LinAlgError, RuntimeError):   # splu: "Factor is exactly singular"
+            out[i] = complex(np.inf, 0.0)
+            continue
         obs = p.Oq + 1j * oh + si * p.Ov + si**2 * p.Oa
         pz = p.Pz + 1j * ph + si * p.Pv + si**2 * p.Pa
         out[i] = obs @ x + pz * zf[i][None, :] + p.Pf
