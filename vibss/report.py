@@ -296,8 +296,10 @@ def _frequency_section(model: Model, figures: bool, results: dict[str, Any]) -> 
     from .frequency import sweep_response, transmissibility
 
     spec = dict(model.settings.get("frequency", {}))
-    r = sweep_response(model, sweeps, points=int(spec.get("points", 400)),
-                       spacing=spec.get("spacing", "log"))
+    # the band and grid of ``vibss frf`` ([analysis] frequency, else the sweeps' own band), so the
+    # report's peaks are the command's
+    r = sweep_response(model, sweeps, spec.get("f1"), spec.get("f2"), int(spec.get("points", 1000)),
+                       spec.get("spacing", "log"))
     results["frequency"] = r
     texts = [r.report()]
     tables = [_frf_table(r, f"Steady-state sweep response of {', '.join(e.name for e in sweeps)}")]
@@ -369,6 +371,12 @@ def _time_section(model: Model, figures: bool, results: dict[str, Any]) -> Secti
                    note=f"0 to {spec['end']:g} s, step {spec['step']:g} s, method {r.method}")
 
 
+SECTION_ERRORS: tuple[type[BaseException], ...] = (
+    VibssError, np.linalg.LinAlgError, ValueError, ArithmeticError, RuntimeError, MemoryError)
+"""What :func:`study` turns into a section's "failed: ..." note (numerical failures: a singular
+solve, a division by zero, an overflow, a solver that gave up) so that the other sections still
+run. Programming errors (TypeError, AttributeError, KeyError, IndexError ...) propagate."""
+
 _RUNNERS = {"static": _static_section, "modes": _modes_section, "damped": _damped_section,
             "frequency": _frequency_section, "time": _time_section}
 
@@ -403,7 +411,7 @@ def study(model: Model, figures: bool = True, progress: Progress | None = None,
             continue
         try:
             sections.append(_RUNNERS[key](model, figures, results))
-        except VibssError as exc:
+        except SECTION_ERRORS as exc:   # one failed analysis is that section's note, not the report's end
             sections.append(Section(key, TITLES[key], skipped=True,
                                     note=f"failed: {type(exc).__name__}: {exc}"))
     return Report(model, tuple(sections), source, results)
