@@ -221,3 +221,17 @@ def test_complex_modal_with_rigid_modes_matches_direct(case: str) -> None:
     got = frequency_response(model, inputs, outputs, frequencies=f, method="complex_modal").response
     err = max(np.linalg.norm(got[..., k] - ref[..., k]) / np.linalg.norm(ref[..., k]) for k in range(f.size))
     assert err < 1e-9
+
+
+@pytest.mark.parametrize("quantity,power", [("receptance", 0), ("mobility", 1), ("accelerance", 2)])
+def test_undamped_exactly_at_resonance_is_infinite_not_an_error(quantity: str, power: int) -> None:
+    """Found in review: the direct solve raised LinAlgError; k - m w^2 = 0 there, so |H| = inf."""
+    k = (2 * np.pi) ** 2                                     # 1 kg on k: f_n = 1 Hz
+    m = Model([Body("b", 1.0, [1, 1, 1])], [Mount("m", MountType("t", [k] * 3), "b")])
+    r = frequency_response(m, ["b.fz"], ["b.z"], frequencies=[0.5, 1.0, 2.0], method="direct", quantity=quantity)
+    h = r.response[0, 0]
+    assert np.isinf(h[1].real) and np.all(np.isfinite(h[[0, 2]]))
+    for i, f in ((0, 0.5), (2, 2.0)):
+        w = 2 * np.pi * f
+        assert h[i] == pytest.approx((1j * w) ** power / (k - w**2), rel=1e-12)
+    assert r.to_dict()["outputs"]["b.z"]["amplitude"][1] is None      # JSON: null, not Infinity

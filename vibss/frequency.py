@@ -474,7 +474,13 @@ def frequency_response(system: Model | Assembly | Plant, inputs: Sequence[Any] |
     if np.any(pos):
         s = 2j * np.pi * f[pos]
         kwargs = {"basis": basis} if kernel in (METHODS["modal"], METHODS["complex_modal"]) else {}
-        h[:, :, pos] = kernel(plant, s, **kwargs) * s**k
+        raw = kernel(plant, s, **kwargs)
+        if k:                              # mobility / accelerance: (i w)^k, keeping inf as inf
+            with np.errstate(invalid="ignore"):
+                scaled = raw * s**k
+            scaled[np.isinf(raw)] = np.inf
+            raw = scaled
+        h[:, :, pos] = raw
     if np.any(~pos):
         h[:, :, ~pos] = zero_frequency_limit(plant, power=k)[:, :, None]
     units = tuple(u + ("", " s^-1", " s^-2")[k] if k else u for u in plant.units)

@@ -41,8 +41,9 @@ def run(args: argparse.Namespace) -> int:
     for e in steady:
         print(f"vibss time: skipping excitation {e.name!r} (sweep_time = 0: steady state, "
               "frequency studies only)", file=sys.stderr)
-    if not excitations:
-        raise ModelError("the model has no time-domain [[excitation]]: nothing drives a time response")
+    if not excitations and not (model.settings or {}).get("initial"):
+        raise ModelError("the model has no time-domain [[excitation]] and no body initial "
+                         "conditions: nothing drives a time response")
     cfg = dict((model.settings or {}).get("time", {}) or {})
     end = args.end if args.end is not None else float(cfg.get("end", 1.0))
     step = args.step if args.step is not None else float(cfg.get("step", end / 1000))
