@@ -8,7 +8,9 @@ frequencies, zeta ~ 0.001, single BLAS thread. Timed in the same run:
 - vibss ``modal`` (classical damping) / ``complex_modal`` (general damping), and ``direct`` (the
   reference: one complex solve per frequency).
 
-Error: max over frequencies of ||H - H_ref||_F / ||H_ref||_F against ``direct``. Results are printed and
+The stock path and vibss's fast path are each timed as the best of two calls (the same protocol for
+both sides of the headline ratio; ``direct`` once). Error: max over frequencies of
+||H - H_ref||_F / ||H_ref||_F against ``direct``. Results are printed and
 written to ``benchmarks/results/frf.json``. Run: ``python benchmarks/bench_frf.py [n_bodies]``.
 """
 
@@ -44,6 +46,16 @@ def _err(h, ref):
     return float(np.max(num / np.linalg.norm(ref, axis=(0, 1))))
 
 
+def _best(call, repeat: int = 2):
+    """(shortest time [s], result) over ``repeat`` calls."""
+    best, out = float("inf"), None
+    for _ in range(repeat):
+        t = time.perf_counter()
+        out = call()
+        best = min(best, time.perf_counter() - t)
+    return best, out
+
+
 def run(n_bodies: int = 100, n_freq: int = 1000) -> dict:
     out = {"n_bodies": n_bodies, "n_dof": 6 * n_bodies, "inputs": 6, "outputs": 36,
            "frequencies": n_freq, "threads": 1, "cases": {}}
@@ -61,8 +73,9 @@ def run(n_bodies: int = 100, n_freq: int = 1000) -> dict:
         res = {}
         with threadpool_limits(1):
             t = time.perf_counter(); href = METHODS["direct"](plant, s); res["direct_s"] = time.perf_counter() - t
-            t = time.perf_counter(); hf = METHODS[fast](plant, s); res[f"{fast}_s"] = time.perf_counter() - t
-            t = time.perf_counter(); hs = _stock(plant, omega); res["control_s"] = time.perf_counter() - t
+            # best of two calls for both sides of the headline ratio (same protocol, no warm-up)
+            res[f"{fast}_s"], hf = _best(lambda: METHODS[fast](plant, s))
+            res["control_s"], hs = _best(lambda: _stock(plant, omega))
             t = time.perf_counter(); hv = METHODS["statespace"](plant, s); res["vibss_statespace_s"] = time.perf_counter() - t
         res.update({f"{fast}_error": _err(hf, href), "control_error": _err(hs, href),
                     "vibss_statespace_error": _err(hv, href),

@@ -308,14 +308,15 @@ def complex_modal(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) 
         rights.append(right)
         with np.errstate(divide="ignore", invalid="ignore"):
             ds.append(1.0 / (s[:, None] - lam[None, :]))
-    d = np.hstack(ds)
+    def join(parts: list[np.ndarray], stack: Callable[..., np.ndarray]) -> np.ndarray:
+        return np.asarray(parts[0] if len(parts) == 1 else stack(parts), dtype=complex)   # no copies
+
+    d = join(ds, np.hstack)
     d_acc = None
     if not basis.rigid.any():
         with np.errstate(divide="ignore", invalid="ignore"):
             d_acc = s[:, None] * d / lam[None, :]
-    left_all = np.hstack(lefts).astype(complex)
-    right_all = np.vstack(rights).astype(complex)
-    return _superpose(plant, s, left_all, right_all, d, d_acc)
+    return _superpose(plant, s, join(lefts, np.hstack), join(rights, np.vstack), d, d_acc)
 
 
 def via_statespace(plant: Plant, s: np.ndarray) -> np.ndarray:
