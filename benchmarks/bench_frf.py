@@ -27,6 +27,7 @@ from threadpoolctl import threadpool_limits
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 from benchmarks.models import chain_model  # noqa: E402
+from benchmarks.machine import timed  # noqa: E402
 from vibss.frf_methods import METHODS  # noqa: E402
 from vibss.signals import build_plant  # noqa: E402
 
@@ -44,16 +45,6 @@ def _stock(plant, omega):
 def _err(h, ref):
     num = np.linalg.norm(h - ref, axis=(0, 1))
     return float(np.max(num / np.linalg.norm(ref, axis=(0, 1))))
-
-
-def _best(call, repeat: int = 2):
-    """(shortest time [s], result) over ``repeat`` calls."""
-    best, out = float("inf"), None
-    for _ in range(repeat):
-        t = time.perf_counter()
-        out = call()
-        best = min(best, time.perf_counter() - t)
-    return best, out
 
 
 def run(n_bodies: int = 100, n_freq: int = 1000) -> dict:
@@ -74,8 +65,8 @@ def run(n_bodies: int = 100, n_freq: int = 1000) -> dict:
         with threadpool_limits(1):
             t = time.perf_counter(); href = METHODS["direct"](plant, s); res["direct_s"] = time.perf_counter() - t
             # best of two calls for both sides of the headline ratio (same protocol, no warm-up)
-            res[f"{fast}_s"], hf = _best(lambda: METHODS[fast](plant, s))
-            res["control_s"], hs = _best(lambda: _stock(plant, omega))
+            res[f"{fast}_s"], hf = timed(lambda: METHODS[fast](plant, s), min_time=float("inf"), repeat=2)
+            res["control_s"], hs = timed(lambda: _stock(plant, omega), min_time=float("inf"), repeat=2)
             t = time.perf_counter(); hv = METHODS["statespace"](plant, s); res["vibss_statespace_s"] = time.perf_counter() - t
         res.update({f"{fast}_error": _err(hf, href), "control_error": _err(hs, href),
                     "vibss_statespace_error": _err(hv, href),

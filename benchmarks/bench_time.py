@@ -24,21 +24,12 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from models import chain_model  # noqa: E402
+from machine import timed  # noqa: E402
 
 from vibss.signals import build_plant  # noqa: E402
 from vibss.time import simulate  # noqa: E402
 
 DT, STEPS = 2e-4, 10_000
-
-
-def _best(call, repeat: int):
-    """(shortest time [s] rounded to ms, result) over ``repeat`` calls."""
-    best, out = float("inf"), None
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        out = call()
-        best = min(best, time.perf_counter() - t0)
-    return round(best, 3), out
 
 
 def case(n_bodies: int, damping: str, run_reference: bool, seed: int = 1) -> dict:
@@ -55,10 +46,11 @@ def case(n_bodies: int, damping: str, run_reference: bool, seed: int = 1) -> dic
            "inputs": len(inputs), "outputs": len(outputs), "build_plant_s": round(t_plant, 3)}
     repeat = 2 if run_reference else 1      # best of two for both sides of the ratio (no warm-up)
     with threadpool_limits(1):
-        out["modal_s"], modal = _best(lambda: simulate(plant, method="modal", **kw), repeat)
+        out["modal_s"], modal = timed(lambda: simulate(plant, method="modal", **kw), min_time=float("inf"), repeat=repeat)
         out["modal_note"] = modal.note
         if run_reference:
-            out["forced_response_s"], ref = _best(lambda: simulate(plant, method="forced_response", **kw), repeat)
+            out["forced_response_s"], ref = timed(lambda: simulate(plant, method="forced_response", **kw),
+                                                min_time=float("inf"), repeat=repeat)
             out["speedup"] = round(out["forced_response_s"] / out["modal_s"], 1)
             scale = np.abs(ref.outputs).max(axis=1, keepdims=True)
             out["max_rel_diff"] = float((np.abs(modal.outputs - ref.outputs) / scale).max())

@@ -154,7 +154,7 @@ def _motion_vector(asm: Assembly, target: str, dof_index: int) -> np.ndarray:
     return v
 
 
-def _parse_input(asm: Assembly, item: Any) -> _Input:
+def parse_input(asm: Assembly, item: Any) -> _Input:
     model = asm.model
     if not isinstance(item, str):
         return _parse_excitation(asm, item)
@@ -235,7 +235,7 @@ class _Rows:
     h: np.ndarray   # hysteretic part (times i)
 
 
-def _output_row(asm: Assembly, name: Any, cache: dict) -> tuple[_Rows, str]:
+def output_row(asm: Assembly, name: Any, cache: dict) -> tuple[_Rows, str]:
     model = asm.model
     if not isinstance(name, str):
         raise ModelError(f"outputs: expected a signal name (str), got {name!r}")
@@ -291,6 +291,39 @@ def _output_row(asm: Assembly, name: Any, cache: dict) -> tuple[_Rows, str]:
     return _Rows(parts[0], parts[1], parts[2], zero), unit
 
 
+def input_maps(asm: Assembly, parsed: Sequence[Any]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Generalised-force and prescribed-motion columns of parsed inputs, and the free DOFs.
+
+    Parameters
+    ----------
+    asm : Assembly
+        The assembled model.
+    parsed : sequence
+        Inputs parsed by :func:`parse_input` (each has ``force`` (n,) or ``motion`` (n + 6,)).
+
+    Returns
+    -------
+    force : (n, m) ndarray
+        Generalised force per unit force input.
+    motion : (n + 6, m) ndarray
+        Prescribed motion (body and ground DOFs) per unit motion input.
+    free : (k,) int ndarray
+        DOFs that are not prescribed (the unknowns).
+    """
+    n, m = asm.n, len(parsed)
+    motion, force = np.zeros((n + 6, m)), np.zeros((n, m))
+    for j, p in enumerate(parsed):
+        if p.force is not None:
+            force[:, j] = p.force
+        else:
+            motion[:, j] = p.motion
+    prescribed = np.flatnonzero(np.any(motion[:n] != 0, axis=1))
+    free = np.setdiff1d(np.arange(n), prescribed)
+    if free.size == 0:
+        raise ModelError("inputs: every body DOF is prescribed; nothing is left to respond")
+    return force, motion, free
+
+
 def build_plant(model_or_assembly: Model | Assembly, inputs: Sequence[Any],
                 outputs: Sequence[str] | None = None,
                 modal_damping: float | Sequence[float] | None = None) -> Plant:
@@ -333,7 +366,7 @@ def build_plant(model_or_assembly: Model | Assembly, inputs: Sequence[Any],
     model = asm.model
     if isinstance(inputs, str) or not hasattr(inputs, "__iter__"):
         inputs = [inputs]
-    parsed = [_parse_input(asm, item) for item in inputs]
+    parsed = [parse_input(asm, item) for item in inputs]
     if not parsed:
         raise ModelError("inputs: give at least one input signal, e.g. "
                          f"'{model.body_names[0]}.fz' or 'ground.z.disp'")
@@ -349,17 +382,7 @@ def build_plant(model_or_assembly: Model | Assembly, inputs: Sequence[Any],
     n, m = asm.n, len(parsed)
     mats = {key: asm.dense(key) for key in ("M", "K", "C", "H")}
     coupling = {"K": asm.Kg, "C": asm.Cg, "H": asm.Hg}
-    motion = np.zeros((n + 6, m))
-    force = np.zeros((n, m))
-    for j, p in enumerate(parsed):
-        if p.force is not None:
-            force[:, j] = p.force
-        else:
-            motion[:, j] = p.motion
-    prescribed = np.flatnonzero(np.any(motion[:n] != 0, axis=1))
-    free = np.setdiff1d(np.arange(n), prescribed)
-    if free.size == 0:
-        raise ModelError("inputs: every body DOF is prescribed; nothing is left to respond")
+    force, motion, free = input_maps(asm, parsed)
 
     def ff(a: np.ndarray) -> np.ndarray:
         return a[np.ix_(free, free)]
@@ -374,7 +397,7 @@ def build_plant(model_or_assembly: Model | Assembly, inputs: Sequence[Any],
     if modal_damping is not None:
         C = C + _modal_damping(ff(mats["M"]), ff(mats["K"]), modal_damping)
     cache: dict = {}
-    rows, units = zip(*(_output_row(asm, name, cache) for name in outputs)) if outputs else ((), ())
+    rows, units = zip(*(output_row(asm, name, cache) for name in outputs)) if outputs else ((), ())
     full = {key: np.array([getattr(r, key) for r in rows]).reshape(len(outputs), n + 6)
             for key in ("d", "v", "a", "h")}
     o = {key: full[key][:, free] for key in full}

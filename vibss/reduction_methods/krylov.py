@@ -49,7 +49,7 @@ from ..assemble import assemble
 from ..errors import AnalysisError, ModelError
 from ..model import Model
 from ..plant import Plant
-from ..signals import _output_row, _parse_input  # the per-signal parsers of build_plant (no dense n x n)
+from ..signals import input_maps, output_row, parse_input  # build_plant's parsers (no dense n x n)
 from .prune import Removal, _components, _dof_names, _touched_rows, frf
 
 __all__ = ["KrylovBasis", "krylov", "sparse_plant", "as_sparse", "prune_sparse", "exact_response",
@@ -136,18 +136,9 @@ def sparse_plant(model: Model, inputs: Sequence[Any], outputs: Sequence[str]) ->
         With sparse ``M, C, K, H`` (n x n) and dense maps.
     """
     asm = assemble(model, sparse=True)
-    parsed = [_parse_input(asm, item) for item in inputs]
+    parsed = [parse_input(asm, item) for item in inputs]
     n, m = asm.n, len(parsed)
-    motion, force = np.zeros((n + 6, m)), np.zeros((n, m))
-    for j, p in enumerate(parsed):
-        if p.force is not None:
-            force[:, j] = p.force
-        else:
-            motion[:, j] = p.motion
-    prescribed = np.flatnonzero(np.any(motion[:n] != 0, axis=1))
-    free = np.setdiff1d(np.arange(n), prescribed)
-    if free.size == 0:
-        raise ModelError("inputs: every body DOF is prescribed; nothing is left to respond")
+    force, motion, free = input_maps(asm, parsed)
     mats = {k: sp.csr_matrix(getattr(asm, k)) for k in ("M", "K", "C", "H")}
     coupling = {"K": asm.Kg, "C": asm.Cg, "H": asm.Hg}
 
@@ -156,11 +147,11 @@ def sparse_plant(model: Model, inputs: Sequence[Any], outputs: Sequence[str]) ->
         return out + coupling[key][free] @ motion[n:] if key in coupling else out
 
     cache: dict = {}
-    rows = [_output_row(asm, name, cache) for name in outputs]
+    rows = [output_row(asm, name, cache) for name in outputs]
     units = tuple(u for _, u in rows)
     full = {key: np.array([getattr(r, key) for r, _ in rows]).reshape(len(outputs), n + 6)
             for key in ("d", "v", "a", "h")}
-    sub = (lambda a: a) if prescribed.size == 0 else (lambda a: a[free][:, free].tocsr())
+    sub = (lambda a: a) if free.size == n else (lambda a: a[free][:, free].tocsr())
     return Plant(dofs=tuple(asm.dofs[i] for i in free), M=sub(mats["M"]), C=sub(mats["C"]),
                  K=sub(mats["K"]), H=sub(mats["H"]), inputs=tuple(p.name for p in parsed),
                  kinds=tuple(p.kind for p in parsed), F=force[free], Kz=fz("K"), Cz=fz("C"),
