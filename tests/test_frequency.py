@@ -235,3 +235,17 @@ def test_undamped_exactly_at_resonance_is_infinite_not_an_error(quantity: str, p
         w = 2 * np.pi * f
         assert h[i] == pytest.approx((1j * w) ** power / (k - w**2), rel=1e-12)
     assert r.to_dict()["outputs"]["b.z"]["amplitude"][1] is None      # JSON: null, not Infinity
+
+
+def test_json_with_several_inputs_keeps_the_spec_outputs_key() -> None:
+    """Found in review: several inputs dropped the spec's top-level "outputs"."""
+    from cases import two_mass_model
+
+    r = frequency_response(two_mass_model(), ["body1.fx", "body2.fx"], ["body2.x"], frequencies=[0.3, 1.0])
+    d = json.loads(json.dumps(r.to_dict()))
+    assert set(d["outputs"]) == {"body2.x/body1.fx", "body2.x/body2.fx"}
+    assert d["outputs"]["body2.x/body2.fx"] == d["inputs"]["body2.fx"]["outputs"]["body2.x"]
+    # reciprocity of the chain: x of body 2 per force on body 1 equals x of body 1 per force on body 2
+    r2 = frequency_response(two_mass_model(), ["body2.fx"], ["body1.x"], frequencies=[0.3, 1.0])
+    np.testing.assert_allclose(d["outputs"]["body2.x/body1.fx"]["amplitude"], r2.to_dict()["outputs"]["body1.x"]["amplitude"],
+                               rtol=1e-10)

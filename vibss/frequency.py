@@ -268,8 +268,15 @@ class FrequencyResponse:
 
     def to_dict(self, input: str | None = None) -> dict[str, Any]:
         """JSON-ready dict (spec format): ``{"frequency_hz", "outputs": {name: {"amplitude",
-        "phase_deg"}}}`` for one input (the only one, or ``input``); with several inputs and no
-        ``input``, ``{"frequency_hz", "inputs": {input: {"outputs": ...}}}``. ``inf`` -> null."""
+        "phase_deg"}}}`` for one input (the only one, or ``input``). With several inputs and no
+        ``input``, the spec's top-level ``"outputs"`` holds every channel as ``"<output>/<input>"``
+        and ``"inputs": {input: {"outputs": ...}}`` the same grouped by input. ``inf`` -> null.
+
+        Parameters
+        ----------
+        input : str or None
+            Only this input's channels, keyed by output name.
+        """
         def outs(j: int) -> dict[str, Any]:
             amp, ph = self.magnitude[:, j], self.phase_deg[:, j]
             return {y: {"amplitude": [None if not np.isfinite(v) else float(v) for v in amp[i]],
@@ -280,7 +287,9 @@ class FrequencyResponse:
         if input is not None or len(self.inputs) == 1:
             j = 0 if input is None else _index(self.inputs, input, "input")
             return {**head, "input": self.inputs[j], "outputs": outs(j)}
-        return {**head, "inputs": {u: {"outputs": outs(j)} for j, u in enumerate(self.inputs)}}
+        grouped = {u: outs(j) for j, u in enumerate(self.inputs)}
+        flat = {f"{y}/{u}": v for u, o in grouped.items() for y, v in o.items()}
+        return {**head, "outputs": flat, "inputs": {u: {"outputs": o} for u, o in grouped.items()}}
 
     def to_pandas(self) -> Any:
         """DataFrame indexed by frequency [Hz], one complex column ``'<output>/<input>'`` per channel."""
