@@ -249,3 +249,14 @@ def test_json_with_several_inputs_keeps_the_spec_outputs_key() -> None:
     r2 = frequency_response(two_mass_model(), ["body2.fx"], ["body1.x"], frequencies=[0.3, 1.0])
     np.testing.assert_allclose(d["outputs"]["body2.x/body1.fx"]["amplitude"], r2.to_dict()["outputs"]["body1.x"]["amplitude"],
                                rtol=1e-10)
+
+
+def test_report_gives_the_band_edge_maximum_when_no_peak_is_inside() -> None:
+    """Found in review: the text said amplitude 0 when the largest response sat at a band edge."""
+    from cases import two_mass_model
+
+    r = frequency_response(two_mass_model(), ["body1.fx"], ["body2.x"], frequencies=np.linspace(0.1, 0.3, 21),
+                           method="direct")
+    line = r.report().splitlines()[-1]
+    assert "no peak inside" in line and "0.3000" in line
+    assert f"{abs(r.response[0, 0, -1]):.4e}" in line        # the value at 0.3 Hz, below the first mode

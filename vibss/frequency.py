@@ -312,9 +312,16 @@ class FrequencyResponse:
                 bad = np.flatnonzero(~np.isfinite(self.response[i, j]))
                 if bad.size:        # not a peak: say where the response is unbounded instead
                     rows.append((float(self.frequency_hz[bad[0]]), f"{'infinite':>12}"))
-                for k, (f, a) in enumerate(rows or [(float("nan"), f"{0.0:>12.4e}")]):
+                if not rows:        # no resonance in the band: the largest value, marked as such
+                    mag = np.where(np.isfinite(self.magnitude[i, j]), self.magnitude[i, j], -np.inf)
+                    top = int(np.argmax(mag))
+                    rows = [(float(self.frequency_hz[top]), f"{self.magnitude[i, j, top]:>12.4e}")]
+                    edge = "  (largest in the band, no peak inside it)"
+                else:
+                    edge = ""
+                for k, (f, a) in enumerate(rows):
                     lines.append(f"{y if k == 0 else '':<28} {u if k == 0 else '':<22} "
-                                 f"{f:>12.4f} {a}  {self.units[i]}")
+                                 f"{f:>12.4f} {a}  {self.units[i]}" + (edge if k == 0 else ""))
         return "\n".join(lines)
 
     def plot(self, outputs: Sequence[str] | None = None, inputs: Sequence[str] | None = None,
