@@ -241,6 +241,8 @@ def _build(data: Any, source: str, base: Path | None, default_name: str) -> Mode
     m.check_keys(("name", "units", "gravity"))
     try:
         units = Units.from_mapping(m.table("units"))
+    except ModelFileError:
+        raise                               # already located (file and table)
     except ModelError as exc:
         raise ModelFileError(f"{source}: [model]: {exc}") from None
     m = Entry(head, m.where, units)
