@@ -23,6 +23,7 @@ A callable ``f(plant, s) -> (p, m, nf)`` can be used as a method too.
 from __future__ import annotations
 
 from collections.abc import Callable
+from functools import partial
 
 import control
 import numpy as np
@@ -122,7 +123,8 @@ def _superpose(plant: Plant, s: np.ndarray, left: np.ndarray, right: np.ndarray,
     if d_acc is not None:
         k0 = plant.K + 1j * plant.H if np.any(plant.H) else plant.K
         try:
-            solve = stiffness_solver(k0)
+            solve = (stiffness_solver(k0) if np.any(plant.H)
+                     else plant.cached("solve K", lambda: stiffness_solver(plant.K)))
             static = [solve(rb) for _, _, _, rb in rights]
         except (np.linalg.LinAlgError, ValueError, RuntimeError):
             d_acc = None
@@ -162,9 +164,10 @@ def _project(plant: Plant, basis: ModalBasis) -> tuple[np.ndarray, np.ndarray]:
     """``Phi^T C Phi`` and ``Phi^T H Phi`` (zeros when absent)."""
     phi = basis.phi
     out = []
-    for mat in (plant.C, plant.H):
+    for key in ("C", "H"):
+        mat = getattr(plant, key)
         if np.any(mat):
-            g = phi.T @ (fast_matrix(mat) @ phi)
+            g = phi.T @ (plant.cached(f"sparse {key}", partial(fast_matrix, mat)) @ phi)
             out.append(0.5 * (g + g.T))
         else:
             out.append(np.zeros((plant.n, plant.n)))

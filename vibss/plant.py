@@ -22,7 +22,9 @@ The plant is built by :func:`vibss.signals.build_plant`; analyses take a Plant, 
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -94,6 +96,24 @@ class Plant:
     name: str = "vibss"
     Oh: np.ndarray | None = None
     Ph: np.ndarray | None = None
+    _cache: dict[str, Any] = field(default_factory=dict, init=False, repr=False)
+
+    def cached(self, key: str, make: Callable[[], Any]) -> Any:
+        """``make()``, computed once per plant (sparse forms, factorisations of its matrices).
+
+        The plant is frozen, so a derived quantity never goes stale; ``dataclasses.replace`` makes
+        a new plant with an empty cache (the field is not an init argument).
+
+        Parameters
+        ----------
+        key : str
+            Name of the quantity (e.g. ``"sparse C"``, ``"solve K"``).
+        make : callable
+            Computes it.
+        """
+        if key not in self._cache:
+            self._cache[key] = make()
+        return self._cache[key]
 
     @property
     def n(self) -> int:

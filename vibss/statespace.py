@@ -53,6 +53,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from functools import partial
 from typing import Any
 
 import control
@@ -152,9 +153,11 @@ def _needs_refinement(plant: Plant, w2: np.ndarray, phi: np.ndarray) -> np.ndarr
     """
     w2c = np.maximum(w2, np.finfo(float).tiny)
     zeta = np.full(w2.shape, 1e-6)
-    for mat, hyst in ((plant.C, False), (plant.H, True)):
+    for key, hyst in (("C", False), ("H", True)):
+        mat = getattr(plant, key)
         if np.any(mat):
-            g = np.einsum("ij,ij->j", phi, fast_matrix(mat) @ phi)
+            sparse_mat = plant.cached(f"sparse {key}", partial(fast_matrix, mat))
+            g = np.einsum("ij,ij->j", phi, sparse_mat @ phi)
             zeta = np.maximum(zeta, g / (2 * w2c) if hyst else g / (2 * np.sqrt(w2c)))
     predicted = np.finfo(float).eps * w2.max() / w2c / (2 * zeta)
     return predicted > REFINE_TOL
@@ -175,10 +178,10 @@ def _refine_low_modes(plant: Plant, w2: np.ndarray, phi: np.ndarray) -> tuple[np
         return w2, phi
     # a Ritz space must hold whole groups of close modes: extend to every mode below the top one
     low = np.arange(low.max() + 1)
-    mass = fast_matrix(plant.M)
+    mass = plant.cached("sparse M", lambda: fast_matrix(plant.M))
     mphi = mass @ phi[:, low]
     try:
-        x = stiffness_solver(plant.K)(mphi)
+        x = plant.cached("solve K", lambda: stiffness_solver(plant.K))(mphi)
     except (np.linalg.LinAlgError, RuntimeError):
         return w2, phi
     kr = x.T @ mphi
