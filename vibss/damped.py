@@ -26,13 +26,10 @@ import numpy as np
 
 from .assemble import Assembly, assemble
 from .model import Model
-from .modal import Modes, modes
+from .modal import Modes, damping_coupling, modes
 from .results import Table
 
-__all__ = ["DampedModes", "damped_modes", "CLASSICAL_RTOL"]
-
-CLASSICAL_RTOL = 1e-10
-"""Damping is classical when every off-diagonal of Chat is below this times sqrt(Chat_ii Chat_jj)."""
+__all__ = ["DampedModes", "damped_modes"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -162,10 +159,8 @@ def damped_modes(model: Model | Assembly, undamped: Modes | None = None) -> Damp
     phi, w = und.shapes, und.omega
     chat = phi.T @ (a.dense("C") @ phi)
     chat = 0.5 * (chat + chat.T)
-    d = np.abs(np.diag(chat))
     scale = max(float(np.abs(chat).max()), np.finfo(float).tiny)
-    off = np.abs(chat - np.diag(np.diag(chat)))
-    classical = bool(np.all(off <= CLASSICAL_RTOL * np.sqrt(np.outer(d, d)) + 1e-14 * scale))
+    classical = not bool(np.any(damping_coupling(chat) > 0))
     # rigid modes that no damper touches: exact double zero poles
     untouched = und.rigid & (np.abs(chat).max(axis=1) <= 1e-14 * scale)
     if not np.any(chat):

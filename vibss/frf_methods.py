@@ -31,13 +31,12 @@ import scipy.linalg as sl
 
 from .errors import AnalysisError
 from .plant import Plant
+from .modal import damping_coupling
 from .statespace import ModalBasis, fast_matrix, modal_basis, statespace, stiffness_solver
 
 __all__ = ["METHODS", "direct", "modal", "complex_modal", "via_statespace", "classical_damping",
-           "zero_frequency_limit", "CLASSICAL_TOL"]
+           "zero_frequency_limit"]
 
-CLASSICAL_TOL = 1e-8
-"""Largest relative off-diagonal of Phi^T C Phi (and Phi^T H Phi) for which damping is classical."""
 
 _CHUNK_BYTES = 64 * 2**20
 
@@ -196,13 +195,12 @@ def classical_damping(plant: Plant, basis: ModalBasis | None = None,
     for name, g in zip(("viscous damping", "hysteretic damping"), projected):
         if not np.any(g):
             continue
-        dg = np.abs(np.diag(g))
-        off = np.abs(g - np.diag(np.diag(g)))
-        bound = CLASSICAL_TOL * np.sqrt(np.outer(dg, dg)) + 64 * np.finfo(float).eps * dg.max()
-        if np.any(off > bound):
-            i, j = np.unravel_index(np.argmax(off - bound), off.shape)
+        excess = damping_coupling(g)
+        if np.any(excess > 0):
+            i, j = np.unravel_index(np.argmax(excess), excess.shape)
             return False, (f"{name} is not classical: modes {i + 1} and {j + 1} are coupled "
-                           f"(Phi^T C Phi off-diagonal {off[i, j]:.3g} vs diagonal {dg[i]:.3g}, {dg[j]:.3g})")
+                           f"(Phi^T C Phi off-diagonal {abs(g[i, j]):.3g} vs diagonal {abs(g[i, i]):.3g}, "
+                           f"{abs(g[j, j]):.3g})")
     return True, "classical damping (Phi^T C Phi and Phi^T H Phi diagonal)"
 
 

@@ -32,7 +32,8 @@ from .errors import AnalysisError, ModelError
 from .model import DOF_NAMES, Model
 from .results import Table
 
-__all__ = ["Modes", "modes", "METHODS", "RIGID_RTOL", "rigid_influence", "rigid_mask"]
+__all__ = ["Modes", "modes", "METHODS", "RIGID_RTOL", "CLASSICAL_RTOL", "damping_coupling",
+           "rigid_influence", "rigid_mask"]
 
 RIGID_RTOL = 1e-10
 """A mode is rigid when ``phi^T K phi <= RIGID_RTOL * phi^T diag(K) phi`` (see :func:`rigid_mask`)."""
@@ -71,6 +72,33 @@ def _shift_invert(K: Any, M: Any, n_modes: int | None) -> tuple[np.ndarray, np.n
 
 
 METHODS: dict[str, Solver] = {"dense": _dense, "shift-invert": _shift_invert}
+
+
+CLASSICAL_RTOL = 1e-10
+"""Damping is classical when every off-diagonal of Phi^T C Phi is below this times sqrt(g_ii g_jj)."""
+
+
+def damping_coupling(projected: np.ndarray) -> np.ndarray:
+    """How far each off-diagonal of a projected damping matrix exceeds the classical bound.
+
+    The one test of classical damping that damped modes, frequency and time responses share: modes
+    i and j are coupled when ``|g_ij| > CLASSICAL_RTOL * sqrt(|g_ii g_jj|) + 64 eps max|g_kk|``
+    (the second term is the round-off of ``Phi^T C Phi`` itself).
+
+    Parameters
+    ----------
+    projected : (k, k) ndarray
+        ``Phi^T C Phi`` (or ``Phi^T H Phi``) with mass-normalised shapes.
+
+    Returns
+    -------
+    (k, k) ndarray
+        Off-diagonal magnitude minus its bound: positive where modes are coupled (diagonal negative).
+    """
+    d = np.abs(np.diag(projected))
+    off = np.abs(projected - np.diag(np.diag(projected)))
+    bound = CLASSICAL_RTOL * np.sqrt(np.outer(d, d)) + 64 * np.finfo(float).eps * d.max(initial=0.0)
+    return off - bound - np.diag(np.ones_like(d))
 
 
 def rigid_mask(w2: np.ndarray, shapes: np.ndarray, k_diag: np.ndarray) -> np.ndarray:

@@ -37,7 +37,7 @@ from scipy.integrate import solve_ivp
 from threadpoolctl import threadpool_limits
 
 from .errors import AnalysisError
-from .modal import rigid_mask
+from .modal import damping_coupling, rigid_mask
 from .plant import Plant
 from .statespace import modal_basis, statespace
 
@@ -46,9 +46,6 @@ __all__ = ["Prepared", "Grid", "Kinematics", "prepare", "make_grid", "nudge", "k
 
 DEGREE = {"force": 1, "displacement": 1, "velocity": 2, "acceleration": 3}
 """Polynomial degree (per interval) of the prescribed coordinate (or force) for a PWL input."""
-
-COUPLING_TOL = 1e-12
-"""Modal damping off-diagonals below this fraction of the largest entry count as zero."""
 
 BLOCK = 512
 """Time steps per block of the modal recursion (states of one block are kept, then mapped)."""
@@ -288,9 +285,7 @@ def _modal_sets(prep: Prepared, q0: np.ndarray, v0: np.ndarray) -> tuple[list[_M
     w2 = np.where(rigid_mask(w2, phi, np.diag(K)), 0.0, np.maximum(w2, 0.0))
     w = np.sqrt(w2)
     chat = phi.T @ C @ phi
-    off = chat - np.diag(np.diag(chat))
-    scale = np.abs(chat).max()
-    coupled = np.abs(off).max(axis=1) > COUPLING_TOL * scale if scale > 0 else np.zeros(len(w), bool)
+    coupled = (damping_coupling(0.5 * (chat + chat.T)) > 0).any(axis=1)
     eta0, deta0 = phi.T @ (M @ q0), phi.T @ (M @ v0)
     s = np.where(w > 0, w, 1.0)
     Ceta, Cdeta = prep.Cp @ phi, prep.Cv @ phi
