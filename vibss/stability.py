@@ -45,6 +45,7 @@ import numpy as np
 import scipy.linalg as sl
 from threadpoolctl import threadpool_info
 
+from .directions import cluster_slices
 from .errors import VibssWarning
 
 __all__ = ["VibssWarning", "Finding", "Conditioning", "natural_frequencies",
@@ -435,17 +436,8 @@ def repeated_frequencies(omega: Any, rtol: float = 1e-6) -> list[np.ndarray]:
         Indices of each group with k >= 2 elastic modes.
     """
     w = np.asarray(omega, float)
-    groups, cur = [], [0] if w.size else []
-    for i in range(1, len(w)):
-        if w[i] > 0 and w[i] - w[i - 1] <= rtol * w[i]:
-            cur.append(i)
-        else:
-            if len(cur) > 1:
-                groups.append(np.array(cur))
-            cur = [i]
-    if len(cur) > 1 and w[cur[0]] > 0:
-        groups.append(np.array(cur))
-    return groups
+    first = int(np.searchsorted(w, 0.0, side="right"))          # skip the zero (rigid) modes
+    return [np.arange(g.start, g.stop) + first for g in cluster_slices(w[first:], rtol, 0.0)]
 
 
 def check_repeated(omega: Any, rtol: float = 1e-6) -> Finding:
