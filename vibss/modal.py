@@ -19,6 +19,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -130,6 +131,11 @@ def rigid_mask(w2: np.ndarray, shapes: np.ndarray, k_diag: np.ndarray) -> np.nda
     return (w2 <= RIGID_SCREEN * top) & (np.abs(w2) <= RIGID_RTOL * den + floor)
 
 
+def _read_only(a: np.ndarray) -> np.ndarray:
+    a.setflags(write=False)     # cached on a frozen result: nobody may change it in place
+    return a
+
+
 def rigid_influence(model: Model, about: np.ndarray | None = None) -> np.ndarray:
     """(n, 6) DOF motion of all bodies moving as one rigid body: unit x, y, z, rx, ry, rz.
 
@@ -180,20 +186,20 @@ class Modes:
     rigid: np.ndarray
     method: str
 
-    @property
+    @cached_property
     def frequency_hz(self) -> np.ndarray:
         """Natural frequencies [Hz]."""
-        return self.omega / (2 * np.pi)
+        return _read_only(self.omega / (2 * np.pi))
 
-    @property
+    @cached_property
     def cpm(self) -> np.ndarray:
         """Natural frequencies [cycles per minute]."""
-        return self.frequency_hz * CPM_PER_HZ
+        return _read_only(self.frequency_hz * CPM_PER_HZ)
 
     def __len__(self) -> int:
         return len(self.omega)
 
-    @property
+    @cached_property
     def relative_shapes(self) -> np.ndarray:
         """(n, k) shapes scaled so the largest-magnitude component of each is +1 [-].
 
@@ -201,22 +207,26 @@ class Modes:
         translations [m] and rotations [rad] are compared as numbers.
         """
         idx = np.argmax(np.abs(self.shapes), axis=0)
-        return self.shapes / self.shapes[idx, np.arange(self.shapes.shape[1])]
+        return _read_only(self.shapes / self.shapes[idx, np.arange(self.shapes.shape[1])])
 
-    @property
+    @cached_property
     def modal_mass(self) -> np.ndarray:
         """(k,) modal mass of the relative shapes, ``phi^T M phi`` [kg or kg m^2]."""
-        return 1.0 / np.max(np.abs(self.shapes), axis=0) ** 2
+        return _read_only(1.0 / np.max(np.abs(self.shapes), axis=0) ** 2)
 
     @property
     def directions(self) -> list[str]:
         """Dominant direction of each mode (x y z rx ry rz): largest summed kinetic-energy share."""
-        return dominant_direction(self.energy)
+        return list(self._directions)
 
-    @property
+    @cached_property
+    def _directions(self) -> tuple[str, ...]:
+        return tuple(dominant_direction(self.energy))
+
+    @cached_property
     def direction_energy(self) -> np.ndarray:
         """(k, 6) kinetic-energy share per direction, summed over bodies."""
-        return direction_shares(self.energy)
+        return _read_only(direction_shares(self.energy))
 
     def shape_of(self, mode: int, body: str, relative: bool = True) -> np.ndarray:
         """(6,) shape of ``body`` in mode ``mode`` (relative scaling by default)."""
@@ -252,15 +262,12 @@ class Modes:
         return Table(["mode", "f [Hz]", "dir"] + list(self.dofs), rows,
                      title="Modal kinetic-energy distribution [%]")
 
-    @property
+    @cached_property
     def effective_mass_fraction(self) -> np.ndarray:
         """(k, 6) effective masses as fractions of the total mass / inertia about the system COG."""
-        r = rigid_influence(self.model)
-        m = np.zeros((self.shapes.shape[0],) * 2)
-        for i, b in enumerate(self.model.bodies):
-            m[6 * i:6 * i + 6, 6 * i:6 * i + 6] = b.mass_matrix
-        total = np.diag(r.T @ m @ r)
-        return self.effective_mass / total
+        r = rigid_influence(self.model).reshape(-1, 6, 6)          # per body: 6 DOFs x 6 directions
+        total = sum(np.diag(r[i].T @ b.mass_matrix @ r[i]) for i, b in enumerate(self.model.bodies))
+        return _read_only(self.effective_mass / total)
 
     def frequency_table(self) -> Table:
         """Frequencies, CPM, direction, modal mass and effective masses [% of total]."""
