@@ -20,6 +20,7 @@ keep the small real parts of lightly damped poles (see docs/performance.md). Two
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -57,22 +58,22 @@ class DampedModes:
     undamped: Modes
     method: str
 
-    @property
+    @cached_property
     def natural_frequency(self) -> np.ndarray:
         """Undamped natural frequency of each pole, ``|lambda|`` [rad/s]."""
         return np.abs(self.poles)
 
-    @property
+    @cached_property
     def frequency_hz(self) -> np.ndarray:
         """``|lambda| / 2 pi`` [Hz]."""
         return self.natural_frequency / (2 * np.pi)
 
-    @property
+    @cached_property
     def damped_frequency_hz(self) -> np.ndarray:
         """Damped frequency ``Im(lambda) / 2 pi`` [Hz] (0 for real poles)."""
         return self.poles.imag / (2 * np.pi)
 
-    @property
+    @cached_property
     def damping_ratio(self) -> np.ndarray:
         """``-Re(lambda) / |lambda|`` [-] (0 for zero poles)."""
         wn = self.natural_frequency
