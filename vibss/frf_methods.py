@@ -23,12 +23,13 @@ A callable ``f(plant, s) -> (p, m, nf)`` can be used as a method too.
 from __future__ import annotations
 
 from collections.abc import Callable
-from functools import partial
+from functools import partial, reduce
 
 import control
 import numpy as np
 import scipy.linalg as sl
 
+from .complex_modes import complex_modes
 from .errors import AnalysisError
 from .plant import Plant
 from .modal import damping_coupling
@@ -39,6 +40,9 @@ __all__ = ["METHODS", "direct", "modal", "complex_modal", "via_statespace", "cla
 
 
 _CHUNK_BYTES = 64 * 2**20
+
+_Factors = tuple[np.ndarray, ...]
+"""A matrix given as the product of its factors, ``(A, B, ...)`` for ``A @ B @ ...``."""
 
 
 def _terms(plant: Plant) -> tuple[list, list, np.ndarray]:
@@ -102,12 +106,28 @@ def direct(plant: Plant, s: np.ndarray) -> np.ndarray:
     return np.moveaxis(out, 0, -1)
 
 
-def _superpose(plant: Plant, s: np.ndarray, left: np.ndarray, right: np.ndarray,
-               d: np.ndarray, d_acc: np.ndarray | None = None) -> np.ndarray:
+def _times_left(o: np.ndarray, blocks: list[_Factors]) -> np.ndarray:
+    """``o @ [L1 | L2 | ...]`` with each block a tuple of factors, multiplied from the left."""
+    parts = [reduce(np.matmul, block, o) for block in blocks]
+    return parts[0] if len(parts) == 1 else np.hstack(parts)
+
+
+def _times_right(blocks: list[_Factors], r: np.ndarray) -> np.ndarray:
+    """``[R1; R2; ...] @ r`` with each block a tuple of factors, multiplied from the right."""
+    parts = [reduce(lambda acc, f: f @ acc, block[::-1], r) for block in blocks]
+    return parts[0] if len(parts) == 1 else np.vstack(parts)
+
+
+def _superpose(plant: Plant, s: np.ndarray, left: list[_Factors],
+               right: list[_Factors], d: np.ndarray,
+               d_acc: np.ndarray | None = None) -> np.ndarray:
     """``Y = sum_ab s^(a+b) Z (O_a left) diag(d) (right R_b)`` + feedthrough; returns (p, m, nf).
 
     ``left`` (n, r) maps modal amplitudes to DOFs, ``right`` (r, n) maps generalised forces to
-    modal forces, ``d`` (nf, r) the modal transfer functions. With ``d_acc`` (the same transfer
+    modal forces, ``d`` (nf, r) the modal transfer functions. Both come as blocks of factors,
+    ``left = [L1 | L2 | ...]`` with ``Lk = A @ B @ ...`` given as the tuple ``(A, B, ...)`` (and
+    ``right`` the row blocks likewise), so that only the thin products ``O_a A B`` and
+    ``... B (A R_b)`` are formed, never the (n, r) matrices themselves. With ``d_acc`` (the same transfer
     functions less their static part, ``d - d(0)``) the *mode-acceleration* form
     ``Y = O (K + iH)^-1 R + sum(d_acc)`` is evaluated too (static part by a direct solve), and each
     frequency takes the form with the smaller cancellation (sum of term magnitudes): the plain sum
@@ -116,8 +136,8 @@ def _superpose(plant: Plant, s: np.ndarray, left: np.ndarray, right: np.ndarray,
     outs, rhs, order = _terms(plant)
     p, m, nf = len(plant.outputs), len(plant.inputs), s.size
     zf = _zfactor(s, order)
-    lefts = [(a, oa @ left) for a, oa in outs]
-    rights = [(b, right @ rb, scaled, rb) for b, rb, scaled in rhs]
+    lefts = [(a, _times_left(oa, left)) for a, oa in outs]
+    rights = [(b, _times_right(right, rb), scaled, rb) for b, rb, scaled in rhs]
     static = None
     if d_acc is not None:
         k0 = plant.K + 1j * plant.H if np.any(plant.H) else plant.K
@@ -232,7 +252,7 @@ def modal(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) -> np.nd
             d_acc = dyn
             d_acc *= d
             d_acc /= -kappa[None, :]
-    return _superpose(plant, s, phi, phi.T, d, d_acc)
+    return _superpose(plant, s, [(phi,)], [(phi.T,)], d, d_acc)
 
 
 def complex_modal(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) -> np.ndarray:
@@ -242,8 +262,9 @@ def complex_modal(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) 
     eigenproblem, where they would be zero eigenvalues (2x2 Jordan blocks when undamped, repeated
     and ill-conditioned when damped). Rigid modes that no damper touches are exact ``1 / s^2``
     terms; damped rigid modes keep their velocity state and get ``eta = eta' / s`` by partial
-    fractions, ``1 / (s (s - lam)) = (1 / (s - lam) - 1 / s) / lam``. The rows of ``V^-1`` come
-    from the left eigenvectors of the same ``eig`` call (a solve with V if eigenvalues repeat).
+    fractions, ``1 / (s (s - lam)) = (1 / (s - lam) - 1 / s) / lam``. The rows of ``V^-1`` are the
+    left eigenvectors, built from the right ones by the symmetry of the quadratic eigenproblem
+    (:mod:`vibss.complex_modes`; an LU of ``V`` where that is unsafe).
     """
     s = np.asarray(s, dtype=complex)
     basis = basis or modal_basis(plant)
@@ -265,59 +286,48 @@ def complex_modal(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) 
     el = np.flatnonzero(~basis.rigid)                 # elastic: displacement and velocity states
     kept = np.flatnonzero(~free)                      # velocity states: elastic + damped rigid
     ne, nk = el.size, kept.size
-    lefts, rights, ds = [], [], []
+    lefts: list[_Factors] = []
+    rights: list[_Factors] = []
+    ds: list[np.ndarray] = []
     with np.errstate(divide="ignore", invalid="ignore"):
         inv_s = 1.0 / s
     if free.any():                                    # eta'' = f: 1 / s^2 exactly
-        lefts.append(phi[:, free])
-        rights.append(phi[:, free].T)
+        lefts.append((phi[:, free],))
+        rights.append((phi[:, free].T,))
         ds.append(np.repeat((inv_s**2)[:, None], int(free.sum()), axis=1))
     lam = np.zeros(0, complex)
     if nk:
         se = sc[el]
         pos = np.searchsorted(kept, el)                # elastic rows among the kept modes
-        cplx = bool(np.any(plant.H))
-        a = np.zeros((ne + nk, ne + nk), dtype=complex if cplx else float)
-        a[np.arange(ne), ne + pos] = se                # y1' = S eta' (elastic rows)
-        stiff = np.zeros((nk, ne), dtype=a.dtype)      # (Omega^2 + i Phi^T H Phi) S^-1 on y1
-        stiff[pos, np.arange(ne)] = basis.omega2[el] / se
-        if cplx:
-            stiff = stiff + 1j * hys[np.ix_(kept, el)] / se[None, :]
-        a[ne:, :ne] = -stiff
-        a[ne:, ne:] = -gam[np.ix_(kept, kept)]
-        lam, w, v = sl.eig(a, left=True, right=True, check_finite=False)
+        coupling = 1j * hys[np.ix_(kept, el)] / se[None, :] if np.any(plant.H) else None
+        modes = complex_modes(se, pos, basis.omega2[el], gam[np.ix_(kept, kept)], coupling)
+        lam, v = modes.lam, modes.vectors
         tol = 1e-9 * max(float(np.abs(lam).max()), np.finfo(float).tiny)
         if np.any(np.abs(lam) <= tol):
             raise AnalysisError("method 'complex_modal': a combination of rigid-body modes is neither "
                                 "free nor damped; use method='direct'")
-        if np.unique(np.round(lam.real / tol) + 1j * np.round(lam.imag / tol)).size == lam.size:
-            wb = (w[ne:].conj() / np.einsum("ij,ij->j", w.conj(), v)[None, :]).T   # rows of V^-1
-        else:                                         # repeated eigenvalues: solve with V
-            sel = np.zeros((ne + nk, nk))
-            sel[ne:] = np.eye(nk)
-            wb = sl.solve(v, sel, check_finite=False)
-        right = wb @ phi[:, kept].T                   # modal forces of the kept modes
-        left = phi[:, el] @ (v[:ne] / se[:, None])    # elastic eta = S^-1 y1
+        wb = modes.velocity_rows()                    # rows of V^-1, velocity columns
+        phik = phi[:, kept]
+        coeff = v[:ne] / se[:, None]                  # elastic eta = S^-1 y1
+        cols = phi[:, el]
         rig = np.flatnonzero(basis.rigid[kept])       # damped rigid modes among the kept ones
         if rig.size:
-            vr = v[ne + rig] / lam[None, :]
-            left = left + phi[:, kept[rig]] @ vr      # the 1/(s - lam) part of eta' / s
-            lefts.append(phi[:, kept[rig]])           # and the 1/s part
-            rights.append(-(vr @ right))
+            vr = v[ne + rig] / lam[None, :]           # the 1/(s - lam) part of eta' / s
+            cols = np.hstack([cols, phik[:, rig]])
+            coeff = np.vstack([coeff, vr])
+            lefts.append((phik[:, rig],))             # and the 1/s part
+            rights.append((-(vr @ wb), phik.T))
             ds.append(np.repeat(inv_s[:, None], rig.size, axis=1))
-        lefts.append(left)
-        rights.append(right)
+        lefts.append((cols, coeff))                   # modal forces of the kept modes, factored
+        rights.append((wb, phik.T))
         with np.errstate(divide="ignore", invalid="ignore"):
             ds.append(1.0 / (s[:, None] - lam[None, :]))
-    def join(parts: list[np.ndarray], stack: Callable[..., np.ndarray]) -> np.ndarray:
-        return np.asarray(parts[0] if len(parts) == 1 else stack(parts), dtype=complex)   # no copies
-
-    d = join(ds, np.hstack)
+    d = np.asarray(ds[0] if len(ds) == 1 else np.hstack(ds), dtype=complex)   # no copy for one part
     d_acc = None
     if not basis.rigid.any():
         with np.errstate(divide="ignore", invalid="ignore"):
             d_acc = s[:, None] * d / lam[None, :]
-    return _superpose(plant, s, join(lefts, np.hstack), join(rights, np.vstack), d, d_acc)
+    return _superpose(plant, s, lefts, rights, d, d_acc)
 
 
 def via_statespace(plant: Plant, s: np.ndarray) -> np.ndarray:

@@ -36,6 +36,7 @@ import scipy.linalg as sl
 from scipy.integrate import solve_ivp
 from threadpoolctl import threadpool_limits
 
+from .complex_modes import complex_modes
 from .errors import AnalysisError
 from .modal import damping_coupling, rigid_mask
 from .plant import Plant
@@ -305,14 +306,11 @@ def _modal_sets(prep: Prepared, q0: np.ndarray, v0: np.ndarray) -> tuple[list[_M
         e = coupled
         ne = int(e.sum())
         se = s[e]
-        Ae = np.block([[np.zeros((ne, ne)), np.diag(se)],
-                       [np.diag(-w2[e] / se), -chat[np.ix_(e, e)]]])
-        lam, V = sl.eig(Ae)
+        cm = complex_modes(se, np.arange(ne), w2[e], chat[np.ix_(e, e)])
+        lam, V = cm.lam, cm.vectors
         keep = lam.imag >= 0
-        lu = sl.lu_factor(V)
-        rhs = np.column_stack([np.concatenate([se * eta0[e], deta0[e]]),
-                               np.vstack([np.zeros((ne, ne)), np.eye(ne)])])
-        sol = sl.lu_solve(lu, rhs)
+        sol = np.column_stack([cm.solve(np.concatenate([se * eta0[e], deta0[e]])[:, None]),
+                               cm.velocity_rows()])
         Vk = V[:, keep]
         Yw = Ceta[:, e] @ (Vk[:ne] / se[:, None]) + Cdeta[:, e] @ Vk[ne:]
         weight = np.where(lam[keep].imag > 0, 2.0, 1.0)

@@ -1,0 +1,74 @@
+"""Left eigenvectors from the right ones (vibss.complex_modes) against an explicit inverse of V."""
+
+import numpy as np
+import pytest
+
+from vibss.complex_modes import complex_modes
+
+
+def _problem(ne=8, nr=2, hysteretic=False, seed=1):
+    """A random symmetric QEP in scaled modal form: ``nr`` damped rigid modes, ``ne`` elastic ones."""
+    rng = np.random.default_rng(seed)
+    nk = ne + nr
+    w2 = np.sort(rng.uniform(1.0, 100.0, ne))
+    g = rng.standard_normal((nk, nk))
+    g = 0.01 * g @ g.T
+    coupling = None
+    rows = np.arange(ne) + nr
+    if hysteretic:      # i Phi^T H Phi S^-1, H symmetric and zero on the rigid modes
+        h = rng.standard_normal((nk, nk))
+        h = h + h.T
+        h[:nr], h[:, :nr] = 0.0, 0.0
+        coupling = 0.05j * h[:, rows] / np.sqrt(w2)[None, :]
+    return np.sqrt(w2), rows, w2, g, coupling
+
+
+def _matrix(scale, rows, w2, g, coupling):
+    ne, nk = scale.size, g.shape[0]
+    a = np.zeros((ne + nk, ne + nk), dtype=complex)
+    a[np.arange(ne), ne + rows] = scale
+    a[ne + rows, np.arange(ne)] = -w2 / scale
+    if coupling is not None:
+        a[ne:, :ne] -= coupling
+    a[ne:, ne:] = -g
+    return a
+
+
+@pytest.mark.parametrize("hysteretic", [False, True])
+def test_structured_inverse_matches_explicit_inverse(hysteretic):
+    args = _problem(hysteretic=hysteretic)
+    cm = complex_modes(*args)
+    assert cm.how.startswith("left eigenvectors")
+    inv = np.linalg.inv(cm.vectors)
+    ne = cm.n_elastic
+    np.testing.assert_allclose(cm.solve(np.eye(inv.shape[0])), inv, atol=1e-11 * np.abs(inv).max())
+    np.testing.assert_allclose(cm.velocity_rows(), inv[:, ne:], atol=1e-11 * np.abs(inv).max())
+    # and they diagonalise the first-order matrix
+    a = _matrix(*args)
+    np.testing.assert_allclose(cm.solve(a @ cm.vectors), np.diag(cm.lam), atol=1e-10 * np.abs(cm.lam).max())
+
+
+def test_repeated_eigenvalues_fall_back_to_lu():
+    """Two identical uncoupled modes: any basis of the eigenspace is returned, so V is factorised."""
+    w2 = np.array([4.0, 4.0, 9.0])
+    g = np.diag([0.1, 0.1, 0.2])
+    cm = complex_modes(np.sqrt(w2), np.arange(3), w2, g)
+    assert cm.how == "LU of V (repeated eigenvalues)"
+    np.testing.assert_allclose(cm.solve(np.eye(6)), np.linalg.inv(cm.vectors), atol=1e-12)
+
+
+def test_zero_eigenvalue_falls_back_to_lu():
+    """A damped rigid mode with a zero-stiffness 'elastic' row (the time path's layout): lam = 0."""
+    w2 = np.array([0.0, 25.0])
+    cm = complex_modes(np.array([1.0, 5.0]), np.arange(2), w2, np.array([[0.3, 0.05], [0.05, 0.2]]))
+    assert cm.how == "LU of V (a zero eigenvalue)"
+    np.testing.assert_allclose(cm.solve(np.eye(4)), np.linalg.inv(cm.vectors), atol=1e-10)
+
+
+def test_probe_catches_a_broken_symmetry():
+    """A non-symmetric G breaks the left/right relation; the probe sees it and V is factorised."""
+    scale, rows, w2, g, _ = _problem()
+    g = g + 0.05 * np.triu(np.ones_like(g), 1)
+    cm = complex_modes(scale, rows, w2, g)
+    assert cm.how.startswith("LU of V (probe residual")
+    np.testing.assert_allclose(cm.solve(np.eye(cm.vectors.shape[0])), np.linalg.inv(cm.vectors), atol=1e-10)
