@@ -76,3 +76,28 @@ def test_state_names():
     assert modal.state_labels[0] == "mode1:pos" and modal.state_labels[-2:] == ["ground:z:acc:z", "ground:z:acc:zdot"]
     phys = statespace(p, realization="physical")
     assert phys.state_labels[:2] == ["frame:x", "frame:y"] and phys.state_labels[12] == "frame:x:vel"
+
+
+def test_vibss_names_index_the_system():
+    """sys['engine.z', 'ground.z.acc'] (the issue's spelling) picks the same channel as the stored
+    'engine:z', 'ground:z:acc', and that channel's response is the second-order one."""
+    inputs, outputs = ["engine.fz", "ground.z.acc"], ["engine.z", "sensor.x.acc", "ground.fz"]
+    p = build_plant(two_body(), inputs, outputs)
+    sys_ = statespace(p)
+    sub = sys_["engine.z", "ground.z.acc"]
+    same = sys_["engine:z", "ground:z:acc"]
+    assert type(sub).__name__ == "NamedStateSpace"
+    assert sub.input_labels == ["ground:z:acc"] and sub.output_labels == ["engine:z"]
+    assert np.array_equal(sub.B, same.B) and np.array_equal(sub.C, same.C)
+    w = np.geomspace(0.5, 500, 50)
+    ref = direct(p, 1j * w)[0:1, 1:2]
+    assert _rel(control.frequency_response(sub, w).complex.reshape(1, 1, -1), ref) < 1e-10
+    both = sys_[["engine.z", "ground.fz"], ["engine.fz"]]
+    assert both.output_labels == ["engine:z", "ground:fz"]
+    assert sub["engine.z", "ground.z.acc"].nstates == sys_.nstates        # sub-systems index too
+    assert sys_.find_input("ground.z.acc") == 1 and sys_.find_output("ground.fz") == 2
+    assert sys_.find_outputs(["sensor.x.acc", "engine.z"]) == [1, 0]
+    assert sys_.find_input("nope.z") is None
+    # python-control's own operations still work on it (and name signals with ':')
+    loop = control.feedback(sys_, control.ss([], [], [], np.zeros((2, 3))), sign=-1)
+    assert np.allclose(np.sort_complex(loop.poles()), np.sort_complex(sys_.poles()))

@@ -31,7 +31,7 @@ from .plant import Plant
 from .reduction import Reduction, reduce
 from .scope import Scope
 from .signals import build_plant
-from .statespace import statespace
+from .statespace import NamedStateSpace, statespace
 from .static import StaticResult, static
 from .time import TimeResponse, simulate
 from .time_sweep import SweepEnvelope, sweep_envelope
@@ -40,7 +40,7 @@ __version__ = "0.1.0"
 
 __all__ = [
     "AnalysisError", "Assembly", "Body", "ControlPoint", "DOF_NAMES", "DampedModes", "Excitation",
-    "FrequencyGrid", "FrequencyResponse", "GROUND", "Load", "Model", "ModelError", "ModelFileError", "Modes", "Mount", "MountType",
+    "FrequencyGrid", "FrequencyResponse", "GROUND", "Load", "Model", "ModelError", "ModelFileError", "Modes", "Mount", "MountType", "NamedStateSpace",
     "Orientation", "Plant", "Reduction", "Scope", "StaticResult", "SweepEnvelope", "TimeResponse", "VibssError", "VibssWarning", "assemble", "build_plant", "damped_modes", "dump_model",
     "dumps_model", "example_names", "frequency_grid", "frequency_response", "load_example", "load_model", "loads_model", "modes", "reduce", "simulate", "static",
     "statespace", "sweep_envelope", "sweep_response", "symmetric", "transmissibility",

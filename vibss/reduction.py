@@ -64,7 +64,7 @@ from .reduction_methods import (Removal, as_sparse, frf, krylov, prune_dofs, pru
                                 sparse_plant, truncate)
 from .scope import Scope
 from .signals import build_plant, control_name
-from .statespace import statespace
+from .statespace import NamedStateSpace, statespace
 
 __all__ = ["reduce", "Reduction", "Removal", "METHODS", "BALANCED_MAX_STATES", "KRYLOV_MIN_DOF", "select"]
 
@@ -94,8 +94,8 @@ class Reduction:
         What the reduced model must reproduce.
     plant : Plant or None
         The reduced plant (None for ``"balanced"``, which gives :attr:`system`).
-    system : control.StateSpace or None
-        The balanced-truncated system (``"balanced"`` only).
+    system : NamedStateSpace or None
+        The balanced-truncated system (``"balanced"`` only), indexable by vibss names.
     full : Plant
         The full plant of the scope (for verification); for ``"krylov"`` its ``M, C, K, H`` are
         scipy.sparse CSR matrices (no dense n x n).
@@ -368,9 +368,10 @@ def _method_balanced(p: Plant, scope: Scope, order: int | None = None, **kw: Any
         order = int(np.argmax(tail * ratio <= scope.tolerance))
     order = max(1, min(int(order), sysm.nstates))
     red = control.balred(sysm, order, method="truncate") if order < sysm.nstates else sysm
-    red = control.ss(red.A, red.B * b[None, :], red.C * a[:, None], red.D * a[:, None] * b[None, :],
-                     inputs=[control_name(u) for u in p1.inputs],
-                     outputs=[control_name(y) for y in p1.outputs], name=control_name(p1.name) + ":balanced")
+    red = NamedStateSpace(red.A, red.B * b[None, :], red.C * a[:, None], red.D * a[:, None] * b[None, :],
+                          inputs=[control_name(u) for u in p1.inputs],
+                          outputs=[control_name(y) for y in p1.outputs],
+                          name=control_name(p1.name) + ":balanced")
     if order < sysm.nstates:
         rem.append(Removal("states", (f"{sysm.nstates - order} balanced states",),
                            f"Hankel singular values {hsv[order]:.3g} and below", exact=False))

@@ -37,7 +37,8 @@ Outputs (``y``):
 
 The default outputs are the displacements of every body DOF. python-control forbids ``.`` in signal
 names (it is its ``system.signal`` separator), so python-control objects carry the same names with
-``.`` replaced by ``:`` (:func:`control_name`).
+``.`` replaced by ``:`` (:func:`control_name`); the systems :func:`vibss.statespace` returns
+(:class:`vibss.statespace.NamedStateSpace`) accept either spelling when indexed.
 
 Examples
 --------

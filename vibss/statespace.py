@@ -69,10 +69,61 @@ from .model import Model
 from .plant import Plant
 from .signals import build_plant, control_name
 
-__all__ = ["statespace", "modal_basis", "ModalBasis", "REALIZATIONS"]
+__all__ = ["statespace", "modal_basis", "ModalBasis", "NamedStateSpace", "REALIZATIONS"]
 
 REALIZATIONS = ("modal", "physical")
 """Valid ``realization`` names."""
+
+
+def _control_key(key: Any) -> Any:
+    """A signal key with vibss names (``engine.z``) spelled the python-control way (``engine:z``)."""
+    if isinstance(key, str):
+        return control_name(key)
+    if isinstance(key, (list, tuple)) and all(isinstance(k, str) for k in key):
+        return type(key)(control_name(k) for k in key)
+    return key
+
+
+class NamedStateSpace(control.StateSpace):
+    """A python-control ``StateSpace`` that also takes vibss signal names.
+
+    python-control reserves ``.`` in signal names (``control.interconnect`` reads ``sys.signal``),
+    so the labels are stored as ``engine:z``. Indexing and the ``find_*`` lookups also accept the
+    vibss spelling, ``sys['engine.z', 'ground.z.acc']``; sub-systems are ``NamedStateSpace`` too.
+    Everything else is python-control's own (``feedback``, ``interconnect``, ``series`` return
+    plain ``StateSpace`` objects).
+
+    Examples
+    --------
+    >>> sys = NamedStateSpace([[-1.0]], [[1.0, 2.0]], [[1.0]], [[0.0, 0.0]],
+    ...                       inputs=["ground:z:acc", "b:fz"], outputs=["b:z"])
+    >>> sub = sys["b.z", "ground.z.acc"]
+    >>> sub.input_labels, float(sub.B[0, 0]), sys.find_input("b.fz")
+    (['ground:z:acc'], 1.0, 1)
+    """
+
+    def __getitem__(self, key: Any) -> "NamedStateSpace":
+        if isinstance(key, tuple) and len(key) == 2:
+            key = tuple(_control_key(k) for k in key)
+        sub = super().__getitem__(key)
+        return NamedStateSpace(sub.A, sub.B, sub.C, sub.D, sub.dt, inputs=sub.input_labels,
+                               outputs=sub.output_labels, states=sub.state_labels, name=sub.name)
+
+    def find_input(self, name: str) -> int | None:
+        """Index of an input (``engine.fz`` or ``engine:fz``), None if absent."""
+        return super().find_input(control_name(name))
+
+    def find_output(self, name: str) -> int | None:
+        """Index of an output (``engine.z`` or ``engine:z``), None if absent."""
+        return super().find_output(control_name(name))
+
+    def find_inputs(self, name_list: Any) -> list[int | None]:
+        """Indices of inputs by name (either spelling, or a python-control pattern)."""
+        return super().find_inputs(_control_key(name_list))
+
+    def find_outputs(self, name_list: Any) -> list[int | None]:
+        """Indices of outputs by name (either spelling, or a python-control pattern)."""
+        return super().find_outputs(_control_key(name_list))
 
 
 @dataclass(frozen=True, eq=False)
@@ -349,7 +400,7 @@ def statespace(plant: Plant | Model | Assembly, realization: str = "modal", bala
     ins = [control_name(u) for u in plant.inputs]
     states = (basis.names[0] + basis.names[1] + [f"{ins[j]}:z" for j in iz]
               + [f"{ins[j]}:zdot" for j in inu])
-    sys = control.ss(A, B, Cm, D, inputs=ins, outputs=[control_name(y) for y in plant.outputs],
-                     states=states, name=control_name(name or plant.name))
+    sys = NamedStateSpace(A, B, Cm, D, inputs=ins, outputs=[control_name(y) for y in plant.outputs],
+                          states=states, name=control_name(name or plant.name))
     sys.vibss_state_scale = scale
     return sys
