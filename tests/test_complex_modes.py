@@ -72,3 +72,14 @@ def test_probe_catches_a_broken_symmetry():
     cm = complex_modes(scale, rows, w2, g)
     assert cm.how.startswith("LU of V (probe residual")
     np.testing.assert_allclose(cm.solve(np.eye(cm.vectors.shape[0])), np.linalg.inv(cm.vectors), atol=1e-10)
+
+
+@pytest.mark.parametrize("hysteretic", [False, True])
+def test_refined_velocity_solve(hysteretic):
+    """V^-1 [0; R] with one refinement step: the residual V z - [0; R] is at rounding level."""
+    cm = complex_modes(*_problem(ne=30, nr=3, hysteretic=hysteretic, seed=4))
+    r = np.random.default_rng(5).standard_normal((33, 4))
+    z = cm.solve_velocity(r)
+    full = np.vstack([np.zeros((30, 4)), r])
+    np.testing.assert_allclose(z, np.linalg.solve(cm.vectors, full), atol=1e-12 * np.abs(z).max())
+    assert np.abs(cm.vectors @ z - full).max() <= 1e-14 * np.abs(cm.vectors).max() * np.abs(z).max() * 33

@@ -43,6 +43,8 @@ _CHUNK_BYTES = 64 * 2**20
 
 _Factors = tuple[np.ndarray, ...]
 """A matrix given as the product of its factors, ``(A, B, ...)`` for ``A @ B @ ...``."""
+_RightFactors = tuple[np.ndarray | Callable[[np.ndarray], np.ndarray], ...]
+"""The same for right factors, where a callable ``f`` stands for the linear map ``x -> f(x)``."""
 
 
 def _terms(plant: Plant) -> tuple[list, list, np.ndarray]:
@@ -112,14 +114,14 @@ def _times_left(o: np.ndarray, blocks: list[_Factors]) -> np.ndarray:
     return parts[0] if len(parts) == 1 else np.hstack(parts)
 
 
-def _times_right(blocks: list[_Factors], r: np.ndarray) -> np.ndarray:
+def _times_right(blocks: list[_RightFactors], r: np.ndarray) -> np.ndarray:
     """``[R1; R2; ...] @ r`` with each block a tuple of factors, multiplied from the right."""
-    parts = [reduce(lambda acc, f: f @ acc, block[::-1], r) for block in blocks]
+    parts = [reduce(lambda acc, f: f(acc) if callable(f) else f @ acc, block[::-1], r) for block in blocks]
     return parts[0] if len(parts) == 1 else np.vstack(parts)
 
 
 def _superpose(plant: Plant, s: np.ndarray, left: list[_Factors],
-               right: list[_Factors], d: np.ndarray,
+               right: list[_RightFactors], d: np.ndarray,
                d_acc: np.ndarray | None = None) -> np.ndarray:
     """``Y = sum_ab s^(a+b) Z (O_a left) diag(d) (right R_b)`` + feedthrough; returns (p, m, nf).
 
@@ -287,7 +289,7 @@ def complex_modal(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) 
     kept = np.flatnonzero(~free)                      # velocity states: elastic + damped rigid
     ne, nk = el.size, kept.size
     lefts: list[_Factors] = []
-    rights: list[_Factors] = []
+    rights: list[_RightFactors] = []
     ds: list[np.ndarray] = []
     with np.errstate(divide="ignore", invalid="ignore"):
         inv_s = 1.0 / s
@@ -306,7 +308,6 @@ def complex_modal(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) 
         if np.any(np.abs(lam) <= tol):
             raise AnalysisError("method 'complex_modal': a combination of rigid-body modes is neither "
                                 "free nor damped; use method='direct'")
-        wb = modes.velocity_rows()                    # rows of V^-1, velocity columns
         phik = phi[:, kept]
         coeff = v[:ne] / se[:, None]                  # elastic eta = S^-1 y1
         cols = phi[:, el]
@@ -316,10 +317,10 @@ def complex_modal(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) 
             cols = np.hstack([cols, phik[:, rig]])
             coeff = np.vstack([coeff, vr])
             lefts.append((phik[:, rig],))             # and the 1/s part
-            rights.append((-(vr @ wb), phik.T))
+            rights.append((-vr, modes.solve_velocity, phik.T))
             ds.append(np.repeat(inv_s[:, None], rig.size, axis=1))
         lefts.append((cols, coeff))                   # modal forces of the kept modes, factored
-        rights.append((wb, phik.T))
+        rights.append((modes.solve_velocity, phik.T))   # V^-1 [0; Phi^T R], refined
         with np.errstate(divide="ignore", invalid="ignore"):
             ds.append(1.0 / (s[:, None] - lam[None, :]))
     d = np.asarray(ds[0] if len(ds) == 1 else np.hstack(ds), dtype=complex)   # no copy for one part
