@@ -30,6 +30,8 @@ def test_frequency_guide(capsys):
                                vibss.modes(scope["model"]).directions) if d == "x"][0]
     assert scope["peaks"][0][0] == pytest.approx(low_x, rel=1e-3)
     np.testing.assert_allclose(abs(scope["t"].response[:, 0, 0]), 1.0, rtol=1e-9)   # 0 Hz
+    # statics: all of body2's load passes into body1 through the upper mounts, then into ground
+    np.testing.assert_allclose(scope["tf"].response[:, 0, 0], 1.0, rtol=1e-9)
     # the closed skyhook loop: its poles are those of the model with a 4000 N s/m damper from
     # body2 z to ground, assembled independently
     from vibss import Mount, MountType, damped_modes

@@ -101,3 +101,52 @@ def test_excitation_objects_and_direction():
     r = np.array([0.1, 0.0, 0.0])
     np.testing.assert_allclose(p.F[6:9, 0], d)
     np.testing.assert_allclose(p.F[9:12, 0], np.cross(r, d))
+
+
+
+def test_force_into_a_body_sums_its_carried_mounts():
+    """``frame.into.*`` against the engine mounts' own force outputs and the lever arms from the
+    model's geometry (frequency domain, viscous damping), and Newton-Euler for the frame: M a =
+    applied + into the frame from above - the wrench of the frame's own ground mounts."""
+    from vibss import assemble
+    from vibss.frf_methods import direct
+
+    m = two_body()
+    comps = ("fx", "fy", "fz", "mx", "my", "mz")
+    carried = [mt for mt in m.mounts if mt.to == "frame"]
+    below = [mt for mt in m.mounts if mt.body == "frame"]
+    outs = ([f"frame.{d}.acc" for d in ("x", "y", "z", "rx", "ry", "rz")] + [f"frame.into.{c}" for c in comps]
+            + [f"mount.{mt.name}.f{c}" for mt in carried + below for c in "xyz"])
+    p = build_plant(m, ["engine.fz", "frame.mx", "sensor.fy", "ground.z.acc", "ground.rx.vel"], outs)
+    assert p.units[6:12] == ("N",) * 3 + ("N m",) * 3
+    h = direct(p, 1j * np.array([3.0, 40.0, 170.0, 900.0]))    # (p, 5, nf)
+    cog = np.asarray(m.bodies[m.body_index("frame")].cog)
+
+    def wrench(mounts, first):
+        total = np.zeros((6,) + h.shape[1:], complex)
+        for j, mt in enumerate(mounts):
+            f = h[first + 3 * j:first + 3 * j + 3]
+            owner = m.bodies[m.body_index(mt.body)]
+            point = np.asarray(mt.at) + np.asarray(owner.cog)     # mounts given in the body frame
+            total[:3] += f
+            total[3:] += np.cross(point - cog, f, axis=0)
+        return total
+
+    into = wrench(carried, 12)
+    assert np.abs(h[6:12] - into).max() <= 1e-10 * np.abs(into).max()
+    mb = assemble(m, sparse=False).M[:6, :6]                    # frame is body 0
+    applied = np.zeros((6, 5))
+    applied[:, :3] = p.F[:6, :3]
+    lhs = np.einsum("ij,jkf->ikf", mb, h[:6])
+    rhs = applied[:, :, None] + h[6:12] - wrench(below, 12 + 3 * len(carried))
+    assert np.abs(lhs - rhs).max() <= 1e-9 * np.abs(lhs).max()
+
+
+def test_ground_into_alias_and_bad_body():
+    m = two_body()
+    p = build_plant(m, ["engine.fz"], ["ground.fz", "ground.into.fz", "ground.into.my", "ground.my"])
+    assert np.array_equal(p.Oq[0], p.Oq[1]) and np.array_equal(p.Oq[2], p.Oq[3])
+    with pytest.raises(ModelError, match="no body named 'engin'"):
+        build_plant(m, ["engine.fz"], ["engin.into.fz"])
+    with pytest.raises(ModelError, match="no mount has 'engine' as its 'to' side"):
+        build_plant(m, ["engine.fz"], ["engine.into.fz"])

@@ -33,6 +33,10 @@ Outputs (``y``):
                                           K delta + C delta' (+ i H delta in frequency) [N]
 ``ground.fx|fy|fz|mx|my|mz``              total force [N] and moment about the global origin
                                           [N m] transmitted into ground by the mounts
+``<body>.into.fx|fy|fz|mx|my|mz``         total force [N] and moment about the body's COG
+                                          [N m] transmitted into the body by the mounts whose
+                                          ``to`` side it is (what rests on it); ``ground.into.*``
+                                          is ``ground.*``
 ========================================  =====================================================
 
 The default outputs are the displacements of every body DOF. python-control forbids ``.`` in signal
@@ -75,7 +79,7 @@ INPUT_FORMS = ("<body>.fx|fy|fz", "<body>.mx|my|mz", "<point>.fx|fy|fz",
 
 OUTPUT_FORMS = ("<body>.<x|y|z|rx|ry|rz>[.vel|.acc]", "<point>.x|y|z[.vel|.acc]",
                 "mount.<name>.dx|dy|dz|d1|d2|d3", "mount.<name>.fx|fy|fz|f1|f2|f3",
-                "ground.fx|fy|fz|mx|my|mz")
+                "ground.fx|fy|fz|mx|my|mz", "<body>.into.fx|fy|fz|mx|my|mz")
 """Valid output name forms (for messages)."""
 
 _MOTION = {"disp": "displacement", "vel": "velocity", "acc": "acceleration"}
@@ -128,6 +132,7 @@ def _output_names(model: Model) -> list[str]:
     names += [f"{p.name}.{d}{s}" for p in model.control_points for d in "xyz" for s in ("", ".vel", ".acc")]
     names += [f"mount.{m.name}.{c}" for m in model.mounts for c in _MOUNT]
     names += [f"ground.{c}" for c in _FORCE]
+    names += [f"{m}.into.{c}" for m in sorted({m.to for m in model.mounts}) for c in _FORCE]
     return names
 
 
@@ -236,6 +241,26 @@ class _Rows:
     h: np.ndarray   # hysteretic part (times i)
 
 
+def _mount_wrench(asm: Assembly, target: str) -> dict[str, np.ndarray]:
+    """(6, n + 6) rows of the force and moment transmitted into ``target`` (a body or ground) by the
+    mounts whose ``to`` side it is.
+
+    A mount's force into its ``to`` side is ``K delta + C delta' (+ i H delta)``. Moments are about
+    the target's reference point: its COG (the global origin for ground). Keys ``"k"``, ``"c"``,
+    ``"h"``: the displacement, velocity and hysteretic parts.
+    """
+    model = asm.model
+    i = len(model.bodies) if target == GROUND else model.body_index(target)
+    b = asm.deflection_matrix()
+    rows = {key: np.zeros((6, asm.n + 6)) for key in ("k", "c", "h")}
+    for p in np.flatnonzero(asm.a_index == i):
+        lt = point_transfer(asm.r_a[p]).T                 # (6, 3): force at the point -> wrench
+        bp = b[3 * p:3 * p + 3].toarray()
+        for key, mat in (("k", asm.kp), ("c", asm.cp), ("h", asm.hp)):
+            rows[key] += lt @ mat[p] @ bp
+    return rows
+
+
 def output_row(asm: Assembly, name: Any, cache: dict) -> tuple[_Rows, str]:
     model = asm.model
     if not isinstance(name, str):
@@ -258,17 +283,18 @@ def output_row(asm: Assembly, name: Any, cache: dict) -> tuple[_Rows, str]:
         if what == "d":
             return _Rows(axis @ b, zero, zero, zero), "m"
         return _Rows(axis @ asm.kp[p] @ b, axis @ asm.cp[p] @ b, zero, axis @ asm.hp[p] @ b), "N"
-    if name.startswith("ground.") and name[7:] in _FORCE:
-        k = _FORCE[name[7:]]
-        if "ground" not in cache:
-            b = asm.deflection_matrix().toarray()
-            rows = {key: np.zeros((6, nf)) for key in ("k", "c", "h")}
-            for p in np.flatnonzero(asm.a_index == len(model.bodies)):
-                lt = point_transfer(asm.r_a[p]).T   # (6, 3): force into ground -> wrench about origin
-                for key, mat in (("k", asm.kp), ("c", asm.cp), ("h", asm.hp)):
-                    rows[key] += lt @ mat[p] @ b[3 * p:3 * p + 3]
-            cache["ground"] = rows
-        g = cache["ground"]
+    head, _, comp = name.rpartition(".")
+    target = head[:-5] if head.endswith(".into") else (GROUND if head == GROUND else None)
+    if target is not None and comp in _FORCE:
+        if target != GROUND and target not in bodies:
+            raise _bad_output(model, name, f" (no body named {target!r})")
+        if target != GROUND and not any(m.to == target for m in model.mounts):
+            raise _bad_output(model, name, f" (no mount has {target!r} as its 'to' side: nothing "
+                                           f"rests on it; see mount.<name>.f* for its own mounts)")
+        k = _FORCE[comp]
+        g = cache.get(("wrench", target))
+        if g is None:
+            g = cache[("wrench", target)] = _mount_wrench(asm, target)
         return _Rows(g["k"][k], g["c"][k], zero, g["h"][k]), ("N" if k < 3 else "N m")
     base, _, suffix = name.rpartition(".")
     order = _DERIV.get(suffix)

@@ -22,7 +22,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--input", action="append", metavar="SIGNAL",
                    help="input signal (repeatable), e.g. engine.fz or ground.z.acc: FRF per unit input")
     p.add_argument("--output", action="append", metavar="SIGNAL",
-                   help="output signal (repeatable), e.g. engine.z, sensor.x.acc, mount.front.f3, ground.fz")
+                   help="output signal (repeatable), e.g. engine.z, sensor.x.acc, mount.front.f3, ground.fz, frame.into.fz")
     p.add_argument("--f1", type=float, help="lowest frequency [Hz]")
     p.add_argument("--f2", type=float, help="highest frequency [Hz]")
     p.add_argument("--points", type=int, help="number of base points (default 1000)")
