@@ -18,7 +18,7 @@ LAYERS = [
     {"errors", "units", "geometry", "results", "tomlwriter"},
     {"plant", "model", "timefunctions", "excitation", "filetable"},
     {"io", "examples", "assemble", "directions"},
-    {"modal", "complex_modes", "static", "signals", "integrators", "stability"},
+    {"modal", "complex_modes", "banded", "static", "signals", "integrators", "stability"},
     {"damped", "statespace", "frf_methods", "time_methods"},
     {"frequency", "time", "time_sweep", "scope", "reduction", "reduction_methods"},
     {"plotting", "report"},

@@ -13,7 +13,7 @@ eigenvectors follow from the same ``x`` with no second eigenproblem:
 
     w^T = [-x^T Kt / lam,  x^T],    w^T v = x^T (2 lam + G) x.
 
-So one ``eig`` without left vectors (about 15 % cheaper than with them) plus O(N^2) work gives
+So one ``eig`` without left vectors (about 12 % cheaper than with them) plus O(N^2) work gives
 the rows of ``V^-1``, instead of an O(N^3) solve with ``V``. Where the structure cannot be trusted —
 a zero eigenvalue, repeated eigenvalues (any basis of their eigenspace is returned, not a
 bi-orthogonal one), or a random probe ``V^-1 (V r) = r`` that misses by more than

@@ -35,6 +35,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .assemble import Assembly
+from .banded import structure
 from .errors import AnalysisError, ModelError
 from .frf_methods import METHODS, classical_damping, zero_frequency_limit
 from .model import Model
@@ -401,16 +402,33 @@ def _index(names: Sequence[str], name: str, what: str) -> int:
         raise ModelError(f"{what}: {name!r} is not one of {list(names)}") from None
 
 
+_K_EIG = 4.6e-10     # [s] per N^3 of the complex-mode eig (N = 2n states)
+_K_SUPERPOSE = 4e-10  # [s] per frequency x mode x channel of the superposition
+
+
 def _choose(plant: Plant, nf: int, basis: ModalBasis) -> tuple[str, str]:
-    """Pick a kernel (measured in benchmarks/bench_frf.py)."""
+    """Pick a kernel; the cost estimates use constants measured by benchmarks/bench_frf.py.
+
+    The undamped modes are computed anyway (grid, natural frequencies), so classical damping
+    takes the modal superposition. General damping takes the cheaper of the complex modes (one
+    ``eig`` of the 2n-state matrix) and the sparse direct solve (one banded or sparse LU per
+    frequency).
+    """
     if plant.n <= 12:
         return "direct", f"small model ({plant.n} DOF): direct solve is exact and cheap"
     ok, why = classical_damping(plant, basis)
     if ok:
         return "modal", f"{why}: modal superposition is the fastest"
-    if nf <= 20:
-        return "direct", f"{why}; few frequencies ({nf}): direct solve"
-    return "complex_modal", f"{why}: complex-mode superposition"
+    st = plant.cached("band structure", lambda: structure(plant))
+    t_sparse = nf * st.seconds_per_frequency
+    n2 = 2 * plant.n
+    t_complex = _K_EIG * n2**3 + _K_SUPERPOSE * nf * n2 * len(plant.inputs) * len(plant.outputs)
+    how = f"banded LU, half-bandwidth {st.band}" if st.banded else "SuperLU"
+    if t_sparse <= t_complex:
+        return "sparse", (f"{why}: sparse direct solve per frequency ({how}), estimated {t_sparse:.2g} s "
+                          f"against {t_complex:.2g} s for complex modes")
+    return "complex_modal", (f"{why}: complex-mode superposition, estimated {t_complex:.2g} s against "
+                             f"{t_sparse:.2g} s for the sparse direct solve ({how})")
 
 
 def _as_plant(system: Model | Assembly | Plant, inputs: Any, outputs: Any) -> Plant:
@@ -456,7 +474,7 @@ def frequency_response(system: Model | Assembly | Plant, inputs: Sequence[Any] |
         Explicit frequencies, or a grid spec (default: refined log grid around the modes).
     quantity : {"receptance", "mobility", "accelerance"}
         Multiply the outputs by ``(i w)^0, ^1, ^2``.
-    method : {"auto", "direct", "modal", "complex_modal", "statespace"} or callable
+    method : {"auto", "direct", "modal", "complex_modal", "sparse", "statespace"} or callable
         Kernel (:data:`vibss.frf_methods.METHODS`), or ``f(plant, s) -> (p, m, nf)``.
 
     Returns

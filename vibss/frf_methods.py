@@ -14,6 +14,9 @@ with ``O(s) = Oq + i Oh + s Ov + s^2 Oa``, ``P(s) = Pz + i Ph + s Pv + s^2 Pa`` 
   ``Phi^T H Phi`` diagonal). Rigid-body modes are exact (omega = 0 double integrators).
 - ``complex_modal``: eigen-decomposition of the well-scaled first-order modal form
   ``[[0, S], [-(Omega^2 + i Phi^T H Phi) S^-1, -Phi^T C Phi]]`` (general viscous damping).
+- ``sparse``: the direct solve on the sparse structure, per frequency: a banded LU after a reverse
+  Cuthill-McKee ordering (chains and other locally connected layouts), else SuperLU
+  (:mod:`vibss.banded`). Exact like ``direct``; any damping.
 - ``statespace``: ``control.frequency_response`` on :func:`vibss.statespace.statespace`
   (SLICOT TB05AD on the scaled modal realization; viscous damping only).
 
@@ -28,14 +31,18 @@ from functools import partial, reduce
 import control
 import numpy as np
 import scipy.linalg as sl
+import scipy.sparse as sp
+import scipy.sparse.linalg as spl
+from scipy.linalg.lapack import zgbsv
 
+from .banded import structure
 from .complex_modes import complex_modes
 from .errors import AnalysisError
 from .plant import Plant
 from .modal import damping_coupling
 from .statespace import ModalBasis, fast_matrix, modal_basis, statespace, stiffness_solver
 
-__all__ = ["METHODS", "direct", "modal", "complex_modal", "via_statespace", "classical_damping",
+__all__ = ["METHODS", "direct", "modal", "complex_modal", "sparse", "via_statespace", "classical_damping",
            "zero_frequency_limit"]
 
 
@@ -104,6 +111,71 @@ def direct(plant: Plant, s: np.ndarray) -> np.ndarray:
         obs = oq[None] + sc * plant.Ov[None] + sc**2 * plant.Oa[None]
         out[lo:lo + chunk] = obs @ x
         out[lo:lo + chunk][singular] = np.inf      # unbounded response there (reported as inf)
+    out += _feedthrough(plant, s, zf)
+    return np.moveaxis(out, 0, -1)
+
+
+def sparse(plant: Plant, s: np.ndarray) -> np.ndarray:
+    """Direct solve per frequency on the sparse structure; returns (p, m, nf).
+
+    The same equations as :func:`direct`, solved by a banded LU (LAPACK ``zgbsv``, partial
+    pivoting) after a reverse Cuthill-McKee ordering, or by SuperLU where the band is wide
+    (:mod:`vibss.banded`). Exact like ``direct``, at O(n b^2) per frequency instead of O(n^3).
+    """
+    s = np.asarray(s, dtype=complex)
+    st = plant.cached("band structure", lambda: structure(plant))
+    p, m, n = len(plant.outputs), len(plant.inputs), plant.n
+    hz = plant.Hz
+    kz = plant.Kz + 1j * hz if np.any(hz) else plant.Kz
+    oh = plant.Oh if plant.Oh is not None else 0.0
+    obs = [(0, plant.Oq + 1j * oh if np.any(oh) else plant.Oq), (1, plant.Ov), (2, plant.Oa)]
+    obs = [(k, o) for k, o in obs if np.any(o)]
+    coupling = [(0, kz), (1, plant.Cz), (2, plant.Mz)]
+    coupling = [(k, c) for k, c in coupling if np.any(c)]
+    zf = _zfactor(s, plant.order)
+    out = np.zeros((s.size, p, m), dtype=complex)
+    perm = st.perm if st.banded else np.arange(n)
+    obs = [(k, np.ascontiguousarray(o[:, perm])) for k, o in obs]
+    coupling = [(k, c[perm]) for k, c in coupling]
+    force = np.asarray(plant.F, dtype=complex)[perm]
+    parts = st.parts
+    band = st.band
+    shape = (3 * band + 1, n)
+    for i, sk in enumerate(s):
+        rhs = force.copy(order="F")
+        for k, c in coupling:
+            rhs -= (sk**k) * c * zf[i][None, :]
+        if st.banded:                     # K + iH + sC + s^2 M in real arithmetic, in place
+            s2 = sk * sk
+            ab = np.empty(shape, dtype=complex, order="F")
+            ab[:band] = 0.0                                 # LAPACK's room for the pivoting fill
+            re, im = ab.real[band:], ab.imag[band:]
+            np.multiply(parts["M"], s2.real, out=re)
+            re += parts["K"]
+            np.multiply(parts["M"], s2.imag, out=im)
+            if "C" in parts:
+                if sk.real:
+                    re += sk.real * parts["C"]
+                im += sk.imag * parts["C"]
+            if "H" in parts:
+                im += parts["H"]
+            _, _, x, info = zgbsv(band, band, ab, rhs, overwrite_ab=1, overwrite_b=1)
+            if info > 0:                  # an undamped model exactly at a natural frequency
+                out[i] = np.inf
+                continue
+        else:
+            a = parts["K"] + sk * sk * parts["M"]
+            if "C" in parts:
+                a = a + sk * parts["C"]
+            if "H" in parts:
+                a = a + 1j * parts["H"]
+            try:
+                x = spl.splu(sp.csc_matrix(a, dtype=complex)).solve(rhs)
+            except RuntimeError:          # exactly singular
+                out[i] = np.inf
+                continue
+        for k, o in obs:
+            out[i] += (sk**k) * (o @ x)
     out += _feedthrough(plant, s, zf)
     return np.moveaxis(out, 0, -1)
 
@@ -348,6 +420,7 @@ METHODS: dict[str, Callable[..., np.ndarray]] = {
     "direct": direct,
     "modal": modal,
     "complex_modal": complex_modal,
+    "sparse": sparse,
     "statespace": via_statespace,
 }
 """Frequency-response kernels by name: ``f(plant, s) -> (p, m, nf)`` complex."""

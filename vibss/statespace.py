@@ -64,7 +64,7 @@ import scipy.sparse.linalg as spl
 
 from .assemble import Assembly
 from .errors import AnalysisError, ModelError
-from .modal import rigid_mask
+from .modal import generalized_eigh, rigid_mask
 from .model import Model
 from .plant import Plant
 from .signals import build_plant, control_name
@@ -154,7 +154,7 @@ class ModalBasis:
 
 
 def modal_basis(plant: Plant) -> ModalBasis:
-    """Mass-normalised undamped modes of the free DOFs (``scipy.linalg.eigh(K, M)``).
+    """Mass-normalised undamped modes of the free DOFs (:func:`vibss.modal.generalized_eigh`).
 
     Parameters
     ----------
@@ -164,7 +164,7 @@ def modal_basis(plant: Plant) -> ModalBasis:
     -------
     ModalBasis
     """
-    w2, phi = sl.eigh(plant.K, plant.M)
+    w2, phi = generalized_eigh(plant.K, plant.M)
     rigid = rigid_mask(w2, phi, np.diag(plant.K))
     w2 = np.where(rigid, 0.0, np.maximum(w2, 0.0))
     if not np.any(rigid):

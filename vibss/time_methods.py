@@ -38,7 +38,7 @@ from threadpoolctl import threadpool_limits
 
 from .complex_modes import complex_modes
 from .errors import AnalysisError
-from .modal import damping_coupling, rigid_mask
+from .modal import damping_coupling, generalized_eigh, rigid_mask
 from .plant import Plant
 from .statespace import modal_basis, statespace
 
@@ -282,7 +282,7 @@ class _ModalSet:
 def _modal_sets(prep: Prepared, q0: np.ndarray, v0: np.ndarray) -> tuple[list[_ModalSet], str]:
     plant = prep.plant
     M, K, C = (np.asarray(a, float) for a in (plant.M, plant.K, plant.C))
-    w2, phi = sl.eigh(K, M)
+    w2, phi = generalized_eigh(K, M)
     w2 = np.where(rigid_mask(w2, phi, np.diag(K)), 0.0, np.maximum(w2, 0.0))
     w = np.sqrt(w2)
     chat = phi.T @ C @ phi
