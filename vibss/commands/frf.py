@@ -29,7 +29,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--spacing", choices=("log", "linear"), help="base grid spacing (default log)")
     p.add_argument("--quantity", choices=("receptance", "mobility", "accelerance"), default="receptance",
                    help="outputs as named (default), or their first or second time derivative")
-    p.add_argument("--method", default="auto", help="auto (default), direct, modal, complex_modal, statespace")
+    p.add_argument("--method", default="auto", help="auto (default), direct, modal, complex_modal, sparse, statespace")
     p.add_argument("--plot", metavar="PNG", help="also save a Bode plot of the response")
     p.set_defaults(func=run)
 
