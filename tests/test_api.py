@@ -22,7 +22,7 @@ LAYERS = [
     {"damped", "statespace", "frf_methods", "time_methods"},
     {"frequency", "time", "time_sweep", "scope", "reduction", "reduction_methods"},
     {"plotting", "report"},
-    {"commands", "cli"},
+    {"commands", "cli", "__main__"},
 ]
 
 

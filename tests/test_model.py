@@ -159,3 +159,18 @@ def test_overflowing_mount_is_named():
     m = Model([Body("b", 1.0, [1, 1, 1])], [Mount("far", MountType("t", [1e4] * 3), "b", at=[1e200, 1e200, 0])])
     with pytest.raises(ModelError, match=r"mount 'far': .*overflows"):
         assemble(m)
+
+
+@pytest.mark.parametrize("make, match", [
+    (lambda t: Model([Body("e:1", 1.0, [1, 1, 1])], [Mount("g", t, "e:1")]), "contains ':'"),
+    (lambda t: Model([Body("mount", 1.0, [1, 1, 1])], [Mount("g", t, "mount")]), "'mount' is reserved"),
+    (lambda t: Model([Body("a.into", 1.0, [1, 1, 1])], [Mount("g", t, "a.into")]), "both a force input"),
+    (lambda t: Model([Body("a", 1.0, [1, 1, 1])], [Mount("g", t, "a")], [ControlPoint("a.into", "a", [0, 0, 1])]),
+     "both a force input"),
+    (lambda t: Model([Body("a", 1.0, [1, 1, 1])], [Mount("g:1", t, "a")]), "contains ':'"),
+])
+def test_names_that_would_make_signals_ambiguous_are_refused(make, match):
+    """Found in review: ':' collides with python-control's spelling, 'mount' bodies and '<x>.into'
+    points made signals unreachable or gave an input and an output the same name."""
+    with pytest.raises(ModelError, match=match):
+        make(MountType("t", [1e4, 1e4, 1e4]))

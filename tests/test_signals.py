@@ -146,7 +146,11 @@ def test_ground_into_alias_and_bad_body():
     m = two_body()
     p = build_plant(m, ["engine.fz"], ["ground.fz", "ground.into.fz", "ground.into.my", "ground.my"])
     assert np.array_equal(p.Oq[0], p.Oq[1]) and np.array_equal(p.Oq[2], p.Oq[3])
-    with pytest.raises(ModelError, match="no body named 'engin'"):
+    with pytest.raises(ModelError, match="'engin' is not a body"):
         build_plant(m, ["engine.fz"], ["engin.into.fz"])
+    with pytest.raises(ModelError, match="'sensor' is a control point, not a body"):
+        build_plant(m, ["engine.fz"], ["sensor.into.fz"])
+    with pytest.raises(ModelError, match="component 'fq' is not one of"):
+        build_plant(m, ["engine.fz"], ["frame.into.fq"])
     with pytest.raises(ModelError, match="no mount has 'engine' as its 'to' side"):
         build_plant(m, ["engine.fz"], ["engine.into.fz"])

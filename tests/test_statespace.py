@@ -101,3 +101,34 @@ def test_vibss_names_index_the_system():
     # python-control's own operations still work on it (and name signals with ':')
     loop = control.feedback(sys_, control.ss([], [], [], np.zeros((2, 3))), sign=-1)
     assert np.allclose(np.sort_complex(loop.poles()), np.sort_complex(sys_.poles()))
+
+
+def test_named_statespace_keys_errors_sample_pickle():
+    """Found in review: mixed keys, 2-lists, bad names and indices, sub-system states, sample, pickle."""
+    import copy
+    import pickle
+
+    p = build_plant(two_body(), ["engine.fz", "ground.z.acc"], ["engine.z", "ground.into.fz", "frame.x"])
+    sys_ = statespace(p, realization="physical")
+    both = sys_[["engine.z", 2], "engine.fz"]                      # a name and an index
+    assert both.output_labels == ["engine:z", "frame:x"]
+    assert sys_[["engine.z", "engine.fz"]].input_labels == ["engine:fz"]   # a 2-list is (outputs, inputs)
+    assert sys_[-1, -1].output_labels == ["frame:x"] and sys_[-1, -1].input_labels == ["ground:z:acc"]
+    with pytest.raises(IndexError, match="index 3 out of range for 3 outputs"):
+        sys_[3, 0]
+    with pytest.raises(ValueError, match=r"no output named 'engine.zz'; did you mean 'engine.z'"):
+        sys_["engine.zz", "engine.fz"]
+    with pytest.raises(ValueError, match=r"'engine.fz' is an input, not an output"):
+        sys_["engine.fz", "engine.fz"]
+    with pytest.raises(ValueError, match="names a signal twice"):
+        sys_[["engine.z", "engine:z"], 0]
+    sub = sys_["frame.x", "engine.fz"]
+    assert sub.state_labels == sys_.state_labels and np.array_equal(sub.vibss_state_scale, sys_.vibss_state_scale)
+    assert sys_.find_state("frame.z") == sys_.find_state("frame:z") is not None
+    assert sys_.find_input(3) is None
+    d = sys_.sample(1e-3)
+    assert type(d).__name__ == "NamedStateSpace" and d.dt == 1e-3
+    assert d["engine.z", "engine.fz"].noutputs == 1
+    for clone in (pickle.loads(pickle.dumps(sys_)), copy.deepcopy(sys_)):
+        assert type(clone).__name__ == "NamedStateSpace" and clone.output_labels == sys_.output_labels
+        assert np.array_equal(clone.A, sys_.A) and np.array_equal(clone.vibss_state_scale, sys_.vibss_state_scale)

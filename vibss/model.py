@@ -97,6 +97,27 @@ def _name(value: Any, who: str) -> str:
         raise ModelError(f"{who}: name must be a non-empty string, got {value!r}")
     if value == GROUND:
         raise ModelError(f"{who}: the name {GROUND!r} is reserved for the fixed reference")
+    return _signal_safe(value, who)
+
+
+def _signal_safe(value: str, who: str) -> str:
+    """Refuse names that would make signal names ambiguous.
+
+    ``:`` is python-control's spelling of ``.`` in signal names (two names would collide), and a
+    body or point named ``<x>.into`` would give an input ``<x>.into.fz`` (a force on it) with the
+    same name as the output ``<x>.into.fz`` (the force into body ``<x>``).
+    """
+    if ":" in value:
+        raise ModelError(f"{who}: name {value!r} contains ':', which python-control signal names use "
+                         "in place of '.'; use another character")
+    return value
+
+
+def _point_name(value: str, who: str) -> str:
+    """Body and control point names: also not ``into`` or ending in ``.into`` (see _signal_safe)."""
+    if value == "into" or value.endswith(".into"):
+        raise ModelError(f"{who}: name {value!r} would make '{value}.fz' both a force input and "
+                         "an '<body>.into.fz' output; choose another name")
     return value
 
 
@@ -152,6 +173,9 @@ class Body:
     def __post_init__(self) -> None:
         _name(self.name, "body")
         who = f"body {self.name!r}"
+        _point_name(self.name, who)
+        if self.name == "mount":
+            raise ModelError(f"{who}: the name 'mount' is reserved ('mount.<name>.fz' are mount signals)")
         m = np.array(self.mass, dtype=float) if _is_numeric(self.mass) else None
         if m is None or m.shape not in ((), (3,)):
             raise ModelError(f"{who}: mass: expected a number or 3 numbers [kg], got {self.mass!r}")
@@ -301,6 +325,7 @@ class Mount:
         if not isinstance(self.name, str) or not self.name:
             raise ModelError(f"mount: name must be a non-empty string, got {self.name!r}")
         who = f"mount {self.name!r}"
+        _signal_safe(self.name, who)
         if not isinstance(self.type, MountType):
             raise ModelError(f"{who}: type must be a MountType, got {self.type!r}")
         for key in ("body", "to"):
@@ -380,6 +405,7 @@ class ControlPoint:
         who = f"control point {self.name!r}"
         if not isinstance(self.name, str) or not self.name:
             raise ModelError(f"control point: name must be a non-empty string, got {self.name!r}")
+        _point_name(_signal_safe(self.name, who), who)
         if not isinstance(self.body, str):
             raise ModelError(f"{who}: body must be a body name, got {self.body!r}")
         object.__setattr__(self, "at", _vec(self.at, 3, who, "at"))

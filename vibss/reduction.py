@@ -137,7 +137,7 @@ class Reduction:
     method: str
     scope: Scope
     plant: Plant | None
-    system: control.StateSpace | None
+    system: NamedStateSpace | None
     full: Plant = field(repr=False)
     dofs_before: int = 0
     dofs_after: int = 0

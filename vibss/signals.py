@@ -285,9 +285,12 @@ def output_row(asm: Assembly, name: Any, cache: dict) -> tuple[_Rows, str]:
         return _Rows(axis @ asm.kp[p] @ b, axis @ asm.cp[p] @ b, zero, axis @ asm.hp[p] @ b), "N"
     head, _, comp = name.rpartition(".")
     target = head[:-5] if head.endswith(".into") else (GROUND if head == GROUND else None)
+    if head.endswith(".into") and comp not in _FORCE:
+        raise _bad_output(model, name, f" (component {comp!r} is not one of {list(_FORCE)})")
     if target is not None and comp in _FORCE:
         if target != GROUND and target not in bodies:
-            raise _bad_output(model, name, f" (no body named {target!r})")
+            what = "a control point, not a body" if target in points else "not a body"
+            raise _bad_output(model, name, f" ({target!r} is {what})")
         if target != GROUND and not any(m.to == target for m in model.mounts):
             raise _bad_output(model, name, f" (no mount has {target!r} as its 'to' side: nothing "
                                            f"rests on it; see mount.<name>.f* for its own mounts)")

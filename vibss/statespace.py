@@ -51,7 +51,9 @@ Examples
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+import difflib
+import operator
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from functools import partial
 from typing import Any
@@ -79,9 +81,18 @@ def _control_key(key: Any) -> Any:
     """A signal key with vibss names (``engine.z``) spelled the python-control way (``engine:z``)."""
     if isinstance(key, str):
         return control_name(key)
-    if isinstance(key, (list, tuple)) and all(isinstance(k, str) for k in key):
-        return type(key)(control_name(k) for k in key)
+    if isinstance(key, (list, tuple)):
+        return type(key)(control_name(k) if isinstance(k, str) else k for k in key)
     return key
+
+
+def _rebuild(args: tuple, scale: np.ndarray | None) -> "NamedStateSpace":
+    """Unpickle a :class:`NamedStateSpace` (python-control's own objects do not pickle)."""
+    a, b, c, d, dt, inputs, outputs, states, name = args
+    sys = NamedStateSpace(a, b, c, d, dt, inputs=inputs, outputs=outputs, states=states, name=name)
+    if scale is not None:
+        sys.vibss_state_scale = scale
+    return sys
 
 
 class NamedStateSpace(control.StateSpace):
@@ -89,7 +100,9 @@ class NamedStateSpace(control.StateSpace):
 
     python-control reserves ``.`` in signal names (``control.interconnect`` reads ``sys.signal``),
     so the labels are stored as ``engine:z``. Indexing and the ``find_*`` lookups also accept the
-    vibss spelling, ``sys['engine.z', 'ground.z.acc']``; sub-systems are ``NamedStateSpace`` too.
+    vibss spelling, ``sys['engine.z', 'ground.z.acc']``; a name that is not there raises a
+    ``ValueError`` naming the valid ones, and an index out of range an ``IndexError``. Sub-systems
+    and :meth:`sample` keep the class, the state names and ``vibss_state_scale``; it pickles.
     Everything else is python-control's own (``feedback``, ``interconnect``, ``series`` return
     plain ``StateSpace`` objects).
 
@@ -102,20 +115,91 @@ class NamedStateSpace(control.StateSpace):
     (['ground:z:acc'], 1.0, 1)
     """
 
+    def _side(self, key: Any, labels: list[str], other: list[str], what: str) -> Any:
+        """One side of an index, checked and in python-control's spelling."""
+        if isinstance(key, slice):
+            return key
+        if isinstance(key, (str, int, np.integer)):
+            return self._one(key, labels, other, what)
+        if isinstance(key, (list, tuple, range, np.ndarray)):
+            items = [self._one(k, labels, other, what) for k in list(key)]
+            picked = [labels.index(k) if isinstance(k, str) else k for k in items]
+            if len(set(picked)) < len(picked):
+                raise ValueError(f"{what}s: {list(key)!r} names a signal twice")
+            return items
+        raise TypeError(f"{what}s: expected a name, an index, a slice or a list of them, got {key!r}")
+
+    @staticmethod
+    def _one(key: Any, labels: list[str], other: list[str], what: str) -> Any:
+        if isinstance(key, str):
+            name = control_name(key)
+            if name in labels:
+                return name
+            vibss = [lab.replace(":", ".") for lab in labels]
+            hint = (f" ({key!r} is an {'input' if what == 'output' else 'output'}, not an {what})"
+                    if name in other else "")
+            close = difflib.get_close_matches(key.replace(":", "."), vibss, n=1)
+            hint += f"; did you mean {close[0]!r}?" if close and not hint else ""
+            raise ValueError(f"{what}s: no {what} named {key!r}{hint}; the {what}s are {vibss}")
+        i = operator.index(key)
+        if not -len(labels) <= i < len(labels):
+            raise IndexError(f"{what}s: index {i} out of range for {len(labels)} {what}s")
+        return i % len(labels)
+
+    def _wrap(self, sub: control.StateSpace) -> "NamedStateSpace":
+        out = NamedStateSpace(sub.A, sub.B, sub.C, sub.D, sub.dt, inputs=sub.input_labels,
+                              outputs=sub.output_labels, states=self.state_labels, name=sub.name)
+        if hasattr(self, "vibss_state_scale"):
+            out.vibss_state_scale = self.vibss_state_scale
+        return out
+
     def __getitem__(self, key: Any) -> "NamedStateSpace":
-        if isinstance(key, tuple) and len(key) == 2:
-            key = tuple(_control_key(k) for k in key)
-        sub = super().__getitem__(key)
-        return NamedStateSpace(sub.A, sub.B, sub.C, sub.D, sub.dt, inputs=sub.input_labels,
-                               outputs=sub.output_labels, states=sub.state_labels, name=sub.name)
+        if isinstance(key, str) or not isinstance(key, Iterable) or len(list(key)) != 2:
+            return super().__getitem__(key)           # python-control's own error
+        outs, ins = list(key)
+        key = (self._side(outs, self.output_labels, self.input_labels, "output"),
+               self._side(ins, self.input_labels, self.output_labels, "input"))
+        return self._wrap(super().__getitem__(key))
 
-    def find_input(self, name: str) -> int | None:
+    def __reduce__(self) -> tuple:
+        args = (self.A, self.B, self.C, self.D, self.dt, self.input_labels, self.output_labels,
+                self.state_labels, self.name)
+        return _rebuild, (args, getattr(self, "vibss_state_scale", None))
+
+    def sample(self, Ts: float, method: str = "zoh", alpha: float | None = None,
+               prewarp_frequency: float | None = None, name: str | None = None,
+               copy_names: bool = True) -> "NamedStateSpace":
+        """The discrete-time system (:meth:`control.StateSpace.sample`), still a ``NamedStateSpace``.
+
+        Parameters
+        ----------
+        Ts : float
+            Sampling period [s].
+        method : str
+            Discretisation method (python-control's, default ``"zoh"``).
+        alpha : float or None
+            Weight of the generalised bilinear transform (``method="gbt"``).
+        prewarp_frequency : float or None
+            Pre-warping frequency [rad/s] (``"bilinear"``, ``"tustin"``, ``"gbt"``).
+        name : str or None
+            Name of the new system.
+        copy_names : bool
+            Keep the signal and state names.
+        """
+        return self._wrap(super().sample(Ts, method=method, alpha=alpha, prewarp_frequency=prewarp_frequency,
+                                         name=name, copy_names=copy_names))
+
+    def find_input(self, name: Any) -> int | None:
         """Index of an input (``engine.fz`` or ``engine:fz``), None if absent."""
-        return super().find_input(control_name(name))
+        return super().find_input(_control_key(name))
 
-    def find_output(self, name: str) -> int | None:
+    def find_output(self, name: Any) -> int | None:
         """Index of an output (``engine.z`` or ``engine:z``), None if absent."""
-        return super().find_output(control_name(name))
+        return super().find_output(_control_key(name))
+
+    def find_state(self, name: Any) -> int | None:
+        """Index of a state (``frame.z`` or ``frame:z``), None if absent."""
+        return super().find_state(_control_key(name))
 
     def find_inputs(self, name_list: Any) -> list[int | None]:
         """Indices of inputs by name (either spelling, or a python-control pattern)."""
@@ -124,6 +208,10 @@ class NamedStateSpace(control.StateSpace):
     def find_outputs(self, name_list: Any) -> list[int | None]:
         """Indices of outputs by name (either spelling, or a python-control pattern)."""
         return super().find_outputs(_control_key(name_list))
+
+    def find_states(self, name_list: Any) -> list[int | None]:
+        """Indices of states by name (either spelling, or a python-control pattern)."""
+        return super().find_states(_control_key(name_list))
 
 
 @dataclass(frozen=True, eq=False)
@@ -293,7 +381,7 @@ def _improper(plant: Plant, coef: np.ndarray, scale: np.ndarray, cols: np.ndarra
 
 def statespace(plant: Plant | Model | Assembly, realization: str = "modal", balance: bool = True,
                name: str | None = None, *, inputs: Sequence[Any] | None = None,
-               outputs: Sequence[str] | None = None) -> control.StateSpace:
+               outputs: Sequence[str] | None = None) -> NamedStateSpace:
     """A python-control StateSpace of the plant, with named inputs, outputs and states.
 
     Parameters
@@ -313,7 +401,8 @@ def statespace(plant: Plant | Model | Assembly, realization: str = "modal", bala
 
     Returns
     -------
-    control.StateSpace
+    NamedStateSpace
+        A ``control.StateSpace`` that also takes vibss signal names when indexed.
         Inputs, outputs: the plant's signals with ``.`` -> ``:``; states: see the module docstring.
         Attribute ``vibss_state_scale`` ((nstates,) ndarray): physical state = scale * state.
 

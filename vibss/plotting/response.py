@@ -12,7 +12,8 @@ from ._draw import new_figure
 __all__ = ["plot_time_groups", "quantity_of"]
 
 _ORDER = ("body translation", "body rotation", "acceleration", "angular acceleration", "velocity",
-          "mount deflection", "mount force", "force into ground")
+          "mount deflection", "mount force", "force into ground", "moment into ground", "force into bodies",
+          "moment into bodies")
 
 
 def quantity_of(name: str, unit: str) -> str:
@@ -22,11 +23,14 @@ def quantity_of(name: str, unit: str) -> str:
     --------
     >>> quantity_of("engine.z", "m"), quantity_of("mount.front.dz", "m"), quantity_of("engine.x.acc", "m/s^2")
     ('body translation', 'mount deflection', 'acceleration')
+    >>> quantity_of("ground.mx", "N m"), quantity_of("frame.into.fz", "N")
+    ('moment into ground', 'force into bodies')
     """
     if name.startswith("mount."):
         return "mount force" if unit in ("N", "N m") else "mount deflection"
-    if name.startswith("ground."):
-        return "force into ground"
+    if name.startswith("ground.") or ".into." in name:
+        where = "ground" if name.startswith("ground.") else "bodies"
+        return f"{'moment' if unit == 'N m' else 'force'} into {where}"
     if name.endswith(".acc"):
         return "angular acceleration" if unit.startswith("rad") else "acceleration"
     if name.endswith(".vel"):

@@ -1,0 +1,6 @@
+"""``python -m vibss``: the command line (:mod:`vibss.cli`)."""
+
+from .cli import main
+
+if __name__ == "__main__":
+    raise SystemExit(main())
