@@ -303,3 +303,94 @@ def test_sparse_method_matches_direct_banded_and_superlu(shuffle: bool, extra: i
     got = frequency_response(p, frequencies=f, method="sparse").response
     err = np.max(np.linalg.norm(got - ref, axis=(0, 1)) / np.linalg.norm(ref, axis=(0, 1)))
     assert err < 1e-10
+
+
+def _rel_max(h: np.ndarray, ref: np.ndarray) -> float:
+    return float(np.max(np.linalg.norm(h - ref, axis=(0, 1)) / np.linalg.norm(ref, axis=(0, 1))))
+
+
+@pytest.mark.parametrize("c", [1e-1, 1e-3, 1e-7])
+def test_complex_modal_lightly_damped_rigid_mode(c: float) -> None:
+    """Found in review: a body hanging on a damper of c N s/m has a rigid mode decaying at c/m;
+    partial fractions in 1/lam lost eps |s|/|lam| and raised at c = 1e-7. Now 1/(s (s - lam))."""
+    m = Model([Body("b", 1000.0, [100, 120, 140]), Body("e", 100.0, [10, 12, 14], cog=[0, 0, 1]),
+               Body("c", 10.0, [1, 1, 1], cog=[1, 0, 0])],
+              list(symmetric(Mount("g", MountType("g", [1e7] * 3, [1e4] * 3), "b", at=[1, 1, 0])))
+              + list(symmetric(Mount("ge", MountType("ge", [1e6] * 3, [1e2, 1e3, 1e2]), "e", to="b",
+                                     at=[0.5, 0.5, -0.5])))
+              + [Mount("d", MountType("d", [0, 0, 0], [c] * 3), "c", to="b", at=[0.1, 0.1, 0.1])])
+    f = np.geomspace(0.1, 1000, 120)
+    args = (m, ["b.fz", "c.fx"], ["b.z", "c.x"], f)
+    ref = frequency_response(*args, method="direct").response
+    assert _rel_max(frequency_response(*args, method="complex_modal").response, ref) < 1e-10
+
+
+def test_critically_damped_mode_refused_by_complex_modes_and_auto_goes_sparse() -> None:
+    """Found in review: a critically damped mode is a Jordan block; V is singular and the modal
+    sum was wrong by 2x. complex_modal now refuses (cond(V)), and auto falls back to sparse."""
+    k, c = 1e4, 2 * np.sqrt(1e4)
+    base = two_body()
+    m = Model(list(base.bodies) + [Body("iso", 1.0, [0.1, 0.12, 0.14], cog=[3, 0, 0])],
+              list(base.mounts) + list(symmetric(Mount("iso", MountType("tiso", [3 * k / 4, k / 2, k / 4],
+                                                                      [0.01 * c, 0.01 * c, c / 4]),
+                                                       "iso", at=[0.3, 0.2, 0.0]))))   # z: critical
+    args = (m, ["iso.fz", "engine.fz"], ["iso.z", "engine.x"], {"f1": 0.0, "f2": 100, "points": 200})
+    with pytest.raises(AnalysisError, match="nearly dependent"):
+        frequency_response(*args, method="complex_modal")
+    ref = frequency_response(*args, method="direct").response
+    r = frequency_response(*args)
+    assert r.method == "sparse" and "complex modes refused" in r.reason
+    assert _rel_max(r.response[..., 1:], ref[..., 1:]) < 1e-10
+
+
+def test_auto_avoids_complex_modes_on_badly_scaled_models_and_undamped_ones() -> None:
+    """Found in review: eig's pole error eps max|lam| (overdamped modes) swamps slowly decaying
+    modes of a badly scaled model (1e-6 error, or a false 'zero eigenvalue' raise)."""
+    sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "benchmarks"))
+    from models import chain_model
+
+    m = chain_model(10, "general", scale="bad")
+    f = np.geomspace(0.05, 1000, 150)
+    r = frequency_response(m, ["b0.fz"], ["b1.x", "b4.z"], f)
+    assert r.method == "sparse" and "could lose accuracy" in r.reason
+    ref = frequency_response(m, ["b0.fz"], ["b1.x", "b4.z"], f, method="direct").response
+    assert _rel_max(r.response, ref) < 1e-8
+    frequency_response(m, ["b0.fz"], ["b1.x"], f, method="complex_modal")   # no false raise
+    und = frequency_response(chain_model(3, "none"), ["b0.fz"], ["b2.x"], f)
+    assert und.method == "sparse" and und.reason.startswith("undamped")
+
+
+def test_modal_exactly_at_undamped_resonance_is_inf_only_where_the_mode_shows() -> None:
+    """Found in review: 1/0 in the modal sum spread NaN to every channel."""
+    m = Model([Body("b", 1.0, [1, 1, 1])], [Mount("m", MountType("u", [4.0, 16.0, 9.0]), "b")])
+    h = frequency_response(m, ["b.fz", "b.fx"], ["b.z", "b.x"], [1 / np.pi], method="modal").response[..., 0]
+    assert h[0, 0] == pytest.approx(1 / (9.0 - 4.0)) and h[0, 1] == 0 and h[1, 0] == 0
+    assert np.isinf(h[1, 1]) and not np.any(np.isnan(h))
+
+
+def test_sparse_plant_frequency_response_needs_no_dense_matrix() -> None:
+    """Found in review: a sparse plant could not go through frequency_response (dense modes first).
+    build_plant(sparse=True) keeps M, C, K, H sparse; the result equals the dense plant's."""
+    import scipy.sparse as sp
+
+    model = _chain(12, shuffle=True)
+    ins, outs = ["b3.fz", "ground.y.acc"], ["b0.z", "mount.n7.f2", "b8.into.fz", "b8.y.vel"]
+    ps = build_plant(model, ins, outs, sparse=True)
+    pd = build_plant(model, ins, outs)
+    assert sp.issparse(ps.K) and sp.issparse(ps.M)
+    np.testing.assert_array_equal(ps.K.toarray(), pd.K)
+    f = np.geomspace(0.5, 80.0, 60)
+    for quantity in ("receptance", "accelerance"):
+        r = frequency_response(ps, frequencies=f, quantity=quantity)
+        ref = frequency_response(pd, frequencies=f, method="direct", quantity=quantity)
+        assert r.method == "sparse" and r.reason.startswith("sparse plant") and r.natural_hz.size == 0
+        assert r.units == ref.units
+        assert _rel_max(r.response, ref.response) < 1e-10
+    with pytest.raises(ModelError, match="needs explicit"):
+        frequency_response(ps)
+    with pytest.raises(ModelError, match="frequencies > 0"):
+        frequency_response(ps, frequencies=[0.0, 1.0])
+    with pytest.raises(AnalysisError, match="needs the dense plant"):
+        frequency_response(ps, frequencies=f, method="modal")
+    with pytest.raises(ModelError, match="modal_damping"):
+        build_plant(model, ins, outs, modal_damping=0.01, sparse=True)

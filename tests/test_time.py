@@ -287,3 +287,18 @@ def test_plots_build_with_peaks_and_panels() -> None:
                        dof="z")
     env = sweep_envelope(model, sweep, outputs=["base.z"])
     assert len(env.plot().axes) == 1
+
+
+def test_modal_time_path_with_damper_only_mounts_matches_forced_response():
+    """Found in review: undamped rigid combinations in the complex-mode set formed Jordan blocks
+    at 0 and the modal path returned 1e272; the rigid subspace is now rotated as in the FRF path."""
+    from vibss import Body, Model, Mount, MountType
+
+    m = Model([Body("b", 10.0, [1, 1.2, 1.4])],
+              [Mount("d", MountType("d", [0, 0, 0], [50.0, 60.0, 70.0]), "b", at=[0.1, 0.2, 0.3])])
+    t = np.arange(0, 0.2 + 1e-12, 1e-3)
+    kw = dict(inputs={"b.fz": np.sin(2 * np.pi * 7 * t)}, outputs=["b.z", "b.rx", "b.y"], t_end=0.2, dt=1e-3)
+    got = simulate(m, [], **kw)
+    ref = simulate(m, [], method="forced_response", **kw)
+    scale = np.abs(ref.outputs).max(axis=1, keepdims=True)
+    assert np.abs(got.outputs - ref.outputs).max() <= 1e-8 * scale.max()

@@ -26,12 +26,20 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.linalg as sl
+from scipy.linalg import get_lapack_funcs
+
+from .errors import AnalysisError
 
 __all__ = ["ComplexModes", "complex_modes", "PROBE_TOL"]
 
 PROBE_TOL = 1e-10
 """Largest relative residual of ``V^-1 (V r) = r`` (random ``r``) accepted for the left
 eigenvectors built from the right ones; above it ``V`` is factorised."""
+
+COND_MAX = 1e8
+"""Largest eigenvalue condition number (``||w|| ||v|| / |w^T v|``) or ``cond(V)`` accepted: above
+it the eigenvectors are nearly dependent (critically damped or defective modes), a modal sum
+would lose ``log10(cond)`` digits, and :func:`complex_modes` raises."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -170,10 +178,24 @@ def complex_modes(scale: np.ndarray, rows: np.ndarray, omega2: np.ndarray, dampi
         norm = np.einsum("ij,ij->j", x, v[ne:]) - ktv / lam
         modes = ComplexModes(lam, v, ne, "left eigenvectors from the right ones (symmetric problem)",
                              x / norm[None, :], kt, None)
+        # eigenvalue condition numbers ||w|| ||v|| / |w^T v| (||v|| = 1 from eig)
+        w1 = np.zeros_like(v[:ne])
+        w1 += (omega2 / scale)[:, None] * x[rows]
+        if coupling is not None:
+            w1 += coupling.T @ x
+        kappa = np.sqrt(np.sum(np.abs(w1 / lam[None, :]) ** 2, axis=0) + np.sum(np.abs(x) ** 2, axis=0))
+        kappa /= np.abs(norm)
         r = np.random.default_rng(seed).standard_normal(n)
         miss = float(np.linalg.norm(modes.solve(v @ r) - r) / np.linalg.norm(r))
-        if miss <= PROBE_TOL:
+        if miss <= PROBE_TOL and float(kappa.max()) <= COND_MAX:
             return modes
-        reason = f"probe residual {miss:.1e} > {PROBE_TOL:g}"
-    return ComplexModes(lam, v, ne, f"LU of V ({reason})", None, None,
-                        sl.lu_factor(v, check_finite=False))
+        reason = (f"probe residual {miss:.1e} > {PROBE_TOL:g}" if miss > PROBE_TOL
+                  else f"eigenvalue condition number {float(kappa.max()):.1e}")
+    lu = sl.lu_factor(v, check_finite=False)
+    gecon = get_lapack_funcs("gecon", (lu[0],))
+    rcond, _ = gecon(lu[0], np.linalg.norm(v, 1), norm="1")
+    if not rcond > 1.0 / COND_MAX:
+        raise AnalysisError(f"complex modes: the eigenvectors are nearly dependent (cond(V) ~ "
+                            f"{1 / max(rcond, 1e-300):.1e}: critically damped or defective modes), so a "
+                            "modal sum would lose accuracy; use method='sparse' or 'direct'")
+    return ComplexModes(lam, v, ne, f"LU of V ({reason})", None, None, lu)

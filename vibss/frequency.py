@@ -33,6 +33,7 @@ from typing import Any, cast
 import control
 import numpy as np
 import numpy.typing as npt
+import scipy.sparse as sp
 
 from .assemble import Assembly
 from .banded import structure
@@ -402,6 +403,28 @@ def _index(names: Sequence[str], name: str, what: str) -> int:
         raise ModelError(f"{what}: {name!r} is not one of {list(names)}") from None
 
 
+COMPLEX_MODE_RISK = 1e-9
+"""``auto`` avoids complex modes when ``eps max|lambda| / min(decay rate)`` exceeds this."""
+
+
+def _complex_mode_risk(plant: Plant, basis: ModalBasis) -> float:
+    """Predicted relative error of complex modes: ``eig`` has absolute pole errors of about
+    eps max|lambda| (overdamped modes reach |lambda| ~ Phi^T C Phi diagonal), which a mode decaying
+    at ``zeta omega`` amplifies by 1 / (zeta omega) near its resonance."""
+    phi = basis.phi[:, ~basis.rigid]
+    w2 = basis.omega2[~basis.rigid]
+    if phi.shape[1] == 0:
+        return 0.0
+    g = np.einsum("ij,ij->j", phi, np.asarray(plant.C @ phi)) if np.any(plant.C) else np.zeros(w2.size)
+    h = np.einsum("ij,ij->j", phi, np.asarray(plant.H @ phi)) if np.any(plant.H) else np.zeros(w2.size)
+    w = np.sqrt(np.maximum(w2, np.finfo(float).tiny))
+    decay = 0.5 * np.abs(g) + 0.5 * np.abs(h) / w
+    top = max(float(w.max()), float(np.abs(g).max()))
+    if float(decay.min()) <= np.finfo(float).eps * top:
+        return float("inf")                          # an undamped mode: a pole on the axis
+    return float(np.finfo(float).eps * top / float(decay.min()))
+
+
 _K_EIG = 4.6e-10     # [s] per N^3 of the complex-mode eig (N = 2n states)
 _K_SUPERPOSE = 4e-10  # [s] per frequency x mode x channel of the superposition
 
@@ -416,10 +439,18 @@ def _choose(plant: Plant, nf: int, basis: ModalBasis) -> tuple[str, str]:
     """
     if plant.n <= 12:
         return "direct", f"small model ({plant.n} DOF): direct solve is exact and cheap"
+    if not np.any(plant.C) and not np.any(plant.H):
+        return "sparse", ("undamped: sparse direct solve (a modal sum of an undamped model loses "
+                          "digits next to each resonance, where its eigenvalue errors are not damped)")
     ok, why = classical_damping(plant, basis)
     if ok:
         return "modal", f"{why}: modal superposition is the fastest"
     st = plant.cached("band structure", lambda: structure(plant))
+    risk = _complex_mode_risk(plant, basis)
+    if risk > COMPLEX_MODE_RISK:
+        what = ("a mode has no damping, so eig's pole error is not damped at its resonance"
+                if np.isinf(risk) else f"eig's pole error relative to the slowest decay rate ~{risk:.1g}")
+        return "sparse", f"{why}: sparse direct solve; complex modes could lose accuracy ({what})"
     t_sparse = nf * st.seconds_per_frequency
     n2 = 2 * plant.n
     t_complex = _K_EIG * n2**3 + _K_SUPERPOSE * nf * n2 * len(plant.inputs) * len(plant.outputs)
@@ -441,7 +472,7 @@ def _as_plant(system: Model | Assembly | Plant, inputs: Any, outputs: Any) -> Pl
     return build_plant(system, inputs, outputs)
 
 
-def _frequencies(plant: Plant, frequencies: Any, basis: ModalBasis) -> np.ndarray:
+def _frequencies(plant: Plant, frequencies: Any, basis: ModalBasis | None) -> np.ndarray:
     if frequencies is None or isinstance(frequencies, (Mapping, FrequencyGrid)):
         return frequency_grid(plant, frequencies, basis)
     try:
@@ -454,6 +485,44 @@ def _frequencies(plant: Plant, frequencies: Any, basis: ModalBasis) -> np.ndarra
         raise ModelError("frequencies: got an empty list; give at least one frequency [Hz], a grid "
                          "mapping {f1, f2, points} or None")
     return f
+
+
+def _sparse_plant_response(plant: Plant, frequencies: Any, quantity: str,
+                           method: str | Callable[..., np.ndarray]) -> FrequencyResponse:
+    """:func:`frequency_response` of a plant with sparse matrices: no dense eigen-analysis, so
+    explicit frequencies > 0 and the ``sparse`` kernel (or a callable); no resonance marks."""
+    if frequencies is None or isinstance(frequencies, (Mapping, FrequencyGrid)):
+        raise ModelError("frequencies: a sparse plant (build_plant(..., sparse=True)) needs explicit "
+                         "frequencies [Hz]: the default grid is built around the modes")
+    f = _frequencies(plant, frequencies, None)
+    if np.any(f <= 0):
+        raise ModelError("frequencies: a sparse plant takes frequencies > 0 (the 0 Hz limit needs the modes)")
+    if isinstance(method, str) and method not in ("auto", "sparse"):
+        raise AnalysisError(f"method {method!r} needs the dense plant; a sparse plant "
+                            "(build_plant(..., sparse=True)) takes method='sparse' or 'auto'")
+    kernel = METHODS["sparse"] if isinstance(method, str) else method
+    name = "sparse" if isinstance(method, str) else getattr(method, "__name__", "custom")
+    reason = "sparse plant: sparse direct solve per frequency" if method == "auto" else ""
+    s = 2j * np.pi * f
+    h = _times_power(kernel(plant, s), s, QUANTITIES[quantity])
+    return FrequencyResponse(f, h, plant.outputs, plant.inputs, _units(plant, quantity), quantity,
+                             name, reason, np.zeros(0), plant.name)
+
+
+def _times_power(raw: np.ndarray, s: np.ndarray, k: int) -> np.ndarray:
+    """Mobility / accelerance: ``raw * s^k``, keeping inf as inf."""
+    if not k:
+        return raw
+    with np.errstate(invalid="ignore"):
+        scaled = raw * s**k
+    scaled[np.isinf(raw)] = np.inf
+    return scaled
+
+
+def _units(plant: Plant, quantity: str) -> tuple[str, ...]:
+    k = QUANTITIES[quantity]
+    units = tuple(u + ("", " s^-1", " s^-2")[k] if k else u for u in plant.units)
+    return tuple(f"{u} per unit input" if quantity != "receptance" else u for u in units)
 
 
 def frequency_response(system: Model | Assembly | Plant, inputs: Sequence[Any] | None = None,
@@ -495,6 +564,8 @@ def frequency_response(system: Model | Assembly | Plant, inputs: Sequence[Any] |
     if not callable(method) and method != "auto" and method not in METHODS:
         raise ValueError(f"method: expected 'auto', a callable or one of {list(METHODS)}, got {method!r}")
     plant = _as_plant(system, inputs, outputs)
+    if sp.issparse(plant.K):
+        return _sparse_plant_response(plant, frequencies, quantity, method)
     basis = modal_basis(plant)
     f = _frequencies(plant, frequencies, basis)
     name, reason = (method, "") if isinstance(method, str) else (getattr(method, "__name__", "custom"), "")
@@ -508,17 +579,17 @@ def frequency_response(system: Model | Assembly | Plant, inputs: Sequence[Any] |
     if np.any(pos):
         s = 2j * np.pi * f[pos]
         kwargs = {"basis": basis} if kernel in (METHODS["modal"], METHODS["complex_modal"]) else {}
-        raw = kernel(plant, s, **kwargs)
-        if k:                              # mobility / accelerance: (i w)^k, keeping inf as inf
-            with np.errstate(invalid="ignore"):
-                scaled = raw * s**k
-            scaled[np.isinf(raw)] = np.inf
-            raw = scaled
-        h[:, :, pos] = raw
+        try:
+            raw = kernel(plant, s, **kwargs)
+        except AnalysisError as exc:
+            if not (method == "auto" and name == "complex_modal"):
+                raise
+            name, reason = "sparse", f"{reason}; complex modes refused ({exc}): sparse direct solve"
+            raw = METHODS["sparse"](plant, s)
+        h[:, :, pos] = _times_power(raw, s, k)
     if np.any(~pos):
         h[:, :, ~pos] = zero_frequency_limit(plant, power=k)[:, :, None]
-    units = tuple(u + ("", " s^-1", " s^-2")[k] if k else u for u in plant.units)
-    units = tuple(f"{u} per unit input" if quantity != "receptance" else u for u in units)
+    units = _units(plant, quantity)
     fr = basis.omega[~basis.rigid] / (2 * np.pi)
     return FrequencyResponse(f, h, plant.outputs, plant.inputs, units, quantity, name, reason,
                              fr[(fr >= f.min()) & (fr <= f.max())], plant.name)

@@ -212,6 +212,11 @@ def _superpose(plant: Plant, s: np.ndarray, left: list[_Factors],
     zf = _zfactor(s, order)
     lefts = [(a, _times_left(oa, left)) for a, oa in outs]
     rights = [(b, _times_right(right, rb), scaled, rb) for b, rb, scaled in rhs]
+    bad = ~np.isfinite(d)              # exactly at an undamped resonance: 1 / 0
+    if bad.any():
+        d = np.where(bad, 0.0, d)
+        if d_acc is not None:
+            d_acc = np.where(bad | ~np.isfinite(d_acc), 0.0, d_acc)
     static = None
     if d_acc is not None:
         k0 = plant.K + 1j * plant.H if np.any(plant.H) else plant.K
@@ -249,6 +254,11 @@ def _superpose(plant: Plant, s: np.ndarray, left: list[_Factors],
                 fac = sr[:, None] ** (a + b) * (zr if scaled else np.ones((1, m)))   # (nr, m)
                 part += (t.reshape(sr.size, p, m) * fac[:, None, :]).reshape(sr.size, p * m)
         y[rows] = part
+    for k in np.flatnonzero(bad.any(axis=1)):   # unbounded where the resonant mode is seen and driven
+        modes = bad[k]
+        seen = sum(np.abs(lo[:, modes]) for _, lo in lefts)
+        driven = sum(np.abs(ro[modes, :]) for _, ro, _, _ in rights)
+        y[k, (np.asarray(seen) @ np.asarray(driven)).reshape(-1) > 0] = np.inf
     out = y.reshape(nf, p, m) + _feedthrough(plant, s, zf)
     return np.moveaxis(out, 0, -1)
 
@@ -335,8 +345,9 @@ def complex_modal(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) 
     Rigid-body modes have no displacement feedback (w = 0), so their displacement states leave the
     eigenproblem, where they would be zero eigenvalues (2x2 Jordan blocks when undamped, repeated
     and ill-conditioned when damped). Rigid modes that no damper touches are exact ``1 / s^2``
-    terms; damped rigid modes keep their velocity state and get ``eta = eta' / s`` by partial
-    fractions, ``1 / (s (s - lam)) = (1 / (s - lam) - 1 / s) / lam``. The rows of ``V^-1`` are the
+    terms; damped rigid modes keep their velocity state, and their displacement ``eta = eta' / s``
+    takes the terms ``1 / (s (s - lam))`` as they stand (no partial fractions, which would cancel
+    terms of size ``1 / lam`` when a rigid mode is lightly damped). The rows of ``V^-1`` are the
     left eigenvectors, built from the right ones by the symmetry of the quadratic eigenproblem
     (:mod:`vibss.complex_modes`; an LU of ``V`` where that is unsafe).
     """
@@ -376,25 +387,18 @@ def complex_modal(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) 
         coupling = 1j * hys[np.ix_(kept, el)] / se[None, :] if np.any(plant.H) else None
         modes = complex_modes(se, pos, basis.omega2[el], gam[np.ix_(kept, kept)], coupling)
         lam, v = modes.lam, modes.vectors
-        tol = 1e-9 * max(float(np.abs(lam).max()), np.finfo(float).tiny)
-        if np.any(np.abs(lam) <= tol):
-            raise AnalysisError("method 'complex_modal': a combination of rigid-body modes is neither "
-                                "free nor damped; use method='direct'")
         phik = phi[:, kept]
-        coeff = v[:ne] / se[:, None]                  # elastic eta = S^-1 y1
-        cols = phi[:, el]
-        rig = np.flatnonzero(basis.rigid[kept])       # damped rigid modes among the kept ones
-        if rig.size:
-            vr = v[ne + rig] / lam[None, :]           # the 1/(s - lam) part of eta' / s
-            cols = np.hstack([cols, phik[:, rig]])
-            coeff = np.vstack([coeff, vr])
-            lefts.append((phik[:, rig],))             # and the 1/s part
-            rights.append((-vr, modes.solve_velocity, phik.T))
-            ds.append(np.repeat(inv_s[:, None], rig.size, axis=1))
-        lefts.append((cols, coeff))                   # modal forces of the kept modes, factored
-        rights.append((modes.solve_velocity, phik.T))   # V^-1 [0; Phi^T R], refined
         with np.errstate(divide="ignore", invalid="ignore"):
-            ds.append(1.0 / (s[:, None] - lam[None, :]))
+            pole = 1.0 / (s[:, None] - lam[None, :])
+        lefts.append((phi[:, el], v[:ne] / se[:, None]))   # elastic eta = S^-1 y1, factored
+        rights.append((modes.solve_velocity, phik.T))       # V^-1 [0; Phi^T R], refined
+        ds.append(pole)
+        rig = np.flatnonzero(basis.rigid[kept])       # damped rigid modes among the kept ones
+        if rig.size:                                  # eta = eta' / s: 1 / (s (s - lam)) as it stands
+            lefts.append((phik[:, rig], v[ne + rig]))
+            rights.append((modes.solve_velocity, phik.T))
+            with np.errstate(divide="ignore", invalid="ignore"):
+                ds.append(pole * inv_s[:, None])
     d = np.asarray(ds[0] if len(ds) == 1 else np.hstack(ds), dtype=complex)   # no copy for one part
     d_acc = None
     if not basis.rigid.any():

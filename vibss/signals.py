@@ -63,6 +63,7 @@ from typing import Any
 
 import numpy as np
 import scipy.linalg as sl
+import scipy.sparse as sp
 
 from .assemble import Assembly, assemble
 from .errors import ModelError
@@ -356,7 +357,7 @@ def input_maps(asm: Assembly, parsed: Sequence[Any]) -> tuple[np.ndarray, np.nda
 
 def build_plant(model_or_assembly: Model | Assembly, inputs: Sequence[Any],
                 outputs: Sequence[str] | None = None,
-                modal_damping: float | Sequence[float] | None = None) -> Plant:
+                modal_damping: float | Sequence[float] | None = None, sparse: bool = False) -> Plant:
     """The second-order plant of a study: free-DOF matrices plus the named input/output maps.
 
     Only the requested input columns and output rows are built.
@@ -364,7 +365,7 @@ def build_plant(model_or_assembly: Model | Assembly, inputs: Sequence[Any],
     Parameters
     ----------
     model_or_assembly : Model or Assembly
-        The system (a sparse assembly is densified).
+        The system (a sparse assembly is densified unless ``sparse``).
     inputs : sequence of str or Excitation
         Input signals (see the module docstring), e.g. ``["engine.fz", "ground.z.acc"]``.
     outputs : sequence of str or None
@@ -373,6 +374,10 @@ def build_plant(model_or_assembly: Model | Assembly, inputs: Sequence[Any],
         Extra modal damping ratio(s) [-] of the free DOFs' undamped elastic modes (ascending
         frequency), added to C as ``M Phi diag(2 zeta w) Phi^T M``. It belongs to no mount, so
         mount and ground force outputs do not include it.
+    sparse : bool
+        Keep ``M, C, K, H`` as ``scipy.sparse`` CSR matrices (no dense n x n matrix): for large
+        models, with ``frequency_response(plant, frequencies=..., method="sparse")`` or
+        :func:`vibss.reduce`. Not with ``modal_damping``.
 
     Returns
     -------
@@ -392,8 +397,11 @@ def build_plant(model_or_assembly: Model | Assembly, inputs: Sequence[Any],
     >>> p.dofs[:3], p.kinds, float(p.Kz[2, 0])
     (('b.x', 'b.y', 'b.z'), ('displacement',), -10000.0)
     """
-    asm = model_or_assembly if isinstance(model_or_assembly, Assembly) else assemble(model_or_assembly)
+    asm = (model_or_assembly if isinstance(model_or_assembly, Assembly)
+           else assemble(model_or_assembly, sparse=True if sparse else None))
     model = asm.model
+    if sparse and modal_damping is not None:
+        raise ModelError("modal_damping: needs the dense plant (sparse=False): it adds a full matrix to C")
     if isinstance(inputs, str) or not hasattr(inputs, "__iter__"):
         inputs = [inputs]
     parsed = [parse_input(asm, item) for item in inputs]
@@ -410,17 +418,17 @@ def build_plant(model_or_assembly: Model | Assembly, inputs: Sequence[Any],
             raise ModelError(f"{what}: signal(s) {dup} given more than once")
 
     n, m = asm.n, len(parsed)
-    mats = {key: asm.dense(key) for key in ("M", "K", "C", "H")}
+    mats = {key: sp.csr_matrix(getattr(asm, key)) if sparse else asm.dense(key) for key in ("M", "K", "C", "H")}
     coupling = {"K": asm.Kg, "C": asm.Cg, "H": asm.Hg}
     force, motion, free = input_maps(asm, parsed)
 
-    def ff(a: np.ndarray) -> np.ndarray:
-        return a[np.ix_(free, free)]
+    def ff(a: Any) -> Any:
+        return a[free][:, free].tocsr() if sparse else a[np.ix_(free, free)]
 
     def fz(key: str) -> np.ndarray:
-        out = mats[key][free] @ motion[:n]
+        out = np.asarray(mats[key][free] @ motion[:n])
         if key in coupling:
-            out = out + coupling[key][free] @ motion[n:]
+            out = out + np.asarray(coupling[key][free] @ motion[n:])
         return out
 
     C = ff(mats["C"])

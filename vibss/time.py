@@ -510,12 +510,19 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
         finding.warn(stacklevel=3)
     if name == "ivp" and solver in EXPLICIT_RK:
         check_explicit_rk(plant.M, plant.K, t_end, rtol=rtol, solver=solver, C=plant.C).warn(stacklevel=3)
-    y, note = fn(job)
+    try:
+        y, note = fn(job)
+    except AnalysisError as exc:
+        if method != "auto" or "complex modes" not in str(exc):
+            raise
+        name, (y, note) = "forced_response", METHODS["forced_response"](job)
+        note = f"modal refused ({exc}); forced_response: " + note
     y = np.asarray(y, float)
     if y.shape != (ns, len(plant.outputs)):
         raise AnalysisError(f"simulate: method {name!r} returned shape {y.shape}, expected {(ns, len(plant.outputs))}")
     if method == "auto":
-        note = "auto -> modal: exact for piecewise-linear inputs and the fastest; " + note
+        note = (f"auto -> {name}: " + ("exact for piecewise-linear inputs and the fastest; "
+                                       if name == "modal" else "") + note)
     keep = ts >= record_from - 1e-9 * dt
     shown = [] if hidden else funcs
     u = np.array([np.broadcast_to(f(ts[keep]), (int(keep.sum()),)) for f in shown]).reshape(len(shown), int(keep.sum()))

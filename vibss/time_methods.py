@@ -283,7 +283,16 @@ def _modal_sets(prep: Prepared, q0: np.ndarray, v0: np.ndarray) -> tuple[list[_M
     plant = prep.plant
     M, K, C = (np.asarray(a, float) for a in (plant.M, plant.K, plant.C))
     w2, phi = generalized_eigh(K, M)
-    w2 = np.where(rigid_mask(w2, phi, np.diag(K)), 0.0, np.maximum(w2, 0.0))
+    rigid = rigid_mask(w2, phi, np.diag(K))
+    w2 = np.where(rigid, 0.0, np.maximum(w2, 0.0))
+    if rigid.any():
+        # rotate the rigid subspace so that its damping block is diagonal: undamped combinations of
+        # rigid modes then decouple as exact double integrators instead of 2x2 Jordan blocks at 0
+        rid = np.flatnonzero(rigid)
+        g = phi[:, rid].T @ C @ phi[:, rid]
+        _, q = np.linalg.eigh(0.5 * (g + g.T))
+        phi = phi.copy()
+        phi[:, rid] = phi[:, rid] @ q
     w = np.sqrt(w2)
     chat = phi.T @ C @ phi
     coupled = (damping_coupling(0.5 * (chat + chat.T)) > 0).any(axis=1)

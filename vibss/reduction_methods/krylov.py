@@ -45,11 +45,10 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spl
 from scipy.sparse.csgraph import connected_components
 
-from ..assemble import assemble
 from ..errors import AnalysisError, ModelError
 from ..model import Model
 from ..plant import Plant
-from ..signals import input_maps, output_row, parse_input  # build_plant's parsers (no dense n x n)
+from ..signals import build_plant
 from .prune import Removal, _components, _dof_names, _touched_rows, frf
 
 __all__ = ["KrylovBasis", "krylov", "sparse_plant", "as_sparse", "prune_sparse", "exact_response",
@@ -118,8 +117,7 @@ class KrylovBasis:
 def sparse_plant(model: Model, inputs: Sequence[Any], outputs: Sequence[str]) -> Plant:
     """The scope's plant with ``M, C, K, H`` as scipy.sparse CSR matrices (no dense n x n).
 
-    Same signals, free DOFs and maps as :func:`vibss.signals.build_plant` (without its
-    ``modal_damping``), built from the sparse assembly and the per-signal parsers.
+    :func:`vibss.signals.build_plant` with ``sparse=True``.
 
     Parameters
     ----------
@@ -135,31 +133,7 @@ def sparse_plant(model: Model, inputs: Sequence[Any], outputs: Sequence[str]) ->
     Plant
         With sparse ``M, C, K, H`` (n x n) and dense maps.
     """
-    asm = assemble(model, sparse=True)
-    parsed = [parse_input(asm, item) for item in inputs]
-    n, m = asm.n, len(parsed)
-    force, motion, free = input_maps(asm, parsed)
-    mats = {k: sp.csr_matrix(getattr(asm, k)) for k in ("M", "K", "C", "H")}
-    coupling = {"K": asm.Kg, "C": asm.Cg, "H": asm.Hg}
-
-    def fz(key: str) -> np.ndarray:
-        out = mats[key][free] @ motion[:n]
-        return out + coupling[key][free] @ motion[n:] if key in coupling else out
-
-    cache: dict = {}
-    rows = [output_row(asm, name, cache) for name in outputs]
-    units = tuple(u for _, u in rows)
-    full = {key: np.array([getattr(r, key) for r, _ in rows]).reshape(len(outputs), n + 6)
-            for key in ("d", "v", "a", "h")}
-    sub = (lambda a: a) if free.size == n else (lambda a: a[free][:, free].tocsr())
-    return Plant(dofs=tuple(asm.dofs[i] for i in free), M=sub(mats["M"]), C=sub(mats["C"]),
-                 K=sub(mats["K"]), H=sub(mats["H"]), inputs=tuple(p.name for p in parsed),
-                 kinds=tuple(p.kind for p in parsed), F=force[free], Kz=fz("K"), Cz=fz("C"),
-                 Mz=fz("M"), Hz=fz("H"), outputs=tuple(outputs), units=units,
-                 Oq=full["d"][:, free], Ov=full["v"][:, free], Oa=full["a"][:, free],
-                 Pz=full["d"] @ motion, Pv=full["v"] @ motion, Pa=full["a"] @ motion,
-                 Pf=np.zeros((len(outputs), m)), name=model.name, Oh=full["h"][:, free],
-                 Ph=full["h"] @ motion)
+    return build_plant(model, inputs, outputs, sparse=True)
 
 
 def as_sparse(p: Plant) -> Plant:
