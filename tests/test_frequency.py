@@ -394,3 +394,14 @@ def test_sparse_plant_frequency_response_needs_no_dense_matrix() -> None:
         frequency_response(ps, frequencies=f, method="modal")
     with pytest.raises(ModelError, match="modal_damping"):
         build_plant(model, ins, outs, modal_damping=0.01, sparse=True)
+
+
+def test_sparse_plant_refused_clearly_where_dense_matrices_are_needed() -> None:
+    from vibss.statespace import statespace
+    from vibss.time import simulate
+
+    ps = build_plant(_chain(4, shuffle=False), ["b0.fz"], ["b1.z"], sparse=True)
+    with pytest.raises(AnalysisError, match="sparse matrices"):
+        statespace(ps)
+    with pytest.raises(AnalysisError, match="sparse matrices"):
+        simulate(ps, inputs={"b0.fz": lambda t: np.ones_like(t)}, t_end=0.01, dt=1e-3)

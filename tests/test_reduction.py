@@ -210,3 +210,14 @@ def test_krylov_ignores_disconnected_body() -> None:
     assert any(n.startswith("loose") for rem in r.removed for n in rem.names)
     assert r.plant.n <= 6 and r.measured < 1e-8
     assert np.all(r.plant.Oq[2] == 0)
+
+
+def test_sparse_plant_reduces_by_krylov_and_refuses_dense_methods():
+    """A sparse plant (build_plant(sparse=True)) goes to krylov under auto; dense methods refuse
+    with a clear message (found in review: a numpy ValueError)."""
+    model = chain_model(8, "general")
+    ps = build_plant(model, ["b0.fz"], ["b7.z"], sparse=True)
+    scope = Scope.for_frequency_response(["b0.fz"], ["b7.z"], np.geomspace(1, 200, 50), tolerance=1e-6)
+    assert reduce(ps, scope).method == "krylov"
+    with pytest.raises(AnalysisError, match="needs a dense plant"):
+        reduce(ps, scope, "modal")

@@ -56,6 +56,7 @@ from typing import Any, cast
 
 import control
 import numpy as np
+import scipy.sparse as sp
 
 from .errors import AnalysisError, ModelError
 from .model import Model
@@ -471,7 +472,11 @@ def reduce(model_or_plant: Model | Plant, scope: Scope, method: str = "auto", *,
         n = 6 * len(model_or_plant.bodies)
     else:
         raise ModelError(f"reduce: model_or_plant: expected a Model or a Plant, got {model_or_plant!r}")
-    name = ("krylov" if n > KRYLOV_MIN_DOF else "modal") if method == "auto" else method
+    sparse_input = isinstance(model_or_plant, Plant) and sp.issparse(model_or_plant.K)
+    name = ("krylov" if n > KRYLOV_MIN_DOF or sparse_input else "modal") if method == "auto" else method
+    if sparse_input and name != "krylov":
+        raise AnalysisError(f"reduce: method {name!r} needs a dense plant; a sparse plant "
+                            "(build_plant(..., sparse=True)) takes method='krylov' or 'auto'")
     t0 = time.perf_counter()          # "krylov" counts its sparse assembly; the others start from the plant
     if isinstance(model_or_plant, Plant):
         full = select(model_or_plant, scope)

@@ -430,6 +430,9 @@ def statespace(plant: Plant | Model | Assembly, realization: str = "modal", bala
         plant = build_plant(plant, inputs, outputs)
     elif inputs is not None or outputs is not None:
         raise ModelError("statespace: inputs/outputs are fixed by the Plant; pass them to build_plant")
+    if sp.issparse(plant.K):
+        raise AnalysisError("statespace: the plant has sparse matrices (build_plant(..., sparse=True)); "
+                            "a state space is dense: build the plant densely, or reduce it (vibss.reduce)")
     if realization not in REALIZATIONS:
         raise ValueError(f"realization: expected one of {list(REALIZATIONS)}, got {realization!r}")
     basis = _modal(plant) if realization == "modal" else _physical(plant)

@@ -46,6 +46,7 @@ from typing import Any, cast
 
 import control
 import numpy as np
+import scipy.sparse as sp
 import numpy.typing as npt
 
 from . import time_methods as tm
@@ -468,6 +469,9 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
         sources.setdefault(name, name)
     if isinstance(model_or_plant, Plant):
         plant = model_or_plant
+        if sp.issparse(plant.K):
+            raise AnalysisError("simulate: the plant has sparse matrices (build_plant(..., sparse=True)); "
+                                "simulate a dense plant, or reduce a large model first (vibss.reduce)")
         unknown = [s for s in signals if s not in plant.inputs]
         if unknown:
             raise ModelError(f"simulate: input(s) {unknown} are not inputs of the plant; its inputs are "
