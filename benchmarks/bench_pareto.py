@@ -399,7 +399,6 @@ def scaling(quick: bool) -> dict[str, Any]:
             a = assemble(model, sparse=False)
             row["all modes (dense eigh)"], _ = timed(lambda: modes(a, method="dense"))
             plant = build_plant(model, ["b0.fz"], [f"b{nb - 1}.{d}" for d in ("x", "y", "z", "rx", "ry", "rz")])
-            w = np.sqrt(np.maximum(sl.eigh(plant.K, plant.M, eigvals_only=True, subset_by_index=[0, 0]), 1.0))
             s = 1j * np.geomspace(1.0, 6000.0, nf)
             row["FRF modal (vibss)"], _ = timed(lambda: fm.modal(plant, s))
             row["FRF sparse direct (vibss)"], _ = timed(lambda: fm.sparse(replace(plant), s))

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import control as ct
 import numpy as np
-import pytest
 
 from vibss import Body, Model, Mount, MountType, assemble, damped_modes, modes
 

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-import scipy.linalg as sl
 
 from vibss import Body, Model, modes
 from vibss.modal import rigid_influence
@@ -145,7 +144,6 @@ def test_mirrored_model_gives_mirrored_shapes():
     m = asymmetric_model()
     s = np.diag([1.0, -1.0, 1.0])   # mirror in the XZ plane
     # mirror: positions y -> -y; tensors S J S; orientations S T S (kept right-handed)
-    from vibss import Orientation
 
     bodies = [Body(b.name, b.mass, s @ b.tensor @ s, s @ b.cog) for b in m.bodies]
     mounts = [mt.mirrored(["xz"]) for mt in m.mounts]

@@ -22,7 +22,7 @@ import scipy.sparse as sp
 
 from .errors import ModelError
 from .geometry import point_transfer
-from .model import DOF_NAMES, GROUND, Model
+from .model import DOF_NAMES, Model
 
 __all__ = ["Assembly", "assemble", "SPARSE_THRESHOLD", "dof_labels"]
 

@@ -7,7 +7,12 @@ about vibss.
 
 from __future__ import annotations
 
-__all__ = ["VibssError", "ModelError", "AnalysisError", "ModelFileError", "VibssWarning"]
+import difflib
+from collections.abc import Iterable
+from typing import Any
+
+__all__ = ["VibssError", "ModelError", "AnalysisError", "ModelFileError", "VibssWarning",
+           "did_you_mean"]
 
 
 class VibssError(Exception):
@@ -28,3 +33,15 @@ class AnalysisError(RuntimeError, VibssError):
 
 class VibssWarning(UserWarning):
     """A method is expected to lose accuracy or fail here; the message names the cause and the fix."""
+
+
+def did_you_mean(name: Any, options: Iterable[Any]) -> str:
+    """`` (did you mean 'x'?)`` for the closest of ``options`` to ``name``, or an empty string.
+
+    Examples
+    --------
+    >>> did_you_mean("engin", ["engine", "frame"])
+    " (did you mean 'engine'?)"
+    """
+    close = difflib.get_close_matches(str(name), [str(o) for o in options], n=1)
+    return f" (did you mean {close[0]!r}?)" if close else ""

@@ -19,7 +19,6 @@ Examples
 from __future__ import annotations
 
 import dataclasses
-import difflib
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -28,7 +27,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from .errors import ModelError
+from .errors import ModelError, did_you_mean
 from .model import DOF_NAMES, GROUND
 from .plant import INPUT_KINDS
 from .timefunctions import (FUNCTIONS, HalfSine, Haversine, Ramp, Rectangular, Sawtooth, Sine,
@@ -89,11 +88,6 @@ def read_table_file(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
     return data[:, 0], data[:, 1]
 
 
-def _did_you_mean(name: Any, options: Any) -> str:
-    close = difflib.get_close_matches(str(name), [str(o) for o in options], n=1)
-    return f" (did you mean {close[0]!r}?)" if close else ""
-
-
 def function_from_dict(data: Any, who: str = "function", *, value_scale: float = 1.0,
                        time_scale: float = 1.0, angle_scale: float = 1.0,
                        base: str | Path | None = None) -> TimeFunction:
@@ -141,7 +135,7 @@ def function_from_dict(data: Any, who: str = "function", *, value_scale: float =
     kind = data.get("type")
     if not isinstance(kind, str) or kind not in FUNCTIONS:
         raise ModelError(f"{who}: type: expected one of {list(FUNCTIONS)}, got {kind!r}"
-                         + (_did_you_mean(kind, FUNCTIONS) if isinstance(kind, str) else ""))
+                         + (did_you_mean(kind, FUNCTIONS) if isinstance(kind, str) else ""))
     cls = FUNCTIONS[kind]
     if cls is Sum:
         return function_from_dict(list(data.get("terms") or []), f"{who}.terms", value_scale=value_scale,
@@ -150,7 +144,7 @@ def function_from_dict(data: Any, who: str = "function", *, value_scale: float =
     for key in data:
         if key not in allowed:
             raise ModelError(f"{who}: {kind} function: unknown key {key!r}; expected some of "
-                             f"{sorted(allowed - {'type'})}" + _did_you_mean(key, allowed))
+                             f"{sorted(allowed - {'type'})}" + did_you_mean(key, allowed))
     params: dict[str, Any] = {k: v for k, v in data.items() if k != "type"}
     if cls is Table and "file" in params:
         if "time" in params or "value" in params:
@@ -255,7 +249,7 @@ class Excitation:
         who = f"excitation {self.name!r}"
         if self.kind not in INPUT_KINDS:
             raise ModelError(f"{who}: kind: expected one of {list(INPUT_KINDS)}, got {self.kind!r}"
-                             + _did_you_mean(self.kind, INPUT_KINDS))
+                             + did_you_mean(self.kind, INPUT_KINDS))
         if not isinstance(self.target, str) or not self.target:
             raise ModelError(f"{who}: target: expected a body name or {GROUND!r}, got {self.target!r}")
         if self.kind == "force" and self.target == GROUND:
@@ -268,7 +262,7 @@ class Excitation:
                              "direction (a 3-vector)")
         if self.dof is not None and self.dof not in DOF_NAMES:
             raise ModelError(f"{who}: dof: expected one of {list(DOF_NAMES)}, got {self.dof!r}"
-                             + _did_you_mean(self.dof, DOF_NAMES))
+                             + did_you_mean(self.dof, DOF_NAMES))
         if self.direction is not None:
             d = _vector3(self.direction, who, "direction")
             norm = float(np.linalg.norm(d))

@@ -9,18 +9,17 @@ Used by :mod:`vibss.io`.
 
 from __future__ import annotations
 
-import difflib
 from collections.abc import Collection, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
-from .errors import ModelError, ModelFileError
+from .errors import ModelError, ModelFileError, did_you_mean
 from .geometry import DEFAULT_SEQUENCE, Orientation
 from .units import Units
 
-__all__ = ["MISSING", "Entry", "numbers", "did_you_mean"]
+__all__ = ["MISSING", "Entry", "numbers"]
 
 MISSING: Any = object()
 """Default meaning "this key is required"."""
@@ -41,12 +40,6 @@ def numbers(value: Any) -> np.ndarray | None:
         except ValueError:  # ragged
             return None
     return None
-
-
-def did_you_mean(name: Any, options: Any) -> str:
-    """`` (did you mean 'x'?)`` for the closest of ``options``, or an empty string."""
-    close = difflib.get_close_matches(str(name), [str(o) for o in options], n=1)
-    return f" (did you mean {close[0]!r}?)" if close else ""
 
 
 def _shape_text(shape: tuple[int, ...]) -> str:

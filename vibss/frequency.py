@@ -32,7 +32,6 @@ from typing import Any, cast
 
 import control
 import numpy as np
-import numpy.typing as npt
 import scipy.sparse as sp
 
 from .assemble import Assembly

@@ -31,9 +31,9 @@ from typing import Any
 
 import numpy as np
 
-from .errors import ModelError, ModelFileError
+from .errors import ModelError, ModelFileError, did_you_mean
 from .excitation import Excitation, amplitude_quantity, function_from_dict
-from .filetable import MISSING, Entry, did_you_mean
+from .filetable import MISSING, Entry
 from .geometry import Orientation
 from .model import (DOF_NAMES, GROUND, SYMMETRIES, Body, ControlPoint, Load, Model, Mount,
                     MountType, symmetric)

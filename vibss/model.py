@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import copy
 import dataclasses
-import difflib
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -27,7 +26,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from .errors import ModelError
+from .errors import ModelError, did_you_mean
 from .geometry import MIRRORS, Orientation
 
 __all__ = [
@@ -522,7 +521,7 @@ class Model:
                 target = getattr(m, key)
                 if target != GROUND and target not in names:
                     raise ModelError(f"mount {m.name!r}: {key}: unknown body {target!r}; "
-                                     f"bodies are {sorted(names)}" + _did_you_mean(target, names))
+                                     f"bodies are {sorted(names)}" + did_you_mean(target, names))
         types: dict[str, MountType] = {}
         for m in self.mounts:
             if types.setdefault(m.type.name, m.type) is not m.type and not _same_type(types[m.type.name], m.type):
@@ -530,10 +529,10 @@ class Model:
         for c in self.control_points:
             if c.body not in names:
                 raise ModelError(f"control point {c.name!r}: unknown body {c.body!r}"
-                                 + _did_you_mean(c.body, names))
+                                 + did_you_mean(c.body, names))
         for ld in self.loads:
             if ld.body not in names:
-                raise ModelError(f"load {ld.name or ''}: unknown body {ld.body!r}" + _did_you_mean(ld.body, names))
+                raise ModelError(f"load {ld.name or ''}: unknown body {ld.body!r}" + did_you_mean(ld.body, names))
         if self.gravity is not None:
             object.__setattr__(self, "gravity", _vec(self.gravity, 3, "model", "gravity"))
         if self.settings is not None and not isinstance(self.settings, Mapping):
@@ -562,7 +561,7 @@ class Model:
             if b.name == name:
                 return b
         raise ModelError(f"unknown body {name!r}; bodies are {self.body_names}"
-                         + _did_you_mean(name, self.body_names))
+                         + did_you_mean(name, self.body_names))
 
     def body_index(self, name: str) -> int:
         """Position of body ``name`` in DOF order (``-1`` for ground)."""
@@ -653,6 +652,3 @@ def _unique(names: Iterable[str], what: str) -> None:
         seen.add(n)
 
 
-def _did_you_mean(name: str, options: Iterable[str]) -> str:
-    close = difflib.get_close_matches(str(name), list(options), n=1)
-    return f" (did you mean {close[0]!r}?)" if close else ""

@@ -56,8 +56,7 @@ Examples
 
 from __future__ import annotations
 
-import difflib
-from collections.abc import Iterable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -66,7 +65,7 @@ import scipy.linalg as sl
 import scipy.sparse as sp
 
 from .assemble import Assembly, assemble
-from .errors import ModelError
+from .errors import ModelError, did_you_mean
 from .geometry import point_transfer
 from .modal import rigid_mask
 from .model import DOF_NAMES, GROUND, Model
@@ -116,11 +115,6 @@ class _Input:
     motion: np.ndarray | None = None     # (n + 6,) prescribed-coordinate direction, motion inputs
 
 
-def _suggest(name: str, options: Iterable[str]) -> str:
-    close = difflib.get_close_matches(str(name), list(options), n=1, cutoff=0.6)
-    return f" (did you mean {close[0]!r}?)" if close else ""
-
-
 def _input_names(model: Model) -> list[str]:
     names = [f"{b}.{c}" for b in model.body_names for c in _FORCE]
     names += [f"{p.name}.{c}" for p in model.control_points for c in ("fx", "fy", "fz")]
@@ -139,12 +133,12 @@ def _output_names(model: Model) -> list[str]:
 
 def _bad_input(model: Model, name: Any, why: str = "") -> ModelError:
     return ModelError(f"inputs: unknown input signal {name!r}{why}; valid forms are "
-                      f"{', '.join(INPUT_FORMS)}" + _suggest(name, _input_names(model)))
+                      f"{', '.join(INPUT_FORMS)}" + did_you_mean(name, _input_names(model)))
 
 
 def _bad_output(model: Model, name: Any, why: str = "") -> ModelError:
     return ModelError(f"outputs: unknown output signal {name!r}{why}; valid forms are "
-                      f"{', '.join(OUTPUT_FORMS)}" + _suggest(name, _output_names(model)))
+                      f"{', '.join(OUTPUT_FORMS)}" + did_you_mean(name, _output_names(model)))
 
 
 def _point_force(asm: Assembly, body: str, r: np.ndarray, direction: np.ndarray) -> np.ndarray:
@@ -201,7 +195,7 @@ def _parse_excitation(asm: Assembly, exc: Any) -> _Input:
         raise ModelError(f"inputs: excitation {name!r}: kind {kind!r} is not one of {list(INPUT_KINDS)}")
     if target != GROUND and target not in model.body_names:
         raise ModelError(f"inputs: excitation {name!r}: unknown target {target!r}; bodies are "
-                         f"{model.body_names} or 'ground'" + _suggest(target, model.body_names))
+                         f"{model.body_names} or 'ground'" + did_you_mean(target, model.body_names))
     if direction is not None:
         d = np.asarray(direction, dtype=float)
         d = d / np.linalg.norm(d)

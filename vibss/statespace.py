@@ -51,7 +51,6 @@ Examples
 
 from __future__ import annotations
 
-import difflib
 import operator
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
@@ -65,7 +64,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spl
 
 from .assemble import Assembly
-from .errors import AnalysisError, ModelError
+from .errors import AnalysisError, ModelError, did_you_mean
 from .modal import generalized_eigh, rigid_mask
 from .model import Model
 from .plant import Plant
@@ -137,9 +136,7 @@ class NamedStateSpace(control.StateSpace):
                 return name
             vibss = [lab.replace(":", ".") for lab in labels]
             hint = (f" ({key!r} is an {'input' if what == 'output' else 'output'}, not an {what})"
-                    if name in other else "")
-            close = difflib.get_close_matches(key.replace(":", "."), vibss, n=1)
-            hint += f"; did you mean {close[0]!r}?" if close and not hint else ""
+                    if name in other else did_you_mean(key.replace(":", "."), vibss))
             raise ValueError(f"{what}s: no {what} named {key!r}{hint}; the {what}s are {vibss}")
         i = operator.index(key)
         if not -len(labels) <= i < len(labels):

@@ -43,9 +43,8 @@ import numpy as np
 import scipy.linalg as sl
 import scipy.sparse as sp
 import scipy.sparse.linalg as spl
-from scipy.sparse.csgraph import connected_components
 
-from ..errors import AnalysisError, ModelError
+from ..errors import AnalysisError
 from ..model import Model
 from ..plant import Plant
 from ..signals import build_plant

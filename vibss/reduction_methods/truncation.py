@@ -208,7 +208,6 @@ class _Modes:
         m = p.F.shape[1]
         corr = self.oq_x0 - pr["Oq"][:, :k] @ (self.c[:k, :m] * self.inv[:k, None])
         force = np.array([kind == "force" for kind in p.kinds])
-        cut = lambda a: None if a is None else a[:k]  # noqa: E731
         return replace(p, dofs=tuple(f"mode{i + 1}" for i in range(k)), M=np.eye(k),
                        K=np.diag(self.ev[:k]), C=self.Cm[:k, :k], H=self.Hm[:k, :k],
                        F=pr["F"][:k], Kz=pr["Kz"][:k], Cz=pr["Cz"][:k], Mz=pr["Mz"][:k], Hz=pr["Hz"][:k],
