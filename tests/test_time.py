@@ -302,3 +302,24 @@ def test_modal_time_path_with_damper_only_mounts_matches_forced_response():
     ref = simulate(m, [], method="forced_response", **kw)
     scale = np.abs(ref.outputs).max(axis=1, keepdims=True)
     assert np.abs(got.outputs - ref.outputs).max() <= 1e-8 * scale.max()
+
+
+def test_auto_falls_back_to_forced_response_when_complex_modes_refuse(monkeypatch):
+    """When complex modes refuse (DefectiveModesError: nearly dependent eigenvectors), simulate's
+    auto runs forced_response and says so; an explicit method='modal' raises."""
+    import vibss.time_methods as tm
+    from vibss import DefectiveModesError
+    from test_signals import two_body
+
+    def refuse(*args, **kwargs):
+        raise DefectiveModesError("complex modes: the eigenvectors are nearly dependent (test)")
+
+    monkeypatch.setattr(tm, "complex_modes", refuse)        # two_body has non-proportional damping
+    t = np.arange(0, 0.1 + 1e-12, 1e-3)
+    kw = dict(inputs={"engine.fz": np.sin(2 * np.pi * 9 * t)}, outputs=["engine.z"], t_end=0.1, dt=1e-3)
+    r = simulate(two_body(), [], **kw)
+    assert r.note.startswith("auto -> forced_response") and "nearly dependent" in r.note
+    ref = simulate(two_body(), [], method="forced_response", **kw)
+    np.testing.assert_array_equal(r.outputs, ref.outputs)
+    with pytest.raises(DefectiveModesError):
+        simulate(two_body(), [], method="modal", **kw)

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 from .assemble import Assembly, assemble
 from .damped import DampedModes, damped_modes
-from .errors import AnalysisError, ModelError, ModelFileError, VibssError, VibssWarning
+from .errors import AnalysisError, DefectiveModesError, ModelError, ModelFileError, VibssError, VibssWarning
 from .excitation import Excitation
 from .geometry import Orientation
 from .io import (dump_model, dumps_model, example_names, load_example, load_model,
@@ -39,7 +39,7 @@ from .time_sweep import SweepEnvelope, sweep_envelope
 __version__ = "0.1.0"
 
 __all__ = [
-    "AnalysisError", "Assembly", "Body", "ControlPoint", "DOF_NAMES", "DampedModes", "Excitation",
+    "AnalysisError", "Assembly", "DefectiveModesError", "Body", "ControlPoint", "DOF_NAMES", "DampedModes", "Excitation",
     "FrequencyGrid", "FrequencyResponse", "GROUND", "Load", "Model", "ModelError", "ModelFileError", "Modes", "Mount", "MountType", "NamedStateSpace",
     "Orientation", "Plant", "Reduction", "Scope", "StaticResult", "SweepEnvelope", "TimeResponse", "VibssError", "VibssWarning", "assemble", "build_plant", "damped_modes", "dump_model",
     "dumps_model", "example_names", "frequency_grid", "frequency_response", "load_example", "load_model", "loads_model", "modes", "reduce", "simulate", "static",

@@ -28,7 +28,7 @@ import numpy as np
 import scipy.linalg as sl
 from scipy.linalg import get_lapack_funcs
 
-from .errors import AnalysisError
+from .errors import DefectiveModesError
 
 __all__ = ["ComplexModes", "complex_modes", "PROBE_TOL"]
 
@@ -134,6 +134,11 @@ def complex_modes(scale: np.ndarray, rows: np.ndarray, omega2: np.ndarray, dampi
     -------
     ComplexModes
 
+    Raises
+    ------
+    DefectiveModesError
+        ``cond(V)`` above :data:`COND_MAX` (critically damped or defective modes).
+
     Examples
     --------
     One mode, omega = 2 rad/s, c = 0.4: the roots of lam^2 + 0.4 lam + 4.
@@ -195,7 +200,7 @@ def complex_modes(scale: np.ndarray, rows: np.ndarray, omega2: np.ndarray, dampi
     gecon = get_lapack_funcs("gecon", (lu[0],))
     rcond, _ = gecon(lu[0], np.linalg.norm(v, 1), norm="1")
     if not rcond > 1.0 / COND_MAX:
-        raise AnalysisError(f"complex modes: the eigenvectors are nearly dependent (cond(V) ~ "
+        raise DefectiveModesError(f"complex modes: the eigenvectors are nearly dependent (cond(V) ~ "
                             f"{1 / max(rcond, 1e-300):.1e}: critically damped or defective modes), so a "
                             "modal sum would lose accuracy; use method='sparse' or 'direct'")
     return ComplexModes(lam, v, ne, f"LU of V ({reason})", None, None, lu)

@@ -11,8 +11,8 @@ import difflib
 from collections.abc import Iterable
 from typing import Any
 
-__all__ = ["VibssError", "ModelError", "AnalysisError", "ModelFileError", "VibssWarning",
-           "did_you_mean"]
+__all__ = ["VibssError", "ModelError", "AnalysisError", "DefectiveModesError", "ModelFileError",
+           "VibssWarning", "did_you_mean"]
 
 
 class VibssError(Exception):
@@ -29,6 +29,11 @@ class ModelFileError(ModelError):
 
 class AnalysisError(RuntimeError, VibssError):
     """An analysis cannot give a meaningful answer (e.g. a load the mounts do not restrain)."""
+
+
+class DefectiveModesError(AnalysisError):
+    """Complex modes refused: the eigenvectors are nearly dependent (critically damped or defective
+    modes), so a modal sum would lose accuracy. ``method="auto"`` then uses a direct method."""
 
 
 class VibssWarning(UserWarning):

@@ -36,7 +36,7 @@ import scipy.sparse as sp
 
 from .assemble import Assembly
 from .banded import structure
-from .errors import AnalysisError, ModelError
+from .errors import AnalysisError, DefectiveModesError, ModelError
 from .frf_methods import METHODS, classical_damping, zero_frequency_limit
 from .model import Model
 from .plant import Plant
@@ -580,8 +580,8 @@ def frequency_response(system: Model | Assembly | Plant, inputs: Sequence[Any] |
         kwargs = {"basis": basis} if kernel in (METHODS["modal"], METHODS["complex_modal"]) else {}
         try:
             raw = kernel(plant, s, **kwargs)
-        except AnalysisError as exc:
-            if not (method == "auto" and name == "complex_modal"):
+        except DefectiveModesError as exc:
+            if method != "auto":
                 raise
             name, reason = "sparse", f"{reason}; complex modes refused ({exc}): sparse direct solve"
             raw = METHODS["sparse"](plant, s)

@@ -50,7 +50,7 @@ import scipy.sparse as sp
 import numpy.typing as npt
 
 from . import time_methods as tm
-from .errors import AnalysisError, ModelError
+from .errors import AnalysisError, DefectiveModesError, ModelError
 from .integrators import central_difference_method, newmark_method
 from .model import DOF_NAMES, Model
 from .plant import Plant
@@ -516,8 +516,8 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
         check_explicit_rk(plant.M, plant.K, t_end, rtol=rtol, solver=solver, C=plant.C).warn(stacklevel=3)
     try:
         y, note = fn(job)
-    except AnalysisError as exc:
-        if method != "auto" or "complex modes" not in str(exc):
+    except DefectiveModesError as exc:
+        if method != "auto":
             raise
         name, (y, note) = "forced_response", METHODS["forced_response"](job)
         note = f"modal refused ({exc}); forced_response: " + note
