@@ -37,7 +37,8 @@ import scipy.sparse as sp
 from .assemble import Assembly
 from .banded import structure
 from .errors import AnalysisError, DefectiveModesError, ModelError
-from .frf_methods import METHODS, classical_damping, zero_frequency_limit
+from .frf_methods import (COMPLEX_MODE_RISK, METHODS, classical_damping, complex_mode_risk,
+                          project_damping, zero_frequency_limit)
 from .model import Model
 from .plant import Plant
 from .signals import build_plant, control_name
@@ -402,28 +403,6 @@ def _index(names: Sequence[str], name: str, what: str) -> int:
         raise ModelError(f"{what}: {name!r} is not one of {list(names)}") from None
 
 
-COMPLEX_MODE_RISK = 1e-9
-"""``auto`` avoids complex modes when ``eps max|lambda| / min(decay rate)`` exceeds this."""
-
-
-def _complex_mode_risk(plant: Plant, basis: ModalBasis) -> float:
-    """Predicted relative error of complex modes: ``eig`` has absolute pole errors of about
-    eps max|lambda| (overdamped modes reach |lambda| ~ Phi^T C Phi diagonal), which a mode decaying
-    at ``zeta omega`` amplifies by 1 / (zeta omega) near its resonance."""
-    phi = basis.phi[:, ~basis.rigid]
-    w2 = basis.omega2[~basis.rigid]
-    if phi.shape[1] == 0:
-        return 0.0
-    g = np.einsum("ij,ij->j", phi, np.asarray(plant.C @ phi)) if np.any(plant.C) else np.zeros(w2.size)
-    h = np.einsum("ij,ij->j", phi, np.asarray(plant.H @ phi)) if np.any(plant.H) else np.zeros(w2.size)
-    w = np.sqrt(np.maximum(w2, np.finfo(float).tiny))
-    decay = 0.5 * np.abs(g) + 0.5 * np.abs(h) / w
-    top = max(float(w.max()), float(np.abs(g).max()))
-    if float(decay.min()) <= np.finfo(float).eps * top:
-        return float("inf")                          # an undamped mode: a pole on the axis
-    return float(np.finfo(float).eps * top / float(decay.min()))
-
-
 _K_EIG = 4.6e-10     # [s] per N^3 of the complex-mode eig (N = 2n states)
 _K_SUPERPOSE = 4e-10  # [s] per frequency x mode x channel of the superposition
 
@@ -441,11 +420,12 @@ def _choose(plant: Plant, nf: int, basis: ModalBasis) -> tuple[str, str]:
     if not np.any(plant.C) and not np.any(plant.H):
         return "sparse", ("undamped: sparse direct solve (a modal sum of an undamped model loses "
                           "digits next to each resonance, where its eigenvalue errors are not damped)")
-    ok, why = classical_damping(plant, basis)
+    projected = project_damping(plant, basis)
+    ok, why = classical_damping(plant, basis, projected)
     if ok:
         return "modal", f"{why}: modal superposition is the fastest"
     st = plant.cached("band structure", lambda: structure(plant))
-    risk = _complex_mode_risk(plant, basis)
+    risk = complex_mode_risk(basis, projected)
     if risk > COMPLEX_MODE_RISK:
         what = ("a mode has no damping, so eig's pole error is not damped at its resonance"
                 if np.isinf(risk) else f"eig's pole error relative to the slowest decay rate ~{risk:.1g}")

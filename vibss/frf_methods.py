@@ -43,6 +43,7 @@ from .modal import damping_coupling
 from .statespace import ModalBasis, fast_matrix, modal_basis, statespace, stiffness_solver
 
 __all__ = ["METHODS", "direct", "modal", "complex_modal", "sparse", "via_statespace", "classical_damping",
+           "complex_mode_risk", "project_damping", "COMPLEX_MODE_RISK",
            "zero_frequency_limit"]
 
 
@@ -263,8 +264,20 @@ def _superpose(plant: Plant, s: np.ndarray, left: list[_Factors],
     return np.moveaxis(out, 0, -1)
 
 
-def _project(plant: Plant, basis: ModalBasis) -> tuple[np.ndarray, np.ndarray]:
-    """``Phi^T C Phi`` and ``Phi^T H Phi`` (zeros when absent)."""
+def project_damping(plant: Plant, basis: ModalBasis) -> tuple[np.ndarray, np.ndarray]:
+    """``Phi^T C Phi`` and ``Phi^T H Phi`` on the undamped modes (zeros when absent).
+
+    Parameters
+    ----------
+    plant : Plant
+    basis : ModalBasis
+        Undamped modes of the plant.
+
+    Returns
+    -------
+    gamma, eta : (n, n) ndarray
+        Projected viscous [1/s] and hysteretic [1/s^2] damping, symmetrised.
+    """
     phi = basis.phi
     out = []
     for key in ("C", "H"):
@@ -275,6 +288,40 @@ def _project(plant: Plant, basis: ModalBasis) -> tuple[np.ndarray, np.ndarray]:
         else:
             out.append(np.zeros((plant.n, plant.n)))
     return out[0], out[1]
+
+
+COMPLEX_MODE_RISK = 1e-9
+"""``auto`` avoids complex modes when :func:`complex_mode_risk` exceeds this."""
+
+
+def complex_mode_risk(basis: ModalBasis, projected: tuple[np.ndarray, np.ndarray]) -> float:
+    """Predicted relative error of complex modes near the slowest-decaying resonance.
+
+    ``eig`` has absolute pole errors of about eps max|lambda| (overdamped modes reach |lambda| ~
+    the diagonal of ``Phi^T C Phi``), which a mode decaying at ``zeta omega`` amplifies by
+    ``1 / (zeta omega)`` at its resonance; ``inf`` when an elastic mode has no damping.
+
+    Parameters
+    ----------
+    basis : ModalBasis
+        Undamped modes.
+    projected : (Phi^T C Phi, Phi^T H Phi)
+        From :func:`project_damping`.
+
+    Returns
+    -------
+    float
+    """
+    el = ~basis.rigid
+    if not el.any():
+        return 0.0
+    g = np.abs(np.diag(projected[0])[el])
+    w = np.sqrt(np.maximum(basis.omega2[el], np.finfo(float).tiny))
+    decay = 0.5 * g + 0.5 * np.abs(np.diag(projected[1])[el]) / w
+    top = max(float(w.max()), float(g.max()))
+    if float(decay.min()) <= np.finfo(float).eps * top:
+        return float("inf")                          # an undamped mode: a pole on the axis
+    return float(np.finfo(float).eps * top / float(decay.min()))
 
 
 def classical_damping(plant: Plant, basis: ModalBasis | None = None,
@@ -295,7 +342,7 @@ def classical_damping(plant: Plant, basis: ModalBasis | None = None,
     reason : str
     """
     basis = basis or modal_basis(plant)
-    projected = projected or _project(plant, basis)
+    projected = projected or project_damping(plant, basis)
     for name, g in zip(("viscous damping", "hysteretic damping"), projected):
         if not np.any(g):
             continue
@@ -318,7 +365,7 @@ def modal(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) -> np.nd
     """
     s = np.asarray(s, dtype=complex)
     basis = basis or modal_basis(plant)
-    projected = _project(plant, basis)
+    projected = project_damping(plant, basis)
     ok, why = classical_damping(plant, basis, projected)
     if not ok:
         raise AnalysisError(f"method 'modal' needs classical damping: {why}; use 'complex_modal' or 'direct'")
@@ -354,7 +401,7 @@ def complex_modal(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) 
     s = np.asarray(s, dtype=complex)
     basis = basis or modal_basis(plant)
     phi, sc = basis.phi, basis.scale
-    gam, hys = _project(plant, basis)
+    gam, hys = project_damping(plant, basis)
     rid = np.flatnonzero(basis.rigid)
     if rid.size:
         # rotate the rigid subspace so its damping block is diagonal: undamped combinations of rigid
