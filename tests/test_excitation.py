@@ -238,3 +238,11 @@ def test_excitation_validation(kwargs, words):
     assert "excitation 'e1'" in str(info.value)
     for w in words:
         assert w in str(info.value)
+
+
+@pytest.mark.parametrize("make, kind", [(lambda: Step(1.0, start=2.0, end=1.0), "step"),
+                                        (lambda: Ramp(1.0, start=2.0, end=2.0), "ramp"),
+                                        (lambda: Sine(1.0, 5.0, start=3.0, end=1.0), "sine")])
+def test_window_end_must_follow_start(make, kind):
+    with pytest.raises(ModelError, match=rf"{kind} function: end: must be after start"):
+        make()

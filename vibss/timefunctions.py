@@ -76,6 +76,13 @@ class TimeFunction:
         object.__setattr__(self, key, v)
         return v
 
+    def _window(self) -> None:
+        """Validate ``start`` and ``end`` [s] (``end`` may be ``inf``; it must follow ``start``)."""
+        start = self._num("start")
+        end = self._num("end", allow_inf=True)
+        if end <= start:
+            raise ModelError(f"{self.type} function: end: must be after start ({start}), got {end}")
+
     @property
     def breakpoints(self) -> tuple[float, ...]:
         """Sorted times [s] where the value or its slope jumps."""
@@ -138,9 +145,7 @@ class Step(TimeFunction):
 
     def __post_init__(self) -> None:
         self._num("amplitude")
-        self._num("start")
-        if self._num("end", allow_inf=True) <= self.start:
-            raise ModelError(f"step function: end: must be after start ({self.start}), got {self.end}")
+        self._window()
 
     def value(self, t: npt.ArrayLike) -> np.ndarray:
         t = np.asarray(t, dtype=float)
@@ -281,9 +286,7 @@ class Ramp(TimeFunction):
 
     def __post_init__(self) -> None:
         self._num("slope")
-        self._num("start")
-        if self._num("end", allow_inf=True) <= self.start:
-            raise ModelError(f"ramp function: end: must be after start ({self.start}), got {self.end}")
+        self._window()
 
     def value(self, t: npt.ArrayLike) -> np.ndarray:
         t = np.asarray(t, dtype=float)
@@ -327,9 +330,7 @@ class Sine(TimeFunction):
         self._num("amplitude")
         self._num("frequency", nonnegative=True)
         self._num("phase")
-        self._num("start")
-        if self._num("end", allow_inf=True) <= self.start:
-            raise ModelError(f"sine function: end: must be after start ({self.start}), got {self.end}")
+        self._window()
 
     def value(self, t: npt.ArrayLike) -> np.ndarray:
         t = np.asarray(t, dtype=float)
