@@ -102,7 +102,7 @@ def structure(plant: Plant) -> Structure:
     >>> mounts = [Mount("g", t, "b0", at=[0.2, 0.1, -0.3])] + [
     ...     Mount(f"m{i}", t, f"b{i}", to=f"b{i - 1}", at=[-0.5, 0.1, -0.2]) for i in (1, 2)]
     >>> st = structure(build_plant(Model(bodies, mounts), ["b2.fz"], ["b0.z"]))
-    >>> st.band, st.banded, st.parts["K"].shape          # 18 DOFs, 2 band + 1 rows
+    >>> st.band, st.banded, st.parts["K"].shape   # neighbours' DOFs 6 + 5 apart; 2 band + 1 rows
     (11, True, (23, 18))
     """
     n = plant.n

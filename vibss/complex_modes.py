@@ -184,8 +184,7 @@ def complex_modes(scale: np.ndarray, rows: np.ndarray, omega2: np.ndarray, dampi
         modes = ComplexModes(lam, v, ne, "left eigenvectors from the right ones (symmetric problem)",
                              x / norm[None, :], kt, None)
         # eigenvalue condition numbers ||w|| ||v|| / |w^T v| (||v|| = 1 from eig)
-        w1 = np.zeros_like(v[:ne])
-        w1 += (omega2 / scale)[:, None] * x[rows]
+        w1 = (omega2 / scale)[:, None] * x[rows]            # Kt^T x (the diagonal part)
         if coupling is not None:
             w1 += coupling.T @ x
         kappa = np.sqrt(np.sum(np.abs(w1 / lam[None, :]) ** 2, axis=0) + np.sum(np.abs(x) ** 2, axis=0))
