@@ -20,7 +20,7 @@ from threadpoolctl import threadpool_limits
 
 from models import chain_model
 from vibss import assemble, modes
-from vibss.geometry import point_transfer
+from vibss.model.geometry import point_transfer
 from vibss.model import GROUND
 
 OUT = Path(__file__).parent / "results" / "core.json"

@@ -52,12 +52,12 @@ from models import chain_model  # noqa: E402
 from vibss import assemble, damped_modes, modes  # noqa: E402
 from vibss import frf_methods as fm  # noqa: E402
 from vibss import time_methods as tm  # noqa: E402
-from vibss.excitation import Excitation, Rectangular, SineSweep  # noqa: E402
-from vibss.integrators import central_difference_method, critical_step, newmark_method  # noqa: E402
-from vibss.reduction_methods.krylov import sparse_plant  # noqa: E402
-from vibss.signals import build_plant  # noqa: E402
-from vibss.statespace import statespace  # noqa: E402
-from vibss.time import simulate  # noqa: E402
+from vibss.model.excitation import Excitation, Rectangular, SineSweep  # noqa: E402
+from vibss.time.integrators import central_difference_method, critical_step, newmark_method  # noqa: E402
+from vibss.reduction.krylov import sparse_plant  # noqa: E402
+from vibss.linear.signals import build_plant  # noqa: E402
+from vibss.linear.statespace import statespace  # noqa: E402
+from vibss.time.api import simulate  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 FIG = ROOT / "docs" / "figures"
@@ -75,7 +75,7 @@ def rel_err(y: np.ndarray, ref: np.ndarray) -> float:
 def lsoda_method(rtol: float) -> Any:
     """A ``simulate`` method callable: solve_ivp LSODA on vibss's z-only realization, restarted at
     every breakpoint, with the Jacobian as a callable. (``method="ivp", solver="LSODA"`` fails in
-    scipy 1.17 because vibss.time_methods.run_ivp passes the Jacobian as an array, which LSODA
+    scipy 1.17 because vibss.time.kernels.run_ivp passes the Jacobian as an array, which LSODA
     rejects; reported to the time module's owner.)"""
     def run(job: Any) -> tuple[np.ndarray, str]:
         r = tm.realization(tm.prepare(job.plant))

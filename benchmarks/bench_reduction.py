@@ -26,13 +26,13 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from benchmarks.models import chain_model  # noqa: E402
 from vibss import Mount, MountType, assemble  # noqa: E402
-from vibss.excitation import Excitation  # noqa: E402
-from vibss.reduction import reduce, relative_error  # noqa: E402
-from vibss.reduction_methods import exact_response, frf, sparse_plant  # noqa: E402
-from vibss.scope import Scope  # noqa: E402
-from vibss.signals import build_plant  # noqa: E402
-from vibss.time import simulate  # noqa: E402
-from vibss.timefunctions import HalfSine  # noqa: E402
+from vibss.model.excitation import Excitation  # noqa: E402
+from vibss.reduction.api import reduce, relative_error  # noqa: E402
+from vibss.reduction.kernels import exact_response, frf, sparse_plant  # noqa: E402
+from vibss.reduction.scope import Scope  # noqa: E402
+from vibss.linear.signals import build_plant  # noqa: E402
+from vibss.time.api import simulate  # noqa: E402
+from vibss.model.timefunctions import HalfSine  # noqa: E402
 
 OUT = Path(__file__).resolve().parent / "results" / "reduction.json"
 

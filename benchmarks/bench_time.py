@@ -26,8 +26,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from models import chain_model  # noqa: E402
 from machine import timed  # noqa: E402
 
-from vibss.signals import build_plant  # noqa: E402
-from vibss.time import simulate  # noqa: E402
+from vibss.linear.signals import build_plant  # noqa: E402
+from vibss.time.api import simulate  # noqa: E402
 
 DT, STEPS = 2e-4, 10_000
 

@@ -28,7 +28,7 @@ example file)."""),
 import numpy as np
 import matplotlib.pyplot as plt
 import vibss
-from vibss.frequency import transmissibility, sweep_response"""),
+from vibss.frequency.api import transmissibility, sweep_response"""),
     ("md", """## The single-DOF isolator
 
 A 100 kg block on four mounts in the plane of its centre of gravity: its vertical motion is a
@@ -83,8 +83,8 @@ questions: what peak acceleration does the instrument see, and how far do the fo
 import numpy as np
 import matplotlib.pyplot as plt
 import vibss
-from vibss.excitation import Excitation, HalfSine
-from vibss.time import simulate
+from vibss.model.excitation import Excitation, HalfSine
+from vibss.time.api import simulate
 
 model = vibss.io.load_example("packaged_item")
 print(vibss.modes(model).frequency_table())"""),

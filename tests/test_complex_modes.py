@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from vibss.complex_modes import complex_modes
+from vibss.linear.complex_modes import complex_modes
 
 
 def _problem(ne=8, nr=2, hysteretic=False, seed=1):

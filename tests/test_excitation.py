@@ -9,7 +9,7 @@ import pytest
 from scipy.integrate import quad
 
 from vibss.errors import AnalysisError, ModelError
-from vibss.excitation import (FUNCTIONS, Excitation, HalfSine, Haversine, Ramp, Rectangular,
+from vibss.model.excitation import (FUNCTIONS, Excitation, HalfSine, Haversine, Ramp, Rectangular,
                               Sawtooth, Sine, SineSweep, Step, Sum, Table, Triangle,
                               amplitude_quantity, function_from_dict)
 

@@ -10,10 +10,10 @@ import numpy as np
 import pytest
 
 from vibss import AnalysisError, Body, Model, ModelError, Mount, MountType, assemble, symmetric
-from vibss.frequency import (FrequencyGrid, frequency_grid, frequency_response, sweep_response,
+from vibss.frequency.api import (FrequencyGrid, frequency_grid, frequency_response, sweep_response,
                              transmissibility)
-from vibss.frf_methods import METHODS
-from vibss.signals import build_plant
+from vibss.frequency.kernels import METHODS
+from vibss.linear.signals import build_plant
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from test_signals import two_body  # noqa: E402
@@ -156,7 +156,7 @@ def test_sweep_response_and_dict():
     assert set(d) >= {"frequency_hz", "outputs"} and set(d["outputs"]["m.z"]) >= {"amplitude", "phase_deg"}
     assert len(d["outputs"]["m.z"]["amplitude"]) == sw.frequency_hz.size
     assert "m.z" in sw.report()
-    from vibss.excitation import Excitation, SineSweep
+    from vibss.model.excitation import Excitation, SineSweep
     e = Excitation("sw", "force", "m", SineSweep(f1=0.5, f2=2.0, a1=10.0, a2=30.0), dof="z")
     sw2 = sweep_response(m.replace(excitations=[e]), points=40, outputs=["m.z"])
     np.testing.assert_allclose(sw2.response, sw.response, rtol=1e-12)
@@ -290,7 +290,7 @@ def test_sparse_method_matches_direct_banded_and_superlu(shuffle: bool, extra: i
     """The reverse Cuthill-McKee ordering finds the chain's narrow band whatever the body order
     (each body couples to its neighbours: half-bandwidth under 3 bodies, 18 DOFs); long-range mounts
     widen it past BAND_MAX and SuperLU takes over. Both equal the dense direct solve."""
-    from vibss.banded import BAND_MAX, structure
+    from vibss.linear.banded import BAND_MAX, structure
 
     model = _chain(16, shuffle, extra)
     ins = ["b3.fz", "b11.mx", "ground.y.acc"]
@@ -397,8 +397,8 @@ def test_sparse_plant_frequency_response_needs_no_dense_matrix() -> None:
 
 
 def test_sparse_plant_refused_clearly_where_dense_matrices_are_needed() -> None:
-    from vibss.statespace import statespace
-    from vibss.time import simulate
+    from vibss.linear.statespace import statespace
+    from vibss.time.api import simulate
 
     ps = build_plant(_chain(4, shuffle=False), ["b0.fz"], ["b1.z"], sparse=True)
     with pytest.raises(AnalysisError, match="sparse matrices"):

@@ -144,7 +144,7 @@ def test_settings_are_not_shared_with_the_caller():
 
 
 def test_transformed_refuses_to_leave_excitations_unrotated():
-    from vibss.excitation import Excitation, Step
+    from vibss.model.excitation import Excitation, Step
 
     e = Excitation("e", "force", "b", Step(1.0), direction=[1, 0, 0])
     m = Model([Body("b", 1.0, [1, 1, 1])], excitations=[e])

@@ -7,10 +7,10 @@ import pytest
 
 from cases import asymmetric_model, prism_model, two_mass_model
 from vibss import Body, Model, ModelError, Mount, MountType, AnalysisError
-from vibss.reduction import reduce, relative_error
-from vibss.reduction_methods import frf
-from vibss.scope import Scope
-from vibss.signals import build_plant
+from vibss.reduction.api import reduce, relative_error
+from vibss.reduction.kernels import frf
+from vibss.reduction.scope import Scope
+from vibss.linear.signals import build_plant
 
 from benchmarks.models import chain_model
 
@@ -70,9 +70,9 @@ def test_truncation_drops_modes_on_two_mass() -> None:
 
 
 def test_reduced_plant_runs_through_simulate() -> None:
-    from vibss.excitation import Excitation
-    from vibss.time import simulate
-    from vibss.timefunctions import HalfSine
+    from vibss.model.excitation import Excitation
+    from vibss.time.api import simulate
+    from vibss.model.timefunctions import HalfSine
 
     outs = ["b3.z", "b4.x"]
     model = chain_model(8, zeta=2e-3)
@@ -164,7 +164,7 @@ def _dense_check(model, ins, outs, f2: float, r) -> np.ndarray:
 
 
 def test_krylov_meets_tolerance_against_direct_frf(chain100) -> None:
-    from vibss.frequency import frequency_response
+    from vibss.frequency.api import frequency_response
 
     ins, outs, f2, tol = ["b50.fz"], ["b50.z", "b52.x", "mount.n51.fz", "b50.z.acc"], 8.0, 1e-6
     r = reduce(chain100, Scope(ins, outs, 0.0, f2, tol), "krylov")
@@ -184,9 +184,9 @@ def test_krylov_meets_tolerance_against_direct_frf(chain100) -> None:
 
 
 def test_krylov_reduced_plant_simulates_like_full_model(chain100) -> None:
-    from vibss.excitation import Excitation
-    from vibss.time import simulate
-    from vibss.timefunctions import HalfSine
+    from vibss.model.excitation import Excitation
+    from vibss.time.api import simulate
+    from vibss.model.timefunctions import HalfSine
 
     outs = ["b50.z", "b52.x", "mount.n51.fz"]
     shock = Excitation("shock", "force", "b50", HalfSine(100.0, 0.0, 0.5), dof="z")

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from vibss import Body, ControlPoint, Model, ModelError, Mount, MountType, Orientation, assemble
-from vibss.signals import build_plant, control_name, default_outputs
+from vibss.linear.signals import build_plant, control_name, default_outputs
 
 
 def two_body() -> Model:
@@ -91,7 +91,7 @@ def test_mount_and_ground_forces_balance_statically():
 
 
 def test_excitation_objects_and_direction():
-    from vibss.excitation import Excitation, Step
+    from vibss.model.excitation import Excitation, Step
     m = two_body()
     d = np.array([1.0, 2.0, 2.0]) / 3
     e1 = Excitation("push", "force", "engine", Step(1.0), direction=d, at=[0.1, 0.0, 0.0])
@@ -109,7 +109,7 @@ def test_force_into_a_body_sums_its_carried_mounts():
     model's geometry (frequency domain, viscous damping), and Newton-Euler for the frame: M a =
     applied + into the frame from above - the wrench of the frame's own ground mounts."""
     from vibss import assemble
-    from vibss.frf_methods import direct
+    from vibss.frequency.kernels import direct
 
     m = two_body()
     comps = ("fx", "fy", "fz", "mx", "my", "mz")

@@ -17,14 +17,14 @@ from scipy.spatial.transform import Rotation
 
 from vibss import AnalysisError, Body, Model, Mount, MountType, assemble, damped_modes, modes, static
 from vibss.errors import ModelError
-from vibss.excitation import Excitation, Rectangular, SineSweep, Step
-from vibss.integrators import central_difference, critical_step, newmark, newmark_method
-from vibss.signals import build_plant
-from vibss.stability import (Finding, VibssWarning, check_central_difference, check_damping_resolution,
+from vibss.model.excitation import Excitation, Rectangular, SineSweep, Step
+from vibss.time.integrators import central_difference, critical_step, newmark, newmark_method
+from vibss.linear.signals import build_plant
+from vibss.diagnostics import (Finding, VibssWarning, check_central_difference, check_damping_resolution,
                              check_excitations, check_explicit_rk, check_repeated, check_sampling,
                              check_static, conditioning, equilibrate, natural_frequencies,
                              repeated_frequencies)
-from vibss.time import simulate
+from vibss.time.api import simulate
 
 MASS, KZ = 2.0, 800.0                  # z of a body on one mount at its COG: SDOF, w = 20 rad/s
 WN = np.sqrt(KZ / MASS)

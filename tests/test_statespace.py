@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 
 from vibss import AnalysisError, Body, Model
-from vibss.frf_methods import direct
-from vibss.signals import build_plant
-from vibss.statespace import statespace
+from vibss.frequency.kernels import direct
+from vibss.linear.signals import build_plant
+from vibss.linear.statespace import statespace
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from test_signals import two_body  # noqa: E402

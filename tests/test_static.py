@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from vibss import AnalysisError, Body, Load, Model, Mount, MountType, assemble, static, symmetric
-from vibss.static import centre_of_rotation
+from vibss.statics import centre_of_rotation
 
 from reference_impl import loop_assemble
 

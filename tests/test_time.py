@@ -8,10 +8,10 @@ from scipy.spatial.transform import Rotation
 
 from vibss import Body, Model, Mount, MountType, VibssWarning, assemble
 from vibss.errors import ModelError
-from vibss.excitation import Excitation, HalfSine, Rectangular, Sine, SineSweep, Step, Triangle
-from vibss.signals import build_plant
-from vibss.time import METHODS, TimeResponse, simulate
-from vibss.time_sweep import sweep_envelope
+from vibss.model.excitation import Excitation, HalfSine, Rectangular, Sine, SineSweep, Step, Triangle
+from vibss.linear.signals import build_plant
+from vibss.time.api import METHODS, TimeResponse, simulate
+from vibss.time.sweep import sweep_envelope
 
 M, K, C = 2.0, 800.0, 4.0          # single DOF: w_n = 20 rad/s, zeta = 0.05
 WN = np.sqrt(K / M)
@@ -257,8 +257,8 @@ def test_result_object_and_api_errors() -> None:
 
 
 def test_finite_rate_sweep_envelope() -> None:
-    from vibss.excitation import SineSweep
-    from vibss.time_sweep import sweep_envelope
+    from vibss.model.excitation import SineSweep
+    from vibss.time.sweep import sweep_envelope
 
     def run(T: float):
         e = Excitation("sw", "force", "b", SineSweep(f1=1.0, f2=6.0, a1=10.0, a2=10.0, sweep_time=T), dof="z")
@@ -307,7 +307,7 @@ def test_modal_time_path_with_damper_only_mounts_matches_forced_response():
 def test_auto_falls_back_to_forced_response_when_complex_modes_refuse(monkeypatch):
     """When complex modes refuse (DefectiveModesError: nearly dependent eigenvectors), simulate's
     auto runs forced_response and says so; an explicit method='modal' raises."""
-    import vibss.time_methods as tm
+    import vibss.time.kernels as tm
     from vibss import DefectiveModesError
     from test_signals import two_body
 

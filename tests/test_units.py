@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from vibss.errors import ModelError
-from vibss.units import Units
+from vibss.model.units import Units
 
 
 @pytest.mark.parametrize("units, quantity, expected", [

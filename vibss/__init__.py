@@ -15,26 +15,26 @@ array([ 1.01,  1.42,  1.74, 12.33, 14.24, 34.87])
 
 from __future__ import annotations
 
-from .assemble import Assembly, assemble
-from .damped import DampedModes, damped_modes
+from .linear.assemble import Assembly, assemble
+from .modal.damped import DampedModes, damped_modes
 from .errors import AnalysisError, DefectiveModesError, ModelError, ModelFileError, VibssError, VibssWarning
-from .excitation import Excitation
-from .geometry import Orientation
-from .io import (dump_model, dumps_model, example_names, load_example, load_model,
+from .model.excitation import Excitation
+from .model.geometry import Orientation
+from .io.modelfile import (dump_model, dumps_model, example_names, load_example, load_model,
                  loads_model)
-from .modal import Modes, modes
-from .model import (DOF_NAMES, GROUND, Body, ControlPoint, Load, Model, Mount, MountType,
+from .modal.undamped import Modes, modes
+from .model.model import (DOF_NAMES, GROUND, Body, ControlPoint, Load, Model, Mount, MountType,
                     symmetric)
-from .frequency import (FrequencyGrid, FrequencyResponse, frequency_grid, frequency_response,
+from .frequency.api import (FrequencyGrid, FrequencyResponse, frequency_grid, frequency_response,
                         sweep_response, transmissibility)
-from .plant import Plant
-from .reduction import Reduction, reduce
-from .scope import Scope
-from .signals import build_plant
-from .statespace import NamedStateSpace, statespace
-from .static import StaticResult, static
-from .time import TimeResponse, simulate
-from .time_sweep import SweepEnvelope, sweep_envelope
+from .linear.plant import Plant
+from .reduction.api import Reduction, reduce
+from .reduction.scope import Scope
+from .linear.signals import build_plant
+from .linear.statespace import NamedStateSpace, statespace
+from .statics import StaticResult, static
+from .time.api import TimeResponse, simulate
+from .time.sweep import SweepEnvelope, sweep_envelope
 
 __version__ = "0.1.0"
 

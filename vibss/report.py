@@ -38,12 +38,12 @@ from typing import Any
 
 import numpy as np
 
-from .damped import damped_modes
+from .modal.damped import damped_modes
 from .errors import VibssError
-from .modal import modes
-from .model import DOF_NAMES, Model
+from .modal.undamped import modes
+from .model.model import DOF_NAMES, Model
 from .results import Table
-from .static import StaticResult, static
+from .statics import StaticResult, static
 
 __all__ = ["Section", "Report", "study", "write_report", "html_table", "slug", "default_folder",
            "progress_on_stderr", "STEPS", "MAX_MODE_PANELS"]
@@ -193,7 +193,7 @@ def _describe(o: Any) -> str:
         return text
     from scipy.spatial.transform import Rotation
 
-    from .geometry import DEFAULT_SEQUENCE
+    from .model.geometry import DEFAULT_SEQUENCE
 
     a = Rotation.from_matrix(o.matrix).as_euler(DEFAULT_SEQUENCE, degrees=True)
     return f"{DEFAULT_SEQUENCE} ({a[0]:.2f}, {a[1]:.2f}, {a[2]:.2f}) deg"
@@ -293,7 +293,7 @@ def _frequency_section(model: Model, figures: bool, results: dict[str, Any]) -> 
     if not _available("frequency"):
         return Section("frequency", TITLES["frequency"], skipped=True,
                        note="vibss.frequency is not installed in this version")
-    from .frequency import sweep_response, transmissibility
+    from .frequency.api import sweep_response, transmissibility
 
     spec = dict(model.settings.get("frequency", {}))
     # the band and grid of ``vibss frf`` ([analysis] frequency, else the sweeps' own band), so the
@@ -347,7 +347,7 @@ def _time_section(model: Model, figures: bool, results: dict[str, Any]) -> Secti
                        note="no transient excitation (pulse, step, sine, table or timed sweep) in the model")
     if not _available("time"):
         return Section("time", TITLES["time"], skipped=True, note="vibss.time is not installed in this version")
-    from .time import simulate
+    from .time.api import simulate
 
     spec = _time_defaults(model, transient, results)
     outputs = [f"{b}.{d}" for b in model.body_names for d in DOF_NAMES]

@@ -9,8 +9,8 @@ import sys
 from typing import Any
 
 from ..errors import ModelError
-from ..io import load_example, load_model
-from ..model import Model
+from ..io.modelfile import load_example, load_model
+from ..model.model import Model
 
 __all__ = ["add_model_arguments", "load_from_args", "emit", "finite_json"]
 

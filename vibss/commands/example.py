@@ -8,7 +8,7 @@ import sys
 import tomllib
 from pathlib import Path
 
-from ..io import example_names, example_path
+from ..io.modelfile import example_names, example_path
 
 
 def describe(name: str) -> tuple[str, str]:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 
 from ..errors import ModelError
-from ..frequency import FrequencyGrid, frequency_response, sweep_response
+from ..frequency.api import FrequencyGrid, frequency_response, sweep_response
 from .common import add_model_arguments, emit, load_from_args
 
 

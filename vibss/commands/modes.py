@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import argparse
 
-from ..damped import damped_modes
-from ..modal import modes
+from ..modal.damped import damped_modes
+from ..modal.undamped import modes
 from .common import add_model_arguments, emit, load_from_args
 
 

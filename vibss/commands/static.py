@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from ..static import static
+from ..statics import static
 from .common import add_model_arguments, emit, load_from_args
 
 

@@ -6,8 +6,8 @@ import argparse
 import sys
 
 from ..errors import ModelError
-from ..signals import default_outputs
-from ..time import METHODS, simulate
+from ..linear.signals import default_outputs
+from ..time.api import METHODS, simulate
 from .common import add_model_arguments, emit, load_from_args
 
 

@@ -17,7 +17,7 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
 from ..errors import ModelError
-from ..model import GROUND
+from ..model.model import GROUND
 from ._scene import BOX_EDGES, Moved, Scene, zigzag
 
 if TYPE_CHECKING:

@@ -15,8 +15,8 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from ..errors import ModelError
-from ..geometry import point_transfer
-from ..model import GROUND, Model
+from ..model.geometry import point_transfer
+from ..model.model import GROUND, Model
 
 __all__ = ["Scene", "box_half_sides", "BOX_EDGES", "zigzag"]
 

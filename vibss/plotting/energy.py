@@ -9,8 +9,8 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Patch
 
 from ..errors import ModelError
-from ..modal import Modes
-from ..model import DOF_NAMES
+from ..modal.undamped import Modes
+from ..model.model import DOF_NAMES
 from ._draw import new_figure
 
 __all__ = ["plot_energy"]

@@ -1,0 +1,727 @@
+"""Frequency response: FRFs, transmissibility and swept-sine steady states.
+
+``frequency_response`` evaluates ``Y(i w) / U`` of a :class:`~vibss.linear.plant.Plant` for named inputs and
+outputs with a kernel from :data:`vibss.frequency.kernels.METHODS` (``"auto"`` picks one and records why).
+Conventions:
+
+- frequencies are given and reported in Hz (``omega`` in rad/s is kept too);
+- ``quantity`` multiplies every output by ``(i w)^k``: receptance (k = 0, the outputs as named),
+  mobility (k = 1, their time derivative) or accelerance (k = 2);
+- a motion input ``u`` of order 1 or 2 (velocity, acceleration) prescribes ``z = u / (i w)^order``;
+- hysteretic damping (mount loss factors, ``K + i H``) acts in the frequency domain only;
+- at exactly 0 Hz the response is the limit ``w -> 0+``, computed exactly from the Laurent series
+  (:func:`vibss.frequency.kernels.zero_frequency_limit`): finite where the limit exists (e.g. the static
+  deflection, a velocity ratio, a mass line), ``inf`` where it diverges (displacement under a
+  constant velocity or acceleration, receptance of an unrestrained rigid-body motion). Never NaN.
+
+Examples
+--------
+>>> from vibss import Body, Model, Mount, MountType
+>>> m = Model([Body("b", 10.0, [1, 1, 1])], [Mount("m", MountType("t", [1e4] * 3, [20.0] * 3), "b")])
+>>> r = frequency_response(m, ["b.fz"], ["b.z"], frequencies=[0.0, 1.0])
+>>> print(f"{abs(r.response[0, 0, 0]):.6g} m/N by {r.method}")   # 1 / k at 0 Hz
+0.0001 m/N by direct
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any, cast
+
+import control
+import numpy as np
+import scipy.sparse as sp
+
+from ..linear.assemble import Assembly
+from ..linear.banded import structure
+from ..errors import AnalysisError, DefectiveModesError, ModelError
+from .kernels import (COMPLEX_MODE_RISK, METHODS, classical_damping, complex_mode_risk,
+                          project_damping, zero_frequency_limit)
+from ..model.model import Model
+from ..linear.plant import Plant
+from ..linear.signals import build_plant, control_name
+from ..linear.eigen import ModalBasis, modal_basis
+
+__all__ = ["FrequencyResponse", "FrequencyGrid", "frequency_grid", "frequency_response",
+           "transmissibility", "sweep_response", "QUANTITIES"]
+
+QUANTITIES = {"receptance": 0, "mobility": 1, "accelerance": 2}
+"""Output time-derivative order of each FRF quantity."""
+
+_REFINE = (-4.0, -2.0, -1.0, -0.5, 0.0, 0.5, 1.0, 2.0, 4.0)
+_UNDAMPED_ZETA = 1e-4
+
+
+@dataclass(frozen=True)
+class FrequencyGrid:
+    """A frequency grid specification.
+
+    Parameters
+    ----------
+    f1, f2 : float or None
+        Band [Hz]; None: from a tenth of the lowest to twice the highest natural frequency.
+    points : int
+        Number of base points.
+    spacing : {"log", "linear"}
+        Base spacing. A log grid with ``f1 = 0`` keeps 0 Hz and starts its log part at ``f2 / 1e4``.
+    refine : bool
+        Add points at each natural frequency ``f_r`` in the band and at ``f_r (1 + k zeta_r)``,
+        k = +-0.5, +-1, +-2, +-4 (``zeta_r`` from the modal damping estimate; 1e-4 for undamped
+        modes, which then get no point exactly at ``f_r``), so lightly damped peaks are resolved.
+    """
+
+    f1: float | None = None
+    f2: float | None = None
+    points: int = 1000
+    spacing: str = "log"
+    refine: bool = True
+
+    def _checked(self) -> FrequencyGrid:
+        """This grid with its values checked and converted (a ModelError names the bad key)."""
+        vals: dict[str, Any] = {}
+        for key in ("f1", "f2"):
+            v = getattr(self, key)
+            if v is not None:
+                ok = not isinstance(v, (bool, np.bool_, str))
+                try:
+                    v = float(v) if ok else v
+                except (TypeError, ValueError):
+                    ok = False
+                if not ok or not np.isfinite(v) or v < 0:
+                    raise ModelError(f"frequencies: {key}: expected a frequency >= 0 [Hz] or None, "
+                                     f"got {getattr(self, key)!r}")
+            vals[key] = v
+        pts = self.points
+        integral = isinstance(pts, (int, np.integer)) or (isinstance(pts, (float, np.floating))
+                                                          and float(pts).is_integer())
+        if isinstance(pts, (bool, np.bool_)) or not integral or pts < 2:
+            raise ModelError(f"frequencies: points: expected an integer >= 2, got {pts!r}")
+        if self.spacing not in ("log", "linear"):
+            raise ModelError(f"frequencies: spacing: expected 'log' or 'linear', got {self.spacing!r}")
+        return dataclasses.replace(self, f1=vals["f1"], f2=vals["f2"], points=int(pts),
+                                   refine=bool(self.refine))
+
+    @classmethod
+    def coerce(cls, spec: Any) -> FrequencyGrid:
+        """From a FrequencyGrid, a mapping (keys f1, f2, points, spacing, refine) or None."""
+        if spec is None:
+            return cls()
+        if isinstance(spec, cls):
+            return spec._checked()
+        if isinstance(spec, Mapping):
+            unknown = set(spec) - {"f1", "f2", "points", "spacing", "refine"}
+            if unknown:
+                raise ModelError(f"frequencies: unknown grid key(s) {sorted(unknown)}; expected "
+                                 "f1, f2, points, spacing, refine")
+            return cls(**dict(spec))._checked()
+        raise ModelError(f"frequencies: expected frequencies in Hz, a grid mapping or None, got {spec!r}")
+
+
+def frequency_grid(plant: Plant, spec: Any = None, basis: ModalBasis | None = None) -> np.ndarray:
+    """Frequencies [Hz] of a grid spec for a plant (sorted, unique, refined at resonances).
+
+    Parameters
+    ----------
+    plant : Plant
+    spec : FrequencyGrid, mapping or None
+        See :class:`FrequencyGrid`.
+    basis : ModalBasis or None
+        Undamped modes, if already computed.
+
+    Returns
+    -------
+    (nf,) ndarray
+        Frequencies [Hz].
+    """
+    g = FrequencyGrid.coerce(spec)
+    basis = basis or modal_basis(plant)
+    fr = basis.omega[~basis.rigid] / (2 * np.pi)
+    f1 = g.f1 if g.f1 is not None else (0.1 * fr.min() if fr.size else 0.01)
+    f2 = g.f2 if g.f2 is not None else (2.0 * fr.max() if fr.size else 100.0)
+    if not (np.isfinite(f1) and np.isfinite(f2) and 0 <= f1 < f2) or int(g.points) < 2:
+        raise ModelError(f"frequencies: need 0 <= f1 < f2 and points >= 2, got f1={f1}, f2={f2}, "
+                         f"points={g.points}")
+    if g.spacing == "linear":
+        f = np.linspace(f1, f2, int(g.points))
+    elif g.spacing == "log":
+        lo = f1 if f1 > 0 else f2 * 1e-4
+        f = np.geomspace(lo, f2, int(g.points) - (f1 == 0))
+        f = np.concatenate([[0.0], f]) if f1 == 0 else f
+    else:
+        raise ModelError(f"frequencies: spacing must be 'log' or 'linear', got {g.spacing!r}")
+    if g.refine and fr.size:
+        zeta = _modal_zeta(plant, basis)[~basis.rigid]
+        z = np.where(zeta > 0, zeta, _UNDAMPED_ZETA)
+        k = np.array(_REFINE)
+        extra = fr[:, None] * (1 + k[None, :] * z[:, None])
+        extra = np.where((zeta[:, None] == 0) & (k[None, :] == 0), np.nan, extra).ravel()
+        extra = extra[np.isfinite(extra) & (extra >= f1) & (extra <= f2)]
+        f = np.union1d(f, extra)
+    return np.unique(f)
+
+
+def _modal_zeta(plant: Plant, basis: ModalBasis) -> np.ndarray:
+    """Modal damping-ratio estimate per mode: diag(Phi^T C Phi) / 2w + eta / 2."""
+    phi = basis.phi
+    w = np.where(basis.rigid, 1.0, basis.omega)
+    gam = (phi * (plant.C @ phi)).sum(axis=0) if np.any(plant.C) else 0.0
+    hys = (phi * (plant.H @ phi)).sum(axis=0) if np.any(plant.H) else 0.0
+    return np.abs(gam / (2 * w) + hys / (2 * w**2)) * np.ones(plant.n)
+
+
+@dataclass(frozen=True, eq=False)
+class FrequencyResponse:
+    """A frequency response: complex amplitudes per output, input and frequency.
+
+    Attributes
+    ----------
+    frequency_hz : (nf,) ndarray
+        Frequencies [Hz].
+    response : (p, m, nf) complex ndarray
+        Output amplitude per unit input amplitude (or, for a sweep, per the excitations), in the
+        outputs' units times ``s^k`` for mobility/accelerance, per unit of the input. ``inf`` at
+        0 Hz where the response diverges.
+    outputs, inputs : tuple of str
+        Signal names (vibss spelling, with dots).
+    units : tuple of str
+        Unit of each output row (of the quantity, per unit input).
+    quantity : str
+        ``"receptance"``, ``"mobility"``, ``"accelerance"``, ``"transmissibility"`` or ``"sweep"``.
+    method : str
+        Kernel that computed it.
+    reason : str
+        Why that kernel (for ``method="auto"``).
+    natural_hz : (k,) ndarray
+        Undamped natural frequencies in the band [Hz] (resonance markers).
+    name : str
+        System name.
+    """
+
+    frequency_hz: np.ndarray
+    response: np.ndarray
+    outputs: tuple[str, ...]
+    inputs: tuple[str, ...]
+    units: tuple[str, ...]
+    quantity: str
+    method: str
+    reason: str = ""
+    natural_hz: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    name: str = "vibss"
+
+    def __post_init__(self) -> None:
+        for key in ("frequency_hz", "response", "natural_hz"):
+            a = np.array(getattr(self, key))
+            a.setflags(write=False)
+            object.__setattr__(self, key, a)
+
+    @property
+    def omega(self) -> np.ndarray:
+        """(nf,) frequencies [rad/s]."""
+        return 2 * np.pi * self.frequency_hz
+
+    @property
+    def magnitude(self) -> np.ndarray:
+        """(p, m, nf) amplitude |H|."""
+        return np.abs(self.response)
+
+    @property
+    def phase_deg(self) -> np.ndarray:
+        """(p, m, nf) phase [deg], in (-180, 180]."""
+        return np.degrees(np.angle(np.where(np.isfinite(self.response), self.response, 1.0)))
+
+    @property
+    def frd(self) -> control.FrequencyResponseData:
+        """The response as a python-control FrequencyResponseData (finite frequencies only, rad/s)."""
+        keep = np.all(np.isfinite(self.response), axis=(0, 1))
+        return control.frd(self.response[:, :, keep], self.omega[keep],
+                           inputs=[control_name(u) for u in self.inputs],
+                           outputs=[control_name(y) for y in self.outputs],
+                           name=control_name(self.name))
+
+    def channel(self, output: str, input: str | None = None) -> np.ndarray:
+        """(nf,) complex response of one output to one input (default: the only input)."""
+        i = _index(self.outputs, output, "output")
+        if input is None and len(self.inputs) != 1:
+            raise ModelError(f"input: the response has {len(self.inputs)} inputs {list(self.inputs)}; name one")
+        j = 0 if input is None else _index(self.inputs, input, "input")
+        return self.response[i, j]
+
+    def peaks(self, output: str, input: str | None = None, count: int = 3) -> list[tuple[float, float]]:
+        """The ``count`` largest local maxima ``(frequency [Hz], amplitude)`` of one channel.
+
+        Only finite points are listed. A non-finite point (``inf`` at 0 Hz, or exactly on an
+        undamped resonance) counts as larger than anything when its neighbours are tested, so a
+        finite point beside it is never a peak; it is not listed itself (``inf`` has no
+        frequency-resolved peak to report; :meth:`channel` shows it).
+        """
+        a = np.abs(self.channel(output, input))
+        finite = np.isfinite(a)
+        if a.size < 3:
+            if not finite.any():
+                return []
+            i = int(np.argmax(np.where(finite, a, -1.0)))
+            return [(float(self.frequency_hz[i]), float(a[i]))]
+        a = np.where(finite, a, np.inf)
+        inner = np.flatnonzero((a[1:-1] >= a[:-2]) & (a[1:-1] > a[2:]) & finite[1:-1]) + 1
+        idx = [int(i) for i in inner[np.argsort(a[inner])[::-1]][:count]]
+        return [(float(self.frequency_hz[i]), float(a[i])) for i in idx]
+
+    def to_dict(self, input: str | None = None) -> dict[str, Any]:
+        """JSON-ready dict (spec format): ``{"frequency_hz", "outputs": {name: {"amplitude",
+        "phase_deg"}}}`` for one input (the only one, or ``input``). With several inputs and no
+        ``input``, the spec's top-level ``"outputs"`` holds every channel as ``"<output>/<input>"``
+        and ``"inputs": {input: {"outputs": ...}}`` the same grouped by input. ``inf`` -> null.
+
+        Parameters
+        ----------
+        input : str or None
+            Only this input's channels, keyed by output name.
+        """
+        def outs(j: int) -> dict[str, Any]:
+            amp, ph = self.magnitude[:, j], self.phase_deg[:, j]
+            return {y: {"amplitude": [None if not np.isfinite(v) else float(v) for v in amp[i]],
+                        "phase_deg": [float(v) for v in ph[i]], "unit": self.units[i]}
+                    for i, y in enumerate(self.outputs)}
+        head = {"frequency_hz": self.frequency_hz.tolist(), "quantity": self.quantity,
+                "method": self.method}
+        if input is not None or len(self.inputs) == 1:
+            j = 0 if input is None else _index(self.inputs, input, "input")
+            return {**head, "input": self.inputs[j], "outputs": outs(j)}
+        grouped = {u: outs(j) for j, u in enumerate(self.inputs)}
+        flat = {f"{y}/{u}": v for u, o in grouped.items() for y, v in o.items()}
+        return {**head, "outputs": flat, "inputs": {u: {"outputs": o} for u, o in grouped.items()}}
+
+    def to_pandas(self) -> Any:
+        """DataFrame indexed by frequency [Hz], one complex column ``'<output>/<input>'`` per channel."""
+        import pandas as pd
+
+        cols = {f"{y}/{u}": self.response[i, j] for i, y in enumerate(self.outputs)
+                for j, u in enumerate(self.inputs)}
+        return pd.DataFrame(cols, index=pd.Index(self.frequency_hz, name="frequency_hz"))
+
+    def report(self, count: int = 3) -> str:
+        """Text table: the largest peaks of every channel, with their frequencies."""
+        lines = [f"Frequency response of {self.name!r}: {self.quantity}, method {self.method!r}"
+                 + (f" ({self.reason})" if self.reason else ""),
+                 f"{self.frequency_hz.size} frequencies, {self.frequency_hz.min():.4g} to "
+                 f"{self.frequency_hz.max():.4g} Hz",
+                 f"{'output':<28} {'input':<22} {'peak f [Hz]':>12} {'amplitude':>12}  unit"]
+        for i, y in enumerate(self.outputs):
+            for j, u in enumerate(self.inputs):
+                rows = [(f, f"{a:>12.4e}") for f, a in self.peaks(y, u, count)]
+                bad = np.flatnonzero(~np.isfinite(self.response[i, j]))
+                if bad.size:        # not a peak: say where the response is unbounded instead
+                    rows.append((float(self.frequency_hz[bad[0]]), f"{'infinite':>12}"))
+                if not rows:        # no resonance in the band: the largest value, marked as such
+                    mag = np.where(np.isfinite(self.magnitude[i, j]), self.magnitude[i, j], -np.inf)
+                    top = int(np.argmax(mag))
+                    rows = [(float(self.frequency_hz[top]), f"{self.magnitude[i, j, top]:>12.4e}")]
+                    edge = "  (largest in the band, no peak inside it)"
+                else:
+                    edge = ""
+                for k, (f, a) in enumerate(rows):
+                    lines.append(f"{y if k == 0 else '':<28} {u if k == 0 else '':<22} "
+                                 f"{f:>12.4f} {a}  {self.units[i]}" + (edge if k == 0 else ""))
+        return "\n".join(lines)
+
+    def plot(self, outputs: Sequence[str] | None = None, inputs: Sequence[str] | None = None,
+             max_channels: int = 12, mark_resonances: bool = True, ax: Any = None,
+             by: str = "all") -> Any:
+        """Bode plot (magnitude and phase) of selected channels, overlaid on one pair of axes.
+
+        Parameters
+        ----------
+        outputs, inputs : sequence of str or None
+            Channels to draw; default: all, but at most ``max_channels`` (the largest peaks).
+        max_channels : int
+            Limit on the default selection (a 36 x 6 grid of axes takes ~40 s in python-control).
+        mark_resonances : bool
+            Dotted vertical lines at the undamped natural frequencies.
+        ax : (2,) sequence of matplotlib Axes or None
+            Magnitude and phase axes to draw in (``by="all"`` only).
+        by : {"all", "body"}
+            ``"all"``: every channel on one pair of axes; ``"body"``: one magnitude/phase column per
+            body (outputs grouped by the part of their name before the first ``.``: a body, a
+            control point, ``mount`` or ``ground``).
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+        """
+        import matplotlib.pyplot as plt
+
+        if by not in ("all", "body"):
+            raise ValueError(f"plot: by must be 'all' or 'body', got {by!r}")
+        if by == "body":
+            names = list(self.outputs) if outputs is None else list(outputs)
+            groups: dict[str, list[str]] = {}
+            for name in names:
+                groups.setdefault(name.split(".")[0], []).append(name)
+            fig, axes = plt.subplots(2, len(groups), sharex=True, squeeze=False,
+                                     figsize=(4.5 * len(groups) + 1, 6))
+            for col, (group, outs_g) in enumerate(groups.items()):
+                self.plot(outs_g, inputs, max_channels, mark_resonances, ax=axes[:, col])
+                axes[0, col].set_title(group)
+            fig.suptitle(f"{self.name}: method {self.method}")
+            return fig
+
+        outs = list(self.outputs) if outputs is None else list(outputs)
+        ins = list(self.inputs) if inputs is None else list(inputs)
+        pairs = [(_index(self.outputs, y, "output"), _index(self.inputs, u, "input")) for y in outs for u in ins]
+        if outputs is None and inputs is None and len(pairs) > max_channels:
+            peak = [np.nanmax(np.where(np.isfinite(self.magnitude[i, j]), self.magnitude[i, j], np.nan))
+                    for i, j in pairs]
+            pairs = [pairs[k] for k in np.argsort(peak)[::-1][:max_channels]]
+        if ax is None:
+            fig, ax = plt.subplots(2, 1, sharex=True, figsize=(8, 6))
+        else:
+            fig = ax[0].figure
+        f = self.frequency_hz
+        pos = f > 0
+        for i, j in pairs:
+            label = self.outputs[i] + (f" / {self.inputs[j]}" if len(self.inputs) > 1 else "")
+            ax[0].loglog(f[pos], self.magnitude[i, j, pos], label=label)
+            ax[1].semilogx(f[pos], self.phase_deg[i, j, pos])
+        if mark_resonances:
+            for fr in self.natural_hz:
+                for a in ax:
+                    a.axvline(fr, color="0.6", lw=0.6, ls=":")
+        ax[0].set_ylabel(f"|H| ({self.quantity})")
+        ax[1].set_ylabel("phase [deg]")
+        ax[1].set_xlabel("frequency [Hz]")
+        ax[0].set_title(f"{self.name}: method {self.method}")
+        ax[0].legend(fontsize="small")
+        return fig
+
+
+def _index(names: Sequence[str], name: str, what: str) -> int:
+    try:
+        return list(names).index(name)
+    except ValueError:
+        raise ModelError(f"{what}: {name!r} is not one of {list(names)}") from None
+
+
+_K_EIG = 4.6e-10     # [s] per N^3 of the complex-mode eig (N = 2n states)
+_K_SUPERPOSE = 4e-10  # [s] per frequency x mode x channel of the superposition
+
+
+def _choose(plant: Plant, nf: int, basis: ModalBasis) -> tuple[str, str]:
+    """Pick a kernel; the cost estimates use constants measured by benchmarks/bench_frf.py.
+
+    The undamped modes are computed anyway (grid, natural frequencies), so classical damping
+    takes the modal superposition. General damping takes the cheaper of the complex modes (one
+    ``eig`` of the 2n-state matrix) and the sparse direct solve (one banded or sparse LU per
+    frequency).
+    """
+    if plant.n <= 12:
+        return "direct", f"small model ({plant.n} DOF): direct solve is exact and cheap"
+    if not np.any(plant.C) and not np.any(plant.H):
+        return "sparse", ("undamped: sparse direct solve (a modal sum of an undamped model loses "
+                          "digits next to each resonance, where its eigenvalue errors are not damped)")
+    projected = project_damping(plant, basis)
+    ok, why = classical_damping(plant, basis, projected)
+    if ok:
+        return "modal", f"{why}: modal superposition is the fastest"
+    st = plant.cached("band structure", lambda: structure(plant))
+    risk = complex_mode_risk(basis, projected)
+    if risk > COMPLEX_MODE_RISK:
+        what = ("a mode has no damping, so eig's pole error is not damped at its resonance"
+                if np.isinf(risk) else f"eig's pole error relative to the slowest decay rate ~{risk:.1g}")
+        return "sparse", f"{why}: sparse direct solve; complex modes could lose accuracy ({what})"
+    t_sparse = nf * st.seconds_per_frequency
+    n2 = 2 * plant.n
+    t_complex = _K_EIG * n2**3 + _K_SUPERPOSE * nf * n2 * len(plant.inputs) * len(plant.outputs)
+    how = f"banded LU, half-bandwidth {st.band}" if st.banded else "SuperLU"
+    if t_sparse <= t_complex:
+        return "sparse", (f"{why}: sparse direct solve per frequency ({how}), estimated {t_sparse:.2g} s "
+                          f"against {t_complex:.2g} s for complex modes")
+    return "complex_modal", (f"{why}: complex-mode superposition, estimated {t_complex:.2g} s against "
+                             f"{t_sparse:.2g} s for the sparse direct solve ({how})")
+
+
+def _as_plant(system: Model | Assembly | Plant, inputs: Any, outputs: Any) -> Plant:
+    if isinstance(system, Plant):
+        if inputs is not None or outputs is not None:
+            raise ModelError("inputs/outputs: a Plant already fixes its signals; pass a Model to choose them")
+        return system
+    if inputs is None:
+        raise ModelError("inputs: name at least one input signal, e.g. 'engine.fz' or 'ground.z.acc'")
+    return build_plant(system, inputs, outputs)
+
+
+def _frequencies(plant: Plant, frequencies: Any, basis: ModalBasis | None) -> np.ndarray:
+    if frequencies is None or isinstance(frequencies, (Mapping, FrequencyGrid)):
+        return frequency_grid(plant, frequencies, basis)
+    try:
+        f = np.atleast_1d(np.asarray(frequencies, dtype=float))
+    except (TypeError, ValueError):
+        f = np.array([np.nan])
+    if f.ndim != 1 or not np.all(np.isfinite(f)) or np.any(f < 0):
+        raise ModelError(f"frequencies: expected finite frequencies >= 0 [Hz], got {frequencies!r}")
+    if f.size == 0:
+        raise ModelError("frequencies: got an empty list; give at least one frequency [Hz], a grid "
+                         "mapping {f1, f2, points} or None")
+    return f
+
+
+def _sparse_plant_response(plant: Plant, frequencies: Any, quantity: str,
+                           method: str | Callable[..., np.ndarray]) -> FrequencyResponse:
+    """:func:`frequency_response` of a plant with sparse matrices: no dense eigen-analysis, so
+    explicit frequencies > 0 and the ``sparse`` kernel (or a callable); no resonance marks."""
+    if frequencies is None or isinstance(frequencies, (Mapping, FrequencyGrid)):
+        raise ModelError("frequencies: a sparse plant (build_plant(..., sparse=True)) needs explicit "
+                         "frequencies [Hz]: the default grid is built around the modes")
+    f = _frequencies(plant, frequencies, None)
+    if np.any(f <= 0):
+        raise ModelError("frequencies: a sparse plant takes frequencies > 0 (the 0 Hz limit needs the modes)")
+    if isinstance(method, str) and method not in ("auto", "sparse"):
+        raise AnalysisError(f"method {method!r} needs the dense plant; a sparse plant "
+                            "(build_plant(..., sparse=True)) takes method='sparse' or 'auto'")
+    kernel = METHODS["sparse"] if isinstance(method, str) else method
+    name = "sparse" if isinstance(method, str) else getattr(method, "__name__", "custom")
+    reason = "sparse plant: sparse direct solve per frequency" if method == "auto" else ""
+    s = 2j * np.pi * f
+    h = _times_power(kernel(plant, s), s, QUANTITIES[quantity])
+    return FrequencyResponse(f, h, plant.outputs, plant.inputs, _units(plant, quantity), quantity,
+                             name, reason, np.zeros(0), plant.name)
+
+
+def _times_power(raw: np.ndarray, s: np.ndarray, k: int) -> np.ndarray:
+    """Mobility / accelerance: ``raw * s^k``, keeping inf as inf."""
+    if not k:
+        return raw
+    with np.errstate(invalid="ignore"):
+        scaled = raw * s**k
+    scaled[np.isinf(raw)] = np.inf
+    return scaled
+
+
+def _units(plant: Plant, quantity: str) -> tuple[str, ...]:
+    k = QUANTITIES[quantity]
+    units = tuple(u + ("", " s^-1", " s^-2")[k] if k else u for u in plant.units)
+    return tuple(f"{u} per unit input" if quantity != "receptance" else u for u in units)
+
+
+def frequency_response(system: Model | Assembly | Plant, inputs: Sequence[Any] | None = None,
+                       outputs: Sequence[str] | None = None, frequencies: Any = None,
+                       quantity: str = "receptance",
+                       method: str | Callable[..., np.ndarray] = "auto") -> FrequencyResponse:
+    """Frequency response functions of named outputs to named inputs.
+
+    Parameters
+    ----------
+    system : Model, Assembly or Plant
+        The system; a Plant fixes the signals itself.
+    inputs : sequence of str or Excitation
+        Input signals (see :mod:`vibss.signals`).
+    outputs : sequence of str or None
+        Output signals; default every body DOF's displacement.
+    frequencies : (nf,) array_like [Hz], FrequencyGrid, mapping or None
+        Explicit frequencies, or a grid spec (default: refined log grid around the modes).
+    quantity : {"receptance", "mobility", "accelerance"}
+        Multiply the outputs by ``(i w)^0, ^1, ^2``.
+    method : {"auto", "direct", "modal", "complex_modal", "sparse", "statespace"} or callable
+        Kernel (:data:`vibss.frequency.kernels.METHODS`), or ``f(plant, s) -> (p, m, nf)``.
+
+    Returns
+    -------
+    FrequencyResponse
+
+    Raises
+    ------
+    ValueError
+        Unknown ``method`` or ``quantity``.
+    ModelError
+        Bad signal names or frequencies.
+    AnalysisError
+        The method cannot answer (e.g. ``modal`` on non-classical damping).
+    """
+    if quantity not in QUANTITIES:
+        raise ValueError(f"quantity: expected one of {list(QUANTITIES)}, got {quantity!r}")
+    if not callable(method) and method != "auto" and method not in METHODS:
+        raise ValueError(f"method: expected 'auto', a callable or one of {list(METHODS)}, got {method!r}")
+    plant = _as_plant(system, inputs, outputs)
+    if sp.issparse(plant.K):
+        return _sparse_plant_response(plant, frequencies, quantity, method)
+    basis = modal_basis(plant)
+    f = _frequencies(plant, frequencies, basis)
+    name, reason = (method, "") if isinstance(method, str) else (getattr(method, "__name__", "custom"), "")
+    if method == "auto":
+        name, reason = _choose(plant, f.size, basis)
+    # a callable: "auto" and unknown names were resolved or refused above
+    kernel = cast("Callable[..., np.ndarray]", METHODS.get(name, method) if isinstance(name, str) else method)
+    k = QUANTITIES[quantity]
+    h = np.empty((len(plant.outputs), len(plant.inputs), f.size), dtype=complex)
+    pos = f > 0
+    if np.any(pos):
+        s = 2j * np.pi * f[pos]
+        kwargs = {"basis": basis} if kernel in (METHODS["modal"], METHODS["complex_modal"]) else {}
+        try:
+            raw = kernel(plant, s, **kwargs)
+        except DefectiveModesError as exc:
+            if method != "auto":
+                raise
+            name, reason = "sparse", f"{reason}; complex modes refused ({exc}): sparse direct solve"
+            raw = METHODS["sparse"](plant, s)
+        h[:, :, pos] = _times_power(raw, s, k)
+    if np.any(~pos):
+        h[:, :, ~pos] = zero_frequency_limit(plant, power=k)[:, :, None]
+    units = _units(plant, quantity)
+    fr = basis.omega[~basis.rigid] / (2 * np.pi)
+    return FrequencyResponse(f, h, plant.outputs, plant.inputs, units, quantity, name, reason,
+                             fr[(fr >= f.min()) & (fr <= f.max())], plant.name)
+
+
+def transmissibility(system: Model | Assembly, inputs: Sequence[str], outputs: Sequence[str] | None = None,
+                     frequencies: Any = None, method: str | Callable[..., np.ndarray] = "auto") -> FrequencyResponse:
+    """Motion or force transmissibility (dimensionless), safe at 0 Hz.
+
+    Motion: prescribed motion inputs (``'ground.z'`` or ``'ground.z.disp'``; velocity and
+    acceleration inputs are read as the same motion) to motion outputs of the same kind
+    (default: every body DOF): ``|T| = |y| / |z|``. Force: force inputs (``'<body>.fz'``) to force
+    outputs (default: the total force and moment into ground, and each ground mount's force).
+
+    Parameters
+    ----------
+    system : Model or Assembly
+    inputs : sequence of str
+        All motion inputs or all force inputs.
+    outputs : sequence of str or None
+        Outputs (see above for the defaults).
+    frequencies : array_like [Hz], grid spec or None
+    method : str or callable
+        As :func:`frequency_response`.
+
+    Returns
+    -------
+    FrequencyResponse
+        ``quantity = "transmissibility"``.
+
+    Examples
+    --------
+    >>> from vibss import Body, Model, Mount, MountType
+    >>> m = Model([Body("b", 1.0, [1, 1, 1])], [Mount("m", MountType("t", [1.0] * 3, [0.2] * 3), "b")])
+    >>> t = transmissibility(m, ["ground.z"], ["b.z"], frequencies=[0.0])
+    >>> print(f"{abs(t.response[0, 0, 0]):.12f}")
+    1.000000000000
+    """
+    model = system.model if isinstance(system, Assembly) else system
+    names = [u if isinstance(u, str) else u.signal for u in inputs]
+    motion = [u.rsplit(".", 1)[-1] in ("disp", "vel", "acc") or u.startswith("ground.") for u in names]
+    if any(motion) and not all(motion):
+        raise ModelError(f"inputs: mix of motion and force inputs {names}; transmissibility takes one kind")
+    if all(motion):
+        ins = [u if u.rsplit(".", 1)[-1] in ("disp", "vel", "acc") else f"{u}.disp" for u in names]
+        ins = [u.rsplit(".", 1)[0] + ".disp" for u in ins]
+        outs = list(outputs) if outputs is not None else None
+        plant = build_plant(system, ins, outs)
+        if any(u.split("/")[0] not in ("m", "rad") for u in plant.units):
+            raise ModelError("outputs: motion transmissibility needs displacement outputs "
+                             f"(got units {list(plant.units)}); drop .vel/.acc (the ratio is the same)")
+    else:
+        if outputs is None:
+            outputs = [f"ground.{c}" for c in ("fx", "fy", "fz", "mx", "my", "mz")]
+            outputs += [f"mount.{m.name}.{c}" for m in model.mounts if m.to == "ground" for c in ("fx", "fy", "fz")]
+        plant = build_plant(system, names, outputs)
+        if any(u not in ("N", "N m") for u in plant.units):
+            raise ModelError(f"outputs: force transmissibility needs force outputs, got units {list(plant.units)}")
+    r = frequency_response(plant, frequencies=frequencies, method=method)
+    return FrequencyResponse(r.frequency_hz, r.response, r.outputs, r.inputs,
+                             tuple(f"{u} per unit input" for u in r.units), "transmissibility",
+                             r.method, r.reason, r.natural_hz, r.name)
+
+
+def sweep_response(system: Model | Assembly, excitations: Sequence[Any] | None = None,
+                   f1: float | None = None, f2: float | None = None, points: int = 1000,
+                   spacing: str = "log", outputs: Sequence[str] | None = None,
+                   quantity: str = "receptance", refine: bool = True,
+                   method: str | Callable[..., np.ndarray] = "auto") -> FrequencyResponse:
+    """Steady state of swept-sine excitations (infinitely slow sweep, ``sweep_time = 0``).
+
+    Each excitation's amplitude varies linearly from ``a1`` at its ``f1`` to ``a2`` at its ``f2``
+    (zero outside); all act in phase. The response is ``sum_j H_j(f) a_j(f)``.
+
+    Parameters
+    ----------
+    system : Model or Assembly
+    excitations : sequence or None
+        Excitation objects with a ``sine_sweep`` function (``.signal`` and
+        ``.function.amplitude_at(f_hz)``), or ``(signal, (a1, a2))`` pairs (amplitudes at ``f1``
+        and ``f2`` of this call); default: the model's steady (``sweep_time = 0``) sine-sweep
+        excitations (time-domain ones are for the time response and are skipped).
+    f1, f2 : float or None
+        Band [Hz]; default: the excitations' own band (their sweep limits).
+    points, spacing, refine :
+        Grid (see :class:`FrequencyGrid`).
+    outputs : sequence of str or None
+        Outputs; default every body DOF's displacement.
+    quantity : str
+        As :func:`frequency_response`.
+    method : str or callable
+        As :func:`frequency_response`.
+
+    Returns
+    -------
+    FrequencyResponse
+        One input, ``"sweep"``; ``quantity = "sweep"``-style amplitudes in output units.
+
+    Raises
+    ------
+    AnalysisError
+        An excitation has a finite ``sweep_time`` (a transient: simulate it in time) or no
+        frequency-domain amplitude.
+    """
+    model = system.model if isinstance(system, Assembly) else system
+    if excitations is None:      # the model's frequency-domain (steady sine sweep) excitations only
+        excitations = [e for e in model.excitations
+                       if hasattr(getattr(e, "function", None), "amplitude_at")
+                       and not getattr(e.function, "sweep_time", 0.0)]
+        if not excitations:
+            raise ModelError("excitations: the model has no sine_sweep excitation with sweep_time = 0 "
+                             f"(it has {[getattr(e, 'name', e) for e in model.excitations]}); "
+                             "name inputs instead")
+    excitations = list(excitations)
+    if not excitations:
+        raise ModelError("excitations: none given")
+    signals: list[Any] = []
+    amps: list[tuple[Any, ...]] = []
+    bands = []
+    for e in excitations:
+        if isinstance(e, tuple) and len(e) == 2 and not hasattr(e, "signal"):
+            sig, (a1, a2) = e
+            signals.append(sig)
+            amps.append(("pair", float(a1), float(a2)))
+            continue
+        fn = getattr(e, "function", None)
+        if fn is None or not hasattr(fn, "amplitude_at"):
+            raise AnalysisError(f"excitation {getattr(e, 'name', e)!r}: has no frequency-domain amplitude "
+                                "(a sine_sweep function with sweep_time = 0 is needed)")
+        if getattr(fn, "sweep_time", 0.0):
+            raise AnalysisError(f"excitation {getattr(e, 'name', e)!r}: sweep_time = {fn.sweep_time} s is a "
+                                "transient sweep; simulate it with the time response (sweep_time 0 = "
+                                "steady state)")
+        signals.append(e)
+        amps.append(("fn", fn))
+        bands.append((min(fn.f1, fn.f2), max(fn.f1, fn.f2)))
+    lo = f1 if f1 is not None else (min(b[0] for b in bands) if bands else None)
+    hi = f2 if f2 is not None else (max(b[1] for b in bands) if bands else None)
+    grid = FrequencyGrid(lo, hi, points, spacing, refine)
+    r = frequency_response(system, signals, outputs, grid, quantity, method)
+    f = r.frequency_hz
+    a = np.empty((len(signals), f.size))
+    for j, spec in enumerate(amps):
+        if spec[0] == "fn":
+            a[j] = spec[1].amplitude_at(f)
+        else:
+            _, a1, a2 = spec
+            flo, fhi = f.min(), f.max()
+            a[j] = a1 + (a2 - a1) * (f - flo) / (fhi - flo) if fhi > flo else a1
+    with np.errstate(invalid="ignore"):
+        terms = r.response * a[None, :, :]
+    terms = np.where(a[None, :, :] == 0, 0.0, terms)       # inf * 0 outside a sweep band -> 0
+    y = terms.sum(axis=1, keepdims=True)
+    units = tuple(u.replace(" per unit input", "") for u in r.units)
+    return FrequencyResponse(f, y, r.outputs, ("sweep",), units, quantity, r.method, r.reason,
+                             r.natural_hz, r.name)

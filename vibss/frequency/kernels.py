@@ -1,0 +1,522 @@
+"""Frequency-response kernels of a :class:`~vibss.linear.plant.Plant`, chosen by name (:data:`METHODS`).
+
+Every kernel evaluates, at complex Laplace points ``s`` (``s = i w`` on the frequency axis),
+
+    Y(s) = O(s) X(s) + P(s) Z(s) + Pf,    (K + i H + s C + s^2 M) X(s) = F - (Kz + i Hz + s Cz + s^2 Mz) Z(s)
+
+with ``O(s) = Oq + i Oh + s Ov + s^2 Oa``, ``P(s) = Pz + i Ph + s Pv + s^2 Pa`` and
+``Z(s) = diag(s^-order)`` (a motion input ``u`` of order 1 or 2 is a velocity or acceleration:
+``z = u / s^order``). The hysteretic terms ``i H`` are the frequency-domain loss-factor stiffness
+(for ``w > 0``). Kernels return a ``(p, m, nf)`` complex array.
+
+- ``direct``: one complex solve per frequency (batched). The accurate reference.
+- ``modal``: ``eigh(K, M)`` and modal superposition; only for classical damping (``Phi^T C Phi`` and
+  ``Phi^T H Phi`` diagonal). Rigid-body modes are exact (omega = 0 double integrators).
+- ``complex_modal``: eigen-decomposition of the well-scaled first-order modal form
+  ``[[0, S], [-(Omega^2 + i Phi^T H Phi) S^-1, -Phi^T C Phi]]`` (general viscous damping).
+- ``sparse``: the direct solve on the sparse structure, per frequency: a banded LU after a reverse
+  Cuthill-McKee ordering (chains and other locally connected layouts), else SuperLU
+  (:mod:`vibss.banded`). Exact like ``direct``; any damping.
+- ``statespace``: ``control.frequency_response`` on :func:`vibss.linear.statespace.statespace`
+  (SLICOT TB05AD on the scaled modal realization; viscous damping only).
+
+A callable ``f(plant, s) -> (p, m, nf)`` can be used as a method too.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from functools import partial, reduce
+
+import control
+import numpy as np
+import scipy.linalg as sl
+import scipy.sparse as sp
+import scipy.sparse.linalg as spl
+from scipy.linalg.lapack import zgbsv
+
+from ..linear.banded import structure
+from ..linear.complex_modes import complex_modes
+from ..errors import AnalysisError
+from ..linear.plant import Plant
+from ..linear.eigen import ModalBasis, damping_coupling, fast_matrix, modal_basis, stiffness_solver
+from ..linear.statespace import statespace
+
+__all__ = ["METHODS", "direct", "modal", "complex_modal", "sparse", "via_statespace", "classical_damping",
+           "complex_mode_risk", "project_damping", "COMPLEX_MODE_RISK",
+           "zero_frequency_limit"]
+
+
+_CHUNK_BYTES = 64 * 2**20
+
+_Factors = tuple[np.ndarray, ...]
+"""A matrix given as the product of its factors, ``(A, B, ...)`` for ``A @ B @ ...``."""
+_RightFactors = tuple[np.ndarray | Callable[[np.ndarray], np.ndarray], ...]
+"""The same for right factors, where a callable ``f`` stands for the linear map ``x -> f(x)``."""
+
+
+def _terms(plant: Plant) -> tuple[list, list, np.ndarray]:
+    """Output terms [(power of s, (p, n))] and right-hand-side terms [(power, (n, m), scaled by Z)]."""
+    oh = plant.Oh if plant.Oh is not None else 0.0
+    out = [(0, plant.Oq + 1j * oh if np.any(oh) else plant.Oq), (1, plant.Ov), (2, plant.Oa)]
+    hz = plant.Hz
+    rhs = [(0, plant.F, False), (0, -(plant.Kz + 1j * hz) if np.any(hz) else -plant.Kz, True),
+           (1, -plant.Cz, True), (2, -plant.Mz, True)]
+    out = [(k, a) for k, a in out if np.any(a)]
+    rhs = [(k, a, z) for k, a, z in rhs if np.any(a)]
+    return out, rhs, plant.order
+
+
+def _zfactor(s: np.ndarray, order: np.ndarray) -> np.ndarray:
+    """(nf, m) factor z/u = s^-order (1 for force inputs)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(order[None, :] > 0, s[:, None] ** (-np.maximum(order, 0))[None, :], 1.0)
+
+
+def _feedthrough(plant: Plant, s: np.ndarray, zf: np.ndarray) -> np.ndarray:
+    """(nf, p, m) ``P(s) Z(s) + Pf``."""
+    ph = plant.Ph if plant.Ph is not None else 0.0
+    if not (np.any(plant.Pz) or np.any(ph) or np.any(plant.Pv) or np.any(plant.Pa) or np.any(plant.Pf)):
+        return np.zeros((s.size, len(plant.outputs), len(plant.inputs)))   # force inputs, motion outputs
+    p0 = plant.Pz + 1j * ph
+    y = (p0[None] + s[:, None, None] * plant.Pv[None] + (s**2)[:, None, None] * plant.Pa[None])
+    return y * zf[:, None, :] + plant.Pf[None]
+
+
+def direct(plant: Plant, s: np.ndarray) -> np.ndarray:
+    """Direct solve of ``(K + iH + sC + s^2 M) X = R`` per frequency; returns (p, m, nf)."""
+    s = np.asarray(s, dtype=complex)
+    n, m, p = plant.n, len(plant.inputs), len(plant.outputs)
+    k0 = plant.K + 1j * plant.H if np.any(plant.H) else plant.K
+    hz = plant.Hz
+    kz = plant.Kz + 1j * hz if np.any(hz) else plant.Kz
+    oh = plant.Oh if plant.Oh is not None else 0.0
+    oq = plant.Oq + 1j * oh
+    out = np.empty((s.size, p, m), dtype=complex)
+    zf = _zfactor(s, plant.order)
+    chunk = max(1, _CHUNK_BYTES // (16 * n * n))
+    for lo in range(0, s.size, chunk):
+        sc = s[lo:lo + chunk, None, None]
+        dyn = k0[None] + sc * plant.C[None] + sc**2 * plant.M[None]
+        rhs = plant.F[None] - (kz[None] + sc * plant.Cz[None] + sc**2 * plant.Mz[None]) * zf[lo:lo + chunk, None, :]
+        singular = np.zeros(dyn.shape[0], dtype=bool)
+        try:
+            x = np.linalg.solve(dyn, rhs)
+        except np.linalg.LinAlgError:      # an undamped model exactly at a natural frequency
+            x = np.zeros_like(rhs)
+            for k in range(dyn.shape[0]):
+                try:
+                    x[k] = np.linalg.solve(dyn[k], rhs[k])
+                except np.linalg.LinAlgError:
+                    singular[k] = True
+        obs = oq[None] + sc * plant.Ov[None] + sc**2 * plant.Oa[None]
+        out[lo:lo + chunk] = obs @ x
+        out[lo:lo + chunk][singular] = np.inf      # unbounded response there (reported as inf)
+    out += _feedthrough(plant, s, zf)
+    return np.moveaxis(out, 0, -1)
+
+
+def sparse(plant: Plant, s: np.ndarray) -> np.ndarray:
+    """Direct solve per frequency on the sparse structure; returns (p, m, nf).
+
+    The same equations as :func:`direct`, solved by a banded LU (LAPACK ``zgbsv``, partial
+    pivoting) after a reverse Cuthill-McKee ordering, or by SuperLU where the band is wide
+    (:mod:`vibss.banded`). Exact like ``direct``, at O(n b^2) per frequency instead of O(n^3).
+    """
+    s = np.asarray(s, dtype=complex)
+    st = plant.cached("band structure", lambda: structure(plant))
+    p, m, n = len(plant.outputs), len(plant.inputs), plant.n
+    hz = plant.Hz
+    kz = plant.Kz + 1j * hz if np.any(hz) else plant.Kz
+    oh = plant.Oh if plant.Oh is not None else 0.0
+    obs = [(0, plant.Oq + 1j * oh if np.any(oh) else plant.Oq), (1, plant.Ov), (2, plant.Oa)]
+    obs = [(k, o) for k, o in obs if np.any(o)]
+    coupling = [(0, kz), (1, plant.Cz), (2, plant.Mz)]
+    coupling = [(k, c) for k, c in coupling if np.any(c)]
+    zf = _zfactor(s, plant.order)
+    out = np.zeros((s.size, p, m), dtype=complex)
+    perm = st.perm if st.banded else np.arange(n)
+    obs = [(k, np.ascontiguousarray(o[:, perm])) for k, o in obs]
+    coupling = [(k, c[perm]) for k, c in coupling]
+    force = np.asarray(plant.F, dtype=complex)[perm]
+    parts = st.parts
+    band = st.band
+    shape = (3 * band + 1, n)
+    for i, sk in enumerate(s):
+        rhs = force.copy(order="F")
+        for k, c in coupling:
+            rhs -= (sk**k) * c * zf[i][None, :]
+        if st.banded:                     # K + iH + sC + s^2 M in real arithmetic, in place
+            s2 = sk * sk
+            ab = np.empty(shape, dtype=complex, order="F")
+            ab[:band] = 0.0                                 # LAPACK's room for the pivoting fill
+            re, im = ab.real[band:], ab.imag[band:]
+            np.multiply(parts["M"], s2.real, out=re)
+            re += parts["K"]
+            np.multiply(parts["M"], s2.imag, out=im)
+            if "C" in parts:
+                if sk.real:
+                    re += sk.real * parts["C"]
+                im += sk.imag * parts["C"]
+            if "H" in parts:
+                im += parts["H"]
+            _, _, x, info = zgbsv(band, band, ab, rhs, overwrite_ab=1, overwrite_b=1)
+            if info > 0:                  # an undamped model exactly at a natural frequency
+                out[i] = np.inf
+                continue
+        else:
+            a = parts["K"] + sk * sk * parts["M"]
+            if "C" in parts:
+                a = a + sk * parts["C"]
+            if "H" in parts:
+                a = a + 1j * parts["H"]
+            try:
+                x = spl.splu(sp.csc_matrix(a, dtype=complex)).solve(rhs)
+            except RuntimeError:          # exactly singular
+                out[i] = np.inf
+                continue
+        for k, o in obs:
+            out[i] += (sk**k) * (o @ x)
+    out += _feedthrough(plant, s, zf)
+    return np.moveaxis(out, 0, -1)
+
+
+def _times_left(o: np.ndarray, blocks: list[_Factors]) -> np.ndarray:
+    """``o @ [L1 | L2 | ...]`` with each block a tuple of factors, multiplied from the left."""
+    parts = [reduce(np.matmul, block, o) for block in blocks]
+    return parts[0] if len(parts) == 1 else np.hstack(parts)
+
+
+def _times_right(blocks: list[_RightFactors], r: np.ndarray) -> np.ndarray:
+    """``[R1; R2; ...] @ r`` with each block a tuple of factors, multiplied from the right."""
+    parts = [reduce(lambda acc, f: f(acc) if callable(f) else f @ acc, block[::-1], r) for block in blocks]
+    return parts[0] if len(parts) == 1 else np.vstack(parts)
+
+
+def _superpose(plant: Plant, s: np.ndarray, left: list[_Factors],
+               right: list[_RightFactors], d: np.ndarray,
+               d_acc: np.ndarray | None = None) -> np.ndarray:
+    """``Y = sum_ab s^(a+b) Z (O_a left) diag(d) (right R_b)`` + feedthrough; returns (p, m, nf).
+
+    ``left`` (n, r) maps modal amplitudes to DOFs, ``right`` (r, n) maps generalised forces to
+    modal forces, ``d`` (nf, r) the modal transfer functions. Both come as blocks of factors,
+    ``left = [L1 | L2 | ...]`` with ``Lk = A @ B @ ...`` given as the tuple ``(A, B, ...)`` (and
+    ``right`` the row blocks likewise), so that only the thin products ``O_a A B`` and
+    ``... B (A R_b)`` are formed, never the (n, r) matrices themselves. With ``d_acc`` (the same transfer
+    functions less their static part, ``d - d(0)``) the *mode-acceleration* form
+    ``Y = O (K + iH)^-1 R + sum(d_acc)`` is evaluated too (static part by a direct solve), and each
+    frequency takes the form with the smaller cancellation (sum of term magnitudes): the plain sum
+    loses digits below the modes, where many high-mode terms cancel, the other above them.
+    """
+    outs, rhs, order = _terms(plant)
+    p, m, nf = len(plant.outputs), len(plant.inputs), s.size
+    zf = _zfactor(s, order)
+    lefts = [(a, _times_left(oa, left)) for a, oa in outs]
+    rights = [(b, _times_right(right, rb), scaled, rb) for b, rb, scaled in rhs]
+    bad = ~np.isfinite(d)              # exactly at an undamped resonance: 1 / 0
+    if bad.any():
+        d = np.where(bad, 0.0, d)
+        if d_acc is not None:
+            d_acc = np.where(bad | ~np.isfinite(d_acc), 0.0, d_acc)
+    static = None
+    if d_acc is not None:
+        k0 = plant.K + 1j * plant.H if np.any(plant.H) else plant.K
+        try:
+            solve = (stiffness_solver(k0) if np.any(plant.H)
+                     else plant.cached("solve K", lambda: stiffness_solver(plant.K)))
+            static = [solve(rb) for _, _, _, rb in rights]
+        except (np.linalg.LinAlgError, ValueError, RuntimeError):
+            d_acc = None
+    wl = sum(np.linalg.norm(lo, axis=0) for _, lo in lefts)
+    wr = sum(np.linalg.norm(ro, axis=1) for _, ro, _, _ in rights)
+    omap = dict(outs)
+    use_acc = np.zeros(nf, dtype=bool)
+    if d_acc is not None:   # pick per frequency the form with the smaller sum of term magnitudes
+        assert static is not None  # solved above, else d_acc was reset
+        y0s = {(a, i): omap[a] @ static[i] for a, _ in lefts for i in range(len(rights))}
+        cost_acc = np.abs(d_acc) @ (wl * wr) + sum(np.linalg.norm(v) for v in y0s.values())
+        use_acc = cost_acc < np.abs(d) @ (wl * wr)
+    y = np.zeros((nf, p * m), dtype=complex)
+    for rows, dd, acc in ((~use_acc, d, False), (use_acc, d_acc, True)):
+        if not np.any(rows):
+            continue
+        assert dd is not None  # use_acc rows only when d_acc is set
+        dd, sr, zr = dd[rows], s[rows], zf[rows]
+        part = np.zeros((sr.size, p * m), dtype=complex)
+        for a, lo in lefts:
+            for i, (b, ro, scaled, _) in enumerate(rights):
+                w = (lo[:, :, None] * ro[None, :, :]).transpose(1, 0, 2).reshape(-1, p * m)
+                if np.isrealobj(w) and not np.isrealobj(dd):
+                    t = dd.real @ w + 1j * (dd.imag @ w)
+                else:
+                    t = dd @ w
+                if acc:
+                    t = t + y0s[(a, i)].reshape(1, p * m)
+                fac = sr[:, None] ** (a + b) * (zr if scaled else np.ones((1, m)))   # (nr, m)
+                part += (t.reshape(sr.size, p, m) * fac[:, None, :]).reshape(sr.size, p * m)
+        y[rows] = part
+    for k in np.flatnonzero(bad.any(axis=1)):   # unbounded where the resonant mode is seen and driven
+        modes = bad[k]
+        seen = sum(np.abs(lo[:, modes]) for _, lo in lefts)
+        driven = sum(np.abs(ro[modes, :]) for _, ro, _, _ in rights)
+        y[k, (np.asarray(seen) @ np.asarray(driven)).reshape(-1) > 0] = np.inf
+    out = y.reshape(nf, p, m) + _feedthrough(plant, s, zf)
+    return np.moveaxis(out, 0, -1)
+
+
+def project_damping(plant: Plant, basis: ModalBasis) -> tuple[np.ndarray, np.ndarray]:
+    """``Phi^T C Phi`` and ``Phi^T H Phi`` on the undamped modes (zeros when absent).
+
+    Parameters
+    ----------
+    plant : Plant
+    basis : ModalBasis
+        Undamped modes of the plant.
+
+    Returns
+    -------
+    gamma, eta : (n, n) ndarray
+        Projected viscous [1/s] and hysteretic [1/s^2] damping, symmetrised.
+    """
+    phi = basis.phi
+    out = []
+    for key in ("C", "H"):
+        mat = getattr(plant, key)
+        if np.any(mat):
+            g = phi.T @ (plant.cached(f"sparse {key}", partial(fast_matrix, mat)) @ phi)
+            out.append(0.5 * (g + g.T))
+        else:
+            out.append(np.zeros((plant.n, plant.n)))
+    return out[0], out[1]
+
+
+COMPLEX_MODE_RISK = 1e-9
+"""``auto`` avoids complex modes when :func:`complex_mode_risk` exceeds this."""
+
+
+def complex_mode_risk(basis: ModalBasis, projected: tuple[np.ndarray, np.ndarray]) -> float:
+    """Predicted relative error of complex modes near the slowest-decaying resonance.
+
+    ``eig`` has absolute pole errors of about eps max|lambda| (overdamped modes reach |lambda| ~
+    the diagonal of ``Phi^T C Phi``), which a mode decaying at ``zeta omega`` amplifies by
+    ``1 / (zeta omega)`` at its resonance; ``inf`` when an elastic mode has no damping.
+
+    Parameters
+    ----------
+    basis : ModalBasis
+        Undamped modes.
+    projected : (Phi^T C Phi, Phi^T H Phi)
+        From :func:`project_damping`.
+
+    Returns
+    -------
+    float
+    """
+    el = ~basis.rigid
+    if not el.any():
+        return 0.0
+    g = np.abs(np.diag(projected[0])[el])
+    w = np.sqrt(np.maximum(basis.omega2[el], np.finfo(float).tiny))
+    decay = 0.5 * g + 0.5 * np.abs(np.diag(projected[1])[el]) / w
+    top = max(float(w.max()), float(g.max()))
+    if float(decay.min()) <= np.finfo(float).eps * top:
+        return float("inf")                          # an undamped mode: a pole on the axis
+    return float(np.finfo(float).eps * top / float(decay.min()))
+
+
+def classical_damping(plant: Plant, basis: ModalBasis | None = None,
+                      projected: tuple[np.ndarray, np.ndarray] | None = None) -> tuple[bool, str]:
+    """Whether ``Phi^T C Phi`` and ``Phi^T H Phi`` are diagonal (classical damping), and why not.
+
+    Parameters
+    ----------
+    plant : Plant
+    basis : ModalBasis or None
+        Undamped modes (computed if None).
+    projected : (Phi^T C Phi, Phi^T H Phi) or None
+        The projected damping matrices, if already computed.
+
+    Returns
+    -------
+    ok : bool
+    reason : str
+    """
+    basis = basis or modal_basis(plant)
+    projected = projected or project_damping(plant, basis)
+    for name, g in zip(("viscous damping", "hysteretic damping"), projected):
+        if not np.any(g):
+            continue
+        excess = damping_coupling(g)
+        if np.any(excess > 0):
+            i, j = np.unravel_index(np.argmax(excess), excess.shape)
+            return False, (f"{name} is not classical: modes {i + 1} and {j + 1} are coupled "
+                           f"(Phi^T C Phi off-diagonal {abs(g[i, j]):.3g} vs diagonal {abs(g[i, i]):.3g}, "
+                           f"{abs(g[j, j]):.3g})")
+    return True, "classical damping (Phi^T C Phi and Phi^T H Phi diagonal)"
+
+
+def modal(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) -> np.ndarray:
+    """Modal superposition over the undamped modes (classical damping only); returns (p, m, nf).
+
+    Raises
+    ------
+    AnalysisError
+        The damping is not classical (use ``complex_modal`` or ``direct``).
+    """
+    s = np.asarray(s, dtype=complex)
+    basis = basis or modal_basis(plant)
+    projected = project_damping(plant, basis)
+    ok, why = classical_damping(plant, basis, projected)
+    if not ok:
+        raise AnalysisError(f"method 'modal' needs classical damping: {why}; use 'complex_modal' or 'direct'")
+    phi = basis.phi
+    gamma, hyst = np.diag(projected[0]), np.diag(projected[1])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        kappa = basis.omega2 + 1j * hyst
+        dyn = s[:, None] * gamma[None, :]           # s c_r + s^2 (the dynamic part), in place
+        dyn += (s**2)[:, None]
+        d = dyn + kappa[None, :]
+        np.reciprocal(d, out=d)
+        if np.any(basis.rigid):
+            d_acc = None
+        else:
+            d_acc = dyn
+            d_acc *= d
+            d_acc /= -kappa[None, :]
+    return _superpose(plant, s, [(phi,)], [(phi.T,)], d, d_acc)
+
+
+def complex_modal(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) -> np.ndarray:
+    """Complex modes of the scaled first-order modal form (general damping); returns (p, m, nf).
+
+    Rigid-body modes have no displacement feedback (w = 0), so their displacement states leave the
+    eigenproblem, where they would be zero eigenvalues (2x2 Jordan blocks when undamped, repeated
+    and ill-conditioned when damped). Rigid modes that no damper touches are exact ``1 / s^2``
+    terms; damped rigid modes keep their velocity state, and their displacement ``eta = eta' / s``
+    takes the terms ``1 / (s (s - lam))`` as they stand (no partial fractions, which would cancel
+    terms of size ``1 / lam`` when a rigid mode is lightly damped). The rows of ``V^-1`` are the
+    left eigenvectors, built from the right ones by the symmetry of the quadratic eigenproblem
+    (:mod:`vibss.complex_modes`; an LU of ``V`` where that is unsafe).
+    """
+    s = np.asarray(s, dtype=complex)
+    basis = basis or modal_basis(plant)
+    phi, sc = basis.phi, basis.scale
+    gam, hys = project_damping(plant, basis)
+    rid = np.flatnonzero(basis.rigid)
+    if rid.size:
+        # rotate the rigid subspace so its damping block is diagonal: undamped combinations of rigid
+        # modes (e.g. a body free to turn about its single mount) then stand out as modes of their own
+        _, q = np.linalg.eigh(gam[np.ix_(rid, rid)])
+        phi, gam, hys = phi.copy(), gam.copy(), hys.copy()
+        phi[:, rid] = phi[:, rid] @ q
+        for g in (gam, hys):
+            g[rid, :] = q.T @ g[rid, :]
+            g[:, rid] = g[:, rid] @ q
+    top = max(float(np.abs(gam).max()), float(np.abs(hys).max()), np.finfo(float).tiny)
+    untouched = (np.abs(gam).max(axis=1) <= 1e-12 * top) & (np.abs(hys).max(axis=1) <= 1e-12 * top)
+    free = basis.rigid & untouched
+    el = np.flatnonzero(~basis.rigid)                 # elastic: displacement and velocity states
+    kept = np.flatnonzero(~free)                      # velocity states: elastic + damped rigid
+    ne, nk = el.size, kept.size
+    lefts: list[_Factors] = []
+    rights: list[_RightFactors] = []
+    ds: list[np.ndarray] = []
+    with np.errstate(divide="ignore", invalid="ignore"):
+        inv_s = 1.0 / s
+    if free.any():                                    # eta'' = f: 1 / s^2 exactly
+        lefts.append((phi[:, free],))
+        rights.append((phi[:, free].T,))
+        ds.append(np.repeat((inv_s**2)[:, None], int(free.sum()), axis=1))
+    lam = np.zeros(0, complex)
+    if nk:
+        se = sc[el]
+        pos = np.searchsorted(kept, el)                # elastic rows among the kept modes
+        coupling = 1j * hys[np.ix_(kept, el)] / se[None, :] if np.any(plant.H) else None
+        modes = complex_modes(se, pos, basis.omega2[el], gam[np.ix_(kept, kept)], coupling)
+        lam, v = modes.lam, modes.vectors
+        phik = phi[:, kept]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            pole = 1.0 / (s[:, None] - lam[None, :])
+        lefts.append((phi[:, el], v[:ne] / se[:, None]))   # elastic eta = S^-1 y1, factored
+        rights.append((modes.solve_velocity, phik.T))       # V^-1 [0; Phi^T R], refined
+        ds.append(pole)
+        rig = np.flatnonzero(basis.rigid[kept])       # damped rigid modes among the kept ones
+        if rig.size:                                  # eta = eta' / s: 1 / (s (s - lam)) as it stands
+            lefts.append((phik[:, rig], v[ne + rig]))
+            rights.append((modes.solve_velocity, phik.T))
+            with np.errstate(divide="ignore", invalid="ignore"):
+                ds.append(pole * inv_s[:, None])
+    d = np.asarray(ds[0] if len(ds) == 1 else np.hstack(ds), dtype=complex)   # no copy for one part
+    d_acc = None
+    if not basis.rigid.any():
+        with np.errstate(divide="ignore", invalid="ignore"):
+            d_acc = s[:, None] * d / lam[None, :]
+    return _superpose(plant, s, lefts, rights, d, d_acc)
+
+
+def via_statespace(plant: Plant, s: np.ndarray) -> np.ndarray:
+    """``control.frequency_response`` of :func:`vibss.linear.statespace.statespace` (s = i w only)."""
+    s = np.asarray(s, dtype=complex)
+    if np.any(plant.H) or np.any(plant.Hz) or (plant.Oh is not None and np.any(plant.Oh)):
+        raise AnalysisError("method 'statespace' cannot represent hysteretic damping (loss factors); "
+                            "use 'modal', 'complex_modal' or 'direct'")
+    if np.any(s.real != 0) or np.any(s.imag <= 0):
+        raise AnalysisError("method 'statespace' evaluates positive frequencies only")
+    sys = statespace(plant)
+    return np.asarray(control.frequency_response(sys, s.imag).complex).reshape(
+        len(plant.outputs), len(plant.inputs), s.size)
+
+
+METHODS: dict[str, Callable[..., np.ndarray]] = {
+    "direct": direct,
+    "modal": modal,
+    "complex_modal": complex_modal,
+    "sparse": sparse,
+    "statespace": via_statespace,
+}
+"""Frequency-response kernels by name: ``f(plant, s) -> (p, m, nf)`` complex."""
+
+
+def zero_frequency_limit(plant: Plant, power: int = 0, n_points: int = 32) -> np.ndarray:
+    """The limit ``w -> 0+`` of ``s^power Y(s)`` (p, m): finite values, or ``inf`` where it diverges.
+
+    Computed from the Laurent series of the direct response about ``s = 0`` (trapezoidal rule on
+    two small circles; ``i H`` is held at its ``w > 0`` value), so rigid-body modes, velocity and
+    acceleration inputs and mobility/accelerance are all handled exactly.
+
+    Parameters
+    ----------
+    plant : Plant
+    power : int
+        Extra factor ``s^power`` (1 mobility, 2 accelerance).
+    n_points : int
+        Points per circle.
+
+    Returns
+    -------
+    (p, m) complex ndarray
+        ``complex(inf, 0)`` where the response is unbounded at 0 Hz (e.g. a displacement output
+        of a constant-velocity input, or receptance of an unrestrained rigid-body motion).
+    """
+    w2 = sl.eigh(plant.K, plant.M, eigvals_only=True)
+    top = max(float(np.abs(w2).max()), 1e-300)
+    elastic = w2[w2 > 1e-10 * top]
+    rho0 = 0.05 * (float(np.sqrt(elastic.min())) if elastic.size else 1.0)
+    theta = 2 * np.pi * (np.arange(n_points) + 0.5) / n_points
+
+    def laurent(r: float) -> tuple[np.ndarray, np.ndarray]:
+        z = r * np.exp(1j * theta)
+        t = direct(plant, z) * z[None, None, :] ** power         # (p, m, N)
+        coef = {k: np.mean(t * z[None, None, :] ** (-k), axis=-1) for k in range(-4, 1)}
+        sing = sum(np.abs(coef[k]) * r**k for k in range(-4, 0))
+        big = np.abs(t).max(axis=-1)
+        return np.where(sing > 1e-6 * big, complex(np.inf, 0.0), coef[0]), big
+
+    for shrink in (1.0, 1e-1, 1e-2, 1e-3):   # a heavily damped (slow) pole may need a smaller circle
+        (a, _), (b, big) = laurent(rho0 * shrink), laurent(rho0 * shrink / 4)
+        finite = np.isfinite(a) & np.isfinite(b)
+        scale = max(float(big[finite].max()) if np.any(finite) else 0.0, 1e-300)
+        if np.all(np.isfinite(a) == np.isfinite(b)) and np.all(np.abs(a[finite] - b[finite]) <= 1e-7 * scale):
+            return b
+    raise AnalysisError("the 0 Hz limit of the response could not be resolved (a pole lies very "
+                        "close to 0 Hz); start the frequency grid above 0")

@@ -1,0 +1,521 @@
+"""Model files (TOML or JSON) to and from :class:`~vibss.model.Model`, and the built-in examples.
+
+The format is specified in ``docs/model-file.md`` (tables ``[model]``, ``[[body]]``,
+``[[mount_type]]``, ``[[mount]]``, ``[[control_point]]``, ``[[load]]``, ``[[excitation]]`` and
+``[analysis]``). Numbers are converted to SI once, on load, from the units declared in
+``[model] units`` (default SI, except angles: degrees). Every problem is reported as a
+:class:`~vibss.errors.ModelFileError` whose message names the file, the entry (``mount[3]
+('rear-left')`` is the third ``[[mount]]`` table, counting from 1), the key and what was expected;
+unknown keys get a did-you-mean.
+
+What the :class:`Model` has no field for is kept, in SI, in ``Model.settings``:
+``"time"`` and ``"frequency"`` (the ``[analysis]`` tables), ``"initial"`` (``{body: {"displacement":
+[6], "velocity": [6]}}``) and ``"load_cases"`` (``{case: [load names]}``, when loads name a case).
+
+Examples
+--------
+>>> model = load_example("prism")
+>>> [m.name for m in model.mounts]
+['corner', 'corner.xz', 'corner.yz', 'corner.xz.yz']
+>>> loads_model(dumps_model(model)).mounts[3].at.tolist()
+[-1.0, -2.0, 0.0]
+"""
+
+from __future__ import annotations
+
+import json
+import tomllib
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import ModelError, ModelFileError, did_you_mean
+from ..model.excitation import Excitation, amplitude_quantity, function_from_dict
+from .filetable import MISSING, Entry
+from ..model.geometry import Orientation
+from ..model.model import (DOF_NAMES, GROUND, SYMMETRIES, Body, ControlPoint, Load, Model, Mount,
+                    MountType, symmetric)
+from .tomlwriter import dumps_toml
+from ..model.units import Units
+
+__all__ = ["load_model", "loads_model", "dump_model", "dumps_model", "model_to_dict",
+           "load_example", "example_names", "example_path"]
+
+EXAMPLES_DIR = Path(__file__).parent.parent / "examples"
+"""Folder of the built-in example model files."""
+
+_TABLES = ("model", "body", "mount_type", "mount", "control_point", "load", "excitation", "analysis")
+
+
+def _entries(data: Mapping[str, Any], table: str, source: str, units: Units) -> list[Entry]:
+    items = data.get(table, [])
+    if isinstance(items, Mapping):
+        raise ModelFileError(f"{source}: {table}: expected [[{table}]] tables (an array of tables), "
+                             f"got a single [{table}] table")
+    if not isinstance(items, list):
+        raise ModelFileError(f"{source}: {table}: expected [[{table}]] tables, got {items!r}")
+    out = []
+    for i, item in enumerate(items, start=1):
+        name = item.get("name") if isinstance(item, Mapping) else None
+        where = f"{source}: {table}[{i}]" + (f" ({name!r})" if isinstance(name, str) else "")
+        if not isinstance(item, Mapping):
+            raise ModelFileError(f"{where}: expected a table, got {item!r}")
+        out.append(Entry(item, where, units))
+    return out
+
+
+def _wrap(entry: Entry, exc: ModelError) -> ModelFileError:
+    """A constructor's ModelError located at ``entry`` (a ModelFileError is already located)."""
+    if isinstance(exc, ModelFileError):
+        return exc
+    text = str(exc)
+    return ModelFileError(text if text.startswith(entry.where) else f"{entry.where}: {text}")
+
+
+# -- the tables ------------------------------------------------------------------------------------
+def _body(e: Entry, i: int, initial: dict[str, Any]) -> Body:
+    e.check_keys(("name", "mass", "inertia", "inertia_tensor", "principal_axes", "cog", "initial"),
+                 ("mass",))
+    name = e.string("name", f"body{i}")
+    mass = e.array("mass", [(), (3,)], "mass", positive=True)
+    if ("inertia" in e) == ("inertia_tensor" in e):
+        raise e.fail("inertia", "give either inertia = [I1, I2, I3] (principal moments) or "
+                     "inertia_tensor = [[Ixx, Ixy, Ixz], [Ixy, Iyy, Iyz], [Ixz, Iyz, Izz]]")
+    if "inertia" in e:
+        inertia = e.array("inertia", [(3,)], "inertia", positive=True)
+        axes = e.orientation("principal_axes")
+    else:
+        if "principal_axes" in e:
+            raise e.fail("principal_axes", "only applies to principal moments (inertia), not to "
+                         "inertia_tensor, which is already in global axes")
+        inertia, axes = e.array("inertia_tensor", [(3, 3)], "inertia"), None
+    init = e.sub("initial")
+    if init is not None:
+        init.check_keys(("displacement", "velocity"))
+        initial[name] = {
+            "displacement": init.array("displacement", [(6,)], ["length"] * 3 + ["angle"] * 3,
+                                       np.zeros(6)).tolist(),
+            "velocity": init.array("velocity", [(6,)], ["velocity"] * 3 + ["angular_velocity"] * 3,
+                                   np.zeros(6)).tolist()}
+    try:
+        return Body(name, float(mass) if mass.ndim == 0 else mass, inertia,
+                    e.array("cog", [(3,)], "length", np.zeros(3)), axes)
+    except ModelError as exc:
+        raise _wrap(e, exc) from None
+
+
+def _mount_type(e: Entry) -> MountType:
+    e.check_keys(("name", "stiffness", "damping", "loss_factor"), ("name", "stiffness"))
+    try:
+        return MountType(e.string("name"),
+                         e.array("stiffness", [(3,)], "stiffness", nonnegative=True),
+                         e.array("damping", [(3,)], "damping", np.zeros(3), nonnegative=True),
+                         e.array("loss_factor", [(), (3,)], "dimensionless", 0.0, nonnegative=True))
+    except ModelError as exc:
+        raise _wrap(e, exc) from None
+
+
+def _reference(e: Entry, key: str, names: Sequence[str], default: Any = MISSING,
+               ground: bool = False) -> str:
+    value = e.string(key, default)
+    if value not in names and not (ground and value == GROUND):
+        options = list(names) + ([GROUND] if ground else [])
+        raise e.fail(key, f"unknown body {value!r}; expected one of {options}"
+                     + did_you_mean(value, options))
+    return value
+
+
+def _mounts(e: Entry, i: int, types: Mapping[str, MountType], bodies: Sequence[str]) -> tuple[Mount, ...]:
+    e.check_keys(("name", "type", "body", "to", "at", "frame", "orientation", "symmetry"),
+                 ("type", "body"))
+    tname = e.string("type")
+    if tname not in types:
+        raise e.fail("type", f"unknown mount type {tname!r}; [[mount_type]] names are {list(types)}"
+                     + did_you_mean(tname, types))
+    symmetry = e.string("symmetry", "none", SYMMETRIES)
+    try:
+        mount = Mount(e.string("name", f"mount{i}"), types[tname], _reference(e, "body", bodies),
+                      e.array("at", [(3,)], "length", np.zeros(3)),
+                      _reference(e, "to", bodies, GROUND, ground=True),
+                      e.orientation("orientation"), e.string("frame", "body", ("body", "global")))
+        return symmetric(mount, symmetry)
+    except ModelError as exc:
+        raise _wrap(e, exc) from None
+
+
+def _control_point(e: Entry, i: int, bodies: Sequence[str]) -> ControlPoint:
+    e.check_keys(("name", "body", "at", "frame"), ("body", "at"))
+    try:
+        return ControlPoint(e.string("name", f"point{i}"), _reference(e, "body", bodies),
+                            e.array("at", [(3,)], "length"), e.string("frame", "body", ("body", "global")))
+    except ModelError as exc:
+        raise _wrap(e, exc) from None
+
+
+def _load(e: Entry, i: int, bodies: Sequence[str], cases: dict[str, list[str]]) -> Load:
+    e.check_keys(("name", "case", "body", "force", "moment", "at", "frame"), ("body",))
+    name = e.string("name", f"load{i}")
+    case = e.string("case", "")
+    cases.setdefault(case or "default", []).append(name)
+    try:
+        return Load(_reference(e, "body", bodies), e.array("force", [(3,)], "force", np.zeros(3)),
+                    e.array("moment", [(3,)], "moment", np.zeros(3)),
+                    e.array("at", [(3,)], "length", None), e.string("frame", "body", ("body", "global")),
+                    name, case)
+    except ModelError as exc:
+        raise _wrap(e, exc) from None
+
+
+def _excitation(e: Entry, i: int, bodies: Sequence[str], base: Path | None) -> Excitation:
+    e.check_keys(("name", "kind", "target", "dof", "direction", "at", "frame", "function"),
+                 ("kind", "target", "function"))
+    kind = e.string("kind", choices=("force", "displacement", "velocity", "acceleration"))
+    dof = e.string("dof", None, DOF_NAMES)
+    if (dof is None) == ("direction" not in e):
+        raise e.fail("dof", f"give exactly one of dof (one of {list(DOF_NAMES)}) and direction "
+                     "(a 3-vector)")
+    units = e.units
+    try:
+        function = function_from_dict(
+            e.data["function"], f"{e.where}: function",
+            value_scale=units.factor(amplitude_quantity(kind, dof)),
+            time_scale=units.factor("time"), angle_scale=units.factor("angle"), base=base)
+        return Excitation(e.string("name", f"excitation{i}"), kind,
+                          _reference(e, "target", bodies, ground=True), function, dof,
+                          e.array("direction", [(3,)], "dimensionless", None),
+                          e.array("at", [(3,)], "length", None),
+                          e.string("frame", "body", ("body", "global")))
+    except ModelError as exc:
+        raise _wrap(e, exc) from None
+
+
+def _analysis(e: Entry) -> dict[str, Any]:
+    e.check_keys(("time", "frequency"))
+    out: dict[str, Any] = {}
+    t = e.sub("time")
+    if t is not None:
+        t.check_keys(("end", "step", "record_from", "tolerance"))
+        out["time"] = {k: v for k, v in (
+            ("end", t.number("end", "time", None, positive=True)),
+            ("step", t.number("step", "time", None, positive=True)),
+            ("record_from", t.number("record_from", "time", None, nonnegative=True)),
+            ("tolerance", t.number("tolerance", "dimensionless", None, positive=True))) if v is not None}
+        end = out["time"].get("end")
+        if end is not None and out["time"].get("step", 0.0) > end:
+            raise t.fail("step", f"must not exceed end ({t.data['end']})")
+        if end is not None and out["time"].get("record_from", 0.0) >= end:
+            raise t.fail("record_from", f"must be before end ({t.data['end']})")
+    f = e.sub("frequency")
+    if f is not None:
+        f.check_keys(("f1", "f2", "points", "spacing"))
+        out["frequency"] = {k: v for k, v in (
+            ("f1", f.number("f1", "dimensionless", None, nonnegative=True)),
+            ("f2", f.number("f2", "dimensionless", None, positive=True)),
+            ("spacing", f.string("spacing", None, ("linear", "log")))) if v is not None}
+        if "points" in f:
+            points = f.data["points"]
+            if isinstance(points, bool) or not isinstance(points, int) or points < 2:
+                raise f.fail("points", f"expected a whole number >= 2, got {points!r}")
+            out["frequency"]["points"] = points
+        fr = out["frequency"]
+        if "f1" in fr and "f2" in fr and not fr["f2"] > fr["f1"]:
+            raise f.fail("f2", f"must be greater than f1 ({fr['f1']} Hz), got {fr['f2']} Hz")
+        if fr.get("spacing") == "log" and fr.get("f1", 1.0) <= 0:
+            raise f.fail("f1", "log spacing needs f1 > 0")
+    return out
+
+
+def _build(data: Any, source: str, base: Path | None, default_name: str) -> Model:
+    if not isinstance(data, Mapping):
+        raise ModelFileError(f"{source}: expected tables ([model], [[body]], ...) at the top level")
+    for key in data:
+        if key not in _TABLES:
+            raise ModelFileError(f"{source}: unknown table [{key}]; expected some of {list(_TABLES)}"
+                                 + did_you_mean(key, _TABLES))
+    head = data.get("model", {})
+    if not isinstance(head, Mapping):
+        raise ModelFileError(f"{source}: model: expected a [model] table, got {head!r}")
+    m = Entry(head, f"{source}: [model]", Units())
+    m.check_keys(("name", "units", "gravity"))
+    try:
+        units = Units.from_mapping(m.table("units"))
+    except ModelFileError:
+        raise                               # already located (file and table)
+    except ModelError as exc:
+        raise ModelFileError(f"{source}: [model]: {exc}") from None
+    m = Entry(head, m.where, units)
+    initial: dict[str, Any] = {}
+    bodies = [_body(e, i, initial) for i, e in enumerate(_entries(data, "body", source, units), 1)]
+    if not bodies:
+        raise ModelFileError(f"{source}: body: no [[body]] table; a model needs at least one body")
+    names = [b.name for b in bodies]
+    types: dict[str, MountType] = {}
+    for e in _entries(data, "mount_type", source, units):
+        t = _mount_type(e)
+        if t.name in types:
+            raise e.fail("name", f"mount type {t.name!r} is defined twice")
+        types[t.name] = t
+    mounts = [m for i, e in enumerate(_entries(data, "mount", source, units), 1)
+              for m in _mounts(e, i, types, names)]
+    points = [_control_point(e, i, names)
+              for i, e in enumerate(_entries(data, "control_point", source, units), 1)]
+    cases: dict[str, list[str]] = {}
+    loads = [_load(e, i, names, cases) for i, e in enumerate(_entries(data, "load", source, units), 1)]
+    excitations = [_excitation(e, i, names, base)
+                   for i, e in enumerate(_entries(data, "excitation", source, units), 1)]
+    seen: set[str] = set()
+    for i, x in enumerate(excitations, 1):
+        if x.name in seen:
+            raise ModelFileError(f"{source}: excitation[{i}] ({x.name!r}): name: used twice; "
+                                 "names must be unique")
+        seen.add(x.name)
+    analysis = data.get("analysis", {})
+    if not isinstance(analysis, Mapping):
+        raise ModelFileError(f"{source}: analysis: expected an [analysis] table, got {analysis!r}")
+    settings = _analysis(Entry(analysis, f"{source}: [analysis]", units))
+    if initial:
+        settings["initial"] = initial
+    if set(cases) - {"default"}:
+        settings["load_cases"] = cases
+    gravity, name = m.array("gravity", [(3,)], "acceleration", None), m.string("name", default_name)
+    try:
+        return Model(bodies, mounts, points, loads, gravity, name, excitations, settings)
+    except ModelError as exc:
+        raise ModelFileError(f"{source}: {exc}") from None
+
+
+# -- public loading --------------------------------------------------------------------------------
+def loads_model(text: str, fmt: str = "toml", source: str = "<string>",
+                base: str | Path | None = None) -> Model:
+    """Model from the text of a model file.
+
+    Parameters
+    ----------
+    text : str
+        The file's contents.
+    fmt : {"toml", "json"}
+        Its format.
+    source : str
+        Name used in error messages (the file name).
+    base : str or Path or None
+        Folder that relative file names inside the model (table data) are taken from.
+
+    Returns
+    -------
+    Model
+        In SI units; see the module docstring for ``Model.settings``.
+
+    Raises
+    ------
+    ModelFileError
+        Any problem, located by file, entry and key (syntax errors: by line).
+
+    Examples
+    --------
+    >>> text = '''
+    ... [[body]]
+    ... name = "box"
+    ... mass = 2.0
+    ... inertia = [0.1, 0.1, 0.1]
+    ... '''
+    >>> loads_model(text).bodies[0].mass
+    2.0
+    """
+    if fmt == "toml":
+        try:
+            data = tomllib.loads(text)
+        except tomllib.TOMLDecodeError as exc:
+            raise ModelFileError(f"{source}: TOML syntax error: {exc}") from None
+    elif fmt == "json":
+        try:
+            data = json.loads(text)
+        except json.JSONDecodeError as exc:
+            raise ModelFileError(f"{source}: JSON syntax error: {exc.msg} "
+                                 f"(at line {exc.lineno}, column {exc.colno})") from None
+    else:
+        raise ModelFileError(f"{source}: unknown format {fmt!r}; expected 'toml' or 'json'")
+    stem = Path(source).stem if not source.startswith("<") else "model"
+    return _build(data, source, None if base is None else Path(base), stem)
+
+
+def load_model(path: str | Path) -> Model:
+    """Read a model file (``.toml`` or ``.json``, by extension).
+
+    Parameters
+    ----------
+    path : str or Path
+        The file.
+
+    Returns
+    -------
+    Model
+        In SI units.
+
+    Raises
+    ------
+    ModelFileError
+        The file cannot be read or is not a valid model (the message says where and why).
+    """
+    path = Path(path)
+    fmt = {".toml": "toml", ".json": "json"}.get(path.suffix.lower())
+    if fmt is None:
+        raise ModelFileError(f"{path}: unknown model file type {path.suffix!r}; expected .toml or .json")
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise ModelFileError(f"{path}: cannot read the file: {exc.strerror or exc}") from None
+    except UnicodeDecodeError as exc:
+        raise ModelFileError(f"{path}: not UTF-8 text ({exc.reason})") from None
+    return loads_model(text, fmt, str(path), path.parent)
+
+
+# -- writing ---------------------------------------------------------------------------------------
+def _orientation_dict(o: Orientation) -> dict[str, Any] | None:
+    return None if np.array_equal(o.matrix, np.eye(3)) else {"matrix": o.matrix.tolist()}
+
+
+def _plain(value: Any) -> Any:
+    return value.tolist() if isinstance(value, np.ndarray) else value
+
+
+def model_to_dict(model: Model) -> dict[str, Any]:
+    """The model as model-file data (SI units, angles in rad), ready for TOML or JSON.
+
+    Mounts are written one by one (symmetry already expanded) and orientations as matrices, so
+    loading the result gives exactly the same matrices.
+    """
+    settings = model.settings or {}
+    head: dict[str, Any] = {"name": model.name, "units": {
+        "length": "m", "mass": "kg", "force": "N", "angle": "rad", "time": "s"}}
+    if model.gravity is not None:
+        head["gravity"] = model.gravity.tolist()
+    out: dict[str, Any] = {"model": head, "body": []}
+    initial = settings.get("initial", {})
+    for b in model.bodies:
+        d: dict[str, Any] = {"name": b.name, "mass": _plain(b.mass)}
+        if b.inertia.shape == (3,):
+            d["inertia"] = b.inertia.tolist()
+            if (axes := _orientation_dict(b.principal_axes)) is not None:
+                d["principal_axes"] = axes
+        else:
+            d["inertia_tensor"] = b.inertia.tolist()
+        d["cog"] = b.cog.tolist()
+        if b.name in initial:
+            d["initial"] = dict(initial[b.name])
+        out["body"].append(d)
+    out["mount_type"] = [{"name": t.name, "stiffness": t.stiffness.tolist(),
+                          "damping": t.damping.tolist(), "loss_factor": t.loss_factor.tolist()}
+                         for t in model.mount_types.values()]
+    out["mount"] = []
+    for m in model.mounts:
+        d = {"name": m.name, "type": m.type.name, "body": m.body, "to": m.to, "at": m.at.tolist(),
+             "frame": m.frame}
+        if (o := _orientation_dict(m.orientation)) is not None:
+            d["orientation"] = o
+        out["mount"].append(d)
+    out["control_point"] = [{"name": c.name, "body": c.body, "at": c.at.tolist(), "frame": c.frame}
+                            for c in model.control_points]
+    out["load"] = []
+    for ld in model.loads:
+        d = {"name": ld.name, "body": ld.body, "force": ld.force.tolist(), "moment": ld.moment.tolist()}
+        if ld.at is not None:
+            d.update(at=ld.at.tolist(), frame=ld.frame)
+        if ld.case:
+            d["case"] = ld.case
+        out["load"].append(d)
+    out["excitation"] = []
+    for x in model.excitations:
+        d = {"name": x.name, "kind": x.kind, "target": x.target}
+        d.update({"dof": x.dof} if x.dof is not None else {"direction": x.direction.tolist()})
+        if x.at is not None:
+            d.update(at=x.at.tolist(), frame=x.frame)
+        f = x.function.to_dict()
+        d["function"] = f["terms"] if f["type"] == "sum" else f
+        out["excitation"].append(d)
+    analysis = {k: dict(settings[k]) for k in ("time", "frequency") if k in settings}
+    if analysis:
+        out["analysis"] = analysis
+    return {k: v for k, v in out.items() if v != []}
+
+
+def dumps_model(model: Model, fmt: str = "toml") -> str:
+    """The model as the text of a model file (SI units; floats written exactly).
+
+    Parameters
+    ----------
+    model : Model
+        The model.
+    fmt : {"toml", "json"}
+        Output format.
+
+    Returns
+    -------
+    str
+    """
+    data = model_to_dict(model)
+    if fmt == "json":
+        return json.dumps(data, indent=2) + "\n"
+    if fmt != "toml":
+        raise ModelError(f"unknown model file format {fmt!r}; expected 'toml' or 'json'")
+    return dumps_toml(data, header="vibss model file, written by vibss.io.dumps_model (SI units, "
+                                   "angles in rad)")
+
+
+def dump_model(model: Model, path: str | Path) -> None:
+    """Write the model to ``path`` (``.toml`` or ``.json``, by extension).
+
+    Parameters
+    ----------
+    model : Model
+        The model.
+    path : str or Path
+        The file to write.
+    """
+    path = Path(path)
+    fmt = {".toml": "toml", ".json": "json"}.get(path.suffix.lower())
+    if fmt is None:
+        raise ModelFileError(f"{path}: unknown model file type {path.suffix!r}; expected .toml or .json")
+    path.write_text(dumps_model(model, fmt), encoding="utf-8")
+
+
+# -- examples --------------------------------------------------------------------------------------
+def example_names() -> list[str]:
+    """Names of the built-in example models (``vibss example list``)."""
+    return sorted(p.stem for p in EXAMPLES_DIR.glob("*.toml"))
+
+
+def example_path(name: str) -> Path:
+    """Path of the built-in example ``name`` (with or without ``.toml``).
+
+    Raises
+    ------
+    ModelError
+        Unknown name (the message lists the examples).
+    """
+    stem = name[:-5] if name.endswith(".toml") else name
+    names = example_names()
+    if stem not in names:
+        raise ModelError(f"unknown example {name!r}; examples are {names}" + did_you_mean(stem, names))
+    return EXAMPLES_DIR / f"{stem}.toml"
+
+
+def load_example(name: str) -> Model:
+    """Load the built-in example model ``name`` (see :func:`example_names`).
+
+    Parameters
+    ----------
+    name : str
+        Example name, e.g. ``"powertrain"`` (``vibss example list`` shows them all).
+
+    Returns
+    -------
+    Model
+
+    Examples
+    --------
+    >>> load_example("two_mass").n_dof
+    12
+    """
+    return load_model(example_path(name))

@@ -1,0 +1,263 @@
+"""Assembly: Model -> mass, stiffness and damping matrices, and the maps from named points to DOFs.
+
+The system vector stacks the bodies' DOFs in definition order, ``q = [x1 y1 z1 rx1 ry1 rz1, x2 ...]``.
+Ground is assembled as a seventh "body" whose six DOFs come last (its reference point is the global
+origin), so that prescribed ground motion and the rigid-motion invariant need no special case:
+``K_full`` (size n + 6) annihilates any rigid motion of the whole system with ground released.
+
+Per mount p joining point P of body b to the same point of a (a body or ground),
+``delta_p = L(r_b) q_b - L(r_a) q_a = B_p q`` and ``K = sum_p B_p^T (T diag(k) T^T) B_p``, likewise
+for C. The sum is vectorised over mounts (no Python loop per mount) and scattered as COO triplets,
+into a dense array for small models or a scipy.sparse CSR matrix for large ones.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import cached_property
+
+import numpy as np
+import numpy.typing as npt
+import scipy.sparse as sp
+
+from ..errors import ModelError
+from ..model.geometry import point_transfer
+from ..model.model import DOF_NAMES, Model
+
+__all__ = ["Assembly", "assemble", "SPARSE_THRESHOLD", "dof_labels"]
+
+SPARSE_THRESHOLD = 1200
+"""Models with more DOFs than this are assembled as scipy.sparse matrices by default."""
+
+Matrix = "np.ndarray | sp.csr_matrix"
+
+
+def dof_labels(body_names: list[str]) -> tuple[str, ...]:
+    """DOF labels ``'<body>.<dof>'`` in system order."""
+    return tuple(f"{b}.{d}" for b in body_names for d in DOF_NAMES)
+
+
+@dataclass(frozen=True, eq=False)
+class Assembly:
+    """Assembled matrices of a model.
+
+    Attributes
+    ----------
+    model : Model
+        The model assembled.
+    dofs : tuple of str
+        DOF labels ``'<body>.<dof>'`` (n = 6 x bodies).
+    M, K, C : (n, n) ndarray or scipy.sparse matrix
+        Mass [kg, kg m^2], stiffness [N/m, N m/rad ...] and viscous damping matrices of the body DOFs
+        with ground fixed.
+    Kg, Cg : (n, 6) ndarray
+        Coupling of the body DOFs to the six ground DOFs (x y z rx ry rz about the global origin):
+        ground motion ``z_g`` adds ``-Kg z_g - Cg dz_g/dt`` to the generalised forces.
+    H : (n, n) ndarray or scipy.sparse matrix
+        Hysteretic stiffness ``sum B^T T diag(eta k) T^T B`` (frequency domain: ``K + iH``).
+    Hg : (n, 6) ndarray
+        Hysteretic coupling to ground.
+    kp, cp, hp : (n_mounts, 3, 3) ndarray
+        Each mount's stiffness, damping and hysteretic matrices in global axes.
+    b_index, a_index : (n_mounts,) int ndarray
+        Body index of each mount's ``body`` and ``to`` (``n_bodies`` for ground).
+    r_b, r_a : (n_mounts, 3) ndarray
+        Attachment point relative to the COG of ``body`` and of ``to`` (global origin for ground) [m].
+    sparse : bool
+        Whether the matrices are scipy.sparse.
+    """
+
+    model: Model
+    dofs: tuple[str, ...]
+    M: np.ndarray | sp.csr_matrix
+    K: np.ndarray | sp.csr_matrix
+    C: np.ndarray | sp.csr_matrix
+    H: np.ndarray | sp.csr_matrix
+    Kg: np.ndarray
+    Cg: np.ndarray
+    Hg: np.ndarray
+    kp: np.ndarray
+    cp: np.ndarray
+    hp: np.ndarray
+    b_index: np.ndarray
+    a_index: np.ndarray
+    r_b: np.ndarray
+    r_a: np.ndarray
+    sparse: bool = False
+    _cache: dict = field(default_factory=dict, repr=False)
+
+    @property
+    def n(self) -> int:
+        """Number of body DOFs."""
+        return len(self.dofs)
+
+    @property
+    def has_damping(self) -> bool:
+        """Whether any mount has viscous damping."""
+        return bool(np.any(self.cp))
+
+    @property
+    def has_hysteresis(self) -> bool:
+        """Whether any mount has a hysteretic loss factor."""
+        return bool(np.any(self.hp))
+
+    def dense(self, name: str) -> np.ndarray:
+        """Matrix ``name`` ('M', 'K', 'C' or 'H') as a dense array (cached for sparse models)."""
+        mat = getattr(self, name)
+        if not sp.issparse(mat):
+            return mat
+        if name not in self._cache:
+            self._cache[name] = mat.toarray()
+        return self._cache[name]
+
+    def dof_index(self, label: str) -> int:
+        """Index of DOF ``'<body>.<dof>'`` in the system vector."""
+        try:
+            return self._dof_map[label]
+        except KeyError:
+            raise ModelError(f"unknown DOF {label!r}; DOFs are '<body>.<x|y|z|rx|ry|rz>', "
+                             f"e.g. {self.dofs[0]!r}") from None
+
+    @cached_property
+    def _dof_map(self) -> dict[str, int]:
+        return {d: i for i, d in enumerate(self.dofs)}
+
+    def point_matrix(self, body: str, r: npt.ArrayLike) -> np.ndarray:
+        """(3, n) map from q to the displacement of point ``r`` (relative to the COG) of ``body``."""
+        out = np.zeros((3, self.n))
+        i = self.model.body_index(body)
+        out[:, 6 * i:6 * i + 6] = point_transfer(r)
+        return out
+
+    def deflection_matrix(self) -> sp.csr_matrix:
+        """(3 n_mounts, n + 6) sparse map from ``[q; q_ground]`` to mount deflections (global axes).
+
+        Rows ``3p .. 3p+2`` give ``delta_p = d_body - d_to`` of mount p.
+        """
+        if "B" not in self._cache:
+            nm, nb = len(self.b_index), len(self.model.bodies)
+            lb, la = point_transfer(self.r_b), point_transfer(self.r_a)
+            rows = np.repeat(3 * np.arange(nm), 18).reshape(nm, 3, 6) + np.arange(3)[None, :, None]
+            cb = 6 * self.b_index[:, None, None] + np.arange(6)[None, None, :]
+            ca = 6 * self.a_index[:, None, None] + np.arange(6)[None, None, :]
+            rr = np.concatenate([rows.ravel(), rows.ravel()])
+            cc = np.concatenate([np.broadcast_to(cb, rows.shape).ravel(),
+                                 np.broadcast_to(ca, rows.shape).ravel()])
+            vv = np.concatenate([lb.ravel(), -la.ravel()])
+            self._cache["B"] = sp.csr_matrix((vv, (rr, cc)), shape=(3 * nm, 6 * nb + 6))
+        return self._cache["B"]
+
+    def load_vector(self, include_gravity: bool = True, case: str | None = None) -> np.ndarray:
+        """(n,) generalised force of the model's static loads (and self-weight) [N, N m].
+
+        Parameters
+        ----------
+        include_gravity : bool
+            Add self-weight when the model defines gravity.
+        case : str or None
+            Load case: the unnamed loads plus those of this case; None: every load.
+        """
+        f = np.zeros(self.n)
+        for ld in self.model.loads:
+            if case is not None and ld.case not in ("", case):
+                continue
+            i = self.model.body_index(ld.body)
+            r = np.zeros(3) if ld.at is None else self.model.point(ld.body, ld.at, ld.frame)
+            f[6 * i:6 * i + 6] += point_transfer(r).T @ ld.force
+            f[6 * i + 3:6 * i + 6] += ld.moment
+        if include_gravity and self.model.gravity is not None:
+            for i, b in enumerate(self.model.bodies):
+                f[6 * i:6 * i + 3] += b.masses * self.model.gravity
+        return f
+
+
+def assemble(model: Model, sparse: bool | None = None) -> Assembly:
+    """Assemble M, K, C (and the hysteretic H) of a model.
+
+    Parameters
+    ----------
+    model : Model
+        The system.
+    sparse : bool or None
+        Return scipy.sparse CSR matrices; default: when the model has more than
+        :data:`SPARSE_THRESHOLD` DOFs.
+
+    Returns
+    -------
+    Assembly
+
+    Examples
+    --------
+    >>> from vibss import Body, MountType, Mount, Model
+    >>> t = MountType("t", [1e4, 1e4, 2e4])
+    >>> m = Model([Body("b", 10.0, [1, 1, 1])], [Mount("m", t, "b")])
+    >>> float(assemble(m).K[2, 2])
+    20000.0
+    """
+    nb = len(model.bodies)
+    n = 6 * nb
+    if sparse is None:
+        sparse = n > SPARSE_THRESHOLD
+    names = {b.name: i for i, b in enumerate(model.bodies)}
+    cogs = np.vstack([np.array([b.cog for b in model.bodies]), np.zeros((1, 3))])  # ground last
+    nm = len(model.mounts)
+    b_index = np.array([names[m.body] for m in model.mounts], dtype=int).reshape(nm)
+    a_index = np.array([names.get(m.to, nb) for m in model.mounts], dtype=int).reshape(nm)
+    at = np.array([m.at for m in model.mounts]).reshape(nm, 3)
+    body_frame = np.array([m.frame == "body" for m in model.mounts], dtype=bool)
+    p = at + np.where(body_frame[:, None], cogs[b_index], 0.0)
+    r_b, r_a = p - cogs[b_index], p - cogs[a_index]
+    t = np.array([m.orientation.matrix for m in model.mounts]).reshape(nm, 3, 3)
+
+    def principal(key: str, scale: str | None = None) -> np.ndarray:
+        d = np.array([getattr(m.type, key) for m in model.mounts]).reshape(nm, 3)
+        if scale is not None:
+            d = d * np.array([getattr(m.type, scale) for m in model.mounts]).reshape(nm, 3)
+        return np.einsum("pij,pj,pkj->pik", t, d, t)
+
+    kp, cp, hp = principal("stiffness"), principal("damping"), principal("stiffness", "loss_factor")
+    lb, la = point_transfer(r_b), point_transfer(r_a)
+
+    # COO pattern of the four 6x6 blocks of every mount, shared by K, C and H.
+    ib = 6 * b_index[:, None] + np.arange(6)
+    ia = 6 * a_index[:, None] + np.arange(6)
+    blocks = ((ib, ib), (ia, ia), (ib, ia), (ia, ib))
+    rows = np.concatenate([np.broadcast_to(r[:, :, None], (nm, 6, 6)).ravel() for r, _ in blocks])
+    cols = np.concatenate([np.broadcast_to(c[:, None, :], (nm, 6, 6)).ravel() for _, c in blocks])
+
+    lbt, lat = lb.transpose(0, 2, 1), la.transpose(0, 2, 1)
+
+    def full(kmat: np.ndarray) -> sp.csr_matrix:
+        kb, ka = kmat @ lb, kmat @ la                       # (nm, 3, 6) each
+        with np.errstate(over="ignore", invalid="ignore"):
+            vals = np.concatenate([(lbt @ kb).ravel(), (lat @ ka).ravel(),
+                                   -(lbt @ ka).ravel(), -(lat @ kb).ravel()])
+        if not np.all(np.isfinite(vals)):
+            bad = int(np.flatnonzero((~np.isfinite(vals.reshape(4, nm, 36))).any(axis=(0, 2)))[0])
+            raise ModelError(f"mount {model.mounts[bad].name!r}: its stiffness or damping about the COG "
+                             "overflows (an extreme value or position); check its point and type")
+        return sp.csr_matrix((vals, (rows, cols)), shape=(n + 6, n + 6))
+
+    mass = sp.block_diag([b.mass_matrix for b in model.bodies], format="csr")
+    mats = {}
+    couplings = {}
+    for key, pm in (("K", kp), ("C", cp), ("H", hp)):
+        if key != "K" and not np.any(pm):              # no dampers / no hysteresis: skip the work
+            mats[key] = sp.csr_matrix((n, n)) if sparse else np.zeros((n, n))
+            couplings[key] = np.zeros((n, 6))
+            continue
+        f = full(pm)
+        body_part = f[:n, :n]
+        body_part = 0.5 * (body_part + body_part.T)  # exact symmetry despite summation order
+        mats[key] = body_part.tocsr() if sparse else body_part.toarray()
+        couplings[key] = f[:n, n:].toarray()
+    return Assembly(
+        model=model,
+        dofs=dof_labels(model.body_names),
+        M=mass if sparse else mass.toarray(),
+        K=mats["K"], C=mats["C"], H=mats["H"],
+        Kg=couplings["K"], Cg=couplings["C"], Hg=couplings["H"],
+        kp=kp, cp=cp, hp=hp,
+        b_index=b_index, a_index=a_index, r_b=r_b, r_a=r_a,
+        sparse=bool(sparse),
+    )

@@ -1,0 +1,125 @@
+"""Sparse structure of a plant's dynamic stiffness ``K + iH + sC + s^2 M`` for per-frequency solves.
+
+Rigid bodies joined by mounts couple only the 6 DOFs of the bodies a mount joins, so the dynamic
+stiffness is block-sparse. A reverse Cuthill-McKee ordering
+(:func:`scipy.sparse.csgraph.reverse_cuthill_mckee`) of the coupling graph makes it *banded* for
+chains and other locally connected layouts; LAPACK's banded LU with partial pivoting (``zgbsv``,
+as stable as the dense LU it replaces) then costs O(n b^2) per frequency instead of O(n^3).
+Layouts that do not band well (half-bandwidth above :data:`BAND_MAX`) are factorised by SuperLU
+(:func:`scipy.sparse.linalg.splu`, fill-reducing COLAMD ordering) instead.
+
+The cost constants below were measured on the project's 2-core VM (one BLAS thread,
+``benchmarks/bench_frf.py``); they only steer the automatic choice of an FRF method.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spl
+from scipy.sparse.csgraph import reverse_cuthill_mckee
+
+from .plant import Plant
+
+__all__ = ["Structure", "structure", "BAND_MAX"]
+
+BAND_MAX = 48
+"""Largest half-bandwidth solved as a band; wider patterns go to SuperLU."""
+
+_T_FREQ = 3e-5          # fixed cost per frequency [s] (Python, assembling the right-hand side)
+_K_BUILD = 3.5e-9       # [s] per band entry assembled (n (2 b + 1) per matrix)
+_K_BAND = 2.5e-9        # [s] per n b^2 of the banded LU
+_K_SUPERLU = 2e-9       # [s] per nnz(L + U)^2 / n of a SuperLU factorisation
+
+
+@dataclass(frozen=True, eq=False)
+class Structure:
+    """Ordering and storage of a plant's dynamic stiffness for per-frequency solves.
+
+    Attributes
+    ----------
+    perm : (n,) int ndarray
+        Ordering of the DOFs (row/column ``i`` of the band is DOF ``perm[i]``): the reverse
+        Cuthill-McKee one, or the plant's own where that has the narrower band.
+    band : int
+        Half-bandwidth after the ordering (``|i - j| <= band`` for every coupling).
+    banded : bool
+        Whether the band is narrow enough for the banded LU (``band <= BAND_MAX``).
+    parts : dict of str to ndarray or scipy.sparse matrix
+        ``"K"``, ``"C"``, ``"M"``, ``"H"`` (only the nonzero ones): LAPACK band storage of the
+        reordered matrix, shape ``(2 band + 1, n)``, when ``banded``; else CSC matrices in the
+        original order.
+    seconds_per_frequency : float
+        Estimated cost of one solve [s] (for choosing a method; not a measurement).
+    """
+
+    perm: np.ndarray
+    band: int
+    banded: bool
+    parts: dict
+    seconds_per_frequency: float
+
+
+def _bandwidth(pattern: sp.csr_matrix, order: np.ndarray) -> int:
+    """Half-bandwidth of ``pattern`` with rows and columns in ``order``."""
+    q = pattern[order][:, order].tocoo()
+    return int(np.abs(q.row - q.col).max()) if q.nnz else 0
+
+
+def _gb_layout(a: sp.spmatrix, perm: np.ndarray, band: int) -> np.ndarray:
+    """``a[perm][:, perm]`` as LAPACK band storage: entry (i, j) at row ``band + i - j``, column j.
+
+    ``gbsv`` wants ``band`` more rows on top (room for the fill of pivoting); the solver adds them.
+    """
+    q = sp.csr_matrix(a)[perm][:, perm].tocoo()
+    out = np.zeros((2 * band + 1, a.shape[0]))
+    out[band + q.row - q.col, q.col] = q.data
+    return out
+
+
+def structure(plant: Plant) -> Structure:
+    """Order and store ``K, C, M, H`` of a plant for per-frequency solves (see the module docstring).
+
+    Parameters
+    ----------
+    plant : Plant
+        Dense or sparse ``M, C, K, H``.
+
+    Returns
+    -------
+    Structure
+
+    Examples
+    --------
+    A chain of three bodies on mounts couples each body to its neighbours only:
+
+    >>> from vibss import Body, Model, Mount, MountType
+    >>> from vibss.linear.signals import build_plant
+    >>> t = MountType("t", [1e5, 1e5, 1e5], [10.0, 10.0, 10.0])
+    >>> bodies = [Body(f"b{i}", 10.0, [1, 1, 1], cog=[i, 0, 0]) for i in range(3)]
+    >>> mounts = [Mount("g", t, "b0", at=[0.2, 0.1, -0.3])] + [
+    ...     Mount(f"m{i}", t, f"b{i}", to=f"b{i - 1}", at=[-0.5, 0.1, -0.2]) for i in (1, 2)]
+    >>> st = structure(build_plant(Model(bodies, mounts), ["b2.fz"], ["b0.z"]))
+    >>> st.band, st.banded, st.parts["K"].shape   # neighbours' DOFs 6 + 5 apart; 2 band + 1 rows
+    (11, True, (23, 18))
+    """
+    n = plant.n
+    mats = {key: sp.csr_matrix(getattr(plant, key)) for key in ("K", "C", "M", "H")}
+    mats = {key: a for key, a in mats.items() if a.count_nonzero() or key == "K"}
+    pattern = sum(abs(a) for a in mats.values())
+    pattern = sp.csr_matrix(pattern)
+    band, perm = min((_bandwidth(pattern, order), i, order) for i, order in enumerate(
+        (np.arange(n), reverse_cuthill_mckee(pattern, symmetric_mode=True).astype(int))))[::2]
+    if band <= BAND_MAX:
+        parts = {key: _gb_layout(a, perm, band) for key, a in mats.items()}
+        cost = _T_FREQ + _K_BUILD * n * (2 * band + 1) * len(parts) + _K_BAND * n * max(band, 1) ** 2
+        return Structure(perm, band, True, parts, cost)
+    csc = {key: a.tocsc() for key, a in mats.items()}
+    # the fill of L + U from a trial factorisation of a diagonally dominant matrix of this pattern
+    trial = sp.csc_matrix(pattern + sp.diags(np.asarray(abs(pattern).sum(axis=1)).ravel() + 1.0))
+    lu = spl.splu(trial)
+    fill = lu.L.nnz + lu.U.nnz
+    cost = _T_FREQ + _K_SUPERLU * fill**2 / max(n, 1)
+    return Structure(perm, band, False, csc, cost)

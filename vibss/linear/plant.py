@@ -1,0 +1,126 @@
+"""The second-order input/output description of a study ("plant"), shared by every dynamic analysis.
+
+A study picks **inputs** (forces on bodies or points; prescribed displacement, velocity or
+acceleration of ground or body DOFs) and **outputs** (motions of DOFs and points, mount deflections
+and forces, total transmitted forces). A :class:`Plant` holds the second-order matrices of the
+unknown (free) DOFs and the maps of every input and output, in SI:
+
+    M q'' + C q' + K q = F u_f - (Kz z + Cz z' + Mz z'')
+    y = Oq q + Ov q' + Oa q'' + Pz z + Pv z' + Pa z'' + Pf u_f   (+ i (Oh q + Ph z), frequency domain)
+
+where ``u_f`` are the force inputs and ``z`` the prescribed coordinates. Each input column ``j``
+is one named signal; a force input has a nonzero column in ``F`` and zero columns in ``Kz, Cz, Mz,
+Pz, Pv, Pa``; a motion input has the reverse. ``kinds[j]`` says what the signal ``u_j`` *is*:
+``"force"`` (u = f), ``"displacement"`` (u = z), ``"velocity"`` (u = z'), ``"acceleration"``
+(u = z''). In the frequency domain ``z = u / (i w)^order`` with order 0, 1, 2; in the time domain
+each kind gets an exact realization (see :mod:`vibss.statespace`).
+
+Frequency-domain-only hysteretic stiffness enters as ``K + i H`` and ``Kz + i Hz``.
+
+The plant is built by :func:`vibss.linear.signals.build_plant`; analyses take a Plant, never re-derive it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+__all__ = ["Plant", "INPUT_KINDS", "MOTION_ORDER"]
+
+INPUT_KINDS = ("force", "displacement", "velocity", "acceleration")
+"""What an input signal is."""
+
+MOTION_ORDER = {"displacement": 0, "velocity": 1, "acceleration": 2}
+"""Time derivative of the prescribed coordinate that a motion input gives."""
+
+
+@dataclass(frozen=True, eq=False)
+class Plant:
+    """Second-order matrices of the free DOFs plus named input and output maps.
+
+    Attributes
+    ----------
+    dofs : tuple of str
+        Labels of the free (unknown) DOFs, ``'<body>.<dof>'`` (n of them).
+    M, C, K, H : (n, n) ndarray
+        Mass, viscous damping, stiffness and hysteretic stiffness of the free DOFs (SI).
+    inputs : tuple of str
+        Input signal names (m of them).
+    kinds : tuple of str
+        ``INPUT_KINDS`` entry per input.
+    F : (n, m) ndarray
+        Generalised force per unit force input [N/N, N m/N ...].
+    Kz, Cz, Mz, Hz : (n, m) ndarray
+        Coupling of each prescribed coordinate into the free DOFs (moved to the right-hand side
+        with a minus sign).
+    outputs : tuple of str
+        Output signal names (p of them).
+    units : tuple of str
+        SI unit of each output (``"m"``, ``"rad"``, ``"m/s"``, ``"N"`` ...).
+    Oq, Ov, Oa : (p, n) ndarray
+        Output per free-DOF displacement, velocity and acceleration.
+    Pz, Pv, Pa, Pf : (p, m) ndarray
+        Output per prescribed displacement, velocity, acceleration, and per force input
+        (direct feedthrough).
+    name : str
+        System name (the model's).
+    Oh, Ph : (p, n), (p, m) ndarray or None
+        Hysteretic part of the outputs (frequency domain only): ``y += i (Oh q + Ph z)``, e.g. the
+        loss-factor force ``i H_p delta`` of a mount force output. None means zero.
+    """
+
+    dofs: tuple[str, ...]
+    M: np.ndarray
+    C: np.ndarray
+    K: np.ndarray
+    H: np.ndarray
+    inputs: tuple[str, ...]
+    kinds: tuple[str, ...]
+    F: np.ndarray
+    Kz: np.ndarray
+    Cz: np.ndarray
+    Mz: np.ndarray
+    Hz: np.ndarray
+    outputs: tuple[str, ...]
+    units: tuple[str, ...]
+    Oq: np.ndarray
+    Ov: np.ndarray
+    Oa: np.ndarray
+    Pz: np.ndarray
+    Pv: np.ndarray
+    Pa: np.ndarray
+    Pf: np.ndarray
+    name: str = "vibss"
+    Oh: np.ndarray | None = None
+    Ph: np.ndarray | None = None
+    _cache: dict[str, Any] = field(default_factory=dict, init=False, repr=False)
+
+    def cached(self, key: str, make: Callable[[], Any]) -> Any:
+        """``make()``, computed once per plant (sparse forms, factorisations of its matrices).
+
+        The plant is frozen, so a derived quantity never goes stale; ``dataclasses.replace`` makes
+        a new plant with an empty cache (the field is not an init argument).
+
+        Parameters
+        ----------
+        key : str
+            Name of the quantity (e.g. ``"sparse C"``, ``"solve K"``).
+        make : callable
+            Computes it.
+        """
+        if key not in self._cache:
+            self._cache[key] = make()
+        return self._cache[key]
+
+    @property
+    def n(self) -> int:
+        """Number of free DOFs."""
+        return len(self.dofs)
+
+    @property
+    def order(self) -> np.ndarray:
+        """(m,) time-derivative order of each input's prescribed coordinate (-1 for forces)."""
+        return np.array([MOTION_ORDER.get(k, -1) for k in self.kinds])

@@ -1,0 +1,459 @@
+"""Named input and output signals of a study, and the :class:`~vibss.linear.plant.Plant` they define.
+
+Signal names (fixed; every analysis, result and the command line use them)
+-------------------------------------------------------------------------
+Inputs (``u``):
+
+========================================  =====================================================
+``<body>.fx`` ``.fy`` ``.fz``             force at the body's COG, global axes [N]
+``<body>.mx`` ``.my`` ``.mz``             moment on the body, global axes [N m]
+``<point>.fx`` ``.fy`` ``.fz``            force at a control point [N]
+``<body|ground>.<dof>.disp``              prescribed displacement of a DOF [m, rad]
+``<body|ground>.<dof>.vel``               prescribed velocity [m/s, rad/s]
+``<body|ground>.<dof>.acc``               prescribed acceleration [m/s^2, rad/s^2]
+========================================  =====================================================
+
+``<dof>`` is one of ``x y z rx ry rz``. Ground DOFs are the rigid motion of ground about the global
+origin (``ground.z.disp`` moves every ground attachment point in z; ``ground.rx.disp`` rotates
+ground about the global X axis). A prescribed body DOF leaves the unknowns: the plant's free DOFs
+exclude it, and its motion drives the others through the coupling stiffness, damping and mass (the
+handbook program's flags 2-4). An :class:`vibss.model.excitation.Excitation` is accepted as an input too
+(named by its ``signal``); one with a ``direction`` gives one force column along that unit vector
+(applied at ``at``, or the COG), or one ground translation along it.
+
+Outputs (``y``):
+
+========================================  =====================================================
+``<body>.<dof>``                          displacement of a body DOF [m, rad]
+``<body>.<dof>.vel`` / ``.acc``           its velocity / acceleration
+``<point>.x|y|z`` (+ ``.vel``, ``.acc``)  motion of a control point, global axes
+``mount.<name>.dx|dy|dz``                 mount deflection delta = d_body - d_to, global axes [m]
+``mount.<name>.d1|d2|d3``                 the same in the mount's local (principal) axes
+``mount.<name>.fx|fy|fz`` / ``.f1|f2|f3`` force the mount transmits into its ``to`` side,
+                                          K delta + C delta' (+ i H delta in frequency) [N]
+``ground.fx|fy|fz|mx|my|mz``              total force [N] and moment about the global origin
+                                          [N m] transmitted into ground by the mounts
+``<body>.into.fx|fy|fz|mx|my|mz``         total force [N] and moment about the body's COG
+                                          [N m] transmitted into the body by the mounts whose
+                                          ``to`` side it is (what rests on it); ``ground.into.*``
+                                          is ``ground.*``
+========================================  =====================================================
+
+The default outputs are the displacements of every body DOF. python-control forbids ``.`` in signal
+names (it is its ``system.signal`` separator), so python-control objects carry the same names with
+``.`` replaced by ``:`` (:func:`control_name`); the systems :func:`vibss.statespace` returns
+(:class:`vibss.linear.statespace.NamedStateSpace`) accept either spelling when indexed.
+
+Examples
+--------
+>>> from vibss import Body, Model, Mount, MountType
+>>> t = MountType("t", [1e4, 1e4, 1e4])
+>>> m = Model([Body("b", 10.0, [1, 1, 1])], [Mount("m", t, "b")])
+>>> p = build_plant(m, ["b.fz"], ["b.z", "mount.m.fz"])
+>>> p.inputs, p.outputs, p.units
+(('b.fz',), ('b.z', 'mount.m.fz'), ('m', 'N'))
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import scipy.linalg as sl
+import scipy.sparse as sp
+
+from .assemble import Assembly, assemble
+from ..errors import ModelError, did_you_mean
+from ..model.geometry import point_transfer
+from .eigen import rigid_mask
+from ..model.model import DOF_NAMES, GROUND, Model
+from .plant import INPUT_KINDS, Plant
+
+__all__ = ["build_plant", "control_name", "default_outputs", "INPUT_FORMS", "OUTPUT_FORMS"]
+
+INPUT_FORMS = ("<body>.fx|fy|fz", "<body>.mx|my|mz", "<point>.fx|fy|fz",
+               "<body|ground>.<x|y|z|rx|ry|rz>.disp|vel|acc")
+"""Valid input name forms (for messages)."""
+
+OUTPUT_FORMS = ("<body>.<x|y|z|rx|ry|rz>[.vel|.acc]", "<point>.x|y|z[.vel|.acc]",
+                "mount.<name>.dx|dy|dz|d1|d2|d3", "mount.<name>.fx|fy|fz|f1|f2|f3",
+                "ground.fx|fy|fz|mx|my|mz", "<body>.into.fx|fy|fz|mx|my|mz")
+"""Valid output name forms (for messages)."""
+
+_MOTION = {"disp": "displacement", "vel": "velocity", "acc": "acceleration"}
+_FORCE = {"fx": 0, "fy": 1, "fz": 2, "mx": 3, "my": 4, "mz": 5}
+_DERIV = {"": 0, "vel": 1, "acc": 2}
+_MOUNT = {"dx": ("d", "g", 0), "dy": ("d", "g", 1), "dz": ("d", "g", 2),
+          "d1": ("d", "l", 0), "d2": ("d", "l", 1), "d3": ("d", "l", 2),
+          "fx": ("f", "g", 0), "fy": ("f", "g", 1), "fz": ("f", "g", 2),
+          "f1": ("f", "l", 0), "f2": ("f", "l", 1), "f3": ("f", "l", 2)}
+
+
+def control_name(name: str) -> str:
+    """The python-control spelling of a vibss signal name (``.`` -> ``:``).
+
+    Examples
+    --------
+    >>> control_name("mount.front.xz.f3")
+    'mount:front:xz:f3'
+    """
+    return name.replace(".", ":")
+
+
+def default_outputs(model: Model) -> tuple[str, ...]:
+    """Displacement of every body DOF, ``'<body>.<dof>'`` in DOF order."""
+    return tuple(f"{b}.{d}" for b in model.body_names for d in DOF_NAMES)
+
+
+@dataclass(frozen=True)
+class _Input:
+    name: str
+    kind: str
+    force: np.ndarray | None = None      # (n,) generalised force, force inputs
+    motion: np.ndarray | None = None     # (n + 6,) prescribed-coordinate direction, motion inputs
+
+
+def _input_names(model: Model) -> list[str]:
+    names = [f"{b}.{c}" for b in model.body_names for c in _FORCE]
+    names += [f"{p.name}.{c}" for p in model.control_points for c in ("fx", "fy", "fz")]
+    names += [f"{t}.{d}.{k}" for t in [*model.body_names, GROUND] for d in DOF_NAMES for k in _MOTION]
+    return names
+
+
+def _output_names(model: Model) -> list[str]:
+    names = [f"{b}.{d}{s}" for b in model.body_names for d in DOF_NAMES for s in ("", ".vel", ".acc")]
+    names += [f"{p.name}.{d}{s}" for p in model.control_points for d in "xyz" for s in ("", ".vel", ".acc")]
+    names += [f"mount.{m.name}.{c}" for m in model.mounts for c in _MOUNT]
+    names += [f"ground.{c}" for c in _FORCE]
+    names += [f"{m}.into.{c}" for m in sorted({m.to for m in model.mounts}) for c in _FORCE]
+    return names
+
+
+def _bad_input(model: Model, name: Any, why: str = "") -> ModelError:
+    return ModelError(f"inputs: unknown input signal {name!r}{why}; valid forms are "
+                      f"{', '.join(INPUT_FORMS)}" + did_you_mean(name, _input_names(model)))
+
+
+def _bad_output(model: Model, name: Any, why: str = "") -> ModelError:
+    return ModelError(f"outputs: unknown output signal {name!r}{why}; valid forms are "
+                      f"{', '.join(OUTPUT_FORMS)}" + did_you_mean(name, _output_names(model)))
+
+
+def _point_force(asm: Assembly, body: str, r: np.ndarray, direction: np.ndarray) -> np.ndarray:
+    f = np.zeros(asm.n)
+    i = asm.model.body_index(body)
+    f[6 * i:6 * i + 6] = point_transfer(r).T @ direction
+    return f
+
+
+def _motion_vector(asm: Assembly, target: str, dof_index: int) -> np.ndarray:
+    v = np.zeros(asm.n + 6)
+    base = asm.n if target == GROUND else 6 * asm.model.body_index(target)
+    v[base + dof_index] = 1.0
+    return v
+
+
+def parse_input(asm: Assembly, item: Any) -> _Input:
+    model = asm.model
+    if not isinstance(item, str):
+        return _parse_excitation(asm, item)
+    bodies, points = set(model.body_names), {p.name: p for p in model.control_points}
+    head, _, last = item.rpartition(".")
+    if last in _MOTION:
+        target, _, dof = head.rpartition(".")
+        if dof not in DOF_NAMES:
+            raise _bad_input(model, item, f" (DOF {dof!r} is not one of {list(DOF_NAMES)})")
+        if target != GROUND and target not in bodies:
+            raise _bad_input(model, item, f" ({target!r} is neither a body nor 'ground')")
+        return _Input(item, _MOTION[last], motion=_motion_vector(asm, target, DOF_NAMES.index(dof)))
+    if last in _FORCE:
+        k = _FORCE[last]
+        if head in bodies:
+            f = np.zeros(asm.n)
+            f[6 * model.body_index(head) + k] = 1.0
+            return _Input(item, "force", force=f)
+        if head in points and k < 3:
+            p = points[head]
+            return _Input(item, "force", force=_point_force(
+                asm, p.body, model.point(p.body, p.at, p.frame), np.eye(3)[k]))
+        if head == GROUND:
+            raise _bad_input(model, item, " (a force on ground does nothing; prescribe ground "
+                                          "motion, e.g. 'ground.z.disp')")
+    raise _bad_input(model, item)
+
+
+def _parse_excitation(asm: Assembly, exc: Any) -> _Input:
+    model = asm.model
+    try:
+        kind, target, dof = exc.kind, exc.target, exc.dof
+        direction, name = exc.direction, exc.signal
+    except AttributeError:
+        raise ModelError(f"inputs: expected a signal name or an Excitation, got {exc!r}") from None
+    if kind not in INPUT_KINDS:
+        raise ModelError(f"inputs: excitation {name!r}: kind {kind!r} is not one of {list(INPUT_KINDS)}")
+    if target != GROUND and target not in model.body_names:
+        raise ModelError(f"inputs: excitation {name!r}: unknown target {target!r}; bodies are "
+                         f"{model.body_names} or 'ground'" + did_you_mean(target, model.body_names))
+    if direction is not None:
+        d = np.asarray(direction, dtype=float)
+        d = d / np.linalg.norm(d)
+    if kind == "force":
+        if target == GROUND:
+            raise ModelError(f"inputs: excitation {name!r}: a force on ground does nothing")
+        at = getattr(exc, "at", None)
+        r = np.zeros(3) if at is None else model.point(target, at, getattr(exc, "frame", "body"))
+        if dof is not None:
+            k = DOF_NAMES.index(dof)
+            if k >= 3:
+                f = np.zeros(asm.n)
+                f[6 * model.body_index(target) + k] = 1.0
+                return _Input(name, kind, force=f)
+            d = np.eye(3)[k]
+        return _Input(name, kind, force=_point_force(asm, target, r, d))
+    if dof is not None:
+        return _Input(name, kind, motion=_motion_vector(asm, target, DOF_NAMES.index(dof)))
+    axis = np.flatnonzero(np.abs(d) > 1e-12)
+    if target == GROUND:
+        v = np.zeros(asm.n + 6)
+        v[asm.n:asm.n + 3] = d
+        return _Input(name, kind, motion=v)
+    if axis.size == 1:
+        return _Input(name, kind, motion=_motion_vector(asm, target, int(axis[0])) * np.sign(d[axis[0]]))
+    raise ModelError(f"inputs: excitation {name!r}: a prescribed {kind} of body {target!r} must drive "
+                     f"one DOF (dof = 'x' ... 'rz'); a direction {d.tolist()} that mixes DOFs "
+                     "cannot be prescribed (it would not remove a DOF)")
+
+
+@dataclass
+class _Rows:
+    """Output rows over the full coordinate vector ``[q (n); q_ground (6)]``."""
+
+    d: np.ndarray   # displacement part
+    v: np.ndarray   # velocity part
+    a: np.ndarray   # acceleration part
+    h: np.ndarray   # hysteretic part (times i)
+
+
+def _mount_wrench(asm: Assembly, target: str) -> dict[str, np.ndarray]:
+    """(6, n + 6) rows of the force and moment transmitted into ``target`` (a body or ground) by the
+    mounts whose ``to`` side it is.
+
+    A mount's force into its ``to`` side is ``K delta + C delta' (+ i H delta)``. Moments are about
+    the target's reference point: its COG (the global origin for ground). Keys ``"k"``, ``"c"``,
+    ``"h"``: the displacement, velocity and hysteretic parts.
+    """
+    model = asm.model
+    i = len(model.bodies) if target == GROUND else model.body_index(target)
+    b = asm.deflection_matrix()
+    rows = {key: np.zeros((6, asm.n + 6)) for key in ("k", "c", "h")}
+    for p in np.flatnonzero(asm.a_index == i):
+        lt = point_transfer(asm.r_a[p]).T                 # (6, 3): force at the point -> wrench
+        bp = b[3 * p:3 * p + 3].toarray()
+        for key, mat in (("k", asm.kp), ("c", asm.cp), ("h", asm.hp)):
+            rows[key] += lt @ mat[p] @ bp
+    return rows
+
+
+def output_row(asm: Assembly, name: Any, cache: dict) -> tuple[_Rows, str]:
+    model = asm.model
+    if not isinstance(name, str):
+        raise ModelError(f"outputs: expected a signal name (str), got {name!r}")
+    nf = asm.n + 6
+    zero = np.zeros(nf)
+    bodies, points = set(model.body_names), {p.name: p for p in model.control_points}
+    if name.startswith("mount."):
+        head, _, comp = name[6:].rpartition(".")
+        if comp not in _MOUNT:
+            raise _bad_output(model, name, f" (component {comp!r} is not one of {list(_MOUNT)})")
+        names = cache.setdefault("mounts", {m.name: i for i, m in enumerate(model.mounts)})
+        if head not in names:
+            raise _bad_output(model, name, f" (no mount named {head!r})")
+        p = names[head]
+        what, frame, k = _MOUNT[comp]
+        b = asm.deflection_matrix()[3 * p:3 * p + 3].toarray()
+        t = model.mounts[p].orientation.matrix
+        axis = t[:, k] if frame == "l" else np.eye(3)[k]
+        if what == "d":
+            return _Rows(axis @ b, zero, zero, zero), "m"
+        return _Rows(axis @ asm.kp[p] @ b, axis @ asm.cp[p] @ b, zero, axis @ asm.hp[p] @ b), "N"
+    head, _, comp = name.rpartition(".")
+    target = head[:-5] if head.endswith(".into") else (GROUND if head == GROUND else None)
+    if head.endswith(".into") and comp not in _FORCE:
+        raise _bad_output(model, name, f" (component {comp!r} is not one of {list(_FORCE)})")
+    if target is not None and comp in _FORCE:
+        if target != GROUND and target not in bodies:
+            what = "a control point, not a body" if target in points else "not a body"
+            raise _bad_output(model, name, f" ({target!r} is {what})")
+        if target != GROUND and not any(m.to == target for m in model.mounts):
+            raise _bad_output(model, name, f" (no mount has {target!r} as its 'to' side: nothing "
+                                           f"rests on it; see mount.<name>.f* for its own mounts)")
+        k = _FORCE[comp]
+        g = cache.get(("wrench", target))
+        if g is None:
+            g = cache[("wrench", target)] = _mount_wrench(asm, target)
+        return _Rows(g["k"][k], g["c"][k], zero, g["h"][k]), ("N" if k < 3 else "N m")
+    base, _, suffix = name.rpartition(".")
+    order = _DERIV.get(suffix)
+    if order is None or order == 0:
+        base, order = name, 0
+    head, _, comp = base.rpartition(".")
+    row = zero.copy()
+    if head in bodies and comp in DOF_NAMES:
+        k = DOF_NAMES.index(comp)
+        row[6 * model.body_index(head) + k] = 1.0
+        unit = "rad" if k >= 3 else "m"
+    elif head in points and comp in ("x", "y", "z"):
+        p = points[head]
+        row[:asm.n] = asm.point_matrix(p.body, model.point(p.body, p.at, p.frame))["xyz".index(comp)]
+        unit = "m"
+    else:
+        raise _bad_output(model, name)
+    unit += ("", "/s", "/s^2")[order]
+    parts = [zero, zero, zero]
+    parts[order] = row
+    return _Rows(parts[0], parts[1], parts[2], zero), unit
+
+
+def input_maps(asm: Assembly, parsed: Sequence[Any]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Generalised-force and prescribed-motion columns of parsed inputs, and the free DOFs.
+
+    Parameters
+    ----------
+    asm : Assembly
+        The assembled model.
+    parsed : sequence
+        Inputs parsed by :func:`parse_input` (each has ``force`` (n,) or ``motion`` (n + 6,)).
+
+    Returns
+    -------
+    force : (n, m) ndarray
+        Generalised force per unit force input.
+    motion : (n + 6, m) ndarray
+        Prescribed motion (body and ground DOFs) per unit motion input.
+    free : (k,) int ndarray
+        DOFs that are not prescribed (the unknowns).
+    """
+    n, m = asm.n, len(parsed)
+    motion, force = np.zeros((n + 6, m)), np.zeros((n, m))
+    for j, p in enumerate(parsed):
+        if p.force is not None:
+            force[:, j] = p.force
+        else:
+            motion[:, j] = p.motion
+    prescribed = np.flatnonzero(np.any(motion[:n] != 0, axis=1))
+    free = np.setdiff1d(np.arange(n), prescribed)
+    if free.size == 0:
+        raise ModelError("inputs: every body DOF is prescribed; nothing is left to respond")
+    return force, motion, free
+
+
+def build_plant(model_or_assembly: Model | Assembly, inputs: Sequence[Any],
+                outputs: Sequence[str] | None = None,
+                modal_damping: float | Sequence[float] | None = None, sparse: bool = False) -> Plant:
+    """The second-order plant of a study: free-DOF matrices plus the named input/output maps.
+
+    Only the requested input columns and output rows are built.
+
+    Parameters
+    ----------
+    model_or_assembly : Model or Assembly
+        The system (a sparse assembly is densified unless ``sparse``).
+    inputs : sequence of str or Excitation
+        Input signals (see the module docstring), e.g. ``["engine.fz", "ground.z.acc"]``.
+    outputs : sequence of str or None
+        Output signals; default: the displacement of every body DOF.
+    modal_damping : float, (n_free,) array_like or None
+        Extra modal damping ratio(s) [-] of the free DOFs' undamped elastic modes (ascending
+        frequency), added to C as ``M Phi diag(2 zeta w) Phi^T M``. It belongs to no mount, so
+        mount and ground force outputs do not include it.
+    sparse : bool
+        Keep ``M, C, K, H`` as ``scipy.sparse`` CSR matrices (no dense n x n matrix): for large
+        models, with ``frequency_response(plant, frequencies=..., method="sparse")`` or
+        :func:`vibss.reduce`. Not with ``modal_damping``.
+
+    Returns
+    -------
+    Plant
+
+    Raises
+    ------
+    ModelError
+        Unknown signal names (with the valid forms and a did-you-mean), duplicates, no inputs.
+
+    Examples
+    --------
+    >>> from vibss import Body, Model, Mount, MountType
+    >>> t = MountType("t", [1e4, 1e4, 1e4])
+    >>> m = Model([Body("b", 10.0, [1, 1, 1])], [Mount("m", t, "b")])
+    >>> p = build_plant(m, ["ground.z.disp"], ["b.z"])
+    >>> p.dofs[:3], p.kinds, float(p.Kz[2, 0])
+    (('b.x', 'b.y', 'b.z'), ('displacement',), -10000.0)
+    """
+    asm = (model_or_assembly if isinstance(model_or_assembly, Assembly)
+           else assemble(model_or_assembly, sparse=True if sparse else None))
+    model = asm.model
+    if sparse and modal_damping is not None:
+        raise ModelError("modal_damping: needs the dense plant (sparse=False): it adds a full matrix to C")
+    if isinstance(inputs, str) or not hasattr(inputs, "__iter__"):
+        inputs = [inputs]
+    parsed = [parse_input(asm, item) for item in inputs]
+    if not parsed:
+        raise ModelError("inputs: give at least one input signal, e.g. "
+                         f"'{model.body_names[0]}.fz' or 'ground.z.disp'")
+    outputs = default_outputs(model) if outputs is None else outputs
+    if isinstance(outputs, str):
+        outputs = [outputs]
+    outputs = tuple(outputs)
+    for what, names in (("inputs", [p.name for p in parsed]), ("outputs", outputs)):
+        dup = sorted({x for x in names if names.count(x) > 1})
+        if dup:
+            raise ModelError(f"{what}: signal(s) {dup} given more than once")
+
+    n, m = asm.n, len(parsed)
+    mats = {key: sp.csr_matrix(getattr(asm, key)) if sparse else asm.dense(key) for key in ("M", "K", "C", "H")}
+    coupling = {"K": asm.Kg, "C": asm.Cg, "H": asm.Hg}
+    force, motion, free = input_maps(asm, parsed)
+
+    def ff(a: Any) -> Any:
+        return a[free][:, free].tocsr() if sparse else a[np.ix_(free, free)]
+
+    def fz(key: str) -> np.ndarray:
+        out = np.asarray(mats[key][free] @ motion[:n])
+        if key in coupling:
+            out = out + np.asarray(coupling[key][free] @ motion[n:])
+        return out
+
+    C = ff(mats["C"])
+    if modal_damping is not None:
+        C = C + _modal_damping(ff(mats["M"]), ff(mats["K"]), modal_damping)
+    cache: dict = {}
+    rows, units = zip(*(output_row(asm, name, cache) for name in outputs)) if outputs else ((), ())
+    full = {key: np.array([getattr(r, key) for r in rows]).reshape(len(outputs), n + 6)
+            for key in ("d", "v", "a", "h")}
+    o = {key: full[key][:, free] for key in full}
+    pz = {key: full[key] @ motion for key in full}
+    return Plant(
+        dofs=tuple(asm.dofs[i] for i in free),
+        M=ff(mats["M"]), C=C, K=ff(mats["K"]), H=ff(mats["H"]),
+        inputs=tuple(p.name for p in parsed), kinds=tuple(p.kind for p in parsed),
+        F=force[free], Kz=fz("K"), Cz=fz("C"), Mz=fz("M"), Hz=fz("H"),
+        outputs=outputs, units=tuple(units),
+        Oq=o["d"], Ov=o["v"], Oa=o["a"], Pz=pz["d"], Pv=pz["v"], Pa=pz["a"],
+        Pf=np.zeros((len(outputs), m)), name=model.name,
+        Oh=o["h"], Ph=pz["h"],
+    )
+
+
+def _modal_damping(M: np.ndarray, K: np.ndarray, zeta: float | Sequence[float]) -> np.ndarray:
+    w2, phi = sl.eigh(K, M)
+    w = np.sqrt(np.clip(w2, 0.0, None))
+    z = np.broadcast_to(np.asarray(zeta, dtype=float), w.shape) if np.ndim(zeta) == 0 else np.asarray(zeta, float)
+    if z.shape != w.shape or np.any(z < 0) or not np.all(np.isfinite(z)):
+        raise ModelError(f"modal_damping: expected a ratio >= 0 or {w.size} of them, got {zeta!r}")
+    rigid = rigid_mask(w2, phi, np.diag(K))
+    g = np.where(rigid, 0.0, 2.0 * z * w)
+    mp = M @ phi
+    c = (mp * g) @ mp.T
+    return 0.5 * (c + c.T)

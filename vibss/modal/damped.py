@@ -1,0 +1,217 @@
+"""Damped modes: poles, damping ratios and complex shapes, paired with the undamped modes.
+
+The poles are those of the state-space system ``x' = A x`` of M, C, K. They are computed in
+scaled modal coordinates: with the mass-normalised undamped shapes Phi (``Phi^T M Phi = I``,
+``Phi^T K Phi = Omega^2``) and ``Chat = Phi^T C Phi``, the states ``[S eta; eta']`` (S = Omega for
+elastic modes, 1 for rigid ones) give
+
+    A = [[0, S], [-Omega^2 S^-1, -Chat]],
+
+a similarity transform of the physical A that is balanced by construction, so its eigenvalues
+keep the small real parts of lightly damped poles (see docs/performance.md). Two short cuts:
+
+- rigid-body modes that no damper touches (``Chat`` row ~ 0) are exact double zero poles and are
+  left out of the eigenvalue problem: a plain eigen-solve of A turns them into spurious
+  +-1e-5 poles with damping ratio -0.98;
+- classically damped models (``Chat`` diagonal) have closed-form poles per mode,
+  ``lambda = -zeta w +- i w sqrt(1 - zeta^2)``, ``zeta = Chat_ii / (2 w)``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+from typing import Any
+
+import numpy as np
+
+from ..linear.assemble import Assembly, assemble
+from ..model.model import Model
+from ..linear.eigen import damping_coupling
+from .undamped import Modes, modes
+from ..results import Table
+
+__all__ = ["DampedModes", "damped_modes"]
+
+
+@dataclass(frozen=True, eq=False)
+class DampedModes:
+    """Damped modes (one entry per complex-conjugate pole pair or real pole).
+
+    Attributes
+    ----------
+    poles : (k,) complex ndarray
+        Poles [rad/s] with non-negative imaginary part (one of each conjugate pair); real poles
+        of overdamped or damped rigid motions are listed one by one.
+    shapes : (n, k) complex ndarray
+        Complex mode shapes in the model's DOFs, scaled so the largest component is 1.
+    paired : (k,) int ndarray
+        Index of the undamped mode each damped mode belongs to (largest modal participation).
+    undamped : Modes
+        The undamped modes used.
+    method : str
+        How the poles were found.
+    """
+
+    poles: np.ndarray
+    shapes: np.ndarray
+    paired: np.ndarray
+    undamped: Modes
+    method: str
+
+    @cached_property
+    def natural_frequency(self) -> np.ndarray:
+        """Undamped natural frequency of each pole, ``|lambda|`` [rad/s]."""
+        return np.abs(self.poles)
+
+    @cached_property
+    def frequency_hz(self) -> np.ndarray:
+        """``|lambda| / 2 pi`` [Hz]."""
+        return self.natural_frequency / (2 * np.pi)
+
+    @cached_property
+    def damped_frequency_hz(self) -> np.ndarray:
+        """Damped frequency ``Im(lambda) / 2 pi`` [Hz] (0 for real poles)."""
+        return self.poles.imag / (2 * np.pi)
+
+    @cached_property
+    def damping_ratio(self) -> np.ndarray:
+        """``-Re(lambda) / |lambda|`` [-] (0 for zero poles)."""
+        wn = self.natural_frequency
+        with np.errstate(invalid="ignore", divide="ignore"):
+            return np.where(wn > 0, -self.poles.real / np.where(wn > 0, wn, 1.0), 0.0)
+
+    def __len__(self) -> int:
+        return len(self.poles)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The spec's JSON structure (SI)."""
+        names = self.undamped.model.body_names
+        out = []
+        for k in range(len(self)):
+            s = self.shapes[:, k]
+            out.append({
+                "frequency_hz": float(self.frequency_hz[k]),
+                "damped_frequency_hz": float(self.damped_frequency_hz[k]),
+                "damping_ratio": float(self.damping_ratio[k]),
+                "pole": [float(self.poles[k].real), float(self.poles[k].imag)],
+                "undamped_mode": int(self.paired[k]) + 1,
+                "direction": self.undamped.directions[self.paired[k]],
+                "shape": {b: {"amplitude": np.abs(s[6 * i:6 * i + 6]).tolist(),
+                              "phase_deg": np.degrees(np.angle(s[6 * i:6 * i + 6])).tolist()}
+                          for i, b in enumerate(names)},
+            })
+        return {"model": self.undamped.model.name, "method": self.method, "modes": out}
+
+    def table(self) -> Table:
+        """Frequencies, damping ratios and the paired undamped modes."""
+        rows = []
+        for k in range(len(self)):
+            j = self.paired[k]
+            rows.append([f"{k + 1}", f"{self.frequency_hz[k]:.4f}", f"{self.damped_frequency_hz[k]:.4f}",
+                         f"{self.damping_ratio[k]:.5f}", f"{self.poles[k].real:.5g}",
+                         f"{self.poles[k].imag:.5g}", f"{j + 1} ({self.undamped.frequency_hz[j]:.3f} Hz, "
+                         f"{self.undamped.directions[j]})"])
+        return Table(["mode", "fn [Hz]", "fd [Hz]", "zeta", "Re p [1/s]", "Im p [rad/s]", "undamped mode"],
+                     rows, title=f"Damped modes ({self.method})")
+
+    def report(self) -> str:
+        """Text report."""
+        return f"Damped modes of {self.undamped.model.name!r}\n\n" + self.table().render()
+
+    def to_pandas(self) -> Any:
+        """DataFrame: one row per damped mode."""
+        import pandas as pd
+
+        return pd.DataFrame({
+            "frequency_hz": self.frequency_hz, "damped_frequency_hz": self.damped_frequency_hz,
+            "damping_ratio": self.damping_ratio, "pole_real": self.poles.real,
+            "pole_imag": self.poles.imag, "undamped_mode": self.paired + 1,
+        }, index=pd.RangeIndex(1, len(self) + 1, name="mode"))
+
+
+def damped_modes(model: Model | Assembly, undamped: Modes | None = None) -> DampedModes:
+    """Poles, damping ratios and complex shapes of a viscously damped model.
+
+    Parameters
+    ----------
+    model : Model or Assembly
+        The system (ground fixed).
+    undamped : Modes or None
+        All undamped modes of the same model, if already computed.
+
+    Returns
+    -------
+    DampedModes
+        Ordered by natural frequency.
+
+    Examples
+    --------
+    >>> from vibss import Body, MountType, Mount, Model
+    >>> t = MountType("t", [1e4, 1e4, 1e4], damping=[20.0, 20.0, 20.0])
+    >>> m = Model([Body("b", 1.0, [1e-2, 1e-2, 1e-2])], [Mount("m", t, "b")])
+    >>> d = damped_modes(m)   # one mount at the COG: rotations are free (zero poles)
+    >>> d.damping_ratio[d.frequency_hz > 0].round(6)   # c / (2 sqrt(k m)) for x, y, z
+    array([0.1, 0.1, 0.1])
+    """
+    a = model if isinstance(model, Assembly) else assemble(model)
+    und = undamped if undamped is not None else modes(a)
+    if len(und) != a.n:
+        raise ValueError("damped_modes needs all undamped modes (n_modes=None)")
+    phi, w = und.shapes, und.omega
+    chat = phi.T @ (a.dense("C") @ phi)
+    chat = 0.5 * (chat + chat.T)
+    scale = max(float(np.abs(chat).max()), np.finfo(float).tiny)
+    classical = not bool(np.any(damping_coupling(chat) > 0))
+    # rigid modes that no damper touches: exact double zero poles
+    untouched = und.rigid & (np.abs(chat).max(axis=1) <= 1e-14 * scale)
+    if not np.any(chat):
+        poles, eta = 1j * w, np.eye(len(w), dtype=complex)
+        method = "undamped (poles i w)"
+    elif classical:
+        zeta = np.divide(np.diag(chat), 2 * w, out=np.zeros_like(w), where=w > 0)
+        poles_list, eta_cols = [], []
+        for j in range(len(w)):
+            e = np.zeros(len(w), complex)
+            e[j] = 1
+            if w[j] == 0:                       # damped rigid motion: poles 0 and -c
+                poles_list += [0.0 + 0j, -chat[j, j] + 0j] if chat[j, j] > 0 else [0j]
+                eta_cols += [e, e] if chat[j, j] > 0 else [e]
+            elif zeta[j] < 1:
+                poles_list.append(w[j] * (-zeta[j] + 1j * np.sqrt(1 - zeta[j] ** 2)))
+                eta_cols.append(e)
+            else:                               # overdamped: two real poles
+                r = w[j] * np.sqrt(zeta[j] ** 2 - 1)
+                poles_list += [-zeta[j] * w[j] + r + 0j, -zeta[j] * w[j] - r + 0j]
+                eta_cols += [e, e]
+        poles, eta = np.array(poles_list), np.array(eta_cols).T
+        method = "classical damping: closed form per undamped mode"
+    else:
+        keep = np.flatnonzero(~untouched)
+        wk = w[keep]
+        s = np.where(wk > 0, wk, 1.0)
+        nk = len(keep)
+        A = np.zeros((2 * nk, 2 * nk))
+        A[:nk, nk:] = np.diag(s)
+        A[nk:, :nk] = -np.diag(wk ** 2 / s)
+        A[nk:, nk:] = -chat[np.ix_(keep, keep)]
+        lam, vec = np.linalg.eig(A)
+        sel = lam.imag >= 0                     # one of each conjugate pair, and real poles
+        lam, vec = lam[sel], vec[:, sel]
+        eta_k = vec[:nk] / s[:, None]
+        eta = np.zeros((len(w), len(lam)), complex)
+        eta[keep] = eta_k
+        extra = np.flatnonzero(untouched)
+        lam = np.concatenate([np.zeros(len(extra), complex), lam])
+        eye = np.zeros((len(w), len(extra)), complex)
+        eye[extra, np.arange(len(extra))] = 1
+        poles, eta = lam, np.hstack([eye, eta])
+        method = "general damping: eig of the scaled modal state matrix"
+    poles = np.where(np.abs(poles.imag) <= 1e-14 * np.abs(poles).max(initial=1.0), poles.real + 0j, poles)
+    order = np.lexsort((-poles.real, np.abs(poles)))
+    poles, eta = poles[order], eta[:, order]
+    paired = np.argmax(np.abs(eta), axis=0)
+    shapes = phi @ eta
+    big = shapes[np.argmax(np.abs(shapes), axis=0), np.arange(shapes.shape[1])]
+    shapes = shapes / np.where(big == 0, 1.0, big)
+    return DampedModes(poles=poles, shapes=shapes, paired=paired, undamped=und, method=method)

@@ -1,0 +1,654 @@
+"""The model: frozen, validated bodies, mount types, mounts, control points and loads.
+
+Everything is SI (m, kg, N, s, rad). Objects are frozen dataclasses, normalised and validated on
+construction; "editing" returns a copy (:func:`dataclasses.replace`). Every error is a
+:class:`~vibss.errors.ModelError` naming the entity and the field.
+
+Examples
+--------
+>>> from vibss import Body, MountType, Mount, Model, symmetric
+>>> body = Body("prism", mass=1000.0, inertia=[10.0, 20.0, 30.0])
+>>> rubber = MountType("rubber", stiffness=[1e4, 2e4, 3e4])
+>>> mounts = symmetric(Mount("m", rubber, body="prism", at=[1.0, 2.0, 0.0]), "double")
+>>> model = Model([body], mounts)
+>>> [m.name for m in model.mounts]
+['m', 'm.xz', 'm.yz', 'm.xz.yz']
+"""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from ..errors import ModelError, did_you_mean
+from .geometry import MIRRORS, Orientation
+
+__all__ = [
+    "GROUND",
+    "DOF_NAMES",
+    "Body",
+    "MountType",
+    "Mount",
+    "ControlPoint",
+    "Load",
+    "Model",
+    "symmetric",
+]
+
+GROUND = "ground"
+"""Name of the fixed (or prescribed-motion) reference body."""
+
+DOF_NAMES = ("x", "y", "z", "rx", "ry", "rz")
+"""The six DOFs of a body, in the order used everywhere."""
+
+SYMMETRIES: dict[str, tuple[tuple[str, ...], ...]] = {
+    "none": ((),),
+    "xz": ((), ("xz",)),
+    "yz": ((), ("yz",)),
+    "double": ((), ("xz",), ("yz",), ("xz", "yz")),
+}
+
+
+def _freeze(a: np.ndarray) -> np.ndarray:
+    a.setflags(write=False)
+    return a
+
+
+def _is_numeric(value: Any) -> bool:
+    """True for a number or (nested) sequence of numbers; bools and strings are not numbers."""
+    if isinstance(value, (str, bytes, bool, np.bool_)) or value is None:
+        return False
+    if isinstance(value, (list, tuple)):        # numpy would upcast [True, 1.0] to floats
+        return all(_is_numeric(v) for v in value)
+    try:
+        a = np.asarray(value)
+    except (TypeError, ValueError):
+        return False
+    if a.dtype.kind in "iuf":
+        return True
+    if a.dtype.kind == "O" and a.size:
+        return all(_is_numeric(v) for v in a.ravel())
+    return False
+
+
+def _vec(value: Any, n: int, who: str, key: str) -> np.ndarray:
+    if not _is_numeric(value):
+        raise ModelError(f"{who}: {key}: expected {n} numbers, got {value!r}")
+    try:
+        a = np.array(value, dtype=float)
+    except (TypeError, ValueError):
+        raise ModelError(f"{who}: {key}: expected {n} numbers, got {value!r}") from None
+    if a.shape != (n,):
+        raise ModelError(f"{who}: {key}: expected {n} numbers, got {np.shape(value)} ({value!r})")
+    if not np.all(np.isfinite(a)):
+        raise ModelError(f"{who}: {key}: values must be finite, got {a.tolist()}")
+    return _freeze(a)
+
+
+def _name(value: Any, who: str) -> str:
+    if not isinstance(value, str) or not value.strip():
+        raise ModelError(f"{who}: name must be a non-empty string, got {value!r}")
+    if value == GROUND:
+        raise ModelError(f"{who}: the name {GROUND!r} is reserved for the fixed reference")
+    return _signal_safe(value, who)
+
+
+def _signal_safe(value: str, who: str) -> str:
+    """Refuse names that would make signal names ambiguous.
+
+    ``:`` is python-control's spelling of ``.`` in signal names (two names would collide), and a
+    body or point named ``<x>.into`` would give an input ``<x>.into.fz`` (a force on it) with the
+    same name as the output ``<x>.into.fz`` (the force into body ``<x>``).
+    """
+    if ":" in value:
+        raise ModelError(f"{who}: name {value!r} contains ':', which python-control signal names use "
+                         "in place of '.'; use another character")
+    return value
+
+
+def _point_name(value: str, who: str) -> str:
+    """Body and control point names: also not ``into`` or ending in ``.into`` (see _signal_safe)."""
+    if value == "into" or value.endswith(".into"):
+        raise ModelError(f"{who}: name {value!r} would make '{value}.fz' both a force input and "
+                         "an '<body>.into.fz' output; choose another name")
+    return value
+
+
+def _orientation(value: Any, who: str, key: str) -> Orientation:
+    try:
+        return Orientation.coerce(value, key)
+    except ModelError as exc:
+        raise ModelError(f"{who}: {exc}") from None
+
+
+def _frame(value: str, who: str) -> str:
+    if value not in ("body", "global"):
+        raise ModelError(f"{who}: frame must be 'body' or 'global', got {value!r}")
+    return value
+
+
+@dataclass(frozen=True, eq=False)
+class Body:
+    """A rigid body.
+
+    Parameters
+    ----------
+    name : str
+        Unique name.
+    mass : float or (3,) array_like
+        Mass [kg], or a directional ("effective") mass (mx, my, mz) [kg].
+    inertia : (3,) or (3, 3) array_like
+        Principal moments (I1, I2, I3) [kg m^2] about the COG, oriented by ``principal_axes``;
+        or the full inertia tensor J about the COG in global axes [kg m^2]. The tensor's
+        off-diagonal entries are minus the products of inertia (Jxy = -integral of x y dm).
+    cog : (3,) array_like
+        Centre of gravity in global coordinates [m].
+    principal_axes : Orientation, (3, 3) array_like or None
+        Orientation of the principal axes (columns = axes 1, 2, 3 in global coordinates); only
+        with principal moments. Default: along the global axes.
+
+    Attributes
+    ----------
+    masses : (3,) ndarray
+        Mass per translation direction [kg] (three equal values for a scalar mass).
+    tensor : (3, 3) ndarray
+        Inertia tensor about the COG in global axes [kg m^2].
+    """
+
+    name: str
+    mass: Any
+    inertia: Any
+    cog: Any = (0.0, 0.0, 0.0)
+    principal_axes: Any = None
+    masses: np.ndarray = field(init=False, repr=False)
+    tensor: np.ndarray = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        _name(self.name, "body")
+        who = f"body {self.name!r}"
+        _point_name(self.name, who)
+        if self.name == "mount":
+            raise ModelError(f"{who}: the name 'mount' is reserved ('mount.<name>.fz' are mount signals)")
+        m = np.array(self.mass, dtype=float) if _is_numeric(self.mass) else None
+        if m is None or m.shape not in ((), (3,)):
+            raise ModelError(f"{who}: mass: expected a number or 3 numbers [kg], got {self.mass!r}")
+        if not np.all(np.isfinite(m)):
+            raise ModelError(f"{who}: mass must be finite, got {m.tolist()}")
+        if np.any(m <= 0):
+            raise ModelError(f"{who}: mass must be positive, got {m.tolist()} kg")
+        masses = np.full(3, float(m)) if m.shape == () else m
+        object.__setattr__(self, "mass", float(m) if m.shape == () else _freeze(m.copy()))
+        object.__setattr__(self, "masses", _freeze(masses.copy()))
+        object.__setattr__(self, "cog", _vec(self.cog, 3, who, "cog"))
+
+        inertia = np.array(self.inertia, dtype=float) if _is_numeric(self.inertia) else None
+        if inertia is None or inertia.shape not in ((3,), (3, 3)):
+            raise ModelError(
+                f"{who}: inertia: expected 3 principal moments or a 3x3 tensor [kg m^2], "
+                f"got {self.inertia!r}"
+            )
+        if not np.all(np.isfinite(inertia)):
+            raise ModelError(f"{who}: inertia must be finite, got {inertia.tolist()}")
+        if inertia.shape == (3,):
+            axes = _orientation(self.principal_axes, who, "principal_axes")
+            object.__setattr__(self, "principal_axes", axes)
+            moments = inertia
+            tensor = axes.matrix @ np.diag(moments) @ axes.matrix.T
+            tensor = 0.5 * (tensor + tensor.T)  # exactly symmetric despite rounding
+        else:
+            if self.principal_axes is not None:
+                raise ModelError(
+                    f"{who}: principal_axes only applies to principal moments, not to a full "
+                    "inertia tensor (which is already in global axes)"
+                )
+            if not np.allclose(inertia, inertia.T, rtol=1e-9, atol=1e-12 * np.abs(inertia).max()):
+                raise ModelError(f"{who}: inertia tensor must be symmetric, got {inertia.tolist()}")
+            tensor = 0.5 * (inertia + inertia.T)
+            moments = np.linalg.eigvalsh(tensor)
+        _check_moments(moments, who)
+        object.__setattr__(self, "inertia", _freeze(inertia))
+        object.__setattr__(self, "tensor", _freeze(tensor))
+
+    @property
+    def mass_matrix(self) -> np.ndarray:
+        """6x6 mass matrix diag(mx, my, mz) + J [kg, kg m^2]."""
+        out = np.zeros((6, 6))
+        out[:3, :3] = np.diag(self.masses)
+        out[3:, 3:] = self.tensor
+        return out
+
+    @property
+    def total_mass(self) -> float:
+        """Mass used for weight and reports [kg]: the scalar mass, or the mean directional mass."""
+        return float(np.mean(self.masses))
+
+    def moved(self, offset: npt.ArrayLike) -> Body:
+        """Copy of the body translated by ``offset`` [m]."""
+        return dataclasses.replace(self, cog=self.cog + np.asarray(offset, float))
+
+
+
+def _check_moments(moments: np.ndarray, who: str) -> None:
+    scale = max(float(np.abs(moments).max()), 1e-300)
+    if np.any(moments <= 1e-12 * scale):
+        raise ModelError(
+            f"{who}: inertia is not positive definite (principal moments {moments.tolist()} "
+            "kg m^2); every principal moment must be positive"
+        )
+    a, b, c = np.sort(moments)
+    if a + b < c * (1 - 1e-9):
+        raise ModelError(
+            f"{who}: inertia is physically impossible: principal moments {moments.tolist()} "
+            f"break the triangle inequality ({a:.6g} + {b:.6g} < {c:.6g}); no mass "
+            "distribution has them"
+        )
+
+
+@dataclass(frozen=True, eq=False)
+class MountType:
+    """Stiffness and damping of a mount along its three principal (local) axes.
+
+    Parameters
+    ----------
+    name : str
+        Unique name.
+    stiffness : (3,) array_like
+        Principal stiffnesses (k1, k2, k3) [N/m]; zero is allowed (no stiffness along that axis).
+    damping : (3,) array_like
+        Viscous dampings (c1, c2, c3) [N s/m]. Default zero.
+    loss_factor : float or (3,) array_like
+        Hysteretic loss factor eta [-] (complex stiffness k (1 + i eta)); frequency domain only.
+    """
+
+    name: str
+    stiffness: Any
+    damping: Any = (0.0, 0.0, 0.0)
+    loss_factor: Any = 0.0
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.name, str) or not self.name:
+            raise ModelError(f"mount type: name must be a non-empty string, got {self.name!r}")
+        who = f"mount type {self.name!r}"
+        for key, unit in (("stiffness", "N/m"), ("damping", "N s/m")):
+            v = _vec(getattr(self, key), 3, who, key)
+            if np.any(v < 0):
+                raise ModelError(f"{who}: {key} must not be negative, got {v.tolist()} {unit}")
+            object.__setattr__(self, key, v)
+        eta = np.array(self.loss_factor, dtype=float) if _is_numeric(self.loss_factor) else None
+        if eta is None or eta.shape not in ((), (3,)):
+            raise ModelError(f"{who}: loss_factor: expected a number or 3 numbers, got {self.loss_factor!r}")
+        eta = np.broadcast_to(eta, (3,)).copy()
+        if not np.all(np.isfinite(eta)) or np.any(eta < 0):
+            raise ModelError(f"{who}: loss_factor must be finite and not negative, got {eta.tolist()}")
+        object.__setattr__(self, "loss_factor", _freeze(eta))
+
+
+@dataclass(frozen=True, eq=False)
+class Mount:
+    """A zero-length mount joining a point of ``body`` to the same point of ``to``.
+
+    Parameters
+    ----------
+    name : str
+        Unique name.
+    type : MountType
+        Stiffness and damping along the mount's local axes.
+    body : str
+        The body the point belongs to.
+    at : (3,) array_like
+        Attachment point [m]: relative to the COG of ``body`` (``frame="body"``, in global axis
+        directions) or in global coordinates (``frame="global"``).
+    to : str
+        ``"ground"`` or the name of another body.
+    orientation : Orientation, (3, 3) array_like, scipy Rotation or None
+        Local axes (columns) in global coordinates. Default: global axes.
+    frame : {"body", "global"}
+        How ``at`` is measured.
+    """
+
+    name: str
+    type: MountType
+    body: str
+    at: Any = (0.0, 0.0, 0.0)
+    to: str = GROUND
+    orientation: Any = None
+    frame: str = "body"
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.name, str) or not self.name:
+            raise ModelError(f"mount: name must be a non-empty string, got {self.name!r}")
+        who = f"mount {self.name!r}"
+        _signal_safe(self.name, who)
+        if not isinstance(self.type, MountType):
+            raise ModelError(f"{who}: type must be a MountType, got {self.type!r}")
+        for key in ("body", "to"):
+            if not isinstance(getattr(self, key), str):
+                raise ModelError(f"{who}: {key} must be a body name, got {getattr(self, key)!r}")
+        if self.body == GROUND:
+            raise ModelError(f"{who}: body must be a body, not {GROUND!r} (put ground in 'to')")
+        if self.body == self.to:
+            raise ModelError(f"{who}: joins body {self.body!r} to itself; a mount joins two "
+                             "different bodies, or a body and ground")
+        object.__setattr__(self, "at", _vec(self.at, 3, who, "at"))
+        object.__setattr__(self, "frame", _frame(self.frame, who))
+        object.__setattr__(self, "orientation", _orientation(self.orientation, who, "orientation"))
+
+    def mirrored(self, planes: Sequence[str]) -> Mount:
+        """Copy mirrored in the given planes (``"xz"``, ``"yz"``, ``"xy"``), named ``name.plane...``.
+
+        The point is mirrored in the body's planes through its COG (``frame="body"``) or in the
+        global planes (``frame="global"``); so is the orientation (kept right-handed).
+        """
+        at, orient, name = self.at, self.orientation, self.name
+        for plane in planes:
+            if plane not in MIRRORS:
+                raise ModelError(f"mount {self.name!r}: unknown mirror plane {plane!r}; "
+                                 f"expected one of {sorted(MIRRORS)}")
+            at = MIRRORS[plane] @ at
+            orient = orient.mirrored(plane)
+            name = f"{name}.{plane}"
+        return dataclasses.replace(self, name=name, at=at, orientation=orient)
+
+
+def symmetric(mount: Mount, symmetry: str = "double") -> tuple[Mount, ...]:
+    """The mount and its mirror images.
+
+    Parameters
+    ----------
+    mount : Mount
+        The generating mount.
+    symmetry : {"none", "xz", "yz", "double"}
+        Mirror about the XZ plane (y -> -y), the YZ plane (x -> -x), or both ("double
+        symmetry": four mounts). Names get ``.xz``, ``.yz``, ``.xz.yz`` appended.
+
+    Examples
+    --------
+    >>> t = MountType("t", [1.0, 1.0, 1.0])
+    >>> [m.at.tolist() for m in symmetric(Mount("a", t, "b", at=[1, 2, 3]), "xz")]
+    [[1.0, 2.0, 3.0], [1.0, -2.0, 3.0]]
+    """
+    if not isinstance(symmetry, str) or symmetry not in SYMMETRIES:
+        raise ModelError(f"mount {mount.name!r}: unknown symmetry {symmetry!r}; expected one of "
+                         f"{list(SYMMETRIES)}")
+    return tuple(mount.mirrored(planes) for planes in SYMMETRIES[symmetry])
+
+
+@dataclass(frozen=True, eq=False)
+class ControlPoint:
+    """A named point on a body whose motion is reported.
+
+    Parameters
+    ----------
+    name : str
+        Unique name.
+    body : str
+        The body the point belongs to.
+    at : (3,) array_like
+        Position [m], relative to the body's COG (``frame="body"``) or global (``"global"``).
+    frame : {"body", "global"}
+        How ``at`` is measured.
+    """
+
+    name: str
+    body: str
+    at: Any
+    frame: str = "body"
+
+    def __post_init__(self) -> None:
+        who = f"control point {self.name!r}"
+        if not isinstance(self.name, str) or not self.name:
+            raise ModelError(f"control point: name must be a non-empty string, got {self.name!r}")
+        _point_name(_signal_safe(self.name, who), who)
+        if not isinstance(self.body, str):
+            raise ModelError(f"{who}: body must be a body name, got {self.body!r}")
+        object.__setattr__(self, "at", _vec(self.at, 3, who, "at"))
+        object.__setattr__(self, "frame", _frame(self.frame, who))
+
+
+@dataclass(frozen=True, eq=False)
+class Load:
+    """A static force and moment on a body.
+
+    Parameters
+    ----------
+    body : str
+        The loaded body.
+    force : (3,) array_like
+        Force in global axes [N].
+    moment : (3,) array_like
+        Moment in global axes [N m].
+    at : (3,) array_like or None
+        Point of application of ``force`` [m] (frame as ``frame``); None: the COG.
+    frame : {"body", "global"}
+        How ``at`` is measured.
+    name : str
+        Label for reports.
+    case : str
+        Load case. Unnamed loads (``""``) always apply; a named case is one alternative set of
+        loads added to them (:func:`vibss.static`'s ``case``).
+    """
+
+    body: str
+    force: Any = (0.0, 0.0, 0.0)
+    moment: Any = (0.0, 0.0, 0.0)
+    at: Any = None
+    frame: str = "body"
+    name: str = ""
+    case: str = ""
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.body, str):
+            raise ModelError(f"load {self.name!r}: body must be a body name, got {self.body!r}")
+        if not isinstance(self.name, str):
+            raise ModelError(f"load: name must be a string, got {self.name!r}")
+        who = f"load {self.name or 'on ' + repr(self.body)}"
+        object.__setattr__(self, "force", _vec(self.force, 3, who, "force"))
+        object.__setattr__(self, "moment", _vec(self.moment, 3, who, "moment"))
+        if self.at is not None:
+            object.__setattr__(self, "at", _vec(self.at, 3, who, "at"))
+        object.__setattr__(self, "frame", _frame(self.frame, who))
+        if not isinstance(self.case, str):
+            raise ModelError(f"{who}: case must be a string (a load case name), got {self.case!r}")
+
+
+@dataclass(frozen=True, eq=False)
+class Model:
+    """A system of rigid bodies joined to each other and to ground by mounts.
+
+    Parameters
+    ----------
+    bodies : sequence of Body
+        The bodies; their order fixes the DOF order (6 per body: x y z rx ry rz).
+    mounts : sequence of Mount
+        The mounts (expand symmetric patterns with :func:`symmetric` first).
+    control_points : sequence of ControlPoint
+        Points whose motion is reported.
+    loads : sequence of Load
+        Static loads.
+    gravity : (3,) array_like or None
+        Gravitational acceleration [m/s^2] (e.g. ``(0, 0, -9.81)``) adding self-weight to the
+        static loads, or None.
+    name : str
+        Title for reports.
+    excitations : sequence
+        Excitations for frequency and time studies (:class:`vibss.model.excitation.Excitation`).
+    settings : mapping
+        Default study settings read from a model file's ``[analysis]`` table.
+    """
+
+    bodies: Sequence[Body]
+    mounts: Sequence[Mount] = ()
+    control_points: Sequence[ControlPoint] = ()
+    loads: Sequence[Load] = ()
+    gravity: Any = None
+    name: str = "model"
+    excitations: Sequence[Any] = ()
+    settings: Any = None
+
+    def __post_init__(self) -> None:
+        for key, cls in (("bodies", Body), ("mounts", Mount),
+                         ("control_points", ControlPoint), ("loads", Load)):
+            value = getattr(self, key)
+            if isinstance(value, (str, bytes, cls)) or not isinstance(value, Iterable):
+                raise ModelError(f"model: {key}: expected a sequence of {cls.__name__}, got {value!r}")
+            items = tuple(value)
+            for i, item in enumerate(items):
+                if not isinstance(item, cls):
+                    raise ModelError(f"model: {key}[{i}] must be a {cls.__name__}, got {item!r}")
+            object.__setattr__(self, key, items)
+        if not self.bodies:
+            raise ModelError("model: needs at least one body")
+        if isinstance(self.excitations, (str, bytes)) or not isinstance(self.excitations, Iterable):
+            raise ModelError(f"model: excitations: expected a sequence of Excitation, got {self.excitations!r}")
+        object.__setattr__(self, "excitations", tuple(self.excitations))
+        _unique([b.name for b in self.bodies], "body")
+        _unique([m.name for m in self.mounts], "mount")
+        _unique([c.name for c in self.control_points], "control point")
+        reserved = {b.name for b in self.bodies} | {GROUND, "mount"}
+        for c in self.control_points:
+            if c.name in reserved:
+                raise ModelError(f"control point {c.name!r}: the name is taken by a body (or reserved: "
+                                 f"'ground', 'mount'); signals like '{c.name}.x' would be ambiguous")
+        names = {b.name for b in self.bodies}
+        for m in self.mounts:
+            for key in ("body", "to"):
+                target = getattr(m, key)
+                if target != GROUND and target not in names:
+                    raise ModelError(f"mount {m.name!r}: {key}: unknown body {target!r}; "
+                                     f"bodies are {sorted(names)}" + did_you_mean(target, names))
+        types: dict[str, MountType] = {}
+        for m in self.mounts:
+            if types.setdefault(m.type.name, m.type) is not m.type and not _same_type(types[m.type.name], m.type):
+                raise ModelError(f"mount {m.name!r}: a different mount type is already named {m.type.name!r}")
+        for c in self.control_points:
+            if c.body not in names:
+                raise ModelError(f"control point {c.name!r}: unknown body {c.body!r}"
+                                 + did_you_mean(c.body, names))
+        for ld in self.loads:
+            if ld.body not in names:
+                raise ModelError(f"load {ld.name or ''}: unknown body {ld.body!r}" + did_you_mean(ld.body, names))
+        if self.gravity is not None:
+            object.__setattr__(self, "gravity", _vec(self.gravity, 3, "model", "gravity"))
+        if self.settings is not None and not isinstance(self.settings, Mapping):
+            raise ModelError(f"model: settings: expected a mapping, got {self.settings!r}")
+        object.__setattr__(self, "settings", copy.deepcopy(dict(self.settings or {})))  # not shared
+
+    # -- lookups ---------------------------------------------------------------------------
+    @property
+    def n_dof(self) -> int:
+        """Number of DOFs (6 per body)."""
+        return 6 * len(self.bodies)
+
+    @property
+    def body_names(self) -> list[str]:
+        """Body names in DOF order."""
+        return [b.name for b in self.bodies]
+
+    @property
+    def mount_types(self) -> dict[str, MountType]:
+        """The mount types used, by name."""
+        return {m.type.name: m.type for m in self.mounts}
+
+    def body(self, name: str) -> Body:
+        """The body called ``name``."""
+        for b in self.bodies:
+            if b.name == name:
+                return b
+        raise ModelError(f"unknown body {name!r}; bodies are {self.body_names}"
+                         + did_you_mean(name, self.body_names))
+
+    def body_index(self, name: str) -> int:
+        """Position of body ``name`` in DOF order (``-1`` for ground)."""
+        if name == GROUND:
+            return -1
+        return self.body_names.index(self.body(name).name)
+
+    def point(self, body: str, at: npt.ArrayLike, frame: str = "body") -> np.ndarray:
+        """Position of a point relative to ``body``'s COG [m] (global axes)."""
+        at = np.asarray(at, dtype=float)
+        return at if frame == "body" else at - self.body(body).cog
+
+    def mount_point(self, mount: Mount) -> np.ndarray:
+        """Global coordinates of a mount's attachment point [m]."""
+        return mount.at + self.body(mount.body).cog if mount.frame == "body" else mount.at
+
+    @property
+    def load_cases(self) -> list[str]:
+        """Names of the load cases, in order of first use (unnamed loads always apply)."""
+        return list(dict.fromkeys(ld.case for ld in self.loads if ld.case))
+
+    @property
+    def total_mass(self) -> float:
+        """Sum of the bodies' masses [kg]."""
+        return float(sum(b.total_mass for b in self.bodies))
+
+    @property
+    def centre_of_gravity(self) -> np.ndarray:
+        """Mass-weighted centre of gravity of all bodies [m]."""
+        m = np.array([b.total_mass for b in self.bodies])
+        g = np.array([b.cog for b in self.bodies])
+        return m @ g / m.sum()
+
+    # -- copies ----------------------------------------------------------------------------
+    def replace(self, **changes: Any) -> Model:
+        """Copy with fields replaced (see :func:`dataclasses.replace`).
+
+        Parameters
+        ----------
+        **changes
+            New values of Model fields, e.g. ``mounts=[...]``; validated like the constructor's.
+        """
+        return dataclasses.replace(self, **changes)
+
+    def transformed(self, rotation: npt.ArrayLike | None = None,
+                    offset: npt.ArrayLike = (0.0, 0.0, 0.0)) -> Model:
+        """Copy of the whole model rotated by ``rotation`` (3x3) then shifted by ``offset`` [m].
+
+        Frequencies do not change; shapes and deflections rotate with the model. Gravity, loads
+        and directional masses are rotated only where that is meaningful: directional masses
+        must be isotropic to be rotated.
+        """
+        q = np.eye(3) if rotation is None else Orientation.coerce(rotation).matrix
+        off = np.asarray(offset, dtype=float)
+        if rotation is not None and (self.excitations or self.settings.get("initial")):
+            raise ModelError("transformed: the model has excitations or initial conditions, which are "
+                             "given along global axes and are not rotated; rotate a model without them "
+                             "and add them in the new axes")
+        bodies = []
+        for b in self.bodies:
+            if not np.allclose(b.masses, b.masses[0]):
+                raise ModelError(f"body {b.name!r}: a directional mass cannot be rotated")
+            bodies.append(Body(b.name, b.mass, q @ b.tensor @ q.T, q @ b.cog + off))
+        mounts = [dataclasses.replace(
+            m, at=q @ m.at + (off if m.frame == "global" else 0.0),
+            orientation=Orientation(q @ m.orientation.matrix)) for m in self.mounts]
+        cps = [dataclasses.replace(c, at=q @ c.at + (off if c.frame == "global" else 0.0))
+               for c in self.control_points]
+        loads = [dataclasses.replace(
+            ld, force=q @ ld.force, moment=q @ ld.moment,
+            at=None if ld.at is None else q @ ld.at + (off if ld.frame == "global" else 0.0))
+            for ld in self.loads]
+        gravity = None if self.gravity is None else q @ self.gravity
+        return dataclasses.replace(self, bodies=bodies, mounts=mounts, control_points=cps,
+                                   loads=loads, gravity=gravity)
+
+
+def _same_type(a: MountType, b: MountType) -> bool:
+    return all(np.array_equal(getattr(a, k), getattr(b, k))
+               for k in ("stiffness", "damping", "loss_factor"))
+
+
+def _unique(names: Iterable[str], what: str) -> None:
+    seen: set[str] = set()
+    for n in names:
+        if n in seen:
+            raise ModelError(f"{what} name {n!r} is used twice; names must be unique")
+        seen.add(n)
+
+

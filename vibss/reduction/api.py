@@ -1,0 +1,503 @@
+"""Study-driven model reduction with measured error: model no more than a scene needs.
+
+:func:`reduce` takes a model (or a :class:`~vibss.linear.plant.Plant`) and a :class:`~vibss.reduction.scope.Scope`
+(inputs, outputs, band, tolerance) and returns a :class:`Reduction`. Methods (by name):
+
+``"prune"`` (exact)
+    Removes the DOFs (bodies, decoupled directions of symmetric layouts) that no input excites or
+    no output sees, from the coupling graph of M, C, K, H; then the modes whose input or output
+    participation is zero to round-off. No error at all (zero initial conditions assumed for what
+    is removed). :attr:`Reduction.plant` is a Plant in DOF coordinates (modal coordinates
+    ``mode<k>`` when a mode was removed).
+``"modal"``
+    Pruning, then modal truncation with static (residual-flexibility) correction: every mode up to
+    the band's top is kept, plus as many above as the tolerance needs; the rest enters
+    quasi-statically as a direct feedthrough (``Pf`` for force inputs, ``Pz`` for motion inputs) on
+    the **displacement-type outputs** (displacements, deflections and the spring part of mount and
+    ground forces). Velocity and acceleration outputs are not corrected (their truncation error is
+    in the estimate). :attr:`Reduction.plant` is a Plant in modal coordinates.
+``"krylov"``
+    Exact pruning of decoupled parts (sparse graph), then a second-order Galerkin projection on a
+    rational block Krylov basis built from the inputs (and the outputs, when few) with sparse
+    factorisations at real shifts spread over the band, grown greedily where exact sparse solves at
+    check frequencies show an error above half the tolerance
+    (:mod:`vibss.reduction.krylov`). Never forms a dense n x n matrix when given a Model.
+    :attr:`Reduction.plant` is a Plant in Ritz coordinates ``krylov<k>`` (``M = I``, ``K`` diagonal);
+    :attr:`Reduction.details` gives the shifts, moments, basis size, checks and timings.
+``"auto"`` (default)
+    ``"krylov"`` for models of more than :data:`KRYLOV_MIN_DOF` DOFs, else ``"modal"`` (see below).
+``"balanced"``
+    Pruning, then minimal realisation (``control.minreal``) and balanced truncation
+    (``control.balred``) of the well-scaled modal state space (:func:`vibss.linear.statespace.statespace`),
+    with the Hankel-singular-value bound ``||G - G_r||_inf <= 2 sum(discarded sigma)``. Needs
+    slycot. Returns a **StateSpace** (:attr:`Reduction.system`), not a Plant
+    (:attr:`Reduction.plant` is None): use it with python-control. For large models reduce with
+    ``"modal"`` first and balance the result: ``reduce(r.plant, scope, "balanced")``.
+
+Every reduced Plant runs unchanged through the analyses that take a Plant
+(:func:`vibss.time.simulate`, frequency responses). Initial conditions given per body do not map
+to modal coordinates. Accuracy is relative per output: ``max_w |H_red,ij - H_full,ij|`` divided by
+the output's largest response ``max_j max_w |H_full,ij|`` to the scope's inputs over the band;
+``verify=True`` measures it against the full model.
+
+Examples
+--------
+>>> from vibss.reduction.scope import Scope
+>>> r = reduce(prism_model(), Scope(["prism.fz"], ["prism.z"], 0.0, 10.0))   # doctest: +SKIP
+>>> print(r.report())                                                     # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field, replace
+from typing import Any, cast
+
+import control
+import numpy as np
+import scipy.sparse as sp
+
+from ..errors import AnalysisError, ModelError
+from ..model.model import Model
+from ..linear.plant import Plant
+from .kernels import (Removal, as_sparse, frf, krylov, prune_dofs, prune_modes, prune_sparse,
+                                sparse_plant, truncate)
+from .scope import Scope
+from ..linear.signals import build_plant, control_name
+from ..linear.statespace import NamedStateSpace, statespace
+
+__all__ = ["reduce", "Reduction", "Removal", "METHODS", "BALANCED_MAX_STATES", "KRYLOV_MIN_DOF", "select"]
+
+BALANCED_MAX_STATES = 2000
+"""Largest state count given to balanced truncation (dense Gramians)."""
+
+KRYLOV_MIN_DOF = 500
+"""``"auto"`` uses ``"krylov"`` above this many DOFs. Measured on a 100-body chain (600 DOF, band
+with 25 modes, tolerance 1e-6, single thread): ``"krylov"`` 0.07 s, ``"modal"`` 3.8 s (dense
+``eigh`` plus its mode search), both within tolerance; on a 1,000-body chain the modal route misses
+the tolerance (the lowest modes are localised away from the input, benchmarks/bench_reduction.py).
+Below, ``"modal"`` costs well under a second and gives interpretable modal coordinates."""
+
+MODE_PRUNE_MAX = 3000
+"""Largest number of DOFs for which zero-participation modes are searched (dense eigh)."""
+
+
+@dataclass(frozen=True, eq=False)
+class Reduction:
+    """A reduced model and what was done to get it.
+
+    Attributes
+    ----------
+    method : str
+        Method used.
+    scope : Scope
+        What the reduced model must reproduce.
+    plant : Plant or None
+        The reduced plant (None for ``"balanced"``, which gives :attr:`system`).
+    system : NamedStateSpace or None
+        The balanced-truncated system (``"balanced"`` only), indexable by vibss names.
+    full : Plant
+        The full plant of the scope (for verification); for ``"krylov"`` its ``M, C, K, H`` are
+        scipy.sparse CSR matrices (no dense n x n).
+    dofs_before, dofs_after : int
+        Second-order DOFs before and after (``dofs_after`` = 0 for ``"balanced"``).
+    states_before, states_after : int
+        First-order states (2 per DOF, plus input integrators) before and after.
+    removed : tuple of Removal
+        What was removed and why.
+    estimate : float
+        Estimated relative error over the band [-] (0 for exact pruning).
+    estimate_kind : str
+        ``"exact"``, ``"bound ..."`` or ``"estimate ..."``.
+    correction : str
+        Which outputs/inputs get the static correction.
+    kept_hz : (k,) ndarray
+        Natural frequencies of the kept modes [Hz] (modal methods).
+    hsv : (ns,) ndarray or None
+        Hankel singular values of the channel-scaled system (``"balanced"``).
+    hsv_bound : float or None
+        ``2 sum(discarded HSV)``: bound on the H-inf error of the scaled system ``diag(1/a) G diag(1/b)``.
+    io_scale : tuple of (p,) and (m,) ndarray, or None
+        The output and input scales ``a``, ``b`` (units of the outputs per unit input).
+    reduce_s : float
+        Wall time of the reduction [s].
+    measured : float or None
+        Measured relative error over the band (``verify``).
+    full_s, reduced_s : float or None
+        Wall time of the verification FRF on the full and the reduced model [s].
+    n_check : int
+        Frequencies in the verification grid.
+    notes : tuple of str
+        Caveats.
+    details : dict
+        Method-specific figures (``"krylov"``: basis size, shifts [Hz], moments, interpolation and
+        check frequencies [Hz], rounds, timings [s]).
+    """
+
+    method: str
+    scope: Scope
+    plant: Plant | None
+    system: NamedStateSpace | None
+    full: Plant = field(repr=False)
+    dofs_before: int = 0
+    dofs_after: int = 0
+    states_before: int = 0
+    states_after: int = 0
+    removed: tuple[Removal, ...] = ()
+    estimate: float = 0.0
+    estimate_kind: str = "exact"
+    correction: str = ""
+    kept_hz: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    hsv: np.ndarray | None = None
+    hsv_bound: float | None = None
+    io_scale: tuple[np.ndarray, np.ndarray] | None = None
+    reduce_s: float = 0.0
+    measured: float | None = None
+    full_s: float | None = None
+    reduced_s: float | None = None
+    n_check: int = 0
+    notes: tuple[str, ...] = ()
+    details: dict[str, Any] = field(default_factory=dict)
+
+    def response(self, s: np.ndarray) -> np.ndarray:
+        """Reduced response ``Y(s)`` (p, m, nf) at Laplace points ``s`` [rad/s] (``s = i w``)."""
+        s = np.atleast_1d(np.asarray(s, complex))
+        if self.plant is not None:
+            return frf(self.plant, s)
+        sys = cast("control.StateSpace", self.system)  # no plant: reduce() set the system
+        out = np.empty((sys.noutputs, sys.ninputs, s.size), complex)
+        eye = np.eye(sys.nstates)
+        for i, si in enumerate(s):
+            out[:, :, i] = sys.C @ np.linalg.solve(si * eye - sys.A, sys.B) + sys.D
+        return out
+
+    def verify(self, n_points: int = 400) -> Reduction:
+        """A copy with the measured error against the full model over the band, and timings.
+
+        Parameters
+        ----------
+        n_points : int
+            Evenly spaced frequencies over the band; the kept modes' resonances (and their
+            half-power points) in the band are added.
+
+        Returns
+        -------
+        Reduction
+        """
+        w = check_grid(self.scope, n_points, self.kept_hz * 2 * np.pi)
+        t0 = time.perf_counter()
+        hf = frf(self.full, 1j * w)
+        t1 = time.perf_counter()
+        hr = self.response(1j * w)
+        t2 = time.perf_counter()
+        return replace(self, measured=relative_error(hf, hr), full_s=t1 - t0, reduced_s=t2 - t1,
+                       n_check=int(w.size))
+
+    def report(self) -> str:
+        """Printable summary: sizes, removals, errors, timings."""
+        s = self.scope
+        lines = [f"Model reduction ({self.method}) for {len(s.inputs)} input(s), {len(s.outputs)} "
+                 f"output(s), band {s.f1:g}-{s.f2:g} Hz ({s.origin}), tolerance {s.tolerance:g}",
+                 f"  DOFs   {self.dofs_before} -> {self.dofs_after}",
+                 f"  states {self.states_before} -> {self.states_after}"]
+        if self.kept_hz.size:
+            lines.append(f"  kept {self.kept_hz.size} modes, {self.kept_hz.min():.4g}-{self.kept_hz.max():.4g} Hz")
+        for r in self.removed:
+            names = ", ".join(r.names[:12]) + (f", ... ({len(r.names)} in all)" if len(r.names) > 12 else "")
+            lines.append(f"  removed {r.what}: {names}: {r.reason}" + ("" if r.exact else " (approximate)"))
+        if self.correction:
+            lines.append(f"  static correction: {self.correction}")
+        if self.hsv is not None:
+            lines.append(f"  Hankel singular values: {self.hsv.size} (largest {self.hsv.max():.4g})")
+        d = self.details
+        if d.get("basis_size") is not None:
+            lines.append(f"  Krylov basis: {d['basis_size']} vectors ({'input and output' if d['two_sided'] else 'input'}"
+                         f" blocks), real shifts at {', '.join(f'{f:.4g}' for f in d['shifts_hz'])} Hz, "
+                         f"{d['moments']} moments each, {len(d['interpolation_hz'])} exact solutions "
+                         f"added, {len(d['check_hz'])} check frequencies, rounds (size, checks, error): "
+                         + "; ".join(f"{a}, {b}, {c:.3g}" for a, b, c in d["history"]))
+            lines.append("  timings: " + ", ".join(f"{k} {v:.3g} s" for k, v in d["timings"].items()))
+        lines.append(f"  error over the band (relative per output): {self.estimate:.3g} ({self.estimate_kind})")
+        if self.measured is not None:
+            ok = "within" if self.measured <= s.tolerance else "ABOVE"
+            lines.append(f"  measured error: {self.measured:.3g} on {self.n_check} frequencies ({ok} tolerance)")
+        lines.append(f"  reduction took {self.reduce_s:.3g} s")
+        if self.full_s is not None:
+            lines.append(f"  FRF on {self.n_check} frequencies: full {self.full_s:.3g} s, reduced "
+                         f"{self.reduced_s:.3g} s (+ reduction {self.reduce_s:.3g} s): "
+                         f"{self.full_s / max(cast(float, self.reduced_s) + self.reduce_s, 1e-12):.3g}x")
+        lines += [f"  note: {n}" for n in self.notes]
+        return "\n".join(lines)
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain data (sizes, removals, errors, timings)."""
+        return {"method": self.method, "scope": self.scope.to_dict(),
+                "dofs_before": self.dofs_before, "dofs_after": self.dofs_after,
+                "states_before": self.states_before, "states_after": self.states_after,
+                "removed": [{"what": r.what, "names": list(r.names), "reason": r.reason, "exact": r.exact}
+                            for r in self.removed],
+                "estimate": self.estimate, "estimate_kind": self.estimate_kind,
+                "correction": self.correction, "kept_hz": self.kept_hz.tolist(),
+                "hsv": None if self.hsv is None else self.hsv.tolist(), "hsv_bound": self.hsv_bound,
+                "reduce_s": self.reduce_s,
+                "measured": self.measured, "full_s": self.full_s, "reduced_s": self.reduced_s,
+                "n_check": self.n_check, "notes": list(self.notes),
+                "details": {k: (v.tolist() if isinstance(v, np.ndarray) else v) for k, v in self.details.items()}}
+
+
+def relative_error(h_full: np.ndarray, h_red: np.ndarray) -> float:
+    """``max_ij max_w |dH_ij| / max_j max_w |H_full,ij|`` of (p, m, nf) responses.
+
+    Each output's error is relative to its largest response to any of the scope's inputs over the
+    band (an output that does not respond at all: relative to the largest response of all).
+    """
+    peak = np.abs(h_full).max(axis=2)
+    err = np.abs(h_red - h_full).max(axis=2)
+    return float((err / _floor(peak)).max()) if err.size else 0.0
+
+
+def _floor(peak: np.ndarray) -> np.ndarray:
+    """(p, m) reference magnitude of each channel: its output's largest peak over the scope's inputs
+    (over all outputs, for an output that does not respond)."""
+    row = peak.max(axis=1, keepdims=True)
+    row = np.where(row > 0, row, max(float(peak.max()), 1e-300))
+    return np.broadcast_to(row, peak.shape)
+
+
+def check_grid(scope: Scope, n_points: int, resonances: np.ndarray) -> np.ndarray:
+    """Verification grid [rad/s]: ``n_points`` over the band plus points beside its resonances.
+
+    The resonances themselves are left out (an undamped response is infinite there).
+    """
+    w1, w2 = scope.band_rad
+    lo = w1 if w1 > 0 else w2 * 1e-3
+    w = np.linspace(lo, w2, int(n_points))
+    r = resonances[(resonances >= lo) & (resonances <= w2)]
+    extra = np.concatenate([r * (1 - 2e-4), r * (1 + 2e-4), r * (1 - 1e-3), r * (1 + 1e-3)])
+    return np.unique(np.concatenate([w, extra[(extra >= lo) & (extra <= w2)]]))
+
+
+def select(plant: Plant, scope: Scope) -> Plant:
+    """The plant cut to the scope's inputs and outputs (names must be among the plant's)."""
+    for what, names, have in (("inputs", scope.inputs, plant.inputs), ("outputs", scope.outputs, plant.outputs)):
+        missing = [x for x in names if x not in have]
+        if missing:
+            raise ModelError(f"scope: {what}: {missing} not among the plant's {what} {list(have)}")
+    i = [plant.inputs.index(u) for u in scope.inputs]
+    o = [plant.outputs.index(y) for y in scope.outputs]
+    cols = {k: getattr(plant, k)[:, i] for k in ("F", "Kz", "Cz", "Mz", "Hz")}
+    rows = {k: getattr(plant, k)[o] for k in ("Oq", "Ov", "Oa")}
+    pm = {k: getattr(plant, k)[np.ix_(o, i)] for k in ("Pz", "Pv", "Pa", "Pf")}
+    return replace(plant, inputs=tuple(scope.inputs), kinds=tuple(plant.kinds[j] for j in i),
+                   outputs=tuple(scope.outputs), units=tuple(plant.units[j] for j in o),
+                   Oh=None if plant.Oh is None else plant.Oh[o],
+                   Ph=None if plant.Ph is None else plant.Ph[np.ix_(o, i)], **cols, **rows, **pm)
+
+
+def _states(p: Plant) -> int:
+    return 2 * p.n + int(np.sum(np.maximum(p.order, 0)))
+
+
+def _prune(p: Plant) -> tuple[Plant, list[Removal], list[str]]:
+    p1, rem = prune_dofs(p)
+    notes: list[str] = []
+    if p1.n <= MODE_PRUNE_MAX:
+        p2, rem2, _ = prune_modes(p1)
+        return p2, rem + rem2, notes
+    notes.append(f"zero-participation modes not searched ({p1.n} DOFs > {MODE_PRUNE_MAX})")
+    return p1, rem, notes
+
+
+def _method_prune(p: Plant, scope: Scope, **kw: Any) -> dict[str, Any]:
+    p1, rem, notes = _prune(p)
+    return dict(plant=p1, removed=rem, notes=notes)
+
+
+def _method_modal(p: Plant, scope: Scope, max_modes: int | None = None, n_grid: int = 200,
+                  residual: str = "vectors", **kw: Any) -> dict[str, Any]:
+    p1, rem = prune_dofs(p)
+    if p1.n == 0:
+        raise AnalysisError("nothing is left to reduce after pruning")
+    w1, w2 = scope.band_rad
+    grid = np.linspace(w1 if w1 > 0 else w2 * 1e-3, w2, n_grid)
+    tr = truncate(p1, (w1, w2), scope.tolerance, grid, max_modes=max_modes, residual=residual)
+    if tr.n_kept < p1.n:
+        why = "truncated, accounted for by the residual correction"
+        if tr.dropped_in_band:
+            why += (f"; {tr.dropped_in_band} of them in the band, with negligible participation "
+                    "(e.g. localised away from the inputs and outputs)")
+        rem = rem + [Removal("modes", (f"{p1.n - tr.n_kept} modes from {tr.first_truncated_hz:.4g} Hz up",),
+                             why, exact=False)]
+    corr = VECTORS_NOTE if residual == "vectors" else STATIC_NOTE
+    return dict(plant=tr.plant, removed=rem, estimate=tr.estimate, estimate_kind=tr.bound_kind,
+                correction=corr, kept_hz=tr.kept_hz, notes=list(tr.notes))
+
+
+def _method_balanced(p: Plant, scope: Scope, order: int | None = None, **kw: Any) -> dict[str, Any]:
+    try:
+        import slycot  # noqa: F401  (optional dependency of python-control)
+    except ImportError:
+        raise AnalysisError("method 'balanced' needs slycot: python-control's minreal, hsvd and balred "
+                            "are SLICOT-only (pip install slycot); use method='modal' without it") from None
+    p1, rem, notes = _prune(p)
+    if np.any(p1.H) or np.any(p1.Hz):
+        raise AnalysisError("method 'balanced' cannot represent hysteretic damping (loss factors); use 'modal'")
+    if _states(p1) > BALANCED_MAX_STATES:
+        raise AnalysisError(f"method 'balanced': {_states(p1)} states is too many for dense Gramians "
+                            f"(limit {BALANCED_MAX_STATES}); reduce with method='modal' first and balance "
+                            "its plant: reduce(reduce(model, scope, 'modal').plant, scope, 'balanced')")
+    sys = statespace(p1)
+    if np.any(np.linalg.eigvals(sys.A).real >= 0):
+        raise AnalysisError("method 'balanced' needs an asymptotically stable system (every mode damped, "
+                            "no rigid-body mode, no velocity/acceleration input integrators); use 'modal'")
+    # scale channels so that |H_ij| / (a_i b_j) is about 1 at each channel's peak in the band
+    w1, w2 = scope.band_rad
+    peak = _floor(np.abs(frf(p1, 1j * check_grid(scope, 200, np.zeros(0)))).max(axis=2))
+    a = peak.max(axis=1)
+    b = (peak / a[:, None]).max(axis=0)
+    ratio = float((a[:, None] * b[None, :] / peak).max())     # per-channel relative <= ratio * 2 sum(sigma)
+    scaled = control.ss(sys.A, sys.B / b[None, :], sys.C / a[:, None], sys.D / a[:, None] / b[None, :])
+    n0 = scaled.nstates
+    sysm = control.minreal(scaled, verbose=False)
+    if sysm.nstates < n0:
+        rem.append(Removal("states", (f"{n0 - sysm.nstates} states",),
+                           "uncontrollable or unobservable (control.minreal)"))
+    hsv = np.asarray(control.hsvd(sysm), float)
+    tail = np.r_[2 * np.cumsum(hsv[::-1])[::-1], 0.0]      # tail[r] = 2 sum_{i >= r} sigma_i
+    if order is None:
+        order = int(np.argmax(tail * ratio <= scope.tolerance))
+    order = max(1, min(int(order), sysm.nstates))
+    red = control.balred(sysm, order, method="truncate") if order < sysm.nstates else sysm
+    red = NamedStateSpace(red.A, red.B * b[None, :], red.C * a[:, None], red.D * a[:, None] * b[None, :],
+                          inputs=[control_name(u) for u in p1.inputs],
+                          outputs=[control_name(y) for y in p1.outputs],
+                          name=control_name(p1.name) + ":balanced")
+    if order < sysm.nstates:
+        rem.append(Removal("states", (f"{sysm.nstates - order} balanced states",),
+                           f"Hankel singular values {hsv[order]:.3g} and below", exact=False))
+    return dict(plant=None, system=red, removed=rem, hsv=hsv, hsv_bound=float(tail[order]),
+                io_scale=(a, b), estimate=float(tail[order] * ratio),
+                estimate_kind="bound: |dH_ij| <= a_i b_j 2 sum(discarded HSV) of the channel-scaled "
+                              "system, at every frequency",
+                notes=notes + ["a StateSpace, not a Plant: use it with python-control"])
+
+
+def _method_krylov(p: Plant, scope: Scope, **kw: Any) -> dict[str, Any]:
+    p1, rem = prune_sparse(as_sparse(p))
+    kb = krylov(p1, scope.band_rad, scope.tolerance)
+    rem = rem + [Removal("dofs", (f"{p1.n} DOFs -> {kb.plant.n} Krylov vectors",),
+                         "Galerkin projection on a rational Krylov basis of the inputs/outputs", exact=False)]
+    kind = (f"sampled: exact error (complex sparse LU) at the last round's {kb.history[-1][1]} check "
+            "frequencies (midpoints between interpolation frequencies, significant Ritz resonances), "
+            f"relative per output; basis grown until below {0.5:g} x tolerance")
+    details = {"basis_size": kb.plant.n, "shifts_hz": kb.shifts_hz, "moments": kb.moments,
+               "interpolation_hz": kb.interpolation_hz, "check_hz": kb.check_hz,
+               "history": [list(h) for h in kb.history], "two_sided": kb.two_sided, "timings": kb.timings}
+    return dict(plant=kb.plant, removed=rem, estimate=kb.estimate, estimate_kind=kind,
+                kept_hz=kb.ritz_hz[kb.ritz_hz <= scope.f2], notes=list(kb.notes), details=details,
+                correction="none needed: the basis holds the static response when the band starts at 0 Hz"
+                if scope.f1 == 0 else "")
+
+
+VECTORS_NOTE = ("residual static vectors of the truncated modes for every forcing term (F, Kz, Cz, Mz) "
+                "appended as DOFs 'residual<k>' (Galerkin projection): the static response is exact and "
+                "every output type (displacement, velocity, acceleration, mount forces) is corrected")
+
+STATIC_NOTE = ("Pf/Pz feedthrough of the residual flexibility of the truncated modes on the displacement-"
+               "type output terms (Oq: displacements, deflections, spring part of mount/ground forces) "
+               "for force and prescribed-displacement forcing (F, Kz); velocity/acceleration output terms "
+               "(Ov, Oa) and damper/mass coupling of motion inputs (Cz, Mz) are not corrected")
+
+METHODS: dict[str, Callable[..., dict[str, Any]]] = {
+    "prune": _method_prune,
+    "modal": _method_modal,
+    "balanced": _method_balanced,
+    "krylov": _method_krylov,
+}
+"""Reduction methods by name (``"auto"``: ``"krylov"`` above ``KRYLOV_MIN_DOF`` DOFs, else ``"modal"``)."""
+
+
+def reduce(model_or_plant: Model | Plant, scope: Scope, method: str = "auto", *, verify: bool = False,
+           max_modes: int | None = None, order: int | None = None, residual: str = "vectors",
+           n_check: int = 400) -> Reduction:
+    """Reduce a model to what ``scope`` needs, with the error estimated (and measured on request).
+
+    Parameters
+    ----------
+    model_or_plant : Model or Plant
+        The full system; a Model is turned into the scope's Plant by
+        :func:`vibss.linear.signals.build_plant`; a Plant is cut to the scope's inputs and outputs.
+    scope : Scope
+        Inputs, outputs, band [Hz] and relative tolerance.
+    method : {"auto", "prune", "modal", "balanced", "krylov"}
+        See the module docstring.
+    verify : bool
+        Measure the error against the full model over the band (an exact FRF of the full model).
+    max_modes : int or None
+        Upper limit on kept modes (``"modal"``), even if the tolerance is not met.
+    order : int or None
+        Number of states to keep (``"balanced"``); default: the smallest meeting the tolerance.
+    residual : {"vectors", "static"}
+        How ``"modal"`` accounts for the truncated modes: ``"vectors"`` (default) appends their
+        static response shapes as extra DOFs; ``"static"`` adds their residual flexibility as a
+        direct feedthrough (``Pf``, ``Pz``) on displacement-type outputs only (see the module
+        docstring).
+    n_check : int
+        Verification frequencies over the band.
+
+    Returns
+    -------
+    Reduction
+
+    Raises
+    ------
+    ModelError
+        Bad scope, model or method (the message names it).
+    AnalysisError
+        A method cannot apply (e.g. ``"balanced"`` without slycot, or on an unstable system).
+
+    Examples
+    --------
+    >>> r = reduce(model, Scope(["b.fz"], ["b.z"], 0, 50, 1e-4), verify=True)   # doctest: +SKIP
+    >>> r.plant.n, r.measured <= 1e-4                                            # doctest: +SKIP
+    """
+    if not isinstance(scope, Scope):
+        raise ModelError(f"reduce: scope: expected a vibss.reduction.scope.Scope, got {scope!r}")
+    if method != "auto" and method not in METHODS:
+        raise ValueError(f"reduce: method: unknown {method!r}; expected one of {['auto', *METHODS]}")
+    if isinstance(model_or_plant, Plant):
+        n = model_or_plant.n
+    elif isinstance(model_or_plant, Model):
+        n = 6 * len(model_or_plant.bodies)
+    else:
+        raise ModelError(f"reduce: model_or_plant: expected a Model or a Plant, got {model_or_plant!r}")
+    sparse_input = isinstance(model_or_plant, Plant) and sp.issparse(model_or_plant.K)
+    name = ("krylov" if n > KRYLOV_MIN_DOF or sparse_input else "modal") if method == "auto" else method
+    if sparse_input and name != "krylov":
+        raise AnalysisError(f"reduce: method {name!r} needs a dense plant; a sparse plant "
+                            "(build_plant(..., sparse=True)) takes method='krylov' or 'auto'")
+    t0 = time.perf_counter()          # "krylov" counts its sparse assembly; the others start from the plant
+    if isinstance(model_or_plant, Plant):
+        full = select(model_or_plant, scope)
+    elif name == "krylov":
+        full = sparse_plant(model_or_plant, list(scope.sources), list(scope.outputs))
+    else:
+        full = build_plant(model_or_plant, list(scope.sources), list(scope.outputs))
+    if name != "krylov":
+        t0 = time.perf_counter()
+    if residual not in ("vectors", "static"):
+        raise ValueError(f"reduce: residual: expected 'vectors' or 'static', got {residual!r}")
+    out = METHODS[name](full, scope, max_modes=max_modes, order=order, residual=residual)
+    took = time.perf_counter() - t0
+    plant, system = out.get("plant"), out.get("system")
+    r = Reduction(method=name, scope=scope, plant=plant, system=system, full=full,
+                  dofs_before=full.n, dofs_after=0 if plant is None else plant.n,
+                  states_before=_states(full),
+                  states_after=cast(Any, system).nstates if plant is None else _states(plant),
+                  removed=tuple(out.get("removed", ())), estimate=float(out.get("estimate", 0.0)),
+                  estimate_kind=out.get("estimate_kind", "exact"), correction=out.get("correction", ""),
+                  kept_hz=np.asarray(out.get("kept_hz", np.zeros(0)), float), hsv=out.get("hsv"),
+                  hsv_bound=out.get("hsv_bound"), io_scale=out.get("io_scale"),
+                  reduce_s=took, notes=tuple(out.get("notes", ())), details=out.get("details", {}))
+    return r.verify(n_check) if verify else r

@@ -1,0 +1,456 @@
+"""Input-driven rational Krylov (moment-matching) reduction for :mod:`vibss.reduction`.
+
+The full system stays sparse: ``M, C, K, H`` as CSR matrices over the free DOFs (a
+:class:`~vibss.linear.plant.Plant` whose four matrices are ``scipy.sparse``, see :func:`sparse_plant`), the
+input and output maps dense but thin (n x m, p x n). Nothing n x n is ever dense.
+
+Basis
+-----
+A second-order (structure-preserving) Galerkin projection ``q = V eta`` with ``V`` M-orthonormal:
+
+- **real shifts** ``sigma_j = w_j^2`` spread over the band ``[w1, w2]`` (``w_j`` evenly spaced; a
+  band starting at 0 gets ``sigma = 0``, the static response, or a slightly negative shift when
+  ``K`` is singular), each factorised once (``splu`` of ``K - sigma_j M``);
+- per shift a block Arnoldi sequence ``V_0 = (K - sigma M)^-1 B``, ``V_{k+1} = (K - sigma M)^-1 M V_k``
+  for ``moments`` blocks, where ``B`` holds every forcing column (``F``, ``Kz``, ``Cz``, ``Mz``,
+  ``Hz``) and, when the outputs are few (``<= TWO_SIDED_MAX`` rows), the output rows transposed
+  (``Oq``, ``Ov``, ``Oa``, ``Oh``): both spans in one V keep the projection symmetric (Galerkin);
+- each new block is M-orthogonalised against the basis and within itself (block Gram-Schmidt,
+  twice), columns whose M-norm falls below ``DEFLATE_RTOL`` of their original one are deflated.
+
+Error control (greedy)
+----------------------
+At check frequencies (the midpoints between neighbouring interpolation frequencies, i.e. where an
+interpolation error is largest) the full response is computed exactly with one complex sparse LU
+of ``K + iH + iwC - w^2 M`` per frequency, and compared with the reduced one: the relative error per
+output (divided by the output's largest response over the band, see
+:func:`vibss.reduction.relative_error`). Where it exceeds ``CHECK_SAFETY`` times the tolerance the
+exact solutions at that frequency (state and, two-sided, adjoint; real and imaginary parts) join the
+basis -- they cost nothing more, the factorisation is there -- which makes the reduced response
+exact at that frequency, and the new midpoints are checked in the next round. It stops when every
+fresh check is below ``CHECK_SAFETY x tol``; the estimate is the largest error at the last round's
+checks (frequencies the basis was **not** built at).
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
+from typing import Any, cast
+
+import numpy as np
+import scipy.linalg as sl
+import scipy.sparse as sp
+import scipy.sparse.linalg as spl
+
+from ..errors import AnalysisError
+from ..model.model import Model
+from ..linear.plant import Plant
+from ..linear.signals import build_plant
+from .prune import Removal, _components, _dof_names, _touched_rows, frf
+
+__all__ = ["KrylovBasis", "krylov", "sparse_plant", "as_sparse", "prune_sparse", "exact_response",
+           "N_SHIFTS", "MOMENTS", "CHECK_SAFETY", "MAX_ROUNDS", "TWO_SIDED_MAX", "DEFLATE_RTOL"]
+
+N_SHIFTS = 3
+"""Real shifts spread over the band at the start."""
+MOMENTS = 2
+"""Block Arnoldi moments per real shift at the start."""
+CHECK_SAFETY = 0.5
+"""The basis grows until the sampled error is below this fraction of the tolerance."""
+MAX_ROUNDS = 8
+"""Most enrichment rounds."""
+TWO_SIDED_MAX = 12
+"""Largest number of output rows (Oq, Ov, Oa, Oh together) whose adjoint blocks join the basis."""
+DEFLATE_RTOL = 1e-9
+"""A new column is dropped when its M-norm after orthogonalisation is below this fraction of its
+M-norm before."""
+
+
+@dataclass(frozen=True, eq=False)
+class KrylovBasis:
+    """Outcome of :func:`krylov`.
+
+    Attributes
+    ----------
+    plant : Plant
+        The reduced plant (DOFs ``krylov<k>``, ``M = I``, ``K = diag(w_k^2)``: Ritz coordinates).
+    ritz_hz : (r,) ndarray
+        Undamped natural frequencies of the reduced plant [Hz].
+    shifts_hz : (ns,) ndarray
+        Real shifts [Hz] (``sigma = (2 pi f)^2``; a negative entry stands for ``sigma < 0``).
+    moments : int
+        Block moments per real shift.
+    interpolation_hz : (ni,) ndarray
+        Frequencies [Hz] whose exact (complex) solutions joined the basis.
+    check_hz : (nc,) ndarray
+        Every check frequency [Hz] (exact sparse LU solves).
+    estimate : float
+        Largest relative error at the last round's checks [-].
+    history : tuple of (basis size, checks, largest error)
+        Per round.
+    timings : dict of str to float
+        Wall time [s] of the factorisations, basis, projection and checks.
+    two_sided : bool
+        Whether the output (adjoint) blocks are in the basis.
+    notes : tuple of str
+        Caveats.
+    """
+
+    plant: Plant
+    ritz_hz: np.ndarray
+    shifts_hz: np.ndarray
+    moments: int
+    interpolation_hz: np.ndarray
+    check_hz: np.ndarray
+    estimate: float
+    history: tuple[tuple[int, int, float], ...]
+    timings: dict[str, float]
+    two_sided: bool
+    notes: tuple[str, ...]
+
+
+# ------------------------------------------------------------------------ the full system, sparse
+
+def sparse_plant(model: Model, inputs: Sequence[Any], outputs: Sequence[str]) -> Plant:
+    """The scope's plant with ``M, C, K, H`` as scipy.sparse CSR matrices (no dense n x n).
+
+    :func:`vibss.linear.signals.build_plant` with ``sparse=True``.
+
+    Parameters
+    ----------
+    model : Model
+        The system.
+    inputs : sequence of str or Excitation
+        Input signals.
+    outputs : sequence of str
+        Output signals.
+
+    Returns
+    -------
+    Plant
+        With sparse ``M, C, K, H`` (n x n) and dense maps.
+    """
+    return build_plant(model, inputs, outputs, sparse=True)
+
+
+def as_sparse(p: Plant) -> Plant:
+    """The plant with ``M, C, K, H`` as CSR matrices (a no-op when they already are)."""
+    return replace(p, **{k: sp.csr_matrix(getattr(p, k)) for k in ("M", "C", "K", "H")})
+
+
+def prune_sparse(p: Plant) -> tuple[Plant, list[Removal]]:
+    """Remove the connected components (graph of M, C, K, H) no input excites or no output sees.
+
+    The sparse counterpart of :func:`vibss.reduction.kernels.prune_dofs` (exact, zero initial
+    conditions); entries count as couplings when nonzero.
+    """
+    pattern = abs(p.M) + abs(p.C) + abs(p.K) + abs(p.H)
+    excited = _touched_rows([p.F, p.Kz, p.Cz, p.Mz, p.Hz], p.n)
+    seen = _touched_rows([o.T for o in (p.Oq, p.Ov, p.Oa, p.Oh) if o is not None], p.n)
+    keep, dropped = _components(sp.csr_matrix(pattern), excited, seen)
+    if not dropped or not keep.any():
+        return p, []
+    removals: dict[str, list[str]] = {}
+    for idx, why in dropped:
+        removals.setdefault(why, []).extend(p.dofs[i] for i in idx)
+    out = [Removal("dofs", tuple(_dof_names(names)), f"decoupled (coupling graph of M, C, K, H): {why}")
+           for why, names in removals.items()]
+    k = np.flatnonzero(keep)
+    cut = lambda a: a[k][:, k].tocsr()  # noqa: E731
+    return replace(p, dofs=tuple(p.dofs[i] for i in k), M=cut(p.M), C=cut(p.C), K=cut(p.K), H=cut(p.H),
+                   F=p.F[k], Kz=p.Kz[k], Cz=p.Cz[k], Mz=p.Mz[k], Hz=p.Hz[k], Oq=p.Oq[:, k],
+                   Ov=p.Ov[:, k], Oa=p.Oa[:, k], Oh=None if p.Oh is None else p.Oh[:, k]), out
+
+
+# ------------------------------------------------------------------------ exact sparse solves
+
+def _zf(p: Plant, s: complex) -> np.ndarray:
+    """(m,) ``s^-order`` of each input (1 for forces and displacements)."""
+    return np.array([s ** (-int(k)) if k > 0 else 1.0 for k in p.order], complex)
+
+
+def exact_response(p: Plant, s: complex, adjoint: bool = False) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+    """Exact response of a sparse plant at one Laplace point ``s`` [rad/s] by a complex sparse LU.
+
+    Parameters
+    ----------
+    p : Plant
+        With sparse ``M, C, K, H`` (:func:`sparse_plant`, :func:`as_sparse`).
+    s : complex
+        Laplace point (``i w``).
+    adjoint : bool
+        Also solve ``A(s)^T x = O(s)^T`` (the output side, same factorisation: A is symmetric).
+
+    Returns
+    -------
+    y : (p, m) complex ndarray
+        Outputs per unit input.
+    x : (n, m) complex ndarray
+        DOF response.
+    xa : (n, p) complex ndarray or None
+        Adjoint solutions (``adjoint``).
+    """
+    zf = _zf(p, s)
+    a = cast("sp.spmatrix", p.K + 1j * p.H + s * p.C + s**2 * p.M).tocsc()  # a sparse plant
+    try:
+        lu = spl.splu(a)
+    except RuntimeError as exc:
+        raise AnalysisError(f"krylov: K + iH + sC + s^2 M is singular at s = {s:.6g} rad/s ({exc})") from None
+    rhs = (p.F - (p.Kz + 1j * p.Hz + s * p.Cz + s**2 * p.Mz) * zf[None, :]).astype(complex)
+    x = lu.solve(rhs)
+    oh = 0.0 if p.Oh is None else p.Oh
+    ph = 0.0 if p.Ph is None else p.Ph
+    obs = p.Oq + 1j * oh + s * p.Ov + s**2 * p.Oa
+    y = obs @ x + (p.Pz + 1j * ph + s * p.Pv + s**2 * p.Pa) * zf[None, :] + p.Pf
+    xa = lu.solve(np.ascontiguousarray(obs.T, dtype=complex), trans="T") if adjoint else None
+    return y, x, xa
+
+
+# ------------------------------------------------------------------------ basis
+
+class _Basis:
+    """An M-orthonormal basis grown block by block (block Gram-Schmidt twice, with deflation)."""
+
+    def __init__(self, M: sp.csr_matrix):
+        self.M = M
+        self.V = np.zeros((M.shape[0], 0))
+        self.MV = np.zeros((M.shape[0], 0))
+
+    def add(self, w: np.ndarray) -> np.ndarray:
+        """Add the columns of ``w`` (n, k); returns the new M-orthonormal columns (n, k' <= k)."""
+        w = np.asarray(w, float)
+        if w.size == 0:
+            return w.reshape(w.shape[0], 0)
+        norm0 = np.sqrt(np.maximum(np.einsum("ij,ij->j", w, self.M @ w), 0.0))
+        keep = norm0 > 0
+        w = w[:, keep] / norm0[keep]
+        for rnd in range(2):
+            w = w - self.V @ (self.MV.T @ w)
+            g = w.T @ (self.M @ w)
+            lam, u = np.linalg.eigh(0.5 * (g + g.T))
+            floor = DEFLATE_RTOL**2 if rnd == 0 else 1e-12 * float(lam.max(initial=0.0))
+            ok = lam > floor
+            w = w @ (u[:, ok] / np.sqrt(lam[ok]))
+            if w.shape[1] == 0:
+                return w
+        mw = self.M @ w
+        self.V = np.hstack([self.V, w])
+        self.MV = np.hstack([self.MV, mw])
+        return w
+
+
+def _forcing(p: Plant) -> np.ndarray:
+    b = np.hstack([p.F, p.Kz, p.Cz, p.Mz, p.Hz])
+    return b[:, np.any(b != 0, axis=0)]
+
+
+def _observing(p: Plant) -> np.ndarray:
+    o = np.vstack([a for a in (p.Oq, p.Ov, p.Oa, p.Oh) if a is not None]).T
+    return o[:, np.any(o != 0, axis=0)]
+
+
+def _shift_lu(p: Plant, w: float, w2: float) -> tuple[Any, float]:
+    """splu of ``K - sigma M`` at ``sigma = w^2`` (nudged when singular); returns (lu, sigma)."""
+    sigma = w * w
+    for k in range(4):
+        try:
+            return spl.splu(cast("sp.spmatrix", p.K - sigma * p.M).tocsc()), sigma
+        except RuntimeError:
+            sigma = sigma * (1 + 1e-3 * (k + 1)) if sigma > 0 else -((1e-2 * (k + 1) * w2) ** 2)
+    raise AnalysisError(f"krylov: K - sigma M is singular near sigma = {w * w:.6g} (rad/s)^2")
+
+
+def project(p: Plant, V: np.ndarray) -> Plant:
+    """Galerkin projection of a sparse plant on M-orthonormal ``V`` (n, r), in Ritz coordinates.
+
+    ``M_r = I``, ``K_r = diag(w_k^2)`` (eigenvectors ``T`` of ``V^T K V``), ``C_r, H_r = T^T V^T (C, H) V T``,
+    force maps ``T^T V^T F ...``, output maps ``O V T``. Feedthrough terms are kept.
+    """
+    def sym(a: sp.csr_matrix) -> np.ndarray:
+        g = V.T @ (a @ V)
+        return 0.5 * (g + g.T)
+
+    mr, kr = sym(p.M), sym(p.K)
+    w2, t = sl.eigh(kr, mr)
+    vt = V @ t
+    top = max(float(np.abs(w2).max(initial=0.0)), 1e-300)
+    w2 = np.where(np.abs(w2) <= 1e-12 * top, 0.0, w2)
+    tt = t.T
+    c = tt @ sym(p.C) @ t
+    h = tt @ sym(p.H) @ t if cast("sp.spmatrix", p.H).nnz else np.zeros_like(c)
+    r = V.shape[1]
+    return replace(p, dofs=tuple(f"krylov{k + 1}" for k in range(r)), M=np.eye(r), K=np.diag(w2),
+                   C=0.5 * (c + c.T), H=0.5 * (h + h.T), F=vt.T @ p.F, Kz=vt.T @ p.Kz, Cz=vt.T @ p.Cz,
+                   Mz=vt.T @ p.Mz, Hz=vt.T @ p.Hz, Oq=p.Oq @ vt, Ov=p.Ov @ vt, Oa=p.Oa @ vt,
+                   Oh=None if p.Oh is None else p.Oh @ vt)
+
+
+def _midpoints(points: np.ndarray, lo: float, hi: float) -> np.ndarray:
+    pts = np.unique(np.clip(points, lo, hi))
+    mids = 0.5 * (pts[1:] + pts[:-1])
+    if pts[0] > lo:
+        mids = np.r_[lo, mids]
+    if pts[-1] < hi:
+        mids = np.r_[mids, hi]
+    return mids
+
+
+def _resonance_checks(red: Plant, row: np.ndarray, lo: float, hi: float, tol: float,
+                      checked: np.ndarray) -> np.ndarray:
+    """In-band Ritz frequencies [rad/s] of significant modes with no check within their half-power
+    band: a pole slightly off shows as a large error there, between the other checks.
+
+    Significant: peak modal contribution ``|O t_k| |t_k^T B| / (w_k g_k)`` (``g_k = c_kk`` or
+    ``h_kk / w_k``) above ``CHECK_SAFETY tol`` of the output's reference.
+    """
+    w2k = np.diag(red.K)
+    wk = np.sqrt(np.maximum(w2k, 0.0))
+    inb = (wk >= lo) & (wk <= hi)
+    if not inb.any():
+        return np.zeros(0)
+    g = np.abs(np.diag(red.C)) + np.abs(np.diag(red.H)) / np.maximum(wk, 1e-300)
+    g = np.maximum(g, 1e-6 * wk)                    # undamped: a narrow band of relative width 1e-6
+    b = np.abs(np.hstack([red.F, red.Kz, red.Cz, red.Mz, red.Hz])).max(axis=1)
+    o = np.abs(np.stack([red.Oq, red.Ov * wk[None, :], red.Oa * wk[None, :]**2])).max(axis=0)
+    contrib = (o * b[None, :] / np.maximum(wk * g, 1e-300)[None, :]) / row[:, None]
+    sig = inb & (contrib.max(axis=0) > CHECK_SAFETY * tol)
+    half = 0.5 * g                                  # half-power half-width [rad/s]
+    out = []
+    for w, hw, at in zip(wk[sig], half[sig], _off_undamped(red, wk)[sig]):
+        if checked.size == 0 or np.min(np.abs(checked - w)) > 0.25 * hw:
+            out.append(at)
+    return np.array(out)
+
+
+UNDAMPED_OFFSET = 5e-8
+"""Relative offset [-] of a check placed at an undamped Ritz resonance (a tenth of the 1e-6
+half-power width assumed for undamped modes): exactly on it the reduced response is singular."""
+
+
+def _off_undamped(red: Plant, wk: np.ndarray) -> np.ndarray:
+    """``wk`` [rad/s], each undamped mode's (no C or H on its diagonal) moved up by
+    ``UNDAMPED_OFFSET``, so no response is evaluated exactly on an undamped pole."""
+    g = np.abs(np.diag(red.C)) + np.abs(np.diag(red.H))
+    return np.where(g > 0, wk, wk * (1.0 + UNDAMPED_OFFSET))
+
+
+def krylov(p: Plant, band: tuple[float, float], tol: float, n_shifts: int = N_SHIFTS,
+           moments: int = MOMENTS, two_sided: bool | None = None, max_rounds: int = MAX_ROUNDS) -> KrylovBasis:
+    """Rational block Krylov reduction of a sparse plant for the band ``(w1, w2)`` [rad/s].
+
+    Parameters
+    ----------
+    p : Plant
+        With sparse ``M, C, K, H`` (:func:`sparse_plant`, :func:`as_sparse`).
+    band : (float, float)
+        ``(w1, w2)`` [rad/s].
+    tol : float
+        Relative tolerance [-] (see the module docstring).
+    n_shifts : int
+        Real shifts at the start (>= 1).
+    moments : int
+        Block moments per real shift (>= 1).
+    two_sided : bool or None
+        Put the output (adjoint) blocks in the basis; default: when there are at most
+        ``TWO_SIDED_MAX`` output rows.
+    max_rounds : int
+        Most enrichment rounds.
+
+    Returns
+    -------
+    KrylovBasis
+    """
+    t_start = time.perf_counter()
+    timings = {"shift_lu_s": 0.0, "basis_s": 0.0, "project_s": 0.0, "check_s": 0.0}
+    w1, w2 = float(band[0]), float(band[1])
+    b = _forcing(p)
+    if b.shape[1] == 0:
+        raise AnalysisError("krylov: the inputs force no free DOF")
+    o = _observing(p)
+    if two_sided is None:
+        two_sided = o.shape[1] <= TWO_SIDED_MAX
+    block0 = np.hstack([b, o]) if two_sided else b
+    basis = _Basis(p.M)
+    ws = np.linspace(w1, w2, max(int(n_shifts), 1)) if n_shifts > 1 else np.array([0.5 * (w1 + w2)])
+    sigmas = []
+    for w in ws:
+        t0 = time.perf_counter()
+        lu, sigma = _shift_lu(p, float(w), w2)
+        t1 = time.perf_counter()
+        timings["shift_lu_s"] += t1 - t0
+        sigmas.append(sigma)
+        blk = basis.add(lu.solve(np.asarray(block0, float)))
+        for _ in range(max(int(moments), 1) - 1):
+            if blk.shape[1] == 0:
+                break
+            blk = basis.add(lu.solve(np.asarray(p.M @ blk)))
+        timings["basis_s"] += time.perf_counter() - t1
+    # check frequencies avoid 0 (a motion input of order > 0 diverges there)
+    lo = w1 if w1 > 0 else w2 * 1e-3
+    interp = np.clip(ws, lo, w2)
+    checks = _midpoints(interp, lo, w2)
+    h_seen: list[np.ndarray] = []
+    history: list[tuple[int, int, float]] = []
+    all_checks: list[float] = []
+    added: list[float] = []
+    notes: list[str] = []
+    estimate = np.inf
+    red = None
+    for rnd in range(max_rounds + 1):
+        t0 = time.perf_counter()
+        red = project(p, basis.V)
+        t1 = time.perf_counter()
+        timings["project_s"] += t1 - t0
+        sols = [exact_response(p, 1j * w, adjoint=two_sided) for w in checks]
+        hf = np.stack([y for y, _, _ in sols], axis=-1)
+        hr = frf(red, 1j * checks)
+        h_seen.append(hf)
+        # reference per output: its largest response over the band (full at the checks so far,
+        # reduced at its own in-band resonances)
+        wr = _off_undamped(red, np.sqrt(np.maximum(np.diag(red.K), 0.0)))
+        wr = wr[(wr >= lo) & (wr <= w2)]
+        peak = np.max([np.abs(h).max(axis=(1, 2)) for h in h_seen], axis=0)
+        if wr.size:
+            peak = np.maximum(peak, np.abs(frf(red, 1j * wr)).max(axis=(1, 2)))
+        row = np.where(peak > 0, peak, max(float(peak.max()), 1e-300))
+        err = (np.abs(hr - hf) / row[:, None, None]).max(axis=(0, 1))        # per check
+        timings["check_s"] += time.perf_counter() - t1
+        all_checks.extend(checks.tolist())
+        estimate = float(err.max())
+        history.append((basis.V.shape[1], int(checks.size), estimate))
+        res = _resonance_checks(red, row, lo, w2, tol, np.array(all_checks))
+        if (estimate <= CHECK_SAFETY * tol and res.size == 0) or rnd == max_rounds:
+            break
+        t2 = time.perf_counter()
+        bad = err > CHECK_SAFETY * tol
+        for (y, x, xa), w, flag in zip(sols, checks, bad):
+            if flag:
+                cols = [x] + ([xa] if xa is not None else [])
+                z = np.hstack(cols)
+                basis.add(np.hstack([z.real, z.imag]))
+                added.append(float(w))
+        timings["basis_s"] += time.perf_counter() - t2
+        interp = np.r_[interp, checks[bad]]
+        pts = np.unique(interp)
+        # new checks: midpoints of the intervals that end at a frequency just added
+        new = []
+        for w in checks[bad]:
+            i = int(np.searchsorted(pts, w))
+            if i > 0:
+                new.append(0.5 * (pts[i - 1] + pts[i]))
+            if i + 1 < pts.size:
+                new.append(0.5 * (pts[i] + pts[i + 1]))
+        checks = np.unique(np.r_[new, res]) if new else res
+    if estimate > tol:
+        notes.append(f"the requested tolerance {tol:g} was not reached in {max_rounds} rounds "
+                     f"(sampled error {estimate:.3g} with {basis.V.shape[1]} vectors)")
+    timings["total_s"] = time.perf_counter() - t_start
+    two_pi = 2 * np.pi
+    red = cast(Plant, red)  # projected in every round (max_rounds >= 0)
+    return KrylovBasis(plant=red, ritz_hz=np.sqrt(np.maximum(np.diag(red.K), 0.0)) / two_pi,
+                       shifts_hz=np.sign(sigmas) * np.sqrt(np.abs(sigmas)) / two_pi, moments=int(moments),
+                       interpolation_hz=np.array(added) / two_pi, check_hz=np.array(all_checks) / two_pi,
+                       estimate=estimate, history=tuple(history), timings=timings,
+                       two_sided=bool(two_sided), notes=tuple(notes))

@@ -1,0 +1,346 @@
+"""Static deflection: K q = F, with prescribed displacements, self-weight and clear failure modes.
+
+The stiffness matrix of the free DOFs is equilibrated (``D K D`` with ``D = diag(K)^-1/2``),
+factorised (Cholesky for dense models, sparse LU for large ones) and its 1-norm condition number
+estimated (:func:`scipy.sparse.linalg.onenormest` on the factorisation). A system that is not fully
+restrained (a body not connected to ground, a direction no mount resists) has a singular K: vibss
+finds the free motions (null space of the equilibrated K), and if the load pushes along one of
+them raises :class:`~vibss.errors.AnalysisError` naming it ("body 'engine' is free to move in x").
+A load orthogonal to every free motion is solved in the minimum-norm sense and the free motions
+are listed in the result.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import scipy.linalg as sl
+import scipy.sparse as sp
+import scipy.sparse.csgraph as csgraph
+import scipy.sparse.linalg as spl
+
+from .linear.assemble import Assembly, assemble
+from .linear.directions import align_cluster, describe_motion
+from .errors import AnalysisError, ModelError
+from .model.geometry import point_transfer
+from .model.model import DOF_NAMES, GROUND, Model
+from .results import Table
+
+__all__ = ["StaticResult", "static", "centre_of_rotation", "SINGULAR_RCOND"]
+
+SINGULAR_RCOND = 1e-12
+"""Equilibrated stiffness matrices with a smaller reciprocal condition number count as singular."""
+
+
+def centre_of_rotation(deflection: np.ndarray, cog: np.ndarray,
+                       rtol: float = 1e-9) -> np.ndarray | None:
+    """Point of a rigid body whose small displacement is smallest: on the instantaneous screw axis.
+
+    For a COG displacement u and rotation theta the point is ``g + theta x u / |theta|^2``, its
+    displacement the part of u along theta. Pure translation has no centre (returns None).
+
+    Parameters
+    ----------
+    deflection : (6,) array_like
+        COG displacement [m] and rotation [rad].
+    cog : (3,) array_like
+        Centre of gravity [m].
+    rtol : float
+        Rotation counts as zero when ``|theta| * 1 m <= rtol * |u|``.
+    """
+    u, th = np.asarray(deflection[:3], float), np.asarray(deflection[3:], float)
+    t2 = float(th @ th)
+    if t2 == 0.0 or np.sqrt(t2) <= rtol * np.linalg.norm(u):
+        return None
+    return np.asarray(cog, float) + np.cross(th, u) / t2
+
+
+@dataclass(frozen=True, eq=False)
+class StaticResult:
+    """Static deflection of a model.
+
+    Attributes
+    ----------
+    model : Model
+        The model.
+    q : (n,) ndarray
+        Deflection of every body DOF (x y z [m], rx ry rz [rad] per body).
+    ground : (6,) ndarray
+        Prescribed ground displacement (zeros when ground is fixed).
+    load : (n,) ndarray
+        Generalised load applied [N, N m].
+    mount_deflection : (n_mounts, 3) ndarray
+        Mount stretch ``d_body - d_to`` in global axes [m].
+    mount_deflection_local : (n_mounts, 3) ndarray
+        The same along each mount's local axes 1, 2, 3 [m].
+    mount_force : (n_mounts, 3) ndarray
+        Force each mount transmits into its ``to`` side (ground or the other body), global axes [N];
+        the force on ``body`` is its negative.
+    free_motions : tuple of str
+        Descriptions of unrestrained motions the load did not excite (empty if fully restrained).
+    case : str
+        The load case solved ("" when the model names none).
+    """
+
+    model: Model
+    q: np.ndarray
+    ground: np.ndarray
+    load: np.ndarray
+    mount_deflection: np.ndarray
+    mount_deflection_local: np.ndarray
+    mount_force: np.ndarray
+    free_motions: tuple[str, ...] = field(default=())
+    case: str = ""
+
+    def body(self, name: str) -> np.ndarray:
+        """(6,) deflection of body ``name``."""
+        i = self.model.body_index(name)
+        return self.q[6 * i:6 * i + 6]
+
+    @property
+    def deflections(self) -> np.ndarray:
+        """(n_bodies, 6) deflections, one row per body."""
+        return self.q.reshape(-1, 6)
+
+    def centre_of_rotation(self, name: str) -> np.ndarray | None:
+        """Centre of rotation of body ``name`` in global coordinates [m], None for translation."""
+        return centre_of_rotation(self.body(name), self.model.body(name).cog)
+
+    def point(self, body: str, at: Any, frame: str = "body") -> np.ndarray:
+        """(3,) displacement of a point of ``body`` [m]."""
+        return point_transfer(self.model.point(body, at, frame)) @ self.body(body)
+
+    @property
+    def control_points(self) -> dict[str, np.ndarray]:
+        """Displacement of each control point [m]."""
+        return {c.name: self.point(c.body, c.at, c.frame) for c in self.model.control_points}
+
+    @property
+    def reaction(self) -> np.ndarray:
+        """(6,) total force [N] and moment about the global origin [N m] into ground."""
+        out = np.zeros(6)
+        for p, m in enumerate(self.model.mounts):
+            if m.to == GROUND:
+                f = self.mount_force[p]
+                out[:3] += f
+                out[3:] += np.cross(self.model.mount_point(m), f)
+        return out
+
+    def to_dict(self) -> dict[str, Any]:
+        """The spec's JSON structure (SI)."""
+        bodies = {}
+        for b in self.model.bodies:
+            c = self.centre_of_rotation(b.name)
+            bodies[b.name] = {"deflection": self.body(b.name).tolist(),
+                              "centre_of_rotation": None if c is None else c.tolist()}
+        mounts = [{"name": m.name, "body": m.body, "to": m.to,
+                   "deflection_global": self.mount_deflection[p].tolist(),
+                   "deflection_local": self.mount_deflection_local[p].tolist(),
+                   "force_global": self.mount_force[p].tolist(),
+                   "force_local": (m.orientation.matrix.T @ self.mount_force[p]).tolist()}
+                  for p, m in enumerate(self.model.mounts)]
+        return {"model": self.model.name, "case": self.case, "bodies": bodies, "mounts": mounts,
+                "control_points": {k: v.tolist() for k, v in self.control_points.items()},
+                "reaction": self.reaction.tolist(), "free_motions": list(self.free_motions)}
+
+    def report(self) -> str:
+        """Engineer's text report: body deflections, centres of rotation, points, mounts."""
+        rows = []
+        for b in self.model.bodies:
+            d = self.body(b.name)
+            c = self.centre_of_rotation(b.name)
+            rows.append([b.name] + [f"{1e3 * v:.4f}" for v in d[:3]] + [f"{1e3 * v:.4f}" for v in d[3:]]
+                        + ["pure translation" if c is None else "(" + ", ".join(f"{v:.4f}" for v in c) + ")"])
+        parts = [f"Static deflection of {self.model.name!r}" + (f", load case {self.case!r}" if self.case else ""),
+                 Table(["body", "x [mm]", "y [mm]", "z [mm]", "rx [mrad]", "ry [mrad]", "rz [mrad]",
+                        "centre of rotation [m]"], rows, title="Bodies (COG)").render()]
+        if self.model.control_points:
+            rows = [[k] + [f"{1e3 * x:.4f}" for x in v] for k, v in self.control_points.items()]
+            parts.append(Table(["point", "x [mm]", "y [mm]", "z [mm]"], rows, title="Control points").render())
+        if self.model.mounts:
+            rows = []
+            for p, m in enumerate(self.model.mounts):
+                rows.append([m.name, f"{m.body}->{m.to}"]
+                            + [f"{1e3 * v:.4f}" for v in self.mount_deflection[p]]
+                            + [f"{1e3 * v:.4f}" for v in self.mount_deflection_local[p]]
+                            + [f"{v:.2f}" for v in self.mount_force[p]])
+            parts.append(Table(["mount", "joins", "dx [mm]", "dy [mm]", "dz [mm]", "d1 [mm]", "d2 [mm]",
+                                "d3 [mm]", "Fx [N]", "Fy [N]", "Fz [N]"], rows,
+                               title="Mounts (deflection = body side minus other side; force into the "
+                                     "other side)").render())
+        r = self.reaction
+        parts.append("Total reaction into ground: F = (" + ", ".join(f"{v:.2f}" for v in r[:3])
+                     + ") N, M about origin = (" + ", ".join(f"{v:.2f}" for v in r[3:]) + ") N m")
+        if self.free_motions:
+            parts.append("Unrestrained (not loaded, deflection set to zero): " + "; ".join(self.free_motions))
+        return "\n\n".join(parts)
+
+    def to_pandas(self) -> Any:
+        """DataFrame of body deflections (one row per body)."""
+        import pandas as pd
+
+        return pd.DataFrame(self.deflections, index=pd.Index(self.model.body_names, name="body"),
+                            columns=list(DOF_NAMES))
+
+
+def static(model: Model | Assembly, loads: np.ndarray | None = None, *,
+           prescribed: Mapping[str, float] | None = None, gravity: bool = True,
+           case: str | None = None) -> StaticResult:
+    """Static deflection under loads, self-weight and prescribed displacements.
+
+    Parameters
+    ----------
+    model : Model or Assembly
+        The system.
+    loads : (n,) array_like or None
+        Generalised load vector [N, N m]; default: the model's loads (plus self-weight if the
+        model has ``gravity`` and ``gravity=True``).
+    prescribed : mapping of str to float, optional
+        Prescribed displacements [m or rad] of body DOFs (``"engine.z"``) or ground DOFs
+        (``"ground.z"``: every ground attachment moves; ground rotations are about the origin).
+    gravity : bool
+        Include self-weight when the model defines gravity.
+    case : str or None
+        Load case: the unnamed loads plus the loads of this case. Default: the only case when the
+        model names one (or none); a model with several cases needs one chosen.
+
+    Returns
+    -------
+    StaticResult
+
+    Raises
+    ------
+    AnalysisError
+        When a load acts along a motion the mounts do not restrain.
+
+    Examples
+    --------
+    >>> from vibss import Body, MountType, Mount, Model, symmetric
+    >>> t = MountType("t", [1e5, 1e5, 2e5])
+    >>> m = Model([Body("b", 100.0, [5, 5, 5])], symmetric(Mount("m", t, "b", at=[0.5, 0.5, 0])),
+    ...           gravity=[0, 0, -9.81])
+    >>> float(static(m).body("b")[2])   # m g / (4 kz)
+    -0.0012262500000000001
+    """
+    a = model if isinstance(model, Assembly) else assemble(model)
+    n = a.n
+    cases = a.model.load_cases
+    if case is None and len(cases) > 1 and loads is None:
+        raise AnalysisError(f"the model has load cases {cases}: choose one (static(..., case=NAME), "
+                            "or --case NAME on the command line); adding them up is not a load case")
+    if case is not None and case not in cases:
+        raise ModelError(f"case: unknown load case {case!r}; the model's cases are {cases}")
+    case = case if case is not None else (cases[0] if cases else None)
+    f = a.load_vector(include_gravity=gravity, case=case) if loads is None else _vector(loads, n, "loads")
+    q = np.zeros(n)
+    qg = np.zeros(6)
+    fixed = np.zeros(n, dtype=bool)
+    if prescribed is not None and not isinstance(prescribed, Mapping):
+        raise ModelError(f"prescribed: expected a mapping of DOF label to value, got {prescribed!r}")
+    for label, value in (prescribed or {}).items():
+        if not isinstance(label, str):
+            raise ModelError(f"prescribed: keys are DOF labels like 'engine.z' or 'ground.z', got {label!r}")
+        if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer, np.floating)) \
+                or not np.isfinite(value):
+            raise ModelError(f"prescribed[{label!r}]: expected a finite number [m or rad], got {value!r}")
+        body, _, dof = label.partition(".")
+        if body == GROUND:
+            if dof not in DOF_NAMES:
+                raise ModelError(f"prescribed: unknown ground DOF {label!r}; use ground.x .. ground.rz")
+            qg[DOF_NAMES.index(dof)] = value
+        else:
+            i = a.dof_index(label)
+            q[i], fixed[i] = value, True
+    free = np.flatnonzero(~fixed)
+    K = a.K
+    rhs = f[free] - _mul(K, q)[free] - a.Kg[free] @ qg
+    kff = K[np.ix_(free, free)] if not sp.issparse(K) else K[free][:, free]
+    q[free], notes = _solve(a, kff, rhs, free)
+    full = np.concatenate([q, qg])
+    delta = (a.deflection_matrix() @ full).reshape(-1, 3)
+    t = np.array([m.orientation.matrix for m in a.model.mounts]).reshape(-1, 3, 3)
+    local = np.einsum("pji,pj->pi", t, delta)
+    force = np.einsum("pij,pj->pi", a.kp, delta)
+    return StaticResult(model=a.model, q=q, ground=qg, load=f, mount_deflection=delta,
+                        mount_deflection_local=local, mount_force=force, free_motions=notes,
+                        case=case or "")
+
+
+def _vector(v: Any, n: int, what: str) -> np.ndarray:
+    arr = np.asarray(v, dtype=float)
+    if arr.shape != (n,) or not np.all(np.isfinite(arr)):
+        raise ModelError(f"{what}: expected {n} finite numbers (6 per body), got shape {arr.shape}")
+    return arr
+
+
+def _mul(K: Any, x: np.ndarray) -> np.ndarray:
+    return np.asarray(K @ x).ravel()
+
+
+def _solve(a: Assembly, kff: Any, rhs: np.ndarray, free: np.ndarray) -> tuple[np.ndarray, tuple[str, ...]]:
+    """Solve the equilibrated system; on a singular one, name the free motions."""
+    diag = np.asarray(kff.diagonal()).ravel()
+    d = 1.0 / np.sqrt(np.where(diag > 0, diag, 1.0))
+    if sp.issparse(kff):
+        ks = sp.csc_matrix(sp.diags(d) @ kff @ sp.diags(d))
+    else:
+        ks = d[:, None] * kff * d[None, :]
+    singular = bool(np.any(diag <= 0)) or _unconnected(a, free)
+    if not singular:
+        try:
+            solve = _factor(ks)
+            norm = abs(ks).sum(axis=0).max()
+            op = spl.LinearOperator(ks.shape, matvec=solve, rmatvec=solve, dtype=float)
+            inv_norm = spl.onenormest(op) if ks.shape[0] > 4 else np.abs(np.linalg.inv(_dense(ks))).sum(0).max()
+            singular = 1.0 / (norm * inv_norm) < SINGULAR_RCOND
+        except (np.linalg.LinAlgError, RuntimeError):
+            singular = True
+        if not singular:
+            return d * solve(d * rhs), ()
+    # Singular: null space of the equilibrated matrix (dense; its size is the user's model).
+    kd = _dense(ks)
+    w, v = np.linalg.eigh(kd)
+    null = w <= np.sqrt(SINGULAR_RCOND) * max(w.max(), np.finfo(float).tiny) * 1e-2
+    basis = d[:, None] * v[:, null]                     # back to physical DOFs
+    full = np.zeros((a.n, basis.shape[1]))
+    full[free] = basis
+    M = a.dense("M")
+    full = align_cluster(full / np.sqrt(np.einsum("ij,ij->j", full, M @ full)), M)
+    full = full[:, np.argsort(np.argmax(np.abs(full), axis=0), kind="stable")]  # DOF order
+    names = a.model.body_names
+    described = [describe_motion(full[:, j], names) for j in range(full.shape[1])]
+    load_along = [j for j in range(full.shape[1])
+                  if abs(full[free, j] @ rhs) > 1e-9 * np.linalg.norm(rhs) * np.linalg.norm(full[free, j])]
+    if load_along:
+        raise AnalysisError("the mounts do not restrain the load: "
+                            + "; ".join(described[j] for j in load_along)
+                            + " (add mounts or stiffness in that direction, or prescribe it)")
+    # minimum-norm solution on the restrained subspace
+    keep = ~null
+    y = v[:, keep] @ ((v[:, keep].T @ (d * rhs)) / w[keep])
+    return d * y, tuple(described)
+
+
+def _factor(ks: Any) -> Any:
+    if sp.issparse(ks):
+        lu = spl.splu(ks)
+        return lu.solve
+    c = sl.cho_factor(ks, check_finite=False)
+    return lambda b: sl.cho_solve(c, b, check_finite=False)
+
+
+def _dense(ks: Any) -> np.ndarray:
+    return ks.toarray() if sp.issparse(ks) else np.asarray(ks)
+
+
+def _unconnected(a: Assembly, free: np.ndarray) -> bool:
+    """Whether some body has no path of mounts to ground (then all its DOFs are free)."""
+    nb = len(a.model.bodies)
+    if len(a.b_index) == 0:
+        return True
+    g = sp.coo_matrix((np.ones(len(a.b_index)), (a.b_index, a.a_index)), shape=(nb + 1, nb + 1))
+    _, labels = csgraph.connected_components(g, directed=False)
+    return bool(np.any(labels[:nb] != labels[nb]))

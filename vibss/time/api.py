@@ -1,0 +1,629 @@
+"""Time response: shocks, forces, prescribed motions and initial conditions.
+
+:func:`simulate` runs a linear simulation of a model (or a :class:`~vibss.linear.plant.Plant`) from
+``t = 0`` and returns a :class:`TimeResponse` sampled every ``dt`` from ``record_from`` on.
+Methods are chosen by name through :data:`METHODS` (a callable is accepted too):
+
+``"modal"`` (the fast path, and ``"auto"``)
+    Exact modal superposition of piecewise-linear (PWL) inputs: ``eigh(K, M)`` real modes for
+    classical damping (2x2 blocks, exact also for rigid-body modes, omega = 0); complex modes of the
+    scaled modal first-order form for the modes that non-proportional damping couples. Each mode is
+    discretised exactly for polynomial forcing (first-order hold, and the exact polynomial
+    kinematics of velocity and acceleration inputs); only the outputs are stored.
+    **Edges:** the inputs' breakpoints (pulse edges, table knots) are inserted into the simulation
+    grid, so a pulse edge between two samples is hit exactly and jumps are kept as jumps.
+``"forced_response"`` (the reference)
+    python-control's :func:`control.forced_response` of the exact z-only realization (no
+    differentiated inputs), on the uniform sample grid. **Edges:** the input is the PWL
+    interpolant of its samples, so an edge between samples is smeared over one step.
+``"ivp"``
+    :func:`scipy.integrate.solve_ivp` with variable steps to the tolerance ``rtol`` / ``atol``
+    (``solver`` = ``"Radau"``, ``"DOP853"``, ``"LSODA"`` ...), of the same realization. **Edges:**
+    the integration restarts at every breakpoint, so edges are hit exactly; between breakpoints
+    the inputs are evaluated exactly (not interpolated).
+
+Conventions: initial conditions are the state at ``t = 0-``, prescribed coordinates start at rest
+at zero (an input nonzero at ``t = 0`` is a jump at ``t = 0``); where an input jumps or kinks at a
+sample, outputs take the right-hand limit.
+
+Examples
+--------
+>>> from vibss import Body, Model, Mount, MountType
+>>> from vibss.model.excitation import Excitation, Step
+>>> m = Model([Body("b", 2.0, [1, 1, 1])], [Mount("m", MountType("t", [800.0] * 3), "b")])
+>>> step = Excitation("s", "force", "b", Step(10.0), dof="z")
+>>> r = simulate(m, [step], outputs=["b.z"], t_end=0.5, dt=1e-3)
+>>> round(float(r.peaks().value[0]), 6)      # 2 F / k, undamped
+0.025
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any, cast
+
+import control
+import numpy as np
+import scipy.sparse as sp
+import numpy.typing as npt
+
+from . import kernels as tm
+from ..errors import AnalysisError, DefectiveModesError, ModelError
+from .integrators import central_difference_method, newmark_method
+from ..model.model import DOF_NAMES, Model
+from ..linear.plant import Plant
+from ..linear.signals import build_plant
+from ..diagnostics import check_central_difference, check_excitations, check_explicit_rk
+
+EXPLICIT_RK = ("RK23", "RK45", "DOP853")
+
+
+__all__ = ["simulate", "TimeResponse", "PeakTable", "SimulationJob", "METHODS"]
+
+SignalInput = Callable[[np.ndarray], np.ndarray] | npt.ArrayLike
+
+
+@dataclass(frozen=True, eq=False)
+class SimulationJob:
+    """Everything a method needs; what a user-supplied method callable receives.
+
+    Attributes
+    ----------
+    plant : Plant
+        The plant (n free DOFs, m inputs, p outputs).
+    time : (ns,) ndarray
+        Sample times ``k dt`` from 0 to ``t_end`` [s].
+    funcs : tuple of callable
+        The m input signals ``u_j(t)`` (vectorised, SI).
+    breakpoints : (k,) ndarray
+        Times where an input or its slope jumps [s].
+    q0, v0 : (n,) ndarray
+        Initial displacement and velocity of the free DOFs at ``t = 0-`` [m, rad, m/s, rad/s].
+    rtol, atol : float, float or None
+        Tolerances (``ivp``).
+    solver : str
+        ``solve_ivp`` method name (``ivp``).
+
+    A method callable returns ``(y, note)``: y of shape (ns, p) at ``time``, and a text.
+    """
+
+    plant: Plant
+    time: np.ndarray
+    funcs: tuple[Callable[[np.ndarray], np.ndarray], ...]
+    breakpoints: np.ndarray
+    q0: np.ndarray
+    v0: np.ndarray
+    rtol: float = 1e-6
+    atol: float | None = None
+    solver: str = "Radau"
+
+    def sampled(self, grid: tm.Grid) -> tm.Kinematics:
+        """Exact PWL kinematics of the inputs on ``grid`` (right and left limits at its points)."""
+        d = tm.nudge(grid.t, float(self.time[1] - self.time[0]))
+        up, dn = grid.t + d, grid.t - d
+        u_r = np.column_stack([np.broadcast_to(f(up), up.shape) for f in self.funcs]) if self.funcs \
+            else np.zeros((len(up), 0))
+        u_l = np.column_stack([np.broadcast_to(f(dn), dn.shape) for f in self.funcs]) if self.funcs \
+            else np.zeros((len(up), 0))
+        return tm.kinematics(grid, np.asarray(u_r, float), np.asarray(u_l, float), self.plant.kinds)
+
+
+def _method_modal(job: SimulationJob) -> tuple[np.ndarray, str]:
+    dt = job.time[1] - job.time[0]
+    grid = tm.make_grid(len(job.time), dt, job.breakpoints)
+    kin = job.sampled(grid)
+    y, how = tm.run_modal(tm.prepare(job.plant), grid, kin, grid.samples, job.q0, job.v0)
+    extra = len(grid.t) - len(job.time)
+    return y, f"exact modal FOH ({how}); {extra} breakpoints inserted into the grid"
+
+
+def _method_forced_response(job: SimulationJob) -> tuple[np.ndarray, str]:
+    dt = job.time[1] - job.time[0]
+    grid = tm.make_grid(len(job.time), dt, np.array([]))
+    t = job.time
+    u = np.column_stack([np.broadcast_to(f(t), t.shape) for f in job.funcs]) if job.funcs \
+        else np.zeros((len(t), 0))
+    kin = tm.kinematics(grid, u, u, job.plant.kinds)
+    return tm.run_forced_response(tm.prepare(job.plant), t, u, kin, job.q0, job.v0)
+
+
+def _method_ivp(job: SimulationJob) -> tuple[np.ndarray, str]:
+    return tm.run_ivp(tm.prepare(job.plant), list(job.funcs), job.breakpoints, job.time, job.q0,
+                      job.v0, rtol=job.rtol, atol=job.atol, solver=job.solver)
+
+
+def _method_central_difference(job: SimulationJob) -> tuple[np.ndarray, str]:
+    finding = check_central_difference(job.plant.M, job.plant.K, float(job.time[1] - job.time[0]))
+    if not finding.ok:
+        raise AnalysisError(f"central_difference would blow up: {finding.message}")
+    return central_difference_method(job)
+
+
+METHODS: dict[str, Callable[[SimulationJob], tuple[np.ndarray, str]]] = {
+    "modal": _method_modal,
+    "forced_response": _method_forced_response,
+    "ivp": _method_ivp,
+    "newmark": newmark_method,
+    "central_difference": _method_central_difference,
+}
+"""Simulation methods by name (``"auto"`` picks ``"modal"``). ``newmark`` (average acceleration,
+unconditionally stable, second order) and ``central_difference`` (explicit; refused beyond
+``dt = 2 / w_max``) take force inputs only and are there for comparison (docs/performance.md)."""
+
+
+@dataclass(frozen=True, eq=False)
+class PeakTable:
+    """Peak (largest magnitude) value, its time, and RMS of each output.
+
+    Attributes
+    ----------
+    outputs : tuple of str
+        Output names (p).
+    units : tuple of str
+        SI unit per output.
+    value : (p,) ndarray
+        Signed value at the peak of ``|y|``.
+    time : (p,) ndarray
+        Time of the peak [s].
+    rms : (p,) ndarray
+        Root mean square over the recorded samples.
+    """
+
+    outputs: tuple[str, ...]
+    units: tuple[str, ...]
+    value: np.ndarray
+    time: np.ndarray
+    rms: np.ndarray
+
+    def to_pandas(self) -> Any:
+        """DataFrame indexed by output, columns peak, time, rms, unit."""
+        import pandas as pd
+
+        return pd.DataFrame({"peak": self.value, "time": self.time, "rms": self.rms,
+                             "unit": self.units}, index=list(self.outputs))
+
+
+@dataclass(frozen=True, eq=False)
+class TimeResponse:
+    """A simulated time response.
+
+    Attributes
+    ----------
+    time : (ns,) ndarray
+        Sample times [s] (from ``record_from``).
+    outputs : (p, ns) ndarray
+        Output values (SI, unit per output in ``units``).
+    output_names : tuple of str
+        Output signal names, e.g. ``'engine.z'``, ``'sensor.x'``, ``'mount.front.fz'``.
+    units : tuple of str
+        SI unit per output.
+    inputs : (m, ns) ndarray
+        Input signals at the samples.
+    input_names : tuple of str
+        Input signal names, e.g. ``'engine.fz'``, ``'ground.z.acc'``.
+    method : str
+        The method that ran.
+    note : str
+        How it ran (and, for ``auto``, why).
+    name : str
+        System name.
+    """
+
+    time: np.ndarray
+    outputs: np.ndarray
+    output_names: tuple[str, ...]
+    units: tuple[str, ...]
+    inputs: np.ndarray
+    input_names: tuple[str, ...]
+    method: str
+    note: str
+    name: str = "vibss"
+
+    @property
+    def data(self) -> control.TimeResponseData:
+        """The same response as a python-control :class:`control.TimeResponseData`."""
+        return control.TimeResponseData(
+            self.time, self.outputs, None, self.inputs if self.inputs.size else None,
+            output_labels=list(self.output_names),
+            input_labels=list(self.input_names) if self.inputs.size else None, sysname=self.name)
+
+    def output(self, name: str) -> np.ndarray:
+        """(ns,) samples of output ``name``."""
+        try:
+            return self.outputs[self.output_names.index(name)]
+        except ValueError:
+            raise ModelError(f"TimeResponse.output: unknown output {name!r}; outputs are "
+                             f"{list(self.output_names)}") from None
+
+    def peaks(self) -> PeakTable:
+        """Peak value (largest magnitude, signed), its time, and RMS of every output."""
+        if self.time.size == 0:
+            z = np.zeros(len(self.output_names))
+            return PeakTable(self.output_names, self.units, z, z, z)
+        i = np.argmax(np.abs(self.outputs), axis=1)
+        rows = np.arange(len(i))
+        return PeakTable(self.output_names, self.units, self.outputs[rows, i], self.time[i],
+                         np.sqrt(np.mean(self.outputs**2, axis=1)))
+
+    def report(self) -> str:
+        """Text table: peak value and its time, and RMS, per output."""
+        pk = self.peaks()
+        width = max([len(n) for n in self.output_names] + [6])
+        lines = [f"Time response of {self.name}: {self.time.size} samples"
+                 + (f", {self.time[0]:g} .. {self.time[-1]:g} s" if self.time.size else ""),
+                 f"method: {self.method} ({self.note})", "",
+                 f"{'output':<{width}}  {'peak':>13}  {'at [s]':>10}  {'RMS':>12}  unit"]
+        for n, u, v, t, r in zip(self.output_names, self.units, pk.value, pk.time, pk.rms):
+            lines.append(f"{n:<{width}}  {v:>13.5e}  {t:>10.5f}  {r:>12.5e}  {u}")
+        return "\n".join(lines)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The spec's JSON: ``{"time": [...], "outputs": {name: [...]}}`` plus units and method."""
+        return {"time": self.time.tolist(),
+                "outputs": {n: row.tolist() for n, row in zip(self.output_names, self.outputs)},
+                "units": dict(zip(self.output_names, self.units)),
+                "method": self.method}
+
+    def to_pandas(self) -> Any:
+        """DataFrame with a ``time`` column, one column per output and one per input."""
+        import pandas as pd
+
+        cols = {"time": self.time}
+        cols.update({n: row for n, row in zip(self.output_names, self.outputs)})
+        cols.update({n: row for n, row in zip(self.input_names, self.inputs)})
+        return pd.DataFrame(cols)
+
+    def plot(self, outputs: Sequence[str] | None = None, by: str = "body") -> Any:
+        """Plot outputs against time, peaks marked.
+
+        Parameters
+        ----------
+        outputs : sequence of str or None
+            Outputs to draw (default all).
+        by : {"body", "all"}
+            One axes per body (the name before the first dot) or all in one axes.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+        """
+        import matplotlib.pyplot as plt
+
+        if by not in ("body", "all"):
+            raise ModelError(f"TimeResponse.plot: by: expected 'body' or 'all', got {by!r}")
+        names = list(outputs) if outputs is not None else list(self.output_names)
+        groups: dict[str, list[str]] = {}
+        for n in names:
+            self.output(n)
+            key = n.split(".")[0] if by == "body" else "all"
+            groups.setdefault(key, []).append(n)
+        fig, axes = plt.subplots(len(groups), 1, sharex=True, squeeze=False,
+                                 figsize=(8, 2.2 + 1.8 * len(groups)))
+        for ax, (key, group) in zip(axes[:, 0], groups.items()):
+            for n in group:
+                y = self.output(n)
+                unit = self.units[self.output_names.index(n)]
+                line, = ax.plot(self.time, y, label=f"{n} [{unit}]")
+                if y.size:
+                    i = int(np.argmax(np.abs(y)))
+                    ax.plot(self.time[i], y[i], "o", color=line.get_color())
+                    ax.annotate(f"{y[i]:.3g}", (self.time[i], y[i]), textcoords="offset points",
+                                xytext=(4, 4), fontsize=8)
+            ax.set_title(key if by == "body" else self.name, fontsize=9)
+            ax.grid(True, alpha=0.3)
+            ax.legend(fontsize=7, loc="best")
+        axes[-1, 0].set_xlabel("time [s]")
+        fig.suptitle(f"{self.name} ({self.method})", fontsize=10)
+        fig.tight_layout()
+        return fig
+
+
+# ----------------------------------------------------------------------------------------------
+
+def _six(body: str, what: str, vec: Any) -> np.ndarray:
+    """6 finite numbers (x y z rx ry rz) of one body's initial displacement or velocity."""
+    try:
+        a = np.asarray(vec, float)
+    except (TypeError, ValueError):
+        a = np.empty(0)
+    if a.shape != (6,) or not np.all(np.isfinite(a)):
+        raise ModelError(f"simulate: initial[{body!r}]: {what}: expected 6 finite numbers "
+                         f"(x y z rx ry rz), got {vec!r}")
+    return a
+
+
+def _initial(plant: Plant, initial: Any, model: Model | None) -> tuple[np.ndarray, np.ndarray]:
+    """Initial free-DOF displacement and velocity from per-body data.
+
+    ``initial`` maps a body name to ``{"displacement": [6], "velocity": [6]}`` (either key may be
+    left out: zero); anything else (a bare list, a number, an unknown body or key) is refused.
+    """
+    q0, v0 = np.zeros(plant.n), np.zeros(plant.n)
+    if initial is None and model is not None:
+        initial = (model.settings or {}).get("initial")
+    if initial is None or (isinstance(initial, Mapping) and not initial):
+        return q0, v0
+    if not isinstance(initial, Mapping):
+        raise ModelError(f"simulate: initial: expected {{body: {{'displacement': [6], 'velocity': "
+                         f"[6]}}}}, got {initial!r}")
+    index = {d: i for i, d in enumerate(plant.dofs)}
+    bodies = set(model.body_names) if model is not None else {d.rsplit(".", 1)[0] for d in plant.dofs}
+    for body, data in initial.items():
+        if body not in bodies:
+            raise ModelError(f"simulate: initial: unknown body {body!r}; bodies are {sorted(bodies)}")
+        if not isinstance(data, Mapping):
+            raise ModelError(f"simulate: initial[{body!r}]: expected {{'displacement': [6 numbers], "
+                             f"'velocity': [6 numbers]}} (either key optional), got {data!r}")
+        unknown = set(data) - {"displacement", "velocity"}
+        if unknown:
+            raise ModelError(f"simulate: initial[{body!r}]: unknown key(s) {sorted(map(str, unknown))}; "
+                             "expected 'displacement' and/or 'velocity'")
+        for target, what in ((q0, "displacement"), (v0, "velocity")):
+            if data.get(what) is None:
+                continue
+            a = _six(body, what, data[what])
+            for d, val in zip(DOF_NAMES, a):
+                label = f"{body}.{d}"
+                if label in index:
+                    target[index[label]] = val
+                elif val != 0.0:
+                    raise ModelError(f"simulate: initial[{body!r}]: {what}: {label!r} is not a free "
+                                     f"DOF (it is prescribed by an input)")
+    return q0, v0
+
+
+def _as_function(value: Any, ts: np.ndarray, name: str) -> tuple[Callable[[np.ndarray], np.ndarray], tuple[float, ...]]:
+    if hasattr(value, "value") and hasattr(value, "breakpoints"):
+        return value.value, tuple(value.breakpoints)
+    if callable(value):
+        return value, ()
+    a = np.asarray(value, float)
+    if a.shape != ts.shape or not np.all(np.isfinite(a)):
+        raise ModelError(f"simulate: inputs[{name!r}]: expected a callable u(t) or {ts.size} finite "
+                         f"samples (one per dt from 0 to t_end), got shape {a.shape}")
+    return cast("Callable[[np.ndarray], np.ndarray]", lambda t, a=a: np.interp(t, ts, a)), ()
+
+
+def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = None, *,
+             inputs: Mapping[str, SignalInput] | None = None, outputs: Sequence[str] | None = None,
+             t_end: float, dt: float, record_from: float = 0.0, initial: Any = None,
+             method: str | Callable[[SimulationJob], tuple[np.ndarray, str]] = "auto",
+             rtol: float = 1e-6, atol: float | None = None, solver: str = "Radau") -> TimeResponse:
+    """Simulate the time response from ``t = 0`` to ``t_end``.
+
+    Parameters
+    ----------
+    model_or_plant : Model or Plant
+        The system; a Model is turned into a Plant by :func:`vibss.linear.signals.build_plant`.
+    excitations : sequence of Excitation or None
+        Excitations (several on one signal add up). Default: the model's, unless ``inputs`` given.
+    inputs : mapping of str to callable or (ns,) array_like, or None
+        More input signals by name (``'engine.fz'``, ``'ground.z.acc'`` ...): a function ``u(t)``
+        [SI] or samples at ``k dt`` (ns = round(t_end / dt) + 1).
+    outputs : sequence of str or None
+        Output signal names (default: every body DOF's displacement).
+    t_end : float
+        End time [s].
+    dt : float
+        Sample interval [s].
+    record_from : float
+        First recorded time [s] (the simulation still starts at 0).
+    initial : mapping or None
+        Per body ``{"displacement": [6], "velocity": [6]}`` [m, rad, m/s, rad/s] at ``t = 0-``
+        (either key may be left out). Default: the model's bodies' ``initial``. With no
+        excitations and no inputs, the free vibration from these initial conditions is simulated
+        (the result then has no inputs).
+    method : {"auto", "modal", "forced_response", "ivp", "newmark", "central_difference"} or callable
+        See the module docstring and :data:`METHODS`; a callable takes a :class:`SimulationJob`.
+        A :class:`~vibss.errors.VibssWarning` says when the sampling smears a pulse or aliases a
+        sweep for the method chosen, or when an explicit ``solver`` meets a stiff model.
+    rtol, atol : float, float or None
+        Tolerances of ``ivp`` (atol default: 1e-12 of the initial state, or 1e-15).
+    solver : str
+        ``solve_ivp`` method of ``ivp`` (``"Radau"``, ``"DOP853"``, ``"LSODA"``, ...).
+
+    Returns
+    -------
+    TimeResponse
+
+    Raises
+    ------
+    ModelError
+        Bad argument (the message names it), more than :data:`MAX_SAMPLES` samples, or nothing
+        driving the response (no excitation, input or initial condition).
+    AnalysisError
+        A method cannot answer (e.g. solve_ivp failed), or an output needs the second derivative
+        of a displacement input (impulsive: prescribe the motion as an acceleration input).
+    """
+    t_end, dt, record_from = _seconds("t_end", t_end), _seconds("dt", dt), _seconds("record_from", record_from)
+    if not (np.isfinite(dt) and dt > 0):
+        raise ModelError(f"simulate: dt: must be a positive time step [s], got {dt!r}")
+    if not (np.isfinite(t_end) and t_end >= dt):
+        raise ModelError(f"simulate: t_end: must be at least dt = {dt:g} s, got {t_end!r}")
+    if not (0.0 <= record_from <= t_end):
+        raise ModelError(f"simulate: record_from: must lie in [0, t_end = {t_end:g}] s, got {record_from!r}")
+    samples = np.floor(t_end / dt + 1e-9) + 1
+    if samples > MAX_SAMPLES:
+        raise ModelError(f"simulate: t_end / dt: {t_end:g} s every {dt:g} s is {samples:.3g} samples, "
+                         f"more than {MAX_SAMPLES:.0e}; use a larger dt or a shorter t_end")
+    rtol, atol, solver = _tolerances(rtol, atol, solver)
+    ns = int(samples)
+    ts = dt * np.arange(ns)
+    model = model_or_plant if isinstance(model_or_plant, Model) else None
+    hidden = False
+    if excitations is None and model is not None and inputs is None:
+        excitations = model.excitations
+    excitations = list(excitations or [])
+    signals: dict[str, list[tuple[Callable[[np.ndarray], np.ndarray], tuple[float, ...]]]] = {}
+    sources: dict[str, Any] = {}
+    for e in excitations:
+        sig = getattr(e, "signal", None)
+        if sig is None:
+            raise ModelError(f"simulate: excitations: expected Excitation objects, got {e!r}")
+        signals.setdefault(sig, []).append((e.function.value, tuple(e.function.breakpoints)))
+        sources.setdefault(sig, e)
+    for name, value in (inputs or {}).items():
+        signals.setdefault(name, []).append(_as_function(value, ts, name))
+        sources.setdefault(name, name)
+    if isinstance(model_or_plant, Plant):
+        plant = model_or_plant
+        if sp.issparse(plant.K):
+            raise AnalysisError("simulate: the plant has sparse matrices (build_plant(..., sparse=True)); "
+                                "simulate a dense plant, or reduce a large model first (vibss.reduce)")
+        unknown = [s for s in signals if s not in plant.inputs]
+        if unknown:
+            raise ModelError(f"simulate: input(s) {unknown} are not inputs of the plant; its inputs are "
+                             f"{list(plant.inputs)}")
+        if outputs is not None and tuple(outputs) != plant.outputs:
+            plant = _select_outputs(plant, outputs)
+    elif model is not None:
+        if sources:
+            plant = build_plant(model, list(sources.values()), outputs)
+        else:
+            # free vibration from initial conditions: a zero force input, internal and not reported
+            plant = build_plant(model, [f"{model.body_names[0]}.fx"], outputs)
+            hidden = True
+    else:
+        raise ModelError(f"simulate: model_or_plant: expected a Model or a Plant, got {model_or_plant!r}")
+    funcs = []
+    bps: list[float] = []
+    for name in plant.inputs:
+        terms = signals.get(name, [])
+        bps.extend(b for _, bb in terms for b in bb)
+        funcs.append(_sum(terms))
+    q0, v0 = _initial(plant, initial, model)
+    if hidden and not (np.any(q0) or np.any(v0)):
+        raise ModelError("simulate: nothing drives the response: no excitations, no inputs and no "
+                         "nonzero initial conditions (initial={body: {'displacement': [6], "
+                         "'velocity': [6]}})")
+    _check_derivatives(plant)
+    job = SimulationJob(plant=plant, time=ts, funcs=tuple(funcs), breakpoints=np.array(bps, float),
+                        q0=q0, v0=v0, rtol=float(rtol), atol=atol, solver=solver)
+    if callable(method):
+        name, fn = getattr(method, "__name__", "callable"), method
+    elif method == "auto":
+        name, fn = "modal", METHODS["modal"]
+    elif method in METHODS:
+        name, fn = method, METHODS[method]
+    else:
+        raise ModelError(f"simulate: method: unknown {method!r}; expected one of "
+                         f"{['auto', *METHODS]} or a callable")
+    for finding in check_excitations(excitations, dt, inserts_breakpoints=name in ("modal", "ivp")):
+        finding.warn(stacklevel=3)
+    if name == "ivp" and solver in EXPLICIT_RK:
+        check_explicit_rk(plant.M, plant.K, t_end, rtol=rtol, solver=solver, C=plant.C).warn(stacklevel=3)
+    try:
+        y, note = fn(job)
+    except DefectiveModesError as exc:
+        if method != "auto":
+            raise
+        name, (y, note) = "forced_response", METHODS["forced_response"](job)
+        note = f"modal refused ({exc}); forced_response: " + note
+    y = np.asarray(y, float)
+    if y.shape != (ns, len(plant.outputs)):
+        raise AnalysisError(f"simulate: method {name!r} returned shape {y.shape}, expected {(ns, len(plant.outputs))}")
+    if method == "auto":
+        note = (f"auto -> {name}: " + ("exact for piecewise-linear inputs and the fastest; "
+                                       if name == "modal" else "") + note)
+    keep = ts >= record_from - 1e-9 * dt
+    shown = [] if hidden else funcs
+    u = np.array([np.broadcast_to(f(ts[keep]), (int(keep.sum()),)) for f in shown]).reshape(len(shown), int(keep.sum()))
+    if hidden:
+        note = "free vibration from the initial conditions; " + note
+    return TimeResponse(time=ts[keep], outputs=y[keep].T.copy(), output_names=tuple(plant.outputs),
+                        units=tuple(plant.units), inputs=u,
+                        input_names=() if hidden else tuple(plant.inputs),
+                        method=name, note=note, name=plant.name)
+
+
+MAX_SAMPLES = 5e7
+"""Most samples ``t_end / dt + 1`` that :func:`simulate` accepts (each output row is stored)."""
+
+SOLVERS = ("RK23", "RK45", "DOP853", "Radau", "BDF", "LSODA")
+"""``solve_ivp`` methods accepted as ``solver``."""
+
+
+def _seconds(name: str, value: Any) -> float:
+    """A time argument as a float, or a ModelError naming it."""
+    if isinstance(value, (bool, np.bool_)):
+        value = None
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        raise ModelError(f"simulate: {name}: expected a number of seconds, got {value!r}") from None
+
+
+def _tolerances(rtol: Any, atol: Any, solver: Any) -> tuple[float, float | None, str]:
+    """Checked ``rtol`` (> 0), ``atol`` (None or >= 0) and ``solver`` (a solve_ivp method)."""
+    try:
+        r = float(rtol)
+    except (TypeError, ValueError):
+        r = float("nan")
+    if isinstance(rtol, (bool, np.bool_)) or not (np.isfinite(r) and r > 0):
+        raise ModelError(f"simulate: rtol: expected a positive relative tolerance, got {rtol!r}")
+    a: float | None = None
+    if atol is not None:
+        try:
+            a = float(atol)
+        except (TypeError, ValueError):
+            a = float("nan")
+        if isinstance(atol, (bool, np.bool_)) or not (np.isfinite(a) and a >= 0):
+            raise ModelError(f"simulate: atol: expected None or an absolute tolerance >= 0, got {atol!r}")
+    if solver not in SOLVERS:
+        raise ModelError(f"simulate: solver: expected one of {list(SOLVERS)}, got {solver!r}")
+    return r, a, str(solver)
+
+
+def _check_derivatives(plant: Plant) -> None:
+    """Refuse an output that needs the second derivative of a prescribed displacement.
+
+    A piecewise-linear displacement has an impulsive second derivative (a delta at every kink), so
+    such an output (the acceleration of the prescribed DOF itself, or of a body mass-coupled to it)
+    cannot be sampled; its first derivative (piecewise constant) and the second derivative of a
+    velocity input are representable and are kept.
+    """
+    disp = [j for j, k in enumerate(plant.kinds) if k == "displacement"]
+    if not disp:
+        return
+    M = np.asarray(plant.M, float)
+    Mz = np.asarray(plant.Mz, float)[:, disp]
+    Oa = np.asarray(plant.Oa, float)
+    try:
+        G = np.linalg.solve(M, Mz) if plant.n else np.zeros((0, len(disp)))
+    except np.linalg.LinAlgError:
+        return   # the methods refuse a singular mass matrix themselves
+    d2 = np.asarray(plant.Pa, float)[:, disp] - Oa @ G
+    scale = np.abs(np.asarray(plant.Pa, float)[:, disp]) + np.abs(Oa) @ np.abs(G)
+    bad = (np.abs(d2) > 1e-8 * scale) & (scale > 0)
+    if np.any(bad):
+        i, jj = map(int, np.argwhere(bad)[0])
+        u = plant.inputs[disp[jj]]
+        acc = u[:-len(".disp")] + ".acc" if u.endswith(".disp") else "an acceleration input"
+        raise AnalysisError(
+            f"simulate: output {plant.outputs[i]!r} depends on the second derivative of input {u!r} "
+            f"(displacement), which is impulsive for a piecewise-linear displacement (a delta at "
+            f"every kink). Prescribe the same motion as an acceleration input ({acc}), or drop "
+            f"the output")
+
+
+def _sum(terms: list[tuple[Callable[[np.ndarray], np.ndarray], tuple[float, ...]]]) -> Callable[[np.ndarray], np.ndarray]:
+    if not terms:
+        return lambda t: np.zeros(np.shape(t))
+    if len(terms) == 1:
+        return terms[0][0]
+    fns = [f for f, _ in terms]
+    return cast("Callable[[np.ndarray], np.ndarray]", lambda t: sum(np.asarray(f(t), float) for f in fns))
+
+
+def _select_outputs(plant: Plant, outputs: Sequence[str]) -> Plant:
+    idx = []
+    for o in outputs:
+        if o not in plant.outputs:
+            raise ModelError(f"simulate: outputs: {o!r} is not an output of the plant; outputs are "
+                             f"{list(plant.outputs)}")
+        idx.append(plant.outputs.index(o))
+    rows = {k: getattr(plant, k)[idx] for k in ("Oq", "Ov", "Oa", "Pz", "Pv", "Pa", "Pf")}
+    return dataclasses.replace(plant, outputs=tuple(outputs),
+                               units=tuple(plant.units[i] for i in idx), **rows)

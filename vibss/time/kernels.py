@@ -1,0 +1,610 @@
+"""Numerical methods of the time response (:mod:`vibss.time`): input kinematics, modal exact-FOH
+recursion, the z-only state-space realization, and the ``forced_response`` / ``solve_ivp`` paths.
+
+Formulation shared by every method
+----------------------------------
+The plant (:class:`vibss.linear.plant.Plant`) is ``M q'' + C q' + K q = F f - (Kz z + Cz z' + Mz z'')``
+with outputs ``y = Oq q + Ov q' + Oa q'' + Pz z + Pv z' + Pa z'' + Pf f``. The mass coupling to the
+prescribed coordinates is removed by the substitution ``p = q + G z`` with ``G = M^-1 Mz``:
+
+    M p'' + C p' + K p = F f - Kt z - Ct z',   Kt = Kz - K G,  Ct = Cz - C G,
+
+so that no input is ever differentiated twice. The outputs become
+
+    y = Cp p + Cv p' + D0 z + D1 z' + D2 z'' + Df f,
+    Cp = Oq - Oa M^-1 K,  Cv = Ov - Oa M^-1 C,
+    D0 = Pz - Cp G - Oa M^-1 Kz,  D1 = Pv - Cv G - Oa M^-1 Cz,  D2 = Pa - Oa M^-1 Mz,
+    Df = Pf + Oa M^-1 F.
+
+Initial conditions are the state at ``t = 0-``, with every prescribed coordinate at rest at zero;
+an input that is nonzero at ``t = 0`` acts as a jump at ``t = 0``. A jump of a prescribed
+*displacement* through a damper is an impulse (``p'`` jumps by ``-M^-1 Ct dz``); the modal method
+applies it exactly, and in the z-only realization (``xi = p' + M^-1 Ct z``) the state does not jump
+at all. At a sample time where an input jumps or kinks, outputs take the right-hand limit (the
+left-hand limit at the last sample).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any, cast
+
+import control
+import numpy as np
+import scipy.linalg as sl
+from scipy.integrate import solve_ivp
+from threadpoolctl import threadpool_limits
+
+from ..linear.complex_modes import complex_modes
+from ..errors import AnalysisError
+from ..linear.eigen import damping_coupling, generalized_eigh, modal_basis, rigid_mask
+from ..linear.plant import Plant
+from ..linear.statespace import statespace
+
+__all__ = ["Prepared", "Grid", "Kinematics", "prepare", "make_grid", "nudge", "kinematics",
+           "run_modal", "run_forced_response", "run_ivp", "realization"]
+
+DEGREE = {"force": 1, "displacement": 1, "velocity": 2, "acceleration": 3}
+"""Polynomial degree (per interval) of the prescribed coordinate (or force) for a PWL input."""
+
+BLOCK = 512
+"""Time steps per block of the modal recursion (states of one block are kept, then mapped)."""
+
+
+@dataclass(frozen=True, eq=False)
+class Prepared:
+    """Plant after the substitution ``p = q + G z`` (see the module docstring); SI, n DOFs, m inputs."""
+
+    plant: Plant
+    G: np.ndarray     # (n, m)
+    Kt: np.ndarray    # (n, m)
+    Ct: np.ndarray    # (n, m)
+    Cp: np.ndarray    # (p, n)
+    Cv: np.ndarray    # (p, n)
+    D0: np.ndarray    # (p, m) per z
+    D1: np.ndarray    # (p, m) per z'
+    D2: np.ndarray    # (p, m) per z''
+    Df: np.ndarray    # (p, m) per f
+    force: np.ndarray  # (m,) bool
+    kinds: tuple[str, ...]
+
+
+def prepare(plant: Plant) -> Prepared:
+    """Substituted matrices of ``plant`` (see the module docstring)."""
+    M = np.asarray(plant.M, float)
+    cho = sl.cho_factor(M)
+    inv = lambda X: sl.cho_solve(cho, np.asarray(X, float))  # noqa: E731
+    motion = np.array([k != "force" for k in plant.kinds])
+    G = inv(plant.Mz) * motion
+    K, C = np.asarray(plant.K, float), np.asarray(plant.C, float)
+    Kt = plant.Kz - K @ G
+    Ct = plant.Cz - C @ G
+    Oa = np.asarray(plant.Oa, float)
+    has_oa = bool(np.any(Oa))
+    OaMi = inv(Oa.T).T if has_oa else np.zeros_like(Oa)
+    Cp = plant.Oq - OaMi @ K
+    Cv = plant.Ov - OaMi @ C
+    return Prepared(
+        plant=plant, G=G, Kt=Kt, Ct=Ct, Cp=Cp, Cv=Cv,
+        D0=plant.Pz - Cp @ G - OaMi @ plant.Kz,
+        D1=plant.Pv - Cv @ G - OaMi @ plant.Cz,
+        D2=plant.Pa - OaMi @ plant.Mz,
+        Df=plant.Pf + OaMi @ plant.F,
+        force=~motion, kinds=tuple(plant.kinds))
+
+
+@dataclass(frozen=True, eq=False)
+class Grid:
+    """Simulation grid: the sample grid ``k dt`` merged with the inputs' breakpoints.
+
+    Attributes
+    ----------
+    t : (ng,) ndarray
+        Grid times [s], from 0 to the last sample.
+    h : (ng - 1,) ndarray
+        Step lengths [s].
+    hkey : (ng - 1,) int ndarray
+        Index of each step into ``steps`` (the distinct step lengths).
+    steps : (nh,) ndarray
+        Distinct step lengths [s].
+    samples : (ns,) int ndarray
+        Grid index of every sample ``k dt``.
+    """
+
+    t: np.ndarray
+    h: np.ndarray
+    hkey: np.ndarray
+    steps: np.ndarray
+    samples: np.ndarray
+
+
+def nudge(t: np.ndarray, dt: float) -> np.ndarray:
+    """(len(t),) offsets [s] at which inputs are evaluated for their right/left limits at ``t``.
+
+    A few ulps are not enough: a function's own rounding (e.g. ``(t - start) / duration < 1``)
+    can put its edge a few ulps away from its breakpoint; 1e-10 dt is far below any step.
+    """
+    return np.maximum(1e-10 * dt, 64 * np.spacing(np.abs(np.asarray(t, float)) + dt))
+
+
+def make_grid(n_samples: int, dt: float, breakpoints: np.ndarray) -> Grid:
+    """Grid of ``n_samples`` samples ``k dt`` plus the breakpoints strictly inside [s]."""
+    ts = dt * np.arange(n_samples)
+    t_last = ts[-1]
+    bp = np.unique(np.asarray(breakpoints, float))
+    bp = bp[(bp > 0) & (bp < t_last)]
+    if bp.size:
+        k = np.rint(bp / dt)
+        bp = bp[np.abs(bp - k * dt) > 1e-9 * dt]  # on a sample already
+    t = np.union1d(ts, bp)
+    samples = np.searchsorted(t, ts)
+    h = np.diff(t)
+    # full sample steps are exactly dt; split steps are grouped to 1e-9 dt
+    rel = np.rint(h / dt * 1e12).astype(np.int64)
+    keys, hkey = np.unique(rel, return_inverse=True)
+    steps = keys * (dt / 1e12)
+    steps[keys == 10**12] = dt
+    return Grid(t=t, h=h, hkey=hkey.reshape(-1), steps=steps, samples=samples)
+
+
+@dataclass(frozen=True, eq=False)
+class Kinematics:
+    """Piecewise-polynomial input kinematics on a grid.
+
+    Attributes
+    ----------
+    coef : (ng - 1, 4, m) ndarray
+        Taylor coefficients of the prescribed coordinate ``z`` (or of the force ``f``) at the start
+        of each interval: ``z(t_i + tau) = sum_k coef[i, k] tau^k / k!``.
+    jump : (ng - 1, m) ndarray
+        Jump of a displacement input at the start of each interval (impulse through ``Ct``).
+    z, z1, z2, f : (ng, m) ndarray
+        z, z', z'' of motion inputs and f of force inputs at the grid points (right-hand limits;
+        left-hand at the last point).
+    u : (ng, m) ndarray
+        The input signals themselves at the grid points (same convention).
+    """
+
+    coef: np.ndarray
+    jump: np.ndarray
+    z: np.ndarray
+    z1: np.ndarray
+    z2: np.ndarray
+    f: np.ndarray
+    u: np.ndarray
+
+
+def kinematics(grid: Grid, u_right: np.ndarray, u_left: np.ndarray, kinds: tuple[str, ...]) -> Kinematics:
+    """Exact kinematics of piecewise-linear inputs.
+
+    Parameters
+    ----------
+    grid : Grid
+    u_right, u_left : (ng, m) ndarray
+        Right- and left-hand values of each input at the grid points (``u_left[0]`` is ignored:
+        inputs are zero before ``t = 0``).
+    kinds : tuple of str
+        Input kind per column.
+    """
+    h = grid.h[:, None]
+    ng, m = u_right.shape
+    us, ue = u_right[:-1], u_left[1:]
+    s = (ue - us) / h
+    left = u_left.copy()
+    left[0] = 0.0
+    coef = np.zeros((ng - 1, 4, m))
+    jump = np.zeros((ng - 1, m))
+    z = np.zeros((ng, m))
+    z1 = np.zeros((ng, m))
+    z2 = np.zeros((ng, m))
+    f = np.zeros((ng, m))
+    # values at grid points: right limits, left at the last point
+    ur = u_right.copy()
+    ur[-1] = u_left[-1]
+    sr = np.vstack([s, s[-1:]])
+    for j, kind in enumerate(kinds):
+        if kind in ("force", "displacement"):
+            coef[:, 0, j], coef[:, 1, j] = us[:, j], s[:, j]
+            if kind == "force":
+                f[:, j] = ur[:, j]
+            else:
+                jump[:, j] = (u_right[:-1, j] - left[:-1, j])
+                z[:, j], z1[:, j] = ur[:, j], sr[:, j]
+        elif kind == "velocity":
+            Z = np.concatenate([[0.0], np.cumsum(h[:, 0] * (us[:, j] + ue[:, j]) / 2)])
+            coef[:, 0, j], coef[:, 1, j], coef[:, 2, j] = Z[:-1], us[:, j], s[:, j]
+            z[:, j], z1[:, j], z2[:, j] = Z, ur[:, j], sr[:, j]
+        else:  # acceleration
+            hh = h[:, 0]
+            V = np.concatenate([[0.0], np.cumsum(hh * (us[:, j] + ue[:, j]) / 2)])
+            Z = np.concatenate([[0.0], np.cumsum(hh * V[:-1] + hh**2 * (2 * us[:, j] + ue[:, j]) / 6)])
+            coef[:, :, j] = np.column_stack([Z[:-1], V[:-1], us[:, j], s[:, j]])
+            z[:, j], z1[:, j], z2[:, j] = Z, V, ur[:, j]
+    return Kinematics(coef=coef, jump=jump, z=z, z1=z1, z2=z2, f=f, u=ur)
+
+
+def direct_terms(prep: Prepared, kin: Kinematics, rows: np.ndarray) -> np.ndarray:
+    """(ns, p) output terms of the inputs themselves at grid points ``rows``."""
+    return (kin.z[rows] @ prep.D0.T + kin.z1[rows] @ prep.D1.T + kin.z2[rows] @ prep.D2.T
+            + kin.f[rows] @ prep.Df.T)
+
+
+# --------------------------------------------------------------------------------------------
+# modal method
+# --------------------------------------------------------------------------------------------
+
+def _foh_blocks(A: np.ndarray, steps: np.ndarray, degree: int) -> tuple[np.ndarray, np.ndarray]:
+    """Exact discretisation of ``x' = A x + b g(tau)`` for polynomial ``g`` of ``degree``.
+
+    Parameters
+    ----------
+    A : (nb, b, b) ndarray
+        Per-mode blocks (b = 1 complex, or 2 real with forcing into the second row).
+    steps : (nh,) ndarray
+        Step lengths [s].
+    degree : int
+
+    Returns
+    -------
+    E : (nh, nb, b, b) ndarray
+        Transition matrices ``expm(A h)``.
+    gamma : (nh, degree + 1, nb, b) ndarray
+        ``gamma[:, k]`` = response at ``h`` to the forcing ``tau^k / k!`` (zero initial state).
+    """
+    nb, b, _ = A.shape
+    size = b + degree + 1
+    E = np.empty((len(steps), nb, b, b), dtype=A.dtype)
+    gam = np.empty((len(steps), degree + 1, nb, b), dtype=A.dtype)
+    for i, h in enumerate(steps):
+        aug = np.zeros((nb, size, size), dtype=A.dtype)
+        aug[:, :b, :b] = A * h
+        aug[:, b - 1, b] = 1.0
+        for k in range(degree):
+            aug[:, b + k, b + k + 1] = 1.0
+        ex = sl.expm(aug)
+        E[i] = ex[:, :b, :b]
+        for k in range(degree + 1):
+            gam[i, k] = ex[:, :b, b + k] * h ** (k + 1)
+    return E, gam
+
+
+@dataclass(frozen=True, eq=False)
+class _ModalSet:
+    """A set of decoupled modal blocks with their input and output maps."""
+
+    A: np.ndarray       # (nb, b, b)
+    P: np.ndarray       # (nb, n) modal forcing per generalized force (into the last row)
+    x0: np.ndarray      # (nb, b) initial state
+    Y: np.ndarray       # (p, nb, b) output per state component (conjugate pairs weighted 2)
+
+
+def _modal_sets(prep: Prepared, q0: np.ndarray, v0: np.ndarray) -> tuple[list[_ModalSet], str]:
+    plant = prep.plant
+    M, K, C = (np.asarray(a, float) for a in (plant.M, plant.K, plant.C))
+    w2, phi = generalized_eigh(K, M)
+    rigid = rigid_mask(w2, phi, np.diag(K))
+    w2 = np.where(rigid, 0.0, np.maximum(w2, 0.0))
+    if rigid.any():
+        # rotate the rigid subspace so that its damping block is diagonal: undamped combinations of
+        # rigid modes then decouple as exact double integrators instead of 2x2 Jordan blocks at 0
+        rid = np.flatnonzero(rigid)
+        g = phi[:, rid].T @ C @ phi[:, rid]
+        _, q = np.linalg.eigh(0.5 * (g + g.T))
+        phi = phi.copy()
+        phi[:, rid] = phi[:, rid] @ q
+    w = np.sqrt(w2)
+    chat = phi.T @ C @ phi
+    coupled = (damping_coupling(0.5 * (chat + chat.T)) > 0).any(axis=1)
+    eta0, deta0 = phi.T @ (M @ q0), phi.T @ (M @ v0)
+    s = np.where(w > 0, w, 1.0)
+    Ceta, Cdeta = prep.Cp @ phi, prep.Cv @ phi
+    sets = []
+    d = ~coupled
+    if d.any():
+        nd = int(d.sum())
+        A = np.zeros((nd, 2, 2))
+        A[:, 0, 1] = s[d]
+        A[:, 1, 0] = -w2[d] / s[d]
+        A[:, 1, 1] = -np.diag(chat)[d]
+        Y = np.stack([Ceta[:, d] / s[d], Cdeta[:, d]], axis=-1)
+        sets.append(_ModalSet(A=A, P=phi[:, d].T, x0=np.column_stack([s[d] * eta0[d], deta0[d]]),
+                              Y=Y))
+    how = "classical damping: real modes from eigh(K, M)"
+    if coupled.any():
+        e = coupled
+        ne = int(e.sum())
+        se = s[e]
+        cm = complex_modes(se, np.arange(ne), w2[e], chat[np.ix_(e, e)])
+        lam, V = cm.lam, cm.vectors
+        keep = lam.imag >= 0
+        sol = np.column_stack([cm.solve(np.concatenate([se * eta0[e], deta0[e]])[:, None]),
+                               cm.velocity_rows()])
+        Vk = V[:, keep]
+        Yw = Ceta[:, e] @ (Vk[:ne] / se[:, None]) + Cdeta[:, e] @ Vk[ne:]
+        weight = np.where(lam[keep].imag > 0, 2.0, 1.0)
+        sets.append(_ModalSet(A=lam[keep].reshape(-1, 1, 1), P=(sol[keep, 1:] @ phi[:, e].T),
+                              x0=sol[keep, :1], Y=Yw[:, :, None] * weight[None, :, None]))
+        how = (f"non-proportional damping: {ne} coupled modes as complex modes (eig of the scaled "
+               f"modal first-order form), {len(w) - ne} decoupled real modes")
+    return sets, how
+
+
+def run_modal(prep: Prepared, grid: Grid, kin: Kinematics, rows: np.ndarray,
+              q0: np.ndarray, v0: np.ndarray) -> tuple[np.ndarray, str]:
+    """Exact modal first-order-hold simulation.
+
+    Returns
+    -------
+    y : (len(rows), p) ndarray
+        Outputs at grid points ``rows`` (sorted).
+    how : str
+        What was done (for the result's record).
+    """
+    plant = prep.plant
+    degree = max([DEGREE[k] for k in prep.kinds] + [1])
+    sets, how = _modal_sets(prep, q0, v0)
+    # generalized forcing per input "channel": [F (force), -Kt (z), -Ct (z')]
+    Wg = np.hstack([plant.F * prep.force, -prep.Kt, -prep.Ct])  # (n, 3m)
+    m = len(prep.kinds)
+    ni = len(grid.h)
+    coef = kin.coef
+    y = np.zeros((len(rows), len(plant.outputs)))
+    want = np.zeros(len(grid.t), bool)
+    want[rows] = True
+    out_pos = np.cumsum(want) - 1
+    # channel values per Taylor order k: [f_k, z_k, z_{k+1}] (zero-padded), one row per interval
+    pad = np.concatenate([coef, np.zeros((ni, 1, m))], axis=1)
+    V = np.concatenate([np.concatenate([pad[:, k], pad[:, k], pad[:, k + 1]], axis=1)
+                        for k in range(degree + 1)], axis=1)           # (ni, (degree+1) 3m)
+    J = np.concatenate([np.zeros((ni, 2 * m)), kin.jump], axis=1)       # (ni, 3m)
+    jumps = np.flatnonzero(np.any(kin.jump != 0, axis=1))
+    with threadpool_limits(1):
+        for ms in sets:
+            E, gam = _foh_blocks(ms.A, grid.steps, degree)
+            nb, b = ms.A.shape[0], ms.A.shape[1]
+            PW = ms.P @ Wg  # (nb, 3m)
+            active = np.flatnonzero(np.any(PW != 0, axis=0))
+            Va = V.reshape(ni, degree + 1, 3 * m)[:, :, active].reshape(ni, -1)
+            # per step length: drive = Va[i] @ fold[h]  (the FOH coefficients folded into the map)
+            fold = np.einsum("mc,hkmb->hkcmb", PW[:, active], gam).reshape(len(grid.steps), -1, nb * b)
+            jfold = np.einsum("mc,hmb->hcmb", PW, E[:, :, :, b - 1]).reshape(len(grid.steps), 3 * m, nb * b)
+            x = ms.x0.copy()
+            if want[0]:
+                y[0] += np.real(np.einsum("pnb,nb->p", ms.Y, x))
+            Yflat = ms.Y.reshape(ms.Y.shape[0], -1)
+            for start in range(0, ni, BLOCK):
+                stop = min(start + BLOCK, ni)
+                hk = grid.hkey[start:stop]
+                keys = np.unique(hk)
+                if len(keys) == 1:
+                    drive = Va[start:stop] @ fold[keys[0]]
+                else:
+                    drive = np.empty((stop - start, nb * b), dtype=fold.dtype)
+                    for key in keys:
+                        idx = np.flatnonzero(hk == key)
+                        drive[idx] = Va[start + idx] @ fold[key]
+                for i in jumps[(jumps >= start) & (jumps < stop)]:
+                    drive[i - start] += J[i] @ jfold[grid.hkey[i]]
+                X = _recur(E, hk, x, drive.reshape(stop - start, nb, b))
+                x = X[-1]
+                sel = want[start + 1:stop + 1]
+                if sel.any():
+                    Xs = X[sel].reshape(int(sel.sum()), -1)
+                    y[out_pos[start + 1:stop + 1][sel]] += np.real(Xs @ Yflat.T)
+    y += direct_terms(prep, kin, rows)
+    return y, how
+
+
+def _recur(E: np.ndarray, hk: np.ndarray, x: np.ndarray, drive: np.ndarray) -> np.ndarray:
+    """States after each step of ``x <- E[hk[i]] x + drive[i]`` (vectorised over modes)."""
+    L = len(hk)
+    X = np.empty((L,) + x.shape, dtype=drive.dtype)
+    b = x.shape[1]
+    if b == 1:
+        e = E[:, :, 0, 0]
+        xs = x[:, 0].copy()
+        for i in range(L):
+            xs = e[hk[i]] * xs + drive[i, :, 0]
+            X[i, :, 0] = xs
+        return X
+    e00, e01, e10, e11 = (E[:, :, i, j] for i in (0, 1) for j in (0, 1))
+    x0, x1 = x[:, 0].copy(), x[:, 1].copy()
+    for i in range(L):
+        k = hk[i]
+        x0, x1 = e00[k] * x0 + e01[k] * x1 + drive[i, :, 0], e10[k] * x0 + e11[k] * x1 + drive[i, :, 1]
+        X[i, :, 0] = x0
+        X[i, :, 1] = x1
+    return X
+
+
+# --------------------------------------------------------------------------------------------
+# z-only realization: forced_response and solve_ivp
+# --------------------------------------------------------------------------------------------
+
+@dataclass(frozen=True, eq=False)
+class Realization:
+    """First-order form ``x' = A x + B u``, ``y = C x + D u + D1p z' + D2p z''`` (see :func:`realization`).
+
+    ``x = [p; xi; z_vel; z_acc; v_acc]`` with ``xi = p' + M^-1 Ct z``. ``post1`` / ``post2`` (p, m)
+    multiply the z' of displacement inputs and the z'' of velocity inputs, which the realization
+    does not carry (they are evaluated from the input directly).
+    """
+
+    A: np.ndarray
+    B: np.ndarray
+    C: np.ndarray
+    D: np.ndarray
+    post1: np.ndarray
+    post2: np.ndarray
+    states: tuple[str, ...]
+
+
+def realization(prep: Prepared) -> Realization:
+    """The exact z-only realization of the substituted plant (no differentiated inputs)."""
+    plant = prep.plant
+    n, m = plant.F.shape
+    kinds = prep.kinds
+    iv = [j for j, k in enumerate(kinds) if k == "velocity"]
+    ia = [j for j, k in enumerate(kinds) if k == "acceleration"]
+    nv, na = len(iv), len(ia)
+    ns = 2 * n + nv + 2 * na
+    # z = Zx x + Zu u ; z' = Z1x x + Z1u u (for velocity/acceleration kinds)
+    Zx, Zu = np.zeros((m, ns)), np.zeros((m, m))
+    Z1x, Z1u = np.zeros((m, ns)), np.zeros((m, m))
+    for j, k in enumerate(kinds):
+        if k == "displacement":
+            Zu[j, j] = 1.0
+        elif k == "velocity":
+            Zx[j, 2 * n + iv.index(j)] = 1.0
+            Z1u[j, j] = 1.0
+        elif k == "acceleration":
+            a = ia.index(j)
+            Zx[j, 2 * n + nv + a] = 1.0
+            Z1x[j, 2 * n + nv + na + a] = 1.0
+    M = np.asarray(plant.M, float)
+    cho = sl.cho_factor(M)
+    MiK = sl.cho_solve(cho, plant.K)
+    MiC = sl.cho_solve(cho, plant.C)
+    MiCt = sl.cho_solve(cho, prep.Ct)
+    MiF = sl.cho_solve(cho, plant.F * prep.force)
+    MiKt = sl.cho_solve(cho, prep.Kt)
+    A = np.zeros((ns, ns))
+    B = np.zeros((ns, m))
+    P, X = slice(0, n), slice(n, 2 * n)
+    # p' = xi - M^-1 Ct z
+    A[P, X] = np.eye(n)
+    A[P] -= MiCt @ Zx
+    B[P] -= MiCt @ Zu
+    # xi' = -M^-1 K p - M^-1 C (xi - M^-1 Ct z) + M^-1 F f - M^-1 Kt z
+    A[X, P] = -MiK
+    A[X, X] = -MiC
+    zc = MiC @ MiCt - MiKt
+    A[X] += zc @ Zx
+    B[X] += zc @ Zu + MiF
+    for a, j in enumerate(iv):
+        B[2 * n + a, j] = 1.0
+    for a, j in enumerate(ia):
+        A[2 * n + nv + a, 2 * n + nv + na + a] = 1.0
+        B[2 * n + nv + na + a, j] = 1.0
+    # y = Cp p + Cv (xi - M^-1 Ct z) + D0 z + D1 z' + D2 z'' + Df f
+    C = np.zeros((len(plant.outputs), ns))
+    C[:, P] = prep.Cp
+    C[:, X] = prep.Cv
+    zy = prep.D0 - prep.Cv @ MiCt
+    C += zy @ Zx + prep.D1 @ Z1x
+    D = zy @ Zu + prep.D1 @ Z1u + prep.Df * prep.force
+    disp = np.array([k == "displacement" for k in kinds])
+    acc = np.array([k == "acceleration" for k in kinds])
+    vel = np.array([k == "velocity" for k in kinds])
+    D += prep.D2 * acc
+    post1 = prep.D1 * disp
+    post2 = prep.D2 * vel
+    states = (tuple(f"{d}.p" for d in plant.dofs) + tuple(f"{d}.xi" for d in plant.dofs)
+              + tuple(f"{plant.inputs[j]}.z" for j in iv) + tuple(f"{plant.inputs[j]}.z" for j in ia)
+              + tuple(f"{plant.inputs[j]}.v" for j in ia))
+    return Realization(A=A, B=B, C=C, D=D, post1=post1, post2=post2, states=states)
+
+
+def run_forced_response(prep: Prepared, t: np.ndarray, u: np.ndarray, kin: Kinematics,
+                        q0: np.ndarray, v0: np.ndarray) -> tuple[np.ndarray, str]:
+    """python-control ``forced_response`` on the uniform grid ``t`` [s]; (ns, p) outputs and a note.
+
+    The system is :func:`vibss.linear.statespace.statespace` (modal realization) of the plant. Where that
+    refuses an output that needs an input's derivative, the local z-only realization is used and
+    the derivative term is added from the inputs' piecewise-linear slopes.
+    """
+    plant = prep.plant
+    n = plant.n
+    try:
+        sys = statespace(plant)
+    except AnalysisError as exc:
+        r = realization(prep)
+        sys = control.ss(r.A, r.B, r.C, r.D)
+        x0 = np.zeros(r.A.shape[0])
+        x0[:n], x0[n:2 * n] = q0, v0
+        post = kin.z1 @ r.post1.T + kin.z2 @ r.post2.T
+        note = f"python-control forced_response of the local z-only realization ({exc})"
+    else:
+        mb = modal_basis(plant)
+        M = np.asarray(plant.M, float)
+        x0 = np.zeros(sys.nstates)
+        x0[:n] = mb.scale * (mb.phi.T @ (M @ q0))
+        x0[n:2 * n] = mb.phi.T @ (M @ v0)
+        post = 0.0
+        note = "python-control forced_response of vibss.statespace (modal realization), FOH of the samples"
+    with threadpool_limits(1):
+        res = control.forced_response(sys, timepts=t, inputs=u.T, initial_state=x0)
+    y = np.asarray(res.outputs).reshape(len(plant.outputs), -1).T
+    return y + post, note
+
+
+def run_ivp(prep: Prepared, funcs: list[Callable[[np.ndarray], np.ndarray]], edges: np.ndarray,
+            ts: np.ndarray, q0: np.ndarray, v0: np.ndarray, *, rtol: float, atol: float | None,
+            solver: str) -> tuple[np.ndarray, str]:
+    """``scipy.integrate.solve_ivp`` piece by piece between ``edges`` [s].
+
+    Parameters
+    ----------
+    funcs : list of callable
+        The input signals ``u_j(t)`` (vectorised).
+    edges : (k,) ndarray
+        Breakpoints inside the run; the integration restarts on each.
+    ts : (ns,) ndarray
+        Sample times [s] (0 .. t_end).
+    """
+    r = realization(prep)
+    plant = prep.plant
+    n = plant.n
+    ns = r.A.shape[0]
+    dt = ts[1] - ts[0]
+    x = np.zeros(ns)
+    x[:n], x[n:2 * n] = q0, v0
+    scale = max(np.abs(x).max(), 1e-300)
+    atol_ = atol if atol is not None else 1e-12 * scale if np.any(x) else 1e-15
+
+    u_of_t = cast("list[Callable[[float | np.ndarray], np.ndarray]]", funcs)  # u(t) takes a scalar t too
+
+    def inputs(t: float | np.ndarray) -> np.ndarray:
+        return np.array([np.asarray(fn(t), float) for fn in u_of_t])
+
+    cuts = np.concatenate([[0.0], np.sort(edges[(edges > 0) & (edges < ts[-1])]), [ts[-1]]])
+    X = np.zeros((len(ts), ns))
+    X[0] = x
+    A, B = r.A, r.B
+    nfev = 0
+    for a, b in zip(cuts[:-1], cuts[1:]):
+        lo, hi = a + nudge(a, dt), b - nudge(b, dt)
+
+        def rhs(t: float, x: np.ndarray, lo: float = lo, hi: float = hi) -> np.ndarray:
+            return A @ x + B @ inputs(min(max(t, lo), hi))
+
+        inside = np.flatnonzero((ts > a) & (ts <= b))
+        t_eval = ts[inside] if inside.size and ts[inside[-1]] == b else np.append(ts[inside], b)
+        sol = solve_ivp(rhs, (a, b), x, method=solver, t_eval=t_eval, rtol=rtol, atol=atol_,
+                        **({"jac": (lambda t, x: A)} if solver in ("Radau", "BDF", "LSODA") else {}))
+        if not sol.success:
+            raise AnalysisError(f"solve_ivp ({solver}) failed on [{a:g}, {b:g}] s: {sol.message}")
+        nfev += sol.nfev
+        X[inside] = sol.y.T[:inside.size]
+        x = sol.y[:, -1]
+    # inputs and their one-sided derivatives at the samples (right limits, left at the end)
+    tr = ts + nudge(ts, dt)
+    tr[-1] = ts[-1] - nudge(ts[-1], dt)
+    U = inputs(tr).T
+    y = X @ r.C.T + U @ r.D.T
+    if np.any(r.post1) or np.any(r.post2):
+        dU = _derivative(inputs, tr, ts)
+        y += dU @ (r.post1 + r.post2).T
+    return y, f"scipy solve_ivp ({solver}, rtol={rtol:g}, atol={atol_:g}), {len(cuts) - 1} pieces, {nfev} evaluations"
+
+
+def _derivative(inputs: Callable[[Any], np.ndarray], tr: np.ndarray, ts: np.ndarray) -> np.ndarray:
+    """(ns, m) one-sided second-order finite-difference derivative of the inputs."""
+    span = max(ts[-1], 1e-300)
+    d = 1e-6 * span
+    sign = np.where(np.arange(len(tr)) == len(tr) - 1, -1.0, 1.0)
+    u0 = inputs(tr).T
+    u1 = inputs(tr + sign * d).T
+    u2 = inputs(tr + 2 * sign * d).T
+    return (-3 * u0 + 4 * u1 - u2) / (2 * d) * sign[:, None]

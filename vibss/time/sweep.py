@@ -1,0 +1,166 @@
+"""Finite-rate sine sweeps: the simulated response envelope against the steady-state FRF.
+
+A sweep with ``sweep_time > 0`` passes each resonance in finite time, so the response peak is
+lower, later (shifted in the sweep direction) and followed by beating. :func:`sweep_envelope`
+simulates the sweep (:func:`vibss.time.simulate`), takes the envelope of every output (magnitude of
+the analytic signal, :func:`scipy.signal.hilbert`) against the instantaneous frequency, and sets it
+beside the steady-state amplitude ``|H(f)| a(f)`` from a direct solve of
+``(K - w^2 M + i w C) X = RHS``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from scipy.signal import hilbert
+
+from ..errors import ModelError
+from ..frequency.kernels import zero_frequency_limit
+from ..model.model import Model
+from ..linear.signals import build_plant
+from .api import TimeResponse, simulate
+
+__all__ = ["SweepEnvelope", "sweep_envelope"]
+
+
+@dataclass(frozen=True, eq=False)
+class SweepEnvelope:
+    """Envelope of a finite-rate sweep response beside the steady-state amplitude.
+
+    Attributes
+    ----------
+    frequency_hz : (k,) ndarray
+        Instantaneous sweep frequency [Hz] at the envelope samples.
+    envelope : (p, k) ndarray
+        Response envelope (SI unit of each output).
+    steady : (p, k) ndarray
+        Steady-state amplitude at the same frequency and excitation amplitude.
+    outputs : tuple of str
+        Output names.
+    units : tuple of str
+        Their SI units.
+    response : TimeResponse
+        The simulated sweep.
+    """
+
+    frequency_hz: np.ndarray
+    envelope: np.ndarray
+    steady: np.ndarray
+    outputs: tuple[str, ...]
+    units: tuple[str, ...]
+    response: TimeResponse
+
+    def peak_ratio(self) -> np.ndarray:
+        """(p,) largest envelope over largest steady-state amplitude (< 1 for a fast sweep)."""
+        return self.envelope.max(axis=1) / self.steady.max(axis=1)
+
+    def plot(self, outputs: Any = None) -> Any:
+        """Envelope and steady-state amplitude against frequency, one axes per output."""
+        import matplotlib.pyplot as plt
+
+        names = list(outputs) if outputs is not None else list(self.outputs)
+        fig, axes = plt.subplots(len(names), 1, sharex=True, squeeze=False,
+                                 figsize=(8, 1.5 + 2.0 * len(names)))
+        for ax, n in zip(axes[:, 0], names):
+            i = self.outputs.index(n)
+            ax.plot(self.frequency_hz, self.steady[i], "k--", lw=1, label="steady state")
+            ax.plot(self.frequency_hz, self.envelope[i], lw=1.2, label="sweep envelope")
+            ax.set_ylabel(f"{n} [{self.units[i]}]", fontsize=8)
+            ax.grid(True, alpha=0.3)
+            ax.legend(fontsize=7)
+        axes[-1, 0].set_xlabel("instantaneous frequency [Hz]")
+        fig.tight_layout()
+        return fig
+
+
+def sweep_envelope(model: Model, excitation: Any, *, outputs: Any = None, dt: float | None = None,
+                   points: int = 400, method: str = "auto") -> SweepEnvelope:
+    """Simulate a finite-rate sine sweep and compare its envelope with the steady state.
+
+    Parameters
+    ----------
+    model : Model
+        The system.
+    excitation : Excitation
+        An excitation whose function is a ``SineSweep`` with ``sweep_time > 0``.
+    outputs : sequence of str or None
+        Output signals (default: every body DOF's displacement).
+    dt : float or None
+        Sample interval [s]; default 1/40 of the period at the highest sweep frequency.
+    points : int
+        Number of envelope samples returned.
+    method : str
+        Simulation method (see :func:`vibss.time.simulate`).
+
+    Returns
+    -------
+    SweepEnvelope
+    """
+    fn = excitation.function
+    if not hasattr(fn, "frequency_at") or getattr(fn, "sweep_time", 0.0) <= 0:
+        raise ModelError("sweep_envelope: excitation: expected a sine_sweep function with sweep_time > 0, "
+                         f"got {fn!r}")
+    t_end = fn.start + fn.sweep_time
+    dt = dt or 1.0 / (40.0 * max(fn.f1, fn.f2))
+    resp = simulate(model, [excitation], outputs=outputs, t_end=t_end, dt=dt, method=method)
+    env = np.abs(hilbert(resp.outputs - resp.outputs.mean(axis=1, keepdims=True), axis=1))
+    inside = resp.time >= fn.start
+    pick = np.flatnonzero(inside)[np.linspace(0, inside.sum() - 1, points).astype(int)]
+    f = np.asarray(fn.frequency_at(resp.time[pick]), float)
+    plant = build_plant(model, [excitation], list(resp.output_names))
+    steady = np.abs(_frf(plant, 2 * np.pi * f)) * np.abs(np.asarray(fn.amplitude_at(f), float))
+    return SweepEnvelope(frequency_hz=f, envelope=env[:, pick], steady=steady,
+                         outputs=resp.output_names, units=resp.units, response=resp)
+
+
+def _frf(plant: Any, w: np.ndarray) -> np.ndarray:
+    """(p, k) response per unit input of the plant's single input, by a direct solve.
+
+    At ``w = 0`` the value is the exact limit ``w -> 0+`` (:func:`vibss.frequency.kernels.zero_frequency_limit`:
+    finite, e.g. a static deflection, or ``inf``, e.g. a displacement under a constant
+    acceleration). Where the dynamic matrix is exactly singular (an undamped resonance on the
+    grid), an output the resonant mode drives is ``inf`` and one it does not drive keeps its
+    finite value.
+    """
+    # the time domain has no hysteretic damping: neither has its steady state
+    plant = dataclasses.replace(plant, H=np.zeros_like(plant.H), Hz=np.zeros_like(plant.Hz),
+                                Oh=None, Ph=None)
+    out = np.empty((len(plant.outputs), len(w)), complex)
+    for i, wi in enumerate(np.asarray(w, float)):
+        if wi == 0.0:
+            out[:, i] = zero_frequency_limit(plant)[:, 0]
+            continue
+        try:
+            out[:, i] = _solve(plant, 1j * wi)
+        except np.linalg.LinAlgError:
+            out[:, i] = _at_pole(plant, wi)
+    return out
+
+
+def _solve(plant: Any, s: complex) -> np.ndarray:
+    """(p,) response at ``s != 0``; LinAlgError where ``K + s C + s^2 M`` is singular."""
+    order = int(plant.order[0])
+    z = 1.0 / s**order if order >= 0 else 0.0
+    f = plant.F[:, 0] if order < 0 else 0.0
+    rhs = f - (plant.Kz[:, 0] + s * plant.Cz[:, 0] + s**2 * plant.Mz[:, 0]) * z
+    X = np.linalg.solve(plant.K + s * plant.C + s**2 * plant.M, rhs)
+    return ((plant.Oq + s * plant.Ov + s**2 * plant.Oa) @ X
+            + (plant.Pz[:, 0] + s * plant.Pv[:, 0] + s**2 * plant.Pa[:, 0]) * z
+            + (plant.Pf[:, 0] if order < 0 else 0.0))
+
+
+def _at_pole(plant: Any, w: float, delta: float = 1e-7) -> np.ndarray:
+    """(p,) response at an exactly singular ``w`` (an undamped resonance).
+
+    Solved at ``w (1 +- delta)``: the pole's part changes sign across it, the regular part does
+    not, so half the difference is the pole's part and half the sum the regular value. An output
+    whose pole part dominates (the mode drives it) is ``inf``.
+    """
+    a, b = _solve(plant, 1j * w * (1 + delta)), _solve(plant, 1j * w * (1 - delta))
+    pole, regular = np.abs(a - b) / 2, (a + b) / 2
+    big = max(float(np.abs(regular).max()), float(pole.max()), 1e-300)
+    driven = (pole > 1e3 * np.abs(regular)) & (pole > 1e-6 * big)
+    return np.where(driven, complex(np.inf, 0.0), regular)
