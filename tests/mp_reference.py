@@ -1,0 +1,110 @@
+"""Extended-precision (mpmath, 60 digits) reference answers for small models.
+
+Assembles M, K, C from the model's fields with a loop per mount (the formulation of
+shared/spec/formulation.md, sharing no code with vibss), then solves in 60-digit arithmetic:
+undamped eigenvalues, static deflections and receptances. Float inputs are taken exactly, so the
+only rounding is mpmath's own.
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+
+import mpmath as mp
+import numpy as np
+
+from vibss import GROUND, Model
+
+DPS = 60
+
+
+def _lever(r) -> mp.matrix:
+    """3x6 map from (u, theta) to u + theta x r."""
+    x, y, z = r
+    return mp.matrix([[1, 0, 0, 0, z, -y], [0, 1, 0, -z, 0, x], [0, 0, 1, y, -x, 0]])
+
+
+def matrices(model: Model, key: str = "stiffness") -> mp.matrix:
+    """K (or C with key='damping') as an mpmath matrix, summed mount by mount."""
+    names = model.body_names
+    n = 6 * len(names)
+    out = mp.zeros(n, n)
+    cog = {b.name: [mp.mpf(float(v)) for v in b.cog] for b in model.bodies}
+    for m in model.mounts:
+        at = [mp.mpf(float(v)) for v in m.at]
+        p = [at[k] + cog[m.body][k] for k in range(3)] if m.frame == "body" else at
+        t = mp.matrix([[mp.mpf(float(v)) for v in row] for row in m.orientation.matrix])
+        d = mp.diag([mp.mpf(float(v)) for v in getattr(m.type, key)])
+        kp = t * d * t.T
+        b = mp.zeros(3, n)
+        i = names.index(m.body)
+        li = _lever([p[k] - cog[m.body][k] for k in range(3)])
+        for r in range(3):
+            for c in range(6):
+                b[r, 6 * i + c] += li[r, c]
+        if m.to != GROUND:
+            j = names.index(m.to)
+            lj = _lever([p[k] - cog[m.to][k] for k in range(3)])
+            for r in range(3):
+                for c in range(6):
+                    b[r, 6 * j + c] -= lj[r, c]
+        out += b.T * kp * b
+    return out
+
+
+def mass(model: Model) -> mp.matrix:
+    """Block-diagonal mass matrix in mpmath."""
+    n = 6 * len(model.bodies)
+    out = mp.zeros(n, n)
+    for i, b in enumerate(model.bodies):
+        for k in range(3):
+            out[6 * i + k, 6 * i + k] = mp.mpf(float(b.masses[k]))
+        for r in range(3):
+            for c in range(3):
+                out[6 * i + 3 + r, 6 * i + 3 + c] = mp.mpf(float(b.tensor[r, c]))
+    return out
+
+
+@lru_cache(maxsize=None)
+def _omega2(model: Model) -> tuple:
+    with mp.workdps(DPS):
+        M, K = mass(model), matrices(model)
+        L = mp.cholesky(M)
+        Li = mp.inverse(L)
+        A = Li * K * Li.T
+        A = (A + A.T) / 2
+        w2 = mp.eigsy(A, eigvals_only=True)
+        return tuple(sorted(w2[i] for i in range(A.rows)))
+
+
+def omega2(model: Model) -> np.ndarray:
+    """(n,) undamped eigenvalues w^2 [rad^2/s^2], ascending, to 60 digits then rounded to float.
+
+    Rigid-body modes come out as |w^2| at the 1e-50 level (relative to the largest).
+    """
+    return np.array([float(v) for v in _omega2(model)])
+
+
+def natural_frequencies(model: Model) -> np.ndarray:
+    """(n,) undamped natural frequencies [rad/s]; rigid modes (|w^2| below 1e-40 of the top) as 0."""
+    w2 = _omega2(model)
+    top = max(abs(v) for v in w2)
+    return np.array([0.0 if abs(v) <= mp.mpf(10) ** -40 * top else float(mp.sqrt(v)) for v in w2])
+
+
+def static(model: Model, load: np.ndarray) -> np.ndarray:
+    """K^-1 f for a (n,) generalised load [N, N m] (K must be nonsingular)."""
+    with mp.workdps(DPS):
+        K = matrices(model)
+        x = mp.lu_solve(K, mp.matrix([mp.mpf(float(v)) for v in load]))
+        return np.array([float(x[i]) for i in range(K.rows)])
+
+
+def receptance(model: Model, s: complex) -> np.ndarray:
+    """(n, n) complex receptance (K + s C + s^2 M)^-1 at the Laplace variable s [1/s]."""
+    with mp.workdps(DPS):
+        K, C, M = matrices(model), matrices(model, "damping"), mass(model)
+        sm = mp.mpc(s.real, s.imag)
+        D = K + sm * C + sm * sm * M
+        X = mp.inverse(D)
+        return np.array([[complex(X[i, j]) for j in range(D.cols)] for i in range(D.rows)])
