@@ -169,3 +169,16 @@ def test_report_without_a_time_setting_writes_every_section(tmp_path: Path) -> N
     w = time_window(vibss.load_model(path))
     assert 0.011 + decay <= w.end <= 1.1 * (0.011 + max(decay, 5 / 15.9))
     assert w.step <= 0.011 / 20
+
+
+def test_a_given_end_sets_the_step_rule() -> None:
+    f, _ = closed_form()
+    w = time_window(box(), end=100.0)               # long: end / 200 = 0.5 s would miss every mode
+    assert w.end == 100.0 and w.note.startswith("end: given")
+    assert 0.4 / (20 * f.max()) <= w.step <= 1 / (20 * f.max())
+    w = time_window(box(), end=1000.0)              # at most MAX_DEFAULT_SAMPLES samples
+    assert 0.4e5 <= w.end / w.step <= 1e5
+    with pytest.raises(vibss.ModelError, match="end: expected a positive time"):
+        time_window(box(), end=-1.0)
+    out = cli_json(["time", "--example", "packaged_item", "--end", "0.05", "--output", "item.z"])
+    assert out["time"][-1] == pytest.approx(0.05) and out["time"][1] == pytest.approx(1e-4)  # the file's step

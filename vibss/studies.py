@@ -17,7 +17,8 @@ Rules (each value of the file's ``[analysis]`` table wins over its rule):
   excitations when the model has no elastic mode. ``step`` = the smallest of ``end / 200``, a
   twentieth of the highest natural period, a twentieth of the period of the highest excitation
   frequency (sines, sweeps) and a twentieth of the shortest pulse, rounded down to 1, 2 or 5 times a
-  power of ten, but never more than :data:`MAX_DEFAULT_SAMPLES` samples. ``end`` is rounded up to two
+  power of ten; coarser (rounded up to 1, 2 or 5 times a power of ten) where that would make more
+  than :data:`MAX_DEFAULT_SAMPLES` samples. ``end`` is rounded up to two
   significant digits.
 - **Frequency band** (:func:`frequency_band`). ``f1``, ``f2`` = the steady sweeps' band (lowest
   ``f1`` to highest ``f2``) when the model has steady sweeps, else a tenth of the lowest to twice the
@@ -183,8 +184,8 @@ def _modal_zeta(model: Model, m: Modes) -> np.ndarray:
     a = assemble(model)
     phi = m.shapes[:, ~m.rigid]
     w = m.omega[~m.rigid]
-    c = np.einsum("ir,ij,jr->r", phi, a.dense("C"), phi)
-    h = np.einsum("ir,ij,jr->r", phi, a.dense("H"), phi)
+    c = np.sum(phi * (a.dense("C") @ phi), axis=0)       # diag(phi^T C phi), one BLAS product
+    h = np.sum(phi * (a.dense("H") @ phi), axis=0)
     return np.maximum(c / (2.0 * w) + h / (2.0 * w ** 2), 0.0)
 
 
@@ -217,13 +218,22 @@ def _round_down_125(x: float) -> float:
     return float(f"{p:.1e}")  # pragma: no cover - k = 1 always fits
 
 
+def _round_up_125(x: float) -> float:
+    """The smallest 1, 2 or 5 times a power of ten not below ``x``."""
+    p = 10.0 ** math.floor(math.log10(x))
+    for k in (1.0, 2.0, 5.0, 10.0):
+        if k * p >= x * (1 - 1e-12):
+            return float(f"{k * p:.1e}")
+    return float(f"{10 * p:.1e}")  # pragma: no cover - k = 10 always fits
+
+
 def _round_up_2(x: float) -> float:
     """``x`` rounded up to two significant digits."""
     p = 10.0 ** (math.floor(math.log10(x)) - 1)
     return float(f"{math.ceil(x / p * (1 - 1e-12)) * p:.2g}")
 
 
-def time_window(model: Model, modes: Modes | None = None) -> TimeWindow:
+def time_window(model: Model, modes: Modes | None = None, *, end: float | None = None) -> TimeWindow:
     """The time window and step of a time study of ``model`` (see the module docstring).
 
     Parameters
@@ -232,6 +242,9 @@ def time_window(model: Model, modes: Modes | None = None) -> TimeWindow:
         The model (its ``[analysis] time`` settings, excitations and modes decide).
     modes : Modes or None
         The model's undamped modes, if already computed.
+    end : float or None
+        An end time [s] chosen by the caller (``vibss time --end``): it replaces the file's and the
+        rule's, and the step follows from it (unless the file sets the step).
 
     Returns
     -------
@@ -249,7 +262,8 @@ def time_window(model: Model, modes: Modes | None = None) -> TimeWindow:
     record_from = float(spec.get("record_from", 0.0))
     notes = []
     m = None
-    end = spec.get("end")
+    given = end is not None
+    end = end if given else spec.get("end")
     if end is None:
         m = _modes(model, modes)
         # a persistent excitation (a sine from ``start`` on): its start; the decay covers the build-up
@@ -272,8 +286,10 @@ def time_window(model: Model, modes: Modes | None = None) -> TimeWindow:
             notes.append(f"end: excitations end at {t_exc:.4g} s + 1 s (no elastic mode)")
         end = _round_up_2(max(t_exc + free, record_from + free))
     else:
-        notes.append("end: [analysis] time")
+        notes.append("end: given" if given else "end: [analysis] time")
     end = float(end)
+    if not (math.isfinite(end) and end > 0):
+        raise ModelError(f"time window: end: expected a positive time [s], got {end!r}")
     step = spec.get("step")
     if step is None:
         m = m if m is not None else _modes(model, modes)
@@ -285,9 +301,10 @@ def time_window(model: Model, modes: Modes | None = None) -> TimeWindow:
         limits += _excitation_steps(transient)
         step, why = min(limits, key=lambda x: x[0])
         floor = end / (MAX_DEFAULT_SAMPLES - 1)
+        step = _round_down_125(step)
         if step < floor:
-            step, why = floor, f"{why} would exceed {MAX_DEFAULT_SAMPLES} samples: end / {MAX_DEFAULT_SAMPLES - 1}"
-        step = min(_round_down_125(step) if step >= floor * 2 else step, end)
+            step, why = _round_up_125(floor), f"{why} would exceed {MAX_DEFAULT_SAMPLES} samples"
+        step = min(step, end)
         notes.append(f"step: {why}")
     else:
         notes.append("step: [analysis] time")

@@ -47,8 +47,8 @@ def run(args: argparse.Namespace) -> int:
     if not excitations and not (model.settings or {}).get("initial"):
         raise ModelError("the model has no time-domain [[excitation]] and no body initial "
                          "conditions: nothing drives a time response")
-    window = time_window(model)                 # the report's window (vibss.studies)
-    end = args.end if args.end is not None else window.end
+    window = time_window(model, end=args.end)   # the report's window (vibss.studies)
+    end = window.end
     step = args.step if args.step is not None else min(window.step, end)
     record = args.record_from if args.record_from is not None else window.record_from
     outputs = args.output or list(default_outputs(model))
