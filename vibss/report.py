@@ -3,7 +3,8 @@
 :func:`study` runs, in order, the model summary, the static deflection (under the model's loads
 and, where the model sets it, gravity), the undamped modes with their kinetic-energy table, the
 damped modes, the steady-state response to the model's sine-sweep excitations (with the
-transmissibility from each swept input) and the time response to its transient excitations. An
+transmissibility from each swept input) and the time response to its transient excitations, over
+the window and band of :mod:`vibss.studies` (the ones ``vibss time`` and ``vibss frf`` use). An
 analysis that does not apply (no loads, no damping, no excitation of that kind) or whose module is
 not installed is skipped with a one-line note; one that fails is reported with its error message
 and the others still run. :meth:`Report.text` is the text report, :func:`write_report` writes the
@@ -44,7 +45,7 @@ from .modal.undamped import modes
 from .model.model import DOF_NAMES, Model
 from .results import Table
 from .statics import StaticResult, static
-from .studies import frequency_band, is_steady_sweep, time_window
+from .studies import frequency_band, steady_sweeps, time_window, transient_excitations
 
 __all__ = ["Section", "Report", "study", "write_report", "html_table", "slug", "default_folder",
            "progress_on_stderr", "STEPS", "MAX_MODE_PANELS"]
@@ -282,7 +283,7 @@ def _bode(r: Any, name: str) -> tuple[str, Any]:
 
 
 def _frequency_section(model: Model, figures: bool, results: dict[str, Any]) -> Section:
-    sweeps = [e for e in model.excitations if is_steady_sweep(e)]
+    sweeps = list(steady_sweeps(model))
     if not sweeps:
         return Section("frequency", TITLES["frequency"], skipped=True,
                        note="no steady-state sine-sweep excitation (sweep_time = 0) in the model")
@@ -323,7 +324,7 @@ def _frf_table(r: Any, title: str) -> Table:
 
 
 def _time_section(model: Model, figures: bool, results: dict[str, Any]) -> Section:
-    transient = [e for e in model.excitations if not is_steady_sweep(e)]
+    transient = list(transient_excitations(model))
     if not transient:
         return Section("time", TITLES["time"], skipped=True,
                        note="no transient excitation (pulse, step, sine, table or timed sweep) in the model")
