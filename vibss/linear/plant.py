@@ -22,19 +22,41 @@ The plant is built by :func:`vibss.linear.signals.build_plant`; analyses take a 
 
 from __future__ import annotations
 
-from collections.abc import Callable
+import dataclasses
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 
-__all__ = ["Plant", "INPUT_KINDS", "MOTION_ORDER"]
+from ..errors import AnalysisError, ModelError, did_you_mean
+
+__all__ = ["Plant", "INPUT_KINDS", "MOTION_ORDER", "FIELD_ROLES"]
 
 INPUT_KINDS = ("force", "displacement", "velocity", "acceleration")
 """What an input signal is."""
 
 MOTION_ORDER = {"displacement": 0, "velocity": 1, "acceleration": 2}
 """Time derivative of the prescribed coordinate that a motion input gives."""
+
+FIELD_ROLES: dict[str, str] = {
+    "dofs": "dof labels", "M": "dof x dof", "C": "dof x dof", "K": "dof x dof", "H": "dof x dof",
+    "F": "dof x input", "Kz": "dof x input", "Cz": "dof x input", "Mz": "dof x input",
+    "Hz": "dof x input",
+    "Oq": "output x dof", "Ov": "output x dof", "Oa": "output x dof", "Oh": "output x dof",
+    "Kf": "factor x dof",
+    "inputs": "input labels", "kinds": "input labels",
+    "outputs": "output labels", "units": "output labels",
+    "Pz": "output x input", "Pv": "output x input", "Pa": "output x input", "Pf": "output x input",
+    "Ph": "output x input",
+    "name": "other", "_cache": "other",
+}
+"""How each :class:`Plant` field changes under :meth:`Plant.select`, :meth:`Plant.restrict` and
+:meth:`Plant.project`, by the axes it spans (``"factor x dof"`` is a stiffness factor ``Kf`` with
+``K = Kf^T Kf``: its columns follow the DOFs). A field missing here is carried along unchanged when
+it is None and refused otherwise, so a new field must be classified before a plant operation can
+silently get it wrong."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -124,3 +146,226 @@ class Plant:
     def order(self) -> np.ndarray:
         """(m,) time-derivative order of each input's prescribed coordinate (-1 for forces)."""
         return np.array([MOTION_ORDER.get(k, -1) for k in self.kinds])
+
+    # ---------------------------------------------------------------- operations on the plant
+
+    def _fields_by_role(self) -> dict[str, list[str]]:
+        """The plant's non-None fields grouped by :data:`FIELD_ROLES` (an unclassified one refused)."""
+        roles: dict[str, list[str]] = {}
+        for f in dataclasses.fields(self):
+            role = FIELD_ROLES.get(f.name)
+            value = getattr(self, f.name)
+            if role is None:
+                if value is None:
+                    continue
+                raise AnalysisError(f"Plant field {f.name!r} has no role in plant.FIELD_ROLES; "
+                                    "classify it before selecting, restricting or projecting plants")
+            if value is not None:
+                roles.setdefault(role, []).append(f.name)
+        return roles
+
+    def select(self, inputs: Sequence[str | int] | None = None,
+               outputs: Sequence[str | int] | None = None) -> Plant:
+        """The plant with a subset (or reordering) of its inputs and outputs.
+
+        Every input- or output-indexed field is cut the same way (hysteretic output parts ``Oh`` and
+        ``Ph`` included), so the selected plant's response is the corresponding rows and columns of
+        the full one.
+
+        Parameters
+        ----------
+        inputs, outputs : sequence of str or int, or None
+            Signals to keep, by name or index, in the order wanted; None keeps all.
+
+        Returns
+        -------
+        Plant
+
+        Raises
+        ------
+        ModelError
+            A name that is not among the plant's signals, or an index out of range.
+
+        Examples
+        --------
+        >>> from vibss import Body, Model, Mount, MountType
+        >>> from vibss.linear.signals import build_plant
+        >>> m = Model([Body("b", 1.0, [1, 1, 1])], [Mount("m", MountType("t", [1e3] * 3), "b")])
+        >>> p = build_plant(m, ["b.fz", "b.fx"], ["b.x", "b.z"]).select(["b.fz"], ["b.z"])
+        >>> p.inputs, p.outputs, p.F.shape, p.Oq.shape
+        (('b.fz',), ('b.z',), (6, 1), (1, 6))
+        """
+        i = _indices(self.inputs, inputs, "inputs")
+        o = _indices(self.outputs, outputs, "outputs")
+        changes: dict[str, Any] = {}
+        for role, names in self._fields_by_role().items():
+            for key in names:
+                a = getattr(self, key)
+                if role == "input labels" and i is not None:
+                    changes[key] = tuple(a[j] for j in i)
+                elif role == "output labels" and o is not None:
+                    changes[key] = tuple(a[j] for j in o)
+                elif role == "dof x input" and i is not None:
+                    changes[key] = a[:, i]
+                elif role == "output x dof" and o is not None:
+                    changes[key] = a[o]
+                elif role == "output x input" and (i is not None or o is not None):
+                    a = a if o is None else a[o]
+                    changes[key] = a if i is None else a[:, i]
+        return dataclasses.replace(self, **changes)
+
+    def restrict(self, dofs: Sequence[str | int] | npt.ArrayLike) -> Plant:
+        """The plant on a subset of its free DOFs, the others held at zero.
+
+        Rows and columns of ``M, C, K, H``, rows of the input maps ``F, Kz, Cz, Mz, Hz``, columns
+        of the output maps ``Oq, Ov, Oa, Oh`` and of a stiffness factor ``Kf`` (so ``K = Kf^T Kf``
+        still holds). Exact when the dropped DOFs are decoupled from the kept ones, or not
+        excited and not seen.
+
+        Parameters
+        ----------
+        dofs : sequence of str or int, or (n,) bool array_like
+            DOFs to keep, by label or index (in the order wanted), or a mask over ``plant.dofs``.
+
+        Returns
+        -------
+        Plant
+            Sparse matrices stay sparse (CSR).
+
+        Raises
+        ------
+        ModelError
+            An unknown label or an index out of range.
+
+        Examples
+        --------
+        >>> from vibss import Body, Model, Mount, MountType
+        >>> from vibss.linear.signals import build_plant
+        >>> m = Model([Body("b", 1.0, [1, 1, 1])], [Mount("m", MountType("t", [1e3] * 3), "b")])
+        >>> build_plant(m, ["b.fz"], ["b.z"]).restrict(["b.z"]).K
+        array([[1000.]])
+        """
+        if isinstance(dofs, str):
+            dofs = [dofs]
+        wanted = list(dofs) if isinstance(dofs, (list, tuple)) else np.asarray(dofs).ravel().tolist()
+        if wanted and all(isinstance(w, (bool, np.bool_)) for w in wanted):
+            if len(wanted) != self.n:
+                raise ModelError(f"restrict: dofs: a mask needs {self.n} entries (one per free DOF), "
+                                 f"got {len(wanted)}")
+            k = [j for j, w in enumerate(wanted) if w]
+        else:
+            k = _indices(self.dofs, wanted, "dofs") or []
+        idx = np.asarray(k, dtype=int)
+        changes: dict[str, Any] = {}
+        for role, names in self._fields_by_role().items():
+            for key in names:
+                a = getattr(self, key)
+                if role == "dof labels":
+                    changes[key] = tuple(a[j] for j in k)
+                elif role == "dof x dof":
+                    changes[key] = _rows(a, idx)[:, idx]
+                elif role == "dof x input":
+                    changes[key] = _rows(a, idx)
+                elif role in ("output x dof", "factor x dof"):
+                    changes[key] = a[:, idx]
+        return dataclasses.replace(self, **changes)
+
+    def project(self, V: npt.ArrayLike, dofs: Sequence[str] | None = None, **known: Any) -> Plant:
+        """Galerkin projection ``q = V a`` on the columns of ``V`` (n, r).
+
+        ``V^T M V``, ``V^T C V``, ``V^T K V``, ``V^T H V`` (symmetrised), ``V^T`` times the input
+        maps, the output maps times ``V`` and a stiffness factor ``Kf V``; feedthrough is kept.
+
+        Parameters
+        ----------
+        V : (n, r) array_like
+            Basis (columns) in the free DOFs.
+        dofs : sequence of str or None
+            Labels of the r generalised coordinates; default ``'v1' ... 'vr'``.
+        **known : ndarray
+            Fields whose projection is known exactly and is used instead of computing it (e.g.
+            ``M=np.eye(r), K=np.diag(omega2)`` for mass-normalised modes).
+
+        Returns
+        -------
+        Plant
+            Dense matrices, ``r`` DOFs.
+
+        Raises
+        ------
+        ModelError
+            ``V`` does not have one row per free DOF, ``dofs`` the wrong length, or ``known``
+            names no projected field.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from vibss import Body, Model, Mount, MountType
+        >>> from vibss.linear.signals import build_plant
+        >>> m = Model([Body("b", 2.0, [1, 1, 1])], [Mount("m", MountType("t", [1e3] * 3), "b")])
+        >>> p = build_plant(m, ["b.fz"], ["b.z"])
+        >>> p.project(np.eye(6)[:, [2]], ["z"]).M      # the z row and column
+        array([[2.]])
+        """
+        v = np.asarray(V, dtype=float)
+        if v.ndim != 2 or v.shape[0] != self.n:
+            raise ModelError(f"project: V: expected an ({self.n}, r) basis (one row per free DOF), "
+                             f"got shape {v.shape}")
+        r = v.shape[1]
+        labels = tuple(f"v{i + 1}" for i in range(r)) if dofs is None else tuple(dofs)
+        if len(labels) != r:
+            raise ModelError(f"project: dofs: expected {r} labels (one per column of V), got {len(labels)}")
+        roles = self._fields_by_role()
+        projected = {key for role in ("dof x dof", "dof x input", "output x dof", "factor x dof")
+                     for key in roles.get(role, [])}
+        unknown = sorted(set(known) - projected)
+        if unknown:
+            raise ModelError(f"project: {unknown}: not projected fields of this plant; "
+                             f"expected some of {sorted(projected)}")
+        changes: dict[str, Any] = {"dofs": labels, **known}
+        for role, names in roles.items():
+            for key in names:
+                if key in known:
+                    continue
+                a = getattr(self, key)
+                if role == "dof x dof":
+                    g = np.zeros((r, r)) if not _nonzero(a) else np.asarray(v.T @ (a @ v))
+                    changes[key] = 0.5 * (g + g.T)
+                elif role == "dof x input":
+                    changes[key] = np.asarray(v.T @ a) if _nonzero(a) else np.zeros((r, a.shape[1]))
+                elif role in ("output x dof", "factor x dof"):
+                    changes[key] = np.asarray(a @ v)
+        return dataclasses.replace(self, **changes)
+
+
+def _nonzero(a: Any) -> bool:
+    """Whether a dense or sparse matrix has a nonzero entry."""
+    return bool(a.count_nonzero()) if hasattr(a, "count_nonzero") and not isinstance(a, np.ndarray) \
+        else bool(np.any(a))
+
+
+def _rows(a: Any, idx: np.ndarray) -> Any:
+    """Rows ``idx`` of a dense or sparse matrix (sparse ones come back as CSR)."""
+    out = a[idx]
+    return out.tocsr() if hasattr(out, "tocsr") else out
+
+
+def _indices(names: tuple[str, ...], wanted: Sequence[str | int] | None, what: str) -> list[int] | None:
+    """Positions of ``wanted`` (names or indices) among ``names``; None for None."""
+    if wanted is None:
+        return None
+    if isinstance(wanted, str):
+        wanted = [wanted]
+    out = []
+    for w in wanted:
+        if isinstance(w, (int, np.integer)) and not isinstance(w, bool):
+            if not -len(names) <= int(w) < len(names):
+                raise ModelError(f"{what}: index {int(w)} is out of range for the plant's "
+                                 f"{len(names)} {what}")
+            out.append(int(w) % len(names))
+        elif w in names:
+            out.append(names.index(w))
+        else:
+            raise ModelError(f"{what}: {w!r} is not one of the plant's {what} {list(names)}"
+                             + did_you_mean(w, names))
+    return out

@@ -284,15 +284,7 @@ def select(plant: Plant, scope: Scope) -> Plant:
         missing = [x for x in names if x not in have]
         if missing:
             raise ModelError(f"scope: {what}: {missing} not among the plant's {what} {list(have)}")
-    i = [plant.inputs.index(u) for u in scope.inputs]
-    o = [plant.outputs.index(y) for y in scope.outputs]
-    cols = {k: getattr(plant, k)[:, i] for k in ("F", "Kz", "Cz", "Mz", "Hz")}
-    rows = {k: getattr(plant, k)[o] for k in ("Oq", "Ov", "Oa")}
-    pm = {k: getattr(plant, k)[np.ix_(o, i)] for k in ("Pz", "Pv", "Pa", "Pf")}
-    return replace(plant, inputs=tuple(scope.inputs), kinds=tuple(plant.kinds[j] for j in i),
-                   outputs=tuple(scope.outputs), units=tuple(plant.units[j] for j in o),
-                   Oh=None if plant.Oh is None else plant.Oh[o],
-                   Ph=None if plant.Ph is None else plant.Ph[np.ix_(o, i)], **cols, **rows, **pm)
+    return plant.select(list(scope.inputs), list(scope.outputs))
 
 
 def _states(p: Plant) -> int:

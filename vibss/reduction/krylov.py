@@ -46,7 +46,7 @@ import scipy.sparse.linalg as spl
 
 from ..errors import AnalysisError
 from ..model.model import Model
-from ..linear.plant import Plant
+from ..linear.plant import FIELD_ROLES, Plant
 from ..linear.signals import build_plant
 from .prune import Removal, _components, _dof_names, _touched_rows, frf
 
@@ -137,7 +137,8 @@ def sparse_plant(model: Model, inputs: Sequence[Any], outputs: Sequence[str]) ->
 
 def as_sparse(p: Plant) -> Plant:
     """The plant with ``M, C, K, H`` as CSR matrices (a no-op when they already are)."""
-    return replace(p, **{k: sp.csr_matrix(getattr(p, k)) for k in ("M", "C", "K", "H")})
+    square = [k for k, role in FIELD_ROLES.items() if role == "dof x dof"]
+    return replace(p, **{k: sp.csr_matrix(getattr(p, k)) for k in square})
 
 
 def prune_sparse(p: Plant) -> tuple[Plant, list[Removal]]:
@@ -158,10 +159,7 @@ def prune_sparse(p: Plant) -> tuple[Plant, list[Removal]]:
     out = [Removal("dofs", tuple(_dof_names(names)), f"decoupled (coupling graph of M, C, K, H): {why}")
            for why, names in removals.items()]
     k = np.flatnonzero(keep)
-    cut = lambda a: a[k][:, k].tocsr()  # noqa: E731
-    return replace(p, dofs=tuple(p.dofs[i] for i in k), M=cut(p.M), C=cut(p.C), K=cut(p.K), H=cut(p.H),
-                   F=p.F[k], Kz=p.Kz[k], Cz=p.Cz[k], Mz=p.Mz[k], Hz=p.Hz[k], Oq=p.Oq[:, k],
-                   Ov=p.Ov[:, k], Oa=p.Oa[:, k], Oh=None if p.Oh is None else p.Oh[:, k]), out
+    return p.restrict(k), out
 
 
 # ------------------------------------------------------------------------ exact sparse solves
@@ -277,14 +275,8 @@ def project(p: Plant, V: np.ndarray) -> Plant:
     vt = V @ t
     top = max(float(np.abs(w2).max(initial=0.0)), 1e-300)
     w2 = np.where(np.abs(w2) <= 1e-12 * top, 0.0, w2)
-    tt = t.T
-    c = tt @ sym(p.C) @ t
-    h = tt @ sym(p.H) @ t if cast("sp.spmatrix", p.H).nnz else np.zeros_like(c)
     r = V.shape[1]
-    return replace(p, dofs=tuple(f"krylov{k + 1}" for k in range(r)), M=np.eye(r), K=np.diag(w2),
-                   C=0.5 * (c + c.T), H=0.5 * (h + h.T), F=vt.T @ p.F, Kz=vt.T @ p.Kz, Cz=vt.T @ p.Cz,
-                   Mz=vt.T @ p.Mz, Hz=vt.T @ p.Hz, Oq=p.Oq @ vt, Ov=p.Ov @ vt, Oa=p.Oa @ vt,
-                   Oh=None if p.Oh is None else p.Oh @ vt)
+    return p.project(vt, tuple(f"krylov{k + 1}" for k in range(r)), M=np.eye(r), K=np.diag(w2))
 
 
 def _midpoints(points: np.ndarray, lo: float, hi: float) -> np.ndarray:

@@ -78,12 +78,8 @@ def _output_side(p: Plant) -> list[np.ndarray]:
 
 
 def sub_plant(p: Plant, keep: np.ndarray) -> Plant:
-    """The plant restricted to the DOFs ``keep`` (indices), every map cut accordingly."""
-    ix = np.ix_(keep, keep)
-    return replace(p, dofs=tuple(p.dofs[i] for i in keep), M=p.M[ix], C=p.C[ix], K=p.K[ix], H=p.H[ix],
-                   F=p.F[keep], Kz=p.Kz[keep], Cz=p.Cz[keep], Mz=p.Mz[keep], Hz=p.Hz[keep],
-                   Oq=p.Oq[:, keep], Ov=p.Ov[:, keep], Oa=p.Oa[:, keep],
-                   Oh=None if p.Oh is None else p.Oh[:, keep])
+    """The plant restricted to the DOFs ``keep`` (indices): :meth:`Plant.restrict`."""
+    return p.restrict(keep)
 
 
 def modal_plant(p: Plant, phi: np.ndarray, omega2: np.ndarray, labels: tuple[str, ...],
@@ -93,11 +89,9 @@ def modal_plant(p: Plant, phi: np.ndarray, omega2: np.ndarray, labels: tuple[str
     ``pf`` and ``pz`` (p, m) are added to ``Pf`` and ``Pz`` (static correction).
     """
     t = phi.T
-    return replace(p, dofs=labels, M=np.eye(phi.shape[1]), K=np.diag(omega2), C=t @ p.C @ phi,
-                   H=t @ p.H @ phi, F=t @ p.F, Kz=t @ p.Kz, Cz=t @ p.Cz, Mz=t @ p.Mz, Hz=t @ p.Hz,
-                   Oq=p.Oq @ phi, Ov=p.Ov @ phi, Oa=p.Oa @ phi,
-                   Oh=None if p.Oh is None else p.Oh @ phi,
-                   Pf=p.Pf if pf is None else p.Pf + pf, Pz=p.Pz if pz is None else p.Pz + pz)
+    modal = p.project(phi, labels, M=np.eye(phi.shape[1]), K=np.diag(omega2), C=t @ p.C @ phi,
+                      H=t @ p.H @ phi)
+    return replace(modal, Pf=p.Pf if pf is None else p.Pf + pf, Pz=p.Pz if pz is None else p.Pz + pz)
 
 
 def _pattern(mats: list[np.ndarray]) -> sp.csr_matrix:

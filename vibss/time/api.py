@@ -39,7 +39,6 @@ Examples
 
 from __future__ import annotations
 
-import dataclasses
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, cast
@@ -627,12 +626,8 @@ def _sum(terms: list[tuple[Callable[[np.ndarray], np.ndarray], tuple[float, ...]
 
 
 def _select_outputs(plant: Plant, outputs: Sequence[str]) -> Plant:
-    idx = []
     for o in outputs:
         if o not in plant.outputs:
             raise ModelError(f"simulate: outputs: {o!r} is not an output of the plant; outputs are "
                              f"{list(plant.outputs)}")
-        idx.append(plant.outputs.index(o))
-    rows = {k: getattr(plant, k)[idx] for k in ("Oq", "Ov", "Oa", "Pz", "Pv", "Pa", "Pf")}
-    return dataclasses.replace(plant, outputs=tuple(outputs),
-                               units=tuple(plant.units[i] for i in idx), **rows)
+    return plant.select(outputs=list(outputs))
