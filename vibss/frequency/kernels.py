@@ -20,13 +20,17 @@ with ``O(s) = Oq + i Oh + s Ov + s^2 Oa``, ``P(s) = Pz + i Ph + s Pv + s^2 Pa`` 
 - ``statespace``: ``control.frequency_response`` on :func:`vibss.linear.statespace.statespace`
   (SLICOT TB05AD on the scaled modal realization; viscous damping only).
 
-A callable ``f(plant, s) -> (p, m, nf)`` can be used as a method too.
+Each entry of :data:`METHODS` is a :class:`FrequencyMethod` carrying its facts; a callable
+``f(plant, s, basis) -> (p, m, nf)`` (the kernels' one signature; ``f(plant, s)`` is accepted too)
+can be used as a method.
 """
 
 from __future__ import annotations
 
+import inspect
 from collections.abc import Callable
-from functools import partial, reduce
+from dataclasses import dataclass
+from functools import reduce
 
 import control
 import numpy as np
@@ -39,10 +43,12 @@ from ..linear.banded import structure
 from ..linear.complex_modes import complex_modes
 from ..errors import AnalysisError
 from ..linear.plant import Plant
-from ..linear.eigen import ModalBasis, damping_coupling, fast_matrix, modal_basis, stiffness_solver
+from ..linear.eigen import ModalBasis, damping_coupling, modal_basis, stiffness_solver
+from ..linear.projection import projected_damping
 from ..linear.statespace import statespace
+from ..methods import Method, callable_name
 
-__all__ = ["METHODS", "direct", "modal", "complex_modal", "sparse", "via_statespace", "classical_damping",
+__all__ = ["METHODS", "FrequencyMethod", "custom_method", "direct", "modal", "complex_modal", "sparse", "via_statespace", "classical_damping",
            "complex_mode_risk", "project_damping", "COMPLEX_MODE_RISK",
            "zero_frequency_limit"]
 
@@ -276,18 +282,10 @@ def project_damping(plant: Plant, basis: ModalBasis) -> tuple[np.ndarray, np.nda
     Returns
     -------
     gamma, eta : (n, n) ndarray
-        Projected viscous [1/s] and hysteretic [1/s^2] damping, symmetrised.
+        Projected viscous [1/s] and hysteretic [1/s^2] damping, symmetrised, read-only; computed
+        once per plant and basis (:func:`vibss.linear.projection.projected_damping`).
     """
-    phi = basis.phi
-    out = []
-    for key in ("C", "H"):
-        mat = getattr(plant, key)
-        if np.any(mat):
-            g = phi.T @ (plant.cached(f"sparse {key}", partial(fast_matrix, mat)) @ phi)
-            out.append(0.5 * (g + g.T))
-        else:
-            out.append(np.zeros((plant.n, plant.n)))
-    return out[0], out[1]
+    return projected_damping(plant, basis)
 
 
 COMPLEX_MODE_RISK = 1e-9
@@ -467,14 +465,67 @@ def via_statespace(plant: Plant, s: np.ndarray) -> np.ndarray:
         len(plant.outputs), len(plant.inputs), s.size)
 
 
-METHODS: dict[str, Callable[..., np.ndarray]] = {
-    "direct": direct,
-    "modal": modal,
-    "complex_modal": complex_modal,
-    "sparse": sparse,
-    "statespace": via_statespace,
-}
-"""Frequency-response kernels by name: ``f(plant, s) -> (p, m, nf)`` complex."""
+@dataclass(frozen=True)
+class FrequencyMethod(Method):
+    """A frequency-response method: ``kernel(plant, s, basis=None) -> (p, m, nf)`` complex.
+
+    ``s`` (nf,) are Laplace points (``i w``, w > 0), ``basis`` the plant's undamped
+    :class:`~vibss.linear.eigen.ModalBasis` (computed once per analysis; None for a sparse plant).
+
+    Attributes
+    ----------
+    needs_basis : bool
+        Superposes the undamped modes (the driver computes them for the grid anyway).
+    sparse_ok : bool
+        Accepts a plant whose ``M, C, K, H`` are scipy.sparse matrices.
+    """
+
+    needs_basis: bool = False
+    sparse_ok: bool = False
+
+
+def _direct(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) -> np.ndarray:
+    return direct(plant, s)
+
+
+def _sparse(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) -> np.ndarray:
+    return sparse(plant, s)
+
+
+def _statespace(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) -> np.ndarray:
+    return via_statespace(plant, s)
+
+
+METHODS: dict[str, FrequencyMethod] = {m.name: m for m in (
+    FrequencyMethod("direct", _direct, exact=True,
+                    summary="one dense complex solve per frequency (the reference)"),
+    FrequencyMethod("modal", modal, needs_basis=True,
+                    summary="undamped modal superposition (classical damping only)"),
+    FrequencyMethod("complex_modal", complex_modal, needs_basis=True, fallback="sparse",
+                    summary="complex modes of the scaled modal first-order form (any damping)"),
+    FrequencyMethod("sparse", _sparse, exact=True, sparse_ok=True,
+                    summary="banded or SuperLU complex solve per frequency"),
+    FrequencyMethod("statespace", _statespace,
+                    summary="control.frequency_response of the modal state space (viscous only)"),
+)}
+"""Frequency-response methods by name (:class:`FrequencyMethod`; ``"auto"`` is chosen by
+:func:`vibss.frequency.methods.choose`)."""
+
+
+def custom_method(fn: Callable[..., np.ndarray]) -> FrequencyMethod:
+    """A user kernel as a :class:`FrequencyMethod`: it gets ``(plant, s, basis)`` like the built-ins.
+
+    A two-argument ``fn(plant, s)`` (the former signature) is accepted too and gets no basis.
+    """
+    try:
+        params = inspect.signature(fn).parameters.values()
+    except (TypeError, ValueError):          # a builtin without a signature: pass the basis
+        params = None
+    takes_basis = params is None or any(
+        q.kind in (q.VAR_POSITIONAL, q.VAR_KEYWORD) or q.name == "basis" for q in params) or \
+        sum(q.kind in (q.POSITIONAL_ONLY, q.POSITIONAL_OR_KEYWORD) for q in params) >= 3
+    kernel = fn if takes_basis else (lambda plant, s, basis=None: fn(plant, s))
+    return FrequencyMethod(callable_name(fn), kernel, sparse_ok=True, summary="user kernel")
 
 
 def zero_frequency_limit(plant: Plant, power: int = 0, n_points: int = 32) -> np.ndarray:
