@@ -29,14 +29,13 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any, cast
+from typing import Any
 
 import control
 import numpy as np
 import scipy.sparse as sp
 
 from ..linear.assemble import Assembly
-from ..linear.banded import structure
 from ..errors import AnalysisError, DefectiveModesError, ModelError
 from .kernels import METHODS, zero_frequency_limit
 from .methods import choose, resolve_method
