@@ -217,7 +217,7 @@ def _method_balanced(p: Plant, scope: Scope, options: ReduceOptions) -> Reduced:
     if sysm.nstates < n0:
         rem.append(Removal("states", (f"{n0 - sysm.nstates} states",),
                            "uncontrollable or unobservable (control.minreal)"))
-    hsv = np.asarray(control.hsvd(sysm), float)
+    hsv = np.real(np.asarray(control.hsvd(sysm)))      # SLICOT may leave round-off imaginary parts
     tail = np.r_[2 * np.cumsum(hsv[::-1])[::-1], 0.0]      # tail[r] = 2 sum_{i >= r} sigma_i
     if order is None:
         order = int(np.argmax(tail * ratio <= scope.tolerance))
