@@ -26,6 +26,7 @@ from typing import Any
 import numpy as np
 
 from ..linear.assemble import Assembly, assemble
+from ..errors import ArgumentError
 from ..model.model import Model
 from ..linear.eigen import damping_coupling
 from .undamped import Modes, modes
@@ -157,7 +158,9 @@ def damped_modes(model: Model | Assembly, undamped: Modes | None = None) -> Damp
     a = model if isinstance(model, Assembly) else assemble(model)
     und = undamped if undamped is not None else modes(a)
     if len(und) != a.n:
-        raise ValueError("damped_modes needs all undamped modes (n_modes=None)")
+        raise ArgumentError(f"damped_modes: undamped: needs all {a.n} undamped modes (modes(model, "
+                            f"n_modes=None)), got {len(und)}", argument="undamped", received=len(und),
+                            expected=a.n)
     phi, w = und.shapes, und.omega
     chat = phi.T @ (a.dense("C") @ phi)
     chat = 0.5 * (chat + chat.T)

@@ -27,7 +27,8 @@ import scipy.sparse as sp
 from ..linear.assemble import Assembly, assemble
 from ..linear.eigen import METHODS, Solver, rigid_mask
 from ..linear.directions import align_cluster, cluster_slices, direction_shares, dominant_direction, energy_fractions
-from ..errors import AnalysisError, ModelError
+from .._validate import choice, integer
+from ..errors import AnalysisError, ArgumentError
 from ..model.model import DOF_NAMES, Model
 from ..results import Table
 
@@ -261,10 +262,11 @@ def modes(model: Model | Assembly, n_modes: int | None = None,
     """
     a = model if isinstance(model, Assembly) else assemble(model)
     n = a.n
-    if n_modes is not None and not (isinstance(n_modes, (int, np.integer)) and 0 < n_modes):
-        raise ModelError(f"n_modes must be a positive integer, got {n_modes!r}")
     if n_modes is not None:
-        n_modes = min(int(n_modes), n)
+        if not isinstance(n_modes, (int, np.integer)):      # 6.0 modes is a mistake, not a count
+            raise ArgumentError(f"modes: n_modes: expected a positive integer or None, got {n_modes!r}",
+                                argument="n_modes", received=n_modes, expected="a positive integer")
+        n_modes = min(integer(n_modes, "n_modes", who="modes"), n)
     name, solver = _pick(method, a, n_modes)
     try:
         w2, phi = solver(a.K, a.M, n_modes)
@@ -301,7 +303,5 @@ def _pick(method: str | Solver, a: Assembly, n_modes: int | None) -> tuple[str, 
         if a.sparse and n_modes is not None and n_modes < a.n // 10:
             return "shift-invert", METHODS["shift-invert"]
         return "dense", METHODS["dense"]
-    if method not in METHODS:
-        raise ValueError(f"unknown modes method {method!r}; valid: 'auto', "
-                         + ", ".join(repr(k) for k in METHODS) + ", or a callable")
+    choice(method, "method", ["auto", *METHODS], who="modes", callable_ok=True)
     return method, METHODS[method]

@@ -58,6 +58,7 @@ import control
 import numpy as np
 import scipy.sparse as sp
 
+from .._validate import choice
 from ..errors import AnalysisError, ModelError
 from ..model.model import Model
 from ..linear.plant import Plant
@@ -464,8 +465,7 @@ def reduce(model_or_plant: Model | Plant, scope: Scope, method: str = "auto", *,
     """
     if not isinstance(scope, Scope):
         raise ModelError(f"reduce: scope: expected a vibss.reduction.scope.Scope, got {scope!r}")
-    if method != "auto" and method not in METHODS:
-        raise ValueError(f"reduce: method: unknown {method!r}; expected one of {['auto', *METHODS]}")
+    choice(method, "method", ["auto", *METHODS], who="reduce")
     if isinstance(model_or_plant, Plant):
         n = model_or_plant.n
     elif isinstance(model_or_plant, Model):
@@ -486,8 +486,7 @@ def reduce(model_or_plant: Model | Plant, scope: Scope, method: str = "auto", *,
         full = build_plant(model_or_plant, list(scope.sources), list(scope.outputs))
     if name != "krylov":
         t0 = time.perf_counter()
-    if residual not in ("vectors", "static"):
-        raise ValueError(f"reduce: residual: expected 'vectors' or 'static', got {residual!r}")
+    choice(residual, "residual", ("vectors", "static"), who="reduce")
     out = METHODS[name](full, scope, max_modes=max_modes, order=order, residual=residual)
     took = time.perf_counter() - t0
     plant, system = out.get("plant"), out.get("system")
