@@ -64,6 +64,7 @@ from ..model.model import Model
 from ..linear.plant import Plant
 from .kernels import (Removal, as_sparse, frf, krylov, prune_dofs, prune_modes, prune_sparse,
                                 sparse_plant, truncate)
+from ..results import Result, Table, jsonable, require_pandas
 from .scope import Scope
 from ..linear.signals import build_plant, control_name
 from ..linear.statespace import NamedStateSpace, statespace
@@ -85,8 +86,12 @@ MODE_PRUNE_MAX = 3000
 
 
 @dataclass(frozen=True, eq=False)
-class Reduction:
+class Reduction(Result):
     """A reduced model and what was done to get it.
+
+    Follows the result protocol (:mod:`vibss.results`): ``output_labels`` / ``input_labels`` are
+    the scope's; ``r.control`` is the reduced system as a python-control state space
+    (:class:`~vibss.linear.statespace.NamedStateSpace`) and ``r['b.z', 'b.fz']`` its sub-system.
 
     Attributes
     ----------
@@ -131,6 +136,8 @@ class Reduction:
         Frequencies in the verification grid.
     notes : tuple of str
         Caveats.
+    note : str
+        Why that method (for ``method="auto"``).
     details : dict
         Method-specific figures (``"krylov"``: basis size, shifts [Hz], moments, interpolation and
         check frequencies [Hz], rounds, timings [s]).
@@ -160,6 +167,32 @@ class Reduction:
     n_check: int = 0
     notes: tuple[str, ...] = ()
     details: dict[str, Any] = field(default_factory=dict)
+    note: str = ""
+
+    @property
+    def output_labels(self) -> tuple[str, ...]:
+        """Output signal names of the scope."""
+        return tuple(self.scope.outputs)
+
+    @property
+    def input_labels(self) -> tuple[str, ...]:
+        """Input signal names of the reduced system (the scope's sources)."""
+        return tuple(self.full.inputs)
+
+    @property
+    def units(self) -> tuple[str, ...]:
+        """SI unit of each output."""
+        return tuple(self.full.units)
+
+    @property
+    def control(self) -> NamedStateSpace:
+        """The reduced system as a python-control state space (indexable by vibss names)."""
+        if self.system is not None:
+            return self.system
+        return statespace(cast(Plant, self.plant))
+
+    def _item(self, i: int, j: int | None) -> NamedStateSpace:
+        return self.control[i, :] if j is None else self.control[i, j]
 
     def response(self, s: np.ndarray) -> np.ndarray:
         """Reduced response ``Y(s)`` (p, m, nf) at Laplace points ``s`` [rad/s] (``s = i w``)."""
@@ -194,6 +227,54 @@ class Reduction:
         t2 = time.perf_counter()
         return replace(self, measured=relative_error(hf, hr), full_s=t1 - t0, reduced_s=t2 - t1,
                        n_check=int(w.size))
+
+    def compare(self, n_points: int = 200) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Full and reduced response over the band (the verification grid, see :meth:`verify`).
+
+        Parameters
+        ----------
+        n_points : int
+            Evenly spaced frequencies over the band (the kept resonances' neighbours are added).
+
+        Returns
+        -------
+        frequency_hz : (nf,) ndarray
+        full, reduced : (p, m, nf) complex ndarray
+        """
+        w = check_grid(self.scope, n_points, self.kept_hz * 2 * np.pi)
+        return w / (2 * np.pi), frf(self.full, 1j * w), self.response(1j * w)
+
+    def summary(self) -> Table:
+        """Sizes, error estimate and timing as a two-column table."""
+        rows = [["method", self.method], ["DOFs", f"{self.dofs_before} -> {self.dofs_after}"],
+                ["states", f"{self.states_before} -> {self.states_after}"],
+                ["estimate", f"{self.estimate:.3g} ({self.estimate_kind})"],
+                ["measured", "-" if self.measured is None else f"{self.measured:.3g}"],
+                ["tolerance", f"{self.scope.tolerance:g}"], ["reduction [s]", f"{self.reduce_s:.3g}"]]
+        return Table(["quantity", "value"], rows, title="Model reduction")
+
+    def to_pandas(self) -> Any:
+        """DataFrame of what was removed: one row per removal (what, names, reason, exact)."""
+        pd = require_pandas()
+        return pd.DataFrame([{"what": r.what, "names": ", ".join(r.names), "reason": r.reason,
+                              "exact": r.exact} for r in self.removed],
+                            columns=["what", "names", "reason", "exact"])
+
+    def plot(self, ax: Any = None) -> Any:
+        """Full against reduced response over the band: :func:`vibss.plotting.plot_reduction`.
+
+        Parameters
+        ----------
+        ax : (2,) sequence of Axes or None
+            Axes for the magnitudes and the relative error; default: a new figure.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+        """
+        from ..plotting import plot_reduction
+
+        return plot_reduction(self, ax)
 
     def report(self) -> str:
         """Printable summary: sizes, removals, errors, timings."""
@@ -233,7 +314,7 @@ class Reduction:
 
     def to_dict(self) -> dict[str, Any]:
         """Plain data (sizes, removals, errors, timings)."""
-        return {"method": self.method, "scope": self.scope.to_dict(),
+        return jsonable({"method": self.method, "note": self.note, "scope": self.scope.to_dict(),
                 "dofs_before": self.dofs_before, "dofs_after": self.dofs_after,
                 "states_before": self.states_before, "states_after": self.states_after,
                 "removed": [{"what": r.what, "names": list(r.names), "reason": r.reason, "exact": r.exact}
@@ -244,7 +325,7 @@ class Reduction:
                 "reduce_s": self.reduce_s,
                 "measured": self.measured, "full_s": self.full_s, "reduced_s": self.reduced_s,
                 "n_check": self.n_check, "notes": list(self.notes),
-                "details": {k: (v.tolist() if isinstance(v, np.ndarray) else v) for k, v in self.details.items()}}
+                "details": self.details})
 
 
 def relative_error(h_full: np.ndarray, h_red: np.ndarray) -> float:
@@ -474,6 +555,9 @@ def reduce(model_or_plant: Model | Plant, scope: Scope, method: str = "auto", *,
         raise ModelError(f"reduce: model_or_plant: expected a Model or a Plant, got {model_or_plant!r}")
     sparse_input = isinstance(model_or_plant, Plant) and sp.issparse(model_or_plant.K)
     name = ("krylov" if n > KRYLOV_MIN_DOF or sparse_input else "modal") if method == "auto" else method
+    note = "" if method != "auto" else (
+        "auto: sparse plant: krylov" if sparse_input else
+        f"auto: {n} DOFs {'>' if n > KRYLOV_MIN_DOF else '<='} {KRYLOV_MIN_DOF}: {name}")
     if sparse_input and name != "krylov":
         raise AnalysisError(f"reduce: method {name!r} needs a dense plant; a sparse plant "
                             "(build_plant(..., sparse=True)) takes method='krylov' or 'auto'")
@@ -498,5 +582,6 @@ def reduce(model_or_plant: Model | Plant, scope: Scope, method: str = "auto", *,
                   estimate_kind=out.get("estimate_kind", "exact"), correction=out.get("correction", ""),
                   kept_hz=np.asarray(out.get("kept_hz", np.zeros(0)), float), hsv=out.get("hsv"),
                   hsv_bound=out.get("hsv_bound"), io_scale=out.get("io_scale"),
-                  reduce_s=took, notes=tuple(out.get("notes", ())), details=out.get("details", {}))
+                  reduce_s=took, notes=tuple(out.get("notes", ())), details=out.get("details", {}),
+                  note=note)
     return r.verify(n_check) if verify else r
