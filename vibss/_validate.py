@@ -15,7 +15,7 @@ array([1., 2., 3.])
 >>> number(-1.0, "dt", who="simulate", minimum=0.0, strict=True, unit="s")
 Traceback (most recent call last):
 ...
-vibss.errors.ArgumentError: simulate: dt: expected a number > 0 [s], got -1.0
+vibss.errors.ArgumentError: simulate: dt: expected a finite number > 0 [s], got -1.0
 >>> choice("modall", "method", ["auto", "modal", "direct"])
 Traceback (most recent call last):
 ...
@@ -71,7 +71,8 @@ def _describe(shape: Sequence[int | None]) -> str:
 
 
 def array(value: Any, argument: str, shape: Sequence[int | None] | None = None, *, who: str = "",
-          unit: str = "", finite: bool = True, strict: bool = True) -> np.ndarray:
+          unit: str = "", finite: bool = True, strict: bool = True, hint: str = "",
+          what: str | None = None) -> np.ndarray:
     """``value`` as a new float array, checked for shape and finiteness.
 
     Parameters
@@ -90,13 +91,17 @@ def array(value: Any, argument: str, shape: Sequence[int | None] | None = None, 
         Refuse NaN and infinity.
     strict : bool
         Refuse bools and strings (numpy would read ``True`` as 1 and ``"3"`` as 3).
+    hint : str
+        More on what is expected (``"(6 per body)"``), shown after it.
+    what : str or None
+        What is expected, in place of the description made from ``shape`` and ``hint``.
 
     Returns
     -------
     ndarray
     """
     where = prefix(argument, who)
-    want = _describe(shape) if shape is not None else "numbers"
+    want = what or (_describe(shape) if shape is not None else "numbers") + (f" {hint}" if hint else "")
     tail = f" [{unit}]" if unit else ""
     if strict and not is_numeric(value):
         raise ArgumentError(f"{where}: expected {want}{tail}, got {value!r}", argument=argument,
@@ -117,29 +122,51 @@ def array(value: Any, argument: str, shape: Sequence[int | None] | None = None, 
 
 
 def vector(value: Any, n: int, argument: str, *, who: str = "", unit: str = "",
-           strict: bool = True) -> np.ndarray:
+           strict: bool = True, hint: str = "", what: str | None = None) -> np.ndarray:
     """``value`` as ``n`` finite numbers (a new (n,) float array); see :func:`array`."""
-    return array(value, argument, (n,), who=who, unit=unit, strict=strict)
+    return array(value, argument, (n,), who=who, unit=unit, strict=strict, hint=hint, what=what)
 
 
 def number(value: Any, argument: str, *, who: str = "", minimum: float | None = None,
-           strict: bool = False, unit: str = "", what: str = "a number") -> float:
+           strict: bool = False, unit: str = "", what: str | None = None, must: str | None = None) -> float:
     """``value`` as a finite float, optionally ``>= minimum`` (``> minimum`` when ``strict``).
 
     Bools and strings are refused (``float("1e-3")`` would accept a string).
+
+    Parameters
+    ----------
+    value : object
+        What was received.
+    argument, who : str
+        Its name and owner, for the message.
+    minimum : float or None
+        Lower bound.
+    strict : bool
+        The bound itself is refused.
+    unit : str
+        SI unit shown in the message.
+    what : str or None
+        What is expected (``"a number of seconds"``), in place of ``"a finite number >= minimum [unit]"``.
+    must : str or None
+        For a number out of range: ``"<argument>: must be <must>, got ..."`` (default: as for
+        anything else, ``"expected <what>, got ..."``).
     """
     where = prefix(argument, who)
     bound = "" if minimum is None else f" {'>' if strict else '>='} {minimum:g}"
-    want = f"{what}{bound}" + (f" [{unit}]" if unit else "")
+    want = what or ("a finite number" + bound + (f" [{unit}]" if unit else ""))
     x = math.nan
     if not isinstance(value, (bool, np.bool_, str, bytes)):
         try:
             x = float(value)
         except (TypeError, ValueError):
             pass
-    if not math.isfinite(x) or (minimum is not None and (x < minimum or (strict and x == minimum))):
+    if not math.isfinite(x):
         raise ArgumentError(f"{where}: expected {want}, got {value!r}", argument=argument,
                             received=value, expected=want)
+    if minimum is not None and (x < minimum or (strict and x == minimum)):
+        text = f"must be {must}" if must else f"expected {want}"
+        raise ArgumentError(f"{where}: {text}, got {value!r}", argument=argument, received=value,
+                            expected=must or want)
     return x
 
 
@@ -156,17 +183,24 @@ def integer(value: Any, argument: str, *, who: str = "", minimum: int = 1) -> in
 
 
 def choice(value: Any, argument: str, options: Iterable[Any], *, who: str = "",
-           callable_ok: bool = False) -> Any:
+           callable_ok: bool = False, expected: str | None = None) -> Any:
     """``value`` if it is one of ``options`` (or callable, with ``callable_ok``); else an
-    :class:`~vibss.errors.ArgumentError` listing the options, with a did-you-mean."""
+    :class:`~vibss.errors.ArgumentError` listing the options, with a did-you-mean.
+
+    The message is ``"<argument>: unknown <value> (did you mean ...?); expected one of [...]"``, or,
+    with ``expected`` (``"'log' or 'linear'"``), ``"<argument>: expected <expected>, got <value>
+    (did you mean ...?)"``.
+    """
     opts = list(options)
     if (callable_ok and callable(value)) or (isinstance(value, str) and value in opts) \
             or (not isinstance(value, str) and any(value is o for o in opts)):
         return value
     hint = did_you_mean(value, opts) if isinstance(value, str) else ""
     more = " or a callable" if callable_ok else ""
-    raise ArgumentError(f"{prefix(argument, who)}: unknown {value!r}{hint}; expected one of {opts}{more}",
-                        argument=argument, received=value, expected=tuple(opts))
+    text = (f"expected {expected}{more}, got {value!r}{hint}" if expected
+            else f"unknown {value!r}{hint}; expected one of {opts}{more}")
+    raise ArgumentError(f"{prefix(argument, who)}: {text}", argument=argument, received=value,
+                        expected=tuple(opts))
 
 
 def name_index(name: Any, names: Sequence[str], argument: str, *, who: str = "") -> int:

@@ -24,6 +24,7 @@ import scipy.sparse.linalg as spl
 
 from .linear.assemble import Assembly, assemble
 from .linear.directions import align_cluster, describe_motion
+from ._validate import number, vector
 from .errors import AnalysisError, ModelError
 from .model.geometry import point_transfer
 from .model.model import DOF_NAMES, GROUND, Model
@@ -288,9 +289,7 @@ def static(model: Model | Assembly, loads: np.ndarray | None = None, *,
     for label, value in (prescribed or {}).items():
         if not isinstance(label, str):
             raise ModelError(f"prescribed: keys are DOF labels like 'engine.z' or 'ground.z', got {label!r}")
-        if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer, np.floating)) \
-                or not np.isfinite(value):
-            raise ModelError(f"prescribed[{label!r}]: expected a finite number [m or rad], got {value!r}")
+        value = number(value, f"prescribed[{label!r}]", unit="m or rad")
         body, _, dof = label.partition(".")
         if body == GROUND:
             if dof not in DOF_NAMES:
@@ -318,10 +317,7 @@ def static(model: Model | Assembly, loads: np.ndarray | None = None, *,
 
 
 def _vector(v: Any, n: int, what: str) -> np.ndarray:
-    arr = np.asarray(v, dtype=float)
-    if arr.shape != (n,) or not np.all(np.isfinite(arr)):
-        raise ModelError(f"{what}: expected {n} finite numbers (6 per body), got shape {arr.shape}")
-    return arr
+    return vector(v, n, what, hint="(6 per body)", unit="N, N m", strict=False)
 
 
 def _mul(K: Any, x: np.ndarray) -> np.ndarray:

@@ -37,7 +37,7 @@ import scipy.sparse as sp
 
 from ..linear.assemble import Assembly
 from ..linear.banded import structure
-from .._validate import choice, name_index
+from .._validate import choice, integer, name_index, number
 from ..errors import AnalysisError, ArgumentError, DefectiveModesError, ModelError
 from .kernels import (COMPLEX_MODE_RISK, METHODS, classical_damping, complex_mode_risk,
                           project_damping, zero_frequency_limit)
@@ -86,24 +86,11 @@ class FrequencyGrid:
         vals: dict[str, Any] = {}
         for key in ("f1", "f2"):
             v = getattr(self, key)
-            if v is not None:
-                ok = not isinstance(v, (bool, np.bool_, str))
-                try:
-                    v = float(v) if ok else v
-                except (TypeError, ValueError):
-                    ok = False
-                if not ok or not np.isfinite(v) or v < 0:
-                    raise ModelError(f"frequencies: {key}: expected a frequency >= 0 [Hz] or None, "
-                                     f"got {getattr(self, key)!r}")
-            vals[key] = v
-        pts = self.points
-        integral = isinstance(pts, (int, np.integer)) or (isinstance(pts, (float, np.floating))
-                                                          and float(pts).is_integer())
-        if isinstance(pts, (bool, np.bool_)) or not integral or pts < 2:
-            raise ModelError(f"frequencies: points: expected an integer >= 2, got {pts!r}")
-        if self.spacing not in ("log", "linear"):
-            raise ModelError(f"frequencies: spacing: expected 'log' or 'linear', got {self.spacing!r}")
-        return dataclasses.replace(self, f1=vals["f1"], f2=vals["f2"], points=int(pts),
+            vals[key] = v if v is None else number(v, key, who="frequencies", minimum=0.0,
+                                                   what="a frequency >= 0 [Hz] or None")
+        pts = integer(self.points, "points", who="frequencies", minimum=2)
+        choice(self.spacing, "spacing", ("log", "linear"), who="frequencies", expected="'log' or 'linear'")
+        return dataclasses.replace(self, f1=vals["f1"], f2=vals["f2"], points=pts,
                                    refine=bool(self.refine))
 
     @classmethod

@@ -27,6 +27,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from .._validate import vector
 from ..errors import ModelError, did_you_mean
 from .model import DOF_NAMES, GROUND
 from ..linear.plant import INPUT_KINDS
@@ -322,10 +323,4 @@ class Excitation:
 
 
 def _vector3(value: Any, who: str, key: str) -> np.ndarray:
-    try:
-        a = np.array(value, dtype=float)
-    except (TypeError, ValueError):
-        raise ModelError(f"{who}: {key}: expected 3 numbers, got {value!r}") from None
-    if a.shape != (3,) or not np.all(np.isfinite(a)):
-        raise ModelError(f"{who}: {key}: expected 3 finite numbers, got {value!r}")
-    return a
+    return vector(value, 3, key, who=who, strict=False)

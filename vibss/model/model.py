@@ -26,6 +26,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from .._validate import is_numeric, vector
 from ..errors import ModelError, did_you_mean
 from .geometry import MIRRORS, Orientation
 
@@ -60,35 +61,8 @@ def _freeze(a: np.ndarray) -> np.ndarray:
     return a
 
 
-def _is_numeric(value: Any) -> bool:
-    """True for a number or (nested) sequence of numbers; bools and strings are not numbers."""
-    if isinstance(value, (str, bytes, bool, np.bool_)) or value is None:
-        return False
-    if isinstance(value, (list, tuple)):        # numpy would upcast [True, 1.0] to floats
-        return all(_is_numeric(v) for v in value)
-    try:
-        a = np.asarray(value)
-    except (TypeError, ValueError):
-        return False
-    if a.dtype.kind in "iuf":
-        return True
-    if a.dtype.kind == "O" and a.size:
-        return all(_is_numeric(v) for v in a.ravel())
-    return False
-
-
 def _vec(value: Any, n: int, who: str, key: str) -> np.ndarray:
-    if not _is_numeric(value):
-        raise ModelError(f"{who}: {key}: expected {n} numbers, got {value!r}")
-    try:
-        a = np.array(value, dtype=float)
-    except (TypeError, ValueError):
-        raise ModelError(f"{who}: {key}: expected {n} numbers, got {value!r}") from None
-    if a.shape != (n,):
-        raise ModelError(f"{who}: {key}: expected {n} numbers, got {np.shape(value)} ({value!r})")
-    if not np.all(np.isfinite(a)):
-        raise ModelError(f"{who}: {key}: values must be finite, got {a.tolist()}")
-    return _freeze(a)
+    return _freeze(vector(value, n, key, who=who))
 
 
 def _name(value: Any, who: str) -> str:
@@ -175,7 +149,7 @@ class Body:
         _point_name(self.name, who)
         if self.name == "mount":
             raise ModelError(f"{who}: the name 'mount' is reserved ('mount.<name>.fz' are mount signals)")
-        m = np.array(self.mass, dtype=float) if _is_numeric(self.mass) else None
+        m = np.array(self.mass, dtype=float) if is_numeric(self.mass) else None
         if m is None or m.shape not in ((), (3,)):
             raise ModelError(f"{who}: mass: expected a number or 3 numbers [kg], got {self.mass!r}")
         if not np.all(np.isfinite(m)):
@@ -187,7 +161,7 @@ class Body:
         object.__setattr__(self, "masses", _freeze(masses.copy()))
         object.__setattr__(self, "cog", _vec(self.cog, 3, who, "cog"))
 
-        inertia = np.array(self.inertia, dtype=float) if _is_numeric(self.inertia) else None
+        inertia = np.array(self.inertia, dtype=float) if is_numeric(self.inertia) else None
         if inertia is None or inertia.shape not in ((3,), (3, 3)):
             raise ModelError(
                 f"{who}: inertia: expected 3 principal moments or a 3x3 tensor [kg m^2], "
@@ -280,7 +254,7 @@ class MountType:
             if np.any(v < 0):
                 raise ModelError(f"{who}: {key} must not be negative, got {v.tolist()} {unit}")
             object.__setattr__(self, key, v)
-        eta = np.array(self.loss_factor, dtype=float) if _is_numeric(self.loss_factor) else None
+        eta = np.array(self.loss_factor, dtype=float) if is_numeric(self.loss_factor) else None
         if eta is None or eta.shape not in ((), (3,)):
             raise ModelError(f"{who}: loss_factor: expected a number or 3 numbers, got {self.loss_factor!r}")
         eta = np.broadcast_to(eta, (3,)).copy()

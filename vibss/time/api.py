@@ -50,7 +50,7 @@ import scipy.sparse as sp
 import numpy.typing as npt
 
 from . import kernels as tm
-from .._validate import name_index
+from .._validate import choice, name_index, number, vector
 from ..errors import AnalysisError, ArgumentError, DefectiveModesError, ModelError
 from ..results import Result, Table, jsonable, require_pandas
 from .integrators import central_difference_method, newmark_method
@@ -329,14 +329,8 @@ class TimeResponse(Result):
 
 def _six(body: str, what: str, vec: Any) -> np.ndarray:
     """6 finite numbers (x y z rx ry rz) of one body's initial displacement or velocity."""
-    try:
-        a = np.asarray(vec, float)
-    except (TypeError, ValueError):
-        a = np.empty(0)
-    if a.shape != (6,) or not np.all(np.isfinite(a)):
-        raise ModelError(f"simulate: initial[{body!r}]: {what}: expected 6 finite numbers "
-                         f"(x y z rx ry rz), got {vec!r}")
-    return a
+    return vector(vec, 6, what, who=f"simulate: initial[{body!r}]", strict=False,
+                  what="6 finite numbers (x y z rx ry rz)")
 
 
 def _initial(plant: Plant, initial: Any, model: Model | None) -> tuple[np.ndarray, np.ndarray]:
@@ -442,13 +436,14 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
         A method cannot answer (e.g. solve_ivp failed), or an output needs the second derivative
         of a displacement input (impulsive: prescribe the motion as an acceleration input).
     """
-    t_end, dt, record_from = _seconds("t_end", t_end), _seconds("dt", dt), _seconds("record_from", record_from)
-    if not (np.isfinite(dt) and dt > 0):
-        raise ModelError(f"simulate: dt: must be a positive time step [s], got {dt!r}")
-    if not (np.isfinite(t_end) and t_end >= dt):
-        raise ModelError(f"simulate: t_end: must be at least dt = {dt:g} s, got {t_end!r}")
-    if not (0.0 <= record_from <= t_end):
-        raise ModelError(f"simulate: record_from: must lie in [0, t_end = {t_end:g}] s, got {record_from!r}")
+    secs = "a number of seconds"
+    dt = number(dt, "dt", who="simulate", minimum=0.0, strict=True, what=secs, must="a positive time step [s]")
+    t_end = number(t_end, "t_end", who="simulate", minimum=dt, what=secs, must=f"at least dt = {dt:g} s")
+    record_from = number(record_from, "record_from", who="simulate", minimum=0.0, what=secs,
+                         must=f"in [0, t_end = {t_end:g}] s")
+    if record_from > t_end:
+        raise ArgumentError(f"simulate: record_from: must lie in [0, t_end = {t_end:g}] s, got {record_from!r}",
+                            argument="record_from", received=record_from, expected=f"0 .. {t_end:g} s")
     samples = np.floor(t_end / dt + 1e-9) + 1
     if samples > MAX_SAMPLES:
         raise ModelError(f"simulate: t_end / dt: {t_end:g} s every {dt:g} s is {samples:.3g} samples, "
@@ -506,15 +501,12 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
     _check_derivatives(plant)
     job = SimulationJob(plant=plant, time=ts, funcs=tuple(funcs), breakpoints=np.array(bps, float),
                         q0=q0, v0=v0, rtol=float(rtol), atol=atol, solver=solver)
+    choice(method, "method", ["auto", *METHODS], who="simulate", callable_ok=True)
     if callable(method):
         name, fn = getattr(method, "__name__", "callable"), method
-    elif method == "auto":
-        name, fn = "modal", METHODS["modal"]
-    elif method in METHODS:
-        name, fn = method, METHODS[method]
     else:
-        raise ModelError(f"simulate: method: unknown {method!r}; expected one of "
-                         f"{['auto', *METHODS]} or a callable")
+        name = "modal" if method == "auto" else method
+        fn = METHODS[name]
     for finding in check_excitations(excitations, dt, inserts_breakpoints=name in ("modal", "ivp")):
         finding.warn(stacklevel=3)
     if name == "ivp" and solver in EXPLICIT_RK:
@@ -550,34 +542,12 @@ SOLVERS = ("RK23", "RK45", "DOP853", "Radau", "BDF", "LSODA")
 """``solve_ivp`` methods accepted as ``solver``."""
 
 
-def _seconds(name: str, value: Any) -> float:
-    """A time argument as a float, or a ModelError naming it."""
-    if isinstance(value, (bool, np.bool_)):
-        value = None
-    try:
-        return float(value)
-    except (TypeError, ValueError):
-        raise ModelError(f"simulate: {name}: expected a number of seconds, got {value!r}") from None
-
-
 def _tolerances(rtol: Any, atol: Any, solver: Any) -> tuple[float, float | None, str]:
     """Checked ``rtol`` (> 0), ``atol`` (None or >= 0) and ``solver`` (a solve_ivp method)."""
-    try:
-        r = float(rtol)
-    except (TypeError, ValueError):
-        r = float("nan")
-    if isinstance(rtol, (bool, np.bool_)) or not (np.isfinite(r) and r > 0):
-        raise ModelError(f"simulate: rtol: expected a positive relative tolerance, got {rtol!r}")
-    a: float | None = None
-    if atol is not None:
-        try:
-            a = float(atol)
-        except (TypeError, ValueError):
-            a = float("nan")
-        if isinstance(atol, (bool, np.bool_)) or not (np.isfinite(a) and a >= 0):
-            raise ModelError(f"simulate: atol: expected None or an absolute tolerance >= 0, got {atol!r}")
-    if solver not in SOLVERS:
-        raise ModelError(f"simulate: solver: expected one of {list(SOLVERS)}, got {solver!r}")
+    r = number(rtol, "rtol", who="simulate", minimum=0.0, strict=True, what="a positive relative tolerance")
+    a = None if atol is None else number(atol, "atol", who="simulate", minimum=0.0,
+                                         what="None or an absolute tolerance >= 0")
+    choice(solver, "solver", SOLVERS, who="simulate", expected=f"one of {list(SOLVERS)}")
     return r, a, str(solver)
 
 
