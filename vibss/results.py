@@ -111,12 +111,28 @@ def jsonable(value: Any) -> Any:
     if isinstance(value, (complex, np.complexfloating)):
         return [jsonable(value.real), jsonable(value.imag)]
     if isinstance(value, np.ndarray):
-        return jsonable(value.tolist())
+        return _array(value)
     if isinstance(value, Mapping):
         return {str(k): jsonable(v) for k, v in value.items()}
     if isinstance(value, (list, tuple)):
         return [jsonable(v) for v in value]
     return value
+
+
+def _array(a: np.ndarray) -> Any:
+    """Nested lists of an array at numpy speed (a time response has millions of samples)."""
+    if a.dtype.kind in "biu":
+        return a.tolist()
+    if a.dtype.kind == "f":
+        bad = ~np.isfinite(a)
+        if not bad.any():
+            return a.tolist()
+        out = a.astype(object)
+        out[bad] = None
+        return out.tolist()
+    if a.dtype.kind == "c":
+        return _array(np.stack([a.real, a.imag], axis=-1))
+    return jsonable(a.tolist())
 
 
 def require_pandas() -> Any:

@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from .._validate import vector
+from .._validate import choice, vector
 from ..errors import ModelError, did_you_mean
 from .model import DOF_NAMES, GROUND
 from ..linear.plant import INPUT_KINDS
@@ -134,9 +134,7 @@ def function_from_dict(data: Any, who: str = "function", *, value_scale: float =
         raise ModelError(f"{who}: expected a function table like {{ type = \"half_sine\", amplitude = ..., "
                          f"start = ..., duration = ... }}, got {data!r}")
     kind = data.get("type")
-    if not isinstance(kind, str) or kind not in FUNCTIONS:
-        raise ModelError(f"{who}: type: expected one of {list(FUNCTIONS)}, got {kind!r}"
-                         + (did_you_mean(kind, FUNCTIONS) if isinstance(kind, str) else ""))
+    choice(kind, "type", FUNCTIONS, who=who, expected=f"one of {list(FUNCTIONS)}")
     cls = FUNCTIONS[kind]
     if cls is Sum:
         return function_from_dict(list(data.get("terms") or []), f"{who}.terms", value_scale=value_scale,
@@ -248,9 +246,7 @@ class Excitation:
         if not isinstance(self.name, str) or not self.name:
             raise ModelError(f"excitation: name must be a non-empty string, got {self.name!r}")
         who = f"excitation {self.name!r}"
-        if self.kind not in INPUT_KINDS:
-            raise ModelError(f"{who}: kind: expected one of {list(INPUT_KINDS)}, got {self.kind!r}"
-                             + did_you_mean(self.kind, INPUT_KINDS))
+        choice(self.kind, "kind", INPUT_KINDS, who=who, expected=f"one of {list(INPUT_KINDS)}")
         if not isinstance(self.target, str) or not self.target:
             raise ModelError(f"{who}: target: expected a body name or {GROUND!r}, got {self.target!r}")
         if self.kind == "force" and self.target == GROUND:
@@ -261,9 +257,8 @@ class Excitation:
         if (self.dof is None) == (self.direction is None):
             raise ModelError(f"{who}: give exactly one of dof (one of {list(DOF_NAMES)}) and "
                              "direction (a 3-vector)")
-        if self.dof is not None and self.dof not in DOF_NAMES:
-            raise ModelError(f"{who}: dof: expected one of {list(DOF_NAMES)}, got {self.dof!r}"
-                             + did_you_mean(self.dof, DOF_NAMES))
+        if self.dof is not None:
+            choice(self.dof, "dof", DOF_NAMES, who=who, expected=f"one of {list(DOF_NAMES)}")
         if self.direction is not None:
             d = _vector3(self.direction, who, "direction")
             norm = float(np.linalg.norm(d))
