@@ -134,8 +134,7 @@ def function_from_dict(data: Any, who: str = "function", *, value_scale: float =
         raise ModelError(f"{who}: expected a function table like {{ type = \"half_sine\", amplitude = ..., "
                          f"start = ..., duration = ... }}, got {data!r}")
     kind = data.get("type")
-    choice(kind, "type", FUNCTIONS, who=who, expected=f"one of {list(FUNCTIONS)}")
-    cls = FUNCTIONS[kind]
+    cls = FUNCTIONS[choice(kind, "type", FUNCTIONS, who=who, expected=f"one of {list(FUNCTIONS)}")]
     if cls is Sum:
         return function_from_dict(list(data.get("terms") or []), f"{who}.terms", value_scale=value_scale,
                                   time_scale=time_scale, angle_scale=angle_scale, base=base)
