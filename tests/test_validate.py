@@ -174,6 +174,9 @@ BAD = [
     ("loads", None, lambda m: vibss.static(m, loads=[1.0, 2.0])),
     ("f2", None, lambda m: Scope(["b.fz"], ["b.z"], 10.0, 5.0)),
     ("output", "b.z", lambda m: vibss.frequency_response(m, ["b.fz"], ["b.z"], [1.0]).channel("b.zz")),
+    ("inputs", "b.fz", lambda m: vibss.frequency_response(m, ["b.fq"], ["b.z"], [1.0])),
+    ("outputs", "b.z", lambda m: vibss.simulate(m, inputs={"b.fz": np.sin}, outputs=["b.zz"], t_end=0.1,
+                                                dt=0.01)),
 ]
 
 
