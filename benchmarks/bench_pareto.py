@@ -50,8 +50,8 @@ from machine import machine, stamp, timed  # noqa: E402
 from models import chain_model  # noqa: E402
 
 from vibss import assemble, damped_modes, modes  # noqa: E402
-from vibss import frf_methods as fm  # noqa: E402
-from vibss import time_methods as tm  # noqa: E402
+from vibss.frequency import kernels as fm  # noqa: E402
+from vibss.time import kernels as tm  # noqa: E402
 from vibss.model.excitation import Excitation, Rectangular, SineSweep  # noqa: E402
 from vibss.time.integrators import central_difference_method, critical_step, newmark_method  # noqa: E402
 from vibss.reduction.krylov import sparse_plant  # noqa: E402

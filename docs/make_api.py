@@ -6,7 +6,10 @@ object has no docstring (the "docs build without warnings" check).
 
 from __future__ import annotations
 
+import importlib
 import inspect
+import pkgutil
+import re
 import sys
 from pathlib import Path
 
@@ -19,12 +22,38 @@ def _first_paragraph(doc: str) -> str:
     return inspect.cleandoc(doc).split("\n\n")[0].replace("\n", " ")
 
 
+def _modules() -> list[str]:
+    """Every module of the package, in the order of its layout (packages before their modules)."""
+    names = [m.name for m in pkgutil.walk_packages(vibss.__path__, "vibss.")
+             if not m.name.split(".")[-1].startswith("_")]
+    return sorted(names, key=lambda n: n.split("."))
+
+
+def _module_table() -> list[str]:
+    """A table of the modules and the first line of each one's docstring (see docs/architecture.md)."""
+    rows = ["## Modules", "",
+            "The layout (layers and data flow: [architecture.md](architecture.md)). Every public name "
+            "below also says the module that defines it.", "", "| module | what it holds |", "|---|---|"]
+    for name in _modules():
+        doc = importlib.import_module(name).__doc__ or ""
+        first = _first_paragraph(doc).split(". ")[0].rstrip(".") if doc.strip() else ""
+        first = re.sub(r":\w+:`~?([^`]+)`", r"`\1`", first).replace("``", "`")   # rst roles -> Markdown
+        rows.append(f"| `{name}` | {first.replace('|', '/')} |")
+    return rows + [""]
+
+
+def _where(obj: object) -> str:
+    module = getattr(obj, "__module__", None) or ""
+    return f" in `{module}`" if module.startswith("vibss") else ""
+
+
 def render() -> tuple[str, list[str]]:
     """The Markdown text and the list of problems (public objects without a docstring)."""
     problems: list[str] = []
     lines = ["# API reference", "",
              "Generated from the docstrings by `docs/make_api.py`; every name is importable as "
              "`vibss.<name>`. Full docstrings (parameters with units, examples): `help(vibss.<name>)`.", ""]
+    lines += _module_table()
     groups = {"Model": [], "Analyses": [], "Results": [], "Files": [], "Errors": [], "Other": []}
     for name in sorted(vibss.__all__, key=str.lower):
         obj = getattr(vibss, name)
@@ -60,7 +89,7 @@ def render() -> tuple[str, list[str]]:
                     sig = "(...)"
                 kind = "class" if inspect.isclass(obj) else "function"
                 lines += [f"### `{name}{sig if kind == 'function' else ''}`", "",
-                          f"*{kind}* — {_first_paragraph(doc)}", ""]
+                          f"*{kind}*{_where(obj)} — {_first_paragraph(doc)}", ""]
                 if inspect.isclass(obj):
                     members = [m for m, v in vars(obj).items() if not m.startswith("_")
                                and (inspect.isfunction(v) or isinstance(v, property))]

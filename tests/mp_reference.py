@@ -108,3 +108,51 @@ def receptance(model: Model, s: complex) -> np.ndarray:
         D = K + sm * C + sm * sm * M
         X = mp.inverse(D)
         return np.array([[complex(X[i, j]) for j in range(D.cols)] for i in range(D.rows)])
+
+
+@lru_cache(maxsize=None)
+def _poles(model: Model) -> tuple:
+    with mp.workdps(DPS):
+        K, C, M = matrices(model), matrices(model, "damping"), mass(model)
+        n = K.rows
+        Mi = mp.inverse(M)
+        A = mp.zeros(2 * n, 2 * n)
+        for i in range(n):
+            A[i, n + i] = 1
+        MK, MC = Mi * K, Mi * C
+        for i in range(n):
+            for j in range(n):
+                A[n + i, j] = -MK[i, j]
+                A[n + i, n + j] = -MC[i, j]
+        lam = mp.eig(A, left=False, right=False)
+        return tuple(complex(v) for v in lam)
+
+
+def poles(model: Model) -> np.ndarray:
+    """(2n,) poles [1/s] of ``M q'' + C q' + K q = 0`` (eigenvalues of the first-order matrix),
+    computed in 60 digits, sorted by imaginary part then real part."""
+    lam = np.array(_poles(model))
+    return lam[np.lexsort((lam.real, lam.imag))]
+
+
+def step_response_undamped(model: Model, load: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """(len(t), n) response of an undamped model at rest to a step load [N, N m] applied at t = 0:
+    ``q(t) = sum_k phi_k phi_k^T f (1 - cos w_k t) / w_k^2`` with 60-digit modes (no rigid modes)."""
+    with mp.workdps(DPS):
+        M, K = mass(model), matrices(model)
+        Li = mp.inverse(mp.cholesky(M))
+        A = Li * K * Li.T
+        w2, U = mp.eigsy((A + A.T) / 2)
+        phi = Li.T * U
+        f = mp.matrix([mp.mpf(float(v)) for v in load])
+        n = K.rows
+        out = np.zeros((len(t), n))
+        for k in range(n):
+            col = phi[:, k]
+            g = (col.T * f)[0] / w2[k]
+            wk = mp.sqrt(w2[k])
+            for it, tt in enumerate(t):
+                a = g * (1 - mp.cos(wk * mp.mpf(float(tt))))
+                for i in range(n):
+                    out[it, i] += float(col[i] * a)
+        return out

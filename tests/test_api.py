@@ -21,7 +21,7 @@ LAYERS = [
     {"linear.eigen", "linear.complex_modes", "linear.banded", "linear.signals", "linear.solve",
      "statics", "time.integrators", "diagnostics"},
     {"linear", "modal"},
-    {"frequency.kernels", "time.kernels"},
+    {"frequency.kernels", "time.kernels", "studies"},
     {"frequency", "time", "reduction"},
     {"plotting", "report"},
     {"commands", "cli", "__main__"},

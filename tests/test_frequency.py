@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import small_cases as sc
 from vibss import AnalysisError, Body, Model, ModelError, Mount, MountType, assemble, symmetric
 from vibss.frequency.api import (FrequencyGrid, frequency_grid, frequency_response, sweep_response,
                              transmissibility)
@@ -405,3 +406,42 @@ def test_sparse_plant_refused_clearly_where_dense_matrices_are_needed() -> None:
         statespace(ps)
     with pytest.raises(AnalysisError, match="sparse matrices"):
         simulate(ps, inputs={"b0.fz": lambda t: np.ones_like(t)}, t_end=0.01, dt=1e-3)
+
+
+# == moved from the file of review-round fixes: frequency grid and peaks ===================
+
+# 6 -- frequencies argument ------------------------------------------------------------------------
+
+@pytest.mark.parametrize("frequencies, message", [
+    ([], r"frequencies: got an empty list"),
+    ({"f1": 1, "f2": 5, "points": "x"}, r"frequencies: points: expected an integer >= 2, got 'x'"),
+    ({"f1": "a", "f2": 5}, r"frequencies: f1: expected a frequency >= 0 \[Hz\] or None, got 'a'"),
+    ({"f1": 1, "f2": 5, "points": 2.5}, r"frequencies: points: expected an integer >= 2, got 2.5"),
+    ({"f1": 1, "f2": 5, "points": 1}, r"frequencies: points: expected an integer >= 2, got 1"),
+    ({"f1": 1, "f2": 5, "spacing": "lin"}, r"frequencies: spacing: expected 'log' or 'linear'"),
+    ("abc", r"frequencies: expected finite frequencies >= 0"),
+])
+def test_bad_frequencies_are_model_errors(frequencies: object, message: str) -> None:
+    with pytest.raises(ModelError, match=message):
+        frequency_response(sc.sdof(), ["b.fz"], ["b.z"], frequencies=frequencies)
+
+
+def test_integral_float_points_are_accepted() -> None:
+    r = frequency_response(sc.sdof(), ["b.fz"], ["b.z"],
+                           frequencies={"f1": 1, "f2": 5, "points": 10.0, "spacing": "linear", "refine": False})
+    np.testing.assert_allclose(r.frequency_hz, np.linspace(1, 5, 10))
+
+
+# 7 -- peaks beside an infinite 0 Hz value ----------------------------------------------------------
+
+def test_no_peak_beside_an_infinite_zero_hz_value() -> None:
+    f = np.concatenate([[0.0, 0.005, 0.01], np.linspace(1, 10, 901)])
+    r = frequency_response(sc.sdof(), ["ground.z.acc"], ["b.z"], frequencies=f)
+    assert np.isinf(r.channel("b.z")[0])
+    peaks = r.peaks("b.z")
+    assert len(peaks) == 1
+    fp, a = peaks[0]
+    w = 2 * np.pi * fp
+    np.testing.assert_allclose(a, abs((sc.K + 1j * w * sc.C) / (sc.K - sc.M * w**2 + 1j * w * sc.C)) / w**2, rtol=1e-10)
+    assert abs(fp - sc.WN / (2 * np.pi)) < 0.02
+    assert "infinite" in r.report()

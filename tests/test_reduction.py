@@ -5,8 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+import small_cases as sc
 from cases import asymmetric_model, prism_model, two_mass_model
-from vibss import Body, Model, ModelError, Mount, MountType, AnalysisError
+from vibss import Body, Model, ModelError, Mount, MountType, AnalysisError, load_example
 from vibss.reduction.api import reduce, relative_error
 from vibss.reduction.kernels import frf
 from vibss.reduction.scope import Scope
@@ -221,3 +222,26 @@ def test_sparse_plant_reduces_by_krylov_and_refuses_dense_methods():
     assert reduce(ps, scope).method == "krylov"
     with pytest.raises(AnalysisError, match="needs a dense plant"):
         reduce(ps, scope, "modal")
+
+
+# == moved from the file of review-round fixes: Krylov reduction ===========================
+
+# 8 -- Krylov reduction of an undamped model from 0 Hz -----------------------------------------------
+
+def test_krylov_undamped_from_zero_hz() -> None:
+    from vibss.reduction.api import reduce
+    from vibss.reduction.prune import frf
+    from vibss.reduction.scope import Scope
+
+    model = load_example("two_mass")
+    red = reduce(model, Scope(["body1.fz"], ["body2.z"], 0, 50, 1e-4), "krylov")
+    full = build_plant(model, ["body1.fz"], ["body2.z"])
+    s = 2j * np.pi * np.array([0.0, 0.3, 1.2, 10.0, 40.0])
+    want = np.array([np.linalg.solve(full.K + si * full.C + si**2 * full.M, full.F[:, 0]) @ full.Oq[0]
+                     for si in s])
+    np.testing.assert_allclose(frf(red.plant, s)[0, 0], want, rtol=1e-6)
+    # exactly on an undamped pole: inf, not LinAlgError
+    p = build_plant(sc.sdof(0.0), ["b.fz"], ["b.z"])
+    h = frf(p, np.array([1j * sc.WN, 0.5j * sc.WN]))[0, 0]
+    assert np.isinf(h[0])
+    np.testing.assert_allclose(h[1].real, 1 / (sc.K - sc.M * (0.5 * sc.WN) ** 2), rtol=1e-12)

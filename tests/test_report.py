@@ -9,6 +9,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 
+import numpy as np
 import pytest
 
 import vibss
@@ -85,3 +86,43 @@ def test_example_list_and_write(capsys, tmp_path):
     assert run(["example", "write", "prism", str(written)]) == 1      # refuses to overwrite
     assert "--force" in capsys.readouterr().err
     assert run(["example", "write", "prism", str(written), "--force"]) == 0
+
+
+# == moved from the file of review-round fixes: report band and per-section failures =====
+
+# 9, 10 -- report ---------------------------------------------------------------------------------
+
+def test_report_sweep_uses_the_file_band() -> None:
+    from vibss.frequency.api import sweep_response
+    from vibss.report import study
+
+    model = load_example("powertrain")
+    spec = model.settings["frequency"]
+    rep = study(model, figures=False)
+    r = rep.results["frequency"]
+    assert r.frequency_hz.min() == spec["f1"] and r.frequency_hz.max() == spec["f2"]
+    cli = sweep_response(model, None, spec.get("f1"), spec.get("f2"), int(spec.get("points", 1000)),
+                         spec.get("spacing", "log"))       # what ``vibss frf`` computes
+    np.testing.assert_array_equal(r.frequency_hz, cli.frequency_hz)
+    for y in r.outputs:
+        assert r.peaks(y, "sweep") == cli.peaks(y, "sweep")
+
+
+def test_report_survives_a_numerical_failure_in_one_section(monkeypatch: pytest.MonkeyPatch) -> None:
+    from vibss import report
+
+    def broken(*args: object) -> object:
+        raise np.linalg.LinAlgError("Singular matrix")
+
+    monkeypatch.setitem(report._RUNNERS, "damped", broken)
+    rep = report.study(load_example("two_mass"), figures=False)
+    sec = rep.section("damped")
+    assert sec.skipped and sec.note == "failed: LinAlgError: Singular matrix"
+    assert not rep.section("modes").skipped and "modes" in rep.results
+
+    def typo(*args: object) -> object:
+        raise TypeError("a programming error")
+
+    monkeypatch.setitem(report._RUNNERS, "damped", typo)
+    with pytest.raises(TypeError, match="a programming error"):
+        report.study(load_example("two_mass"), figures=False)

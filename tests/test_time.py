@@ -2,16 +2,20 @@
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from vibss import Body, Model, Mount, MountType, VibssWarning, assemble
-from vibss.errors import ModelError
+import small_cases as sc
+from vibss import Body, Model, Mount, MountType, VibssWarning, assemble, symmetric
+from vibss.errors import AnalysisError, ModelError
+from vibss.io import loads_model
 from vibss.model.excitation import Excitation, HalfSine, Rectangular, Sine, SineSweep, Step, Triangle
 from vibss.linear.signals import build_plant
 from vibss.time.api import METHODS, TimeResponse, simulate
-from vibss.time.sweep import sweep_envelope
+from vibss.time.sweep import _frf, sweep_envelope
 
 M, K, C = 2.0, 800.0, 4.0          # single DOF: w_n = 20 rad/s, zeta = 0.05
 WN = np.sqrt(K / M)
@@ -323,3 +327,137 @@ def test_auto_falls_back_to_forced_response_when_complex_modes_refuse(monkeypatc
     np.testing.assert_array_equal(r.outputs, ref.outputs)
     with pytest.raises(DefectiveModesError):
         simulate(two_body(), [], method="modal", **kw)
+
+
+# == moved from the file of review-round fixes: time response and sweep envelope ==========
+
+# 1 -- derivatives of prescribed motions --------------------------------------------------------
+
+@pytest.mark.parametrize("method", ["modal", "forced_response", "ivp"])
+def test_acceleration_of_a_prescribed_displacement_is_refused(method: str) -> None:
+    with pytest.raises(AnalysisError, match=r"output 'a\.z\.acc' depends on the second derivative "
+                                            r"of input 'a\.z\.disp'.*\(a\.z\.acc\)"):
+        simulate(sc.chain(), inputs={"a.z.disp": lambda t: np.sin(2 * np.pi * 3 * np.asarray(t))},
+                 outputs=["a.z.acc"], t_end=0.5, dt=1e-3, method=method)
+
+
+@pytest.mark.parametrize("method", ["modal", "forced_response", "ivp"])
+def test_representable_derivatives_of_prescribed_motions(method: str) -> None:
+    # z = V t: z' = V (piecewise constant, kept); velocity u = A t: z'' = A (kept)
+    V, A = 0.02, 3.0
+    r = simulate(sc.chain(), inputs={"a.z.disp": lambda t: V * np.asarray(t)}, outputs=["a.z.vel"],
+                 t_end=0.2, dt=1e-3, method=method)
+    np.testing.assert_allclose(r.output("a.z.vel")[1:], V, rtol=1e-6)
+    r = simulate(sc.chain(), inputs={"a.z.vel": lambda t: A * np.asarray(t)}, outputs=["a.z.acc"],
+                 t_end=0.2, dt=1e-3, method=method)
+    np.testing.assert_allclose(r.output("a.z.acc")[1:], A, rtol=1e-6)
+
+
+# 2 -- initial conditions ------------------------------------------------------------------------
+
+@pytest.mark.parametrize("initial, message", [
+    ({"b": [[0, 0, 0.01, 0, 0, 0]]}, r"initial\['b'\]: expected \{'displacement'"),
+    ({"b": (1, 2, 3)}, r"initial\['b'\]: expected \{'displacement'"),
+    ({"b": 5}, r"initial\['b'\]: expected .* got 5"),
+    ({"c": {"displacement": [0] * 6}}, r"initial: unknown body 'c'; bodies are \['b'\]"),
+    ({"b": {"disp": [0] * 6}}, r"initial\['b'\]: unknown key\(s\) \['disp'\]"),
+    ({"b": {"velocity": [1, 2]}}, r"initial\['b'\]: velocity: expected 6 finite numbers"),
+    ({"b": {"displacement": "abc"}}, r"initial\['b'\]: displacement: expected 6 finite numbers"),
+])
+def test_malformed_initial_conditions_are_refused(initial: object, message: str) -> None:
+    with pytest.raises(ModelError, match=message):
+        simulate(sc.sdof(), inputs={"b.fz": lambda t: 0 * t}, outputs=["b.z"], t_end=0.1, dt=1e-3,
+                 initial=initial)
+
+
+# 3 -- other arguments -----------------------------------------------------------------------------
+
+@pytest.mark.parametrize("kwargs, message", [
+    ({"t_end": "abc"}, r"t_end: expected a number of seconds, got 'abc'"),
+    ({"dt": None}, r"dt: expected a number of seconds, got None"),
+    ({"method": "ivp", "rtol": -1}, r"rtol: expected a positive relative tolerance, got -1"),
+    ({"method": "ivp", "atol": -1.0}, r"atol: expected None or an absolute tolerance >= 0"),
+    ({"solver": "foo"}, r"solver: expected one of .* got 'foo'"),
+    ({"t_end": 1e6, "dt": 1e-9}, r"is 1e\+15 samples, more than 5e\+07"),
+    ({"dt": 0.0}, r"dt: must be a positive time step"),
+    ({"dt": -1e-3}, r"dt: must be a positive time step"),
+    ({"t_end": 0.0}, r"t_end: must be at least dt"),
+    ({"method": "nope"}, r"method: unknown 'nope'"),
+])
+def test_bad_simulate_arguments_are_model_errors(kwargs: dict, message: str) -> None:
+    args = {"t_end": 0.1, "dt": 1e-3, **kwargs}
+    with pytest.raises(ModelError, match=message):
+        simulate(sc.sdof(), inputs={"b.fz": lambda t: 0 * t}, outputs=["b.z"], **args)
+
+
+# 4 -- free vibration ------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("method", ["modal", "forced_response", "ivp"])
+def test_free_decay_from_initial_conditions_alone(method: str) -> None:
+    x0, v0 = 0.01, -0.2
+    r = simulate(sc.sdof(), outputs=["b.z"], t_end=1.0, dt=1e-3, method=method, rtol=1e-10, atol=1e-14,
+                 initial={"b": {"displacement": [0, 0, x0, 0, 0, 0], "velocity": [0, 0, v0, 0, 0, 0]}})
+    zeta = sc.C / (2 * np.sqrt(sc.K * sc.M))
+    wd = sc.WN * np.sqrt(1 - zeta**2)
+    t = r.time
+    x = np.exp(-zeta * sc.WN * t) * (x0 * np.cos(wd * t) + (v0 + zeta * sc.WN * x0) / wd * np.sin(wd * t))
+    assert np.abs(r.output("b.z") - x).max() < 1e-7 * x0
+    assert r.input_names == () and r.inputs.shape == (0, t.size)
+    assert r.note.startswith("free vibration")
+
+
+def test_free_vibration_from_the_model_file_initial_conditions() -> None:
+    k = (2 * np.pi) ** 2      # 1 Hz with 1 kg
+    model = loads_model(f"""
+[[body]]
+name = "b"
+mass = 1.0
+inertia = [1.0, 1.0, 1.0]
+initial = {{ displacement = [0, 0, 0.01, 0, 0, 0] }}
+[[mount_type]]
+name = "t"
+stiffness = [{k!r}, {k!r}, {k!r}]
+[[mount]]
+type = "t"
+body = "b"
+""")
+    r = simulate(model, [], outputs=["b.z"], t_end=0.5, dt=1e-3)
+    np.testing.assert_allclose(r.output("b.z"), 0.01 * np.cos(2 * np.pi * r.time), atol=1e-12)
+    with pytest.raises(ModelError, match="nothing drives the response"):
+        simulate(sc.sdof(), outputs=["b.z"], t_end=0.1, dt=1e-3)
+
+
+# 5 -- sweep envelope at 0 Hz and on an undamped resonance ------------------------------------------
+
+@pytest.mark.parametrize("kind", ["acceleration", "velocity"])
+def test_sweep_envelope_from_zero_hz(kind: str) -> None:
+    e = Excitation("g", kind, "ground", SineSweep(f1=0.0, f2=20.0, a1=1.0, a2=1.0, sweep_time=5.0), dof="z")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        r = sweep_envelope(sc.sdof(), e, outputs=["b.z", "mount.m.dz"])
+    assert r.frequency_hz[0] == 0.0
+    assert np.isinf(r.steady[0, 0])          # absolute displacement under a constant acc / vel
+    # relative deflection per unit input at 0 Hz: -m/k for acceleration, -m s/(...) -> 0 for velocity
+    expected = sc.M / sc.K if kind == "acceleration" else 0.0
+    assert abs(r.steady[1, 0] - expected) <= 1e-9 * sc.M / sc.K
+    assert np.all(np.isfinite(r.steady[:, 1:]))
+
+
+def test_steady_state_exactly_on_an_undamped_resonance() -> None:
+    und = sc.sdof(0.0)
+    p = build_plant(und, ["b.fz"], ["b.z", "b.x"])
+    h = _frf(p, np.array([sc.WN, 0.5 * sc.WN]))
+    assert np.isinf(h[0, 0]) and h[1, 0] == 0.0    # the z mode drives b.z, not b.x
+    np.testing.assert_allclose(h[0, 1].real, 1 / (sc.K - sc.M * (0.5 * sc.WN) ** 2), rtol=1e-12)
+    # the reviewer's case: the envelope grid lands on the 5 Hz natural frequency
+    k = (2 * np.pi * 5) ** 2 / 4
+    m0 = Model([Body("b", 1.0, [1, 1, 1])], symmetric(Mount("m", MountType("t", [k] * 3), "b", at=[0.5, 0.5, 0.0])))
+    e = Excitation("sw", "force", "b", SineSweep(f1=0.0, f2=10.0, a1=1.0, a2=1.0, sweep_time=10.0), dof="z")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        r = sweep_envelope(m0, e, outputs=["b.z", "b.x"], points=401)
+    j = int(np.argmin(np.abs(r.frequency_hz - 5.0)))
+    assert r.frequency_hz[j] == 5.0            # the z mode: 4 k on 1 kg, exactly 5 Hz
+    assert np.isinf(r.steady[0, j]) and r.steady[1, j] == 0.0
+    w = 2 * np.pi * r.frequency_hz[j + 1]
+    np.testing.assert_allclose(r.steady[0, j + 1], 1 / abs(4 * k - w**2), rtol=1e-9)

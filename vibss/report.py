@@ -3,7 +3,8 @@
 :func:`study` runs, in order, the model summary, the static deflection (under the model's loads
 and, where the model sets it, gravity), the undamped modes with their kinetic-energy table, the
 damped modes, the steady-state response to the model's sine-sweep excitations (with the
-transmissibility from each swept input) and the time response to its transient excitations. An
+transmissibility from each swept input) and the time response to its transient excitations, over
+the window and band of :mod:`vibss.studies` (the ones ``vibss time`` and ``vibss frf`` use). An
 analysis that does not apply (no loads, no damping, no excitation of that kind) or whose module is
 not installed is skipped with a one-line note; one that fails is reported with its error message
 and the others still run. :meth:`Report.text` is the text report, :func:`write_report` writes the
@@ -31,7 +32,7 @@ import html
 import importlib.util
 import re
 import sys
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -44,6 +45,7 @@ from .modal.undamped import modes
 from .model.model import DOF_NAMES, Model
 from .results import Table
 from .statics import StaticResult, static
+from .studies import frequency_band, steady_sweeps, time_window, transient_excitations
 
 __all__ = ["Section", "Report", "study", "write_report", "html_table", "slug", "default_folder",
            "progress_on_stderr", "STEPS", "MAX_MODE_PANELS"]
@@ -266,11 +268,6 @@ def _damped_section(model: Model, figures: bool, results: dict[str, Any]) -> Sec
     return Section("damped", TITLES["damped"], d.report(), (d.table(),), note=d.method)
 
 
-def _is_sweep(e: Any) -> bool:
-    """A steady-state sine sweep (``sweep_time = 0``): a frequency-domain excitation."""
-    return bool(getattr(e.function, "steady_state", False))
-
-
 def _available(module: str) -> bool:
     return importlib.util.find_spec(f"vibss.{module}") is not None
 
@@ -288,7 +285,7 @@ def _bode(r: Any, name: str) -> tuple[str, Any]:
 
 
 def _frequency_section(model: Model, figures: bool, results: dict[str, Any]) -> Section:
-    sweeps = [e for e in model.excitations if _is_sweep(e)]
+    sweeps = list(steady_sweeps(model))
     if not sweeps:
         return Section("frequency", TITLES["frequency"], skipped=True,
                        note="no steady-state sine-sweep excitation (sweep_time = 0) in the model")
@@ -297,16 +294,15 @@ def _frequency_section(model: Model, figures: bool, results: dict[str, Any]) -> 
                        note="vibss.frequency is not installed in this version")
     from .frequency.api import sweep_response, transmissibility
 
-    spec = dict(model.settings.get("frequency", {}))
-    # the band and grid of ``vibss frf`` ([analysis] frequency, else the sweeps' own band), so the
-    # report's peaks are the command's
-    r = sweep_response(model, sweeps, spec.get("f1"), spec.get("f2"), int(spec.get("points", 1000)),
-                       spec.get("spacing", "log"))
+    # the band and grid of ``vibss frf`` (vibss.studies: [analysis] frequency, else the sweeps' own
+    # band), so the report's peaks are the command's
+    band = frequency_band(model, results.get("modes"))
+    r = sweep_response(model, sweeps, band.f1, band.f2, band.points, band.spacing)
     results["frequency"] = r
     texts = [r.report()]
     tables = [_frf_table(r, f"Steady-state sweep response of {', '.join(e.name for e in sweeps)}")]
     figs = [_bode(r, "sweep.png")] if figures else []
-    grid = {k: spec[k] for k in ("f1", "f2", "points", "spacing") if k in spec} or None
+    grid = band.grid()
     for e in sweeps:
         ground = None if e.target == "ground" else [f"ground.{c}" for c in ("fx", "fy", "fz", "mx", "my", "mz")]
         tr = transmissibility(model, [e.signal], ground, frequencies=grid)
@@ -316,7 +312,7 @@ def _frequency_section(model: Model, figures: bool, results: dict[str, Any]) -> 
         if figures:
             figs.append(_bode(tr, f"transmissibility_{slug(e.name)}.png"))
     return Section("frequency", TITLES["frequency"], "\n\n".join(texts), tuple(tables), tuple(figs),
-                   note=f"method {r.method}")
+                   note=f"{band.f1:g} to {band.f2:g} Hz ({band.note}), method {r.method}")
 
 
 def _frf_table(r: Any, title: str) -> Table:
@@ -329,21 +325,8 @@ def _frf_table(r: Any, title: str) -> Table:
     return Table(["output", "input", "peak f [Hz]", "amplitude", "unit"], rows, title=title)
 
 
-def _time_defaults(model: Model, transient: Sequence[Any], results: dict[str, Any]) -> dict[str, float]:
-    spec = dict(model.settings.get("time", {}))
-    m = results.get("modes")
-    f = m.frequency_hz[~m.rigid] if m is not None else np.array([])
-    if "end" not in spec:
-        last = max((e.function.end_time() for e in transient), default=0.0)
-        last = last if np.isfinite(last) else 0.0
-        spec["end"] = last + (5.0 / f.min() if f.size else 1.0)
-    if "step" not in spec:
-        spec["step"] = min(spec["end"] / 200.0, 1.0 / (20.0 * f.max()) if f.size else np.inf)
-    return spec
-
-
 def _time_section(model: Model, figures: bool, results: dict[str, Any]) -> Section:
-    transient = [e for e in model.excitations if not _is_sweep(e)]
+    transient = list(transient_excitations(model))
     if not transient:
         return Section("time", TITLES["time"], skipped=True,
                        note="no transient excitation (pulse, step, sine, table or timed sweep) in the model")
@@ -351,12 +334,12 @@ def _time_section(model: Model, figures: bool, results: dict[str, Any]) -> Secti
         return Section("time", TITLES["time"], skipped=True, note="vibss.time is not installed in this version")
     from .time.api import simulate
 
-    spec = _time_defaults(model, transient, results)
+    window = time_window(model, results.get("modes"))     # the window of ``vibss time``
     outputs = [f"{b}.{d}" for b in model.body_names for d in DOF_NAMES]
     outputs += [f"{b}.{d}.acc" for b in model.body_names for d in "xyz"]
     outputs += [f"mount.{m.name}.{d}" for m in model.mounts for d in ("dx", "dy", "dz")]
-    r = simulate(model, transient, outputs=outputs, t_end=spec["end"], dt=spec["step"],
-                 record_from=spec.get("record_from", 0.0))
+    r = simulate(model, transient, outputs=outputs, t_end=window.end, dt=window.step,
+                 record_from=window.record_from, rtol=window.tolerance)
     results["time"] = r
     pk = r.peaks()
     table = Table(["output", "peak", "at [s]", "RMS", "unit"],
@@ -370,7 +353,7 @@ def _time_section(model: Model, figures: bool, results: dict[str, Any]) -> Secti
 
         figs.append(("time.png", plot_time_groups(r)))
     return Section("time", TITLES["time"], r.report(), (table,), tuple(figs),
-                   note=f"0 to {spec['end']:g} s, step {spec['step']:g} s, method {r.method}")
+                   note=f"0 to {window.end:g} s, step {window.step:g} s ({window.note}), method {r.method}")
 
 
 SECTION_ERRORS: tuple[type[BaseException], ...] = (

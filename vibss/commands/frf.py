@@ -6,6 +6,7 @@ import argparse
 
 from ..errors import ModelError
 from ..frequency.api import FrequencyGrid, frequency_response, sweep_response
+from ..studies import frequency_band, steady_sweeps
 from .common import add_model_arguments, emit, load_from_args
 
 
@@ -37,10 +38,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     """Compute and print the frequency response."""
     model = load_from_args(args)
-    settings = dict((model.settings or {}).get("frequency") or {})
-    unknown = set(settings) - {"f1", "f2", "points", "spacing"}
-    if unknown:
-        raise ModelError(f"[analysis] frequency: unknown key(s) {sorted(unknown)}; expected f1, f2, points, spacing")
+    settings = frequency_band(model).grid()     # the report's band (vibss.studies)
     for key in ("f1", "f2", "points", "spacing"):
         if getattr(args, key) is not None:
             settings[key] = getattr(args, key)
@@ -52,8 +50,8 @@ def run(args: argparse.Namespace) -> int:
         if not model.excitations:
             raise ModelError("the model has no [[excitation]] entries; name inputs with --input "
                              "(e.g. --input engine.fz)")
-        result = sweep_response(model, None, settings.get("f1"), settings.get("f2"),
-                                int(settings.get("points", 1000)), settings.get("spacing", "log"),
+        result = sweep_response(model, list(steady_sweeps(model)) or None, settings["f1"],
+                                settings["f2"], int(settings["points"]), settings["spacing"],
                                 outputs, args.quantity, method=args.method)
     emit(result, args.format)
     if args.plot:

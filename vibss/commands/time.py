@@ -7,6 +7,7 @@ import sys
 
 from ..errors import ModelError
 from ..linear.signals import default_outputs
+from ..studies import steady_sweeps, time_window, transient_excitations
 from ..time.api import METHODS, simulate
 from .common import add_model_arguments, emit, load_from_args
 
@@ -17,11 +18,14 @@ def register(sub: argparse._SubParsersAction) -> None:
                        description="Simulate from t = 0 the response to the model file's "
                                    "[[excitation]] entries and initial conditions, with the "
                                    "settings of [analysis] time = {end, step, record_from, "
-                                   "tolerance} unless given here. Prints the peak and RMS of each "
-                                   "output (text) or the whole history (--format json).")
+                                   "tolerance} unless given here, else the window and step the "
+                                   "report uses (vibss.studies: the excitations' end plus the "
+                                   "slowest mode's decay; a twentieth of the shortest period or "
+                                   "pulse). Prints the peak and RMS of each output (text) or the "
+                                   "whole history (--format json).")
     add_model_arguments(p)
-    p.add_argument("--end", type=float, metavar="T", help="end time [s] (default: file, else 1 s)")
-    p.add_argument("--step", type=float, metavar="DT", help="sample interval [s] (default: file, else end/1000)")
+    p.add_argument("--end", type=float, metavar="T", help="end time [s] (default: file, else excitations' end + slowest decay)")
+    p.add_argument("--step", type=float, metavar="DT", help="sample interval [s] (default: file, else from the modes and excitations)")
     p.add_argument("--record-from", type=float, metavar="T", help="first recorded time [s]")
     p.add_argument("--method", default="auto", choices=["auto", *METHODS],
                    help="simulation method (default auto = exact modal)")
@@ -36,21 +40,20 @@ def run(args: argparse.Namespace) -> int:
     """Run the simulation and print it."""
     model = load_from_args(args)
     # a sweep with sweep_time = 0 is a steady state: frequency studies only
-    steady = [e for e in model.excitations if getattr(e.function, "steady_state", False)]
-    excitations = [e for e in model.excitations if e not in steady]
-    for e in steady:
+    excitations = list(transient_excitations(model))
+    for e in steady_sweeps(model):
         print(f"vibss time: skipping excitation {e.name!r} (sweep_time = 0: steady state, "
               "frequency studies only)", file=sys.stderr)
     if not excitations and not (model.settings or {}).get("initial"):
         raise ModelError("the model has no time-domain [[excitation]] and no body initial "
                          "conditions: nothing drives a time response")
-    cfg = dict((model.settings or {}).get("time", {}) or {})
-    end = args.end if args.end is not None else float(cfg.get("end", 1.0))
-    step = args.step if args.step is not None else float(cfg.get("step", end / 1000))
-    record = args.record_from if args.record_from is not None else float(cfg.get("record_from", 0.0))
+    window = time_window(model, end=args.end)   # the report's window (vibss.studies)
+    end = window.end
+    step = args.step if args.step is not None else min(window.step, end)
+    record = args.record_from if args.record_from is not None else window.record_from
     outputs = args.output or list(default_outputs(model))
     result = simulate(model, excitations, outputs=outputs, t_end=end, dt=step, record_from=record,
-                      method=args.method, rtol=float(cfg.get("tolerance", 1e-6)))
+                      method=args.method, rtol=window.tolerance)
     emit(result, args.format)
     if args.plot:
         import matplotlib

@@ -57,6 +57,7 @@ from .integrators import central_difference_method, newmark_method
 from ..model.model import DOF_NAMES, Model
 from ..linear.plant import Plant
 from ..linear.signals import build_plant
+from ..studies import steady_sweeps, transient_excitations
 from ..diagnostics import check_central_difference, check_excitations, check_explicit_rk
 
 EXPLICIT_RK = ("RK23", "RK45", "DOP853")
@@ -397,7 +398,10 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
     model_or_plant : Model or Plant
         The system; a Model is turned into a Plant by :func:`vibss.linear.signals.build_plant`.
     excitations : sequence of Excitation or None
-        Excitations (several on one signal add up). Default: the model's, unless ``inputs`` given.
+        Excitations (several on one signal add up). Default: the model's time-domain ones
+        (:func:`vibss.studies.transient_excitations`; its steady sweeps are skipped, as the
+        command line and the report do, and named in ``note``), unless ``inputs`` given. The
+        window and step the command line and the report use: :func:`vibss.studies.time_window`.
     inputs : mapping of str to callable or (ns,) array_like, or None
         More input signals by name (``'engine.fz'``, ``'ground.z.acc'`` ...): a function ``u(t)``
         [SI] or samples at ``k dt`` (ns = round(t_end / dt) + 1).
@@ -453,8 +457,10 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
     ts = dt * np.arange(ns)
     model = model_or_plant if isinstance(model_or_plant, Model) else None
     hidden = False
+    skipped: tuple[Any, ...] = ()
     if excitations is None and model is not None and inputs is None:
-        excitations = model.excitations
+        # the model's time-domain excitations; steady sweeps are frequency studies (vibss.studies)
+        excitations, skipped = transient_excitations(model), steady_sweeps(model)
     excitations = list(excitations or [])
     signals: dict[str, list[tuple[Callable[[np.ndarray], np.ndarray], tuple[float, ...]]]] = {}
     sources: dict[str, Any] = {}
@@ -529,6 +535,9 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
     u = np.array([np.broadcast_to(f(ts[keep]), (int(keep.sum()),)) for f in shown]).reshape(len(shown), int(keep.sum()))
     if hidden:
         note = "free vibration from the initial conditions; " + note
+    if skipped:
+        note = (f"skipped steady sweep(s) {[e.name for e in skipped]} (sweep_time = 0: frequency "
+                "studies only); " + note)
     return TimeResponse(time=ts[keep], outputs=y[keep].T.copy(), output_names=tuple(plant.outputs),
                         units=tuple(plant.units), inputs=u,
                         input_names=() if hidden else tuple(plant.inputs),
