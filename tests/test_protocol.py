@@ -175,6 +175,17 @@ def test_python_control_twins(results: dict[str, Result]) -> None:
         assert results[kind].control is None
 
 
+def test_python_control_names_agree_with_the_twins(results: dict[str, Result]) -> None:
+    fr = results["frequency"]
+    twin = fr.control
+    assert (fr.noutputs, fr.ninputs) == (twin.noutputs, twin.ninputs) == (2, 1)
+    np.testing.assert_allclose(fr.phase, twin.phase, atol=1e-12)          # radians, both
+    np.testing.assert_allclose(fr.magnitude, twin.magnitude, rtol=1e-14)
+    tr = results["time"]
+    assert (tr.noutputs, tr.ninputs) == (tr.control.noutputs, tr.control.ninputs) == (2, 1)
+    np.testing.assert_array_equal(tr.outputs, tr.control.outputs)        # type: ignore[attr-defined]
+
+
 def test_old_names_stay_as_aliases(results: dict[str, Result]) -> None:
     fr, tr = results["frequency"], results["time"]
     assert fr.outputs == fr.output_labels and fr.inputs == fr.input_labels      # type: ignore[attr-defined]

@@ -186,6 +186,16 @@ class Result:
 
     # -- shared ------------------------------------------------------------------------------
     @property
+    def noutputs(self) -> int:
+        """Number of outputs (python-control's name)."""
+        return len(self.output_labels)
+
+    @property
+    def ninputs(self) -> int:
+        """Number of inputs (python-control's name)."""
+        return len(self.input_labels)
+
+    @property
     def control(self) -> Any:
         """The python-control twin of this result, or None where python-control has none."""
         return None

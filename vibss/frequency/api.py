@@ -239,6 +239,11 @@ class FrequencyResponse(Result):
         return np.abs(self.response)
 
     @property
+    def phase(self) -> np.ndarray:
+        """(p, m, nf) phase [rad], in (-pi, pi] (python-control's ``phase``)."""
+        return np.angle(np.where(np.isfinite(self.response), self.response, 1.0))
+
+    @property
     def phase_deg(self) -> np.ndarray:
         """(p, m, nf) phase [deg], in (-180, 180]."""
         return np.degrees(np.angle(np.where(np.isfinite(self.response), self.response, 1.0)))
