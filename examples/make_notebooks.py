@@ -62,12 +62,13 @@ about the crankshaft. `sweep_response` gives the body's steady motion over the s
 firing = [e for e in pt.excitations if e.name == "firing-torque"]   # the file also has a shock
 sweep = sweep_response(pt, firing)
 print(sweep.report())
-sweep.plot(outputs=["powertrain.rx", "powertrain.z", "powertrain.y"]);"""),
+sweep.plot(outputs=["powertrain.rx", "powertrain.z", "powertrain.y"])   # returns the Figure, shown inline"""),
     ("code", """ground = ["ground.fx", "ground.fy", "ground.fz"]
 force = transmissibility(pt, ["powertrain.mx"], ground)
 fig = force.plot()
 fig.axes[0].set_ylabel("force into the car body\\nper roll moment [N / (N m)]")
-print("natural frequencies [Hz]:", np.round(force.natural_hz, 2))"""),
+print("natural frequencies [Hz]:", np.round(force.natural_hz, 2))
+fig"""),
     ("md", """Above the highest mode (13 Hz) the transmitted forces fall with frequency: the mounts isolate
 the second engine order at idle (26.7 Hz)."""),
 ]

@@ -233,5 +233,7 @@ def test_resolver_passes_method_objects_through_and_refuses_junk() -> None:
 
     m = Method("x", abs)
     assert resolve(m, {}, where="t") is m and m(-2) == 2
-    with pytest.raises(ModelError, match="expected a name in"):
+    with pytest.raises(ModelError, match=r"t: method: unknown 42; expected one of \['x'\]"):
         resolve(42, {"x": m}, where="t")
+    with pytest.raises(ModelError, match="handled by t itself"):
+        resolve("auto", {"x": m}, where="t", extra=["auto"])

@@ -17,7 +17,8 @@ from __future__ import annotations
 
 from .linear.assemble import Assembly, assemble
 from .modal.damped import DampedModes, damped_modes
-from .errors import AnalysisError, DefectiveModesError, ModelError, ModelFileError, VibssError, VibssWarning
+from .errors import (AnalysisError, ArgumentError, DefectiveModesError, MissingDependencyError, ModelError,
+                     ModelFileError, SignalError, VibssError, VibssWarning)
 from .model.excitation import Excitation
 from .model.geometry import Orientation
 from .io.modelfile import (dump_model, dumps_model, example_names, load_example, load_model,
@@ -40,9 +41,9 @@ from .time.sweep import SweepEnvelope, sweep_envelope
 __version__ = "0.1.0"
 
 __all__ = [
-    "AnalysisError", "Assembly", "DefectiveModesError", "Body", "ControlPoint", "DOF_NAMES", "DampedModes", "Excitation",
-    "FrequencyGrid", "FrequencyResponse", "GROUND", "Load", "Model", "ModelError", "ModelFileError", "Modes", "Mount", "MountType", "NamedStateSpace",
-    "Orientation", "Plant", "Reduction", "Scope", "StaticResult", "StudyDefaults", "SweepEnvelope", "TimeResponse", "VibssError", "VibssWarning", "assemble", "build_plant", "damped_modes", "dump_model",
+    "AnalysisError", "ArgumentError", "Assembly", "DefectiveModesError", "Body", "ControlPoint", "DOF_NAMES", "DampedModes", "Excitation",
+    "FrequencyGrid", "FrequencyResponse", "GROUND", "Load", "MissingDependencyError", "Model", "ModelError", "ModelFileError", "Modes", "Mount", "MountType", "NamedStateSpace",
+    "Orientation", "Plant", "Reduction", "Scope", "SignalError", "StaticResult", "StudyDefaults", "SweepEnvelope", "TimeResponse", "VibssError", "VibssWarning", "assemble", "build_plant", "damped_modes", "dump_model",
     "dumps_model", "example_names", "frequency_grid", "frequency_response", "load_example", "load_model", "loads_model", "modes", "reduce", "simulate", "static",
     "statespace", "study_defaults", "sweep_envelope", "sweep_response", "symmetric", "transmissibility",
 ]

@@ -5,8 +5,8 @@ the drivers need to know (exact or not, needs the modal basis, hits pulse edges,
 only, falls back to ...), so a driver reads attributes and never tests a method's name. One
 resolver, :func:`resolve`, turns what a user passes (a registered name, a :class:`Method`, or a
 callable with the analysis' kernel signature) into a :class:`Method`; an unknown name is a
-:class:`~vibss.errors.ModelError` (a ``ValueError``) that lists the valid names with a
-did-you-mean.
+:class:`~vibss.errors.ArgumentError` (a ``ModelError``, so a ``ValueError``) that lists the
+valid names with a did-you-mean (:func:`vibss._validate.choice`).
 
 Examples
 --------
@@ -16,7 +16,7 @@ Examples
 >>> resolve("fats", registry, where="demo")
 Traceback (most recent call last):
 ...
-vibss.errors.ModelError: demo: method: unknown 'fats'; expected one of ['fast'] (did you mean 'fast'?)
+vibss.errors.ArgumentError: demo: method: unknown 'fats' (did you mean 'fast'?); expected one of ['fast']
 """
 
 from __future__ import annotations
@@ -25,7 +25,8 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, TypeVar
 
-from .errors import ModelError, did_you_mean
+from ._validate import choice
+from .errors import ArgumentError
 
 __all__ = ["Method", "resolve"]
 
@@ -88,22 +89,19 @@ def resolve(method: Any, registry: Mapping[str, M], *, where: str,
 
     Raises
     ------
-    ModelError
+    ArgumentError
         An unknown name (listing the valid ones, with a did-you-mean), or anything else.
     """
     if isinstance(method, Method):
         return method       # type: ignore[return-value]  # a Method of this analysis, trusted
-    names = [*extra, *registry]
-    if isinstance(method, str):
-        if method in registry:
-            return registry[method]
-        tail = " or a callable" if custom is not None else ""
-        raise ModelError(f"{where}: method: unknown {method!r}; expected one of {names}{tail}"
-                         + did_you_mean(method, names))
+    if isinstance(method, str) and method in registry:
+        return registry[method]
     if callable(method) and custom is not None:
         return custom(method)
-    raise ModelError(f"{where}: method: expected a name in {names}"
-                     + (", a Method or a callable" if custom is not None else "") + f", got {method!r}")
+    names = [*extra, *registry]
+    choice(method, "method", names, who=where, callable_ok=custom is not None)   # raises for the rest
+    raise ArgumentError(f"{where}: method: {method!r} is handled by {where} itself, not a registry entry",
+                        argument="method", received=method, expected=tuple(registry))
 
 
 def callable_name(fn: Callable[..., Any]) -> str:

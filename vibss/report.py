@@ -40,7 +40,7 @@ from typing import Any
 import numpy as np
 
 from .modal.damped import damped_modes
-from .errors import VibssError
+from .errors import SignalError, VibssError, did_you_mean
 from .modal.undamped import modes
 from .model.model import DOF_NAMES, Model
 from .results import Table
@@ -132,7 +132,9 @@ class Report:
         for s in self.sections:
             if s.key == key:
                 return s
-        raise KeyError(f"no section {key!r}; sections are {[s.key for s in self.sections]}")
+        keys = [s.key for s in self.sections]
+        raise SignalError(f"section: no section {key!r}{did_you_mean(key, keys)}; sections are {keys}",
+                          argument="section", received=key, expected=tuple(keys))
 
 
 def slug(name: str) -> str:

@@ -1,11 +1,40 @@
-"""Plain-text tables for the reports, in the style engineers expect."""
+"""The result protocol every public result follows, and the plain-text tables of the reports.
+
+:class:`Result` is the base of :class:`~vibss.statics.StaticResult`, :class:`~vibss.modal.Modes`,
+:class:`~vibss.modal.DampedModes`, :class:`~vibss.frequency.FrequencyResponse`,
+:class:`~vibss.time.TimeResponse`, :class:`~vibss.time.SweepEnvelope` and
+:class:`~vibss.reduction.Reduction`. Each result has
+
+- ``report()`` and ``str(result)``: the same engineer's text;
+- ``_repr_html_()``: its summary :class:`Table` as an escaped HTML table (notebooks);
+- ``to_dict()`` (JSON-ready data, SI, non-finite numbers as None, by :func:`jsonable`) and
+  ``to_json()`` (strict JSON: ``allow_nan=False``);
+- ``to_pandas()`` (pandas is optional: :func:`require_pandas` names the extra when it is missing);
+- ``plot(ax=None)``: one line of delegation to :mod:`vibss.plotting` (a matplotlib ``Figure`` on an
+  Agg canvas, never pyplot);
+- the names python-control uses: ``output_labels`` / ``input_labels`` (signal names in vibss
+  spelling, ``'engine.z'``), ``units``, ``method``, ``note`` (why ``auto`` chose what it chose);
+- ``result[out]`` and ``result[out, inp]`` by signal name (a :class:`~vibss.errors.SignalError`
+  with did-you-mean for an unknown one);
+- ``.control``: the python-control twin where one exists (``FrequencyResponseData``,
+  ``TimeResponseData``, ``StateSpace``), None elsewhere.
+"""
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import html
+import json
+import math
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from typing import Any, ClassVar
 
-__all__ = ["Table"]
+import numpy as np
+
+from ._validate import name_index
+from .errors import ArgumentTypeError, MissingDependencyError, SignalError
+
+__all__ = ["Table", "Result", "jsonable", "require_pandas"]
 
 
 @dataclass(frozen=True)
@@ -20,6 +49,8 @@ class Table:
         Cells, already formatted.
     title : str
         Printed above the table.
+    notes : sequence of str
+        Printed below it.
     """
 
     header: Sequence[str]
@@ -42,5 +73,169 @@ class Table:
         out.extend(self.notes)
         return "\n".join(out)
 
+    def to_html(self) -> str:
+        """The table as HTML (every cell escaped), its title as the caption.
+
+        Examples
+        --------
+        >>> print(Table(["a<b"], [["1"]], title="T & U").to_html())
+        <table><caption>T &amp; U</caption><thead><tr><th>a&lt;b</th></tr></thead><tbody><tr><td>1</td></tr></tbody></table>
+        """
+        e = html.escape
+        head = "".join(f"<th>{e(str(h))}</th>" for h in self.header)
+        body = "".join("<tr>" + "".join(f"<td>{e(str(c))}</td>" for c in r) + "</tr>" for r in self.rows)
+        cap = f"<caption>{e(self.title)}</caption>" if self.title else ""
+        notes = "".join(f"<p>{e(n)}</p>" for n in self.notes)
+        return f"<table>{cap}<thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>{notes}"
+
     def __str__(self) -> str:
         return self.render()
+
+
+def jsonable(value: Any) -> Any:
+    """``value`` as plain JSON data: arrays and numpy scalars as lists and numbers, tuples as lists,
+    NaN and infinity as None, complex numbers as ``[re, im]``, mapping keys as str.
+
+    Examples
+    --------
+    >>> jsonable({"a": np.array([1.0, np.inf]), "b": (np.int64(2), float("nan")), "c": 1 + 2j})
+    {'a': [1.0, None], 'b': [2, None], 'c': [1.0, 2.0]}
+    """
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    if isinstance(value, (int, np.integer)):
+        return int(value)
+    if isinstance(value, (float, np.floating)):
+        v = float(value)
+        return v if math.isfinite(v) else None
+    if isinstance(value, (complex, np.complexfloating)):
+        return [jsonable(value.real), jsonable(value.imag)]
+    if isinstance(value, np.ndarray):
+        return _array(value)
+    if isinstance(value, Mapping):
+        return {str(k): jsonable(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [jsonable(v) for v in value]
+    return value
+
+
+def _array(a: np.ndarray) -> Any:
+    """Nested lists of an array at numpy speed (a time response has millions of samples)."""
+    if a.dtype.kind in "biu":
+        return a.tolist()
+    if a.dtype.kind == "f":
+        bad = ~np.isfinite(a)
+        if not bad.any():
+            return a.tolist()
+        out = a.astype(object)
+        out[bad] = None
+        return out.tolist()
+    if a.dtype.kind == "c":
+        return _array(np.stack([a.real, a.imag], axis=-1))
+    return jsonable(a.tolist())
+
+
+def require_pandas() -> Any:
+    """The pandas module, or a :class:`~vibss.errors.MissingDependencyError` naming the extra."""
+    try:
+        import pandas
+    except ImportError:
+        raise MissingDependencyError("to_pandas needs pandas, an optional dependency: "
+                                     "pip install 'vibss[pandas]'", argument="pandas") from None
+    return pandas
+
+
+class Result:
+    """Base of every public result: the shared half of the protocol (see the module docstring).
+
+    A subclass provides ``report()``, ``summary()`` (a :class:`Table`), ``to_dict()``,
+    ``to_pandas()``, ``plot(ax=None)``, ``output_labels``, ``input_labels``, ``units``,
+    ``method``, ``note`` and ``_item(i, j)`` (the data of output ``i``, input ``j`` or None).
+    """
+
+    signal_kind: ClassVar[str] = "output"
+    """What ``output_labels`` name (``"output"``, or ``"DOF"`` for modes and static results)."""
+
+    __iter__ = None     # result[...] is a lookup by name, not the sequence protocol
+
+    # -- supplied by each result -------------------------------------------------------------
+    def report(self) -> str:
+        """Engineer's text report."""
+        raise NotImplementedError
+
+    def summary(self) -> Table:
+        """The headline table (what ``_repr_html_`` shows)."""
+        raise NotImplementedError
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready data (SI; non-finite numbers as None)."""
+        raise NotImplementedError
+
+    @property
+    def output_labels(self) -> tuple[str, ...]:
+        """Output signal names (vibss spelling, ``'engine.z'``)."""
+        raise NotImplementedError
+
+    @property
+    def input_labels(self) -> tuple[str, ...]:
+        """Input signal names (empty where the result has no inputs)."""
+        return ()
+
+    def _item(self, i: int, j: int | None) -> Any:
+        raise NotImplementedError
+
+    # -- shared ------------------------------------------------------------------------------
+    @property
+    def noutputs(self) -> int:
+        """Number of outputs (python-control's name)."""
+        return len(self.output_labels)
+
+    @property
+    def ninputs(self) -> int:
+        """Number of inputs (python-control's name)."""
+        return len(self.input_labels)
+
+    @property
+    def control(self) -> Any:
+        """The python-control twin of this result, or None where python-control has none."""
+        return None
+
+    def __str__(self) -> str:
+        return self.report()
+
+    def _repr_html_(self) -> str:
+        """The summary table as HTML, under the result's name (escaped)."""
+        title = html.escape(self.report().split("\n", 1)[0])
+        return f"<div><strong>{title}</strong>{self.summary().to_html()}</div>"
+
+    def to_json(self, indent: int | None = None) -> str:
+        """Strict JSON of :meth:`to_dict` (non-finite numbers are null; never NaN or Infinity).
+
+        Parameters
+        ----------
+        indent : int or None
+            As :func:`json.dumps`.
+        """
+        return json.dumps(jsonable(self.to_dict()), indent=indent, allow_nan=False)
+
+    def __getitem__(self, key: Any) -> Any:
+        """``result[out]`` or ``result[out, inp]`` by signal name (or position)."""
+        out, inp = key if isinstance(key, tuple) and len(key) == 2 else (key, None)
+        if isinstance(key, tuple) and len(key) != 2:
+            raise ArgumentTypeError(f"{type(self).__name__}[...]: expected [output] or [output, input], "
+                                    f"got {key!r}", argument="key", received=key)
+        i = self._position(out, self.output_labels, self.signal_kind)
+        j = None if inp is None else self._position(inp, self.input_labels, "input")
+        return self._item(i, j)
+
+    @staticmethod
+    def _position(key: Any, labels: Sequence[str], what: str) -> int:
+        if isinstance(key, (int, np.integer)) and not isinstance(key, (bool, np.bool_)):
+            if -len(labels) <= key < len(labels):
+                return int(key) % len(labels)
+            raise SignalError(f"{what}: index {key} out of range for {len(labels)} {what}s",
+                              argument=what, received=key)
+        if not labels:
+            raise SignalError(f"{what}: this result has no {what}s (got {key!r})", argument=what,
+                              received=key)
+        return name_index(key, labels, what)

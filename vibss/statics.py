@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 import scipy.linalg as sl
@@ -24,10 +24,11 @@ import scipy.sparse.linalg as spl
 
 from .linear.assemble import Assembly, assemble
 from .linear.directions import align_cluster, describe_motion
+from ._validate import number, vector
 from .errors import AnalysisError, ModelError
 from .model.geometry import point_transfer
 from .model.model import DOF_NAMES, GROUND, Model
-from .results import Table
+from .results import Result, Table, jsonable, require_pandas
 
 __all__ = ["StaticResult", "static", "centre_of_rotation", "SINGULAR_RCOND"]
 
@@ -59,8 +60,12 @@ def centre_of_rotation(deflection: np.ndarray, cog: np.ndarray,
 
 
 @dataclass(frozen=True, eq=False)
-class StaticResult:
+class StaticResult(Result):
     """Static deflection of a model.
+
+    Follows the result protocol (:mod:`vibss.results`): ``r['engine.z']`` is one DOF's deflection
+    [m or rad]; ``output_labels`` are the body DOFs; there are no inputs and no python-control
+    twin (``control`` is None).
 
     Attributes
     ----------
@@ -83,7 +88,13 @@ class StaticResult:
         Descriptions of unrestrained motions the load did not excite (empty if fully restrained).
     case : str
         The load case solved ("" when the model names none).
+    method : str
+        How K q = F was solved.
+    note : str
+        Why (and what was left out: unrestrained motions).
     """
+
+    signal_kind: ClassVar[str] = "DOF"
 
     model: Model
     q: np.ndarray
@@ -94,6 +105,21 @@ class StaticResult:
     mount_force: np.ndarray
     free_motions: tuple[str, ...] = field(default=())
     case: str = ""
+    method: str = "direct"
+    note: str = ""
+
+    @property
+    def output_labels(self) -> tuple[str, ...]:
+        """Body DOF labels (``'engine.z'``), in the order of :attr:`q`."""
+        return tuple(f"{b}.{d}" for b in self.model.body_names for d in DOF_NAMES)
+
+    @property
+    def units(self) -> tuple[str, ...]:
+        """Unit of each DOF: m for translations, rad for rotations."""
+        return ("m", "m", "m", "rad", "rad", "rad") * len(self.model.bodies)
+
+    def _item(self, i: int, j: int | None) -> float:
+        return float(self.q[i])
 
     def body(self, name: str) -> np.ndarray:
         """(6,) deflection of body ``name``."""
@@ -142,21 +168,41 @@ class StaticResult:
                    "force_global": self.mount_force[p].tolist(),
                    "force_local": (m.orientation.matrix.T @ self.mount_force[p]).tolist()}
                   for p, m in enumerate(self.model.mounts)]
-        return {"model": self.model.name, "case": self.case, "bodies": bodies, "mounts": mounts,
-                "control_points": {k: v.tolist() for k, v in self.control_points.items()},
-                "reaction": self.reaction.tolist(), "free_motions": list(self.free_motions)}
+        return jsonable({"model": self.model.name, "case": self.case, "bodies": bodies, "mounts": mounts,
+                         "control_points": self.control_points, "reaction": self.reaction,
+                         "free_motions": self.free_motions, "method": self.method, "note": self.note})
 
-    def report(self) -> str:
-        """Engineer's text report: body deflections, centres of rotation, points, mounts."""
+    def summary(self) -> Table:
+        """Body deflections [mm, mrad] and centres of rotation [m]."""
         rows = []
         for b in self.model.bodies:
             d = self.body(b.name)
             c = self.centre_of_rotation(b.name)
             rows.append([b.name] + [f"{1e3 * v:.4f}" for v in d[:3]] + [f"{1e3 * v:.4f}" for v in d[3:]]
                         + ["pure translation" if c is None else "(" + ", ".join(f"{v:.4f}" for v in c) + ")"])
+        return Table(["body", "x [mm]", "y [mm]", "z [mm]", "rx [mrad]", "ry [mrad]", "rz [mrad]",
+                      "centre of rotation [m]"], rows, title="Bodies (COG)")
+
+    def plot(self, ax: Any = None) -> Any:
+        """Bar chart of the body deflections: :func:`vibss.plotting.plot_static`.
+
+        Parameters
+        ----------
+        ax : (2,) sequence of Axes or None
+            Axes for translations and rotations; default: a new figure.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+        """
+        from .plotting import plot_static
+
+        return plot_static(self, ax)
+
+    def report(self) -> str:
+        """Engineer's text report: body deflections, centres of rotation, points, mounts."""
         parts = [f"Static deflection of {self.model.name!r}" + (f", load case {self.case!r}" if self.case else ""),
-                 Table(["body", "x [mm]", "y [mm]", "z [mm]", "rx [mrad]", "ry [mrad]", "rz [mrad]",
-                        "centre of rotation [m]"], rows, title="Bodies (COG)").render()]
+                 self.summary().render()]
         if self.model.control_points:
             rows = [[k] + [f"{1e3 * x:.4f}" for x in v] for k, v in self.control_points.items()]
             parts.append(Table(["point", "x [mm]", "y [mm]", "z [mm]"], rows, title="Control points").render())
@@ -180,7 +226,7 @@ class StaticResult:
 
     def to_pandas(self) -> Any:
         """DataFrame of body deflections (one row per body)."""
-        import pandas as pd
+        pd = require_pandas()
 
         return pd.DataFrame(self.deflections, index=pd.Index(self.model.body_names, name="body"),
                             columns=list(DOF_NAMES))
@@ -243,9 +289,7 @@ def static(model: Model | Assembly, loads: np.ndarray | None = None, *,
     for label, value in (prescribed or {}).items():
         if not isinstance(label, str):
             raise ModelError(f"prescribed: keys are DOF labels like 'engine.z' or 'ground.z', got {label!r}")
-        if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer, np.floating)) \
-                or not np.isfinite(value):
-            raise ModelError(f"prescribed[{label!r}]: expected a finite number [m or rad], got {value!r}")
+        value = number(value, f"prescribed[{label!r}]", unit="m or rad")
         body, _, dof = label.partition(".")
         if body == GROUND:
             if dof not in DOF_NAMES:
@@ -264,16 +308,16 @@ def static(model: Model | Assembly, loads: np.ndarray | None = None, *,
     t = np.array([m.orientation.matrix for m in a.model.mounts]).reshape(-1, 3, 3)
     local = np.einsum("pji,pj->pi", t, delta)
     force = np.einsum("pij,pj->pi", a.kp, delta)
+    method = ("minimum norm on the restrained subspace" if notes
+              else "equilibrated sparse LU" if sp.issparse(kff) else "equilibrated Cholesky")
     return StaticResult(model=a.model, q=q, ground=qg, load=f, mount_deflection=delta,
                         mount_deflection_local=local, mount_force=force, free_motions=notes,
-                        case=case or "")
+                        case=case or "", method=method,
+                        note="unrestrained, not loaded: " + "; ".join(notes) if notes else "")
 
 
 def _vector(v: Any, n: int, what: str) -> np.ndarray:
-    arr = np.asarray(v, dtype=float)
-    if arr.shape != (n,) or not np.all(np.isfinite(arr)):
-        raise ModelError(f"{what}: expected {n} finite numbers (6 per body), got shape {arr.shape}")
-    return arr
+    return vector(v, n, what, hint="(6 per body)", unit="N, N m", strict=False)
 
 
 def _mul(K: Any, x: np.ndarray) -> np.ndarray:

@@ -3,14 +3,13 @@
 from __future__ import annotations
 
 import argparse
-import json
-import math
 import sys
 from typing import Any
 
 from ..errors import ModelError
 from ..io.modelfile import load_example, load_model
 from ..model.model import Model
+from ..results import jsonable
 
 __all__ = ["add_model_arguments", "load_from_args", "emit", "finite_json"]
 
@@ -35,22 +34,15 @@ def load_from_args(args: argparse.Namespace) -> Model:
     return load_model(args.file)
 
 
-def finite_json(value: Any) -> Any:
-    """``value`` with every NaN or infinite float replaced by None (JSON has no such numbers)."""
-    if isinstance(value, float):
-        return value if math.isfinite(value) else None
-    if isinstance(value, dict):
-        return {k: finite_json(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [finite_json(v) for v in value]
-    return value
+finite_json = jsonable
+"""Old name of :func:`vibss.results.jsonable` (non-finite numbers as None)."""
 
 
 def emit(result: Any, fmt: str, out: Any = None) -> None:
     """Print a result as its text report or as strict JSON (non-finite numbers as null)."""
     out = out or sys.stdout
     if fmt == "json":
-        json.dump(finite_json(result.to_dict()), out, indent=2, allow_nan=False)
+        out.write(result.to_json(indent=2))
         out.write("\n")
     else:
         out.write(result.report())

@@ -33,10 +33,12 @@ from typing import Any
 
 import control
 import numpy as np
+from control import FrequencyResponseData
 import scipy.sparse as sp
 
 from ..linear.assemble import Assembly
-from ..errors import AnalysisError, DefectiveModesError, ModelError
+from .._validate import choice, integer, name_index, number
+from ..errors import AnalysisError, ArgumentError, DefectiveModesError, ModelError
 from .kernels import METHODS, zero_frequency_limit
 from .methods import choose, resolve_method
 from ..model.model import Model
@@ -44,6 +46,7 @@ from ..linear.plant import Plant
 from ..linear.signals import build_plant, control_name
 from ..linear.eigen import ModalBasis, modal_basis
 from ..linear.projection import projected_damping
+from ..results import Result, Table, jsonable, require_pandas
 
 __all__ = ["FrequencyResponse", "FrequencyGrid", "frequency_grid", "frequency_response", "QUANTITIES"]
 
@@ -83,24 +86,11 @@ class FrequencyGrid:
         vals: dict[str, Any] = {}
         for key in ("f1", "f2"):
             v = getattr(self, key)
-            if v is not None:
-                ok = not isinstance(v, (bool, np.bool_, str))
-                try:
-                    v = float(v) if ok else v
-                except (TypeError, ValueError):
-                    ok = False
-                if not ok or not np.isfinite(v) or v < 0:
-                    raise ModelError(f"frequencies: {key}: expected a frequency >= 0 [Hz] or None, "
-                                     f"got {getattr(self, key)!r}")
-            vals[key] = v
-        pts = self.points
-        integral = isinstance(pts, (int, np.integer)) or (isinstance(pts, (float, np.floating))
-                                                          and float(pts).is_integer())
-        if isinstance(pts, (bool, np.bool_)) or not integral or pts < 2:
-            raise ModelError(f"frequencies: points: expected an integer >= 2, got {pts!r}")
-        if self.spacing not in ("log", "linear"):
-            raise ModelError(f"frequencies: spacing: expected 'log' or 'linear', got {self.spacing!r}")
-        return dataclasses.replace(self, f1=vals["f1"], f2=vals["f2"], points=int(pts),
+            vals[key] = v if v is None else number(v, key, who="frequencies", minimum=0.0,
+                                                   what="a frequency >= 0 [Hz] or None")
+        pts = integer(self.points, "points", who="frequencies", minimum=2)
+        choice(self.spacing, "spacing", ("log", "linear"), who="frequencies", expected="'log' or 'linear'")
+        return dataclasses.replace(self, f1=vals["f1"], f2=vals["f2"], points=pts,
                                    refine=bool(self.refine))
 
     @classmethod
@@ -170,8 +160,12 @@ def _modal_zeta(plant: Plant, basis: ModalBasis) -> np.ndarray:
 
 
 @dataclass(frozen=True, eq=False)
-class FrequencyResponse:
+class FrequencyResponse(Result):
     """A frequency response: complex amplitudes per output, input and frequency.
+
+    Follows the result protocol (:mod:`vibss.results`): ``r['b.z']`` is the (m, nf) response of
+    one output, ``r['b.z', 'b.fz']`` the (nf,) response of one channel; ``r.control`` is the
+    python-control ``FrequencyResponseData``.
 
     Attributes
     ----------
@@ -189,8 +183,8 @@ class FrequencyResponse:
         ``"receptance"``, ``"mobility"``, ``"accelerance"``, ``"transmissibility"`` or ``"sweep"``.
     method : str
         Kernel that computed it.
-    reason : str
-        Why that kernel (for ``method="auto"``).
+    note : str
+        Why that kernel (for ``method="auto"``); ``reason`` is the old name.
     natural_hz : (k,) ndarray
         Undamped natural frequencies in the band [Hz] (resonance markers).
     name : str
@@ -204,7 +198,7 @@ class FrequencyResponse:
     units: tuple[str, ...]
     quantity: str
     method: str
-    reason: str = ""
+    note: str = ""
     natural_hz: np.ndarray = field(default_factory=lambda: np.zeros(0))
     name: str = "vibss"
 
@@ -213,6 +207,24 @@ class FrequencyResponse:
             a = np.array(getattr(self, key))
             a.setflags(write=False)
             object.__setattr__(self, key, a)
+
+    @property
+    def output_labels(self) -> tuple[str, ...]:
+        """Output signal names (python-control's name; ``outputs`` is the same)."""
+        return self.outputs
+
+    @property
+    def input_labels(self) -> tuple[str, ...]:
+        """Input signal names (python-control's name; ``inputs`` is the same)."""
+        return self.inputs
+
+    @property
+    def reason(self) -> str:
+        """Old name of :attr:`note`."""
+        return self.note
+
+    def _item(self, i: int, j: int | None) -> np.ndarray:
+        return self.response[i] if j is None else self.response[i, j]
 
     @property
     def omega(self) -> np.ndarray:
@@ -225,12 +237,17 @@ class FrequencyResponse:
         return np.abs(self.response)
 
     @property
+    def phase(self) -> np.ndarray:
+        """(p, m, nf) phase [rad], in (-pi, pi] (python-control's ``phase``)."""
+        return np.angle(np.where(np.isfinite(self.response), self.response, 1.0))
+
+    @property
     def phase_deg(self) -> np.ndarray:
         """(p, m, nf) phase [deg], in (-180, 180]."""
         return np.degrees(np.angle(np.where(np.isfinite(self.response), self.response, 1.0)))
 
     @property
-    def frd(self) -> control.FrequencyResponseData:
+    def control(self) -> FrequencyResponseData:
         """The response as a python-control FrequencyResponseData (finite frequencies only, rad/s)."""
         keep = np.all(np.isfinite(self.response), axis=(0, 1))
         return control.frd(self.response[:, :, keep], self.omega[keep],
@@ -238,11 +255,15 @@ class FrequencyResponse:
                            outputs=[control_name(y) for y in self.outputs],
                            name=control_name(self.name))
 
+    frd = control
+    """Old name of :attr:`control`."""
+
     def channel(self, output: str, input: str | None = None) -> np.ndarray:
         """(nf,) complex response of one output to one input (default: the only input)."""
         i = _index(self.outputs, output, "output")
         if input is None and len(self.inputs) != 1:
-            raise ModelError(f"input: the response has {len(self.inputs)} inputs {list(self.inputs)}; name one")
+            raise ArgumentError(f"input: the response has {len(self.inputs)} inputs {list(self.inputs)}; name one",
+                                argument="input", received=None, expected=self.inputs)
         j = 0 if input is None else _index(self.inputs, input, "input")
         return self.response[i, j]
 
@@ -279,21 +300,20 @@ class FrequencyResponse:
         """
         def outs(j: int) -> dict[str, Any]:
             amp, ph = self.magnitude[:, j], self.phase_deg[:, j]
-            return {y: {"amplitude": [None if not np.isfinite(v) else float(v) for v in amp[i]],
-                        "phase_deg": [float(v) for v in ph[i]], "unit": self.units[i]}
+            return {y: {"amplitude": amp[i], "phase_deg": ph[i], "unit": self.units[i]}
                     for i, y in enumerate(self.outputs)}
-        head = {"frequency_hz": self.frequency_hz.tolist(), "quantity": self.quantity,
-                "method": self.method}
+        head = {"frequency_hz": self.frequency_hz, "quantity": self.quantity,
+                "method": self.method, "note": self.note}
         if input is not None or len(self.inputs) == 1:
             j = 0 if input is None else _index(self.inputs, input, "input")
-            return {**head, "input": self.inputs[j], "outputs": outs(j)}
+            return jsonable({**head, "input": self.inputs[j], "outputs": outs(j)})
         grouped = {u: outs(j) for j, u in enumerate(self.inputs)}
         flat = {f"{y}/{u}": v for u, o in grouped.items() for y, v in o.items()}
-        return {**head, "outputs": flat, "inputs": {u: {"outputs": o} for u, o in grouped.items()}}
+        return jsonable({**head, "outputs": flat, "inputs": {u: {"outputs": o} for u, o in grouped.items()}})
 
     def to_pandas(self) -> Any:
         """DataFrame indexed by frequency [Hz], one complex column ``'<output>/<input>'`` per channel."""
-        import pandas as pd
+        pd = require_pandas()
 
         cols = {f"{y}/{u}": self.response[i, j] for i, y in enumerate(self.outputs)
                 for j, u in enumerate(self.inputs)}
@@ -302,7 +322,7 @@ class FrequencyResponse:
     def report(self, count: int = 3) -> str:
         """Text table: the largest peaks of every channel, with their frequencies."""
         lines = [f"Frequency response of {self.name!r}: {self.quantity}, method {self.method!r}"
-                 + (f" ({self.reason})" if self.reason else ""),
+                 + (f" ({self.note})" if self.note else ""),
                  f"{self.frequency_hz.size} frequencies, {self.frequency_hz.min():.4g} to "
                  f"{self.frequency_hz.max():.4g} Hz",
                  f"{'output':<28} {'input':<22} {'peak f [Hz]':>12} {'amplitude':>12}  unit"]
@@ -324,81 +344,46 @@ class FrequencyResponse:
                                  f"{f:>12.4f} {a}  {self.units[i]}" + (edge if k == 0 else ""))
         return "\n".join(lines)
 
+    def summary(self) -> Table:
+        """The largest peak of every channel: frequency [Hz], amplitude and unit."""
+        rows = []
+        for i, y in enumerate(self.outputs):
+            for j, u in enumerate(self.inputs):
+                pk = self.peaks(y, u, 1)
+                f, a = pk[0] if pk else (float("nan"), float("nan"))
+                rows.append([y, u, f"{f:.4f}", f"{a:.4e}", self.units[i]])
+        return Table(["output", "input", "peak f [Hz]", "amplitude", "unit"], rows,
+                     title=f"{self.quantity}, method {self.method}")
+
     def plot(self, outputs: Sequence[str] | None = None, inputs: Sequence[str] | None = None,
              max_channels: int = 12, mark_resonances: bool = True, ax: Any = None,
              by: str = "all") -> Any:
-        """Bode plot (magnitude and phase) of selected channels, overlaid on one pair of axes.
+        """Bode plot of selected channels: :func:`vibss.plotting.plot_frequency_response`.
 
         Parameters
         ----------
         outputs, inputs : sequence of str or None
             Channels to draw; default: all, but at most ``max_channels`` (the largest peaks).
         max_channels : int
-            Limit on the default selection (a 36 x 6 grid of axes takes ~40 s in python-control).
+            Limit on the default selection.
         mark_resonances : bool
             Dotted vertical lines at the undamped natural frequencies.
         ax : (2,) sequence of matplotlib Axes or None
             Magnitude and phase axes to draw in (``by="all"`` only).
         by : {"all", "body"}
-            ``"all"``: every channel on one pair of axes; ``"body"``: one magnitude/phase column per
-            body (outputs grouped by the part of their name before the first ``.``: a body, a
-            control point, ``mount`` or ``ground``).
+            All channels on one pair of axes, or one column per body.
 
         Returns
         -------
         matplotlib.figure.Figure
         """
-        import matplotlib.pyplot as plt
+        from ..plotting import plot_frequency_response
 
-        if by not in ("all", "body"):
-            raise ValueError(f"plot: by must be 'all' or 'body', got {by!r}")
-        if by == "body":
-            names = list(self.outputs) if outputs is None else list(outputs)
-            groups: dict[str, list[str]] = {}
-            for name in names:
-                groups.setdefault(name.split(".")[0], []).append(name)
-            fig, axes = plt.subplots(2, len(groups), sharex=True, squeeze=False,
-                                     figsize=(4.5 * len(groups) + 1, 6))
-            for col, (group, outs_g) in enumerate(groups.items()):
-                self.plot(outs_g, inputs, max_channels, mark_resonances, ax=axes[:, col])
-                axes[0, col].set_title(group)
-            fig.suptitle(f"{self.name}: method {self.method}")
-            return fig
-
-        outs = list(self.outputs) if outputs is None else list(outputs)
-        ins = list(self.inputs) if inputs is None else list(inputs)
-        pairs = [(_index(self.outputs, y, "output"), _index(self.inputs, u, "input")) for y in outs for u in ins]
-        if outputs is None and inputs is None and len(pairs) > max_channels:
-            peak = [np.nanmax(np.where(np.isfinite(self.magnitude[i, j]), self.magnitude[i, j], np.nan))
-                    for i, j in pairs]
-            pairs = [pairs[k] for k in np.argsort(peak)[::-1][:max_channels]]
-        if ax is None:
-            fig, ax = plt.subplots(2, 1, sharex=True, figsize=(8, 6))
-        else:
-            fig = ax[0].figure
-        f = self.frequency_hz
-        pos = f > 0
-        for i, j in pairs:
-            label = self.outputs[i] + (f" / {self.inputs[j]}" if len(self.inputs) > 1 else "")
-            ax[0].loglog(f[pos], self.magnitude[i, j, pos], label=label)
-            ax[1].semilogx(f[pos], self.phase_deg[i, j, pos])
-        if mark_resonances:
-            for fr in self.natural_hz:
-                for a in ax:
-                    a.axvline(fr, color="0.6", lw=0.6, ls=":")
-        ax[0].set_ylabel(f"|H| ({self.quantity})")
-        ax[1].set_ylabel("phase [deg]")
-        ax[1].set_xlabel("frequency [Hz]")
-        ax[0].set_title(f"{self.name}: method {self.method}")
-        ax[0].legend(fontsize="small")
-        return fig
+        return plot_frequency_response(self, outputs, inputs, max_channels, mark_resonances, ax, by)
 
 
 def _index(names: Sequence[str], name: str, what: str) -> int:
-    try:
-        return list(names).index(name)
-    except ValueError:
-        raise ModelError(f"{what}: {name!r} is not one of {list(names)}") from None
+    return name_index(name, names, what)
 
 
 def _as_plant(system: Model | Assembly | Plant, inputs: Any, outputs: Any) -> Plant:
@@ -472,14 +457,14 @@ def frequency_response(system: Model | Assembly | Plant, inputs: Sequence[Any] |
 
     Raises
     ------
+    ArgumentError
+        Unknown ``method`` or ``quantity`` (a ModelError, so a ValueError, naming the argument).
     ModelError
-        Unknown ``method`` or ``quantity`` (a ValueError; the valid names listed).
         Bad signal names or frequencies.
     AnalysisError
         The method cannot answer (e.g. ``modal`` on non-classical damping).
     """
-    if quantity not in QUANTITIES:
-        raise ModelError(f"quantity: expected one of {list(QUANTITIES)}, got {quantity!r}")
+    choice(quantity, "quantity", QUANTITIES)
     chosen = resolve_method(method)
     plant = _as_plant(system, inputs, outputs)
     reason = ""

@@ -30,7 +30,8 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from ..errors import AnalysisError, ModelError, did_you_mean
+from .._validate import name_index
+from ..errors import AnalysisError, ModelError, SignalIndexError
 
 __all__ = ["Plant", "INPUT_KINDS", "MOTION_ORDER", "FIELD_ROLES"]
 
@@ -183,8 +184,9 @@ class Plant:
 
         Raises
         ------
-        ModelError
-            A name that is not among the plant's signals, or an index out of range.
+        SignalError
+            A name that is not among the plant's signals (with did-you-mean), or an index out of
+            range (:class:`~vibss.errors.SignalIndexError`).
 
         Examples
         --------
@@ -234,8 +236,8 @@ class Plant:
 
         Raises
         ------
-        ModelError
-            An unknown label or an index out of range.
+        SignalError
+            An unknown label, or an index out of range (:class:`~vibss.errors.SignalIndexError`).
 
         Examples
         --------
@@ -351,21 +353,20 @@ def _rows(a: Any, idx: np.ndarray) -> Any:
 
 
 def _indices(names: tuple[str, ...], wanted: Sequence[str | int] | None, what: str) -> list[int] | None:
-    """Positions of ``wanted`` (names or indices) among ``names``; None for None."""
+    """Positions of ``wanted`` (names or indices) among the plant's ``what`` (``names``); None for None."""
     if wanted is None:
         return None
     if isinstance(wanted, str):
         wanted = [wanted]
+    one = {"inputs": "input", "outputs": "output", "dofs": "dof"}.get(what, what)
     out = []
     for w in wanted:
-        if isinstance(w, (int, np.integer)) and not isinstance(w, bool):
+        if isinstance(w, (int, np.integer)) and not isinstance(w, (bool, np.bool_)):
             if not -len(names) <= int(w) < len(names):
-                raise ModelError(f"{what}: index {int(w)} is out of range for the plant's "
-                                 f"{len(names)} {what}")
+                raise SignalIndexError(f"Plant: {what}: index {int(w)} is out of range for the plant's "
+                                       f"{len(names)} {what}", argument=what, received=int(w),
+                                       expected=f"-{len(names)} .. {len(names) - 1}")
             out.append(int(w) % len(names))
-        elif w in names:
-            out.append(names.index(w))
         else:
-            raise ModelError(f"{what}: {w!r} is not one of the plant's {what} {list(names)}"
-                             + did_you_mean(w, names))
+            out.append(name_index(w, names, one, who="Plant"))
     return out

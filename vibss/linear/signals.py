@@ -65,7 +65,7 @@ import scipy.linalg as sl
 import scipy.sparse as sp
 
 from .assemble import Assembly, assemble
-from ..errors import ModelError, did_you_mean
+from ..errors import ModelError, SignalError, did_you_mean
 from ..model.geometry import point_transfer
 from .eigen import rigid_mask
 from ..model.model import DOF_NAMES, GROUND, Model
@@ -131,14 +131,16 @@ def _output_names(model: Model) -> list[str]:
     return names
 
 
-def _bad_input(model: Model, name: Any, why: str = "") -> ModelError:
-    return ModelError(f"inputs: unknown input signal {name!r}{why}; valid forms are "
-                      f"{', '.join(INPUT_FORMS)}" + did_you_mean(name, _input_names(model)))
+def _bad_input(model: Model, name: Any, why: str = "") -> SignalError:
+    return SignalError(f"inputs: unknown input signal {name!r}{why}; valid forms are "
+                       f"{', '.join(INPUT_FORMS)}" + did_you_mean(name, _input_names(model)),
+                       argument="inputs", received=name, expected=INPUT_FORMS)
 
 
-def _bad_output(model: Model, name: Any, why: str = "") -> ModelError:
-    return ModelError(f"outputs: unknown output signal {name!r}{why}; valid forms are "
-                      f"{', '.join(OUTPUT_FORMS)}" + did_you_mean(name, _output_names(model)))
+def _bad_output(model: Model, name: Any, why: str = "") -> SignalError:
+    return SignalError(f"outputs: unknown output signal {name!r}{why}; valid forms are "
+                       f"{', '.join(OUTPUT_FORMS)}" + did_you_mean(name, _output_names(model)),
+                       argument="outputs", received=name, expected=OUTPUT_FORMS)
 
 
 def _point_force(asm: Assembly, body: str, r: np.ndarray, direction: np.ndarray) -> np.ndarray:

@@ -64,7 +64,9 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spl
 
 from .assemble import Assembly
-from ..errors import AnalysisError, ModelError, did_you_mean
+from .._validate import choice
+from ..errors import (AnalysisError, ArgumentError, ArgumentTypeError, ModelError, SignalError,
+                      SignalIndexError, did_you_mean)
 from .eigen import modal_basis
 from ..model.model import Model
 from .plant import Plant
@@ -125,9 +127,11 @@ class NamedStateSpace(control.StateSpace):
             items = [self._one(k, labels, other, what) for k in list(key)]
             picked = [labels.index(k) if isinstance(k, str) else k for k in items]
             if len(set(picked)) < len(picked):
-                raise ValueError(f"{what}s: {list(key)!r} names a signal twice")
+                raise ArgumentError(f"{what}s: {list(key)!r} names a signal twice", argument=f"{what}s",
+                                    received=list(key))
             return items
-        raise TypeError(f"{what}s: expected a name, an index, a slice or a list of them, got {key!r}")
+        raise ArgumentTypeError(f"{what}s: expected a name, an index, a slice or a list of them, got {key!r}",
+                                argument=f"{what}s", received=key)
 
     @staticmethod
     def _one(key: Any, labels: list[str], other: list[str], what: str) -> Any:
@@ -138,10 +142,12 @@ class NamedStateSpace(control.StateSpace):
             vibss = [lab.replace(":", ".") for lab in labels]
             hint = (f" ({key!r} is an {'input' if what == 'output' else 'output'}, not an {what})"
                     if name in other else did_you_mean(key.replace(":", "."), vibss))
-            raise ValueError(f"{what}s: no {what} named {key!r}{hint}; the {what}s are {vibss}")
+            raise SignalError(f"{what}s: no {what} named {key!r}{hint}; the {what}s are {vibss}",
+                              argument=f"{what}s", received=key, expected=tuple(vibss))
         i = operator.index(key)
         if not -len(labels) <= i < len(labels):
-            raise IndexError(f"{what}s: index {i} out of range for {len(labels)} {what}s")
+            raise SignalIndexError(f"{what}s: index {i} out of range for {len(labels)} {what}s",
+                                   argument=f"{what}s", received=i, expected=f"-{len(labels)} .. {len(labels) - 1}")
         return i % len(labels)
 
     def _wrap(self, sub: control.StateSpace) -> "NamedStateSpace":
@@ -311,8 +317,7 @@ def statespace(plant: Plant | Model | Assembly, realization: str = "modal", bala
     if sp.issparse(plant.K):
         raise AnalysisError("statespace: the plant has sparse matrices (build_plant(..., sparse=True)); "
                             "a state space is dense: build the plant densely, or reduce it (vibss.reduce)")
-    if realization not in REALIZATIONS:
-        raise ValueError(f"realization: expected one of {list(REALIZATIONS)}, got {realization!r}")
+    choice(realization, "realization", REALIZATIONS)
     basis = _modal(plant) if realization == "modal" else _physical(plant)
     n, m, p = plant.n, len(plant.inputs), len(plant.outputs)
     o = plant.order

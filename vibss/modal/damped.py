@@ -21,22 +21,27 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import cached_property
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
 from ..linear.assemble import Assembly, assemble
+from ..errors import ArgumentError
 from ..model.model import Model
 from ..linear.eigen import damping_coupling
 from .undamped import Modes, modes
-from ..results import Table
+from ..results import Result, Table, jsonable, require_pandas
 
 __all__ = ["DampedModes", "damped_modes"]
 
 
 @dataclass(frozen=True, eq=False)
-class DampedModes:
+class DampedModes(Result):
     """Damped modes (one entry per complex-conjugate pole pair or real pole).
+
+    Follows the result protocol (:mod:`vibss.results`): ``d['engine.z']`` is the (k,) complex
+    component of every damped shape in one DOF; ``output_labels`` are the DOFs; there is no
+    python-control twin (``control`` is None; :func:`vibss.statespace` gives the system).
 
     Attributes
     ----------
@@ -51,13 +56,31 @@ class DampedModes:
         The undamped modes used.
     method : str
         How the poles were found.
+    note : str
+        Why (the damping found in the model).
     """
+
+    signal_kind: ClassVar[str] = "DOF"
 
     poles: np.ndarray
     shapes: np.ndarray
     paired: np.ndarray
     undamped: Modes
     method: str
+    note: str = ""
+
+    @property
+    def output_labels(self) -> tuple[str, ...]:
+        """DOF labels of the rows of the shapes."""
+        return self.undamped.dofs
+
+    @property
+    def units(self) -> tuple[str, ...]:
+        """Unit of the motion of each DOF (m or rad); the shapes are relative (largest = 1)."""
+        return self.undamped.units
+
+    def _item(self, i: int, j: int | None) -> np.ndarray:
+        return self.shapes[i]
 
     @cached_property
     def natural_frequency(self) -> np.ndarray:
@@ -101,7 +124,8 @@ class DampedModes:
                               "phase_deg": np.degrees(np.angle(s[6 * i:6 * i + 6])).tolist()}
                           for i, b in enumerate(names)},
             })
-        return {"model": self.undamped.model.name, "method": self.method, "modes": out}
+        return jsonable({"model": self.undamped.model.name, "method": self.method, "note": self.note,
+                         "modes": out})
 
     def table(self) -> Table:
         """Frequencies, damping ratios and the paired undamped modes."""
@@ -115,13 +139,33 @@ class DampedModes:
         return Table(["mode", "fn [Hz]", "fd [Hz]", "zeta", "Re p [1/s]", "Im p [rad/s]", "undamped mode"],
                      rows, title=f"Damped modes ({self.method})")
 
+    def summary(self) -> Table:
+        """The table of poles (:meth:`table`)."""
+        return self.table()
+
     def report(self) -> str:
         """Text report."""
         return f"Damped modes of {self.undamped.model.name!r}\n\n" + self.table().render()
 
+    def plot(self, ax: Any = None) -> Any:
+        """Pole map: :func:`vibss.plotting.plot_poles`.
+
+        Parameters
+        ----------
+        ax : Axes or None
+            Axes to draw in; default: a new figure.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+        """
+        from ..plotting import plot_poles
+
+        return plot_poles(self, ax)
+
     def to_pandas(self) -> Any:
         """DataFrame: one row per damped mode."""
-        import pandas as pd
+        pd = require_pandas()
 
         return pd.DataFrame({
             "frequency_hz": self.frequency_hz, "damped_frequency_hz": self.damped_frequency_hz,
@@ -157,7 +201,9 @@ def damped_modes(model: Model | Assembly, undamped: Modes | None = None) -> Damp
     a = model if isinstance(model, Assembly) else assemble(model)
     und = undamped if undamped is not None else modes(a)
     if len(und) != a.n:
-        raise ValueError("damped_modes needs all undamped modes (n_modes=None)")
+        raise ArgumentError(f"damped_modes: undamped: needs all {a.n} undamped modes (modes(model, "
+                            f"n_modes=None)), got {len(und)}", argument="undamped", received=len(und),
+                            expected=a.n)
     phi, w = und.shapes, und.omega
     chat = phi.T @ (a.dense("C") @ phi)
     chat = 0.5 * (chat + chat.T)

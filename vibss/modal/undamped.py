@@ -19,7 +19,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import cached_property
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 import scipy.sparse as sp
@@ -27,9 +27,10 @@ import scipy.sparse as sp
 from ..linear.assemble import Assembly, assemble
 from ..linear.eigen import METHODS, Solver, rigid_mask
 from ..linear.directions import align_cluster, cluster_slices, direction_shares, dominant_direction, energy_fractions
-from ..errors import AnalysisError, ModelError
+from .._validate import choice, integer
+from ..errors import AnalysisError, ArgumentError
 from ..model.model import DOF_NAMES, Model
-from ..results import Table
+from ..results import Result, Table, jsonable, require_pandas
 
 __all__ = ["Modes", "modes", "rigid_influence"]
 
@@ -60,8 +61,12 @@ def rigid_influence(model: Model, about: np.ndarray | None = None) -> np.ndarray
 
 
 @dataclass(frozen=True, eq=False)
-class Modes:
+class Modes(Result):
     """Undamped modes of a model.
+
+    Follows the result protocol (:mod:`vibss.results`): ``m['engine.z']`` is the (k,) component of
+    every mass-normalised shape in one DOF; ``output_labels`` are the DOFs; there is no
+    python-control twin (``control`` is None).
 
     Attributes
     ----------
@@ -82,7 +87,11 @@ class Modes:
         Zero-frequency (rigid-body) modes.
     method : str
         Eigen-solver used.
+    note : str
+        Why that solver (for ``method="auto"``).
     """
+
+    signal_kind: ClassVar[str] = "DOF"
 
     model: Model
     dofs: tuple[str, ...]
@@ -92,6 +101,20 @@ class Modes:
     effective_mass: np.ndarray
     rigid: np.ndarray
     method: str
+    note: str = ""
+
+    @property
+    def output_labels(self) -> tuple[str, ...]:
+        """DOF labels of the rows of the shapes (``dofs`` is the same)."""
+        return self.dofs
+
+    @property
+    def units(self) -> tuple[str, ...]:
+        """Unit of the motion of each DOF (m or rad); the shapes are per sqrt(kg) of modal mass."""
+        return tuple("rad" if d.rsplit(".", 1)[-1].startswith("r") else "m" for d in self.dofs)
+
+    def _item(self, i: int, j: int | None) -> np.ndarray:
+        return self.shapes[i]
 
     @cached_property
     def frequency_hz(self) -> np.ndarray:
@@ -159,8 +182,12 @@ class Modes:
                 "modal_mass": float(self.modal_mass[k]),
                 "effective_mass": dict(zip(DOF_NAMES, self.effective_mass[k].tolist())),
             })
-        return {"model": self.model.name, "method": self.method,
-                "frequencies_hz": self.frequency_hz.tolist(), "modes": modes}
+        return jsonable({"model": self.model.name, "method": self.method, "note": self.note,
+                         "frequencies_hz": self.frequency_hz, "modes": modes})
+
+    def summary(self) -> Table:
+        """The frequency table (:meth:`frequency_table`)."""
+        return self.frequency_table()
 
     def energy_table(self) -> Table:
         """Kinetic-energy distribution [%]: one row per mode, one column per body DOF."""
@@ -210,7 +237,7 @@ class Modes:
 
     def to_pandas(self) -> Any:
         """DataFrame: one row per mode with frequency, direction, effective masses."""
-        import pandas as pd
+        pd = require_pandas()
 
         df = pd.DataFrame({"frequency_hz": self.frequency_hz, "cpm": self.cpm, "omega": self.omega,
                            "direction": self.directions, "rigid": self.rigid,
@@ -220,17 +247,23 @@ class Modes:
         df.index = pd.RangeIndex(1, len(self) + 1, name="mode")
         return df
 
-    def plot(self, **kwargs: Any) -> Any:
-        """Draw the mode shapes.
+    def plot(self, ax: Any = None, **kwargs: Any) -> Any:
+        """Draw the mode shapes: :func:`vibss.plotting.plot_modes`.
 
         Parameters
         ----------
+        ax : Axes, sequence of three Axes, or None
+            Draw one mode into existing axes; default: a new figure.
         **kwargs
-            Passed to :func:`vibss.plotting.plot_modes` (``which``, ``view``, ``scale``, ``ax`` ...).
+            Passed to :func:`vibss.plotting.plot_modes` (``which``, ``view``, ``scale`` ...).
+
+        Returns
+        -------
+        matplotlib.figure.Figure
         """
         from ..plotting import plot_modes
 
-        return plot_modes(self, **kwargs)
+        return plot_modes(self, ax=ax, **kwargs)
 
 
 def modes(model: Model | Assembly, n_modes: int | None = None,
@@ -261,10 +294,11 @@ def modes(model: Model | Assembly, n_modes: int | None = None,
     """
     a = model if isinstance(model, Assembly) else assemble(model)
     n = a.n
-    if n_modes is not None and not (isinstance(n_modes, (int, np.integer)) and 0 < n_modes):
-        raise ModelError(f"n_modes must be a positive integer, got {n_modes!r}")
     if n_modes is not None:
-        n_modes = min(int(n_modes), n)
+        if not isinstance(n_modes, (int, np.integer)):      # 6.0 modes is a mistake, not a count
+            raise ArgumentError(f"modes: n_modes: expected a positive integer or None, got {n_modes!r}",
+                                argument="n_modes", received=n_modes, expected="a positive integer")
+        n_modes = min(integer(n_modes, "n_modes", who="modes"), n)
     name, solver = _pick(method, a, n_modes)
     try:
         w2, phi = solver(a.K, a.M, n_modes)
@@ -291,7 +325,15 @@ def modes(model: Model | Assembly, n_modes: int | None = None,
     energy = energy_fractions(phi, M)
     gamma = phi.T @ (M @ rigid_influence(a.model))
     return Modes(model=a.model, dofs=a.dofs, omega=omega, shapes=phi, energy=energy,
-                 effective_mass=gamma ** 2, rigid=rigid, method=name)
+                 effective_mass=gamma ** 2, rigid=rigid, method=name, note=_why(method, name))
+
+
+def _why(method: Any, name: str) -> str:
+    """Why ``auto`` chose the solver ("" for a solver chosen by the caller)."""
+    if not isinstance(method, str) or method != "auto":
+        return ""
+    return ("auto: sparse model and fewer than a tenth of the modes asked for: shift-invert"
+            if name == "shift-invert" else "auto: dense eigh (a dense model, or many modes asked for)")
 
 
 def _pick(method: str | Solver, a: Assembly, n_modes: int | None) -> tuple[str, Solver]:
@@ -301,7 +343,5 @@ def _pick(method: str | Solver, a: Assembly, n_modes: int | None) -> tuple[str, 
         if a.sparse and n_modes is not None and n_modes < a.n // 10:
             return "shift-invert", METHODS["shift-invert"]
         return "dense", METHODS["dense"]
-    if method not in METHODS:
-        raise ValueError(f"unknown modes method {method!r}; valid: 'auto', "
-                         + ", ".join(repr(k) for k in METHODS) + ", or a callable")
+    choice(method, "method", ["auto", *METHODS], who="modes", callable_ok=True)
     return method, METHODS[method]

@@ -27,6 +27,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from .._validate import choice, vector
 from ..errors import ModelError, did_you_mean
 from .model import DOF_NAMES, GROUND
 from ..linear.plant import INPUT_KINDS
@@ -133,10 +134,7 @@ def function_from_dict(data: Any, who: str = "function", *, value_scale: float =
         raise ModelError(f"{who}: expected a function table like {{ type = \"half_sine\", amplitude = ..., "
                          f"start = ..., duration = ... }}, got {data!r}")
     kind = data.get("type")
-    if not isinstance(kind, str) or kind not in FUNCTIONS:
-        raise ModelError(f"{who}: type: expected one of {list(FUNCTIONS)}, got {kind!r}"
-                         + (did_you_mean(kind, FUNCTIONS) if isinstance(kind, str) else ""))
-    cls = FUNCTIONS[kind]
+    cls = FUNCTIONS[choice(kind, "type", FUNCTIONS, who=who, expected=f"one of {list(FUNCTIONS)}")]
     if cls is Sum:
         return function_from_dict(list(data.get("terms") or []), f"{who}.terms", value_scale=value_scale,
                                   time_scale=time_scale, angle_scale=angle_scale, base=base)
@@ -247,9 +245,7 @@ class Excitation:
         if not isinstance(self.name, str) or not self.name:
             raise ModelError(f"excitation: name must be a non-empty string, got {self.name!r}")
         who = f"excitation {self.name!r}"
-        if self.kind not in INPUT_KINDS:
-            raise ModelError(f"{who}: kind: expected one of {list(INPUT_KINDS)}, got {self.kind!r}"
-                             + did_you_mean(self.kind, INPUT_KINDS))
+        choice(self.kind, "kind", INPUT_KINDS, who=who, expected=f"one of {list(INPUT_KINDS)}")
         if not isinstance(self.target, str) or not self.target:
             raise ModelError(f"{who}: target: expected a body name or {GROUND!r}, got {self.target!r}")
         if self.kind == "force" and self.target == GROUND:
@@ -260,9 +256,8 @@ class Excitation:
         if (self.dof is None) == (self.direction is None):
             raise ModelError(f"{who}: give exactly one of dof (one of {list(DOF_NAMES)}) and "
                              "direction (a 3-vector)")
-        if self.dof is not None and self.dof not in DOF_NAMES:
-            raise ModelError(f"{who}: dof: expected one of {list(DOF_NAMES)}, got {self.dof!r}"
-                             + did_you_mean(self.dof, DOF_NAMES))
+        if self.dof is not None:
+            choice(self.dof, "dof", DOF_NAMES, who=who, expected=f"one of {list(DOF_NAMES)}")
         if self.direction is not None:
             d = _vector3(self.direction, who, "direction")
             norm = float(np.linalg.norm(d))
@@ -322,10 +317,4 @@ class Excitation:
 
 
 def _vector3(value: Any, who: str, key: str) -> np.ndarray:
-    try:
-        a = np.array(value, dtype=float)
-    except (TypeError, ValueError):
-        raise ModelError(f"{who}: {key}: expected 3 numbers, got {value!r}") from None
-    if a.shape != (3,) or not np.all(np.isfinite(a)):
-        raise ModelError(f"{who}: {key}: expected 3 finite numbers, got {value!r}")
-    return a
+    return vector(value, 3, key, who=who, strict=False)

@@ -15,6 +15,7 @@ import numpy as np
 import numpy.typing as npt
 from scipy.spatial.transform import Rotation
 
+from .._validate import vector
 from ..errors import ModelError
 
 __all__ = [
@@ -144,15 +145,7 @@ class Orientation:
 
 
 def _vector(value: npt.ArrayLike, n: int, what: str) -> np.ndarray:
-    try:
-        a = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise ModelError(f"{what}: expected {n} numbers, got {value!r}") from None
-    if a.shape != (n,):
-        raise ModelError(f"{what}: expected {n} numbers, got shape {a.shape} ({value!r})")
-    if not np.all(np.isfinite(a)):
-        raise ModelError(f"{what}: values must be finite, got {a.tolist()}")
-    return a
+    return vector(value, n, what, strict=False)
 
 
 def _as_matrix(value: Any, what: str) -> np.ndarray:

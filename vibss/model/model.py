@@ -1,4 +1,5 @@
-"""The model: frozen, validated bodies, mount types, mounts, control points and loads.
+"""The model: frozen, validated bodies, control points, loads and the Model (mount types and mounts
+in :mod:`vibss.model.mounts`, re-exported here).
 
 Everything is SI (m, kg, N, s, rad). Objects are frozen dataclasses, normalised and validated on
 construction; "editing" returns a copy (:func:`dataclasses.replace`). Every error is a
@@ -26,8 +27,12 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from .._validate import is_numeric
 from ..errors import ModelError, did_you_mean
-from .geometry import MIRRORS, Orientation
+from ._common import (DOF_NAMES, GROUND, _frame, _freeze, _name, _orientation, _point_name,
+                      _signal_safe, _vec)
+from .geometry import Orientation
+from .mounts import SYMMETRIES, Mount, MountType, symmetric  # re-exported: vibss.model.model keeps every name
 
 __all__ = [
     "GROUND",
@@ -40,98 +45,6 @@ __all__ = [
     "Model",
     "symmetric",
 ]
-
-GROUND = "ground"
-"""Name of the fixed (or prescribed-motion) reference body."""
-
-DOF_NAMES = ("x", "y", "z", "rx", "ry", "rz")
-"""The six DOFs of a body, in the order used everywhere."""
-
-SYMMETRIES: dict[str, tuple[tuple[str, ...], ...]] = {
-    "none": ((),),
-    "xz": ((), ("xz",)),
-    "yz": ((), ("yz",)),
-    "double": ((), ("xz",), ("yz",), ("xz", "yz")),
-}
-
-
-def _freeze(a: np.ndarray) -> np.ndarray:
-    a.setflags(write=False)
-    return a
-
-
-def _is_numeric(value: Any) -> bool:
-    """True for a number or (nested) sequence of numbers; bools and strings are not numbers."""
-    if isinstance(value, (str, bytes, bool, np.bool_)) or value is None:
-        return False
-    if isinstance(value, (list, tuple)):        # numpy would upcast [True, 1.0] to floats
-        return all(_is_numeric(v) for v in value)
-    try:
-        a = np.asarray(value)
-    except (TypeError, ValueError):
-        return False
-    if a.dtype.kind in "iuf":
-        return True
-    if a.dtype.kind == "O" and a.size:
-        return all(_is_numeric(v) for v in a.ravel())
-    return False
-
-
-def _vec(value: Any, n: int, who: str, key: str) -> np.ndarray:
-    if not _is_numeric(value):
-        raise ModelError(f"{who}: {key}: expected {n} numbers, got {value!r}")
-    try:
-        a = np.array(value, dtype=float)
-    except (TypeError, ValueError):
-        raise ModelError(f"{who}: {key}: expected {n} numbers, got {value!r}") from None
-    if a.shape != (n,):
-        raise ModelError(f"{who}: {key}: expected {n} numbers, got {np.shape(value)} ({value!r})")
-    if not np.all(np.isfinite(a)):
-        raise ModelError(f"{who}: {key}: values must be finite, got {a.tolist()}")
-    return _freeze(a)
-
-
-def _name(value: Any, who: str) -> str:
-    if not isinstance(value, str) or not value.strip():
-        raise ModelError(f"{who}: name must be a non-empty string, got {value!r}")
-    if value == GROUND:
-        raise ModelError(f"{who}: the name {GROUND!r} is reserved for the fixed reference")
-    return _signal_safe(value, who)
-
-
-def _signal_safe(value: str, who: str) -> str:
-    """Refuse names that would make signal names ambiguous.
-
-    ``:`` is python-control's spelling of ``.`` in signal names (two names would collide), and a
-    body or point named ``<x>.into`` would give an input ``<x>.into.fz`` (a force on it) with the
-    same name as the output ``<x>.into.fz`` (the force into body ``<x>``).
-    """
-    if ":" in value:
-        raise ModelError(f"{who}: name {value!r} contains ':', which python-control signal names use "
-                         "in place of '.'; use another character")
-    return value
-
-
-def _point_name(value: str, who: str) -> str:
-    """Body and control point names: also not ``into`` or ending in ``.into`` (see _signal_safe)."""
-    if value == "into" or value.endswith(".into"):
-        raise ModelError(f"{who}: name {value!r} would make '{value}.fz' both a force input and "
-                         "an '<body>.into.fz' output; choose another name")
-    return value
-
-
-def _orientation(value: Any, who: str, key: str) -> Orientation:
-    try:
-        return Orientation.coerce(value, key)
-    except ModelError as exc:
-        raise ModelError(f"{who}: {exc}") from None
-
-
-def _frame(value: str, who: str) -> str:
-    if value not in ("body", "global"):
-        raise ModelError(f"{who}: frame must be 'body' or 'global', got {value!r}")
-    return value
-
 
 @dataclass(frozen=True, eq=False)
 class Body:
@@ -175,7 +88,7 @@ class Body:
         _point_name(self.name, who)
         if self.name == "mount":
             raise ModelError(f"{who}: the name 'mount' is reserved ('mount.<name>.fz' are mount signals)")
-        m = np.array(self.mass, dtype=float) if _is_numeric(self.mass) else None
+        m = np.array(self.mass, dtype=float) if is_numeric(self.mass) else None
         if m is None or m.shape not in ((), (3,)):
             raise ModelError(f"{who}: mass: expected a number or 3 numbers [kg], got {self.mass!r}")
         if not np.all(np.isfinite(m)):
@@ -187,7 +100,7 @@ class Body:
         object.__setattr__(self, "masses", _freeze(masses.copy()))
         object.__setattr__(self, "cog", _vec(self.cog, 3, who, "cog"))
 
-        inertia = np.array(self.inertia, dtype=float) if _is_numeric(self.inertia) else None
+        inertia = np.array(self.inertia, dtype=float) if is_numeric(self.inertia) else None
         if inertia is None or inertia.shape not in ((3,), (3, 3)):
             raise ModelError(
                 f"{who}: inertia: expected 3 principal moments or a 3x3 tensor [kg m^2], "
@@ -248,135 +161,6 @@ def _check_moments(moments: np.ndarray, who: str) -> None:
             f"break the triangle inequality ({a:.6g} + {b:.6g} < {c:.6g}); no mass "
             "distribution has them"
         )
-
-
-@dataclass(frozen=True, eq=False)
-class MountType:
-    """Stiffness and damping of a mount along its three principal (local) axes.
-
-    Parameters
-    ----------
-    name : str
-        Unique name.
-    stiffness : (3,) array_like
-        Principal stiffnesses (k1, k2, k3) [N/m]; zero is allowed (no stiffness along that axis).
-    damping : (3,) array_like
-        Viscous dampings (c1, c2, c3) [N s/m]. Default zero.
-    loss_factor : float or (3,) array_like
-        Hysteretic loss factor eta [-] (complex stiffness k (1 + i eta)); frequency domain only.
-    """
-
-    name: str
-    stiffness: Any
-    damping: Any = (0.0, 0.0, 0.0)
-    loss_factor: Any = 0.0
-
-    def __post_init__(self) -> None:
-        if not isinstance(self.name, str) or not self.name:
-            raise ModelError(f"mount type: name must be a non-empty string, got {self.name!r}")
-        who = f"mount type {self.name!r}"
-        for key, unit in (("stiffness", "N/m"), ("damping", "N s/m")):
-            v = _vec(getattr(self, key), 3, who, key)
-            if np.any(v < 0):
-                raise ModelError(f"{who}: {key} must not be negative, got {v.tolist()} {unit}")
-            object.__setattr__(self, key, v)
-        eta = np.array(self.loss_factor, dtype=float) if _is_numeric(self.loss_factor) else None
-        if eta is None or eta.shape not in ((), (3,)):
-            raise ModelError(f"{who}: loss_factor: expected a number or 3 numbers, got {self.loss_factor!r}")
-        eta = np.broadcast_to(eta, (3,)).copy()
-        if not np.all(np.isfinite(eta)) or np.any(eta < 0):
-            raise ModelError(f"{who}: loss_factor must be finite and not negative, got {eta.tolist()}")
-        object.__setattr__(self, "loss_factor", _freeze(eta))
-
-
-@dataclass(frozen=True, eq=False)
-class Mount:
-    """A zero-length mount joining a point of ``body`` to the same point of ``to``.
-
-    Parameters
-    ----------
-    name : str
-        Unique name.
-    type : MountType
-        Stiffness and damping along the mount's local axes.
-    body : str
-        The body the point belongs to.
-    at : (3,) array_like
-        Attachment point [m]: relative to the COG of ``body`` (``frame="body"``, in global axis
-        directions) or in global coordinates (``frame="global"``).
-    to : str
-        ``"ground"`` or the name of another body.
-    orientation : Orientation, (3, 3) array_like, scipy Rotation or None
-        Local axes (columns) in global coordinates. Default: global axes.
-    frame : {"body", "global"}
-        How ``at`` is measured.
-    """
-
-    name: str
-    type: MountType
-    body: str
-    at: Any = (0.0, 0.0, 0.0)
-    to: str = GROUND
-    orientation: Any = None
-    frame: str = "body"
-
-    def __post_init__(self) -> None:
-        if not isinstance(self.name, str) or not self.name:
-            raise ModelError(f"mount: name must be a non-empty string, got {self.name!r}")
-        who = f"mount {self.name!r}"
-        _signal_safe(self.name, who)
-        if not isinstance(self.type, MountType):
-            raise ModelError(f"{who}: type must be a MountType, got {self.type!r}")
-        for key in ("body", "to"):
-            if not isinstance(getattr(self, key), str):
-                raise ModelError(f"{who}: {key} must be a body name, got {getattr(self, key)!r}")
-        if self.body == GROUND:
-            raise ModelError(f"{who}: body must be a body, not {GROUND!r} (put ground in 'to')")
-        if self.body == self.to:
-            raise ModelError(f"{who}: joins body {self.body!r} to itself; a mount joins two "
-                             "different bodies, or a body and ground")
-        object.__setattr__(self, "at", _vec(self.at, 3, who, "at"))
-        object.__setattr__(self, "frame", _frame(self.frame, who))
-        object.__setattr__(self, "orientation", _orientation(self.orientation, who, "orientation"))
-
-    def mirrored(self, planes: Sequence[str]) -> Mount:
-        """Copy mirrored in the given planes (``"xz"``, ``"yz"``, ``"xy"``), named ``name.plane...``.
-
-        The point is mirrored in the body's planes through its COG (``frame="body"``) or in the
-        global planes (``frame="global"``); so is the orientation (kept right-handed).
-        """
-        at, orient, name = self.at, self.orientation, self.name
-        for plane in planes:
-            if plane not in MIRRORS:
-                raise ModelError(f"mount {self.name!r}: unknown mirror plane {plane!r}; "
-                                 f"expected one of {sorted(MIRRORS)}")
-            at = MIRRORS[plane] @ at
-            orient = orient.mirrored(plane)
-            name = f"{name}.{plane}"
-        return dataclasses.replace(self, name=name, at=at, orientation=orient)
-
-
-def symmetric(mount: Mount, symmetry: str = "double") -> tuple[Mount, ...]:
-    """The mount and its mirror images.
-
-    Parameters
-    ----------
-    mount : Mount
-        The generating mount.
-    symmetry : {"none", "xz", "yz", "double"}
-        Mirror about the XZ plane (y -> -y), the YZ plane (x -> -x), or both ("double
-        symmetry": four mounts). Names get ``.xz``, ``.yz``, ``.xz.yz`` appended.
-
-    Examples
-    --------
-    >>> t = MountType("t", [1.0, 1.0, 1.0])
-    >>> [m.at.tolist() for m in symmetric(Mount("a", t, "b", at=[1, 2, 3]), "xz")]
-    [[1.0, 2.0, 3.0], [1.0, -2.0, 3.0]]
-    """
-    if not isinstance(symmetry, str) or symmetry not in SYMMETRIES:
-        raise ModelError(f"mount {mount.name!r}: unknown symmetry {symmetry!r}; expected one of "
-                         f"{list(SYMMETRIES)}")
-    return tuple(mount.mirrored(planes) for planes in SYMMETRIES[symmetry])
 
 
 @dataclass(frozen=True, eq=False)

@@ -14,6 +14,10 @@ from __future__ import annotations
 from .energy import plot_energy
 from .layout import plot_model
 from .modes import animate_mode, mode_title, plot_modes
-from .response import plot_time_groups
+from .frequency import plot_frequency_response
+from .response import plot_sweep_envelope, plot_time_groups, plot_time_response
+from .summary import plot_poles, plot_reduction, plot_static
 
-__all__ = ["plot_modes", "animate_mode", "plot_energy", "plot_model", "plot_time_groups", "mode_title"]
+__all__ = ["plot_modes", "animate_mode", "plot_energy", "plot_model", "plot_time_groups", "mode_title",
+           "plot_frequency_response", "plot_time_response", "plot_sweep_envelope", "plot_static",
+           "plot_poles", "plot_reduction"]

@@ -2,14 +2,16 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
 from matplotlib.figure import Figure
 
+from .._validate import choice, name_index
 from ._draw import new_figure
 
-__all__ = ["plot_time_groups", "quantity_of"]
+__all__ = ["plot_time_groups", "quantity_of", "plot_time_response", "plot_sweep_envelope"]
 
 _ORDER = ("body translation", "body rotation", "acceleration", "angular acceleration", "velocity",
           "mount deflection", "mount force", "force into ground", "moment into ground", "force into bodies",
@@ -81,4 +83,88 @@ def plot_time_groups(response: Any, max_lines: int = 6) -> Figure:
     axes[-1].set_xlabel("time [s]")
     fig.suptitle(f"Time response of {response.name!r} (peaks marked)"
                  + (f"; zero throughout: {', '.join(zero)}" if zero else ""), fontsize=10)
+    return fig
+
+
+def plot_time_response(response: Any, outputs: Sequence[str] | None = None, by: str = "body",
+                       ax: Any = None) -> Figure:
+    """Outputs of a time response against time, peaks marked and annotated.
+
+    Parameters
+    ----------
+    response : vibss.time.TimeResponse
+        The response.
+    outputs : sequence of str or None
+        Outputs to draw (default all).
+    by : {"body", "all"}
+        One axes per body (the part of the name before the first dot) or all in one axes.
+    ax : Axes, sequence of Axes or None
+        Axes to draw in, one per group; default: a new figure.
+
+    Returns
+    -------
+    Figure
+    """
+    r = response
+    choice(by, "by", ("body", "all"), who="TimeResponse.plot")
+    names = list(outputs) if outputs is not None else list(r.output_labels)
+    groups: dict[str, list[int]] = {}
+    for n in names:
+        i = name_index(n, r.output_labels, "output")
+        groups.setdefault(n.split(".")[0] if by == "body" else "all", []).append(i)
+    if ax is None:
+        fig = new_figure(8, 2.2 + 1.8 * len(groups))
+        axes = list(fig.subplots(len(groups), 1, sharex=True, squeeze=False)[:, 0])
+    else:
+        axes = list(np.atleast_1d(ax))
+        fig = axes[0].figure
+    for a, (key, rows) in zip(axes, groups.items()):
+        for i in rows:
+            y = r.outputs[i]
+            (line,) = a.plot(r.time, y, label=f"{r.output_labels[i]} [{r.units[i]}]")
+            if y.size:
+                k = int(np.argmax(np.abs(y)))
+                a.plot(r.time[k], y[k], "o", color=line.get_color())
+                a.annotate(f"{y[k]:.3g}", (r.time[k], y[k]), textcoords="offset points",
+                           xytext=(4, 4), fontsize=8)
+        a.set_title(key if by == "body" else r.name, fontsize=9)
+        a.grid(True, alpha=0.3)
+        a.legend(fontsize=7, loc="best")
+    axes[-1].set_xlabel("time [s]")
+    fig.suptitle(f"{r.name} ({r.method})", fontsize=10)
+    return fig
+
+
+def plot_sweep_envelope(envelope: Any, outputs: Sequence[str] | None = None, ax: Any = None) -> Figure:
+    """Envelope of a finite-rate sweep and the steady-state amplitude against frequency.
+
+    Parameters
+    ----------
+    envelope : vibss.time.SweepEnvelope
+        The result of :func:`vibss.time.sweep_envelope`.
+    outputs : sequence of str or None
+        Outputs to draw, one axes each (default all).
+    ax : Axes, sequence of Axes or None
+        Axes to draw in, one per output; default: a new figure.
+
+    Returns
+    -------
+    Figure
+    """
+    e = envelope
+    names = list(outputs) if outputs is not None else list(e.output_labels)
+    rows = [name_index(n, e.output_labels, "output") for n in names]
+    if ax is None:
+        fig = new_figure(8, 1.5 + 2.0 * len(rows))
+        axes = list(fig.subplots(len(rows), 1, sharex=True, squeeze=False)[:, 0])
+    else:
+        axes = list(np.atleast_1d(ax))
+        fig = axes[0].figure
+    for a, i in zip(axes, rows):
+        a.plot(e.frequency_hz, e.steady[i], "k--", lw=1, label="steady state")
+        a.plot(e.frequency_hz, e.envelope[i], lw=1.2, label="sweep envelope")
+        a.set_ylabel(f"{e.output_labels[i]} [{e.units[i]}]", fontsize=8)
+        a.grid(True, alpha=0.3)
+        a.legend(fontsize=7)
+    axes[-1].set_xlabel("instantaneous frequency [Hz]")
     return fig

@@ -57,12 +57,14 @@ import control
 import numpy as np
 import scipy.sparse as sp
 
+from .._validate import choice
 from ..errors import AnalysisError, ModelError
 from ..model.model import Model
 from ..linear.plant import Plant
 from .kernels import Removal, frf, sparse_plant
 from .methods import (BALANCED_MAX_STATES, KRYLOV_MIN_DOF, METHODS, MODE_PRUNE_MAX, Reduced, ReduceOptions,
                       ReductionMethod, _floor, _states, check_grid, choose, resolve_method)
+from ..results import Result, Table, jsonable, require_pandas
 from .scope import Scope
 from ..linear.signals import build_plant
 from ..linear.statespace import NamedStateSpace
@@ -71,8 +73,12 @@ __all__ = ["reduce", "Reduction", "Removal", "Reduced", "ReduceOptions", "Reduct
            "BALANCED_MAX_STATES", "KRYLOV_MIN_DOF", "MODE_PRUNE_MAX", "select"]
 
 @dataclass(frozen=True, eq=False)
-class Reduction:
+class Reduction(Result):
     """A reduced model and what was done to get it.
+
+    Follows the result protocol (:mod:`vibss.results`): ``output_labels`` / ``input_labels`` are
+    the scope's; ``r.control`` is the reduced system as a python-control state space
+    (:class:`~vibss.linear.statespace.NamedStateSpace`) and ``r['b.z', 'b.fz']`` its sub-system.
 
     Attributes
     ----------
@@ -117,6 +123,8 @@ class Reduction:
         Frequencies in the verification grid.
     notes : tuple of str
         Caveats.
+    note : str
+        Why that method (for ``method="auto"``).
     details : dict
         Method-specific figures (``"krylov"``: basis size, shifts [Hz], moments, interpolation and
         check frequencies [Hz], rounds, timings [s]).
@@ -146,6 +154,32 @@ class Reduction:
     n_check: int = 0
     notes: tuple[str, ...] = ()
     details: dict[str, Any] = field(default_factory=dict)
+    note: str = ""
+
+    @property
+    def output_labels(self) -> tuple[str, ...]:
+        """Output signal names of the scope."""
+        return tuple(self.scope.outputs)
+
+    @property
+    def input_labels(self) -> tuple[str, ...]:
+        """Input signal names of the reduced system (the scope's sources)."""
+        return tuple(self.full.inputs)
+
+    @property
+    def units(self) -> tuple[str, ...]:
+        """SI unit of each output."""
+        return tuple(self.full.units)
+
+    @property
+    def control(self) -> NamedStateSpace:
+        """The reduced system as a python-control state space (indexable by vibss names)."""
+        if self.system is not None:
+            return self.system
+        return statespace(cast(Plant, self.plant))
+
+    def _item(self, i: int, j: int | None) -> NamedStateSpace:
+        return self.control[i, :] if j is None else self.control[i, j]
 
     def response(self, s: np.ndarray) -> np.ndarray:
         """Reduced response ``Y(s)`` (p, m, nf) at Laplace points ``s`` [rad/s] (``s = i w``)."""
@@ -180,6 +214,54 @@ class Reduction:
         t2 = time.perf_counter()
         return replace(self, measured=relative_error(hf, hr), full_s=t1 - t0, reduced_s=t2 - t1,
                        n_check=int(w.size))
+
+    def compare(self, n_points: int = 200) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Full and reduced response over the band (the verification grid, see :meth:`verify`).
+
+        Parameters
+        ----------
+        n_points : int
+            Evenly spaced frequencies over the band (the kept resonances' neighbours are added).
+
+        Returns
+        -------
+        frequency_hz : (nf,) ndarray
+        full, reduced : (p, m, nf) complex ndarray
+        """
+        w = check_grid(self.scope, n_points, self.kept_hz * 2 * np.pi)
+        return w / (2 * np.pi), frf(self.full, 1j * w), self.response(1j * w)
+
+    def summary(self) -> Table:
+        """Sizes, error estimate and timing as a two-column table."""
+        rows = [["method", self.method], ["DOFs", f"{self.dofs_before} -> {self.dofs_after}"],
+                ["states", f"{self.states_before} -> {self.states_after}"],
+                ["estimate", f"{self.estimate:.3g} ({self.estimate_kind})"],
+                ["measured", "-" if self.measured is None else f"{self.measured:.3g}"],
+                ["tolerance", f"{self.scope.tolerance:g}"], ["reduction [s]", f"{self.reduce_s:.3g}"]]
+        return Table(["quantity", "value"], rows, title="Model reduction")
+
+    def to_pandas(self) -> Any:
+        """DataFrame of what was removed: one row per removal (what, names, reason, exact)."""
+        pd = require_pandas()
+        return pd.DataFrame([{"what": r.what, "names": ", ".join(r.names), "reason": r.reason,
+                              "exact": r.exact} for r in self.removed],
+                            columns=["what", "names", "reason", "exact"])
+
+    def plot(self, ax: Any = None) -> Any:
+        """Full against reduced response over the band: :func:`vibss.plotting.plot_reduction`.
+
+        Parameters
+        ----------
+        ax : (2,) sequence of Axes or None
+            Axes for the magnitudes and the relative error; default: a new figure.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+        """
+        from ..plotting import plot_reduction
+
+        return plot_reduction(self, ax)
 
     def report(self) -> str:
         """Printable summary: sizes, removals, errors, timings."""
@@ -219,7 +301,7 @@ class Reduction:
 
     def to_dict(self) -> dict[str, Any]:
         """Plain data (sizes, removals, errors, timings)."""
-        return {"method": self.method, "scope": self.scope.to_dict(),
+        return jsonable({"method": self.method, "note": self.note, "scope": self.scope.to_dict(),
                 "dofs_before": self.dofs_before, "dofs_after": self.dofs_after,
                 "states_before": self.states_before, "states_after": self.states_after,
                 "removed": [{"what": r.what, "names": list(r.names), "reason": r.reason, "exact": r.exact}
@@ -230,7 +312,7 @@ class Reduction:
                 "reduce_s": self.reduce_s,
                 "measured": self.measured, "full_s": self.full_s, "reduced_s": self.reduced_s,
                 "n_check": self.n_check, "notes": list(self.notes),
-                "details": {k: (v.tolist() if isinstance(v, np.ndarray) else v) for k, v in self.details.items()}}
+                "details": self.details})
 
 
 def relative_error(h_full: np.ndarray, h_red: np.ndarray) -> float:
@@ -308,14 +390,15 @@ def reduce(model_or_plant: Model | Plant, scope: Scope, method: Any = "auto", *,
     else:
         raise ModelError(f"reduce: model_or_plant: expected a Model or a Plant, got {model_or_plant!r}")
     sparse_input = isinstance(model_or_plant, Plant) and sp.issparse(model_or_plant.K)
+    note = ""
     if chosen is None:
-        chosen = METHODS[choose(n, sparse_input)[0]]
+        name, note = choose(n, sparse_input)
+        chosen = METHODS[name]
     if sparse_input and not chosen.sparse:
         raise AnalysisError(f"reduce: method {chosen.name!r} needs a dense plant; a sparse plant "
                             "(build_plant(..., sparse=True)) takes method="
                             + " or ".join(repr(k) for k, v in METHODS.items() if v.sparse) + " or 'auto'")
-    if residual not in ("vectors", "static"):
-        raise ModelError(f"reduce: residual: expected 'vectors' or 'static', got {residual!r}")
+    choice(residual, "residual", ("vectors", "static"), who="reduce")
     t0 = time.perf_counter()          # a sparse method counts its sparse assembly; the others start from the plant
     if isinstance(model_or_plant, Plant):
         full = select(model_or_plant, scope)
@@ -340,5 +423,6 @@ def reduce(model_or_plant: Model | Plant, scope: Scope, method: Any = "auto", *,
                   removed=tuple(out.removed), estimate=float(out.estimate),
                   estimate_kind=out.estimate_kind, correction=out.correction,
                   kept_hz=np.asarray(out.kept_hz, float), hsv=out.hsv, hsv_bound=out.hsv_bound,
-                  io_scale=out.io_scale, reduce_s=took, notes=tuple(out.notes), details=dict(out.details))
+                  io_scale=out.io_scale, reduce_s=took, notes=tuple(out.notes), details=dict(out.details),
+                  note=note)
     return r.verify(n_check) if verify else r

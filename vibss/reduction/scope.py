@@ -34,6 +34,7 @@ from typing import Any, cast
 import numpy as np
 import numpy.typing as npt
 
+from .._validate import number
 from ..errors import ModelError
 
 __all__ = ["Scope", "content_frequency"]
@@ -101,20 +102,16 @@ class Scope:
             dup = sorted({x for x in seq if seq.count(x) > 1})
             if dup:
                 raise ModelError(f"scope: {what}: signal(s) {dup} given more than once")
-        try:
-            f1, f2, tol = float(self.f1), float(self.f2), float(self.tolerance)
-        except (TypeError, ValueError):
-            raise ModelError(f"scope: f1, f2, tolerance: expected numbers, got {self.f1!r}, {self.f2!r}, "
-                             f"{self.tolerance!r}") from None
-        if not (math.isfinite(f1) and f1 >= 0.0):
-            raise ModelError(f"scope: f1: must be a finite frequency >= 0 Hz, got {self.f1!r}")
-        if not (math.isfinite(f2) and f2 > f1):
-            raise ModelError(f"scope: f2: must be a finite frequency above f1 = {f1:g} Hz, got {self.f2!r}")
-        if not (0.0 < tol < 1.0):
+        f1 = number(self.f1, "f1", who="scope", minimum=0.0, what="a finite frequency >= 0 Hz")
+        f2 = number(self.f2, "f2", who="scope", minimum=f1, strict=True,
+                    what=f"a finite frequency above f1 = {f1:g} Hz")
+        tol = number(self.tolerance, "tolerance", who="scope", minimum=0.0, strict=True,
+                     what="a relative accuracy in (0, 1), e.g. 1e-3")
+        if not tol < 1.0:
             raise ModelError(f"scope: tolerance: must be a relative accuracy in (0, 1), e.g. 1e-3, "
                              f"got {self.tolerance!r}")
-        if self.t_end is not None and not (math.isfinite(float(self.t_end)) and float(self.t_end) > 0):
-            raise ModelError(f"scope: t_end: must be a positive time [s], got {self.t_end!r}")
+        if self.t_end is not None:
+            number(self.t_end, "t_end", who="scope", minimum=0.0, strict=True, what="a positive time [s]")
         object.__setattr__(self, "sources", tuple(self.sources) or tuple(raw_in))
         object.__setattr__(self, "inputs", names)
         object.__setattr__(self, "outputs", tuple(outs))
@@ -198,9 +195,9 @@ class Scope:
         """
         exc = list(excitations) if not isinstance(excitations, str) else [excitations]
         if f_max is None:
-            nyquist = None if dt is None else 0.5 / float(dt)
-            if dt is not None and not (math.isfinite(float(dt)) and float(dt) > 0):
-                raise ModelError(f"scope: dt: must be a positive time step [s], got {dt!r}")
+            if dt is not None:
+                dt = number(dt, "dt", who="scope", minimum=0.0, strict=True, what="a positive time step [s]")
+            nyquist = None if dt is None else 0.5 / dt
             est = max((content_frequency(getattr(e, "function", None), content_factor) for e in exc),
                       default=0.0)
             if est == math.inf or est == 0.0:

@@ -47,6 +47,7 @@ import scipy.linalg as sl
 import scipy.sparse as sp
 import scipy.sparse.linalg as spl
 
+from .._validate import choice
 from ..linear.plant import Plant
 from .prune import DENSE_MAX, frf
 
@@ -296,8 +297,7 @@ def truncate(p: Plant, band: tuple[float, float], tol: float, grid: np.ndarray,
     ``grid`` (nf,) [rad/s] is where the estimate is evaluated (resonances in the band are added).
     ``residual``: ``"static"`` (feedthrough) or ``"vectors"`` (residual vectors as extra DOFs).
     """
-    if residual not in ("static", "vectors"):
-        raise ValueError(f"residual: expected 'static' or 'vectors', got {residual!r}")
+    choice(residual, "residual", ("static", "vectors"))
     mats: dict[str, sp.csr_matrix]
     build = (lambda md, k: md.plant(k)) if residual == "static" else (lambda md, k: _ritz_plant(md, k, mats))
     n = p.n

@@ -43,12 +43,14 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, cast
 
-import control
 import numpy as np
+from control import TimeResponseData
 import scipy.sparse as sp
 import numpy.typing as npt
 
-from ..errors import AnalysisError, DefectiveModesError, ModelError
+from .._validate import choice, name_index, number, vector
+from ..errors import AnalysisError, ArgumentError, DefectiveModesError, ModelError
+from ..results import Result, Table, jsonable, require_pandas
 from .methods import METHODS, SimulationJob, TimeMethod, resolve_method
 from ..model.model import DOF_NAMES, Model
 from ..linear.plant import Plant
@@ -90,15 +92,19 @@ class PeakTable:
 
     def to_pandas(self) -> Any:
         """DataFrame indexed by output, columns peak, time, rms, unit."""
-        import pandas as pd
+        pd = require_pandas()
 
         return pd.DataFrame({"peak": self.value, "time": self.time, "rms": self.rms,
                              "unit": self.units}, index=list(self.outputs))
 
 
 @dataclass(frozen=True, eq=False)
-class TimeResponse:
+class TimeResponse(Result):
     """A simulated time response.
+
+    Follows the result protocol (:mod:`vibss.results`): ``r['b.z']`` is the (ns,) samples of one
+    output; ``r.control`` is the python-control ``TimeResponseData``; ``output_labels`` /
+    ``input_labels`` are python-control's names of ``output_names`` / ``input_names``.
 
     Attributes
     ----------
@@ -133,20 +139,36 @@ class TimeResponse:
     name: str = "vibss"
 
     @property
-    def data(self) -> control.TimeResponseData:
+    def output_labels(self) -> tuple[str, ...]:
+        """Output signal names (python-control's name; ``output_names`` is the same)."""
+        return self.output_names
+
+    @property
+    def input_labels(self) -> tuple[str, ...]:
+        """Input signal names (python-control's name; ``input_names`` is the same)."""
+        return self.input_names
+
+    def _item(self, i: int, j: int | None) -> np.ndarray:
+        if j is not None:
+            raise ArgumentError(f"TimeResponse[{self.output_names[i]!r}, {self.input_names[j]!r}]: a time "
+                                "response is the sum over its inputs; index by output only",
+                                argument="key", received=(self.output_names[i], self.input_names[j]))
+        return self.outputs[i]
+
+    @property
+    def control(self) -> TimeResponseData:
         """The same response as a python-control :class:`control.TimeResponseData`."""
-        return control.TimeResponseData(
+        return TimeResponseData(
             self.time, self.outputs, None, self.inputs if self.inputs.size else None,
             output_labels=list(self.output_names),
             input_labels=list(self.input_names) if self.inputs.size else None, sysname=self.name)
 
+    data = control
+    """Old name of :attr:`control`."""
+
     def output(self, name: str) -> np.ndarray:
         """(ns,) samples of output ``name``."""
-        try:
-            return self.outputs[self.output_names.index(name)]
-        except ValueError:
-            raise ModelError(f"TimeResponse.output: unknown output {name!r}; outputs are "
-                             f"{list(self.output_names)}") from None
+        return self.outputs[name_index(name, self.output_names, "output", who="TimeResponse.output")]
 
     def peaks(self) -> PeakTable:
         """Peak value (largest magnitude, signed), its time, and RMS of every output."""
@@ -170,24 +192,31 @@ class TimeResponse:
             lines.append(f"{n:<{width}}  {v:>13.5e}  {t:>10.5f}  {r:>12.5e}  {u}")
         return "\n".join(lines)
 
+    def summary(self) -> Table:
+        """Peak value, its time and RMS of every output."""
+        pk = self.peaks()
+        rows = [[n, f"{v:.5e}", f"{t:.5f}", f"{r:.5e}", u]
+                for n, u, v, t, r in zip(self.output_names, self.units, pk.value, pk.time, pk.rms)]
+        return Table(["output", "peak", "at [s]", "RMS", "unit"], rows, title=f"method {self.method}")
+
     def to_dict(self) -> dict[str, Any]:
         """The spec's JSON: ``{"time": [...], "outputs": {name: [...]}}`` plus units and method."""
-        return {"time": self.time.tolist(),
-                "outputs": {n: row.tolist() for n, row in zip(self.output_names, self.outputs)},
-                "units": dict(zip(self.output_names, self.units)),
-                "method": self.method}
+        return jsonable({"time": self.time,
+                         "outputs": {n: row for n, row in zip(self.output_names, self.outputs)},
+                         "units": dict(zip(self.output_names, self.units)),
+                         "method": self.method, "note": self.note})
 
     def to_pandas(self) -> Any:
         """DataFrame with a ``time`` column, one column per output and one per input."""
-        import pandas as pd
+        pd = require_pandas()
 
         cols = {"time": self.time}
         cols.update({n: row for n, row in zip(self.output_names, self.outputs)})
         cols.update({n: row for n, row in zip(self.input_names, self.inputs)})
         return pd.DataFrame(cols)
 
-    def plot(self, outputs: Sequence[str] | None = None, by: str = "body") -> Any:
-        """Plot outputs against time, peaks marked.
+    def plot(self, outputs: Sequence[str] | None = None, by: str = "body", ax: Any = None) -> Any:
+        """Plot outputs against time, peaks marked: :func:`vibss.plotting.plot_time_response`.
 
         Parameters
         ----------
@@ -195,54 +224,24 @@ class TimeResponse:
             Outputs to draw (default all).
         by : {"body", "all"}
             One axes per body (the name before the first dot) or all in one axes.
+        ax : Axes, sequence of Axes or None
+            Axes to draw in (one per group); default: a new figure.
 
         Returns
         -------
         matplotlib.figure.Figure
         """
-        import matplotlib.pyplot as plt
+        from ..plotting import plot_time_response
 
-        if by not in ("body", "all"):
-            raise ModelError(f"TimeResponse.plot: by: expected 'body' or 'all', got {by!r}")
-        names = list(outputs) if outputs is not None else list(self.output_names)
-        groups: dict[str, list[str]] = {}
-        for n in names:
-            self.output(n)
-            key = n.split(".")[0] if by == "body" else "all"
-            groups.setdefault(key, []).append(n)
-        fig, axes = plt.subplots(len(groups), 1, sharex=True, squeeze=False,
-                                 figsize=(8, 2.2 + 1.8 * len(groups)))
-        for ax, (key, group) in zip(axes[:, 0], groups.items()):
-            for n in group:
-                y = self.output(n)
-                unit = self.units[self.output_names.index(n)]
-                line, = ax.plot(self.time, y, label=f"{n} [{unit}]")
-                if y.size:
-                    i = int(np.argmax(np.abs(y)))
-                    ax.plot(self.time[i], y[i], "o", color=line.get_color())
-                    ax.annotate(f"{y[i]:.3g}", (self.time[i], y[i]), textcoords="offset points",
-                                xytext=(4, 4), fontsize=8)
-            ax.set_title(key if by == "body" else self.name, fontsize=9)
-            ax.grid(True, alpha=0.3)
-            ax.legend(fontsize=7, loc="best")
-        axes[-1, 0].set_xlabel("time [s]")
-        fig.suptitle(f"{self.name} ({self.method})", fontsize=10)
-        fig.tight_layout()
-        return fig
+        return plot_time_response(self, outputs, by, ax)
 
 
 # ----------------------------------------------------------------------------------------------
 
 def _six(body: str, what: str, vec: Any) -> np.ndarray:
     """6 finite numbers (x y z rx ry rz) of one body's initial displacement or velocity."""
-    try:
-        a = np.asarray(vec, float)
-    except (TypeError, ValueError):
-        a = np.empty(0)
-    if a.shape != (6,) or not np.all(np.isfinite(a)):
-        raise ModelError(f"simulate: initial[{body!r}]: {what}: expected 6 finite numbers "
-                         f"(x y z rx ry rz), got {vec!r}")
-    return a
+    return vector(vec, 6, what, who=f"simulate: initial[{body!r}]", strict=False,
+                  what="6 finite numbers (x y z rx ry rz)")
 
 
 def _initial(plant: Plant, initial: Any, model: Model | None) -> tuple[np.ndarray, np.ndarray]:
@@ -352,13 +351,14 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
         A method cannot answer (e.g. solve_ivp failed), or an output needs the second derivative
         of a displacement input (impulsive: prescribe the motion as an acceleration input).
     """
-    t_end, dt, record_from = _seconds("t_end", t_end), _seconds("dt", dt), _seconds("record_from", record_from)
-    if not (np.isfinite(dt) and dt > 0):
-        raise ModelError(f"simulate: dt: must be a positive time step [s], got {dt!r}")
-    if not (np.isfinite(t_end) and t_end >= dt):
-        raise ModelError(f"simulate: t_end: must be at least dt = {dt:g} s, got {t_end!r}")
-    if not (0.0 <= record_from <= t_end):
-        raise ModelError(f"simulate: record_from: must lie in [0, t_end = {t_end:g}] s, got {record_from!r}")
+    secs = "a number of seconds"
+    dt = number(dt, "dt", who="simulate", minimum=0.0, strict=True, what=secs, must="a positive time step [s]")
+    t_end = number(t_end, "t_end", who="simulate", minimum=dt, what=secs, must=f"at least dt = {dt:g} s")
+    record_from = number(record_from, "record_from", who="simulate", minimum=0.0, what=secs,
+                         must=f"in [0, t_end = {t_end:g}] s")
+    if record_from > t_end:
+        raise ArgumentError(f"simulate: record_from: must lie in [0, t_end = {t_end:g}] s, got {record_from!r}",
+                            argument="record_from", received=record_from, expected=f"0 .. {t_end:g} s")
     samples = np.floor(t_end / dt + 1e-9) + 1
     if samples > MAX_SAMPLES:
         raise ModelError(f"simulate: t_end / dt: {t_end:g} s every {dt:g} s is {samples:.3g} samples, "
@@ -462,34 +462,12 @@ SOLVERS = ("RK23", "RK45", "DOP853", "Radau", "BDF", "LSODA")
 """``solve_ivp`` methods accepted as ``solver``."""
 
 
-def _seconds(name: str, value: Any) -> float:
-    """A time argument as a float, or a ModelError naming it."""
-    if isinstance(value, (bool, np.bool_)):
-        value = None
-    try:
-        return float(value)
-    except (TypeError, ValueError):
-        raise ModelError(f"simulate: {name}: expected a number of seconds, got {value!r}") from None
-
-
 def _tolerances(rtol: Any, atol: Any, solver: Any) -> tuple[float, float | None, str]:
     """Checked ``rtol`` (> 0), ``atol`` (None or >= 0) and ``solver`` (a solve_ivp method)."""
-    try:
-        r = float(rtol)
-    except (TypeError, ValueError):
-        r = float("nan")
-    if isinstance(rtol, (bool, np.bool_)) or not (np.isfinite(r) and r > 0):
-        raise ModelError(f"simulate: rtol: expected a positive relative tolerance, got {rtol!r}")
-    a: float | None = None
-    if atol is not None:
-        try:
-            a = float(atol)
-        except (TypeError, ValueError):
-            a = float("nan")
-        if isinstance(atol, (bool, np.bool_)) or not (np.isfinite(a) and a >= 0):
-            raise ModelError(f"simulate: atol: expected None or an absolute tolerance >= 0, got {atol!r}")
-    if solver not in SOLVERS:
-        raise ModelError(f"simulate: solver: expected one of {list(SOLVERS)}, got {solver!r}")
+    r = number(rtol, "rtol", who="simulate", minimum=0.0, strict=True, what="a positive relative tolerance")
+    a = None if atol is None else number(atol, "atol", who="simulate", minimum=0.0,
+                                         what="None or an absolute tolerance >= 0")
+    choice(solver, "solver", SOLVERS, who="simulate", expected=f"one of {list(SOLVERS)}")
     return r, a, str(solver)
 
 

@@ -17,18 +17,23 @@ from typing import Any
 import numpy as np
 from scipy.signal import hilbert
 
-from ..errors import ModelError
+from ..errors import ArgumentError, ModelError
 from ..frequency.kernels import zero_frequency_limit
 from ..model.model import Model
 from ..linear.signals import build_plant
+from ..results import Result, Table, jsonable, require_pandas
 from .api import TimeResponse, simulate
 
 __all__ = ["SweepEnvelope", "sweep_envelope"]
 
 
 @dataclass(frozen=True, eq=False)
-class SweepEnvelope:
+class SweepEnvelope(Result):
     """Envelope of a finite-rate sweep response beside the steady-state amplitude.
+
+    Follows the result protocol (:mod:`vibss.results`): ``e['b.z']`` is the (k,) envelope of one
+    output; ``method`` and ``note`` are the simulation's; there is no python-control twin
+    (``control`` is None).
 
     Attributes
     ----------
@@ -53,27 +58,89 @@ class SweepEnvelope:
     units: tuple[str, ...]
     response: TimeResponse
 
+    @property
+    def output_labels(self) -> tuple[str, ...]:
+        """Output signal names (``outputs`` is the same)."""
+        return self.outputs
+
+    @property
+    def input_labels(self) -> tuple[str, ...]:
+        """The sweep's input signal."""
+        return self.response.input_labels
+
+    @property
+    def method(self) -> str:
+        """Simulation method."""
+        return self.response.method
+
+    @property
+    def note(self) -> str:
+        """How the simulation ran (and why, for ``auto``)."""
+        return self.response.note
+
+    def _item(self, i: int, j: int | None) -> np.ndarray:
+        if j is not None:
+            raise ArgumentError("SweepEnvelope[output, input]: the sweep has one input; index by output "
+                                "only", argument="key", received=(self.outputs[i], self.input_labels[j]))
+        return self.envelope[i]
+
     def peak_ratio(self) -> np.ndarray:
         """(p,) largest envelope over largest steady-state amplitude (< 1 for a fast sweep)."""
         return self.envelope.max(axis=1) / self.steady.max(axis=1)
 
-    def plot(self, outputs: Any = None) -> Any:
-        """Envelope and steady-state amplitude against frequency, one axes per output."""
-        import matplotlib.pyplot as plt
+    def summary(self) -> Table:
+        """Per output: largest envelope and steady-state amplitude, their frequencies and ratio."""
+        rows = []
+        ratio = self.peak_ratio()
+        for i, y in enumerate(self.outputs):
+            ke, ks = int(np.argmax(self.envelope[i])), int(np.argmax(self.steady[i]))
+            rows.append([y, f"{self.envelope[i, ke]:.4e}", f"{self.frequency_hz[ke]:.4f}",
+                         f"{self.steady[i, ks]:.4e}", f"{self.frequency_hz[ks]:.4f}", f"{ratio[i]:.3f}",
+                         self.units[i]])
+        return Table(["output", "envelope peak", "at [Hz]", "steady peak", "at [Hz]", "ratio", "unit"], rows,
+                     title="Sweep envelope against the steady state (ratio < 1: the sweep is too fast "
+                           "to build up the resonance)")
 
-        names = list(outputs) if outputs is not None else list(self.outputs)
-        fig, axes = plt.subplots(len(names), 1, sharex=True, squeeze=False,
-                                 figsize=(8, 1.5 + 2.0 * len(names)))
-        for ax, n in zip(axes[:, 0], names):
-            i = self.outputs.index(n)
-            ax.plot(self.frequency_hz, self.steady[i], "k--", lw=1, label="steady state")
-            ax.plot(self.frequency_hz, self.envelope[i], lw=1.2, label="sweep envelope")
-            ax.set_ylabel(f"{n} [{self.units[i]}]", fontsize=8)
-            ax.grid(True, alpha=0.3)
-            ax.legend(fontsize=7)
-        axes[-1, 0].set_xlabel("instantaneous frequency [Hz]")
-        fig.tight_layout()
-        return fig
+    def report(self) -> str:
+        """Text report: the peaks of envelope and steady state per output, and their ratio."""
+        f = self.frequency_hz
+        head = (f"Finite-rate sweep of {self.response.name!r}: {f.size} envelope samples, "
+                f"{f.min():.4g} to {f.max():.4g} Hz" if f.size else "Finite-rate sweep: no samples")
+        return f"{head}\nmethod: {self.method} ({self.note})\n\n" + self.summary().render()
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready data: frequency [Hz], envelope and steady amplitude per output, peak ratios."""
+        return jsonable({"frequency_hz": self.frequency_hz, "method": self.method, "note": self.note,
+                         "outputs": {y: {"envelope": self.envelope[i], "steady": self.steady[i],
+                                         "peak_ratio": self.peak_ratio()[i], "unit": self.units[i]}
+                                     for i, y in enumerate(self.outputs)}})
+
+    def to_pandas(self) -> Any:
+        """DataFrame indexed by frequency [Hz], columns ``'<output>/envelope'`` and ``'<output>/steady'``."""
+        pd = require_pandas()
+        cols = {}
+        for i, y in enumerate(self.outputs):
+            cols[f"{y}/envelope"] = self.envelope[i]
+            cols[f"{y}/steady"] = self.steady[i]
+        return pd.DataFrame(cols, index=pd.Index(self.frequency_hz, name="frequency_hz"))
+
+    def plot(self, outputs: Any = None, ax: Any = None) -> Any:
+        """Envelope and steady state against frequency: :func:`vibss.plotting.plot_sweep_envelope`.
+
+        Parameters
+        ----------
+        outputs : sequence of str or None
+            Outputs to draw, one axes each (default all).
+        ax : Axes, sequence of Axes or None
+            Axes to draw in; default: a new figure.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+        """
+        from ..plotting import plot_sweep_envelope
+
+        return plot_sweep_envelope(self, outputs, ax)
 
 
 def sweep_envelope(model: Model, excitation: Any, *, outputs: Any = None, dt: float | None = None,
