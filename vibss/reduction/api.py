@@ -67,7 +67,7 @@ from .methods import (BALANCED_MAX_STATES, KRYLOV_MIN_DOF, METHODS, MODE_PRUNE_M
 from ..results import Result, Table, jsonable, require_pandas
 from .scope import Scope
 from ..linear.signals import build_plant
-from ..linear.statespace import NamedStateSpace
+from ..linear.statespace import NamedStateSpace, statespace
 
 __all__ = ["reduce", "Reduction", "Removal", "Reduced", "ReduceOptions", "ReductionMethod", "METHODS",
            "BALANCED_MAX_STATES", "KRYLOV_MIN_DOF", "MODE_PRUNE_MAX", "select"]
