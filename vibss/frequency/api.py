@@ -476,18 +476,16 @@ def frequency_response(system: Model | Assembly | Plant, inputs: Sequence[Any] |
         f = _frequencies(plant, frequencies, None)
         if np.any(f <= 0):
             raise ModelError("frequencies: a sparse plant takes frequencies > 0 (the 0 Hz limit needs the modes)")
-        if chosen is None:
-            chosen, reason = METHODS["sparse"], "sparse plant: sparse direct solve per frequency"
-        elif not chosen.sparse_ok:
+        if chosen is not None and not chosen.sparse_ok:
             raise AnalysisError(f"method {chosen.name!r} needs the dense plant; a sparse plant (build_plant("
                                 f"..., sparse=True)) takes {[m for m, v in METHODS.items() if v.sparse_ok]} "
                                 "or 'auto'")
     else:
         basis = modal_basis(plant)
         f = _frequencies(plant, frequencies, basis)
-        if chosen is None:
-            name, reason = choose(plant, f.size, basis)
-            chosen = METHODS[name]
+    if chosen is None:
+        name, reason = choose(plant, f.size, basis)
+        chosen = METHODS[name]
     k = QUANTITIES[quantity]
     h = np.empty((len(plant.outputs), len(plant.inputs), f.size), dtype=complex)
     pos = f > 0

@@ -51,8 +51,9 @@ _K_EIG = 4.6e-10     # [s] per N^3 of the complex-mode eig (N = 2n states)
 _K_SUPERPOSE = 4e-10  # [s] per frequency x mode x channel of the superposition
 
 
-def choose(plant: Plant, nf: int, basis: ModalBasis) -> tuple[str, str]:
-    """``auto``'s choice of a :data:`METHODS` name for a dense plant, and why; the cost estimates use constants measured by benchmarks/bench_frf.py.
+def choose(plant: Plant, nf: int, basis: ModalBasis | None) -> tuple[str, str]:
+    """``auto``'s choice of a :data:`METHODS` name, and why; the cost estimates use constants
+    measured by benchmarks/bench_frf.py.
 
     The undamped modes are computed anyway (grid, natural frequencies), so classical damping
     takes the modal superposition. General damping takes the cheaper of the complex modes (one
@@ -65,14 +66,16 @@ def choose(plant: Plant, nf: int, basis: ModalBasis) -> tuple[str, str]:
         Dense plant.
     nf : int
         Number of frequencies.
-    basis : ModalBasis
-        Its undamped modes.
+    basis : ModalBasis or None
+        Its undamped modes; None for a sparse plant (no dense eigen-analysis).
 
     Returns
     -------
     name, reason : str
         A key of :data:`METHODS` and the reason recorded in the result.
     """
+    if basis is None:
+        return "sparse", "sparse plant: sparse direct solve per frequency"
     if plant.n <= 12:
         return "direct", f"small model ({plant.n} DOF): direct solve is exact and cheap"
     if not np.any(plant.C) and not np.any(plant.H):
