@@ -1,6 +1,10 @@
 """Static deflection: K q = F, with prescribed displacements, self-weight and clear failure modes.
 
-The stiffness matrix of the free DOFs is equilibrated (``D K D`` with ``D = diag(K)^-1/2``),
+Models up to :data:`FACTOR_MAX` DOFs are solved from the stiffness *factor* (``K = G^T G``, one row
+per mount axis, :meth:`~vibss.linear.assemble.Assembly.stiffness_factor`): a QR factorisation of G
+with rows sorted by size and column pivoting is row-wise backward stable, so soft mounts beside
+1e16 N/m links keep their digits (K formed in floats loses them: 1e16 * eps ~ 1 N/m). Otherwise the
+stiffness matrix of the free DOFs is equilibrated (``D K D`` with ``D = diag(K)^-1/2``),
 factorised (Cholesky for dense models, sparse LU for large ones) and its 1-norm condition number
 estimated (:func:`scipy.sparse.linalg.onenormest` on the factorisation). A system that is not fully
 restrained (a body not connected to ground, a direction no mount resists) has a singular K: vibss
@@ -33,6 +37,13 @@ __all__ = ["StaticResult", "static", "centre_of_rotation", "SINGULAR_RCOND"]
 
 SINGULAR_RCOND = 1e-12
 """Equilibrated stiffness matrices with a smaller reciprocal condition number count as singular."""
+
+FACTOR_MAX = 1200
+"""Largest number of free DOFs solved from the stiffness factor (dense QR, O(r n^2))."""
+
+FACTOR_RANK_RTOL = 1e-12
+"""The factored solve is used when every pivot of R exceeds this times the first (else the
+singular-system path names the free motions)."""
 
 
 def centre_of_rotation(deflection: np.ndarray, cog: np.ndarray,
@@ -289,6 +300,10 @@ def _solve(a: Assembly, kff: Any, rhs: np.ndarray, free: np.ndarray) -> tuple[np
     else:
         ks = d[:, None] * kff * d[None, :]
     singular = bool(np.any(diag <= 0)) or _unconnected(a, free)
+    if not singular and free.size <= FACTOR_MAX and len(a.model.mounts):
+        x = _factored_solve(a.stiffness_factor()[:, free], rhs)
+        if x is not None:
+            return x, ()
     if not singular:
         try:
             solve = _factor(ks)
@@ -322,6 +337,25 @@ def _solve(a: Assembly, kff: Any, rhs: np.ndarray, free: np.ndarray) -> tuple[np
     keep = ~null
     y = v[:, keep] @ ((v[:, keep].T @ (d * rhs)) / w[keep])
     return d * y, tuple(described)
+
+
+def _factored_solve(g: Any, rhs: np.ndarray) -> np.ndarray | None:
+    """``x`` with ``G^T G x = rhs`` by QR of G (rows sorted by size, columns pivoted); None if G
+    is rank deficient (a pivot below :data:`FACTOR_RANK_RTOL` of the first)."""
+    gd = g.toarray() if sp.issparse(g) else np.asarray(g, float)
+    if gd.shape[0] < gd.shape[1]:
+        return None
+    order = np.argsort(-np.abs(gd).max(axis=1), kind="stable")
+    r, piv = sl.qr(gd[order], mode="r", pivoting=True, check_finite=False)
+    r = r[:gd.shape[1]]
+    d = np.abs(np.diag(r))
+    if d.size == 0 or not d[-1] > FACTOR_RANK_RTOL * d[0]:
+        return None
+    y = sl.solve_triangular(r, rhs[piv], trans="T", check_finite=False)
+    z = sl.solve_triangular(r, y, check_finite=False)
+    x = np.empty_like(z)
+    x[piv] = z
+    return x
 
 
 def _factor(ks: Any) -> Any:
