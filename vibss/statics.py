@@ -28,6 +28,7 @@ import scipy.sparse.linalg as spl
 
 from .linear.assemble import Assembly, assemble
 from .linear.directions import align_cluster, describe_motion
+from .linear.eigen import symmetric_eigen
 from .errors import AnalysisError, ModelError
 from .model.geometry import point_transfer
 from .model.model import DOF_NAMES, GROUND, Model
@@ -317,7 +318,7 @@ def _solve(a: Assembly, kff: Any, rhs: np.ndarray, free: np.ndarray) -> tuple[np
             return d * solve(d * rhs), ()
     # Singular: null space of the equilibrated matrix (dense; its size is the user's model).
     kd = _dense(ks)
-    w, v = np.linalg.eigh(kd)
+    w, v = symmetric_eigen(kd)
     null = w <= np.sqrt(SINGULAR_RCOND) * max(w.max(), np.finfo(float).tiny) * 1e-2
     basis = d[:, None] * v[:, null]                     # back to physical DOFs
     full = np.zeros((a.n, basis.shape[1]))

@@ -179,6 +179,7 @@ class Assembly:
             keep = np.flatnonzero(np.sqrt(k).ravel() > 0)
             g = g[keep]
             g.eliminate_zeros()
+            g.sort_indices()
             self._cache["G"] = g
         return self._cache["G"]
 

@@ -14,7 +14,7 @@ truncation, Krylov checks, diagnostics) takes its undamped modes from here.
 - :func:`rigid_mask`: the one test of which computed modes are rigid-body modes;
 - :func:`error_estimate`: relative error bound of each frequency (Kato-Temple on the factored
   residual, and the Jacobi SVD's own bound);
-- :func:`symmetric_eigh`, :func:`projected_eigh`: the small symmetric problems (cluster rotations,
+- :func:`symmetric_eigen`, :func:`projected_eigen`: the small symmetric problems (cluster rotations,
   principal axes, projected Ritz problems) so that every eigen solve lives in this module;
 - :func:`modal_basis`: the mass-normalised basis of a :class:`~vibss.linear.plant.Plant`, with
   low modes refined to relative accuracy where a light damping would amplify their error;
@@ -40,7 +40,8 @@ from .plant import Plant
 
 __all__ = ["generalized_eigh", "rigid_mask", "damping_coupling", "modal_basis", "ModalBasis", "METHODS",
            "RIGID_RTOL", "CLASSICAL_RTOL", "fast_matrix", "stiffness_solver", "Solver", "Spectrum",
-           "undamped", "error_estimate", "symmetric_eigh", "projected_eigh", "JACOBI_MAX"]
+           "undamped", "error_estimate", "symmetric_eigen", "projected_eigen", "JACOBI_MAX",
+           "generalized_eigvals"]
 
 Solver = Callable[[Any, Any, "int | None"], "tuple[np.ndarray, np.ndarray]"]
 
@@ -137,6 +138,19 @@ def generalized_eigh(K: Any, M: Any, n_modes: int | None = None) -> tuple[np.nda
     return w2, np.asarray(li.T @ u)
 
 
+def generalized_eigvals(K: Any, M: Any) -> np.ndarray:
+    """(n,) eigenvalues ``w^2`` [rad^2/s^2] of ``K phi = w^2 M phi``, ascending, without vectors.
+
+    For a bound that needs only the spectrum's extent (the stable step of an explicit integrator).
+    """
+    K = K.toarray() if sp.issparse(K) else np.asarray(K, float)
+    li = _inverse_cholesky(M)
+    if li is None:
+        return sl.eigh(K, M.toarray() if sp.issparse(M) else M, eigvals_only=True, check_finite=False)
+    a = li @ (li @ K).T
+    return sl.eigh(0.5 * (a + a.T), eigvals_only=True, check_finite=False)
+
+
 def _dense(K: Any, M: Any, n_modes: int | None) -> tuple[np.ndarray, np.ndarray]:
     return generalized_eigh(K, M, n_modes)
 
@@ -186,7 +200,7 @@ def damping_coupling(projected: np.ndarray) -> np.ndarray:
     return off - bound - np.diag(np.ones_like(d))
 
 
-def symmetric_eigh(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def symmetric_eigen(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Eigenvalues (ascending) and orthonormal eigenvectors of a small symmetric matrix.
 
     The one call for the small problems (cluster rotations, principal axes of an inertia tensor,
@@ -194,7 +208,7 @@ def symmetric_eigh(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
     Examples
     --------
-    >>> w, v = symmetric_eigh(np.array([[2.0, 1.0], [1.0, 2.0]]))
+    >>> w, v = symmetric_eigen(np.array([[2.0, 1.0], [1.0, 2.0]]))
     >>> w.round(12).tolist()
     [1.0, 3.0]
     """
@@ -202,7 +216,7 @@ def symmetric_eigh(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return np.linalg.eigh(0.5 * (a + a.T))
 
 
-def projected_eigh(kr: np.ndarray, mr: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def projected_eigen(kr: np.ndarray, mr: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """``kr t = w2 mr t`` for a small projected (Ritz, Krylov) pair, ``t^T mr t = I``.
 
     Parameters
@@ -256,6 +270,15 @@ def _jacobi(factor: Any, M: Any) -> tuple[np.ndarray, np.ndarray, float]:
     order = np.argsort(sigma, kind="stable")
     bound = n * np.finfo(float).eps * sconda if sconda > 0 else (0.0 if not live.size else np.inf)
     return sigma[order] ** 2, np.asarray(li.T @ v[:, order]), bound
+
+
+def _as_factor(factor: Any) -> Any:
+    """A sparse factor with sorted indices, copied if needed: products never sort the caller's
+    matrix in place (which would change the summation order, hence the last bits, between calls)."""
+    if sp.issparse(factor):
+        g = sp.csr_matrix(factor)
+        return g if g.has_sorted_indices else g.sorted_indices()
+    return np.asarray(factor, float)
 
 
 def _factor_norms(factor: Any, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -460,6 +483,10 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
     (True, True)
     """
     n = K.shape[0]
+    factor = None if factor is None else _as_factor(factor)
+    if factor is not None and (factor.ndim != 2 or factor.shape[1] != n):
+        raise ModelError(f"factor: the stiffness factor has shape {factor.shape}, K has {n} DOFs; a plant "
+                         "restricted or projected must carry Kf[:, dofs] (or Kf @ V), or None")
     if n == 0:
         return Spectrum(np.zeros(0), np.zeros((0, 0)), np.zeros(0, bool), np.zeros(0), "dense")
     if callable(method):
@@ -543,7 +570,7 @@ def _refine(K: Any, M: Any, factor: Any, w2: np.ndarray, phi: np.ndarray, est: n
             lam, q = ((work[0] / work[1]) * sva[order]) ** 2, v[:, order]
         else:
             kx = np.asarray(K @ x)
-            lam, q = projected_eigh(x.T @ kx, np.eye(x.shape[1]))
+            lam, q = projected_eigen(x.T @ kx, np.eye(x.shape[1]))
     except (np.linalg.LinAlgError, RuntimeError, ValueError):
         return w2, phi, est, False
     new_w2 = w2.copy()

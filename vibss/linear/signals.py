@@ -426,7 +426,7 @@ def build_plant(model_or_assembly: Model | Assembly, inputs: Sequence[Any],
 
     C = ff(mats["C"])
     if modal_damping is not None:
-        C = C + _modal_damping(ff(mats["M"]), ff(mats["K"]), modal_damping, asm.stiffness_factor()[:, free])
+        C = C + _modal_damping(ff(mats["M"]), ff(mats["K"]), modal_damping, _columns(asm.stiffness_factor(), free))
     cache: dict = {}
     rows, units = zip(*(output_row(asm, name, cache) for name in outputs)) if outputs else ((), ())
     full = {key: np.array([getattr(r, key) for r in rows]).reshape(len(outputs), n + 6)
@@ -441,8 +441,16 @@ def build_plant(model_or_assembly: Model | Assembly, inputs: Sequence[Any],
         outputs=outputs, units=tuple(units),
         Oq=o["d"], Ov=o["v"], Oa=o["a"], Pz=pz["d"], Pv=pz["v"], Pa=pz["a"],
         Pf=np.zeros((len(outputs), m)), name=model.name,
-        Oh=o["h"], Ph=pz["h"], Kf=asm.stiffness_factor()[:, free],
+        Oh=o["h"], Ph=pz["h"], Kf=_columns(asm.stiffness_factor(), free),
     )
+
+
+def _columns(g: sp.csr_matrix, cols: np.ndarray) -> sp.csr_matrix:
+    """``g[:, cols]`` as CSR with sorted indices (so no product sorts them in place later and the
+    summation order, hence the last bits, never change between calls)."""
+    out = g[:, cols].tocsr()
+    out.sort_indices()
+    return out
 
 
 def _modal_damping(M: np.ndarray, K: np.ndarray, zeta: float | Sequence[float], factor: Any = None) -> np.ndarray:
@@ -455,4 +463,8 @@ def _modal_damping(M: np.ndarray, K: np.ndarray, zeta: float | Sequence[float], 
     g = np.where(rigid, 0.0, 2.0 * z * w)
     mp = M @ phi
     c = (mp * g) @ mp.T
-    return 0.5 * (c + c.T)
+    c = 0.5 * (c + c.T)
+    # entries at the round-off of the diagonal are zeros that the eigenvectors' last bits blurred
+    d = np.sqrt(np.abs(np.diag(c)))
+    c[np.abs(c) <= 4 * c.shape[0] * np.finfo(float).eps * np.outer(d, d)] = 0.0
+    return c
