@@ -334,7 +334,15 @@ def _solve(a: Assembly, kff: Any, rhs: np.ndarray, free: np.ndarray) -> tuple[np
         raise AnalysisError("the mounts do not restrain the load: "
                             + "; ".join(described[j] for j in load_along)
                             + " (add mounts or stiffness in that direction, or prescribe it)")
-    # minimum-norm solution on the restrained subspace
+    # minimum-norm solution on the restrained subspace (y = x / d orthogonal to the null vectors):
+    # from the factor, with the constraints appended as rows, when the model is small enough
+    if free.size <= FACTOR_MAX and len(a.model.mounts):
+        g = a.stiffness_factor()[:, free].toarray()
+        cons = (v[:, null] / d[:, None]).T
+        weight = np.abs(g).max() / max(float(np.abs(cons).max()), np.finfo(float).tiny)
+        x = _factored_solve(np.vstack([g, weight * cons]), rhs)
+        if x is not None:
+            return x, tuple(described)
     keep = ~null
     y = v[:, keep] @ ((v[:, keep].T @ (d * rhs)) / w[keep])
     return d * y, tuple(described)

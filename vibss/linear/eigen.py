@@ -55,6 +55,10 @@ JACOBI_MAX = 150
 about 8 times ``eigh``: ~5 ms at 150 DOF, ~0.8 s at 600 DOF); larger models use ``eigh`` with
 a-posteriori refinement."""
 
+JACOBI_FALLBACK = 1500
+"""Above :data:`JACOBI_MAX` and up to this many DOFs, the ``eigh`` path falls back to the Jacobi SVD
+when refinement leaves a mode whose error estimate exceeds :data:`FREQ_RTOL`."""
+
 FREQ_RTOL = 1e-10
 """Target relative accuracy of every elastic frequency; modes whose estimate exceeds it (times the
 resonance amplification 1 / 2 zeta in :func:`modal_basis`) are refined."""
@@ -328,7 +332,7 @@ def _trace_norm(M: Any, K: Any = None, factor: Any = None) -> float:
     """``||L^-1 K L^-T||_F``-like scale ``sqrt(trace(M^-1 K))``: an upper bound of ``sqrt(w2_max)``."""
     md = M.diagonal() if sp.issparse(M) else np.diag(np.asarray(M, float))
     if factor is not None:
-        g = sp.csr_matrix(factor) if sp.issparse(factor) else np.asarray(factor, float)
+        g: Any = _as_factor(factor)
         col = np.asarray(g.multiply(g).sum(axis=0)).ravel() if sp.issparse(g) else np.sum(g * g, axis=0)
     else:
         col = np.abs(K.diagonal() if sp.issparse(K) else np.diag(np.asarray(K, float)))
@@ -386,15 +390,15 @@ def error_estimate(w2: np.ndarray, phi: np.ndarray, M: Any, K: Any = None, facto
         mphi = np.asarray((sp.csr_matrix(M) if sp.issparse(M) else fast_matrix(np.asarray(M, float))) @ phi)
     norm2 = np.einsum("ij,ij->j", phi, mphi)
     if factor is not None:
-        gphi, num, den = _factor_norms(factor, phi)
-        g = sp.csr_matrix(factor) if sp.issparse(factor) else np.asarray(factor, float)
+        g: Any = _as_factor(factor)
+        gphi, num, den = _factor_norms(g, phi)
         kphi = np.asarray(g.T @ gphi)
         per_row = np.diff(g.indptr).max(initial=1) if sp.issparse(g) else g.shape[1]
         rho = num ** 2 / norm2
         with np.errstate(divide="ignore", invalid="ignore"):
             rounding = (per_row + 2) * eps * den / num
     else:
-        k = sp.csr_matrix(K) if sp.issparse(K) else np.asarray(K, float)
+        k: Any = sp.csr_matrix(K) if sp.issparse(K) else np.asarray(K, float)
         kphi = np.asarray(k @ phi)
         per_row = np.diff(k.indptr).max(initial=1) if sp.issparse(k) else k.shape[1]
         rho = np.einsum("ij,ij->j", phi, kphi) / norm2
@@ -404,8 +408,8 @@ def error_estimate(w2: np.ndarray, phi: np.ndarray, M: Any, K: Any = None, facto
                 / np.abs(rho) / norm2
     r = kphi - rho[None, :] * mphi
     if blocks is not None:                   # rigid bodies: 6x6 mass blocks on the diagonal
-        y = np.linalg.solve(blocks, r.reshape(blocks.shape[0], 6, -1))
-        e = np.sqrt(np.abs(np.einsum("bij,bij->j", r.reshape(y.shape), y)))
+        y = np.matmul(np.linalg.inv(np.linalg.cholesky(blocks)), r.reshape(blocks.shape[0], 6, -1))
+        e = np.sqrt(np.einsum("bij,bij->j", y, y))
     elif (li := _inverse_cholesky(M) if li is None else li) is not None:
         e = np.linalg.norm(np.asarray(li @ r), axis=0)
     else:
@@ -511,7 +515,11 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
         w2, phi, bound = _jacobi(factor, M)
     else:
         solver = method if callable(method) else METHODS[name]
-        w2, phi = solver(K, M, n_modes)
+        guard = n_modes
+        if n_modes is not None and not callable(method):   # a guard band: Ritz on k modes alone
+            guard = min(n - 2 if name == "shift-invert" else n, max(2 * n_modes, n_modes + 12))
+            guard = max(guard, n_modes)
+        w2, phi = solver(K, M, guard)
         w2, phi = np.asarray(w2, float), np.asarray(phi, float)
         # eigh's null vectors have ||A phi||^2 ~ eps w2_max: the floor is sqrt(eps) of the top
         floor = np.sqrt(10 * n * np.finfo(float).eps) * _trace_norm(M, K, factor)
@@ -525,11 +533,26 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
         if np.any(need) and (factor is not None or not np.any(rigid)):
             above = w2[~rigid]
             shift = 1e-3 * float(above.min()) if np.any(rigid) and above.size else 0.0
-            w2, phi, est, ok = _refine(K, M, factor, w2, phi, est, need, shift)
-            if ok and factor is not None:
-                rigid = rigid_mask(phi, K, factor)
-                est = error_estimate(w2, phi, M, None, factor, rigid)
-            name += "+refined" if ok else ""
+            refined = False
+            for _ in range(3):                 # a few sweeps of subspace inverse iteration
+                w2, phi, est, ok = _refine(K, M, factor, w2, phi, est, need, shift)
+                if not ok:
+                    break
+                refined = True
+                if factor is not None:
+                    rigid = rigid_mask(phi, K, factor)
+                    est = error_estimate(w2, phi, M, None, factor, rigid)
+                need = ~rigid & (est > FREQ_RTOL)
+                if not np.any(need):
+                    break
+            name += "+refined" if refined else ""
+        if factor is not None and n <= JACOBI_FALLBACK and np.any(~rigid & ~(est <= FREQ_RTOL)):
+            # eigh and its refinement cannot certify some mode (a strongly graded model): the Jacobi
+            # SVD can, at ~8x the cost of eigh
+            w2, phi, bound = _jacobi(factor, M)
+            rigid = rigid_mask(phi, K, factor)
+            est = np.minimum(error_estimate(w2, phi, M, None, factor, rigid), bound)
+            name = "jacobi (eigh could not certify every mode)"
     w2 = np.where(rigid, 0.0, np.maximum(w2, 0.0))
     if n_modes is not None and n_modes < w2.size:
         w2, phi, rigid, est = w2[:n_modes], phi[:, :n_modes], rigid[:n_modes], est[:n_modes]
@@ -548,7 +571,10 @@ def _refine(K: Any, M: Any, factor: Any, w2: np.ndarray, phi: np.ndarray, est: n
     """
     low = np.arange(int(np.flatnonzero(need).max()) + 1)
     mass = M if sp.issparse(M) else fast_matrix(np.asarray(M, float))
-    mphi = np.asarray(mass @ phi[:, low])
+    blocks = _six_blocks(M)
+    mul = (lambda v: np.matmul(blocks, v.reshape(blocks.shape[0], 6, -1)).reshape(v.shape)) \
+        if blocks is not None else (lambda v: np.asarray(mass @ v))
+    mphi = mul(phi[:, low])
     try:
         kd = K.toarray() if sp.issparse(K) and K.shape[0] <= 2000 else K
         if shift:
@@ -556,8 +582,8 @@ def _refine(K: Any, M: Any, factor: Any, w2: np.ndarray, phi: np.ndarray, est: n
         solve = spl.splu(sp.csc_matrix(kd)).solve if sp.issparse(kd) else stiffness_solver(np.asarray(kd, float))
         x = solve(mphi)
         for _ in range(2):                               # scaled Cholesky QR in the M inner product
-            x = x / np.sqrt(np.einsum("ij,ij->j", x, np.asarray(mass @ x)))[None, :]
-            g = x.T @ np.asarray(mass @ x)
+            x = x / np.sqrt(np.einsum("ij,ij->j", x, mul(x)))[None, :]
+            g = x.T @ mul(x)
             x = sl.solve_triangular(np.linalg.cholesky(0.5 * (g + g.T)), x.T, lower=True).T
         if factor is not None:
             b = np.asarray(sp.csr_matrix(factor) @ x) if sp.issparse(factor) else np.asarray(factor) @ x
@@ -577,7 +603,9 @@ def _refine(K: Any, M: Any, factor: Any, w2: np.ndarray, phi: np.ndarray, est: n
     new_w2[low] = lam
     full_phi = phi.copy()
     full_phi[:, low] = x @ q
-    new_est = error_estimate(new_w2, full_phi, M, None if factor is not None else K, factor)
+    top = min(int(low.max()) + 2, w2.size)      # the refined modes and one neighbour for the gap
+    new_est = np.full(w2.shape, np.inf)
+    new_est[:top] = error_estimate(new_w2[:top], full_phi[:, :top], M, None if factor is not None else K, factor)
     better = np.zeros(w2.shape, bool)
     better[low] = ~(new_est[low] > est[low])          # NaN / inf (rigid) count as not worse
     w2 = np.where(better, new_w2, w2)
