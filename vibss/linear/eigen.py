@@ -322,9 +322,9 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
     else:
         solver = method if callable(method) else METHODS[name]
         guard = n_modes
-        if n_modes is not None and not callable(method):   # a guard band: Ritz on k modes alone
-            guard = min(n - 2 if name == "shift-invert" else n, max(2 * n_modes, n_modes + 12))
-            guard = max(guard, n_modes)
+        if n_modes is not None and name == "dense":   # a guard band: Ritz on k modes alone converges
+            guard = min(n, max(2 * n_modes, n_modes + 12))  # slowly for the top ones (shift-invert's
+            #                                                 modes are already inverse iterates)
         w2, phi = solver(K, M, guard)
         w2, phi = np.asarray(w2, float), np.asarray(phi, float)
         # eigh's null vectors have ||A phi||^2 ~ eps w2_max: the floor is sqrt(eps) of the top
