@@ -35,7 +35,7 @@ import scipy.sparse.linalg as spl
 from scipy.linalg import lapack
 
 from ..errors import ModelError
-from .eigen_checks import (RIGID_RTOL, _as_factor, _inverse_cholesky, _six_blocks, _trace_norm,
+from .eigen_checks import (RIGID_RTOL, _as_factor, _factor_norms, _inverse_cholesky, _six_blocks, _trace_norm,
                            error_estimate, fast_matrix, rigid_mask, stiffness_solver)
 from .plant import Plant
 
@@ -329,8 +329,9 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
         w2, phi = np.asarray(w2, float), np.asarray(phi, float)
         # eigh's null vectors have ||A phi||^2 ~ eps w2_max: the floor is sqrt(eps) of the top
         floor = np.sqrt(10 * n * np.finfo(float).eps) * _trace_norm(M, K, factor)
-    rigid = rigid_mask(phi, K, factor, floor)
-    est = error_estimate(w2, phi, M, None if factor is not None else K, factor, rigid)
+    norms = None if factor is None else _factor_norms(factor, phi)
+    rigid = rigid_mask(phi, K, factor, floor, norms)
+    est = error_estimate(w2, phi, M, None if factor is not None else K, factor, rigid, norms=norms)
     est = np.minimum(est, bound)
     if name in ("dense", "shift-invert") and not callable(method):
         # eigh cannot tell a rigid mode from one below sqrt(eps) of the top: refine every mode up to
@@ -371,7 +372,7 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
 
 
 def _refine(K: Any, M: Any, factor: Any, w2: np.ndarray, phi: np.ndarray, est: np.ndarray,
-            need: np.ndarray, shift: float = 0.0) -> tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
+            need: np.ndarray, shift: float = 0.0, solve: Any = None) -> tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
     """Refine the modes flagged ``need`` (and all below them): inverse iteration, then Ritz.
 
     One step of subspace inverse iteration ``X = (K + shift M)^-1 M Phi_low``, the
@@ -390,7 +391,8 @@ def _refine(K: Any, M: Any, factor: Any, w2: np.ndarray, phi: np.ndarray, est: n
         kd = K.toarray() if sp.issparse(K) and K.shape[0] <= 2000 else K
         if shift:
             kd = kd + shift * (mass.toarray() if sp.issparse(mass) and not sp.issparse(kd) else mass)
-        solve = spl.splu(sp.csc_matrix(kd)).solve if sp.issparse(kd) else stiffness_solver(np.asarray(kd, float))
+        if solve is None or shift:
+            solve = spl.splu(sp.csc_matrix(kd)).solve if sp.issparse(kd) else stiffness_solver(np.asarray(kd, float))
         x = solve(mphi)
         for _ in range(2):                               # scaled Cholesky QR in the M inner product
             x = x / np.sqrt(np.einsum("ij,ij->j", x, mul(x)))[None, :]
@@ -418,7 +420,7 @@ def _refine(K: Any, M: Any, factor: Any, w2: np.ndarray, phi: np.ndarray, est: n
     new_est = np.full(w2.shape, np.inf)
     new_est[:top] = error_estimate(new_w2[:top], full_phi[:, :top], M, None if factor is not None else K, factor)
     better = np.zeros(w2.shape, bool)
-    better[low] = ~(new_est[low] > est[low])          # NaN / inf (rigid) count as not worse
+    better[low] = need[low] & ~(new_est[low] > est[low])     # only the modes asked for; NaN / inf (rigid) not worse
     w2 = np.where(better, new_w2, w2)
     phi = np.where(better[None, :], full_phi, phi)
     est = np.where(better, new_est, est)
@@ -479,7 +481,11 @@ def modal_basis(plant: Plant) -> ModalBasis:
     if method.startswith("dense") and not np.any(rigid):
         need = _needs_refinement(plant, w2, phi, est)
         if np.any(need):
-            w2, phi, est, ok = _refine(plant.K, plant.M, plant.Kf, w2, phi, est, need)
+            try:
+                solve = plant.cached("solve K", lambda: stiffness_solver(plant.K))
+            except (np.linalg.LinAlgError, RuntimeError, ValueError):
+                solve = None
+            w2, phi, est, ok = _refine(plant.K, plant.M, plant.Kf, w2, phi, est, need, solve=solve)
             method = method if not ok or method.endswith("+refined") else method + "+refined"
     elastic = np.sqrt(w2[~rigid])
     floor = float(elastic.min()) if elastic.size else 1.0

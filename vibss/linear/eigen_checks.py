@@ -80,7 +80,8 @@ def _factor_norms(factor: Any, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray,
     return gphi, np.sqrt(np.einsum("ij,ij->j", gphi, gphi)), np.sqrt(np.einsum("ij,ij->j", agp, agp))
 
 
-def rigid_mask(shapes: np.ndarray, K: Any = None, factor: Any = None, floor: float = 0.0) -> np.ndarray:
+def rigid_mask(shapes: np.ndarray, K: Any = None, factor: Any = None, floor: float = 0.0,
+               norms: tuple | None = None) -> np.ndarray:
     """Which computed modes are rigid-body (zero-frequency) modes: the one test.
 
     A mode is rigid when its stiffness cancels to round-off: ``||X phi|| <= RIGID_RTOL ||X| |phi||
@@ -100,13 +101,15 @@ def rigid_mask(shapes: np.ndarray, K: Any = None, factor: Any = None, floor: flo
         Stiffness factor G with ``K = G^T G``.
     floor : float
         Absolute round-off floor of ``||X phi||`` (the backward error of the eigen-solver).
+    norms : tuple, optional
+        ``(G phi, ||G phi||, || |G| |phi| ||)`` when already computed (``_factor_norms``).
 
     Returns
     -------
     (k,) bool ndarray
     """
     if factor is not None:
-        _, num, den = _factor_norms(factor, shapes)
+        _, num, den = _factor_norms(factor, shapes) if norms is None else norms
     else:
         k = sp.csr_matrix(K) if sp.issparse(K) else np.asarray(K, float)
         num = np.linalg.norm(np.asarray(k @ shapes), axis=0)
@@ -138,7 +141,7 @@ def _six_blocks(M: Any) -> np.ndarray | None:
 
 
 def error_estimate(w2: np.ndarray, phi: np.ndarray, M: Any, K: Any = None, factor: Any = None,
-                   rigid: np.ndarray | None = None, li: Any = None) -> np.ndarray:
+                   rigid: np.ndarray | None = None, li: Any = None, norms: tuple | None = None) -> np.ndarray:
     """Relative error bound of each computed natural frequency ``sqrt(w2)``.
 
     Residual-based (Kato-Temple): with the Rayleigh quotient ``rho = ||G phi||^2 / phi^T M phi``
@@ -146,7 +149,8 @@ def error_estimate(w2: np.ndarray, phi: np.ndarray, M: Any, K: Any = None, facto
     in the ``M^-1`` norm ``e`` and the gap ``d`` from ``rho`` to the other computed eigenvalues,
     an eigenvalue lies within ``min(e, e^2 / d)`` of ``rho``. The estimate of ``|w - w_true| / w`` is
     ``(|w2 - rho| + min(e, e^2 / d)) / (2 rho)`` plus the round-off of ``rho`` itself
-    (``k eps / c`` with ``c = ||G phi|| / || |G| |phi| ||``). Rigid modes get NaN (their 0 is exact).
+    (``k eps / c`` with ``c = ||G phi|| / || |G| |phi| ||``), and never below ``4 sqrt(n) eps``.
+    Rigid modes get NaN (their 0 is exact).
 
     Parameters
     ----------
@@ -162,6 +166,8 @@ def error_estimate(w2: np.ndarray, phi: np.ndarray, M: Any, K: Any = None, facto
         Rigid-body modes (estimate NaN).
     li : sparse matrix, optional
         ``L^-1`` with ``M = L L^T`` when already known.
+    norms : tuple, optional
+        ``(G phi, ||G phi||, || |G| |phi| ||)`` when already computed.
 
     Returns
     -------
@@ -177,7 +183,7 @@ def error_estimate(w2: np.ndarray, phi: np.ndarray, M: Any, K: Any = None, facto
     norm2 = np.einsum("ij,ij->j", phi, mphi)
     if factor is not None:
         g: Any = _as_factor(factor)
-        gphi, num, den = _factor_norms(g, phi)
+        gphi, num, den = _factor_norms(g, phi) if norms is None else norms
         kphi = np.asarray(g.T @ gphi)
         per_row = np.diff(g.indptr).max(initial=1) if sp.issparse(g) else g.shape[1]
         rho = num ** 2 / norm2
@@ -210,6 +216,8 @@ def error_estimate(w2: np.ndarray, phi: np.ndarray, M: Any, K: Any = None, facto
     with np.errstate(divide="ignore", invalid="ignore"):
         shift = np.minimum(e, e * e / gap)
         est = (np.abs(lam - rho) + shift) / (2 * np.abs(rho)) + rounding
+    # floor: the round-off of any eigen-solver's answer (and of the reference it is checked against)
+    est = np.maximum(est, 4 * np.sqrt(phi.shape[0]) * eps)
     est = np.where(np.isfinite(est), est, np.inf)
     if rigid is not None:
         est = np.where(rigid, np.nan, est)
