@@ -10,7 +10,7 @@ with ``O(s) = Oq + i Oh + s Ov + s^2 Oa``, ``P(s) = Pz + i Ph + s Pv + s^2 Pa`` 
 (for ``w > 0``). Kernels return a ``(p, m, nf)`` complex array.
 
 - ``direct``: one complex solve per frequency (batched). The accurate reference.
-- ``modal``: ``eigh(K, M)`` and modal superposition; only for classical damping (``Phi^T C Phi`` and
+- ``modal``: undamped modes (:func:`vibss.linear.eigen.modal_basis`) and modal superposition; only for classical damping (``Phi^T C Phi`` and
   ``Phi^T H Phi`` diagonal). Rigid-body modes are exact (omega = 0 double integrators).
 - ``complex_modal``: eigen-decomposition of the well-scaled first-order modal form
   ``[[0, S], [-(Omega^2 + i Phi^T H Phi) S^-1, -Phi^T C Phi]]`` (general viscous damping).
@@ -30,7 +30,6 @@ from functools import partial, reduce
 
 import control
 import numpy as np
-import scipy.linalg as sl
 import scipy.sparse as sp
 import scipy.sparse.linalg as spl
 from scipy.linalg.lapack import zgbsv
@@ -39,7 +38,8 @@ from ..linear.banded import structure
 from ..linear.complex_modes import complex_modes
 from ..errors import AnalysisError
 from ..linear.plant import Plant
-from ..linear.eigen import ModalBasis, damping_coupling, fast_matrix, modal_basis, stiffness_solver
+from ..linear.eigen import (ModalBasis, damping_coupling, fast_matrix, modal_basis, stiffness_solver,
+                            symmetric_eigen, undamped)
 from ..linear.statespace import statespace
 
 __all__ = ["METHODS", "direct", "modal", "complex_modal", "sparse", "via_statespace", "classical_damping",
@@ -406,7 +406,7 @@ def complex_modal(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) 
     if rid.size:
         # rotate the rigid subspace so its damping block is diagonal: undamped combinations of rigid
         # modes (e.g. a body free to turn about its single mount) then stand out as modes of their own
-        _, q = np.linalg.eigh(gam[np.ix_(rid, rid)])
+        _, q = symmetric_eigen(gam[np.ix_(rid, rid)])
         phi, gam, hys = phi.copy(), gam.copy(), hys.copy()
         phi[:, rid] = phi[:, rid] @ q
         for g in (gam, hys):
@@ -498,9 +498,8 @@ def zero_frequency_limit(plant: Plant, power: int = 0, n_points: int = 32) -> np
         ``complex(inf, 0)`` where the response is unbounded at 0 Hz (e.g. a displacement output
         of a constant-velocity input, or receptance of an unrestrained rigid-body motion).
     """
-    w2 = sl.eigh(plant.K, plant.M, eigvals_only=True)
-    top = max(float(np.abs(w2).max()), 1e-300)
-    elastic = w2[w2 > 1e-10 * top]
+    spec = undamped(plant.K, plant.M, plant.Kf)
+    elastic = spec.omega2[~spec.rigid]
     rho0 = 0.05 * (float(np.sqrt(elastic.min())) if elastic.size else 1.0)
     theta = 2 * np.pi * (np.arange(n_points) + 0.5) / n_points
 

@@ -70,6 +70,12 @@ class Plant:
     Oh, Ph : (p, n), (p, m) ndarray or None
         Hysteretic part of the outputs (frequency domain only): ``y += i (Oh q + Ph z)``, e.g. the
         loss-factor force ``i H_p delta`` of a mount force output. None means zero.
+    Kf : (r, n) ndarray or scipy.sparse matrix or None
+        Stiffness factor of the free DOFs, ``K = Kf^T Kf`` (one row per mount principal axis,
+        ``sqrt(k) T^T B``); the eigen path and statics use it to stay exact beside stiff links
+        (K formed in floats loses soft mounts next to 1e16 N/m links). None: not known (e.g. a
+        projected plant); analyses then work from K. Restricting a plant to DOFs keeps
+        ``Kf[:, dofs]`` only when the dropped DOFs are prescribed (not condensed).
     """
 
     dofs: tuple[str, ...]
@@ -96,6 +102,7 @@ class Plant:
     name: str = "vibss"
     Oh: np.ndarray | None = None
     Ph: np.ndarray | None = None
+    Kf: Any = None
     _cache: dict[str, Any] = field(default_factory=dict, init=False, repr=False)
 
     def cached(self, key: str, make: Callable[[], Any]) -> Any:

@@ -61,13 +61,12 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-import scipy.linalg as sl
 import scipy.sparse as sp
 
 from .assemble import Assembly, assemble
 from ..errors import ModelError, SignalError, did_you_mean
 from ..model.geometry import point_transfer
-from .eigen import rigid_mask
+from .eigen import undamped
 from ..model.model import DOF_NAMES, GROUND, Model
 from .plant import INPUT_KINDS, Plant
 
@@ -429,7 +428,7 @@ def build_plant(model_or_assembly: Model | Assembly, inputs: Sequence[Any],
 
     C = ff(mats["C"])
     if modal_damping is not None:
-        C = C + _modal_damping(ff(mats["M"]), ff(mats["K"]), modal_damping)
+        C = C + _modal_damping(ff(mats["M"]), ff(mats["K"]), modal_damping, _columns(asm.stiffness_factor(), free))
     cache: dict = {}
     rows, units = zip(*(output_row(asm, name, cache) for name in outputs)) if outputs else ((), ())
     full = {key: np.array([getattr(r, key) for r in rows]).reshape(len(outputs), n + 6)
@@ -444,18 +443,30 @@ def build_plant(model_or_assembly: Model | Assembly, inputs: Sequence[Any],
         outputs=outputs, units=tuple(units),
         Oq=o["d"], Ov=o["v"], Oa=o["a"], Pz=pz["d"], Pv=pz["v"], Pa=pz["a"],
         Pf=np.zeros((len(outputs), m)), name=model.name,
-        Oh=o["h"], Ph=pz["h"],
+        Oh=o["h"], Ph=pz["h"], Kf=_columns(asm.stiffness_factor(), free),
     )
 
 
-def _modal_damping(M: np.ndarray, K: np.ndarray, zeta: float | Sequence[float]) -> np.ndarray:
-    w2, phi = sl.eigh(K, M)
-    w = np.sqrt(np.clip(w2, 0.0, None))
+def _columns(g: sp.csr_matrix, cols: np.ndarray) -> sp.csr_matrix:
+    """``g[:, cols]`` as CSR with sorted indices (so no product sorts them in place later and the
+    summation order, hence the last bits, never change between calls)."""
+    out = g[:, cols].tocsr()
+    out.sort_indices()
+    return out
+
+
+def _modal_damping(M: np.ndarray, K: np.ndarray, zeta: float | Sequence[float], factor: Any = None) -> np.ndarray:
+    spec = undamped(K, M, factor)
+    w2, phi, rigid = spec.omega2, spec.phi, spec.rigid
+    w = np.sqrt(w2)
     z = np.broadcast_to(np.asarray(zeta, dtype=float), w.shape) if np.ndim(zeta) == 0 else np.asarray(zeta, float)
     if z.shape != w.shape or np.any(z < 0) or not np.all(np.isfinite(z)):
         raise ModelError(f"modal_damping: expected a ratio >= 0 or {w.size} of them, got {zeta!r}")
-    rigid = rigid_mask(w2, phi, np.diag(K))
     g = np.where(rigid, 0.0, 2.0 * z * w)
     mp = M @ phi
     c = (mp * g) @ mp.T
-    return 0.5 * (c + c.T)
+    c = 0.5 * (c + c.T)
+    # entries at the round-off of the diagonal are zeros that the eigenvectors' last bits blurred
+    d = np.sqrt(np.abs(np.diag(c)))
+    c[np.abs(c) <= 4 * c.shape[0] * np.finfo(float).eps * np.outer(d, d)] = 0.0
+    return c

@@ -40,12 +40,12 @@ from dataclasses import dataclass, replace
 from typing import Any, cast
 
 import numpy as np
-import scipy.linalg as sl
 import scipy.sparse as sp
 import scipy.sparse.linalg as spl
 
 from ..errors import AnalysisError
 from ..model.model import Model
+from ..linear.eigen import projected_eigen, symmetric_eigen
 from ..linear.plant import Plant
 from ..linear.signals import build_plant
 from .prune import Removal, _components, _dof_names, _touched_rows, frf
@@ -161,7 +161,8 @@ def prune_sparse(p: Plant) -> tuple[Plant, list[Removal]]:
     cut = lambda a: a[k][:, k].tocsr()  # noqa: E731
     return replace(p, dofs=tuple(p.dofs[i] for i in k), M=cut(p.M), C=cut(p.C), K=cut(p.K), H=cut(p.H),
                    F=p.F[k], Kz=p.Kz[k], Cz=p.Cz[k], Mz=p.Mz[k], Hz=p.Hz[k], Oq=p.Oq[:, k],
-                   Ov=p.Ov[:, k], Oa=p.Oa[:, k], Oh=None if p.Oh is None else p.Oh[:, k]), out
+                   Ov=p.Ov[:, k], Oa=p.Oa[:, k], Oh=None if p.Oh is None else p.Oh[:, k],
+                   Kf=None if p.Kf is None else p.Kf[:, k]), out
 
 
 # ------------------------------------------------------------------------ exact sparse solves
@@ -229,7 +230,7 @@ class _Basis:
         for rnd in range(2):
             w = w - self.V @ (self.MV.T @ w)
             g = w.T @ (self.M @ w)
-            lam, u = np.linalg.eigh(0.5 * (g + g.T))
+            lam, u = symmetric_eigen(g)
             floor = DEFLATE_RTOL**2 if rnd == 0 else 1e-12 * float(lam.max(initial=0.0))
             ok = lam > floor
             w = w @ (u[:, ok] / np.sqrt(lam[ok]))
@@ -273,7 +274,7 @@ def project(p: Plant, V: np.ndarray) -> Plant:
         return 0.5 * (g + g.T)
 
     mr, kr = sym(p.M), sym(p.K)
-    w2, t = sl.eigh(kr, mr)
+    w2, t = projected_eigen(kr, mr)
     vt = V @ t
     top = max(float(np.abs(w2).max(initial=0.0)), 1e-300)
     w2 = np.where(np.abs(w2) <= 1e-12 * top, 0.0, w2)
@@ -281,7 +282,7 @@ def project(p: Plant, V: np.ndarray) -> Plant:
     c = tt @ sym(p.C) @ t
     h = tt @ sym(p.H) @ t if cast("sp.spmatrix", p.H).nnz else np.zeros_like(c)
     r = V.shape[1]
-    return replace(p, dofs=tuple(f"krylov{k + 1}" for k in range(r)), M=np.eye(r), K=np.diag(w2),
+    return replace(p, dofs=tuple(f"krylov{k + 1}" for k in range(r)), M=np.eye(r), K=np.diag(w2), Kf=None,
                    C=0.5 * (c + c.T), H=0.5 * (h + h.T), F=vt.T @ p.F, Kz=vt.T @ p.Kz, Cz=vt.T @ p.Cz,
                    Mz=vt.T @ p.Mz, Hz=vt.T @ p.Hz, Oq=p.Oq @ vt, Ov=p.Ov @ vt, Oa=p.Oa @ vt,
                    Oh=None if p.Oh is None else p.Oh @ vt)

@@ -21,11 +21,11 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 
 import numpy as np
-import scipy.linalg as sl
 import scipy.sparse as sp
 import scipy.sparse.linalg as spl
 from scipy.sparse.csgraph import connected_components
 
+from ..linear.eigen import undamped
 from ..linear.plant import Plant
 
 __all__ = ["Removal", "sub_plant", "modal_plant", "prune_dofs", "prune_modes", "frf", "ZERO_RTOL",
@@ -83,7 +83,8 @@ def sub_plant(p: Plant, keep: np.ndarray) -> Plant:
     return replace(p, dofs=tuple(p.dofs[i] for i in keep), M=p.M[ix], C=p.C[ix], K=p.K[ix], H=p.H[ix],
                    F=p.F[keep], Kz=p.Kz[keep], Cz=p.Cz[keep], Mz=p.Mz[keep], Hz=p.Hz[keep],
                    Oq=p.Oq[:, keep], Ov=p.Ov[:, keep], Oa=p.Oa[:, keep],
-                   Oh=None if p.Oh is None else p.Oh[:, keep])
+                   Oh=None if p.Oh is None else p.Oh[:, keep],
+                   Kf=None if p.Kf is None else p.Kf[:, keep])
 
 
 def modal_plant(p: Plant, phi: np.ndarray, omega2: np.ndarray, labels: tuple[str, ...],
@@ -97,7 +98,7 @@ def modal_plant(p: Plant, phi: np.ndarray, omega2: np.ndarray, labels: tuple[str
                    H=t @ p.H @ phi, F=t @ p.F, Kz=t @ p.Kz, Cz=t @ p.Cz, Mz=t @ p.Mz, Hz=t @ p.Hz,
                    Oq=p.Oq @ phi, Ov=p.Ov @ phi, Oa=p.Oa @ phi,
                    Oh=None if p.Oh is None else p.Oh @ phi,
-                   Pf=p.Pf if pf is None else p.Pf + pf, Pz=p.Pz if pz is None else p.Pz + pz)
+                   Pf=p.Pf if pf is None else p.Pf + pf, Pz=p.Pz if pz is None else p.Pz + pz, Kf=None)
 
 
 def _pattern(mats: list[np.ndarray]) -> sp.csr_matrix:
@@ -195,11 +196,9 @@ def mode_labels(freq_hz: np.ndarray, index: np.ndarray) -> tuple[str, ...]:
     return tuple(f"mode{int(i) + 1}" for i in index)
 
 
-def _eigh(p: Plant) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    w2, phi = sl.eigh(p.K, p.M, check_finite=False)
-    top = max(float(np.abs(w2).max()), 1e-300)
-    rigid = w2 <= 1e-10 * top
-    return np.where(rigid, 0.0, w2), phi, rigid
+def _undamped(p: Plant) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    spec = undamped(p.K, p.M, p.Kf)
+    return spec.omega2, spec.phi, spec.rigid
 
 
 def prune_modes(p: Plant) -> tuple[Plant, list[Removal], bool]:
@@ -207,7 +206,7 @@ def prune_modes(p: Plant) -> tuple[Plant, list[Removal], bool]:
 
     The plant comes back in modal coordinates (DOFs ``mode<k>``) only when a mode was removed.
     """
-    w2, phi, _ = _eigh(p)
+    w2, phi, _ = _undamped(p)
     forcing = np.hstack(_input_side(p))
     phi = _rotate_clusters(phi, w2, forcing)
     t = phi.T
