@@ -42,6 +42,7 @@ from scipy.linalg.lapack import zgbsv
 
 from ..errors import AnalysisError, ModelError
 from .banded import structure
+from .eigen import modal_basis
 from .plant import Plant
 
 __all__ = ["BACKENDS", "DENSE_MAX", "zfactor", "states", "response", "zero_frequency_limit",
@@ -116,10 +117,13 @@ def forcing(plant: Plant, s: np.ndarray, zf: np.ndarray) -> np.ndarray:
     """
     kz = plant.Kz + 1j * plant.Hz if np.any(plant.Hz) else plant.Kz
     sc = s[:, None, None]
-    out = np.broadcast_to(np.asarray(plant.F, dtype=complex)[None], (s.size,) + plant.F.shape).copy()
-    for power, c in ((0, kz), (1, plant.Cz), (2, plant.Mz)):
-        if np.any(c):
-            out -= (sc**power) * c[None] * zf[:, None, :]
+    motion = [(power, c) for power, c in ((0, kz), (1, plant.Cz), (2, plant.Mz)) if np.any(c)]
+    f = np.asarray(plant.F, dtype=complex)[None]
+    if not motion:                        # force inputs only: one read-only view for every s
+        return np.broadcast_to(f, (s.size,) + plant.F.shape)
+    out = np.broadcast_to(f, (s.size,) + plant.F.shape).copy()
+    for power, c in motion:
+        out -= (sc**power) * c[None] * zf[:, None, :]
     return out
 
 
@@ -199,7 +203,7 @@ def _banded(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray]) -> 
     st = plant.cached("band structure", lambda: structure(plant))
     parts, band, perm = st.parts, st.band, st.perm
     inv = np.argsort(perm)
-    r_all = rhs(slice(None))[:, perm]
+    r_all = rhs(slice(None))
     x = np.zeros(r_all.shape, dtype=complex)
     bad = np.zeros(s.size, dtype=bool)
     shape = (3 * band + 1, plant.n)
@@ -217,12 +221,12 @@ def _banded(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray]) -> 
             im += sk.imag * parts["C"]
         if "H" in parts:
             im += parts["H"]
-        _, _, xi, info = zgbsv(band, band, ab, np.asfortranarray(r_all[i]), overwrite_ab=1, overwrite_b=1)
+        _, _, xi, info = zgbsv(band, band, ab, np.asfortranarray(r_all[i][perm]), overwrite_ab=1, overwrite_b=1)
         if info > 0:
             bad[i] = True
         else:
-            x[i] = xi
-    return x[:, inv], bad
+            x[i] = xi[inv]
+    return x, bad
 
 
 def _superlu(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
@@ -391,9 +395,12 @@ def _at_singular(plant: Plant, s0: complex, backend: str) -> np.ndarray:
 def zero_frequency_limit(plant: Plant, power: int = 0, n_points: int = 32, backend: str = "auto") -> np.ndarray:
     """The limit ``w -> 0+`` of ``s^power Y(s)`` (p, m): finite values, or ``inf`` where it diverges.
 
-    Computed from the Laurent series of the exact response about ``s = 0`` (trapezoidal rule on
-    two small circles; ``i H`` is held at its ``w > 0`` value), so rigid-body modes, velocity and
-    acceleration inputs and mobility/accelerance are all handled exactly.
+    Where every input is a force or a displacement and ``K + iH`` is regular, this is the solve at
+    ``s = 0`` itself (the static deflection; ``s^power Y -> 0`` for ``power > 0``). Otherwise it
+    comes from the Laurent series of the exact response about ``s = 0`` (trapezoidal rule on two
+    small circles of radius a twentieth of the lowest elastic frequency of
+    :func:`vibss.linear.eigen.modal_basis`; ``i H`` is held at its ``w > 0`` value), so rigid-body
+    modes, velocity and acceleration inputs and mobility/accelerance are all handled exactly.
 
     Parameters
     ----------
@@ -419,12 +426,14 @@ def zero_frequency_limit(plant: Plant, power: int = 0, n_points: int = 32, backe
     >>> zero_frequency_limit(build_plant(m, ["b.fz", "ground.z.vel"], ["b.z"])).real.round(8).tolist()
     [[0.0001, inf]]
     """
-    k, m = plant.K, plant.M
-    if sp.issparse(k) or sp.issparse(m):
-        k, m = sp.csr_matrix(k).toarray(), sp.csr_matrix(m).toarray()
-    w2 = sl.eigh(k, m, eigvals_only=True)
-    top = max(float(np.abs(w2).max(initial=0.0)), 1e-300)
-    elastic = w2[w2 > 1e-10 * top]
+    if np.all(plant.order <= 0):             # forces and displacements: A(0) itself, when regular
+        y, bad = _plain(plant, np.zeros(1, dtype=complex), backend)
+        if not bad[0]:
+            return y[0] if power == 0 else np.zeros_like(y[0])
+    dense = plant if not (sp.issparse(plant.K) or sp.issparse(plant.M)) else replace(
+        plant, **{key: sp.csr_matrix(getattr(plant, key)).toarray() for key in ("K", "C", "M", "H")})
+    basis = modal_basis(dense)
+    elastic = basis.omega2[~basis.rigid]
     rho0 = 0.05 * (float(np.sqrt(elastic.min())) if elastic.size else 1.0)
     theta = 2 * np.pi * (np.arange(n_points) + 0.5) / n_points
 
