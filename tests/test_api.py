@@ -18,7 +18,7 @@ LAYERS = [
     {"errors", "results", "model.units", "model.geometry", "io.tomlwriter"},
     {"model", "linear.plant", "io.filetable"},
     {"io", "examples", "linear.assemble", "linear.directions"},
-    {"linear.eigen", "linear.complex_modes", "linear.banded", "linear.signals", "linear.solve",
+    {"linear.eigen", "linear.complex_modes", "linear.banded", "linear.signals", "linear.solve", "linear.backends",
      "statics", "time.integrators", "diagnostics"},
     {"linear", "modal"},
     {"frequency.kernels", "time.kernels"},
