@@ -67,6 +67,8 @@ def _banded(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray]) -> 
     parts, band, perm = st.parts, st.band, st.perm
     inv = np.argsort(perm)
     r_all = rhs(slice(None))
+    # force inputs only: the same right-hand side (a broadcast view) at every s, reordered once
+    fixed = np.asfortranarray(r_all[0][perm]) if s.size and r_all.strides[0] == 0 else None
     x = np.zeros(r_all.shape, dtype=complex)
     bad = np.zeros(s.size, dtype=bool)
     shape = (3 * band + 1, plant.n)
@@ -84,7 +86,8 @@ def _banded(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray]) -> 
             im += sk.imag * parts["C"]
         if "H" in parts:
             im += parts["H"]
-        _, _, xi, info = zgbsv(band, band, ab, np.asfortranarray(r_all[i][perm]), overwrite_ab=1, overwrite_b=1)
+        b = fixed.copy(order="F") if fixed is not None else np.asfortranarray(r_all[i][perm])
+        _, _, xi, info = zgbsv(band, band, ab, b, overwrite_ab=1, overwrite_b=1)
         if info > 0:
             bad[i] = True
         else:
