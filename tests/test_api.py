@@ -18,7 +18,7 @@ LAYERS = [
     {"errors", "_validate", "results", "model.units", "model.geometry", "io.tomlwriter"},
     {"model", "linear.plant", "io.filetable"},
     {"io", "examples", "linear.assemble", "linear.directions", "linear.eigen", "linear.eigen_checks"},
-    {"linear.complex_modes", "linear.banded", "linear.signals", "linear.solve",
+    {"linear.complex_modes", "linear.banded", "linear.signals", "linear.solve", "linear.backends",
      "statics", "time.integrators", "diagnostics"},
     {"linear", "modal"},
     {"frequency.kernels", "time.kernels", "studies"},

@@ -28,13 +28,54 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["Plant", "INPUT_KINDS", "MOTION_ORDER"]
+__all__ = ["Plant", "MountForm", "INPUT_KINDS", "MOTION_ORDER"]
 
 INPUT_KINDS = ("force", "displacement", "velocity", "acceleration")
 """What an input signal is."""
 
 MOTION_ORDER = {"displacement": 0, "velocity": 1, "acceleration": 2}
 """Time derivative of the prescribed coordinate that a motion input gives."""
+
+
+@dataclass(frozen=True, eq=False)
+class MountForm:
+    """The dynamic stiffness of a plant kept as a sum over its mounts: ``K + iH + sC = R(s) + B^T Z(s) B``.
+
+    Assembling ``K = sum B_p^T k_p B_p`` rounds every entry at the level of the stiffest mount it
+    holds; the soft modes beside stiff mounts (stiffness ratios of 1e5 and more) are sensitive to
+    exactly that round-off. Kept apart, the mount forces ``lam = Z B q`` become unknowns of their
+    own (:mod:`vibss.linear.solve`, ``form="mounts"``) and nothing large is ever summed.
+
+    Attributes
+    ----------
+    B : (3 q, n) scipy.sparse CSR matrix
+        Deflection (global axes) of each of the q mounts kept apart per unit free-DOF motion [m/m, m/rad].
+    kp, cp, hp : (q, 3, 3) ndarray
+        Their stiffness [N/m], viscous damping [N s/m] and hysteretic stiffness [N/m] in global
+        axes; every ``kp`` is positive definite.
+    K, C, H : (n, n) scipy.sparse CSR matrix
+        The rest, assembled: mounts with a zero principal stiffness, added modal damping.
+    source : tuple of ndarray
+        The plant's own ``(K, C, H, M)`` arrays this form reproduces; the solve uses the form only
+        for a plant holding these very arrays (a plant derived with ``dataclasses.replace`` and
+        new matrices falls back to them).
+    stiffness_ratio : float
+        Largest over smallest principal stiffness of the mounts kept apart.
+    """
+
+    B: Any
+    kp: np.ndarray
+    cp: np.ndarray
+    hp: np.ndarray
+    K: Any
+    C: Any
+    H: Any
+    source: tuple
+    stiffness_ratio: float
+
+    def matches(self, plant: Plant) -> bool:
+        """Whether ``plant`` holds the very ``K, C, H, M`` arrays this form was built for."""
+        return all(a is b for a, b in zip(self.source, (plant.K, plant.C, plant.H, plant.M)))
 
 
 @dataclass(frozen=True, eq=False)
@@ -76,6 +117,9 @@ class Plant:
         (K formed in floats loses soft mounts next to 1e16 N/m links). None: not known (e.g. a
         projected plant); analyses then work from K. Restricting a plant to DOFs keeps
         ``Kf[:, dofs]`` only when the dropped DOFs are prescribed (not condensed).
+    mounts : MountForm or None
+        ``K, C, H`` kept as a sum over the mounts, for the exact solve on badly scaled models
+        (:func:`vibss.linear.signals.build_plant` sets it; None: only the assembled matrices).
     """
 
     dofs: tuple[str, ...]
@@ -103,6 +147,7 @@ class Plant:
     Oh: np.ndarray | None = None
     Ph: np.ndarray | None = None
     Kf: Any = None
+    mounts: MountForm | None = None
     _cache: dict[str, Any] = field(default_factory=dict, init=False, repr=False)
 
     def cached(self, key: str, make: Callable[[], Any]) -> Any:

@@ -68,7 +68,7 @@ from ..errors import ModelError, SignalError, did_you_mean
 from ..model.geometry import point_transfer
 from .eigen import undamped
 from ..model.model import DOF_NAMES, GROUND, Model
-from .plant import INPUT_KINDS, Plant
+from .plant import INPUT_KINDS, MountForm, Plant
 
 __all__ = ["build_plant", "control_name", "default_outputs", "INPUT_FORMS", "OUTPUT_FORMS"]
 
@@ -435,9 +435,12 @@ def build_plant(model_or_assembly: Model | Assembly, inputs: Sequence[Any],
             for key in ("d", "v", "a", "h")}
     o = {key: full[key][:, free] for key in full}
     pz = {key: full[key] @ motion for key in full}
+    K, H, M = ff(mats["K"]), ff(mats["H"]), ff(mats["M"])
+    extra_c = None if modal_damping is None else C - ff(mats["C"])
     return Plant(
         dofs=tuple(asm.dofs[i] for i in free),
-        M=ff(mats["M"]), C=C, K=ff(mats["K"]), H=ff(mats["H"]),
+        M=M, C=C, K=K, H=H,
+        mounts=mount_form(asm, free, (K, C, H, M), extra_c),
         inputs=tuple(p.name for p in parsed), kinds=tuple(p.kind for p in parsed),
         F=force[free], Kz=fz("K"), Cz=fz("C"), Mz=fz("M"), Hz=fz("H"),
         outputs=outputs, units=tuple(units),
@@ -453,6 +456,54 @@ def _columns(g: sp.csr_matrix, cols: np.ndarray) -> sp.csr_matrix:
     out = g[:, cols].tocsr()
     out.sort_indices()
     return out
+
+
+
+
+def mount_form(asm: Assembly, free: np.ndarray, source: tuple, extra_c: Any = None) -> MountForm | None:
+    """The plant's ``K, C, H`` as a sum over its mounts (:class:`~vibss.linear.plant.MountForm`).
+
+    Parameters
+    ----------
+    asm : Assembly
+        The assembled model.
+    free : (n,) int ndarray
+        Free body DOFs (indices into ``asm.dofs``).
+    source : tuple
+        The plant's ``(K, C, H, M)``.
+    extra_c : (n, n) array_like or None
+        Damping not from the mounts (modal damping).
+
+    Returns
+    -------
+    MountForm or None
+        None when no mount with a positive-definite stiffness touches a free DOF.
+    """
+    n_body = asm.n
+    b = sp.csr_matrix(asm.deflection_matrix()[:, :n_body][:, free])
+    q = len(asm.b_index)
+    if q == 0:
+        return None
+    lam = np.linalg.eigvalsh(0.5 * (asm.kp + asm.kp.transpose(0, 2, 1)))          # (q, 3)
+    rows = np.diff(b.indptr).reshape(q, 3).sum(axis=1)
+    apart = (lam.min(axis=1) > 0) & (rows > 0)
+    if not apart.any():
+        return None
+    idx = (3 * np.flatnonzero(apart)[:, None] + np.arange(3)).ravel()
+    rest = (3 * np.flatnonzero(~apart)[:, None] + np.arange(3)).ravel()
+    br = b[rest]
+
+    def assembled(blocks: np.ndarray) -> sp.csr_matrix:
+        if rest.size == 0:
+            return sp.csr_matrix((free.size, free.size))
+        return sp.csr_matrix(br.T @ sp.block_diag(list(blocks[~apart])) @ br)
+
+    c_rest = assembled(asm.cp)
+    if extra_c is not None:
+        c_rest = sp.csr_matrix(c_rest + sp.csr_matrix(extra_c))
+    return MountForm(B=b[idx], kp=asm.kp[apart], cp=asm.cp[apart], hp=asm.hp[apart],
+                     K=assembled(asm.kp), C=c_rest, H=assembled(asm.hp), source=source,
+                     stiffness_ratio=float(lam[apart].max() / lam[apart].min()))
 
 
 def _modal_damping(M: np.ndarray, K: np.ndarray, zeta: float | Sequence[float], factor: Any = None) -> np.ndarray:

@@ -31,7 +31,7 @@ import numpy as np
 from ..linear.assemble import Assembly, assemble
 from ..linear.eigen import FREQ_RTOL, JACOBI_MAX, Solver, undamped
 from ..linear.directions import align_cluster, cluster_slices, direction_shares, dominant_direction, energy_fractions
-from .._validate import choice, integer
+from .._validate import integer
 from ..errors import AnalysisError, ArgumentError, ModelError
 from ..model.model import DOF_NAMES, Model
 from ..results import Result, Table, jsonable, require_pandas
