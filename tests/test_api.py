@@ -17,8 +17,8 @@ PACKAGE = Path(vibss.__file__).parent
 LAYERS = [
     {"errors", "_validate", "results", "methods", "model.units", "model.geometry", "io.tomlwriter"},
     {"model", "linear.plant", "io.filetable"},
-    {"io", "examples", "linear.assemble", "linear.directions"},
-    {"linear.eigen", "linear.complex_modes", "linear.banded", "linear.signals", "linear.solve",
+    {"io", "examples", "linear.assemble", "linear.directions", "linear.eigen", "linear.eigen_checks"},
+    {"linear.complex_modes", "linear.banded", "linear.signals", "linear.solve", "linear.backends",
      "linear.projection", "statics", "time.integrators", "diagnostics"},
     {"linear", "modal"},
     {"frequency.kernels", "time.kernels", "studies"},

@@ -158,28 +158,26 @@ def test_project_on_a_subspace_is_the_galerkin_reduction(plant: Plant) -> None:
     np.testing.assert_array_equal(p.Pf, plant.Pf)
 
 
-@dataclass(frozen=True, eq=False)
-class _FactorPlant(Plant):
-    """A plant carrying a stiffness factor (the field another part of vibss adds)."""
-
-    Kf: Any = None
-
-
-def _factor_plant(plant: Plant) -> _FactorPlant:
-    g = sl.cholesky(plant.K + 1e-6 * np.eye(plant.n))      # K (+ tiny shift: rigid rotations) = G^T G
-    kw = {f.name: getattr(plant, f.name) for f in fields(Plant) if f.init}
-    kw["K"] = g.T @ g
-    return _FactorPlant(**kw, Kf=np.vstack([g, np.zeros((2, plant.n))]))
+def _dense(a):
+    return a.toarray() if sp.issparse(a) else np.asarray(a)
 
 
 def test_stiffness_factor_follows_restrict_and_project(plant: Plant) -> None:
-    fp = _factor_plant(plant)
-    r = fp.restrict([0, 3, 7, 8])
-    assert isinstance(r, _FactorPlant)
-    np.testing.assert_allclose(r.Kf.T @ r.Kf, r.K, rtol=1e-12, atol=1e-9)
+    assert plant.Kf is not None                              # build_plant gives K = Kf^T Kf
+    kf = _dense(plant.Kf)
+    np.testing.assert_allclose(kf.T @ kf, plant.K, rtol=1e-12, atol=1e-9 * np.abs(plant.K).max())
+    r = plant.restrict([0, 3, 7, 8])
+    rk = _dense(r.Kf)
+    np.testing.assert_allclose(rk.T @ rk, r.K, rtol=1e-12, atol=1e-9 * np.abs(plant.K).max())
     v = np.random.default_rng(5).normal(size=(plant.n, 4))
-    p = fp.project(v)
-    np.testing.assert_allclose(p.Kf.T @ p.Kf, p.K, rtol=1e-9)
+    p = plant.project(v)
+    np.testing.assert_allclose(p.Kf.T @ p.Kf, p.K, rtol=1e-9, atol=1e-9 * np.abs(p.K).max())
+    assert plant.project(v, K=np.eye(4)).Kf is None          # a given K: its factor is not known
+
+
+def test_mount_form_kept_by_select_dropped_by_restrict_and_project(plant: Plant) -> None:
+    assert plant.select(outputs=["b.z"]).mounts is plant.mounts
+    assert plant.restrict([0, 1]).mounts is None and plant.project(np.eye(plant.n)[:, :2]).mounts is None
 
 
 @dataclass(frozen=True, eq=False)

@@ -33,7 +33,7 @@ import numpy.typing as npt
 from .._validate import name_index
 from ..errors import AnalysisError, ModelError, SignalIndexError
 
-__all__ = ["Plant", "INPUT_KINDS", "MOTION_ORDER", "FIELD_ROLES"]
+__all__ = ["Plant", "MountForm", "INPUT_KINDS", "MOTION_ORDER", "FIELD_ROLES"]
 
 INPUT_KINDS = ("force", "displacement", "velocity", "acceleration")
 """What an input signal is."""
@@ -46,7 +46,7 @@ FIELD_ROLES: dict[str, str] = {
     "F": "dof x input", "Kz": "dof x input", "Cz": "dof x input", "Mz": "dof x input",
     "Hz": "dof x input",
     "Oq": "output x dof", "Ov": "output x dof", "Oa": "output x dof", "Oh": "output x dof",
-    "Kf": "factor x dof",
+    "Kf": "factor x dof", "mounts": "mount form",
     "inputs": "input labels", "kinds": "input labels",
     "outputs": "output labels", "units": "output labels",
     "Pz": "output x input", "Pv": "output x input", "Pa": "output x input", "Pf": "output x input",
@@ -55,9 +55,52 @@ FIELD_ROLES: dict[str, str] = {
 }
 """How each :class:`Plant` field changes under :meth:`Plant.select`, :meth:`Plant.restrict` and
 :meth:`Plant.project`, by the axes it spans (``"factor x dof"`` is a stiffness factor ``Kf`` with
-``K = Kf^T Kf``: its columns follow the DOFs). A field missing here is carried along unchanged when
+``K = Kf^T Kf``: its columns follow the DOFs; ``"mount form"`` is the :class:`MountForm`, kept by a
+selection of signals and dropped by restriction and projection, which change the matrices it
+reproduces). A field missing here is carried along unchanged when
 it is None and refused otherwise, so a new field must be classified before a plant operation can
 silently get it wrong."""
+
+
+@dataclass(frozen=True, eq=False)
+class MountForm:
+    """The dynamic stiffness of a plant kept as a sum over its mounts: ``K + iH + sC = R(s) + B^T Z(s) B``.
+
+    Assembling ``K = sum B_p^T k_p B_p`` rounds every entry at the level of the stiffest mount it
+    holds; the soft modes beside stiff mounts (stiffness ratios of 1e5 and more) are sensitive to
+    exactly that round-off. Kept apart, the mount forces ``lam = Z B q`` become unknowns of their
+    own (:mod:`vibss.linear.solve`, ``form="mounts"``) and nothing large is ever summed.
+
+    Attributes
+    ----------
+    B : (3 q, n) scipy.sparse CSR matrix
+        Deflection (global axes) of each of the q mounts kept apart per unit free-DOF motion [m/m, m/rad].
+    kp, cp, hp : (q, 3, 3) ndarray
+        Their stiffness [N/m], viscous damping [N s/m] and hysteretic stiffness [N/m] in global
+        axes; every ``kp`` is positive definite.
+    K, C, H : (n, n) scipy.sparse CSR matrix
+        The rest, assembled: mounts with a zero principal stiffness, added modal damping.
+    source : tuple of ndarray
+        The plant's own ``(K, C, H, M)`` arrays this form reproduces; the solve uses the form only
+        for a plant holding these very arrays (a plant derived with ``dataclasses.replace`` and
+        new matrices falls back to them).
+    stiffness_ratio : float
+        Largest over smallest principal stiffness of the mounts kept apart.
+    """
+
+    B: Any
+    kp: np.ndarray
+    cp: np.ndarray
+    hp: np.ndarray
+    K: Any
+    C: Any
+    H: Any
+    source: tuple
+    stiffness_ratio: float
+
+    def matches(self, plant: Plant) -> bool:
+        """Whether ``plant`` holds the very ``K, C, H, M`` arrays this form was built for."""
+        return all(a is b for a, b in zip(self.source, (plant.K, plant.C, plant.H, plant.M)))
 
 
 @dataclass(frozen=True, eq=False)
@@ -93,6 +136,15 @@ class Plant:
     Oh, Ph : (p, n), (p, m) ndarray or None
         Hysteretic part of the outputs (frequency domain only): ``y += i (Oh q + Ph z)``, e.g. the
         loss-factor force ``i H_p delta`` of a mount force output. None means zero.
+    Kf : (r, n) ndarray or scipy.sparse matrix or None
+        Stiffness factor of the free DOFs, ``K = Kf^T Kf`` (one row per mount principal axis,
+        ``sqrt(k) T^T B``); the eigen path and statics use it to stay exact beside stiff links
+        (K formed in floats loses soft mounts next to 1e16 N/m links). None: not known (e.g. a
+        projected plant); analyses then work from K. Restricting a plant to DOFs keeps
+        ``Kf[:, dofs]`` only when the dropped DOFs are prescribed (not condensed).
+    mounts : MountForm or None
+        ``K, C, H`` kept as a sum over the mounts, for the exact solve on badly scaled models
+        (:func:`vibss.linear.signals.build_plant` sets it; None: only the assembled matrices).
     """
 
     dofs: tuple[str, ...]
@@ -119,6 +171,8 @@ class Plant:
     name: str = "vibss"
     Oh: np.ndarray | None = None
     Ph: np.ndarray | None = None
+    Kf: Any = None
+    mounts: MountForm | None = None
     _cache: dict[str, Any] = field(default_factory=dict, init=False, repr=False)
 
     def cached(self, key: str, make: Callable[[], Any]) -> Any:
@@ -221,7 +275,7 @@ class Plant:
 
         Rows and columns of ``M, C, K, H``, rows of the input maps ``F, Kz, Cz, Mz, Hz``, columns
         of the output maps ``Oq, Ov, Oa, Oh`` and of a stiffness factor ``Kf`` (so ``K = Kf^T Kf``
-        still holds). Exact when the dropped DOFs are decoupled from the kept ones, or not
+        still holds); the :class:`MountForm` is dropped (the exact solve then uses the matrices). Exact when the dropped DOFs are decoupled from the kept ones, or not
         excited and not seen.
 
         Parameters
@@ -270,13 +324,17 @@ class Plant:
                     changes[key] = _rows(a, idx)
                 elif role in ("output x dof", "factor x dof"):
                     changes[key] = a[:, idx]
+                elif role == "mount form":
+                    changes[key] = None
         return dataclasses.replace(self, **changes)
 
     def project(self, V: npt.ArrayLike, dofs: Sequence[str] | None = None, **known: Any) -> Plant:
         """Galerkin projection ``q = V a`` on the columns of ``V`` (n, r).
 
         ``V^T M V``, ``V^T C V``, ``V^T K V``, ``V^T H V`` (symmetrised), ``V^T`` times the input
-        maps, the output maps times ``V`` and a stiffness factor ``Kf V``; feedthrough is kept.
+        maps, the output maps times ``V`` and a stiffness factor ``Kf V`` (dropped when ``K`` is given
+        in ``known``: ``Kf V`` need not factor it); the :class:`MountForm` is dropped; feedthrough is
+        kept.
 
         Parameters
         ----------
@@ -335,8 +393,12 @@ class Plant:
                     changes[key] = 0.5 * (g + g.T)
                 elif role == "dof x input":
                     changes[key] = np.asarray(v.T @ a) if _nonzero(a) else np.zeros((r, a.shape[1]))
-                elif role in ("output x dof", "factor x dof"):
+                elif role == "output x dof":
                     changes[key] = np.asarray(a @ v)
+                elif role == "factor x dof":      # a factor of a given K is not known: dropped
+                    changes[key] = None if "K" in known else np.asarray(a @ v)
+                elif role == "mount form":
+                    changes[key] = None
         return dataclasses.replace(self, **changes)
 
 

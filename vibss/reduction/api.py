@@ -66,7 +66,8 @@ from .methods import (BALANCED_MAX_STATES, KRYLOV_MIN_DOF, METHODS, MODE_PRUNE_M
                       ReductionMethod, _floor, _states, check_grid, choose, resolve_method)
 from ..results import Result, Table, jsonable, require_pandas
 from .scope import Scope
-from ..linear.signals import build_plant
+from ..linear.signals import build_plant, control_name
+from ..linear.solve import statespace_plant
 from ..linear.statespace import NamedStateSpace, statespace
 
 __all__ = ["reduce", "Reduction", "Removal", "Reduced", "ReduceOptions", "ReductionMethod", "METHODS",
@@ -187,11 +188,8 @@ class Reduction(Result):
         if self.plant is not None:
             return frf(self.plant, s)
         sys = cast("control.StateSpace", self.system)  # no plant: reduce() set the system
-        out = np.empty((sys.noutputs, sys.ninputs, s.size), complex)
-        eye = np.eye(sys.nstates)
-        for i, si in enumerate(s):
-            out[:, :, i] = sys.C @ np.linalg.solve(si * eye - sys.A, sys.B) + sys.D
-        return out
+        return frf(statespace_plant(sys.A, sys.B, sys.C, sys.D, tuple(sys.input_labels),
+                                    tuple(sys.output_labels)), s)
 
     def verify(self, n_points: int = 400) -> Reduction:
         """A copy with the measured error against the full model over the band, and timings.

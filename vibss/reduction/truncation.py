@@ -48,6 +48,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spl
 
 from .._validate import choice
+from ..linear.eigen import symmetric_eigen, undamped
 from ..linear.plant import Plant
 from .prune import DENSE_MAX, frf
 
@@ -105,15 +106,10 @@ class _Static:
 
 def _lowest_modes(p: Plant, k: int, mats: dict) -> tuple[np.ndarray, np.ndarray]:
     if not mats or k >= p.n - 1:
-        return sl.eigh(p.K, p.M, subset_by_index=[0, min(k, p.n) - 1], check_finite=False)
-    Ks, Ms = mats["K"], mats["M"]
-    d = Ks.diagonal() / Ms.diagonal()
-    sigma = -1e-6 * float(np.median(d[d > 0])) if np.any(d > 0) else -1.0
-    w2, phi = spl.eigsh(Ks, k=k, M=Ms, sigma=sigma, which="LM")
-    o = np.argsort(w2)
-    w2, phi = w2[o], phi[:, o]
-    phi = phi / np.sqrt(np.einsum("ij,ij->j", phi, Ms @ phi))
-    return w2, phi
+        spec = undamped(p.K, p.M, p.Kf, n_modes=min(k, p.n))
+    else:
+        spec = undamped(mats["K"], mats["M"], p.Kf, n_modes=k, method="shift-invert")
+    return spec.omega2, spec.phi
 
 
 def _gain_factors(w: np.ndarray, wr: np.ndarray, gr: np.ndarray, eta: float,
@@ -275,11 +271,11 @@ def _ritz_plant(md: _Modes, k: int, mats: dict) -> Plant:
     for _ in range(2):
         resid = resid - md.phi[:, :k] @ (md.phi[:, :k].T @ mul("M", resid))
     g = resid.T @ mul("M", resid)
-    lam, u = np.linalg.eigh(0.5 * (g + g.T))
+    lam, u = symmetric_eigen(g)
     ok = lam > 1e-12 * lam.max()
     q = resid @ (u[:, ok] / np.sqrt(lam[ok]))
     kq = q.T @ mul("K", q)
-    w2q, uq = np.linalg.eigh(0.5 * (kq + kq.T))        # diagonalise the residual block
+    w2q, uq = symmetric_eigen(kq)        # diagonalise the residual block
     q = q @ uq
     v = np.hstack([md.phi[:, :k], q])
     nq = q.shape[1]

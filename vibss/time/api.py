@@ -5,7 +5,7 @@
 Methods are chosen by name through :data:`METHODS` (a callable is accepted too):
 
 ``"modal"`` (the fast path, and ``"auto"``)
-    Exact modal superposition of piecewise-linear (PWL) inputs: ``eigh(K, M)`` real modes for
+    Exact modal superposition of piecewise-linear (PWL) inputs: real undamped modes (the one eigen path) for
     classical damping (2x2 blocks, exact also for rigid-body modes, omega = 0); complex modes of the
     scaled modal first-order form for the modes that non-proportional damping couples. Each mode is
     discretised exactly for polynomial forcing (first-order hold, and the exact polynomial

@@ -38,7 +38,7 @@ from threadpoolctl import threadpool_limits
 
 from ..linear.complex_modes import complex_modes
 from ..errors import AnalysisError
-from ..linear.eigen import damping_coupling, generalized_eigh, modal_basis, rigid_mask
+from ..linear.eigen import damping_coupling, modal_basis, symmetric_eigen
 from ..linear.plant import Plant
 from ..linear.statespace import statespace
 
@@ -281,16 +281,15 @@ class _ModalSet:
 
 def _modal_sets(prep: Prepared, q0: np.ndarray, v0: np.ndarray) -> tuple[list[_ModalSet], str]:
     plant = prep.plant
-    M, K, C = (np.asarray(a, float) for a in (plant.M, plant.K, plant.C))
-    w2, phi = generalized_eigh(K, M)
-    rigid = rigid_mask(w2, phi, np.diag(K))
-    w2 = np.where(rigid, 0.0, np.maximum(w2, 0.0))
+    M, C = (np.asarray(a, float) for a in (plant.M, plant.C))
+    mb = modal_basis(plant)
+    w2, phi, rigid = mb.omega2, mb.phi, mb.rigid
     if rigid.any():
         # rotate the rigid subspace so that its damping block is diagonal: undamped combinations of
         # rigid modes then decouple as exact double integrators instead of 2x2 Jordan blocks at 0
         rid = np.flatnonzero(rigid)
         g = phi[:, rid].T @ C @ phi[:, rid]
-        _, q = np.linalg.eigh(0.5 * (g + g.T))
+        _, q = symmetric_eigen(g)
         phi = phi.copy()
         phi[:, rid] = phi[:, rid] @ q
     w = np.sqrt(w2)
@@ -310,7 +309,7 @@ def _modal_sets(prep: Prepared, q0: np.ndarray, v0: np.ndarray) -> tuple[list[_M
         Y = np.stack([Ceta[:, d] / s[d], Cdeta[:, d]], axis=-1)
         sets.append(_ModalSet(A=A, P=phi[:, d].T, x0=np.column_stack([s[d] * eta0[d], deta0[d]]),
                               Y=Y))
-    how = "classical damping: real modes from eigh(K, M)"
+    how = "classical damping: real undamped modes"
     if coupled.any():
         e = coupled
         ne = int(e.sum())
