@@ -40,6 +40,7 @@ from ..linear.complex_modes import complex_modes
 from ..errors import AnalysisError
 from ..linear.eigen import damping_coupling, modal_basis, symmetric_eigen
 from ..linear.plant import Plant
+from ..linear.projection import projected_damping
 from ..linear.statespace import statespace
 
 __all__ = ["Prepared", "Grid", "Kinematics", "prepare", "make_grid", "nudge", "kinematics",
@@ -281,19 +282,20 @@ class _ModalSet:
 
 def _modal_sets(prep: Prepared, q0: np.ndarray, v0: np.ndarray) -> tuple[list[_ModalSet], str]:
     plant = prep.plant
-    M, C = (np.asarray(a, float) for a in (plant.M, plant.C))
+    M = np.asarray(plant.M, float)
     mb = modal_basis(plant)
     w2, phi, rigid = mb.omega2, mb.phi, mb.rigid
+    chat = projected_damping(plant, mb)[0]          # Phi^T C Phi, shared with the other consumers
     if rigid.any():
         # rotate the rigid subspace so that its damping block is diagonal: undamped combinations of
         # rigid modes then decouple as exact double integrators instead of 2x2 Jordan blocks at 0
         rid = np.flatnonzero(rigid)
-        g = phi[:, rid].T @ C @ phi[:, rid]
-        _, q = symmetric_eigen(g)
-        phi = phi.copy()
+        _, q = symmetric_eigen(chat[np.ix_(rid, rid)])
+        phi, chat = phi.copy(), chat.copy()
         phi[:, rid] = phi[:, rid] @ q
+        chat[rid, :] = q.T @ chat[rid, :]
+        chat[:, rid] = chat[:, rid] @ q
     w = np.sqrt(w2)
-    chat = phi.T @ C @ phi
     coupled = (damping_coupling(0.5 * (chat + chat.T)) > 0).any(axis=1)
     eta0, deta0 = phi.T @ (M @ q0), phi.T @ (M @ v0)
     s = np.where(w > 0, w, 1.0)
