@@ -370,7 +370,8 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
 
 
 def _refine(K: Any, M: Any, factor: Any, w2: np.ndarray, phi: np.ndarray, est: np.ndarray,
-            need: np.ndarray, shift: float = 0.0, solve: Any = None) -> tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
+            need: np.ndarray, shift: float = 0.0, solve: Any = None,
+            whole: bool = False) -> tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
     """Refine the modes flagged ``need`` (and all below them): inverse iteration, then Ritz.
 
     One step of subspace inverse iteration ``X = (K + shift M)^-1 M Phi_low``, the
@@ -419,6 +420,8 @@ def _refine(K: Any, M: Any, factor: Any, w2: np.ndarray, phi: np.ndarray, est: n
     new_est[:top] = error_estimate(new_w2[:top], full_phi[:, :top], M, None if factor is not None else K, factor)
     better = np.zeros(w2.shape, bool)
     better[low] = need[low] & ~(new_est[low] > est[low])     # only the modes asked for; NaN / inf (rigid) not worse
+    if whole:                  # the whole Ritz subspace or nothing: its vectors are one orthonormal set
+        better[low] = True
     w2 = np.where(better, new_w2, w2)
     phi = np.where(better[None, :], full_phi, phi)
     est = np.where(better, new_est, est)
@@ -483,7 +486,8 @@ def modal_basis(plant: Plant) -> ModalBasis:
                 solve = plant.cached("solve K", lambda: stiffness_solver(plant.K))
             except (np.linalg.LinAlgError, RuntimeError, ValueError):
                 solve = None
-            w2, phi, est, ok = _refine(plant.K, plant.M, plant.Kf, w2, phi, est, need, solve=solve)
+            need = np.arange(w2.size) <= np.flatnonzero(need).max()
+            w2, phi, est, ok = _refine(plant.K, plant.M, plant.Kf, w2, phi, est, need, solve=solve, whole=True)
             method = method if not ok or method.endswith("+refined") else method + "+refined"
     elastic = np.sqrt(w2[~rigid])
     floor = float(elastic.min()) if elastic.size else 1.0
@@ -509,4 +513,5 @@ def _needs_refinement(plant: Plant, w2: np.ndarray, phi: np.ndarray, est: np.nda
             sparse_mat = plant.cached(f"sparse {key}", partial(fast_matrix, mat))
             g = np.einsum("ij,ij->j", phi, sparse_mat @ phi)
             zeta = np.maximum(zeta, g / (2 * w2c) if hyst else g / (2 * np.sqrt(w2c)))
-    return np.nan_to_num(est, nan=0.0) / (2 * np.minimum(zeta, 0.5)) > REFINE_TOL
+    shape = np.finfo(float).eps * float(np.max(w2)) / w2c
+    return np.maximum(np.nan_to_num(est, nan=0.0), shape) / (2 * np.minimum(zeta, 0.5)) > REFINE_TOL
