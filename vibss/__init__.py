@@ -37,6 +37,7 @@ from .statics import StaticResult, static
 from .studies import StudyDefaults, study_defaults
 from .time.api import TimeResponse, simulate
 from .time.sweep import SweepEnvelope, sweep_envelope
+from . import design  # vibss.design.*: mount-system design
 
 __version__ = "0.1.0"
 

@@ -1,0 +1,11 @@
+"""Mount-system design: axes and centres, the decoupling certificate, exact sensitivities, batched
+Monte Carlo tolerance studies and optimisation of mount layouts.
+"""
+
+from __future__ import annotations
+
+from .axes import (ElasticAxes, TorqueResponse, elastic_axes, principal_axes, torque_response,
+                   torque_roll_axis)
+
+__all__ = ["ElasticAxes", "TorqueResponse", "elastic_axes", "principal_axes", "torque_response",
+           "torque_roll_axis"]
