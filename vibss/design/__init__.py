@@ -6,6 +6,7 @@ from __future__ import annotations
 
 from .axes import (ElasticAxes, TorqueResponse, elastic_axes, principal_axes, torque_response,
                    torque_roll_axis)
+from .certificate import Certificate, certificate
 
-__all__ = ["ElasticAxes", "TorqueResponse", "elastic_axes", "principal_axes", "torque_response",
+__all__ = ["Certificate", "certificate", "ElasticAxes", "TorqueResponse", "elastic_axes", "principal_axes", "torque_response",
            "torque_roll_axis"]

@@ -7,11 +7,12 @@ from typing import Any
 import numpy as np
 
 from .._validate import vector
-from ..errors import AnalysisError, ArgumentError, did_you_mean
+from ..errors import AnalysisError, ArgumentError, VibssError, did_you_mean
 from ..linear.assemble import Assembly, assemble
 from ..model.model import Model
 
-__all__ = ["body_blocks", "unit_axis", "body_name", "AXES"]
+__all__ = ["body_blocks", "unit_axis", "body_name", "AXES", "FRAMES", "frame_axes", "frame_rotation",
+           "ke_fractions"]
 
 AXES: dict[str, np.ndarray] = {"x": np.eye(3)[0], "y": np.eye(3)[1], "z": np.eye(3)[2]}
 """Global axes by name."""
@@ -60,3 +61,59 @@ def body_blocks(model: Model | Assembly, body: str | None, who: str) -> tuple[As
                             "motions (its 6x6 stiffness about the COG is singular); add mounts or "
                             "rates", argument="body", received=name)
     return a, i, M, K
+
+
+FRAMES = ("global", "tra", "principal")
+"""Named coordinate frames of the decoupling measures (or a 3x3 matrix of axes as columns)."""
+
+
+def frame_axes(model: Model, body: str, frame: Any, axis: Any, who: str) -> np.ndarray:
+    """(3, 3) axes (columns, global) of the frame in which the kinetic energy is split.
+
+    ``"global"``: the global axes; ``"tra"``: axis 1 along the torque-roll axis of ``axis``, axis 2
+    horizontal-ish (``z x tra``), axis 3 completing; ``"principal"``: principal axes of inertia;
+    a (3, 3) rotation matrix: its columns.
+    """
+    if isinstance(frame, str):
+        if frame not in FRAMES:
+            raise ArgumentError(f"{who}: frame: unknown frame {frame!r}; expected one of {list(FRAMES)} "
+                                "or a 3x3 rotation matrix" + did_you_mean(frame, FRAMES),
+                                argument="frame", received=frame, expected=list(FRAMES))
+        J = model.body(body).tensor
+        if frame == "global":
+            return np.eye(3)
+        if frame == "principal":
+            w, v = np.linalg.eigh(J)
+            v = v * np.sign(v[np.argmax(np.abs(v), axis=0), np.arange(3)])
+            return v if np.linalg.det(v) > 0 else v * np.array([1.0, 1.0, -1.0])
+        t = np.linalg.solve(J, unit_axis(axis, "axis", who))
+        t /= np.linalg.norm(t)
+        ref = np.eye(3)[2] if abs(t[2]) < 0.9 else np.eye(3)[0]
+        y = np.cross(ref, t)
+        y /= np.linalg.norm(y)
+        return np.column_stack([t, y, np.cross(t, y)])
+    from ..model.geometry import Orientation
+    try:
+        return Orientation.coerce(frame).matrix
+    except VibssError as exc:            # a bad matrix: say which argument
+        raise ArgumentError(f"{who}: frame: expected one of {list(FRAMES)} or a 3x3 rotation matrix, "
+                            f"got {frame!r} ({exc})", argument="frame", received=frame) from None
+
+
+def frame_rotation(n_dof: int, axes: np.ndarray) -> np.ndarray:
+    """(n, n) block-diagonal ``R`` with ``q = R q'``: every body's translations and rotations in ``axes``."""
+    return np.kron(np.eye(n_dof // 3), axes)
+
+
+def ke_fractions(phi: np.ndarray, M: np.ndarray, R: np.ndarray | None = None) -> np.ndarray:
+    """(..., k, n) kinetic-energy fractions of shapes ``phi`` (..., n, k) with the FULL mass matrix.
+
+    ``E[i, j] = phi'_j (M' phi')_j / phi^T M phi`` in the frame coordinates ``q' = R^T q``
+    (``M' = R^T M R``), rows summing to 1; products of inertia included.
+    """
+    if R is not None:
+        phi = np.swapaxes(R, -1, -2) @ phi
+        M = np.swapaxes(R, -1, -2) @ M @ R
+    mp = M @ phi
+    num = np.swapaxes(phi * mp, -1, -2)
+    return num / num.sum(axis=-1, keepdims=True)

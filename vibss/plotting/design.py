@@ -1,0 +1,128 @@
+"""Figures of mount-system design: the decoupling certificate, sensitivities, Monte Carlo studies."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from matplotlib.figure import Figure
+
+from ._draw import new_figure
+
+__all__ = ["plot_certificate", "plot_sensitivity", "plot_monte_carlo"]
+
+
+def _axes(ax: Any, width: float, height: float) -> tuple[Figure, Any]:
+    if ax is not None:
+        return ax.figure, ax
+    fig = new_figure(width, height)
+    return fig, fig.add_subplot()
+
+
+def plot_certificate(cert: Any, ax: Any = None) -> Figure:
+    """KE matrix [%] as a heat map; each row labelled with frequency, window verdict and purity.
+
+    Parameters
+    ----------
+    cert : vibss.design.Certificate
+        The certificate.
+    ax : Axes or None
+        Draw into these axes; default: a new figure.
+
+    Returns
+    -------
+    Figure
+    """
+    e = 100 * cert.ke_matrix
+    k, n = e.shape
+    fig, ax = _axes(ax, 2.4 + 0.62 * n, 1.4 + 0.4 * k)
+    im = ax.imshow(e, cmap="Blues", vmin=0, vmax=100, aspect="auto")
+    for i in range(k):
+        for j in range(n):
+            if e[i, j] >= 1:
+                ax.text(j, i, f"{e[i, j]:.0f}", ha="center", va="center", fontsize=7,
+                        color="w" if e[i, j] > 60 else "k")
+    labels = [f"{i + 1}: {cert.frequency_hz[i]:.2f} Hz{'' if cert.in_window[i] else ' (out)'}"
+              for i in range(k)]
+    ax.set_yticks(range(k), labels, fontsize=8)
+    ax.set_xticks(range(n), [c.split(".", 1)[-1] if len(cert.model.bodies) == 1 else c
+                             for c in cert.coordinates], rotation=0 if n <= 6 else 90, fontsize=8)
+    right = ax.secondary_yaxis("right")
+    right.set_yticks(range(k), [f"{100 * p:.0f} % {'ok' if ok else 'LOW'}"
+                                for p, ok in zip(cert.purity, cert.pure)], fontsize=8)
+    right.set_ylabel(f"purity (target {100 * cert.target:.0f} %)", fontsize=8)
+    ax.set_xlabel(f"coordinate ({cert.frame_name} frame)")
+    ax.set_ylabel("mode: frequency")
+    fig.colorbar(im, ax=ax, label="kinetic energy [%]", shrink=0.9, pad=0.12)
+    ax.set_title(f"Decoupling certificate: {'PASSED' if cert.passed else 'FAILED'}", fontsize=10)
+    return fig
+
+
+def plot_sensitivity(sens: Any, quantity: str = "frequency", ax: Any = None) -> Figure:
+    """Tornado of normalised sensitivities ``(p / y) dy/dp`` of each mode's frequency or purity.
+
+    Parameters
+    ----------
+    sens : vibss.design.Sensitivity
+        The sensitivities.
+    quantity : {"frequency", "purity"}
+        Which output.
+    ax : Axes or None
+        Draw into these axes; default: a new figure.
+
+    Returns
+    -------
+    Figure
+    """
+    d = sens.normalised(quantity)                       # (k, p)
+    k, p = d.shape
+    fig, ax = _axes(ax, 6.5, 1.5 + 0.28 * p)
+    y = np.arange(p)
+    h = 0.8 / k
+    for i in range(k):
+        ax.barh(y + (i - (k - 1) / 2) * h, d[i], height=h, label=f"mode {i + 1}")
+    ax.set_yticks(y, list(sens.parameters), fontsize=8)
+    ax.axvline(0.0, color="k", lw=0.6)
+    ax.set_xlabel(f"normalised sensitivity (p / {quantity}) d{quantity}/dp [-]")
+    ax.set_ylabel("parameter")
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.0, 1.0), frameon=False)
+    ax.invert_yaxis()
+    return fig
+
+
+def plot_monte_carlo(mc: Any, ax: Any = None) -> Figure:
+    """Histograms of the natural frequencies [Hz] of every variant, with the windows shaded.
+
+    Parameters
+    ----------
+    mc : vibss.design.MonteCarlo
+        The study.
+    ax : Axes or None
+        Draw into these axes; default: a new figure with a second panel (purity histograms).
+
+    Returns
+    -------
+    Figure
+    """
+    f = mc.frequency_hz
+    if ax is None:
+        fig = new_figure(9.0, 3.6)
+        ax, ax2 = fig.subplots(1, 2)
+    else:
+        fig, ax2 = ax.figure, None
+    bins = np.linspace(f.min(), f.max(), 80)
+    for i in range(f.shape[1]):
+        ax.hist(f[:, i], bins=bins, histtype="stepfilled", alpha=0.5, label=f"mode {i + 1}")
+    ax.set_xlabel("natural frequency [Hz]")
+    ax.set_ylabel("variants")
+    ax.legend(fontsize=7, frameon=False)
+    ax.set_title(f"{len(f)} variants ({mc.sampling})", fontsize=10)
+    if ax2 is not None:
+        pb = np.linspace(0, 100, 51)
+        for i in range(f.shape[1]):
+            ax2.hist(100 * mc.purity[:, i], bins=pb, histtype="step", label=f"mode {i + 1}")
+        ax2.axvline(100 * mc.target, color="k", ls="--", lw=0.8)
+        ax2.set_xlabel("purity [%]")
+        ax2.set_ylabel("variants")
+        ax2.set_title(f"P(all targets met) = {mc.probability['all']:.3f}", fontsize=10)
+    return fig
