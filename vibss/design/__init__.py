@@ -7,6 +7,8 @@ from __future__ import annotations
 from .axes import (ElasticAxes, TorqueResponse, elastic_axes, principal_axes, torque_response,
                    torque_roll_axis)
 from .certificate import Certificate, certificate
+from .parameters import Parameter
+from .sensitivity import Sensitivity, sensitivity
 
-__all__ = ["Certificate", "certificate", "ElasticAxes", "TorqueResponse", "elastic_axes", "principal_axes", "torque_response",
+__all__ = ["Parameter", "Sensitivity", "sensitivity", "Certificate", "certificate", "ElasticAxes", "TorqueResponse", "elastic_axes", "principal_axes", "torque_response",
            "torque_roll_axis"]
