@@ -7,8 +7,9 @@ from __future__ import annotations
 from .axes import (ElasticAxes, TorqueResponse, elastic_axes, principal_axes, torque_response,
                    torque_roll_axis)
 from .certificate import Certificate, certificate
+from .montecarlo import MonteCarlo, monte_carlo
 from .parameters import Parameter
 from .sensitivity import Sensitivity, sensitivity
 
-__all__ = ["Parameter", "Sensitivity", "sensitivity", "Certificate", "certificate", "ElasticAxes", "TorqueResponse", "elastic_axes", "principal_axes", "torque_response",
+__all__ = ["MonteCarlo", "monte_carlo", "Parameter", "Sensitivity", "sensitivity", "Certificate", "certificate", "ElasticAxes", "TorqueResponse", "elastic_axes", "principal_axes", "torque_response",
            "torque_roll_axis"]

@@ -111,6 +111,10 @@ def plot_monte_carlo(mc: Any, ax: Any = None) -> Figure:
     else:
         fig, ax2 = ax.figure, None
     bins = np.linspace(f.min(), f.max(), 80)
+    for lo, hi in {tuple(w) for w in mc.windows.tolist()}:
+        if lo > 0 or np.isfinite(hi):
+            ax.axvspan(max(lo, f.min()), min(hi, f.max()), color="0.85", zorder=0,
+                       label=f"window {lo:.3g} ... {hi:.3g} Hz")
     for i in range(f.shape[1]):
         ax.hist(f[:, i], bins=bins, histtype="stepfilled", alpha=0.5, label=f"mode {i + 1}")
     ax.set_xlabel("natural frequency [Hz]")
