@@ -8,8 +8,9 @@ from .axes import (ElasticAxes, TorqueResponse, elastic_axes, principal_axes, to
                    torque_roll_axis)
 from .certificate import Certificate, certificate
 from .montecarlo import MonteCarlo, monte_carlo
+from .optimise import Optimisation, optimise
 from .parameters import Parameter
 from .sensitivity import Sensitivity, sensitivity
 
-__all__ = ["MonteCarlo", "monte_carlo", "Parameter", "Sensitivity", "sensitivity", "Certificate", "certificate", "ElasticAxes", "TorqueResponse", "elastic_axes", "principal_axes", "torque_response",
+__all__ = ["Optimisation", "optimise", "MonteCarlo", "monte_carlo", "Parameter", "Sensitivity", "sensitivity", "Certificate", "certificate", "ElasticAxes", "TorqueResponse", "elastic_axes", "principal_axes", "torque_response",
            "torque_roll_axis"]

@@ -34,10 +34,20 @@ from ..model.model import DOF_NAMES, Model
 from ..results import Result, Table, jsonable, require_pandas
 from ._common import body_name, frame_axes, frame_rotation, ke_fractions, unit_axis
 
-__all__ = ["Certificate", "certificate", "windows_for", "STANDARD_GRAVITY"]
+__all__ = ["Certificate", "certificate", "windows_for", "in_windows", "STANDARD_GRAVITY", "WINDOW_RTOL"]
+
+WINDOW_RTOL = 1e-6
+"""A frequency within this (relative) of a window's edge counts as inside (optimisers meet
+constraints to about this accuracy)."""
 
 STANDARD_GRAVITY = (0.0, 0.0, -9.80665)
 """Gravity used for the sag under weight when the model defines none [m/s^2]."""
+
+
+def in_windows(frequency_hz: np.ndarray, windows: np.ndarray) -> np.ndarray:
+    """(..., k) bool: each frequency [Hz] inside its window (within :data:`WINDOW_RTOL`)."""
+    return ((frequency_hz >= windows[:, 0] * (1 - WINDOW_RTOL))
+            & (frequency_hz <= windows[:, 1] * (1 + WINDOW_RTOL)))
 
 
 def windows_for(windows: Any, directions: list[str], who: str = "certificate") -> np.ndarray:
@@ -148,7 +158,7 @@ class Certificate(Result):
     @property
     def in_window(self) -> np.ndarray:
         """(k,) bool: frequency inside its window."""
-        return (self.frequency_hz >= self.windows[:, 0]) & (self.frequency_hz <= self.windows[:, 1])
+        return in_windows(self.frequency_hz, self.windows)
 
     @property
     def passed(self) -> bool:

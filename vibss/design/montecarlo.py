@@ -29,7 +29,7 @@ from ..model.geometry import point_transfer
 from ..model.model import DOF_NAMES, Model
 from ..results import Result, Table, jsonable, require_pandas
 from ._common import body_name, frame_axes, frame_rotation
-from .certificate import windows_for
+from .certificate import in_windows, windows_for
 from .parameters import _ANGLE, _RATE, _SHIFT, Parameter, current_values, parameters_of
 
 __all__ = ["MonteCarlo", "monte_carlo", "batch_modes", "SAMPLINGS", "DISTRIBUTIONS"]
@@ -197,7 +197,7 @@ class MonteCarlo(Result):
     @property
     def in_window(self) -> np.ndarray:
         """(N, k) bool: frequency inside its window."""
-        return (self.frequency_hz >= self.windows[:, 0]) & (self.frequency_hz <= self.windows[:, 1])
+        return in_windows(self.frequency_hz, self.windows)
 
     @property
     def probability(self) -> dict[str, float]:

@@ -9,7 +9,7 @@ from matplotlib.figure import Figure
 
 from ._draw import new_figure
 
-__all__ = ["plot_certificate", "plot_sensitivity", "plot_monte_carlo"]
+__all__ = ["plot_certificate", "plot_sensitivity", "plot_monte_carlo", "plot_optimisation"]
 
 
 def _axes(ax: Any, width: float, height: float) -> tuple[Figure, Any]:
@@ -129,4 +129,35 @@ def plot_monte_carlo(mc: Any, ax: Any = None) -> Figure:
         ax2.set_xlabel("purity [%]")
         ax2.set_ylabel("variants")
         ax2.set_title(f"P(all targets met) = {mc.probability['all']:.3f}", fontsize=10)
+    return fig
+
+
+def plot_optimisation(opt: Any, ax: Any = None) -> Figure:
+    """Purity [%] of every mode before and after an optimisation, with the target.
+
+    Parameters
+    ----------
+    opt : vibss.design.Optimisation
+        The optimisation.
+    ax : Axes or None
+        Draw into these axes; default: a new figure.
+
+    Returns
+    -------
+    Figure
+    """
+    b, a = opt.before, opt.after
+    k = len(a.purity)
+    fig, ax = _axes(ax, 1.8 + 0.8 * k, 3.6)
+    x = np.arange(k)
+    ax.bar(x - 0.2, 100 * b.purity, 0.4, label="before", color="0.7")
+    ax.bar(x + 0.2, 100 * a.purity, 0.4, label="after", color="#1f77b4")
+    if a.target > 0:
+        ax.axhline(100 * a.target, color="k", ls="--", lw=0.8, label=f"target {100 * a.target:.0f} %")
+    ax.set_xticks(x, [f"{i + 1}: {a.frequency_hz[i]:.2f} Hz\n{a.dominant[i].split('.', 1)[-1]}" for i in range(k)],
+                  fontsize=8)
+    ax.set_ylim(0, 105)
+    ax.set_xlabel("mode after: frequency, dominant coordinate")
+    ax.set_ylabel(f"purity [%] ({a.frame_name} frame)")
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.0, 1.0), frameon=False)
     return fig
