@@ -11,6 +11,7 @@ from .montecarlo import MonteCarlo, monte_carlo
 from .optimise import Optimisation, optimise
 from .parameters import Parameter
 from .sensitivity import Sensitivity, sensitivity
+from .study import study
 
-__all__ = ["Optimisation", "optimise", "MonteCarlo", "monte_carlo", "Parameter", "Sensitivity", "sensitivity", "Certificate", "certificate", "ElasticAxes", "TorqueResponse", "elastic_axes", "principal_axes", "torque_response",
+__all__ = ["study", "Optimisation", "optimise", "MonteCarlo", "monte_carlo", "Parameter", "Sensitivity", "sensitivity", "Certificate", "certificate", "ElasticAxes", "TorqueResponse", "elastic_axes", "principal_axes", "torque_response",
            "torque_roll_axis"]
