@@ -9,6 +9,9 @@ with exact gradients against finite-difference gradients — same run, same mach
 - **Optimisation** (when ``vibss.design.optimise`` is present): the powertrain's purity objective
   over 12+ design variables by SLSQP with the exact gradients, and again with finite-difference
   gradients (scipy's 2-point differences on the same objective); wall time, evaluations, result.
+- **Study runner on Dask**: ``vibss.study`` of 10,000 variants (``modes``) in-process and on a
+  2-worker ``LocalCluster``; the Dask overhead per variant from the same study with an analysis that
+  does nothing.
 
 Run: ``python benchmarks/bench_design.py [--quick]``; writes ``benchmarks/results/design.json``.
 """
@@ -87,15 +90,73 @@ def bench_optimise(quick: bool) -> dict | None:
     return res
 
 
+def _nothing(model: vibss.Model) -> float:
+    return 0.0
+
+
+def bench_dask(n: int) -> dict | None:
+    try:
+        import distributed
+    except ImportError:
+        return None
+    model = vibss.load_example("powertrain")
+    table = {"engine.k3": np.linspace(2e5, 3e5, n)}
+    t0 = time.perf_counter()
+    local = vibss.study(model, "modes", table=table)
+    t_local = time.perf_counter() - t0
+    out = {"variants": n, "in_process_s": t_local}
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, dashboard_address=None) as cluster, \
+            distributed.Client(cluster) as client:
+        t0 = time.perf_counter()
+        remote = vibss.study(model, "modes", table=table, client=client)
+        out["dask_2_workers_s"] = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        vibss.study(model, _nothing, table=table, client=client)
+        out["dask_trivial_analysis_s"] = time.perf_counter() - t0
+    out["same_table"] = bool(local.equals(remote))
+    out["overhead_per_variant_us"] = 1e6 * out["dask_trivial_analysis_s"] / n
+    out["speedup_2_workers"] = t_local / out["dask_2_workers_s"]
+    print(f"study of {n} variants (modes): in-process {t_local:.1f} s, Dask LocalCluster(2) "
+          f"{out['dask_2_workers_s']:.1f} s (x{out['speedup_2_workers']:.2f}); Dask overhead "
+          f"{out['overhead_per_variant_us']:.0f} us/variant (trivial analysis); same table: {out['same_table']}")
+    return out
+
+
+def figures() -> None:
+    """The figures of docs/analyses/design.md."""
+    from machine import stamp
+    from vibss.design.optimise import benchmark_case, optimise
+    from vibss.design import certificate, sensitivity
+
+    folder = Path(__file__).parents[1] / "docs" / "figures"
+    pt = vibss.load_example("powertrain")
+    win = (5.0, 26.7 / np.sqrt(2))
+    certificate(pt, purity=0.9, windows=win, frame="tra").plot().savefig(folder / "design_certificate.png", dpi=110)
+    sens = sensitivity(pt, ["engine.k3", "gearbox.k3", "torque-strut.k1", "engine.z", "engine.rx"], frame="tra")
+    sens.plot(quantity="purity").savefig(folder / "design_sensitivity.png", dpi=110)
+    model, variables, options = benchmark_case()
+    opt = optimise(model, variables, **options)
+    opt.plot().savefig(folder / "design_optimisation.png", dpi=110)
+    tol = {f"{m.name}.k{j}": 0.15 for m in opt.model.mounts for j in (1, 2, 3)}
+    mc = monte_carlo(opt.model, tol, n=20_000, sampling="lhs", purity=0.9, windows=win, frame="tra")
+    fig = mc.plot()
+    stamp(fig)
+    fig.savefig(folder / "design_monte_carlo.png", dpi=110)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--quick", action="store_true")
     args = ap.parse_args()
     n, loop = (20_000, 100) if args.quick else (100_000, 500)
+    figures()
     out = {"machine": machine(), "quick": args.quick, "monte_carlo": bench_monte_carlo(n, loop)}
     opt = bench_optimise(args.quick)
     if opt is not None:
         out["optimise"] = opt
+    dk = bench_dask(2_000 if args.quick else 10_000)
+    if dk is not None:
+        out["dask"] = dk
     RESULTS.mkdir(exist_ok=True)
     (RESULTS / "design.json").write_text(json.dumps(out, indent=1, default=float))
 

@@ -19,7 +19,6 @@ from dataclasses import dataclass
 from typing import Any, ClassVar
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 from scipy.stats import norm, qmc
 
 from .._validate import choice, integer, number
@@ -81,21 +80,24 @@ def batch_modes(model: Model, parameters: tuple[Parameter, ...], values: np.ndar
             else:
                 angle[:, q, _ANGLE.index(kind)] += factor * values[:, i]
     t0 = np.array([m.orientation.matrix for m in model.mounts])                 # (nm, 3, 3)
-    if np.any(angle):
-        rot = Rotation.from_euler("XYZ", angle.reshape(-1, 3)).as_matrix().reshape(nv, nm, 3, 3)
-        t = rot @ t0[None]
-    else:
-        t = np.broadcast_to(t0, (nv, nm, 3, 3))
+    t = np.broadcast_to(t0, (nv, nm, 3, 3)).copy()
+    turned = np.flatnonzero(np.any(angle != 0, axis=(0, 2)))                       # mounts with angles
+    if turned.size:
+        t[:, turned] = _rxryrz(angle[:, turned]) @ t0[turned]
     kp = np.einsum("vpij,vpj,vpkj->vpik", t, rates, t)
     lb = point_transfer(a.r_b[None] + shift)                                      # (nv, nm, 3, 6)
     la = point_transfer(a.r_a[None] + shift)
     K = np.zeros((nv, n + 6, n + 6))
     for q in range(nm):                                                           # mounts, not variants
         sb = slice(6 * a.b_index[q], 6 * a.b_index[q] + 6)
-        sa = slice(6 * a.a_index[q], 6 * a.a_index[q] + 6)
-        kb, ka = kp[:, q] @ lb[:, q], kp[:, q] @ la[:, q]
-        lbt, lat = lb[:, q].transpose(0, 2, 1), la[:, q].transpose(0, 2, 1)
+        kb = kp[:, q] @ lb[:, q]
+        lbt = lb[:, q].transpose(0, 2, 1)
         K[:, sb, sb] += lbt @ kb
+        if a.a_index[q] == nb:                   # to ground: the ground blocks are dropped below
+            continue
+        sa = slice(6 * a.a_index[q], 6 * a.a_index[q] + 6)
+        ka = kp[:, q] @ la[:, q]
+        lat = la[:, q].transpose(0, 2, 1)
         K[:, sa, sa] += lat @ ka
         K[:, sb, sa] -= lbt @ ka
         K[:, sa, sb] -= lat @ kb
@@ -115,6 +117,21 @@ def batch_modes(model: Model, parameters: tuple[Parameter, ...], values: np.ndar
     num = (pr * mp).transpose(0, 2, 1)
     ke = num / num.sum(axis=2, keepdims=True)
     return np.sqrt(np.maximum(w2, 0.0)) / (2 * np.pi), phi, ke
+
+
+def _rxryrz(angle: np.ndarray) -> np.ndarray:
+    """``R_x(a) R_y(b) R_z(c)`` of (..., 3) angles [rad] as (..., 3, 3) (scipy's intrinsic "XYZ")."""
+    ca, cb, cc = np.cos(angle[..., 0]), np.cos(angle[..., 1]), np.cos(angle[..., 2])
+    sa, sb, sc = np.sin(angle[..., 0]), np.sin(angle[..., 1]), np.sin(angle[..., 2])
+    out = np.empty(angle.shape[:-1] + (3, 3))
+    out[..., 0, 0], out[..., 0, 1], out[..., 0, 2] = cb * cc, -cb * sc, sb
+    out[..., 1, 0] = ca * sc + sa * sb * cc
+    out[..., 1, 1] = ca * cc - sa * sb * sc
+    out[..., 1, 2] = -sa * cb
+    out[..., 2, 0] = sa * sc - ca * sb * cc
+    out[..., 2, 1] = sa * cc + ca * sb * sc
+    out[..., 2, 2] = ca * cb
+    return out
 
 
 @dataclass(frozen=True, eq=False)

@@ -193,7 +193,8 @@ def study(model: Model, analysis: Any = "modes", *, grid: Mapping[Any, Sequence[
             workers = max(1, len(cl.scheduler_info().get("workers", {})))
             size = integer(chunk, "chunk", who="study") if chunk else max(1, -(-total // (8 * workers)))
             chunks = [rows[s:s + size] for s in range(0, total, size)]
-            [m_fut] = cl.scatter([model], broadcast=True)
+            # a key of its own: a second study of the same model must not share (and lose) it
+            [m_fut] = cl.scatter([model], broadcast=True, hash=False)
             futures = [cl.submit(_run_chunk, m_fut, params, build, analysis, c, pure=False) for c in chunks]
             index = {f.key: i for i, f in enumerate(futures)}
             parts: list[list[dict[str, Any]] | None] = [None] * len(futures)
