@@ -124,7 +124,6 @@ def bench_dask(n: int) -> dict | None:
 
 def figures() -> None:
     """The figures of docs/analyses/design.md."""
-    from machine import stamp
     from vibss.design.optimise import benchmark_case, optimise
     from vibss.design import certificate, sensitivity
 
@@ -139,9 +138,7 @@ def figures() -> None:
     opt.plot().savefig(folder / "design_optimisation.png", dpi=110)
     tol = {f"{m.name}.k{j}": 0.15 for m in opt.model.mounts for j in (1, 2, 3)}
     mc = monte_carlo(opt.model, tol, n=20_000, sampling="lhs", purity=0.9, windows=win, frame="tra")
-    fig = mc.plot()
-    stamp(fig)
-    fig.savefig(folder / "design_monte_carlo.png", dpi=110)
+    mc.plot().savefig(folder / "design_monte_carlo.png", dpi=110)
 
 
 def main() -> None:

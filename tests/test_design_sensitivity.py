@@ -86,7 +86,7 @@ def test_protocol_and_lookups(powertrain):
     assert s["f2", "engine.z"] == s.d_frequency[1, 1]
     assert list(s.to_pandas().index) == ["engine.k3", "engine.z"]
     assert "Exact sensitivities" in s.report()
-    assert s.plot().axes[0].get_xlabel().startswith("normalised")
+    assert s.plot().axes[0].get_xlabel().startswith("change of frequency")
     assert s.to_json()
 
 

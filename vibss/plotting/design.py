@@ -59,7 +59,7 @@ def plot_certificate(cert: Any, ax: Any = None) -> Figure:
 
 
 def plot_sensitivity(sens: Any, quantity: str = "frequency", ax: Any = None) -> Figure:
-    """Tornado of normalised sensitivities ``(p / y) dy/dp`` of each mode's frequency or purity.
+    """Tornado of each mode's frequency or purity change [%] per 1 % rate, 1 mm shift, 1 degree turn.
 
     Parameters
     ----------
@@ -83,7 +83,7 @@ def plot_sensitivity(sens: Any, quantity: str = "frequency", ax: Any = None) -> 
         ax.barh(y + (i - (k - 1) / 2) * h, d[i], height=h, label=f"mode {i + 1}")
     ax.set_yticks(y, list(sens.parameters), fontsize=8)
     ax.axvline(0.0, color="k", lw=0.6)
-    ax.set_xlabel(f"normalised sensitivity (p / {quantity}) d{quantity}/dp [-]")
+    ax.set_xlabel(f"change of {quantity} [% of its value] per 1 % rate, 1 mm shift, 1 deg turn")
     ax.set_ylabel("parameter")
     ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.0, 1.0), frameon=False)
     ax.invert_yaxis()
@@ -122,7 +122,7 @@ def plot_monte_carlo(mc: Any, ax: Any = None) -> Figure:
     ax.legend(fontsize=7, frameon=False)
     ax.set_title(f"{len(f)} variants ({mc.sampling})", fontsize=10)
     if ax2 is not None:
-        pb = np.linspace(0, 100, 51)
+        pb = np.linspace(np.floor(100 * mc.purity.min() / 5) * 5, 100, 41)
         for i in range(f.shape[1]):
             ax2.hist(100 * mc.purity[:, i], bins=pb, histtype="step", label=f"mode {i + 1}")
         ax2.axvline(100 * mc.target, color="k", ls="--", lw=0.8)
