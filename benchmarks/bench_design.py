@@ -130,6 +130,9 @@ def figures() -> None:
     folder = Path(__file__).parents[1] / "docs" / "figures"
     pt = vibss.load_example("powertrain")
     win = (5.0, 26.7 / np.sqrt(2))
+    from vibss.plotting.design import plot_design_axes
+
+    plot_design_axes(pt).savefig(folder / "design_axes.png", dpi=100)
     certificate(pt, purity=0.9, windows=win, frame="tra").plot().savefig(folder / "design_certificate.png", dpi=110)
     sens = sensitivity(pt, ["engine.k3", "gearbox.k3", "torque-strut.k1", "engine.z", "engine.rx"], frame="tra")
     sens.plot(quantity="purity").savefig(folder / "design_sensitivity.png", dpi=110)

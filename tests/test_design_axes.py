@@ -101,3 +101,12 @@ def test_refusals():
     one = vibss.Model([vibss.Body("b", 1.0, [1, 1, 1])], [vibss.Mount("m", vibss.MountType("t", [1, 1, 1]), "b")])
     with pytest.raises(AnalysisError, match="singular"):
         elastic_axes(one)
+
+
+def test_axes_drawn_on_the_layout():
+    from vibss.plotting.design import plot_design_axes
+
+    fig = plot_design_axes(vibss.load_example("powertrain"))
+    labels = [t.get_text() for t in fig.legends[-1].get_texts()]
+    assert "torque-roll axis" in labels and "static rotation under torque" in labels
+    assert "no elastic centre" in fig._suptitle.get_text()

@@ -9,7 +9,7 @@ from matplotlib.figure import Figure
 
 from ._draw import new_figure
 
-__all__ = ["plot_certificate", "plot_sensitivity", "plot_monte_carlo", "plot_optimisation"]
+__all__ = ["plot_certificate", "plot_sensitivity", "plot_monte_carlo", "plot_optimisation", "plot_design_axes"]
 
 
 def _axes(ax: Any, width: float, height: float) -> tuple[Figure, Any]:
@@ -160,4 +160,66 @@ def plot_optimisation(opt: Any, ax: Any = None) -> Figure:
     ax.set_xlabel("mode after: frequency, dominant coordinate")
     ax.set_ylabel(f"purity [%] ({a.frame_name} frame)")
     ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.0, 1.0), frameon=False)
+    return fig
+
+
+def plot_design_axes(model: Any, body: str | None = None, axis: Any = "x", view: str = "three",
+                     length: float | None = None) -> Figure:
+    """The layout (:func:`vibss.plotting.plot_model`) with the torque-roll axis, the static rotation
+    axis under a torque about ``axis``, the elastic centre and its axes, and the principal axes of
+    inertia drawn through the body.
+
+    Parameters
+    ----------
+    model : Model
+        The model.
+    body : str or None
+        The body (None: the only body).
+    axis : {"x", "y", "z"} or (3,) array_like
+        Crank axis [-].
+    view : {"three", "iso", "xz", "yz", "xy"}
+        As :func:`vibss.plotting.plot_model`.
+    length : float or None
+        Half-length of the drawn axes [m]; default: half the largest mount distance from the COG.
+
+    Returns
+    -------
+    Figure
+    """
+    from ..design import elastic_axes, principal_axes, torque_response
+    from .layout import plot_model
+
+    fig = plot_model(model, view=view, labels=False)
+    tr = torque_response(model, body, axis)
+    ea = elastic_axes(model, body)
+    _, pa = principal_axes(model, body)
+    b = model.body(tr.body)
+    if length is None:
+        pts = np.array([model.mount_point(m) for m in model.mounts if m.body == b.name]) - b.cog
+        length = 0.5 * float(np.max(np.linalg.norm(pts, axis=1))) if len(pts) else 0.5
+    lines = [(b.cog, tr.tra, "k", "--", "torque-roll axis"),
+             (b.cog, tr.rotation_axis, "tab:orange", "-", "static rotation under torque")]
+    lines += [(b.cog, pa[:, j], "0.55", ":", "principal axes of inertia" if j == 0 else None) for j in range(3)]
+    lines += [(ea.centre_global, ea.axes[:, j], "tab:purple", "-.",
+               ("elastic axes" if ea.exists else "rotational axes at the least-squares centre") if j == 0 else None)
+              for j in range(3)]
+    views = ["xz", "yz", "xy"] if view == "three" else [view]
+    for ax, v in zip(fig.axes, views):
+        for p, d, colour, style, label in lines:
+            seg = np.array([p - length * d, p + length * d])
+            if v == "iso":
+                ax.plot(seg[:, 0], seg[:, 1], seg[:, 2], color=colour, ls=style, lw=1.4, label=label)
+            else:
+                i0, i1 = {"xz": (0, 2), "yz": (1, 2), "xy": (0, 1)}[v]
+                ax.plot(seg[:, i0], seg[:, i1], color=colour, ls=style, lw=1.4, label=label)
+        c = ea.centre_global
+        if v == "iso":
+            ax.scatter(*c, color="tab:purple", marker="x", s=40)
+        else:
+            i0, i1 = {"xz": (0, 2), "yz": (1, 2), "xy": (0, 1)}[v]
+            ax.plot(c[i0], c[i1], "x", color="tab:purple", ms=7)
+    handles, names = fig.axes[0].get_legend_handles_labels()
+    fig.legend(handles, names, loc="outside right upper", fontsize=8, frameon=False)
+    fig.suptitle(f"TRA {np.degrees(tr.misalignment):.1f} deg from the static rotation axis; "
+                 f"{'elastic centre exists' if ea.exists else 'no elastic centre'}", fontsize=10, x=0.4)
     return fig
