@@ -3,6 +3,7 @@ sag against vibss.static, windows and the protocol."""
 
 from __future__ import annotations
 
+import dataclasses
 import json
 
 import numpy as np
@@ -83,3 +84,39 @@ def test_windows_by_direction_and_by_mode(powertrain):
 def test_plot(powertrain):
     fig = certificate(powertrain, frame="tra").plot()
     assert "kinetic energy" in fig.axes[-1].get_ylabel()
+
+
+def _state_space_fractions(model):
+    """KE fractions of the complex modes from scipy's eig of the first-order system (independent)."""
+    a = vibss.assemble(model)
+    M, K, C = (np.asarray(x) for x in (a.M, a.K, a.C))
+    n = len(M)
+    A = np.block([[np.zeros((n, n)), np.eye(n)], [-np.linalg.solve(M, K), -np.linalg.solve(M, C)]])
+    lam, V = np.linalg.eig(A)
+    keep = lam.imag > 0
+    lam, psi = lam[keep], V[:n, keep]
+    order = np.argsort(np.abs(lam))
+    lam, psi = lam[order], psi[:, order]
+    num = (psi.conj() * (M @ psi)).real.T
+    return np.abs(lam) / 2 / np.pi, num / num.sum(axis=1, keepdims=True)
+
+
+def test_damped_fractions_against_the_state_space_eigenvectors():
+    pt = vibss.load_example("powertrain")
+    strut = pt.mounts[-1]
+    heavy = vibss.MountType("heavy-strut", strut.type.stiffness, damping=[2000.0, 50.0, 50.0])
+    model = pt.replace(mounts=list(pt.mounts[:-1]) + [dataclasses.replace(strut, type=heavy)])
+    cert = certificate(model, damped=True)
+    f, fr = _state_space_fractions(model)
+    # damped modes sorted by |pole| pair with the undamped modes in order here
+    np.testing.assert_allclose(cert.ke_matrix_damped, fr, atol=1e-9)
+    assert np.abs(cert.ke_matrix_damped - cert.ke_matrix).max() > 0.01      # non-proportional: differs
+    assert "damped purity" in cert.summary().render()
+
+
+def test_classical_damping_leaves_the_fractions_unchanged():
+    t = vibss.MountType("t", [1e5, 2e5, 3e5], damping=[1e2, 2e2, 3e2])       # C = 1e-3 K
+    body = vibss.Body("b", 50.0, [[2.0, 0.2, 0.1], [0.2, 3.0, -0.3], [0.1, -0.3, 4.0]])
+    model = vibss.Model([body], vibss.symmetric(vibss.Mount("m", t, "b", at=[0.3, 0.2, -0.1])))
+    cert = certificate(model, damped=True)
+    np.testing.assert_allclose(cert.ke_matrix_damped, cert.ke_matrix, atol=1e-10)

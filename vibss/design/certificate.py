@@ -29,6 +29,7 @@ import numpy as np
 from .._validate import array, number
 from ..errors import AnalysisError, ArgumentError
 from ..linear.assemble import assemble
+from ..modal.damped import damped_modes
 from ..modal.undamped import modes as undamped_modes
 from ..model.model import DOF_NAMES, Model
 from ..results import Result, Table, jsonable, require_pandas
@@ -112,6 +113,12 @@ class Certificate(Result):
         Static displacement under the drive torque [m, rad].
     torque : (3,) ndarray
         The drive torque [N m].
+    ke_matrix_damped : (k, n) ndarray or None
+        With ``damped=True`` and viscous damping: the same fractions of the complex (damped) modes,
+        ``Re(conj(psi_j) (M psi)_j) / Re(psi^H M psi)``, in the undamped modes' order (NaN where no
+        damped mode pairs with an undamped one) [-].
+    damping_ratio : (k,) ndarray or None
+        Damping ratio of each damped mode [-].
     method : str
         ``"dense"``: undamped modes from the one eigen path.
     note : str
@@ -134,6 +141,8 @@ class Certificate(Result):
     sag_weight: np.ndarray
     sag_torque: np.ndarray
     torque: np.ndarray
+    ke_matrix_damped: np.ndarray | None = None
+    damping_ratio: np.ndarray | None = None
     method: str = "dense"
     note: str = ""
 
@@ -149,6 +158,11 @@ class Certificate(Result):
 
     def _item(self, i: int, j: int | None) -> np.ndarray:
         return self.ke_matrix[:, i]
+
+    @property
+    def purity_damped(self) -> np.ndarray | None:
+        """(k,) purity of the damped modes (None without ``damped=True``)."""
+        return None if self.ke_matrix_damped is None else np.max(self.ke_matrix_damped, axis=1)
 
     @property
     def pure(self) -> np.ndarray:
@@ -177,9 +191,12 @@ class Certificate(Result):
             win = "-" if lo == 0 and not np.isfinite(hi) else f"{lo:.3g} ... {hi:.3g}"
             rows.append([f"{k + 1}", f"{self.frequency_hz[k]:.3f}", win,
                          "yes" if self.in_window[k] else "NO", self.dominant[k],
-                         f"{100 * self.purity[k]:.1f}", "yes" if self.pure[k] else "NO"])
+                         f"{100 * self.purity[k]:.1f}", "yes" if self.pure[k] else "NO"]
+                        + ([] if self.damping_ratio is None else
+                           [f"{100 * self.purity_damped[k]:.1f}", f"{100 * self.damping_ratio[k]:.2f}"]))
+        damped = [] if self.damping_ratio is None else ["damped purity [%]", "zeta [%]"]
         return Table(["mode", "f [Hz]", "window [Hz]", "in window", "dominant", "purity [%]",
-                      f">= {100 * self.target:.0f} %"], rows,
+                      f">= {100 * self.target:.0f} %"] + damped, rows,
                      title=f"Decoupling certificate ({self.frame_name} frame)")
 
     def ke_table(self) -> Table:
@@ -213,7 +230,8 @@ class Certificate(Result):
             "dominant": list(self.dominant), "target": self.target, "pure": self.pure,
             "windows_hz": self.windows, "in_window": self.in_window, "passed": self.passed,
             "sag_weight": self.sag_weight, "sag_torque": self.sag_torque, "torque": self.torque,
-            "method": self.method, "note": self.note})
+            "ke_matrix_damped": self.ke_matrix_damped, "purity_damped": self.purity_damped,
+            "damping_ratio": self.damping_ratio, "method": self.method, "note": self.note})
 
     def to_pandas(self) -> Any:
         """DataFrame: one row per mode (frequency, window, purity, verdicts, KE fractions)."""
@@ -221,6 +239,9 @@ class Certificate(Result):
         df = pd.DataFrame({"frequency_hz": self.frequency_hz, "f_low_hz": self.windows[:, 0],
                            "f_high_hz": self.windows[:, 1], "in_window": self.in_window,
                            "dominant": list(self.dominant), "purity": self.purity, "pure": self.pure})
+        if self.damping_ratio is not None:
+            df["purity_damped"] = self.purity_damped
+            df["damping_ratio"] = self.damping_ratio
         for j, c in enumerate(self.coordinates):
             df[f"ke_{c}"] = self.ke_matrix[:, j]
         df.index = pd.RangeIndex(1, len(df) + 1, name="mode")
@@ -246,7 +267,8 @@ class Certificate(Result):
 
 
 def certificate(model: Model, body: str | None = None, *, purity: float = 0.9, windows: Any = None,
-                frame: Any = "global", axis: Any = "x", torque: float = 1.0) -> Certificate:
+                frame: Any = "global", axis: Any = "x", torque: float = 1.0,
+                damped: bool = False) -> Certificate:
     """Decoupling certificate of a mount layout.
 
     Parameters
@@ -268,6 +290,9 @@ def certificate(model: Model, body: str | None = None, *, purity: float = 0.9, w
         Crank axis: the drive torque's axis and the TRA's [-].
     torque : float
         Drive torque for the sag under torque [N m].
+    damped : bool
+        Also split the energy of the complex (damped) modes, for non-proportional viscous damping
+        (:func:`vibss.damped_modes`); ignored for an undamped model.
 
     Returns
     -------
@@ -304,9 +329,23 @@ def certificate(model: Model, body: str | None = None, *, purity: float = 0.9, w
     drive = np.zeros(a.n)
     drive[6 * i + 3:6 * i + 6] = float(torque) * e
     sag = np.linalg.solve(K, np.column_stack([weight, drive]))
+    ke_damped = zeta = None
+    if damped and a.has_damping:
+        dm = damped_modes(a, undamped=md)
+        osc = np.flatnonzero(dm.poles.imag > 0)
+        psi = R.T @ dm.shapes[:, osc]
+        mp = (R.T @ M @ R) @ psi
+        num = (psi.conj() * mp).real.T
+        fr = num / num.sum(axis=1, keepdims=True)
+        ke_damped = np.full_like(E, np.nan)
+        zeta = np.full(len(E), np.nan)
+        for row, k in zip(fr, dm.paired[osc]):
+            ke_damped[k] = row
+        zeta[dm.paired[osc]] = dm.damping_ratio[osc]
     note = (f"gravity {np.round(g, 5).tolist()} m/s^2 ({'the model' if model.gravity is not None else 'standard, the model has none'}); "
             f"KE fractions in the {frame_name} frame")
     return Certificate(model=model, body=name, coordinates=coords, frame=axes, frame_name=frame_name,
                        frequency_hz=md.frequency_hz.copy(), ke_matrix=E, purity=E.max(axis=1),
                        dominant=dominant, target=target, windows=win, sag_weight=sag[:, 0],
-                       sag_torque=sag[:, 1], torque=float(torque) * e, note=note)
+                       sag_torque=sag[:, 1], torque=float(torque) * e, ke_matrix_damped=ke_damped,
+                       damping_ratio=zeta, note=note)
