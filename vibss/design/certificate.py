@@ -192,7 +192,7 @@ class Certificate(Result):
             rows.append([f"{k + 1}", f"{self.frequency_hz[k]:.3f}", win,
                          "yes" if self.in_window[k] else "NO", self.dominant[k],
                          f"{100 * self.purity[k]:.1f}", "yes" if self.pure[k] else "NO"]
-                        + ([] if self.damping_ratio is None else
+                        + ([] if self.damping_ratio is None or self.purity_damped is None else
                            [f"{100 * self.purity_damped[k]:.1f}", f"{100 * self.damping_ratio[k]:.2f}"]))
         damped = [] if self.damping_ratio is None else ["damped purity [%]", "zeta [%]"]
         return Table(["mode", "f [Hz]", "window [Hz]", "in window", "dominant", "purity [%]",

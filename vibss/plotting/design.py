@@ -197,8 +197,9 @@ def plot_design_axes(model: Any, body: str | None = None, axis: Any = "x", view:
     if length is None:
         pts = np.array([model.mount_point(m) for m in model.mounts if m.body == b.name]) - b.cog
         length = 0.5 * float(np.max(np.linalg.norm(pts, axis=1))) if len(pts) else 0.5
-    lines = [(b.cog, tr.tra, "k", "--", "torque-roll axis"),
-             (b.cog, tr.rotation_axis, "tab:orange", "-", "static rotation under torque")]
+    lines: list[tuple[np.ndarray, np.ndarray, str, str, str | None]] = [
+        (b.cog, tr.tra, "k", "--", "torque-roll axis"),
+        (b.cog, tr.rotation_axis, "tab:orange", "-", "static rotation under torque")]
     lines += [(b.cog, pa[:, j], "0.55", ":", "principal axes of inertia" if j == 0 else None) for j in range(3)]
     lines += [(ea.centre_global, ea.axes[:, j], "tab:purple", "-.",
                ("elastic axes" if ea.exists else "rotational axes at the least-squares centre") if j == 0 else None)
@@ -214,7 +215,7 @@ def plot_design_axes(model: Any, body: str | None = None, axis: Any = "x", view:
                 ax.plot(seg[:, i0], seg[:, i1], color=colour, ls=style, lw=1.4, label=label)
         c = ea.centre_global
         if v == "iso":
-            ax.scatter(*c, color="tab:purple", marker="x", s=40)
+            ax.scatter(c[0], c[1], c[2], color="tab:purple", marker="x")
         else:
             i0, i1 = {"xz": (0, 2), "yz": (1, 2), "xy": (0, 1)}[v]
             ax.plot(c[i0], c[i1], "x", color="tab:purple", ms=7)
