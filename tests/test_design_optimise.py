@@ -73,3 +73,11 @@ def test_bad_bounds_are_refused():
         optimise(pt, {"engine.k3": (0.0, 1e5)})
     with pytest.raises(ArgumentError, match="method"):
         optimise(pt, {"engine.k3": (1e5, 2e5)}, method="nelder")
+
+
+def test_global_option_finds_the_known_optimum_from_the_far_corner():
+    model, height = tilted_layout()
+    opt = optimise(model, {height: (-0.2, 0.2)}, modes=["rx"], frame="tra", axis=Q[:, 0], method="global",
+                   maxiter=20)
+    assert opt.method.startswith("differential evolution")
+    assert opt.x[0] == pytest.approx(-Z0, abs=1e-5)

@@ -33,7 +33,7 @@ from .sensitivity import Sensitivity, evaluate
 
 __all__ = ["Optimisation", "optimise", "METHODS", "GRADIENTS", "benchmark_case"]
 
-METHODS = ("SLSQP", "trust-constr")
+METHODS = ("SLSQP", "trust-constr", "global")
 GRADIENTS = ("exact", "finite-difference")
 
 
@@ -222,8 +222,10 @@ def optimise(model: Model, variables: Mapping[Any, Any], *, modes: Any = None, p
         Crank axis (for ``frame="tra"``).
     body : str or None
         Body whose inertia defines the frame (None: the only or first body).
-    method : {"SLSQP", "trust-constr"}
-        scipy optimiser.
+    method : {"SLSQP", "trust-constr", "global"}
+        scipy optimiser; ``"global"``: :func:`scipy.optimize.differential_evolution` on the
+        objective with a quadratic penalty for the constraints (seeded, ``15 x p`` members, the
+        given layout among them), then SLSQP with the exact gradients from its best point.
     gradient : {"exact", "finite-difference"}
         Exact gradients, or scipy's finite differences (for comparison).
     starts : int
@@ -303,6 +305,12 @@ def optimise(model: Model, variables: Mapping[Any, Any], *, modes: Any = None, p
     exact = gradient == "exact"
     constraints = [{"type": "ineq", "fun": f, **({"jac": j} if exact else {})} for f, j in zip(cons_f, cons_j)]
     z_start = [np.clip((x0 - lo) / span, 0.0, 1.0)]
+    if method == "global":
+        z_start = [_differential_evolution(fun, cons_f, z_start[0], seed, maxiter)]
+        method = "SLSQP"
+        label = "differential evolution + SLSQP"
+    else:
+        label = method
     if starts > 1:
         z_start += list(qmc.LatinHypercube(len(params), seed=seed).random(starts - 1))
     best = None
@@ -333,8 +341,27 @@ def optimise(model: Model, variables: Mapping[Any, Any], *, modes: Any = None, p
                         units=tuple(p.unit for p in params), bounds=bounds, x0=x0, x=x,
                         objective=-float(r.fun), before=before, after=after,
                         success=bool(r.success) and feasible, message=str(r.message),
-                        evaluations=count[0], starts=len(z_start), method=f"{method}, {gradient} gradients",
+                        evaluations=count[0], starts=len(z_start), method=f"{label}, {gradient} gradients",
                         note=f"maximised the mean purity of modes {items or 'all'} in the {before.frame_name} frame")
+
+
+def _differential_evolution(fun: Any, cons: list[Any], z0: np.ndarray, seed: int | None,
+                            maxiter: int) -> np.ndarray:
+    """Best point of a penalised differential evolution on the unit box (modes that repeat or a
+    layout that fails count as bad points)."""
+    def penalised(z: np.ndarray) -> float:
+        try:
+            g = np.concatenate([np.atleast_1d(c(z)) for c in cons]) if cons else np.zeros(0)
+            return fun(z) + 1e3 * float(np.sum(np.minimum(g, 0.0) ** 2))
+        except VibssError:
+            return 1e6
+
+    p = len(z0)
+    rng = np.random.default_rng(seed)
+    init = np.vstack([z0, rng.random((15 * p - 1, p))])
+    r = so.differential_evolution(penalised, [(0.0, 1.0)] * p, init=init, seed=seed, polish=False,
+                                  maxiter=maxiter, tol=1e-8)
+    return np.asarray(r.x)
 
 
 def benchmark_case() -> tuple[Model, dict[Any, tuple[float, float]], dict[str, Any]]:
