@@ -105,3 +105,18 @@ def test_bad_parameters(powertrain):
         sensitivity(powertrain, ["engine.k4"])
     with pytest.raises(ArgumentError, match="mix units"):
         Parameter("p", [("engine", "k3", 1.0), ("engine", "z", 1.0)])
+
+
+def test_body_to_body_mounts_against_central_differences():
+    """two_mass: the upper mounts join two bodies (lever arms on both ends); symmetry broken first."""
+    m = vibss.load_example("two_mass")
+    m = apply(m, parameters_of(m, ["upper.z", "lower.x", "upper.x", "lower.k1"]), [0.013, 0.02, -0.017, 18000.0])
+    params = parameters_of(m, ["upper.k1", "upper.yz.k3", "upper.z", "lower.x", "upper.x"])
+    v0 = current_values(m, params)
+    sens = evaluate(m, params, v0)
+    for j, p in enumerate(params):
+        h = 1e-5 * v0[j] if p.is_rate else 1e-5
+        up, down = (vibss.modes(apply(m, params, v0 + s * h * np.eye(len(v0))[j])) for s in (1, -1))
+        _check(sens.d_frequency[:, j], (up.frequency_hz - down.frequency_hz) / (2 * h), f"{p.name}: frequency")
+        _check(sens.d_shapes[:, :, j], (up.shapes - down.shapes) / (2 * h), f"{p.name}: shapes")
+        _check(sens.d_ke[:, :, j], (up.energy - down.energy) / (2 * h), f"{p.name}: KE")
