@@ -81,3 +81,21 @@ def test_global_option_finds_the_known_optimum_from_the_far_corner():
                    maxiter=20)
     assert opt.method.startswith("differential evolution")
     assert opt.x[0] == pytest.approx(-Z0, abs=1e-5)
+
+
+def test_catalogue_rates_are_catalogue_values_and_the_rest_is_reoptimised():
+    from vibss.design.parameters import apply, parameters_of
+
+    pt = vibss.load_example("powertrain")
+    var = {"torque-strut.k1": (5e4, 2e5), "gearbox.k3": (7.5e4, 3e5), "gearbox.z": (-0.03, 0.03)}
+    cat = {"torque-strut.k1": [6e4, 8e4, 1e5, 1.25e5, 1.5e5], "gearbox.k3": [1e5, 1.5e5, 2e5, 2.5e5, 3e5]}
+    free = optimise(pt, var, frame="tra", windows=(5.5, 18.0))
+    opt = optimise(pt, var, frame="tra", windows=(5.5, 18.0), catalogue=cat)
+    assert opt.x[0] in cat["torque-strut.k1"] and opt.x[1] in cat["gearbox.k3"]
+    assert opt.objective <= free.objective + 1e-9 and opt.success
+    # the same as fixing those rates by hand and optimising the free variable alone
+    fixed = apply(pt, parameters_of(pt, ["torque-strut.k1", "gearbox.k3"]), opt.x[:2])
+    alone = optimise(fixed, {"gearbox.z": (-0.03, 0.03)}, frame="tra", windows=(5.5, 18.0))
+    assert alone.objective == pytest.approx(opt.objective, abs=1e-6)
+    with pytest.raises(ArgumentError, match="not a design variable"):
+        optimise(pt, var, catalogue={"engine.k3": [1e5]})

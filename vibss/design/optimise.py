@@ -23,7 +23,7 @@ import scipy.optimize as so
 from scipy.stats import qmc
 
 from .._validate import array, choice, integer
-from ..errors import AnalysisError, ArgumentError, VibssError
+from ..errors import AnalysisError, ArgumentError, VibssError, did_you_mean
 from ..io.modelfile import dump_model
 from ..model.model import DOF_NAMES, Model
 from ..results import Result, Table, jsonable, require_pandas
@@ -196,7 +196,8 @@ def _chosen(items: Any, sens: Sensitivity) -> np.ndarray:
 def optimise(model: Model, variables: Mapping[Any, Any], *, modes: Any = None, purity: float | None = None,
              windows: Any = None, max_sag: float | None = None, frame: Any = "global", axis: Any = "x",
              body: str | None = None, method: str = "SLSQP", gradient: str = "exact", starts: int = 1,
-             seed: int | None = 0, maxiter: int = 200) -> Optimisation:
+             seed: int | None = 0, maxiter: int = 200,
+             catalogue: Mapping[Any, Any] | None = None) -> Optimisation:
     """Optimise a mount layout for decoupling within frequency windows, with exact gradients.
 
     Parameters
@@ -234,6 +235,10 @@ def optimise(model: Model, variables: Mapping[Any, Any], *, modes: Any = None, p
         Seed of the extra starting points.
     maxiter : int
         Iterations per start.
+    catalogue : mapping of str or Parameter to sequence of float, or None
+        Discrete choices for some variables (catalogue rates [N/m]): after the continuous optimum,
+        each takes the better of its two neighbouring catalogue values (greedily, one after the
+        other) and the remaining variables are optimised again.
 
     Returns
     -------
@@ -263,6 +268,20 @@ def optimise(model: Model, variables: Mapping[Any, Any], *, modes: Any = None, p
     starts = integer(starts, "starts", who=who)
     maxiter = integer(maxiter, "maxiter", who=who)
     x0 = current_values(model, params)
+    names = [p.name for p in params]
+    cat: dict[int, np.ndarray] = {}
+    for key, values in (catalogue or {}).items():
+        name = key.name if isinstance(key, Parameter) else str(key)
+        if name not in names:
+            raise ArgumentError(f"{who}: catalogue: {name!r} is not a design variable; variables are {names}"
+                                + did_you_mean(name, names), argument="catalogue", received=name)
+        i = names.index(name)
+        v = np.sort(array(values, f"catalogue[{name!r}]", (None,), who=who))
+        v = v[(v >= bounds[i, 0]) & (v <= bounds[i, 1])]
+        if not v.size:
+            raise ArgumentError(f"{who}: catalogue[{name!r}]: no value inside the bounds {bounds[i].tolist()}",
+                                argument="catalogue", received=values)
+        cat[i] = v
     before = certificate(model, body, purity=0.9 if purity is None else purity, windows=windows, frame=frame, axis=axis)
     k = len(before.frequency_hz)
     items = _select(modes, k)
@@ -313,26 +332,44 @@ def optimise(model: Model, variables: Mapping[Any, Any], *, modes: Any = None, p
         label = method
     if starts > 1:
         z_start += list(qmc.LatinHypercube(len(params), seed=seed).random(starts - 1))
-    best = None
-    for z in z_start:
-        try:
-            if method == "SLSQP":
-                r = so.minimize(fun, z, jac=jac if exact else "2-point", bounds=[(0.0, 1.0)] * len(params),
-                                constraints=constraints, method="SLSQP", options={"maxiter": maxiter, "ftol": 1e-10})
-            else:
-                nl = [so.NonlinearConstraint(f, 0.0, np.inf, jac=j if exact else "2-point")
-                      for f, j in zip(cons_f, cons_j)]
-                r = so.minimize(fun, z, jac=jac if exact else "2-point", bounds=so.Bounds(0.0, 1.0),
-                                constraints=nl, method="trust-constr", options={"maxiter": maxiter})
-        except VibssError:      # a start in a degenerate corner (repeated modes): try the next
-            continue
-        feasible = all(np.all(f(r.x) >= -1e-6) for f in cons_f)
-        score = (feasible, -r.fun)
-        if best is None or score > best[0]:
-            best = (score, r)
-    if best is None:
-        raise AnalysisError(f"{who}: every start failed (repeated frequencies or an unrestrained layout)",
-                            argument="variables")
+    def search(starts_z: list[np.ndarray], zb: list[tuple[float, float]]) -> Any:
+        best = None
+        for z in starts_z:
+            try:
+                if method == "SLSQP":
+                    r = so.minimize(fun, z, jac=jac if exact else "2-point", bounds=zb, constraints=constraints,
+                                    method="SLSQP", options={"maxiter": maxiter, "ftol": 1e-10})
+                else:
+                    nl = [so.NonlinearConstraint(f, 0.0, np.inf, jac=j if exact else "2-point")
+                          for f, j in zip(cons_f, cons_j)]
+                    r = so.minimize(fun, z, jac=jac if exact else "2-point", bounds=zb,
+                                    constraints=nl, method="trust-constr", options={"maxiter": maxiter})
+            except VibssError:      # a start in a degenerate corner (repeated modes): try the next
+                continue
+            feasible = all(np.all(f(r.x) >= -1e-6) for f in cons_f)
+            score = (feasible, -r.fun)
+            if best is None or score > best[0]:
+                best = (score, r)
+        if best is None:
+            raise AnalysisError(f"{who}: every start failed (repeated frequencies or an unrestrained layout)",
+                                argument="variables")
+        return best
+
+    best = search(z_start, [(0.0, 1.0)] * len(params))
+    if cat:
+        zc = np.clip(best[1].x, 0.0, 1.0)
+        for i, values in cat.items():      # greedy: the better catalogue neighbour, one at a time
+            vz = (values - lo[i]) / span[i]
+            below, above = vz[vz <= zc[i]], vz[vz >= zc[i]]
+            options = ([below.max()] if below.size else []) + ([above.min()] if above.size else [])
+            trial = []
+            for c in options:
+                z = zc.copy()
+                z[i] = c
+                trial.append(_penalised(fun, cons_f, z))
+            zc[i] = options[int(np.argmin(trial))]
+        best = search([zc], [(zc[i], zc[i]) if i in cat else (0.0, 1.0) for i in range(len(params))])
+        label += " with catalogue rates"
     (feasible, _), r = best
     x = lo + span * np.clip(r.x, 0.0, 1.0)
     optimum = apply(model, params, x)
@@ -345,16 +382,21 @@ def optimise(model: Model, variables: Mapping[Any, Any], *, modes: Any = None, p
                         note=f"maximised the mean purity of modes {items or 'all'} in the {before.frame_name} frame")
 
 
+def _penalised(fun: Any, cons: list[Any], z: np.ndarray) -> float:
+    """Objective plus a quadratic penalty of the violated constraints (1e6 where the layout fails)."""
+    try:
+        g = np.concatenate([np.atleast_1d(c(z)) for c in cons]) if cons else np.zeros(0)
+        return float(fun(z)) + 1e3 * float(np.sum(np.minimum(g, 0.0) ** 2))
+    except VibssError:
+        return 1e6
+
+
 def _differential_evolution(fun: Any, cons: list[Any], z0: np.ndarray, seed: int | None,
                             maxiter: int) -> np.ndarray:
     """Best point of a penalised differential evolution on the unit box (modes that repeat or a
     layout that fails count as bad points)."""
     def penalised(z: np.ndarray) -> float:
-        try:
-            g = np.concatenate([np.atleast_1d(c(z)) for c in cons]) if cons else np.zeros(0)
-            return fun(z) + 1e3 * float(np.sum(np.minimum(g, 0.0) ** 2))
-        except VibssError:
-            return 1e6
+        return _penalised(fun, cons, z)
 
     p = len(z0)
     rng = np.random.default_rng(seed)
