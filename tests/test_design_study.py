@@ -66,3 +66,10 @@ def test_dask_local_cluster_gives_the_same_table(powertrain):
         remote = vibss.study(powertrain, "certificate", grid=grid, client=client, chunk=4)
     pd.testing.assert_frame_equal(local, remote)
     assert remote["error"].notna().sum() == 6
+
+
+def test_client_local_starts_and_closes_its_own_cluster(powertrain):
+    pytest.importorskip("distributed")
+    grid = {"engine.k3": [2e5, 3e5]}
+    df = vibss.study(powertrain, grid=grid, client="local")
+    pd.testing.assert_frame_equal(df, vibss.study(powertrain, grid=grid))
