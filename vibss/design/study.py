@@ -65,13 +65,13 @@ def _as_row(out: Any) -> dict[str, Any]:
     return {f"value{i}": v for i, v in enumerate(np.ravel(out))}
 
 
-def _run_chunk(model: Model, params: tuple[Parameter, ...], build: Any, analysis: Any,
-               rows: Sequence[tuple[float, ...]]) -> list[dict[str, Any]]:
+def _run_chunk(model: Model, params: tuple[Parameter, ...] | None, names: list[str], build: Any,
+               analysis: Any, rows: Sequence[tuple[float, ...]]) -> list[dict[str, Any]]:
     """Run the analysis on a chunk of variants (on a worker or in-process)."""
     out = []
     for values in rows:
         try:
-            variant = build(model, dict(zip([p.name for p in params], values))) if build is not None \
+            variant = build(model, dict(zip(names, values))) if params is None \
                 else apply(model, params, np.asarray(values, float))
             row = _as_row(analysis(variant))
             row["error"] = None
@@ -157,10 +157,8 @@ def study(model: Model, analysis: Any = "modes", *, grid: Mapping[Any, Sequence[
     if not isinstance(spec, Mapping) or not spec:
         raise ArgumentError(f"study: grid/table: expected a mapping of parameter to values, got {spec!r}",
                             argument="grid" if grid is not None else "table", received=spec)
-    if build is None:
-        params = parameters_of(model, list(spec))
-    else:
-        params = tuple(p if isinstance(p, Parameter) else Parameter(str(p), [("-", "k1", 1.0)]) for p in spec)
+    params = parameters_of(model, list(spec)) if build is None else None
+    names = [p.name if isinstance(p, Parameter) else str(p) for p in spec]
     columns = [np.atleast_1d(np.asarray(v, dtype=float)) for v in spec.values()]
     if grid is not None:
         rows = list(itertools.product(*[c.tolist() for c in columns]))
@@ -184,7 +182,7 @@ def study(model: Model, analysis: Any = "modes", *, grid: Mapping[Any, Sequence[
     if client is None:
         size = chunk or max(1, total // 100)
         for start in range(0, total, size):
-            results += _run_chunk(model, params, build, analysis, rows[start:start + size])
+            results += _run_chunk(model, params, names, build, analysis, rows[start:start + size])
             if report:
                 report(len(results), total)
     else:
@@ -195,7 +193,7 @@ def study(model: Model, analysis: Any = "modes", *, grid: Mapping[Any, Sequence[
             chunks = [rows[s:s + size] for s in range(0, total, size)]
             # a key of its own: a second study of the same model must not share (and lose) it
             [m_fut] = cl.scatter([model], broadcast=True, hash=False)
-            futures = [cl.submit(_run_chunk, m_fut, params, build, analysis, c, pure=False) for c in chunks]
+            futures = [cl.submit(_run_chunk, m_fut, params, names, build, analysis, c, pure=False) for c in chunks]
             index = {f.key: i for i, f in enumerate(futures)}
             parts: list[list[dict[str, Any]] | None] = [None] * len(futures)
             done = 0
@@ -211,7 +209,7 @@ def study(model: Model, analysis: Any = "modes", *, grid: Mapping[Any, Sequence[
             if cluster is not None:
                 cl.close()
                 cluster.close()
-    df = pd.DataFrame([dict(zip([p.name for p in params], r)) for r in rows])
+    df = pd.DataFrame([dict(zip(names, r)) for r in rows])
     out = pd.DataFrame(results)
     err = out.pop("error") if "error" in out else pd.Series([None] * total)
     df = pd.concat([df, out], axis=1)
