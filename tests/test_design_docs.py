@@ -23,6 +23,7 @@ def test_design_guide(capsys, tmp_path, monkeypatch):
     assert "no elastic centre: a torque gives a screw (rotation plus translation along the axis)" in out
     assert "min purity 0.51 -> 0.92" in out
     assert "P(all six modes >= 90 % pure and in window) = 0.28" in out
+    assert "P(all targets) 0.28 -> 0.75" in out
     assert (tmp_path / "powertrain-optimised.toml").exists()
     cert, opt = scope["cert"], scope["opt"]
     assert cert.purity[5] == pytest.approx(0.60, abs=0.005) and cert.frequency_hz[5] == pytest.approx(13.0, abs=0.05)
