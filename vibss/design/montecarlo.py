@@ -27,7 +27,7 @@ from ..linear.assemble import assemble
 from ..model.geometry import point_transfer
 from ..model.model import DOF_NAMES, Model
 from ..results import Result, Table, jsonable, require_pandas
-from ._common import body_name, frame_axes, frame_rotation
+from ._common import body_name, frame_axes, frame_rotation, ke_fractions
 from .certificate import in_windows, windows_for
 from .parameters import _ANGLE, _RATE, _SHIFT, Parameter, current_values, parameters_of
 
@@ -112,10 +112,7 @@ def batch_modes(model: Model, parameters: tuple[Parameter, ...], values: np.ndar
     idx = np.argmax(np.abs(phi), axis=1)                                          # (nv, n)
     sign = np.sign(np.take_along_axis(phi, idx[:, None, :], axis=1))
     phi = phi * sign
-    R = frame_rotation(n, np.eye(3) if frame is None else frame)
-    pr, mp = R.T @ phi, R.T @ M @ phi
-    num = (pr * mp).transpose(0, 2, 1)
-    ke = num / num.sum(axis=2, keepdims=True)
+    ke = ke_fractions(phi, M, frame_rotation(n, np.eye(3) if frame is None else frame))
     return np.sqrt(np.maximum(w2, 0.0)) / (2 * np.pi), phi, ke
 
 
