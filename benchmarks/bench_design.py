@@ -142,6 +142,7 @@ def figures() -> None:
     tol = {f"{m.name}.k{j}": 0.15 for m in opt.model.mounts for j in (1, 2, 3)}
     mc = monte_carlo(opt.model, tol, n=20_000, sampling="lhs", purity=0.9, windows=win, frame="tra")
     mc.plot().savefig(folder / "design_monte_carlo.png", dpi=110)
+    mc.plot(kind="tornado").savefig(folder / "design_tornado.png", dpi=100)
 
 
 def main() -> None:

@@ -72,5 +72,7 @@ def test_protocol_and_ranking(powertrain):
     assert len(mc.to_pandas()) == 2000 and mc.to_json()
     assert "Tolerance study" in mc.report()
     assert len(mc.plot().axes) == 2
+    fig = mc.plot(kind="tornado", mode=3)
+    assert fig.axes[0].get_xlabel() == "correlation with the purity of mode 3 [-]"
     with pytest.raises(ArgumentError, match="sampling"):
         monte_carlo(powertrain, {"engine.k3": 0.1}, n=10, sampling="halton")

@@ -7,6 +7,7 @@ from typing import Any
 import numpy as np
 from matplotlib.figure import Figure
 
+from ..errors import ArgumentError
 from ._draw import new_figure
 
 __all__ = ["plot_certificate", "plot_sensitivity", "plot_monte_carlo", "plot_optimisation", "plot_design_axes"]
@@ -90,20 +91,30 @@ def plot_sensitivity(sens: Any, quantity: str = "frequency", ax: Any = None) -> 
     return fig
 
 
-def plot_monte_carlo(mc: Any, ax: Any = None) -> Figure:
-    """Histograms of the natural frequencies [Hz] of every variant, with the windows shaded.
+def plot_monte_carlo(mc: Any, ax: Any = None, kind: str = "histogram", mode: int | None = None) -> Figure:
+    """Histograms of the natural frequencies [Hz] of every variant (windows shaded) and of the
+    purities; or a tornado of the parameters' correlation with one mode's purity.
 
     Parameters
     ----------
     mc : vibss.design.MonteCarlo
         The study.
     ax : Axes or None
-        Draw into these axes; default: a new figure with a second panel (purity histograms).
+        Draw into these axes; default: a new figure (two panels for the histograms).
+    kind : {"histogram", "tornado"}
+        What to draw.
+    mode : int or None
+        Tornado: the mode (1-based); default the one least often pure enough.
 
     Returns
     -------
     Figure
     """
+    if kind == "tornado":
+        return _tornado(mc, ax, mode)
+    if kind != "histogram":
+        raise ArgumentError(f"plot_monte_carlo: kind: expected 'histogram' or 'tornado', got {kind!r}",
+                            argument="kind", received=kind, expected=["histogram", "tornado"])
     f = mc.frequency_hz
     if ax is None:
         fig = new_figure(9.0, 3.6)
@@ -129,6 +140,22 @@ def plot_monte_carlo(mc: Any, ax: Any = None) -> Figure:
         ax2.set_xlabel("purity [%]")
         ax2.set_ylabel("variants")
         ax2.set_title(f"P(all targets met) = {mc.probability['all']:.3f}", fontsize=10)
+    return fig
+
+
+def _tornado(mc: Any, ax: Any, mode: int | None) -> Figure:
+    i = int(np.argmin(mc.pure.mean(axis=0))) if mode is None else int(mode) - 1
+    r = mc.ranking("purity")[:, i]
+    order = np.argsort(np.abs(r))
+    fig, ax = _axes(ax, 6.0, 1.4 + 0.28 * len(r))
+    y = np.arange(len(r))
+    ax.barh(y, r[order], color=np.where(r[order] >= 0, "#1f77b4", "#d62728"))
+    ax.set_yticks(y, [mc.parameters[j] for j in order], fontsize=8)
+    ax.axvline(0.0, color="k", lw=0.6)
+    ax.set_xlim(-1, 1)
+    ax.set_xlabel(f"correlation with the purity of mode {i + 1} [-]")
+    ax.set_ylabel("parameter")
+    ax.set_title(f"What drives mode {i + 1}'s decoupling ({mc.n} variants)", fontsize=10)
     return fig
 
 
