@@ -32,7 +32,7 @@ from threadpoolctl import threadpool_limits
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 from benchmarks.models import chain_model  # noqa: E402
 from benchmarks.machine import timed  # noqa: E402
-from vibss.frequency.api import _choose  # noqa: E402
+from vibss.frequency.methods import choose as _choose  # noqa: E402
 from vibss.frequency.kernels import METHODS  # noqa: E402
 from vibss.linear.eigen import modal_basis  # noqa: E402
 from vibss.linear.signals import build_plant  # noqa: E402

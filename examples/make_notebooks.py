@@ -28,7 +28,7 @@ example file)."""),
 import numpy as np
 import matplotlib.pyplot as plt
 import vibss
-from vibss.frequency.api import transmissibility, sweep_response"""),
+from vibss.frequency.sweep import transmissibility, sweep_response"""),
     ("md", """## The single-DOF isolator
 
 A 100 kg block on four mounts in the plane of its centre of gravity: its vertical motion is a

@@ -15,11 +15,11 @@ PACKAGE = Path(vibss.__file__).parent
 
 # Layers, lowest first: a module may import only from its own layer or below.
 LAYERS = [
-    {"errors", "_validate", "results", "model.units", "model.geometry", "io.tomlwriter"},
+    {"errors", "_validate", "results", "methods", "model.units", "model.geometry", "io.tomlwriter"},
     {"model", "linear.plant", "io.filetable"},
-    {"io", "examples", "linear.assemble", "linear.directions"},
-    {"linear.eigen", "linear.complex_modes", "linear.banded", "linear.signals", "linear.solve",
-     "statics", "time.integrators", "diagnostics"},
+    {"io", "examples", "linear.assemble", "linear.directions", "linear.eigen", "linear.eigen_checks"},
+    {"linear.complex_modes", "linear.banded", "linear.signals", "linear.solve", "linear.backends",
+     "linear.projection", "statics", "time.integrators", "diagnostics"},
     {"linear", "modal"},
     {"frequency.kernels", "time.kernels", "studies"},
     {"frequency", "time", "reduction", "design"},

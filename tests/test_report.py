@@ -93,7 +93,7 @@ def test_example_list_and_write(capsys, tmp_path):
 # 9, 10 -- report ---------------------------------------------------------------------------------
 
 def test_report_sweep_uses_the_file_band() -> None:
-    from vibss.frequency.api import sweep_response
+    from vibss.frequency.sweep import sweep_response
     from vibss.report import study
 
     model = load_example("powertrain")

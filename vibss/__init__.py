@@ -26,8 +26,8 @@ from .io.modelfile import (dump_model, dumps_model, example_names, load_example,
 from .modal.undamped import Modes, modes
 from .model.model import (DOF_NAMES, GROUND, Body, ControlPoint, Load, Model, Mount, MountType,
                     symmetric)
-from .frequency.api import (FrequencyGrid, FrequencyResponse, frequency_grid, frequency_response,
-                        sweep_response, transmissibility)
+from .frequency.api import FrequencyGrid, FrequencyResponse, frequency_grid, frequency_response
+from .frequency.sweep import sweep_response, transmissibility
 from .linear.plant import Plant
 from .reduction.api import Reduction, reduce
 from .reduction.scope import Scope

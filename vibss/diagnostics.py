@@ -46,6 +46,7 @@ import scipy.linalg as sl
 from threadpoolctl import threadpool_info
 
 from .linear.directions import cluster_slices
+from .linear.eigen import symmetric_eigen, undamped
 from .errors import VibssWarning
 
 __all__ = ["VibssWarning", "Finding", "Conditioning", "natural_frequencies",
@@ -110,10 +111,7 @@ def natural_frequencies(M: Any, K: Any) -> np.ndarray:
     """
     M = M.toarray() if hasattr(M, "toarray") else np.asarray(M, float)
     K = K.toarray() if hasattr(K, "toarray") else np.asarray(K, float)
-    w2 = sl.eigh(K, M, eigvals_only=True)
-    top = max(float(w2.max()), 0.0)
-    w2 = np.where(w2 < 1e-11 * top, 0.0, w2)
-    return np.sqrt(w2)
+    return np.sqrt(undamped(K, M).omega2)
 
 
 def _omega(M: Any, K: Any, omega: Any) -> np.ndarray:
@@ -186,8 +184,8 @@ def check_explicit_rk(M: Any, K: Any, t_end: float, rtol: float = 1e-6, solver: 
     """
     if C is not None:
         Md, Kd, Cd = (np.asarray(x.toarray() if hasattr(x, "toarray") else x, float) for x in (M, K, C))
-        w2, phi = sl.eigh(Kd, Md)
-        w = np.sqrt(np.where(w2 < 1e-11 * max(w2.max(), 0.0), 0.0, w2))
+        spec = undamped(Kd, Md)
+        w, phi = np.sqrt(spec.omega2), spec.phi
         cm = np.einsum("ij,ij->j", phi, Cd @ phi)                 # modal damping 2 zeta omega
         zeta = np.divide(cm, 2 * w, out=np.zeros_like(w), where=w > 0)
         radius = np.where(zeta > 1, w * (zeta + np.sqrt(np.maximum(zeta**2 - 1, 0.0))), w)
@@ -408,7 +406,7 @@ def check_static(K: Any, dofs: Sequence[str] | None = None, rcond: float = 1e-12
         ``value`` = smallest relative eigenvalue; the message names the dominant DOFs of its vector.
     """
     ks, d = equilibrate(K)
-    w, v = np.linalg.eigh(ks)
+    w, v = symmetric_eigen(ks)
     rel = float(w[0] / w[-1]) if w[-1] > 0 else 0.0
     ok = rel > rcond
     vec = d * v[:, 0]
@@ -486,8 +484,9 @@ def check_damping_resolution(M: Any, K: Any, C: Any, zeta_tol: float = 1e-3) -> 
         ``value`` = predicted worst relative zeta error of ``eig(A)``.
     """
     M, K, C = (np.asarray(x.toarray() if hasattr(x, "toarray") else x, float) for x in (M, K, C))
-    w2, phi = sl.eigh(K, M)
-    keep = w2 > 1e-11 * w2.max()
+    spec = undamped(K, M)
+    w2, phi = spec.omega2, spec.phi
+    keep = ~spec.rigid
     w = np.sqrt(w2[keep])
     zeta = np.diag(phi.T @ C @ phi)[keep] / (2 * w)
     cho = sl.cho_factor(M)

@@ -292,7 +292,7 @@ def _frequency_section(model: Model, figures: bool, results: dict[str, Any]) -> 
     if not _available("frequency"):
         return Section("frequency", TITLES["frequency"], skipped=True,
                        note="vibss.frequency is not installed in this version")
-    from .frequency.api import sweep_response, transmissibility
+    from .frequency.sweep import sweep_response, transmissibility
 
     # the band and grid of ``vibss frf`` (vibss.studies: [analysis] frequency, else the sweeps' own
     # band), so the report's peaks are the command's

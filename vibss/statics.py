@@ -1,6 +1,10 @@
 """Static deflection: K q = F, with prescribed displacements, self-weight and clear failure modes.
 
-The stiffness matrix of the free DOFs is equilibrated (``D K D`` with ``D = diag(K)^-1/2``),
+Models up to :data:`FACTOR_MAX` DOFs are solved from the stiffness *factor* (``K = G^T G``, one row
+per mount axis, :meth:`~vibss.linear.assemble.Assembly.stiffness_factor`): a QR factorisation of G
+with rows sorted by size and column pivoting is row-wise backward stable, so soft mounts beside
+1e16 N/m links keep their digits (K formed in floats loses them: 1e16 * eps ~ 1 N/m). Otherwise the
+stiffness matrix of the free DOFs is equilibrated (``D K D`` with ``D = diag(K)^-1/2``),
 factorised (Cholesky for dense models, sparse LU for large ones) and its 1-norm condition number
 estimated (:func:`scipy.sparse.linalg.onenormest` on the factorisation). A system that is not fully
 restrained (a body not connected to ground, a direction no mount resists) has a singular K: vibss
@@ -25,6 +29,7 @@ import scipy.sparse.linalg as spl
 from .linear.assemble import Assembly, assemble
 from .linear.directions import align_cluster, describe_motion
 from ._validate import number, vector
+from .linear.eigen import symmetric_eigen
 from .errors import AnalysisError, ModelError
 from .model.geometry import point_transfer
 from .model.model import DOF_NAMES, GROUND, Model
@@ -34,6 +39,13 @@ __all__ = ["StaticResult", "static", "centre_of_rotation", "SINGULAR_RCOND"]
 
 SINGULAR_RCOND = 1e-12
 """Equilibrated stiffness matrices with a smaller reciprocal condition number count as singular."""
+
+FACTOR_MAX = 1200
+"""Largest number of free DOFs solved from the stiffness factor (dense QR, O(r n^2))."""
+
+FACTOR_RANK_RTOL = 1e-12
+"""The factored solve is used when every pivot of R exceeds this times the first (else the
+singular-system path names the free motions)."""
 
 
 def centre_of_rotation(deflection: np.ndarray, cog: np.ndarray,
@@ -333,6 +345,10 @@ def _solve(a: Assembly, kff: Any, rhs: np.ndarray, free: np.ndarray) -> tuple[np
     else:
         ks = d[:, None] * kff * d[None, :]
     singular = bool(np.any(diag <= 0)) or _unconnected(a, free)
+    if not singular and free.size <= FACTOR_MAX and len(a.model.mounts):
+        x = _factored_solve(a.stiffness_factor()[:, free], rhs)
+        if x is not None:
+            return x, ()
     if not singular:
         try:
             solve = _factor(ks)
@@ -346,7 +362,7 @@ def _solve(a: Assembly, kff: Any, rhs: np.ndarray, free: np.ndarray) -> tuple[np
             return d * solve(d * rhs), ()
     # Singular: null space of the equilibrated matrix (dense; its size is the user's model).
     kd = _dense(ks)
-    w, v = np.linalg.eigh(kd)
+    w, v = symmetric_eigen(kd)
     null = w <= np.sqrt(SINGULAR_RCOND) * max(w.max(), np.finfo(float).tiny) * 1e-2
     basis = d[:, None] * v[:, null]                     # back to physical DOFs
     full = np.zeros((a.n, basis.shape[1]))
@@ -362,10 +378,37 @@ def _solve(a: Assembly, kff: Any, rhs: np.ndarray, free: np.ndarray) -> tuple[np
         raise AnalysisError("the mounts do not restrain the load: "
                             + "; ".join(described[j] for j in load_along)
                             + " (add mounts or stiffness in that direction, or prescribe it)")
-    # minimum-norm solution on the restrained subspace
+    # minimum-norm solution on the restrained subspace (y = x / d orthogonal to the null vectors):
+    # from the factor, with the constraints appended as rows, when the model is small enough
+    if free.size <= FACTOR_MAX and len(a.model.mounts):
+        g = a.stiffness_factor()[:, free].toarray()
+        cons = (v[:, null] / d[:, None]).T
+        weight = np.abs(g).max() / max(float(np.abs(cons).max()), np.finfo(float).tiny)
+        x = _factored_solve(np.vstack([g, weight * cons]), rhs)
+        if x is not None:
+            return x, tuple(described)
     keep = ~null
     y = v[:, keep] @ ((v[:, keep].T @ (d * rhs)) / w[keep])
     return d * y, tuple(described)
+
+
+def _factored_solve(g: Any, rhs: np.ndarray) -> np.ndarray | None:
+    """``x`` with ``G^T G x = rhs`` by QR of G (rows sorted by size, columns pivoted); None if G
+    is rank deficient (a pivot below :data:`FACTOR_RANK_RTOL` of the first)."""
+    gd = g.toarray() if sp.issparse(g) else np.asarray(g, float)
+    if gd.shape[0] < gd.shape[1]:
+        return None
+    order = np.argsort(-np.abs(gd).max(axis=1), kind="stable")
+    r, piv = sl.qr(gd[order], mode="r", pivoting=True, check_finite=False)
+    r = r[:gd.shape[1]]
+    d = np.abs(np.diag(r))
+    if d.size == 0 or not d[-1] > FACTOR_RANK_RTOL * d[0]:
+        return None
+    y = sl.solve_triangular(r, rhs[piv], trans="T", check_finite=False)
+    z = sl.solve_triangular(r, y, check_finite=False)
+    x = np.empty_like(z)
+    x[piv] = z
+    return x
 
 
 def _factor(ks: Any) -> Any:

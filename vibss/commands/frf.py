@@ -5,7 +5,8 @@ from __future__ import annotations
 import argparse
 
 from ..errors import ModelError
-from ..frequency.api import FrequencyGrid, frequency_response, sweep_response
+from ..frequency.api import FrequencyGrid, frequency_response
+from ..frequency.sweep import sweep_response
 from ..studies import frequency_band, steady_sweeps
 from .common import add_model_arguments, emit, load_from_args
 

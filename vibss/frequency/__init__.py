@@ -1,4 +1,9 @@
-"""Frequency responses, transmissibility and steady swept sines (api / kernels)."""
+"""Frequency responses, transmissibility and steady swept sines (api / methods / kernels / sweep)."""
 
 from .api import *  # noqa: F401,F403
-from .api import __all__
+from .api import __all__ as _api_all
+from .methods import METHODS, FrequencyMethod, choose, resolve_method
+from .sweep import *  # noqa: F401,F403
+from .sweep import __all__ as _sweep_all
+
+__all__ = [*_api_all, *_sweep_all, "METHODS", "FrequencyMethod", "choose", "resolve_method"]

@@ -1,4 +1,5 @@
-"""Frequency response: FRFs, transmissibility and swept-sine steady states.
+"""Frequency response: FRFs of named outputs to named inputs (transmissibility and swept-sine
+steady states build on it in :mod:`vibss.frequency.sweep`).
 
 ``frequency_response`` evaluates ``Y(i w) / U`` of a :class:`~vibss.linear.plant.Plant` for named inputs and
 outputs with a kernel from :data:`vibss.frequency.kernels.METHODS` (``"auto"`` picks one and records why).
@@ -28,7 +29,7 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any, cast
+from typing import Any
 
 import control
 import numpy as np
@@ -36,19 +37,18 @@ from control import FrequencyResponseData
 import scipy.sparse as sp
 
 from ..linear.assemble import Assembly
-from ..linear.banded import structure
 from .._validate import choice, integer, name_index, number
 from ..errors import AnalysisError, ArgumentError, DefectiveModesError, ModelError
-from .kernels import (COMPLEX_MODE_RISK, METHODS, classical_damping, complex_mode_risk,
-                          project_damping, zero_frequency_limit)
+from .kernels import METHODS, zero_frequency_limit
+from .methods import choose, resolve_method
 from ..model.model import Model
 from ..linear.plant import Plant
 from ..linear.signals import build_plant, control_name
 from ..linear.eigen import ModalBasis, modal_basis
+from ..linear.projection import projected_damping
 from ..results import Result, Table, jsonable, require_pandas
 
-__all__ = ["FrequencyResponse", "FrequencyGrid", "frequency_grid", "frequency_response",
-           "transmissibility", "sweep_response", "QUANTITIES"]
+__all__ = ["FrequencyResponse", "FrequencyGrid", "frequency_grid", "frequency_response", "QUANTITIES"]
 
 QUANTITIES = {"receptance": 0, "mobility": 1, "accelerance": 2}
 """Output time-derivative order of each FRF quantity."""
@@ -154,11 +154,9 @@ def frequency_grid(plant: Plant, spec: Any = None, basis: ModalBasis | None = No
 
 def _modal_zeta(plant: Plant, basis: ModalBasis) -> np.ndarray:
     """Modal damping-ratio estimate per mode: diag(Phi^T C Phi) / 2w + eta / 2."""
-    phi = basis.phi
     w = np.where(basis.rigid, 1.0, basis.omega)
-    gam = (phi * (plant.C @ phi)).sum(axis=0) if np.any(plant.C) else 0.0
-    hys = (phi * (plant.H @ phi)).sum(axis=0) if np.any(plant.H) else 0.0
-    return np.abs(gam / (2 * w) + hys / (2 * w**2)) * np.ones(plant.n)
+    gamma, eta = projected_damping(plant, basis)
+    return np.abs(np.diag(gamma) / (2 * w) + np.diag(eta) / (2 * w**2))
 
 
 @dataclass(frozen=True, eq=False)
@@ -388,44 +386,6 @@ def _index(names: Sequence[str], name: str, what: str) -> int:
     return name_index(name, names, what)
 
 
-_K_EIG = 4.6e-10     # [s] per N^3 of the complex-mode eig (N = 2n states)
-_K_SUPERPOSE = 4e-10  # [s] per frequency x mode x channel of the superposition
-
-
-def _choose(plant: Plant, nf: int, basis: ModalBasis) -> tuple[str, str]:
-    """Pick a kernel; the cost estimates use constants measured by benchmarks/bench_frf.py.
-
-    The undamped modes are computed anyway (grid, natural frequencies), so classical damping
-    takes the modal superposition. General damping takes the cheaper of the complex modes (one
-    ``eig`` of the 2n-state matrix) and the sparse direct solve (one banded or sparse LU per
-    frequency).
-    """
-    if plant.n <= 12:
-        return "direct", f"small model ({plant.n} DOF): direct solve is exact and cheap"
-    if not np.any(plant.C) and not np.any(plant.H):
-        return "sparse", ("undamped: sparse direct solve (a modal sum of an undamped model loses "
-                          "digits next to each resonance, where its eigenvalue errors are not damped)")
-    projected = project_damping(plant, basis)
-    ok, why = classical_damping(plant, basis, projected)
-    if ok:
-        return "modal", f"{why}: modal superposition is the fastest"
-    st = plant.cached("band structure", lambda: structure(plant))
-    risk = complex_mode_risk(basis, projected)
-    if risk > COMPLEX_MODE_RISK:
-        what = ("a mode has no damping, so eig's pole error is not damped at its resonance"
-                if np.isinf(risk) else f"eig's pole error relative to the slowest decay rate ~{risk:.1g}")
-        return "sparse", f"{why}: sparse direct solve; complex modes could lose accuracy ({what})"
-    t_sparse = nf * st.seconds_per_frequency
-    n2 = 2 * plant.n
-    t_complex = _K_EIG * n2**3 + _K_SUPERPOSE * nf * n2 * len(plant.inputs) * len(plant.outputs)
-    how = f"banded LU, half-bandwidth {st.band}" if st.banded else "SuperLU"
-    if t_sparse <= t_complex:
-        return "sparse", (f"{why}: sparse direct solve per frequency ({how}), estimated {t_sparse:.2g} s "
-                          f"against {t_complex:.2g} s for complex modes")
-    return "complex_modal", (f"{why}: complex-mode superposition, estimated {t_complex:.2g} s against "
-                             f"{t_sparse:.2g} s for the sparse direct solve ({how})")
-
-
 def _as_plant(system: Model | Assembly | Plant, inputs: Any, outputs: Any) -> Plant:
     if isinstance(system, Plant):
         if inputs is not None or outputs is not None:
@@ -449,28 +409,6 @@ def _frequencies(plant: Plant, frequencies: Any, basis: ModalBasis | None) -> np
         raise ModelError("frequencies: got an empty list; give at least one frequency [Hz], a grid "
                          "mapping {f1, f2, points} or None")
     return f
-
-
-def _sparse_plant_response(plant: Plant, frequencies: Any, quantity: str,
-                           method: str | Callable[..., np.ndarray]) -> FrequencyResponse:
-    """:func:`frequency_response` of a plant with sparse matrices: no dense eigen-analysis, so
-    explicit frequencies > 0 and the ``sparse`` kernel (or a callable); no resonance marks."""
-    if frequencies is None or isinstance(frequencies, (Mapping, FrequencyGrid)):
-        raise ModelError("frequencies: a sparse plant (build_plant(..., sparse=True)) needs explicit "
-                         "frequencies [Hz]: the default grid is built around the modes")
-    f = _frequencies(plant, frequencies, None)
-    if np.any(f <= 0):
-        raise ModelError("frequencies: a sparse plant takes frequencies > 0 (the 0 Hz limit needs the modes)")
-    if isinstance(method, str) and method not in ("auto", "sparse"):
-        raise AnalysisError(f"method {method!r} needs the dense plant; a sparse plant "
-                            "(build_plant(..., sparse=True)) takes method='sparse' or 'auto'")
-    kernel = METHODS["sparse"] if isinstance(method, str) else method
-    name = "sparse" if isinstance(method, str) else getattr(method, "__name__", "custom")
-    reason = "sparse plant: sparse direct solve per frequency" if method == "auto" else ""
-    s = 2j * np.pi * f
-    h = _times_power(kernel(plant, s), s, QUANTITIES[quantity])
-    return FrequencyResponse(f, h, plant.outputs, plant.inputs, _units(plant, quantity), quantity,
-                             name, reason, np.zeros(0), plant.name)
 
 
 def _times_power(raw: np.ndarray, s: np.ndarray, k: int) -> np.ndarray:
@@ -507,8 +445,11 @@ def frequency_response(system: Model | Assembly | Plant, inputs: Sequence[Any] |
         Explicit frequencies, or a grid spec (default: refined log grid around the modes).
     quantity : {"receptance", "mobility", "accelerance"}
         Multiply the outputs by ``(i w)^0, ^1, ^2``.
-    method : {"auto", "direct", "modal", "complex_modal", "sparse", "statespace"} or callable
-        Kernel (:data:`vibss.frequency.kernels.METHODS`), or ``f(plant, s) -> (p, m, nf)``.
+    method : {"auto", "direct", "modal", "complex_modal", "sparse", "statespace"}, FrequencyMethod or callable
+        Method (:data:`vibss.frequency.kernels.METHODS`), or a kernel ``f(plant, s, basis) -> (p, m, nf)``
+        with the built-ins' signature (``s`` Laplace points ``i w``, ``basis`` the undamped
+        :class:`~vibss.linear.eigen.ModalBasis`, None for a sparse plant; ``f(plant, s)`` is
+        accepted too).
 
     Returns
     -------
@@ -524,187 +465,45 @@ def frequency_response(system: Model | Assembly | Plant, inputs: Sequence[Any] |
         The method cannot answer (e.g. ``modal`` on non-classical damping).
     """
     choice(quantity, "quantity", QUANTITIES)
-    choice(method, "method", ["auto", *METHODS], callable_ok=True)
+    chosen = resolve_method(method)
     plant = _as_plant(system, inputs, outputs)
-    if sp.issparse(plant.K):
-        return _sparse_plant_response(plant, frequencies, quantity, method)
-    basis = modal_basis(plant)
-    f = _frequencies(plant, frequencies, basis)
-    name, reason = (method, "") if isinstance(method, str) else (getattr(method, "__name__", "custom"), "")
-    if method == "auto":
-        name, reason = _choose(plant, f.size, basis)
-    # a callable: "auto" and unknown names were resolved or refused above
-    kernel = cast("Callable[..., np.ndarray]", METHODS.get(name, method) if isinstance(name, str) else method)
+    reason = ""
+    if sp.issparse(plant.K):    # no dense eigen-analysis: explicit frequencies > 0, no resonance marks
+        basis = None
+        if frequencies is None or isinstance(frequencies, (Mapping, FrequencyGrid)):
+            raise ModelError("frequencies: a sparse plant (build_plant(..., sparse=True)) needs explicit "
+                             "frequencies [Hz]: the default grid is built around the modes")
+        f = _frequencies(plant, frequencies, None)
+        if np.any(f <= 0):
+            raise ModelError("frequencies: a sparse plant takes frequencies > 0 (the 0 Hz limit needs the modes)")
+        if chosen is not None and not chosen.sparse_ok:
+            raise AnalysisError(f"method {chosen.name!r} needs the dense plant; a sparse plant (build_plant("
+                                f"..., sparse=True)) takes {[m for m, v in METHODS.items() if v.sparse_ok]} "
+                                "or 'auto'")
+    else:
+        basis = modal_basis(plant)
+        f = _frequencies(plant, frequencies, basis)
+    if chosen is None:
+        name, reason = choose(plant, f.size, basis)
+        chosen = METHODS[name]
     k = QUANTITIES[quantity]
     h = np.empty((len(plant.outputs), len(plant.inputs), f.size), dtype=complex)
     pos = f > 0
     if np.any(pos):
         s = 2j * np.pi * f[pos]
-        kwargs = {"basis": basis} if kernel in (METHODS["modal"], METHODS["complex_modal"]) else {}
         try:
-            raw = kernel(plant, s, **kwargs)
+            raw = chosen.kernel(plant, s, basis)
         except DefectiveModesError as exc:
-            if method != "auto":
+            if method != "auto" or chosen.fallback is None:
                 raise
-            name, reason = "sparse", f"{reason}; complex modes refused ({exc}): sparse direct solve"
-            raw = METHODS["sparse"](plant, s)
+            refused, chosen = chosen, METHODS[chosen.fallback]
+            what = "complex modes" if refused.name == "complex_modal" else f"method {refused.name!r}"
+            reason = f"{reason}; {what} refused ({exc}): {chosen.summary}"
+            raw = chosen.kernel(plant, s, basis)
         h[:, :, pos] = _times_power(raw, s, k)
     if np.any(~pos):
         h[:, :, ~pos] = zero_frequency_limit(plant, power=k)[:, :, None]
     units = _units(plant, quantity)
-    fr = basis.omega[~basis.rigid] / (2 * np.pi)
-    return FrequencyResponse(f, h, plant.outputs, plant.inputs, units, quantity, name, reason,
+    fr = np.zeros(0) if basis is None else basis.omega[~basis.rigid] / (2 * np.pi)
+    return FrequencyResponse(f, h, plant.outputs, plant.inputs, units, quantity, chosen.name, reason,
                              fr[(fr >= f.min()) & (fr <= f.max())], plant.name)
-
-
-def transmissibility(system: Model | Assembly, inputs: Sequence[str], outputs: Sequence[str] | None = None,
-                     frequencies: Any = None, method: str | Callable[..., np.ndarray] = "auto") -> FrequencyResponse:
-    """Motion or force transmissibility (dimensionless), safe at 0 Hz.
-
-    Motion: prescribed motion inputs (``'ground.z'`` or ``'ground.z.disp'``; velocity and
-    acceleration inputs are read as the same motion) to motion outputs of the same kind
-    (default: every body DOF): ``|T| = |y| / |z|``. Force: force inputs (``'<body>.fz'``) to force
-    outputs (default: the total force and moment into ground, and each ground mount's force).
-
-    Parameters
-    ----------
-    system : Model or Assembly
-    inputs : sequence of str
-        All motion inputs or all force inputs.
-    outputs : sequence of str or None
-        Outputs (see above for the defaults).
-    frequencies : array_like [Hz], grid spec or None
-    method : str or callable
-        As :func:`frequency_response`.
-
-    Returns
-    -------
-    FrequencyResponse
-        ``quantity = "transmissibility"``.
-
-    Examples
-    --------
-    >>> from vibss import Body, Model, Mount, MountType
-    >>> m = Model([Body("b", 1.0, [1, 1, 1])], [Mount("m", MountType("t", [1.0] * 3, [0.2] * 3), "b")])
-    >>> t = transmissibility(m, ["ground.z"], ["b.z"], frequencies=[0.0])
-    >>> print(f"{abs(t.response[0, 0, 0]):.12f}")
-    1.000000000000
-    """
-    model = system.model if isinstance(system, Assembly) else system
-    names = [u if isinstance(u, str) else u.signal for u in inputs]
-    motion = [u.rsplit(".", 1)[-1] in ("disp", "vel", "acc") or u.startswith("ground.") for u in names]
-    if any(motion) and not all(motion):
-        raise ModelError(f"inputs: mix of motion and force inputs {names}; transmissibility takes one kind")
-    if all(motion):
-        ins = [u if u.rsplit(".", 1)[-1] in ("disp", "vel", "acc") else f"{u}.disp" for u in names]
-        ins = [u.rsplit(".", 1)[0] + ".disp" for u in ins]
-        outs = list(outputs) if outputs is not None else None
-        plant = build_plant(system, ins, outs)
-        if any(u.split("/")[0] not in ("m", "rad") for u in plant.units):
-            raise ModelError("outputs: motion transmissibility needs displacement outputs "
-                             f"(got units {list(plant.units)}); drop .vel/.acc (the ratio is the same)")
-    else:
-        if outputs is None:
-            outputs = [f"ground.{c}" for c in ("fx", "fy", "fz", "mx", "my", "mz")]
-            outputs += [f"mount.{m.name}.{c}" for m in model.mounts if m.to == "ground" for c in ("fx", "fy", "fz")]
-        plant = build_plant(system, names, outputs)
-        if any(u not in ("N", "N m") for u in plant.units):
-            raise ModelError(f"outputs: force transmissibility needs force outputs, got units {list(plant.units)}")
-    r = frequency_response(plant, frequencies=frequencies, method=method)
-    return FrequencyResponse(r.frequency_hz, r.response, r.outputs, r.inputs,
-                             tuple(f"{u} per unit input" for u in r.units), "transmissibility",
-                             r.method, r.reason, r.natural_hz, r.name)
-
-
-def sweep_response(system: Model | Assembly, excitations: Sequence[Any] | None = None,
-                   f1: float | None = None, f2: float | None = None, points: int = 1000,
-                   spacing: str = "log", outputs: Sequence[str] | None = None,
-                   quantity: str = "receptance", refine: bool = True,
-                   method: str | Callable[..., np.ndarray] = "auto") -> FrequencyResponse:
-    """Steady state of swept-sine excitations (infinitely slow sweep, ``sweep_time = 0``).
-
-    Each excitation's amplitude varies linearly from ``a1`` at its ``f1`` to ``a2`` at its ``f2``
-    (zero outside); all act in phase. The response is ``sum_j H_j(f) a_j(f)``.
-
-    Parameters
-    ----------
-    system : Model or Assembly
-    excitations : sequence or None
-        Excitation objects with a ``sine_sweep`` function (``.signal`` and
-        ``.function.amplitude_at(f_hz)``), or ``(signal, (a1, a2))`` pairs (amplitudes at ``f1``
-        and ``f2`` of this call); default: the model's steady (``sweep_time = 0``) sine-sweep
-        excitations (time-domain ones are for the time response and are skipped).
-    f1, f2 : float or None
-        Band [Hz]; default: the excitations' own band (their sweep limits).
-    points, spacing, refine :
-        Grid (see :class:`FrequencyGrid`).
-    outputs : sequence of str or None
-        Outputs; default every body DOF's displacement.
-    quantity : str
-        As :func:`frequency_response`.
-    method : str or callable
-        As :func:`frequency_response`.
-
-    Returns
-    -------
-    FrequencyResponse
-        One input, ``"sweep"``; ``quantity = "sweep"``-style amplitudes in output units.
-
-    Raises
-    ------
-    AnalysisError
-        An excitation has a finite ``sweep_time`` (a transient: simulate it in time) or no
-        frequency-domain amplitude.
-    """
-    model = system.model if isinstance(system, Assembly) else system
-    if excitations is None:      # the model's frequency-domain (steady sine sweep) excitations only
-        excitations = [e for e in model.excitations
-                       if hasattr(getattr(e, "function", None), "amplitude_at")
-                       and not getattr(e.function, "sweep_time", 0.0)]
-        if not excitations:
-            raise ModelError("excitations: the model has no sine_sweep excitation with sweep_time = 0 "
-                             f"(it has {[getattr(e, 'name', e) for e in model.excitations]}); "
-                             "name inputs instead")
-    excitations = list(excitations)
-    if not excitations:
-        raise ModelError("excitations: none given")
-    signals: list[Any] = []
-    amps: list[tuple[Any, ...]] = []
-    bands = []
-    for e in excitations:
-        if isinstance(e, tuple) and len(e) == 2 and not hasattr(e, "signal"):
-            sig, (a1, a2) = e
-            signals.append(sig)
-            amps.append(("pair", float(a1), float(a2)))
-            continue
-        fn = getattr(e, "function", None)
-        if fn is None or not hasattr(fn, "amplitude_at"):
-            raise AnalysisError(f"excitation {getattr(e, 'name', e)!r}: has no frequency-domain amplitude "
-                                "(a sine_sweep function with sweep_time = 0 is needed)")
-        if getattr(fn, "sweep_time", 0.0):
-            raise AnalysisError(f"excitation {getattr(e, 'name', e)!r}: sweep_time = {fn.sweep_time} s is a "
-                                "transient sweep; simulate it with the time response (sweep_time 0 = "
-                                "steady state)")
-        signals.append(e)
-        amps.append(("fn", fn))
-        bands.append((min(fn.f1, fn.f2), max(fn.f1, fn.f2)))
-    lo = f1 if f1 is not None else (min(b[0] for b in bands) if bands else None)
-    hi = f2 if f2 is not None else (max(b[1] for b in bands) if bands else None)
-    grid = FrequencyGrid(lo, hi, points, spacing, refine)
-    r = frequency_response(system, signals, outputs, grid, quantity, method)
-    f = r.frequency_hz
-    a = np.empty((len(signals), f.size))
-    for j, spec in enumerate(amps):
-        if spec[0] == "fn":
-            a[j] = spec[1].amplitude_at(f)
-        else:
-            _, a1, a2 = spec
-            flo, fhi = f.min(), f.max()
-            a[j] = a1 + (a2 - a1) * (f - flo) / (fhi - flo) if fhi > flo else a1
-    with np.errstate(invalid="ignore"):
-        terms = r.response * a[None, :, :]
-    terms = np.where(a[None, :, :] == 0, 0.0, terms)       # inf * 0 outside a sweep band -> 0
-    y = terms.sum(axis=1, keepdims=True)
-    units = tuple(u.replace(" per unit input", "") for u in r.units)
-    return FrequencyResponse(f, y, r.outputs, ("sweep",), units, quantity, r.method, r.reason,
-                             r.natural_hz, r.name)

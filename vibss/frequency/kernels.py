@@ -10,7 +10,7 @@ with ``O(s) = Oq + i Oh + s Ov + s^2 Oa``, ``P(s) = Pz + i Ph + s Pv + s^2 Pa`` 
 (for ``w > 0``). Kernels return a ``(p, m, nf)`` complex array.
 
 - ``direct``: one complex solve per frequency (batched). The accurate reference.
-- ``modal``: ``eigh(K, M)`` and modal superposition; only for classical damping (``Phi^T C Phi`` and
+- ``modal``: undamped modes (:func:`vibss.linear.eigen.modal_basis`) and modal superposition; only for classical damping (``Phi^T C Phi`` and
   ``Phi^T H Phi`` diagonal). Rigid-body modes are exact (omega = 0 double integrators).
 - ``complex_modal``: eigen-decomposition of the well-scaled first-order modal form
   ``[[0, S], [-(Omega^2 + i Phi^T H Phi) S^-1, -Phi^T C Phi]]`` (general viscous damping).
@@ -20,29 +20,31 @@ with ``O(s) = Oq + i Oh + s Ov + s^2 Oa``, ``P(s) = Pz + i Ph + s Pv + s^2 Pa`` 
 - ``statespace``: ``control.frequency_response`` on :func:`vibss.linear.statespace.statespace`
   (SLICOT TB05AD on the scaled modal realization; viscous damping only).
 
-A callable ``f(plant, s) -> (p, m, nf)`` can be used as a method too.
+Each entry of :data:`METHODS` is a :class:`FrequencyMethod` carrying its facts; a callable
+``f(plant, s, basis) -> (p, m, nf)`` (the kernels' one signature; ``f(plant, s)`` is accepted too)
+can be used as a method.
 """
 
 from __future__ import annotations
 
+import inspect
 from collections.abc import Callable
-from functools import partial, reduce
+from dataclasses import dataclass
+from functools import reduce
 
 import control
 import numpy as np
-import scipy.linalg as sl
-import scipy.sparse as sp
-import scipy.sparse.linalg as spl
-from scipy.linalg.lapack import zgbsv
 
-from ..linear.banded import structure
 from ..linear.complex_modes import complex_modes
 from ..errors import AnalysisError
 from ..linear.plant import Plant
-from ..linear.eigen import ModalBasis, damping_coupling, fast_matrix, modal_basis, stiffness_solver
+from ..linear.eigen import ModalBasis, damping_coupling, modal_basis, stiffness_solver, symmetric_eigen
+from ..linear.projection import projected_damping
+from ..linear.solve import response, zero_frequency_limit, zfactor
 from ..linear.statespace import statespace
+from ..methods import Method, callable_name
 
-__all__ = ["METHODS", "direct", "modal", "complex_modal", "sparse", "via_statespace", "classical_damping",
+__all__ = ["METHODS", "FrequencyMethod", "custom_method", "direct", "modal", "complex_modal", "sparse", "via_statespace", "classical_damping",
            "complex_mode_risk", "project_damping", "COMPLEX_MODE_RISK",
            "zero_frequency_limit"]
 
@@ -67,12 +69,6 @@ def _terms(plant: Plant) -> tuple[list, list, np.ndarray]:
     return out, rhs, plant.order
 
 
-def _zfactor(s: np.ndarray, order: np.ndarray) -> np.ndarray:
-    """(nf, m) factor z/u = s^-order (1 for force inputs)."""
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return np.where(order[None, :] > 0, s[:, None] ** (-np.maximum(order, 0))[None, :], 1.0)
-
-
 def _feedthrough(plant: Plant, s: np.ndarray, zf: np.ndarray) -> np.ndarray:
     """(nf, p, m) ``P(s) Z(s) + Pf``."""
     ph = plant.Ph if plant.Ph is not None else 0.0
@@ -84,101 +80,19 @@ def _feedthrough(plant: Plant, s: np.ndarray, zf: np.ndarray) -> np.ndarray:
 
 
 def direct(plant: Plant, s: np.ndarray) -> np.ndarray:
-    """Direct solve of ``(K + iH + sC + s^2 M) X = R`` per frequency; returns (p, m, nf)."""
-    s = np.asarray(s, dtype=complex)
-    n, m, p = plant.n, len(plant.inputs), len(plant.outputs)
-    k0 = plant.K + 1j * plant.H if np.any(plant.H) else plant.K
-    hz = plant.Hz
-    kz = plant.Kz + 1j * hz if np.any(hz) else plant.Kz
-    oh = plant.Oh if plant.Oh is not None else 0.0
-    oq = plant.Oq + 1j * oh
-    out = np.empty((s.size, p, m), dtype=complex)
-    zf = _zfactor(s, plant.order)
-    chunk = max(1, _CHUNK_BYTES // (16 * n * n))
-    for lo in range(0, s.size, chunk):
-        sc = s[lo:lo + chunk, None, None]
-        dyn = k0[None] + sc * plant.C[None] + sc**2 * plant.M[None]
-        rhs = plant.F[None] - (kz[None] + sc * plant.Cz[None] + sc**2 * plant.Mz[None]) * zf[lo:lo + chunk, None, :]
-        singular = np.zeros(dyn.shape[0], dtype=bool)
-        try:
-            x = np.linalg.solve(dyn, rhs)
-        except np.linalg.LinAlgError:      # an undamped model exactly at a natural frequency
-            x = np.zeros_like(rhs)
-            for k in range(dyn.shape[0]):
-                try:
-                    x[k] = np.linalg.solve(dyn[k], rhs[k])
-                except np.linalg.LinAlgError:
-                    singular[k] = True
-        obs = oq[None] + sc * plant.Ov[None] + sc**2 * plant.Oa[None]
-        out[lo:lo + chunk] = obs @ x
-        out[lo:lo + chunk][singular] = np.inf      # unbounded response there (reported as inf)
-    out += _feedthrough(plant, s, zf)
-    return np.moveaxis(out, 0, -1)
+    """The exact solve (:func:`vibss.linear.solve.response`) by batched dense LU; returns (p, m, nf)."""
+    return response(plant, s, backend="dense")
 
 
 def sparse(plant: Plant, s: np.ndarray) -> np.ndarray:
-    """Direct solve per frequency on the sparse structure; returns (p, m, nf).
+    """The exact solve on the sparse structure; returns (p, m, nf).
 
-    The same equations as :func:`direct`, solved by a banded LU (LAPACK ``zgbsv``, partial
-    pivoting) after a reverse Cuthill-McKee ordering, or by SuperLU where the band is wide
-    (:mod:`vibss.banded`). Exact like ``direct``, at O(n b^2) per frequency instead of O(n^3).
+    The same equations as :func:`direct` (:func:`vibss.linear.solve.response`), solved by a
+    banded LU (LAPACK ``zgbsv``, partial pivoting) after a reverse Cuthill-McKee ordering, or by
+    SuperLU where the band is wide (:mod:`vibss.linear.banded`). Exact like ``direct``, at
+    O(n b^2) per frequency instead of O(n^3).
     """
-    s = np.asarray(s, dtype=complex)
-    st = plant.cached("band structure", lambda: structure(plant))
-    p, m, n = len(plant.outputs), len(plant.inputs), plant.n
-    hz = plant.Hz
-    kz = plant.Kz + 1j * hz if np.any(hz) else plant.Kz
-    oh = plant.Oh if plant.Oh is not None else 0.0
-    obs = [(0, plant.Oq + 1j * oh if np.any(oh) else plant.Oq), (1, plant.Ov), (2, plant.Oa)]
-    obs = [(k, o) for k, o in obs if np.any(o)]
-    coupling = [(0, kz), (1, plant.Cz), (2, plant.Mz)]
-    coupling = [(k, c) for k, c in coupling if np.any(c)]
-    zf = _zfactor(s, plant.order)
-    out = np.zeros((s.size, p, m), dtype=complex)
-    perm = st.perm if st.banded else np.arange(n)
-    obs = [(k, np.ascontiguousarray(o[:, perm])) for k, o in obs]
-    coupling = [(k, c[perm]) for k, c in coupling]
-    force = np.asarray(plant.F, dtype=complex)[perm]
-    parts = st.parts
-    band = st.band
-    shape = (3 * band + 1, n)
-    for i, sk in enumerate(s):
-        rhs = force.copy(order="F")
-        for k, c in coupling:
-            rhs -= (sk**k) * c * zf[i][None, :]
-        if st.banded:                     # K + iH + sC + s^2 M in real arithmetic, in place
-            s2 = sk * sk
-            ab = np.empty(shape, dtype=complex, order="F")
-            ab[:band] = 0.0                                 # LAPACK's room for the pivoting fill
-            re, im = ab.real[band:], ab.imag[band:]
-            np.multiply(parts["M"], s2.real, out=re)
-            re += parts["K"]
-            np.multiply(parts["M"], s2.imag, out=im)
-            if "C" in parts:
-                if sk.real:
-                    re += sk.real * parts["C"]
-                im += sk.imag * parts["C"]
-            if "H" in parts:
-                im += parts["H"]
-            _, _, x, info = zgbsv(band, band, ab, rhs, overwrite_ab=1, overwrite_b=1)
-            if info > 0:                  # an undamped model exactly at a natural frequency
-                out[i] = np.inf
-                continue
-        else:
-            a = parts["K"] + sk * sk * parts["M"]
-            if "C" in parts:
-                a = a + sk * parts["C"]
-            if "H" in parts:
-                a = a + 1j * parts["H"]
-            try:
-                x = spl.splu(sp.csc_matrix(a, dtype=complex)).solve(rhs)
-            except RuntimeError:          # exactly singular
-                out[i] = np.inf
-                continue
-        for k, o in obs:
-            out[i] += (sk**k) * (o @ x)
-    out += _feedthrough(plant, s, zf)
-    return np.moveaxis(out, 0, -1)
+    return response(plant, s, backend="sparse")
 
 
 def _times_left(o: np.ndarray, blocks: list[_Factors]) -> np.ndarray:
@@ -210,7 +124,7 @@ def _superpose(plant: Plant, s: np.ndarray, left: list[_Factors],
     """
     outs, rhs, order = _terms(plant)
     p, m, nf = len(plant.outputs), len(plant.inputs), s.size
-    zf = _zfactor(s, order)
+    zf = zfactor(s, order)
     lefts = [(a, _times_left(oa, left)) for a, oa in outs]
     rights = [(b, _times_right(right, rb), scaled, rb) for b, rb, scaled in rhs]
     bad = ~np.isfinite(d)              # exactly at an undamped resonance: 1 / 0
@@ -276,18 +190,10 @@ def project_damping(plant: Plant, basis: ModalBasis) -> tuple[np.ndarray, np.nda
     Returns
     -------
     gamma, eta : (n, n) ndarray
-        Projected viscous [1/s] and hysteretic [1/s^2] damping, symmetrised.
+        Projected viscous [1/s] and hysteretic [1/s^2] damping, symmetrised, read-only; computed
+        once per plant and basis (:func:`vibss.linear.projection.projected_damping`).
     """
-    phi = basis.phi
-    out = []
-    for key in ("C", "H"):
-        mat = getattr(plant, key)
-        if np.any(mat):
-            g = phi.T @ (plant.cached(f"sparse {key}", partial(fast_matrix, mat)) @ phi)
-            out.append(0.5 * (g + g.T))
-        else:
-            out.append(np.zeros((plant.n, plant.n)))
-    return out[0], out[1]
+    return projected_damping(plant, basis)
 
 
 COMPLEX_MODE_RISK = 1e-9
@@ -406,7 +312,7 @@ def complex_modal(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) 
     if rid.size:
         # rotate the rigid subspace so its damping block is diagonal: undamped combinations of rigid
         # modes (e.g. a body free to turn about its single mount) then stand out as modes of their own
-        _, q = np.linalg.eigh(gam[np.ix_(rid, rid)])
+        _, q = symmetric_eigen(gam[np.ix_(rid, rid)])
         phi, gam, hys = phi.copy(), gam.copy(), hys.copy()
         phi[:, rid] = phi[:, rid] @ q
         for g in (gam, hys):
@@ -467,56 +373,64 @@ def via_statespace(plant: Plant, s: np.ndarray) -> np.ndarray:
         len(plant.outputs), len(plant.inputs), s.size)
 
 
-METHODS: dict[str, Callable[..., np.ndarray]] = {
-    "direct": direct,
-    "modal": modal,
-    "complex_modal": complex_modal,
-    "sparse": sparse,
-    "statespace": via_statespace,
-}
-"""Frequency-response kernels by name: ``f(plant, s) -> (p, m, nf)`` complex."""
+@dataclass(frozen=True)
+class FrequencyMethod(Method):
+    """A frequency-response method: ``kernel(plant, s, basis=None) -> (p, m, nf)`` complex.
 
+    ``s`` (nf,) are Laplace points (``i w``, w > 0), ``basis`` the plant's undamped
+    :class:`~vibss.linear.eigen.ModalBasis` (computed once per analysis; None for a sparse plant).
 
-def zero_frequency_limit(plant: Plant, power: int = 0, n_points: int = 32) -> np.ndarray:
-    """The limit ``w -> 0+`` of ``s^power Y(s)`` (p, m): finite values, or ``inf`` where it diverges.
-
-    Computed from the Laurent series of the direct response about ``s = 0`` (trapezoidal rule on
-    two small circles; ``i H`` is held at its ``w > 0`` value), so rigid-body modes, velocity and
-    acceleration inputs and mobility/accelerance are all handled exactly.
-
-    Parameters
+    Attributes
     ----------
-    plant : Plant
-    power : int
-        Extra factor ``s^power`` (1 mobility, 2 accelerance).
-    n_points : int
-        Points per circle.
-
-    Returns
-    -------
-    (p, m) complex ndarray
-        ``complex(inf, 0)`` where the response is unbounded at 0 Hz (e.g. a displacement output
-        of a constant-velocity input, or receptance of an unrestrained rigid-body motion).
+    needs_basis : bool
+        Superposes the undamped modes (the driver computes them for the grid anyway).
+    sparse_ok : bool
+        Accepts a plant whose ``M, C, K, H`` are scipy.sparse matrices.
     """
-    w2 = sl.eigh(plant.K, plant.M, eigvals_only=True)
-    top = max(float(np.abs(w2).max()), 1e-300)
-    elastic = w2[w2 > 1e-10 * top]
-    rho0 = 0.05 * (float(np.sqrt(elastic.min())) if elastic.size else 1.0)
-    theta = 2 * np.pi * (np.arange(n_points) + 0.5) / n_points
 
-    def laurent(r: float) -> tuple[np.ndarray, np.ndarray]:
-        z = r * np.exp(1j * theta)
-        t = direct(plant, z) * z[None, None, :] ** power         # (p, m, N)
-        coef = {k: np.mean(t * z[None, None, :] ** (-k), axis=-1) for k in range(-4, 1)}
-        sing = sum(np.abs(coef[k]) * r**k for k in range(-4, 0))
-        big = np.abs(t).max(axis=-1)
-        return np.where(sing > 1e-6 * big, complex(np.inf, 0.0), coef[0]), big
+    needs_basis: bool = False
+    sparse_ok: bool = False
 
-    for shrink in (1.0, 1e-1, 1e-2, 1e-3):   # a heavily damped (slow) pole may need a smaller circle
-        (a, _), (b, big) = laurent(rho0 * shrink), laurent(rho0 * shrink / 4)
-        finite = np.isfinite(a) & np.isfinite(b)
-        scale = max(float(big[finite].max()) if np.any(finite) else 0.0, 1e-300)
-        if np.all(np.isfinite(a) == np.isfinite(b)) and np.all(np.abs(a[finite] - b[finite]) <= 1e-7 * scale):
-            return b
-    raise AnalysisError("the 0 Hz limit of the response could not be resolved (a pole lies very "
-                        "close to 0 Hz); start the frequency grid above 0")
+
+def _direct(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) -> np.ndarray:
+    return direct(plant, s)
+
+
+def _sparse(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) -> np.ndarray:
+    return sparse(plant, s)
+
+
+def _statespace(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) -> np.ndarray:
+    return via_statespace(plant, s)
+
+
+METHODS: dict[str, FrequencyMethod] = {m.name: m for m in (
+    FrequencyMethod("direct", _direct, exact=True,
+                    summary="one dense complex solve per frequency (the reference)"),
+    FrequencyMethod("modal", modal, needs_basis=True,
+                    summary="undamped modal superposition (classical damping only)"),
+    FrequencyMethod("complex_modal", complex_modal, needs_basis=True, fallback="sparse",
+                    summary="complex modes of the scaled modal first-order form (any damping)"),
+    FrequencyMethod("sparse", _sparse, exact=True, sparse_ok=True,
+                    summary="banded or SuperLU complex solve per frequency"),
+    FrequencyMethod("statespace", _statespace,
+                    summary="control.frequency_response of the modal state space (viscous only)"),
+)}
+"""Frequency-response methods by name (:class:`FrequencyMethod`; ``"auto"`` is chosen by
+:func:`vibss.frequency.methods.choose`)."""
+
+
+def custom_method(fn: Callable[..., np.ndarray]) -> FrequencyMethod:
+    """A user kernel as a :class:`FrequencyMethod`: it gets ``(plant, s, basis)`` like the built-ins.
+
+    A two-argument ``fn(plant, s)`` (the former signature) is accepted too and gets no basis.
+    """
+    try:
+        params = inspect.signature(fn).parameters.values()
+    except (TypeError, ValueError):          # a builtin without a signature: pass the basis
+        params = None
+    takes_basis = params is None or any(
+        q.kind in (q.VAR_POSITIONAL, q.VAR_KEYWORD) or q.name == "basis" for q in params) or \
+        sum(q.kind in (q.POSITIONAL_ONLY, q.POSITIONAL_OR_KEYWORD) for q in params) >= 3
+    kernel = fn if takes_basis else (lambda plant, s, basis=None: fn(plant, s))
+    return FrequencyMethod(callable_name(fn), kernel, sparse_ok=True, summary="user kernel")

@@ -147,6 +147,42 @@ class Assembly:
             self._cache["B"] = sp.csr_matrix((vv, (rr, cc)), shape=(3 * nm, 6 * nb + 6))
         return self._cache["B"]
 
+    def stiffness_factor(self) -> sp.csr_matrix:
+        """(r, n) sparse factor G of the stiffness of the body DOFs: ``K = G^T G``.
+
+        One row per mount principal axis with nonzero stiffness: ``sqrt(k_j) t_j^T B_p`` (``t_j`` the
+        mount's axis j in global axes, ``B_p`` its deflection rows, ground fixed). Unlike K it keeps
+        every mount's stiffness apart, so soft mounts are not lost beside stiff links when it is
+        used by the eigen path (:func:`vibss.linear.eigen.undamped`) and by statics.
+
+        Examples
+        --------
+        >>> from vibss import Body, MountType, Mount, Model
+        >>> m = Model([Body("b", 10.0, [1, 1, 1])], [Mount("m", MountType("t", [1e4, 1e4, 2e4]), "b", at=[0.1, 0, 0])])
+        >>> a = assemble(m)
+        >>> g = a.stiffness_factor()
+        >>> bool(abs(g.T @ g - a.dense("K")).max() < 1e-9 * a.dense("K").max())
+        True
+        """
+        if "G" not in self._cache:
+            nm = len(self.b_index)
+            k = np.array([m.type.stiffness for m in self.model.mounts], dtype=float).reshape(nm, 3)
+            if np.any(k < 0):
+                raise ModelError("stiffness_factor: a mount has a negative stiffness (K = G^T G needs k >= 0)")
+            t = np.array([m.orientation.matrix for m in self.model.mounts]).reshape(nm, 3, 3)
+            # block-diagonal diag(sqrt k) T^T, one 3x3 block per mount, times the deflection rows
+            blocks = np.sqrt(k)[:, :, None] * t.transpose(0, 2, 1)          # (nm, 3, 3)
+            r = np.repeat(3 * np.arange(nm), 9).reshape(nm, 3, 3) + np.arange(3)[None, :, None]
+            c = np.repeat(3 * np.arange(nm), 9).reshape(nm, 3, 3) + np.arange(3)[None, None, :]
+            st = sp.csr_matrix((blocks.ravel(), (r.ravel(), c.ravel())), shape=(3 * nm, 3 * nm))
+            g = (st @ self.deflection_matrix()[:, :self.n]).tocsr()
+            keep = np.flatnonzero(np.sqrt(k).ravel() > 0)
+            g = g[keep]
+            g.eliminate_zeros()
+            g.sort_indices()
+            self._cache["G"] = g
+        return self._cache["G"]
+
     def load_vector(self, include_gravity: bool = True, case: str | None = None) -> np.ndarray:
         """(n,) generalised force of the model's static loads (and self-weight) [N, N m].
 

@@ -74,6 +74,7 @@ def _gb_layout(a: sp.spmatrix, perm: np.ndarray, band: int) -> np.ndarray:
     ``gbsv`` wants ``band`` more rows on top (room for the fill of pivoting); the solver adds them.
     """
     q = sp.csr_matrix(a)[perm][:, perm].tocoo()
+    q.eliminate_zeros()                   # stored zeros lie outside the pattern the band came from
     out = np.zeros((2 * band + 1, a.shape[0]))
     out[band + q.row - q.col, q.col] = q.data
     return out

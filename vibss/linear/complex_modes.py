@@ -111,6 +111,15 @@ class ComplexModes:
         return self.solve(sel)
 
 
+def eigenpairs(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Eigenvalues and unit right eigenvectors of a small general (state) matrix, LAPACK ``geev``.
+
+    The one general eigen solve (damped modes, complex modal FRFs); undamped modes come from
+    :func:`vibss.linear.eigen.undamped`.
+    """
+    return sl.eig(a, right=True, check_finite=False)
+
+
 def complex_modes(scale: np.ndarray, rows: np.ndarray, omega2: np.ndarray, damping: np.ndarray,
                   coupling: np.ndarray | None = None, seed: int = 0) -> ComplexModes:
     """Eigen-decompose ``A = [[0, P], [-Kt, -G]]`` (see the module docstring).
@@ -164,7 +173,7 @@ def complex_modes(scale: np.ndarray, rows: np.ndarray, omega2: np.ndarray, dampi
     if coupling is not None:
         a[ne:, :ne] -= coupling
     a[ne:, ne:] = -damping
-    lam, v = sl.eig(a, right=True, check_finite=False)
+    lam, v = eigenpairs(a)
     kt = (rows, omega2 / scale, coupling)
     tol = 1e-9 * max(float(np.abs(lam).max()), np.finfo(float).tiny)
     reason = ""

@@ -15,6 +15,7 @@ from typing import cast
 import numpy as np
 
 from ..model.model import DOF_NAMES
+from .eigen import symmetric_eigen
 
 __all__ = ["energy_fractions", "direction_shares", "dominant_direction", "align_cluster",
            "cluster_slices", "describe_motion"]
@@ -90,7 +91,7 @@ def align_cluster(shapes: np.ndarray, mass: np.ndarray) -> np.ndarray:
     # sum_j w_j * sym(phi_j (M phi)_j) as a k x k matrix
     w = (shapes * weights[:, None]).T @ mp
     w = 0.5 * (w + w.T)
-    _, q = np.linalg.eigh(w)
+    _, q = symmetric_eigen(w)
     return shapes @ q
 
 

@@ -22,19 +22,85 @@ The plant is built by :func:`vibss.linear.signals.build_plant`; analyses take a 
 
 from __future__ import annotations
 
-from collections.abc import Callable
+import dataclasses
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 
-__all__ = ["Plant", "INPUT_KINDS", "MOTION_ORDER"]
+from .._validate import name_index
+from ..errors import AnalysisError, ModelError, SignalIndexError
+
+__all__ = ["Plant", "MountForm", "INPUT_KINDS", "MOTION_ORDER", "FIELD_ROLES"]
 
 INPUT_KINDS = ("force", "displacement", "velocity", "acceleration")
 """What an input signal is."""
 
 MOTION_ORDER = {"displacement": 0, "velocity": 1, "acceleration": 2}
 """Time derivative of the prescribed coordinate that a motion input gives."""
+
+FIELD_ROLES: dict[str, str] = {
+    "dofs": "dof labels", "M": "dof x dof", "C": "dof x dof", "K": "dof x dof", "H": "dof x dof",
+    "F": "dof x input", "Kz": "dof x input", "Cz": "dof x input", "Mz": "dof x input",
+    "Hz": "dof x input",
+    "Oq": "output x dof", "Ov": "output x dof", "Oa": "output x dof", "Oh": "output x dof",
+    "Kf": "factor x dof", "mounts": "mount form",
+    "inputs": "input labels", "kinds": "input labels",
+    "outputs": "output labels", "units": "output labels",
+    "Pz": "output x input", "Pv": "output x input", "Pa": "output x input", "Pf": "output x input",
+    "Ph": "output x input",
+    "name": "other", "_cache": "other",
+}
+"""How each :class:`Plant` field changes under :meth:`Plant.select`, :meth:`Plant.restrict` and
+:meth:`Plant.project`, by the axes it spans (``"factor x dof"`` is a stiffness factor ``Kf`` with
+``K = Kf^T Kf``: its columns follow the DOFs; ``"mount form"`` is the :class:`MountForm`, kept by a
+selection of signals and dropped by restriction and projection, which change the matrices it
+reproduces). A field missing here is carried along unchanged when
+it is None and refused otherwise, so a new field must be classified before a plant operation can
+silently get it wrong."""
+
+
+@dataclass(frozen=True, eq=False)
+class MountForm:
+    """The dynamic stiffness of a plant kept as a sum over its mounts: ``K + iH + sC = R(s) + B^T Z(s) B``.
+
+    Assembling ``K = sum B_p^T k_p B_p`` rounds every entry at the level of the stiffest mount it
+    holds; the soft modes beside stiff mounts (stiffness ratios of 1e5 and more) are sensitive to
+    exactly that round-off. Kept apart, the mount forces ``lam = Z B q`` become unknowns of their
+    own (:mod:`vibss.linear.solve`, ``form="mounts"``) and nothing large is ever summed.
+
+    Attributes
+    ----------
+    B : (3 q, n) scipy.sparse CSR matrix
+        Deflection (global axes) of each of the q mounts kept apart per unit free-DOF motion [m/m, m/rad].
+    kp, cp, hp : (q, 3, 3) ndarray
+        Their stiffness [N/m], viscous damping [N s/m] and hysteretic stiffness [N/m] in global
+        axes; every ``kp`` is positive definite.
+    K, C, H : (n, n) scipy.sparse CSR matrix
+        The rest, assembled: mounts with a zero principal stiffness, added modal damping.
+    source : tuple of ndarray
+        The plant's own ``(K, C, H, M)`` arrays this form reproduces; the solve uses the form only
+        for a plant holding these very arrays (a plant derived with ``dataclasses.replace`` and
+        new matrices falls back to them).
+    stiffness_ratio : float
+        Largest over smallest principal stiffness of the mounts kept apart.
+    """
+
+    B: Any
+    kp: np.ndarray
+    cp: np.ndarray
+    hp: np.ndarray
+    K: Any
+    C: Any
+    H: Any
+    source: tuple
+    stiffness_ratio: float
+
+    def matches(self, plant: Plant) -> bool:
+        """Whether ``plant`` holds the very ``K, C, H, M`` arrays this form was built for."""
+        return all(a is b for a, b in zip(self.source, (plant.K, plant.C, plant.H, plant.M)))
 
 
 @dataclass(frozen=True, eq=False)
@@ -70,6 +136,15 @@ class Plant:
     Oh, Ph : (p, n), (p, m) ndarray or None
         Hysteretic part of the outputs (frequency domain only): ``y += i (Oh q + Ph z)``, e.g. the
         loss-factor force ``i H_p delta`` of a mount force output. None means zero.
+    Kf : (r, n) ndarray or scipy.sparse matrix or None
+        Stiffness factor of the free DOFs, ``K = Kf^T Kf`` (one row per mount principal axis,
+        ``sqrt(k) T^T B``); the eigen path and statics use it to stay exact beside stiff links
+        (K formed in floats loses soft mounts next to 1e16 N/m links). None: not known (e.g. a
+        projected plant); analyses then work from K. Restricting a plant to DOFs keeps
+        ``Kf[:, dofs]`` only when the dropped DOFs are prescribed (not condensed).
+    mounts : MountForm or None
+        ``K, C, H`` kept as a sum over the mounts, for the exact solve on badly scaled models
+        (:func:`vibss.linear.signals.build_plant` sets it; None: only the assembled matrices).
     """
 
     dofs: tuple[str, ...]
@@ -96,6 +171,8 @@ class Plant:
     name: str = "vibss"
     Oh: np.ndarray | None = None
     Ph: np.ndarray | None = None
+    Kf: Any = None
+    mounts: MountForm | None = None
     _cache: dict[str, Any] = field(default_factory=dict, init=False, repr=False)
 
     def cached(self, key: str, make: Callable[[], Any]) -> Any:
@@ -124,3 +201,234 @@ class Plant:
     def order(self) -> np.ndarray:
         """(m,) time-derivative order of each input's prescribed coordinate (-1 for forces)."""
         return np.array([MOTION_ORDER.get(k, -1) for k in self.kinds])
+
+    # ---------------------------------------------------------------- operations on the plant
+
+    def _fields_by_role(self) -> dict[str, list[str]]:
+        """The plant's non-None fields grouped by :data:`FIELD_ROLES` (an unclassified one refused)."""
+        roles: dict[str, list[str]] = {}
+        for f in dataclasses.fields(self):
+            role = FIELD_ROLES.get(f.name)
+            value = getattr(self, f.name)
+            if role is None:
+                if value is None:
+                    continue
+                raise AnalysisError(f"Plant field {f.name!r} has no role in plant.FIELD_ROLES; "
+                                    "classify it before selecting, restricting or projecting plants")
+            if value is not None:
+                roles.setdefault(role, []).append(f.name)
+        return roles
+
+    def select(self, inputs: Sequence[str | int] | None = None,
+               outputs: Sequence[str | int] | None = None) -> Plant:
+        """The plant with a subset (or reordering) of its inputs and outputs.
+
+        Every input- or output-indexed field is cut the same way (hysteretic output parts ``Oh`` and
+        ``Ph`` included), so the selected plant's response is the corresponding rows and columns of
+        the full one.
+
+        Parameters
+        ----------
+        inputs, outputs : sequence of str or int, or None
+            Signals to keep, by name or index, in the order wanted; None keeps all.
+
+        Returns
+        -------
+        Plant
+
+        Raises
+        ------
+        SignalError
+            A name that is not among the plant's signals (with did-you-mean), or an index out of
+            range (:class:`~vibss.errors.SignalIndexError`).
+
+        Examples
+        --------
+        >>> from vibss import Body, Model, Mount, MountType
+        >>> from vibss.linear.signals import build_plant
+        >>> m = Model([Body("b", 1.0, [1, 1, 1])], [Mount("m", MountType("t", [1e3] * 3), "b")])
+        >>> p = build_plant(m, ["b.fz", "b.fx"], ["b.x", "b.z"]).select(["b.fz"], ["b.z"])
+        >>> p.inputs, p.outputs, p.F.shape, p.Oq.shape
+        (('b.fz',), ('b.z',), (6, 1), (1, 6))
+        """
+        i = _indices(self.inputs, inputs, "inputs")
+        o = _indices(self.outputs, outputs, "outputs")
+        changes: dict[str, Any] = {}
+        for role, names in self._fields_by_role().items():
+            for key in names:
+                a = getattr(self, key)
+                if role == "input labels" and i is not None:
+                    changes[key] = tuple(a[j] for j in i)
+                elif role == "output labels" and o is not None:
+                    changes[key] = tuple(a[j] for j in o)
+                elif role == "dof x input" and i is not None:
+                    changes[key] = a[:, i]
+                elif role == "output x dof" and o is not None:
+                    changes[key] = a[o]
+                elif role == "output x input" and (i is not None or o is not None):
+                    a = a if o is None else a[o]
+                    changes[key] = a if i is None else a[:, i]
+        return dataclasses.replace(self, **changes)
+
+    def restrict(self, dofs: Sequence[str | int] | npt.ArrayLike) -> Plant:
+        """The plant on a subset of its free DOFs, the others held at zero.
+
+        Rows and columns of ``M, C, K, H``, rows of the input maps ``F, Kz, Cz, Mz, Hz``, columns
+        of the output maps ``Oq, Ov, Oa, Oh`` and of a stiffness factor ``Kf`` (so ``K = Kf^T Kf``
+        still holds); the :class:`MountForm` is dropped (the exact solve then uses the matrices). Exact when the dropped DOFs are decoupled from the kept ones, or not
+        excited and not seen.
+
+        Parameters
+        ----------
+        dofs : sequence of str or int, or (n,) bool array_like
+            DOFs to keep, by label or index (in the order wanted), or a mask over ``plant.dofs``.
+
+        Returns
+        -------
+        Plant
+            Sparse matrices stay sparse (CSR).
+
+        Raises
+        ------
+        SignalError
+            An unknown label, or an index out of range (:class:`~vibss.errors.SignalIndexError`).
+
+        Examples
+        --------
+        >>> from vibss import Body, Model, Mount, MountType
+        >>> from vibss.linear.signals import build_plant
+        >>> m = Model([Body("b", 1.0, [1, 1, 1])], [Mount("m", MountType("t", [1e3] * 3), "b")])
+        >>> build_plant(m, ["b.fz"], ["b.z"]).restrict(["b.z"]).K
+        array([[1000.]])
+        """
+        if isinstance(dofs, str):
+            dofs = [dofs]
+        wanted = list(dofs) if isinstance(dofs, (list, tuple)) else np.asarray(dofs).ravel().tolist()
+        if wanted and all(isinstance(w, (bool, np.bool_)) for w in wanted):
+            if len(wanted) != self.n:
+                raise ModelError(f"restrict: dofs: a mask needs {self.n} entries (one per free DOF), "
+                                 f"got {len(wanted)}")
+            k = [j for j, w in enumerate(wanted) if w]
+        else:
+            k = _indices(self.dofs, wanted, "dofs") or []
+        idx = np.asarray(k, dtype=int)
+        changes: dict[str, Any] = {}
+        for role, names in self._fields_by_role().items():
+            for key in names:
+                a = getattr(self, key)
+                if role == "dof labels":
+                    changes[key] = tuple(a[j] for j in k)
+                elif role == "dof x dof":
+                    changes[key] = _rows(a, idx)[:, idx]
+                elif role == "dof x input":
+                    changes[key] = _rows(a, idx)
+                elif role in ("output x dof", "factor x dof"):
+                    changes[key] = a[:, idx]
+                elif role == "mount form":
+                    changes[key] = None
+        return dataclasses.replace(self, **changes)
+
+    def project(self, V: npt.ArrayLike, dofs: Sequence[str] | None = None, **known: Any) -> Plant:
+        """Galerkin projection ``q = V a`` on the columns of ``V`` (n, r).
+
+        ``V^T M V``, ``V^T C V``, ``V^T K V``, ``V^T H V`` (symmetrised), ``V^T`` times the input
+        maps, the output maps times ``V`` and a stiffness factor ``Kf V`` (dropped when ``K`` is given
+        in ``known``: ``Kf V`` need not factor it); the :class:`MountForm` is dropped; feedthrough is
+        kept.
+
+        Parameters
+        ----------
+        V : (n, r) array_like
+            Basis (columns) in the free DOFs.
+        dofs : sequence of str or None
+            Labels of the r generalised coordinates; default ``'v1' ... 'vr'``.
+        **known : ndarray
+            Fields whose projection is known exactly and is used instead of computing it (e.g.
+            ``M=np.eye(r), K=np.diag(omega2)`` for mass-normalised modes).
+
+        Returns
+        -------
+        Plant
+            Dense matrices, ``r`` DOFs.
+
+        Raises
+        ------
+        ModelError
+            ``V`` does not have one row per free DOF, ``dofs`` the wrong length, or ``known``
+            names no projected field.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from vibss import Body, Model, Mount, MountType
+        >>> from vibss.linear.signals import build_plant
+        >>> m = Model([Body("b", 2.0, [1, 1, 1])], [Mount("m", MountType("t", [1e3] * 3), "b")])
+        >>> p = build_plant(m, ["b.fz"], ["b.z"])
+        >>> p.project(np.eye(6)[:, [2]], ["z"]).M      # the z row and column
+        array([[2.]])
+        """
+        v = np.asarray(V, dtype=float)
+        if v.ndim != 2 or v.shape[0] != self.n:
+            raise ModelError(f"project: V: expected an ({self.n}, r) basis (one row per free DOF), "
+                             f"got shape {v.shape}")
+        r = v.shape[1]
+        labels = tuple(f"v{i + 1}" for i in range(r)) if dofs is None else tuple(dofs)
+        if len(labels) != r:
+            raise ModelError(f"project: dofs: expected {r} labels (one per column of V), got {len(labels)}")
+        roles = self._fields_by_role()
+        projected = {key for role in ("dof x dof", "dof x input", "output x dof", "factor x dof")
+                     for key in roles.get(role, [])}
+        unknown = sorted(set(known) - projected)
+        if unknown:
+            raise ModelError(f"project: {unknown}: not projected fields of this plant; "
+                             f"expected some of {sorted(projected)}")
+        changes: dict[str, Any] = {"dofs": labels, **known}
+        for role, names in roles.items():
+            for key in names:
+                if key in known:
+                    continue
+                a = getattr(self, key)
+                if role == "dof x dof":
+                    g = np.zeros((r, r)) if not _nonzero(a) else np.asarray(v.T @ (a @ v))
+                    changes[key] = 0.5 * (g + g.T)
+                elif role == "dof x input":
+                    changes[key] = np.asarray(v.T @ a) if _nonzero(a) else np.zeros((r, a.shape[1]))
+                elif role == "output x dof":
+                    changes[key] = np.asarray(a @ v)
+                elif role == "factor x dof":      # a factor of a given K is not known: dropped
+                    changes[key] = None if "K" in known else np.asarray(a @ v)
+                elif role == "mount form":
+                    changes[key] = None
+        return dataclasses.replace(self, **changes)
+
+
+def _nonzero(a: Any) -> bool:
+    """Whether a dense or sparse matrix has a nonzero entry."""
+    return bool(a.count_nonzero()) if hasattr(a, "count_nonzero") and not isinstance(a, np.ndarray) \
+        else bool(np.any(a))
+
+
+def _rows(a: Any, idx: np.ndarray) -> Any:
+    """Rows ``idx`` of a dense or sparse matrix (sparse ones come back as CSR)."""
+    out = a[idx]
+    return out.tocsr() if hasattr(out, "tocsr") else out
+
+
+def _indices(names: tuple[str, ...], wanted: Sequence[str | int] | None, what: str) -> list[int] | None:
+    """Positions of ``wanted`` (names or indices) among the plant's ``what`` (``names``); None for None."""
+    if wanted is None:
+        return None
+    if isinstance(wanted, str):
+        wanted = [wanted]
+    one = {"inputs": "input", "outputs": "output", "dofs": "dof"}.get(what, what)
+    out = []
+    for w in wanted:
+        if isinstance(w, (int, np.integer)) and not isinstance(w, (bool, np.bool_)):
+            if not -len(names) <= int(w) < len(names):
+                raise SignalIndexError(f"Plant: {what}: index {int(w)} is out of range for the plant's "
+                                       f"{len(names)} {what}", argument=what, received=int(w),
+                                       expected=f"-{len(names)} .. {len(names) - 1}")
+            out.append(int(w) % len(names))
+        else:
+            out.append(name_index(w, names, one, who="Plant"))
+    return out

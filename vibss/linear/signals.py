@@ -61,15 +61,14 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-import scipy.linalg as sl
 import scipy.sparse as sp
 
 from .assemble import Assembly, assemble
 from ..errors import ModelError, SignalError, did_you_mean
 from ..model.geometry import point_transfer
-from .eigen import rigid_mask
+from .eigen import undamped
 from ..model.model import DOF_NAMES, GROUND, Model
-from .plant import INPUT_KINDS, Plant
+from .plant import INPUT_KINDS, MountForm, Plant
 
 __all__ = ["build_plant", "control_name", "default_outputs", "INPUT_FORMS", "OUTPUT_FORMS"]
 
@@ -429,33 +428,96 @@ def build_plant(model_or_assembly: Model | Assembly, inputs: Sequence[Any],
 
     C = ff(mats["C"])
     if modal_damping is not None:
-        C = C + _modal_damping(ff(mats["M"]), ff(mats["K"]), modal_damping)
+        C = C + _modal_damping(ff(mats["M"]), ff(mats["K"]), modal_damping, _columns(asm.stiffness_factor(), free))
     cache: dict = {}
     rows, units = zip(*(output_row(asm, name, cache) for name in outputs)) if outputs else ((), ())
     full = {key: np.array([getattr(r, key) for r in rows]).reshape(len(outputs), n + 6)
             for key in ("d", "v", "a", "h")}
     o = {key: full[key][:, free] for key in full}
     pz = {key: full[key] @ motion for key in full}
+    K, H, M = ff(mats["K"]), ff(mats["H"]), ff(mats["M"])
+    extra_c = None if modal_damping is None else C - ff(mats["C"])
     return Plant(
         dofs=tuple(asm.dofs[i] for i in free),
-        M=ff(mats["M"]), C=C, K=ff(mats["K"]), H=ff(mats["H"]),
+        M=M, C=C, K=K, H=H,
+        mounts=mount_form(asm, free, (K, C, H, M), extra_c),
         inputs=tuple(p.name for p in parsed), kinds=tuple(p.kind for p in parsed),
         F=force[free], Kz=fz("K"), Cz=fz("C"), Mz=fz("M"), Hz=fz("H"),
         outputs=outputs, units=tuple(units),
         Oq=o["d"], Ov=o["v"], Oa=o["a"], Pz=pz["d"], Pv=pz["v"], Pa=pz["a"],
         Pf=np.zeros((len(outputs), m)), name=model.name,
-        Oh=o["h"], Ph=pz["h"],
+        Oh=o["h"], Ph=pz["h"], Kf=_columns(asm.stiffness_factor(), free),
     )
 
 
-def _modal_damping(M: np.ndarray, K: np.ndarray, zeta: float | Sequence[float]) -> np.ndarray:
-    w2, phi = sl.eigh(K, M)
-    w = np.sqrt(np.clip(w2, 0.0, None))
+def _columns(g: sp.csr_matrix, cols: np.ndarray) -> sp.csr_matrix:
+    """``g[:, cols]`` as CSR with sorted indices (so no product sorts them in place later and the
+    summation order, hence the last bits, never change between calls)."""
+    out = g[:, cols].tocsr()
+    out.sort_indices()
+    return out
+
+
+
+
+def mount_form(asm: Assembly, free: np.ndarray, source: tuple, extra_c: Any = None) -> MountForm | None:
+    """The plant's ``K, C, H`` as a sum over its mounts (:class:`~vibss.linear.plant.MountForm`).
+
+    Parameters
+    ----------
+    asm : Assembly
+        The assembled model.
+    free : (n,) int ndarray
+        Free body DOFs (indices into ``asm.dofs``).
+    source : tuple
+        The plant's ``(K, C, H, M)``.
+    extra_c : (n, n) array_like or None
+        Damping not from the mounts (modal damping).
+
+    Returns
+    -------
+    MountForm or None
+        None when no mount with a positive-definite stiffness touches a free DOF.
+    """
+    n_body = asm.n
+    b = sp.csr_matrix(asm.deflection_matrix()[:, :n_body][:, free])
+    q = len(asm.b_index)
+    if q == 0:
+        return None
+    lam = np.linalg.eigvalsh(0.5 * (asm.kp + asm.kp.transpose(0, 2, 1)))          # (q, 3)
+    rows = np.diff(b.indptr).reshape(q, 3).sum(axis=1)
+    apart = (lam.min(axis=1) > 0) & (rows > 0)
+    if not apart.any():
+        return None
+    idx = (3 * np.flatnonzero(apart)[:, None] + np.arange(3)).ravel()
+    rest = (3 * np.flatnonzero(~apart)[:, None] + np.arange(3)).ravel()
+    br = b[rest]
+
+    def assembled(blocks: np.ndarray) -> sp.csr_matrix:
+        if rest.size == 0:
+            return sp.csr_matrix((free.size, free.size))
+        return sp.csr_matrix(br.T @ sp.block_diag(list(blocks[~apart])) @ br)
+
+    c_rest = assembled(asm.cp)
+    if extra_c is not None:
+        c_rest = sp.csr_matrix(c_rest + sp.csr_matrix(extra_c))
+    return MountForm(B=b[idx], kp=asm.kp[apart], cp=asm.cp[apart], hp=asm.hp[apart],
+                     K=assembled(asm.kp), C=c_rest, H=assembled(asm.hp), source=source,
+                     stiffness_ratio=float(lam[apart].max() / lam[apart].min()))
+
+
+def _modal_damping(M: np.ndarray, K: np.ndarray, zeta: float | Sequence[float], factor: Any = None) -> np.ndarray:
+    spec = undamped(K, M, factor)
+    w2, phi, rigid = spec.omega2, spec.phi, spec.rigid
+    w = np.sqrt(w2)
     z = np.broadcast_to(np.asarray(zeta, dtype=float), w.shape) if np.ndim(zeta) == 0 else np.asarray(zeta, float)
     if z.shape != w.shape or np.any(z < 0) or not np.all(np.isfinite(z)):
         raise ModelError(f"modal_damping: expected a ratio >= 0 or {w.size} of them, got {zeta!r}")
-    rigid = rigid_mask(w2, phi, np.diag(K))
     g = np.where(rigid, 0.0, 2.0 * z * w)
     mp = M @ phi
     c = (mp * g) @ mp.T
-    return 0.5 * (c + c.T)
+    c = 0.5 * (c + c.T)
+    # entries at the round-off of the diagonal are zeros that the eigenvectors' last bits blurred
+    d = np.sqrt(np.abs(np.diag(c)))
+    c[np.abs(c) <= 4 * c.shape[0] * np.finfo(float).eps * np.outer(d, d)] = 0.0
+    return c

@@ -54,14 +54,12 @@ from __future__ import annotations
 import operator
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
-from functools import partial
 from typing import Any
 
 import control
 import numpy as np
 import scipy.linalg as sl
 import scipy.sparse as sp
-import scipy.sparse.linalg as spl
 
 from .assemble import Assembly
 from .._validate import choice
@@ -70,6 +68,7 @@ from ..errors import (AnalysisError, ArgumentError, ArgumentTypeError, ModelErro
 from .eigen import modal_basis
 from ..model.model import Model
 from .plant import Plant
+from .projection import projected_damping
 from .signals import build_plant, control_name
 
 __all__ = ["statespace", "NamedStateSpace", "REALIZATIONS"]
@@ -234,7 +233,7 @@ def _modal(plant: Plant) -> _Basis:
     mb = modal_basis(plant)
     phi, s = mb.phi, mb.scale
     k = np.arange(1, plant.n + 1)
-    return _Basis(Tw=phi / s, Tv=phi, R=np.diag(s), Kt=np.diag(mb.omega2 / s), Ct=phi.T @ plant.C @ phi,
+    return _Basis(Tw=phi / s, Tv=phi, R=np.diag(s), Kt=np.diag(mb.omega2 / s), Ct=projected_damping(plant, mb)[0],
                   lm=lambda x: phi.T @ x,
                   names=([f"mode{i}:pos" for i in k], [f"mode{i}:vel" for i in k]))
 

@@ -28,6 +28,7 @@ import numpy as np
 from ..linear.assemble import Assembly, assemble
 from ..errors import ArgumentError
 from ..model.model import Model
+from ..linear.complex_modes import eigenpairs
 from ..linear.eigen import damping_coupling
 from .undamped import Modes, modes
 from ..results import Result, Table, jsonable, require_pandas
@@ -241,7 +242,7 @@ def damped_modes(model: Model | Assembly, undamped: Modes | None = None) -> Damp
         A[:nk, nk:] = np.diag(s)
         A[nk:, :nk] = -np.diag(wk ** 2 / s)
         A[nk:, nk:] = -chat[np.ix_(keep, keep)]
-        lam, vec = np.linalg.eig(A)
+        lam, vec = eigenpairs(A)
         sel = lam.imag >= 0                     # one of each conjugate pair, and real poles
         lam, vec = lam[sel], vec[:, sel]
         eta_k = vec[:nk] / s[:, None]

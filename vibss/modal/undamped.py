@@ -1,17 +1,22 @@
 """Undamped modes: K phi = w^2 M phi, with the tables engineers read.
 
-Methods (by name, or pass a callable ``f(K, M, n_modes) -> (w2, shapes)``):
+The modes come from the one eigen path, :func:`vibss.linear.eigen.undamped` (methods by name, or
+pass a callable ``f(K, M, n_modes) -> (w2, shapes)``):
 
-- ``"dense"``: :func:`scipy.linalg.eigh` on dense matrices (all modes, or the lowest
-  ``n_modes`` through ``subset_by_index``);
-- ``"shift-invert"``: :func:`scipy.sparse.linalg.eigsh` in shift-invert mode about a small
-  negative shift: the lowest ``n_modes`` of a large sparse model;
-- ``"auto"``: shift-invert for a sparse model when fewer than a tenth of the modes are asked for,
-  dense otherwise.
+- ``"jacobi"``: Jacobi SVD of the factored problem (``K = G^T G``): every frequency to high
+  relative accuracy, also beside 1e16 N/m links (the default up to
+  :data:`~vibss.linear.eigen.JACOBI_MAX` DOFs);
+- ``"dense"``: ``eigh`` on dense matrices (all modes, or the lowest ``n_modes``), refined where
+  the a-posteriori estimate says so;
+- ``"shift-invert"``: sparse shift-invert about a small negative shift: the lowest ``n_modes`` of a
+  large sparse model;
+- ``"auto"``: shift-invert for a large sparse model when fewer than a tenth of the modes are asked
+  for, Jacobi for a small one, dense otherwise.
 
-Zero-frequency (rigid-body) modes are found by :func:`rigid_mask`, a unit-independent test of each
-mode's stiffness energy against the energy the diagonal of K alone would store; they are reported
-with frequency 0. Repeated frequencies (symmetric layouts, free bodies) are split into
+Zero-frequency (rigid-body) modes are found by :func:`~vibss.linear.eigen.rigid_mask`, a
+unit-independent test of whether each mode's stiffness cancels to round-off on the factor; it does
+not depend on ``n_modes``. Rigid modes are reported with frequency 0. Every mode carries a relative
+error bound of its frequency (:attr:`Modes.error_estimate`). Repeated frequencies (symmetric layouts, free bodies) are split into
 clean directions by :func:`vibss.linear.directions.align_cluster`.
 """
 
@@ -22,13 +27,12 @@ from functools import cached_property
 from typing import Any, ClassVar
 
 import numpy as np
-import scipy.sparse as sp
 
 from ..linear.assemble import Assembly, assemble
-from ..linear.eigen import METHODS, Solver, rigid_mask
+from ..linear.eigen import FREQ_RTOL, JACOBI_MAX, Solver, undamped
 from ..linear.directions import align_cluster, cluster_slices, direction_shares, dominant_direction, energy_fractions
-from .._validate import choice, integer
-from ..errors import AnalysisError, ArgumentError
+from .._validate import integer
+from ..errors import AnalysisError, ArgumentError, ModelError
 from ..model.model import DOF_NAMES, Model
 from ..results import Result, Table, jsonable, require_pandas
 
@@ -89,6 +93,9 @@ class Modes(Result):
         Eigen-solver used.
     note : str
         Why that solver (for ``method="auto"``).
+    error_estimate : (k,) ndarray or None
+        Relative error bound of each natural frequency [-] (NaN for rigid modes, whose 0 is exact);
+        see :func:`vibss.linear.eigen.error_estimate`.
     """
 
     signal_kind: ClassVar[str] = "DOF"
@@ -115,6 +122,7 @@ class Modes(Result):
 
     def _item(self, i: int, j: int | None) -> np.ndarray:
         return self.shapes[i]
+    error_estimate: np.ndarray | None = None
 
     @cached_property
     def frequency_hz(self) -> np.ndarray:
@@ -177,6 +185,7 @@ class Modes(Result):
                 "cpm": float(self.cpm[k]),
                 "direction": self.directions[k],
                 "rigid": bool(self.rigid[k]),
+                "error_estimate": self._estimate(k),
                 "shape": {b: rel[6 * i:6 * i + 6, k].tolist() for i, b in enumerate(names)},
                 "energy": {b: self.energy[k, 6 * i:6 * i + 6].tolist() for i, b in enumerate(names)},
                 "modal_mass": float(self.modal_mass[k]),
@@ -188,6 +197,12 @@ class Modes(Result):
     def summary(self) -> Table:
         """The frequency table (:meth:`frequency_table`)."""
         return self.frequency_table()
+
+    def _estimate(self, k: int) -> float | None:
+        """Relative error bound of mode k as JSON (None: rigid or not estimated)."""
+        if self.error_estimate is None or not np.isfinite(self.error_estimate[k]):
+            return None
+        return float(self.error_estimate[k])
 
     def energy_table(self) -> Table:
         """Kinetic-energy distribution [%]: one row per mode, one column per body DOF."""
@@ -211,12 +226,13 @@ class Modes(Result):
             rows.append([f"{k + 1}", f"{self.frequency_hz[k]:.4f}", f"{self.cpm[k]:.0f}",
                          f"{self.omega[k]:.4g}", self.directions[k] + (" (rigid)" if self.rigid[k] else ""),
                          f"{self.modal_mass[k]:.4g}"]
-                        + [f"{m:.1f}" if m >= 0.05 else "0" for m in frac[k]])
+                        + [f"{m:.1f}" if m >= 0.05 else "0" for m in frac[k]]
+                        + [("-" if self._estimate(k) is None else f"{self._estimate(k):.1e}")])
         head = ["mode", "f [Hz]", "CPM", "w [rad/s]", "direction", "modal mass"] + \
-               [f"eff. {d} [%]" for d in DOF_NAMES]
+               [f"eff. {d} [%]" for d in DOF_NAMES] + ["rel. error"]
         return Table(head, rows, title="Undamped natural frequencies (modal mass of the relative shape; "
                                        "effective mass in % of the total mass and of the inertia about "
-                                       "the system COG)")
+                                       "the system COG; rel. error: bound of the frequency's relative error)")
 
     def shape_table(self) -> Table:
         """Relative eigenvector values (largest component = 1), per mode and body."""
@@ -276,7 +292,7 @@ def modes(model: Model | Assembly, n_modes: int | None = None,
         The system (ground fixed).
     n_modes : int or None
         Number of lowest modes; None for all (6 per body).
-    method : {"auto", "dense", "shift-invert"} or callable
+    method : {"auto", "jacobi", "dense", "shift-invert"} or callable
         Eigen-solver (see module docstring).
 
     Returns
@@ -299,16 +315,16 @@ def modes(model: Model | Assembly, n_modes: int | None = None,
             raise ArgumentError(f"modes: n_modes: expected a positive integer or None, got {n_modes!r}",
                                 argument="n_modes", received=n_modes, expected="a positive integer")
         n_modes = min(integer(n_modes, "n_modes", who="modes"), n)
-    name, solver = _pick(method, a, n_modes)
     try:
-        w2, phi = solver(a.K, a.M, n_modes)
+        spec = undamped(a.K, a.M, a.stiffness_factor(), n_modes, method)
     except (np.linalg.LinAlgError, ValueError) as exc:
-        raise AnalysisError(f"the eigen-solver ({name}) failed: {exc}; check the model for extreme "
-                            "values (masses, inertias, stiffnesses or positions many decades apart)") from None
+        if isinstance(exc, ModelError):
+            raise
+        raise AnalysisError(f"the eigen-solver ({method if isinstance(method, str) else 'custom'}) failed: "
+                            f"{exc}; check the model for extreme values (masses, inertias, stiffnesses "
+                            "or positions many decades apart)") from None
+    w2, phi, rigid, name = spec.omega2, spec.phi.copy(), spec.rigid, spec.method
     M = a.dense("M")
-    k_diag = np.asarray(a.K.diagonal()).ravel()
-    rigid = rigid_mask(w2, phi, k_diag)
-    w2 = np.where(rigid, 0.0, np.maximum(w2, 0.0))
     # Repeated frequencies: rigid-body modes form one cluster; elastic ones by relative gap.
     groups = cluster_slices(np.sqrt(w2), REPEAT_RTOL, 0.0)
     if rigid.sum() > 1:
@@ -325,23 +341,18 @@ def modes(model: Model | Assembly, n_modes: int | None = None,
     energy = energy_fractions(phi, M)
     gamma = phi.T @ (M @ rigid_influence(a.model))
     return Modes(model=a.model, dofs=a.dofs, omega=omega, shapes=phi, energy=energy,
-                 effective_mass=gamma ** 2, rigid=rigid, method=name, note=_why(method, name))
+                 effective_mass=gamma ** 2, rigid=rigid, method=name, note=_why(method, name),
+                 error_estimate=spec.error)
 
 
 def _why(method: Any, name: str) -> str:
     """Why ``auto`` chose the solver ("" for a solver chosen by the caller)."""
     if not isinstance(method, str) or method != "auto":
         return ""
-    return ("auto: sparse model and fewer than a tenth of the modes asked for: shift-invert"
-            if name == "shift-invert" else "auto: dense eigh (a dense model, or many modes asked for)")
-
-
-def _pick(method: str | Solver, a: Assembly, n_modes: int | None) -> tuple[str, Solver]:
-    if callable(method):
-        return getattr(method, "__name__", "custom"), method
-    if method == "auto":
-        if a.sparse and n_modes is not None and n_modes < a.n // 10:
-            return "shift-invert", METHODS["shift-invert"]
-        return "dense", METHODS["dense"]
-    choice(method, "method", ["auto", *METHODS], who="modes", callable_ok=True)
-    return method, METHODS[method]
+    if name.startswith("shift-invert"):
+        return "auto: sparse model and fewer than a tenth of the modes asked for: shift-invert"
+    if name.startswith("jacobi"):
+        return (f"auto: Jacobi SVD of the stiffness factor (high relative accuracy; up to {JACOBI_MAX} "
+                "DOFs)")
+    return ("auto: dense eigh, modes whose error estimate exceeds "
+            f"{FREQ_RTOL:g} refined on the stiffness factor")

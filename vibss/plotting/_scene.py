@@ -15,6 +15,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from ..errors import ModelError
+from ..linear.eigen import symmetric_eigen
 from ..model.geometry import point_transfer
 from ..model.model import GROUND, Model
 
@@ -125,7 +126,7 @@ class Scene:
         span = float(np.ptp(pts, axis=0).max()) if len(pts) > 1 else 0.0
         frames = []
         for b in model.bodies:
-            moments, axes = np.linalg.eigh(b.tensor)
+            moments, axes = symmetric_eigen(b.tensor)
             half = box_half_sides(b.total_mass, moments)
             lo, hi = -half, half.copy()
             own = np.array([mpts[p] for p, m in enumerate(model.mounts) if b.name in (m.body, m.to)])

@@ -50,7 +50,6 @@ Examples
 from __future__ import annotations
 
 import time
-from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from typing import Any, cast
 
@@ -62,28 +61,17 @@ from .._validate import choice
 from ..errors import AnalysisError, ModelError
 from ..model.model import Model
 from ..linear.plant import Plant
-from .kernels import (Removal, as_sparse, frf, krylov, prune_dofs, prune_modes, prune_sparse,
-                                sparse_plant, truncate)
+from .kernels import Removal, frf, sparse_plant
+from .methods import (BALANCED_MAX_STATES, KRYLOV_MIN_DOF, METHODS, MODE_PRUNE_MAX, Reduced, ReduceOptions,
+                      ReductionMethod, _floor, _states, check_grid, choose, resolve_method)
 from ..results import Result, Table, jsonable, require_pandas
 from .scope import Scope
 from ..linear.signals import build_plant, control_name
+from ..linear.solve import statespace_plant
 from ..linear.statespace import NamedStateSpace, statespace
 
-__all__ = ["reduce", "Reduction", "Removal", "METHODS", "BALANCED_MAX_STATES", "KRYLOV_MIN_DOF", "select"]
-
-BALANCED_MAX_STATES = 2000
-"""Largest state count given to balanced truncation (dense Gramians)."""
-
-KRYLOV_MIN_DOF = 500
-"""``"auto"`` uses ``"krylov"`` above this many DOFs. Measured on a 100-body chain (600 DOF, band
-with 25 modes, tolerance 1e-6, single thread): ``"krylov"`` 0.07 s, ``"modal"`` 3.8 s (dense
-``eigh`` plus its mode search), both within tolerance; on a 1,000-body chain the modal route misses
-the tolerance (the lowest modes are localised away from the input, benchmarks/bench_reduction.py).
-Below, ``"modal"`` costs well under a second and gives interpretable modal coordinates."""
-
-MODE_PRUNE_MAX = 3000
-"""Largest number of DOFs for which zero-participation modes are searched (dense eigh)."""
-
+__all__ = ["reduce", "Reduction", "Removal", "Reduced", "ReduceOptions", "ReductionMethod", "METHODS",
+           "BALANCED_MAX_STATES", "KRYLOV_MIN_DOF", "MODE_PRUNE_MAX", "select"]
 
 @dataclass(frozen=True, eq=False)
 class Reduction(Result):
@@ -200,11 +188,8 @@ class Reduction(Result):
         if self.plant is not None:
             return frf(self.plant, s)
         sys = cast("control.StateSpace", self.system)  # no plant: reduce() set the system
-        out = np.empty((sys.noutputs, sys.ninputs, s.size), complex)
-        eye = np.eye(sys.nstates)
-        for i, si in enumerate(s):
-            out[:, :, i] = sys.C @ np.linalg.solve(si * eye - sys.A, sys.B) + sys.D
-        return out
+        return frf(statespace_plant(sys.A, sys.B, sys.C, sys.D, tuple(sys.input_labels),
+                                    tuple(sys.output_labels)), s)
 
     def verify(self, n_points: int = 400) -> Reduction:
         """A copy with the measured error against the full model over the band, and timings.
@@ -339,168 +324,16 @@ def relative_error(h_full: np.ndarray, h_red: np.ndarray) -> float:
     return float((err / _floor(peak)).max()) if err.size else 0.0
 
 
-def _floor(peak: np.ndarray) -> np.ndarray:
-    """(p, m) reference magnitude of each channel: its output's largest peak over the scope's inputs
-    (over all outputs, for an output that does not respond)."""
-    row = peak.max(axis=1, keepdims=True)
-    row = np.where(row > 0, row, max(float(peak.max()), 1e-300))
-    return np.broadcast_to(row, peak.shape)
-
-
-def check_grid(scope: Scope, n_points: int, resonances: np.ndarray) -> np.ndarray:
-    """Verification grid [rad/s]: ``n_points`` over the band plus points beside its resonances.
-
-    The resonances themselves are left out (an undamped response is infinite there).
-    """
-    w1, w2 = scope.band_rad
-    lo = w1 if w1 > 0 else w2 * 1e-3
-    w = np.linspace(lo, w2, int(n_points))
-    r = resonances[(resonances >= lo) & (resonances <= w2)]
-    extra = np.concatenate([r * (1 - 2e-4), r * (1 + 2e-4), r * (1 - 1e-3), r * (1 + 1e-3)])
-    return np.unique(np.concatenate([w, extra[(extra >= lo) & (extra <= w2)]]))
-
-
 def select(plant: Plant, scope: Scope) -> Plant:
     """The plant cut to the scope's inputs and outputs (names must be among the plant's)."""
     for what, names, have in (("inputs", scope.inputs, plant.inputs), ("outputs", scope.outputs, plant.outputs)):
         missing = [x for x in names if x not in have]
         if missing:
             raise ModelError(f"scope: {what}: {missing} not among the plant's {what} {list(have)}")
-    i = [plant.inputs.index(u) for u in scope.inputs]
-    o = [plant.outputs.index(y) for y in scope.outputs]
-    cols = {k: getattr(plant, k)[:, i] for k in ("F", "Kz", "Cz", "Mz", "Hz")}
-    rows = {k: getattr(plant, k)[o] for k in ("Oq", "Ov", "Oa")}
-    pm = {k: getattr(plant, k)[np.ix_(o, i)] for k in ("Pz", "Pv", "Pa", "Pf")}
-    return replace(plant, inputs=tuple(scope.inputs), kinds=tuple(plant.kinds[j] for j in i),
-                   outputs=tuple(scope.outputs), units=tuple(plant.units[j] for j in o),
-                   Oh=None if plant.Oh is None else plant.Oh[o],
-                   Ph=None if plant.Ph is None else plant.Ph[np.ix_(o, i)], **cols, **rows, **pm)
+    return plant.select(list(scope.inputs), list(scope.outputs))
 
 
-def _states(p: Plant) -> int:
-    return 2 * p.n + int(np.sum(np.maximum(p.order, 0)))
-
-
-def _prune(p: Plant) -> tuple[Plant, list[Removal], list[str]]:
-    p1, rem = prune_dofs(p)
-    notes: list[str] = []
-    if p1.n <= MODE_PRUNE_MAX:
-        p2, rem2, _ = prune_modes(p1)
-        return p2, rem + rem2, notes
-    notes.append(f"zero-participation modes not searched ({p1.n} DOFs > {MODE_PRUNE_MAX})")
-    return p1, rem, notes
-
-
-def _method_prune(p: Plant, scope: Scope, **kw: Any) -> dict[str, Any]:
-    p1, rem, notes = _prune(p)
-    return dict(plant=p1, removed=rem, notes=notes)
-
-
-def _method_modal(p: Plant, scope: Scope, max_modes: int | None = None, n_grid: int = 200,
-                  residual: str = "vectors", **kw: Any) -> dict[str, Any]:
-    p1, rem = prune_dofs(p)
-    if p1.n == 0:
-        raise AnalysisError("nothing is left to reduce after pruning")
-    w1, w2 = scope.band_rad
-    grid = np.linspace(w1 if w1 > 0 else w2 * 1e-3, w2, n_grid)
-    tr = truncate(p1, (w1, w2), scope.tolerance, grid, max_modes=max_modes, residual=residual)
-    if tr.n_kept < p1.n:
-        why = "truncated, accounted for by the residual correction"
-        if tr.dropped_in_band:
-            why += (f"; {tr.dropped_in_band} of them in the band, with negligible participation "
-                    "(e.g. localised away from the inputs and outputs)")
-        rem = rem + [Removal("modes", (f"{p1.n - tr.n_kept} modes from {tr.first_truncated_hz:.4g} Hz up",),
-                             why, exact=False)]
-    corr = VECTORS_NOTE if residual == "vectors" else STATIC_NOTE
-    return dict(plant=tr.plant, removed=rem, estimate=tr.estimate, estimate_kind=tr.bound_kind,
-                correction=corr, kept_hz=tr.kept_hz, notes=list(tr.notes))
-
-
-def _method_balanced(p: Plant, scope: Scope, order: int | None = None, **kw: Any) -> dict[str, Any]:
-    try:
-        import slycot  # noqa: F401  (optional dependency of python-control)
-    except ImportError:
-        raise AnalysisError("method 'balanced' needs slycot: python-control's minreal, hsvd and balred "
-                            "are SLICOT-only (pip install slycot); use method='modal' without it") from None
-    p1, rem, notes = _prune(p)
-    if np.any(p1.H) or np.any(p1.Hz):
-        raise AnalysisError("method 'balanced' cannot represent hysteretic damping (loss factors); use 'modal'")
-    if _states(p1) > BALANCED_MAX_STATES:
-        raise AnalysisError(f"method 'balanced': {_states(p1)} states is too many for dense Gramians "
-                            f"(limit {BALANCED_MAX_STATES}); reduce with method='modal' first and balance "
-                            "its plant: reduce(reduce(model, scope, 'modal').plant, scope, 'balanced')")
-    sys = statespace(p1)
-    if np.any(np.linalg.eigvals(sys.A).real >= 0):
-        raise AnalysisError("method 'balanced' needs an asymptotically stable system (every mode damped, "
-                            "no rigid-body mode, no velocity/acceleration input integrators); use 'modal'")
-    # scale channels so that |H_ij| / (a_i b_j) is about 1 at each channel's peak in the band
-    w1, w2 = scope.band_rad
-    peak = _floor(np.abs(frf(p1, 1j * check_grid(scope, 200, np.zeros(0)))).max(axis=2))
-    a = peak.max(axis=1)
-    b = (peak / a[:, None]).max(axis=0)
-    ratio = float((a[:, None] * b[None, :] / peak).max())     # per-channel relative <= ratio * 2 sum(sigma)
-    scaled = control.ss(sys.A, sys.B / b[None, :], sys.C / a[:, None], sys.D / a[:, None] / b[None, :])
-    n0 = scaled.nstates
-    sysm = control.minreal(scaled, verbose=False)
-    if sysm.nstates < n0:
-        rem.append(Removal("states", (f"{n0 - sysm.nstates} states",),
-                           "uncontrollable or unobservable (control.minreal)"))
-    hsv = np.asarray(control.hsvd(sysm), float)
-    tail = np.r_[2 * np.cumsum(hsv[::-1])[::-1], 0.0]      # tail[r] = 2 sum_{i >= r} sigma_i
-    if order is None:
-        order = int(np.argmax(tail * ratio <= scope.tolerance))
-    order = max(1, min(int(order), sysm.nstates))
-    red = control.balred(sysm, order, method="truncate") if order < sysm.nstates else sysm
-    red = NamedStateSpace(red.A, red.B * b[None, :], red.C * a[:, None], red.D * a[:, None] * b[None, :],
-                          inputs=[control_name(u) for u in p1.inputs],
-                          outputs=[control_name(y) for y in p1.outputs],
-                          name=control_name(p1.name) + ":balanced")
-    if order < sysm.nstates:
-        rem.append(Removal("states", (f"{sysm.nstates - order} balanced states",),
-                           f"Hankel singular values {hsv[order]:.3g} and below", exact=False))
-    return dict(plant=None, system=red, removed=rem, hsv=hsv, hsv_bound=float(tail[order]),
-                io_scale=(a, b), estimate=float(tail[order] * ratio),
-                estimate_kind="bound: |dH_ij| <= a_i b_j 2 sum(discarded HSV) of the channel-scaled "
-                              "system, at every frequency",
-                notes=notes + ["a StateSpace, not a Plant: use it with python-control"])
-
-
-def _method_krylov(p: Plant, scope: Scope, **kw: Any) -> dict[str, Any]:
-    p1, rem = prune_sparse(as_sparse(p))
-    kb = krylov(p1, scope.band_rad, scope.tolerance)
-    rem = rem + [Removal("dofs", (f"{p1.n} DOFs -> {kb.plant.n} Krylov vectors",),
-                         "Galerkin projection on a rational Krylov basis of the inputs/outputs", exact=False)]
-    kind = (f"sampled: exact error (complex sparse LU) at the last round's {kb.history[-1][1]} check "
-            "frequencies (midpoints between interpolation frequencies, significant Ritz resonances), "
-            f"relative per output; basis grown until below {0.5:g} x tolerance")
-    details = {"basis_size": kb.plant.n, "shifts_hz": kb.shifts_hz, "moments": kb.moments,
-               "interpolation_hz": kb.interpolation_hz, "check_hz": kb.check_hz,
-               "history": [list(h) for h in kb.history], "two_sided": kb.two_sided, "timings": kb.timings}
-    return dict(plant=kb.plant, removed=rem, estimate=kb.estimate, estimate_kind=kind,
-                kept_hz=kb.ritz_hz[kb.ritz_hz <= scope.f2], notes=list(kb.notes), details=details,
-                correction="none needed: the basis holds the static response when the band starts at 0 Hz"
-                if scope.f1 == 0 else "")
-
-
-VECTORS_NOTE = ("residual static vectors of the truncated modes for every forcing term (F, Kz, Cz, Mz) "
-                "appended as DOFs 'residual<k>' (Galerkin projection): the static response is exact and "
-                "every output type (displacement, velocity, acceleration, mount forces) is corrected")
-
-STATIC_NOTE = ("Pf/Pz feedthrough of the residual flexibility of the truncated modes on the displacement-"
-               "type output terms (Oq: displacements, deflections, spring part of mount/ground forces) "
-               "for force and prescribed-displacement forcing (F, Kz); velocity/acceleration output terms "
-               "(Ov, Oa) and damper/mass coupling of motion inputs (Cz, Mz) are not corrected")
-
-METHODS: dict[str, Callable[..., dict[str, Any]]] = {
-    "prune": _method_prune,
-    "modal": _method_modal,
-    "balanced": _method_balanced,
-    "krylov": _method_krylov,
-}
-"""Reduction methods by name (``"auto"``: ``"krylov"`` above ``KRYLOV_MIN_DOF`` DOFs, else ``"modal"``)."""
-
-
-def reduce(model_or_plant: Model | Plant, scope: Scope, method: str = "auto", *, verify: bool = False,
+def reduce(model_or_plant: Model | Plant, scope: Scope, method: Any = "auto", *, verify: bool = False,
            max_modes: int | None = None, order: int | None = None, residual: str = "vectors",
            n_check: int = 400) -> Reduction:
     """Reduce a model to what ``scope`` needs, with the error estimated (and measured on request).
@@ -512,8 +345,9 @@ def reduce(model_or_plant: Model | Plant, scope: Scope, method: str = "auto", *,
         :func:`vibss.linear.signals.build_plant`; a Plant is cut to the scope's inputs and outputs.
     scope : Scope
         Inputs, outputs, band [Hz] and relative tolerance.
-    method : {"auto", "prune", "modal", "balanced", "krylov"}
-        See the module docstring.
+    method : {"auto", "prune", "modal", "balanced", "krylov"}, ReductionMethod or callable
+        See the module docstring; a callable ``f(plant, scope, options) -> Reduced`` gets what the
+        built-ins get (:mod:`vibss.reduction.methods`).
     verify : bool
         Measure the error against the full model over the band (an exact FRF of the full model).
     max_modes : int or None
@@ -546,7 +380,7 @@ def reduce(model_or_plant: Model | Plant, scope: Scope, method: str = "auto", *,
     """
     if not isinstance(scope, Scope):
         raise ModelError(f"reduce: scope: expected a vibss.reduction.scope.Scope, got {scope!r}")
-    choice(method, "method", ["auto", *METHODS], who="reduce")
+    chosen = resolve_method(method)
     if isinstance(model_or_plant, Plant):
         n = model_or_plant.n
     elif isinstance(model_or_plant, Model):
@@ -554,34 +388,39 @@ def reduce(model_or_plant: Model | Plant, scope: Scope, method: str = "auto", *,
     else:
         raise ModelError(f"reduce: model_or_plant: expected a Model or a Plant, got {model_or_plant!r}")
     sparse_input = isinstance(model_or_plant, Plant) and sp.issparse(model_or_plant.K)
-    name = ("krylov" if n > KRYLOV_MIN_DOF or sparse_input else "modal") if method == "auto" else method
-    note = "" if method != "auto" else (
-        "auto: sparse plant: krylov" if sparse_input else
-        f"auto: {n} DOFs {'>' if n > KRYLOV_MIN_DOF else '<='} {KRYLOV_MIN_DOF}: {name}")
-    if sparse_input and name != "krylov":
-        raise AnalysisError(f"reduce: method {name!r} needs a dense plant; a sparse plant "
-                            "(build_plant(..., sparse=True)) takes method='krylov' or 'auto'")
-    t0 = time.perf_counter()          # "krylov" counts its sparse assembly; the others start from the plant
+    note = ""
+    if chosen is None:
+        name, note = choose(n, sparse_input)
+        chosen = METHODS[name]
+    if sparse_input and not chosen.sparse:
+        raise AnalysisError(f"reduce: method {chosen.name!r} needs a dense plant; a sparse plant "
+                            "(build_plant(..., sparse=True)) takes method="
+                            + " or ".join(repr(k) for k, v in METHODS.items() if v.sparse) + " or 'auto'")
+    choice(residual, "residual", ("vectors", "static"), who="reduce")
+    t0 = time.perf_counter()          # a sparse method counts its sparse assembly; the others start from the plant
     if isinstance(model_or_plant, Plant):
         full = select(model_or_plant, scope)
-    elif name == "krylov":
+    elif chosen.sparse:
         full = sparse_plant(model_or_plant, list(scope.sources), list(scope.outputs))
     else:
         full = build_plant(model_or_plant, list(scope.sources), list(scope.outputs))
-    if name != "krylov":
+    if not chosen.sparse:
         t0 = time.perf_counter()
-    choice(residual, "residual", ("vectors", "static"), who="reduce")
-    out = METHODS[name](full, scope, max_modes=max_modes, order=order, residual=residual)
+    out = chosen.kernel(full, scope, ReduceOptions(max_modes=max_modes, order=order, residual=residual))
+    if not isinstance(out, Reduced):
+        raise AnalysisError(f"reduce: method {chosen.name!r} returned {type(out).__name__}, expected a "
+                            "vibss.reduction.methods.Reduced")
     took = time.perf_counter() - t0
-    plant, system = out.get("plant"), out.get("system")
-    r = Reduction(method=name, scope=scope, plant=plant, system=system, full=full,
+    plant, system = out.plant, out.system
+    if plant is None and system is None:
+        raise AnalysisError(f"reduce: method {chosen.name!r} returned neither a plant nor a system")
+    r = Reduction(method=chosen.name, scope=scope, plant=plant, system=system, full=full,
                   dofs_before=full.n, dofs_after=0 if plant is None else plant.n,
                   states_before=_states(full),
                   states_after=cast(Any, system).nstates if plant is None else _states(plant),
-                  removed=tuple(out.get("removed", ())), estimate=float(out.get("estimate", 0.0)),
-                  estimate_kind=out.get("estimate_kind", "exact"), correction=out.get("correction", ""),
-                  kept_hz=np.asarray(out.get("kept_hz", np.zeros(0)), float), hsv=out.get("hsv"),
-                  hsv_bound=out.get("hsv_bound"), io_scale=out.get("io_scale"),
-                  reduce_s=took, notes=tuple(out.get("notes", ())), details=out.get("details", {}),
+                  removed=tuple(out.removed), estimate=float(out.estimate),
+                  estimate_kind=out.estimate_kind, correction=out.correction,
+                  kept_hz=np.asarray(out.kept_hz, float), hsv=out.hsv, hsv_bound=out.hsv_bound,
+                  io_scale=out.io_scale, reduce_s=took, notes=tuple(out.notes), details=dict(out.details),
                   note=note)
     return r.verify(n_check) if verify else r

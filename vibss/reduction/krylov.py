@@ -40,14 +40,14 @@ from dataclasses import dataclass, replace
 from typing import Any, cast
 
 import numpy as np
-import scipy.linalg as sl
 import scipy.sparse as sp
-import scipy.sparse.linalg as spl
 
 from ..errors import AnalysisError
 from ..model.model import Model
-from ..linear.plant import Plant
+from ..linear.eigen import projected_eigen, symmetric_eigen
+from ..linear.plant import FIELD_ROLES, Plant
 from ..linear.signals import build_plant
+from ..linear.solve import SingularMatrixError, forcing, lu_solver, observe, output_map, states, zfactor
 from .prune import Removal, _components, _dof_names, _touched_rows, frf
 
 __all__ = ["KrylovBasis", "krylov", "sparse_plant", "as_sparse", "prune_sparse", "exact_response",
@@ -137,7 +137,8 @@ def sparse_plant(model: Model, inputs: Sequence[Any], outputs: Sequence[str]) ->
 
 def as_sparse(p: Plant) -> Plant:
     """The plant with ``M, C, K, H`` as CSR matrices (a no-op when they already are)."""
-    return replace(p, **{k: sp.csr_matrix(getattr(p, k)) for k in ("M", "C", "K", "H")})
+    square = [k for k, role in FIELD_ROLES.items() if role == "dof x dof"]
+    return replace(p, **{k: sp.csr_matrix(getattr(p, k)) for k in square})
 
 
 def prune_sparse(p: Plant) -> tuple[Plant, list[Removal]]:
@@ -158,21 +159,14 @@ def prune_sparse(p: Plant) -> tuple[Plant, list[Removal]]:
     out = [Removal("dofs", tuple(_dof_names(names)), f"decoupled (coupling graph of M, C, K, H): {why}")
            for why, names in removals.items()]
     k = np.flatnonzero(keep)
-    cut = lambda a: a[k][:, k].tocsr()  # noqa: E731
-    return replace(p, dofs=tuple(p.dofs[i] for i in k), M=cut(p.M), C=cut(p.C), K=cut(p.K), H=cut(p.H),
-                   F=p.F[k], Kz=p.Kz[k], Cz=p.Cz[k], Mz=p.Mz[k], Hz=p.Hz[k], Oq=p.Oq[:, k],
-                   Ov=p.Ov[:, k], Oa=p.Oa[:, k], Oh=None if p.Oh is None else p.Oh[:, k]), out
+    return p.restrict(k), out
 
 
 # ------------------------------------------------------------------------ exact sparse solves
 
-def _zf(p: Plant, s: complex) -> np.ndarray:
-    """(m,) ``s^-order`` of each input (1 for forces and displacements)."""
-    return np.array([s ** (-int(k)) if k > 0 else 1.0 for k in p.order], complex)
-
-
 def exact_response(p: Plant, s: complex, adjoint: bool = False) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
-    """Exact response of a sparse plant at one Laplace point ``s`` [rad/s] by a complex sparse LU.
+    """Exact response of a sparse plant at one Laplace point ``s`` [rad/s] (the one exact solve,
+    :func:`vibss.linear.solve.states`, on the sparse structure: banded LU or SuperLU).
 
     Parameters
     ----------
@@ -181,7 +175,7 @@ def exact_response(p: Plant, s: complex, adjoint: bool = False) -> tuple[np.ndar
     s : complex
         Laplace point (``i w``).
     adjoint : bool
-        Also solve ``A(s)^T x = O(s)^T`` (the output side, same factorisation: A is symmetric).
+        Also solve ``A(s)^T x = O(s)^T`` (the output side, same solve: A is symmetric).
 
     Returns
     -------
@@ -192,20 +186,19 @@ def exact_response(p: Plant, s: complex, adjoint: bool = False) -> tuple[np.ndar
     xa : (n, p) complex ndarray or None
         Adjoint solutions (``adjoint``).
     """
-    zf = _zf(p, s)
-    a = cast("sp.spmatrix", p.K + 1j * p.H + s * p.C + s**2 * p.M).tocsc()  # a sparse plant
-    try:
-        lu = spl.splu(a)
-    except RuntimeError as exc:
-        raise AnalysisError(f"krylov: K + iH + sC + s^2 M is singular at s = {s:.6g} rad/s ({exc})") from None
-    rhs = (p.F - (p.Kz + 1j * p.Hz + s * p.Cz + s**2 * p.Mz) * zf[None, :]).astype(complex)
-    x = lu.solve(rhs)
-    oh = 0.0 if p.Oh is None else p.Oh
-    ph = 0.0 if p.Ph is None else p.Ph
-    obs = p.Oq + 1j * oh + s * p.Ov + s**2 * p.Oa
-    y = obs @ x + (p.Pz + 1j * ph + s * p.Pv + s**2 * p.Pa) * zf[None, :] + p.Pf
-    xa = lu.solve(np.ascontiguousarray(obs.T, dtype=complex), trans="T") if adjoint else None
-    return y, x, xa
+    sv = np.array([s], dtype=complex)
+    zf = zfactor(sv, p.order)
+    rhs = forcing(p, sv, zf)[0]
+    m = rhs.shape[1]
+    obs = output_map(p, complex(s))
+    if adjoint:
+        rhs = np.hstack([rhs, obs.T])
+    xs, bad = states(p, sv, rhs=rhs, backend="sparse")
+    if bad[0]:
+        raise AnalysisError(f"krylov: K + iH + sC + s^2 M is singular at s = {s:.6g} rad/s")
+    x = xs[0, :, :m]
+    y = observe(p, sv, x[None], zf)[0]
+    return y, x, (xs[0, :, m:] if adjoint else None)
 
 
 # ------------------------------------------------------------------------ basis
@@ -229,7 +222,7 @@ class _Basis:
         for rnd in range(2):
             w = w - self.V @ (self.MV.T @ w)
             g = w.T @ (self.M @ w)
-            lam, u = np.linalg.eigh(0.5 * (g + g.T))
+            lam, u = symmetric_eigen(g)
             floor = DEFLATE_RTOL**2 if rnd == 0 else 1e-12 * float(lam.max(initial=0.0))
             ok = lam > floor
             w = w @ (u[:, ok] / np.sqrt(lam[ok]))
@@ -252,12 +245,12 @@ def _observing(p: Plant) -> np.ndarray:
 
 
 def _shift_lu(p: Plant, w: float, w2: float) -> tuple[Any, float]:
-    """splu of ``K - sigma M`` at ``sigma = w^2`` (nudged when singular); returns (lu, sigma)."""
+    """LU of ``K - sigma M`` at ``sigma = w^2`` (nudged when singular); returns (solve, sigma)."""
     sigma = w * w
     for k in range(4):
         try:
-            return spl.splu(cast("sp.spmatrix", p.K - sigma * p.M).tocsc()), sigma
-        except RuntimeError:
+            return lu_solver(cast("sp.spmatrix", p.K - sigma * p.M).tocsc()), sigma
+        except SingularMatrixError:
             sigma = sigma * (1 + 1e-3 * (k + 1)) if sigma > 0 else -((1e-2 * (k + 1) * w2) ** 2)
     raise AnalysisError(f"krylov: K - sigma M is singular near sigma = {w * w:.6g} (rad/s)^2")
 
@@ -273,18 +266,12 @@ def project(p: Plant, V: np.ndarray) -> Plant:
         return 0.5 * (g + g.T)
 
     mr, kr = sym(p.M), sym(p.K)
-    w2, t = sl.eigh(kr, mr)
+    w2, t = projected_eigen(kr, mr)
     vt = V @ t
     top = max(float(np.abs(w2).max(initial=0.0)), 1e-300)
     w2 = np.where(np.abs(w2) <= 1e-12 * top, 0.0, w2)
-    tt = t.T
-    c = tt @ sym(p.C) @ t
-    h = tt @ sym(p.H) @ t if cast("sp.spmatrix", p.H).nnz else np.zeros_like(c)
     r = V.shape[1]
-    return replace(p, dofs=tuple(f"krylov{k + 1}" for k in range(r)), M=np.eye(r), K=np.diag(w2),
-                   C=0.5 * (c + c.T), H=0.5 * (h + h.T), F=vt.T @ p.F, Kz=vt.T @ p.Kz, Cz=vt.T @ p.Cz,
-                   Mz=vt.T @ p.Mz, Hz=vt.T @ p.Hz, Oq=p.Oq @ vt, Ov=p.Ov @ vt, Oa=p.Oa @ vt,
-                   Oh=None if p.Oh is None else p.Oh @ vt)
+    return p.project(vt, tuple(f"krylov{k + 1}" for k in range(r)), M=np.eye(r), K=np.diag(w2))
 
 
 def _midpoints(points: np.ndarray, lo: float, hi: float) -> np.ndarray:
@@ -381,11 +368,11 @@ def krylov(p: Plant, band: tuple[float, float], tol: float, n_shifts: int = N_SH
         t1 = time.perf_counter()
         timings["shift_lu_s"] += t1 - t0
         sigmas.append(sigma)
-        blk = basis.add(lu.solve(np.asarray(block0, float)))
+        blk = basis.add(lu(np.asarray(block0, float)))
         for _ in range(max(int(moments), 1) - 1):
             if blk.shape[1] == 0:
                 break
-            blk = basis.add(lu.solve(np.asarray(p.M @ blk)))
+            blk = basis.add(lu(np.asarray(p.M @ blk)))
         timings["basis_s"] += time.perf_counter() - t1
     # check frequencies avoid 0 (a motion input of order > 0 diverges there)
     lo = w1 if w1 > 0 else w2 * 1e-3

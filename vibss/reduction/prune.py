@@ -21,12 +21,12 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 
 import numpy as np
-import scipy.linalg as sl
 import scipy.sparse as sp
-import scipy.sparse.linalg as spl
 from scipy.sparse.csgraph import connected_components
 
+from ..linear.eigen import undamped
 from ..linear.plant import Plant
+from ..linear.solve import response
 
 __all__ = ["Removal", "sub_plant", "modal_plant", "prune_dofs", "prune_modes", "frf", "ZERO_RTOL",
            "PART_RTOL", "DENSE_MAX"]
@@ -78,12 +78,8 @@ def _output_side(p: Plant) -> list[np.ndarray]:
 
 
 def sub_plant(p: Plant, keep: np.ndarray) -> Plant:
-    """The plant restricted to the DOFs ``keep`` (indices), every map cut accordingly."""
-    ix = np.ix_(keep, keep)
-    return replace(p, dofs=tuple(p.dofs[i] for i in keep), M=p.M[ix], C=p.C[ix], K=p.K[ix], H=p.H[ix],
-                   F=p.F[keep], Kz=p.Kz[keep], Cz=p.Cz[keep], Mz=p.Mz[keep], Hz=p.Hz[keep],
-                   Oq=p.Oq[:, keep], Ov=p.Ov[:, keep], Oa=p.Oa[:, keep],
-                   Oh=None if p.Oh is None else p.Oh[:, keep])
+    """The plant restricted to the DOFs ``keep`` (indices): :meth:`Plant.restrict`."""
+    return p.restrict(keep)
 
 
 def modal_plant(p: Plant, phi: np.ndarray, omega2: np.ndarray, labels: tuple[str, ...],
@@ -93,11 +89,9 @@ def modal_plant(p: Plant, phi: np.ndarray, omega2: np.ndarray, labels: tuple[str
     ``pf`` and ``pz`` (p, m) are added to ``Pf`` and ``Pz`` (static correction).
     """
     t = phi.T
-    return replace(p, dofs=labels, M=np.eye(phi.shape[1]), K=np.diag(omega2), C=t @ p.C @ phi,
-                   H=t @ p.H @ phi, F=t @ p.F, Kz=t @ p.Kz, Cz=t @ p.Cz, Mz=t @ p.Mz, Hz=t @ p.Hz,
-                   Oq=p.Oq @ phi, Ov=p.Ov @ phi, Oa=p.Oa @ phi,
-                   Oh=None if p.Oh is None else p.Oh @ phi,
-                   Pf=p.Pf if pf is None else p.Pf + pf, Pz=p.Pz if pz is None else p.Pz + pz)
+    modal = p.project(phi, labels, M=np.eye(phi.shape[1]), K=np.diag(omega2), C=t @ p.C @ phi,
+                      H=t @ p.H @ phi)
+    return replace(modal, Pf=p.Pf if pf is None else p.Pf + pf, Pz=p.Pz if pz is None else p.Pz + pz)
 
 
 def _pattern(mats: list[np.ndarray]) -> sp.csr_matrix:
@@ -195,11 +189,9 @@ def mode_labels(freq_hz: np.ndarray, index: np.ndarray) -> tuple[str, ...]:
     return tuple(f"mode{int(i) + 1}" for i in index)
 
 
-def _eigh(p: Plant) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    w2, phi = sl.eigh(p.K, p.M, check_finite=False)
-    top = max(float(np.abs(w2).max()), 1e-300)
-    rigid = w2 <= 1e-10 * top
-    return np.where(rigid, 0.0, w2), phi, rigid
+def _undamped(p: Plant) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    spec = undamped(p.K, p.M, p.Kf)
+    return spec.omega2, spec.phi, spec.rigid
 
 
 def prune_modes(p: Plant) -> tuple[Plant, list[Removal], bool]:
@@ -207,7 +199,7 @@ def prune_modes(p: Plant) -> tuple[Plant, list[Removal], bool]:
 
     The plant comes back in modal coordinates (DOFs ``mode<k>``) only when a mode was removed.
     """
-    w2, phi, _ = _eigh(p)
+    w2, phi, _ = _undamped(p)
     forcing = np.hstack(_input_side(p))
     phi = _rotate_clusters(phi, w2, forcing)
     t = phi.T
@@ -230,35 +222,8 @@ def prune_modes(p: Plant) -> tuple[Plant, list[Removal], bool]:
 # ------------------------------------------------------------------------------- evaluation
 
 def frf(p: Plant, s: np.ndarray) -> np.ndarray:
-    """Exact response ``Y(s)`` (p, m, nf) of a plant at Laplace points ``s`` (sparse LU when large
-    or when the plant's matrices are scipy.sparse).
-
-    ``(K + iH + sC + s^2 M) X = F - (Kz + iHz + s Cz + s^2 Mz) Z``, ``Y = O(s) X + P(s) Z + Pf``,
-    ``Z = diag(s^-order)``. Where the dynamic matrix is exactly singular (``s`` on an undamped
-    resonance, or 0 with a rigid-body mode) the response there is ``inf``.
-    """
-    s = np.atleast_1d(np.asarray(s, complex))
-    order = p.order
-    with np.errstate(divide="ignore", invalid="ignore"):
-        zf = np.where(order[None, :] > 0, s[:, None] ** (-np.maximum(order, 0))[None, :], 1.0)
-    oh = 0.0 if p.Oh is None else p.Oh
-    ph = 0.0 if p.Ph is None else p.Ph
-    out = np.empty((s.size, p.Oq.shape[0], p.F.shape[1]), complex)
-    large = p.n > DENSE_MAX or sp.issparse(p.K)
-    if large:
-        mats = [sp.csc_matrix(a) for a in (p.K, p.H, p.C, p.M)]
-    for i, si in enumerate(s):
-        rhs = p.F - (p.Kz + 1j * p.Hz + si * p.Cz + si**2 * p.Mz) * zf[i][None, :]
-        try:
-            if large:
-                a = (mats[0] + 1j * mats[1] + si * mats[2] + si**2 * mats[3]).tocsc()
-                x = spl.splu(a).solve(np.asarray(rhs, complex))
-            else:
-                x = np.linalg.solve(p.K + 1j * p.H + si * p.C + si**2 * p.M, rhs)
-        except (np.linalg.LinAlgError, RuntimeError):   # splu: "Factor is exactly singular"
-            out[i] = complex(np.inf, 0.0)
-            continue
-        obs = p.Oq + 1j * oh + si * p.Ov + si**2 * p.Oa
-        pz = p.Pz + 1j * ph + si * p.Pv + si**2 * p.Pa
-        out[i] = obs @ x + pz * zf[i][None, :] + p.Pf
-    return np.moveaxis(out, 0, -1)
+    """Exact response ``Y(s)`` (p, m, nf) of a plant at Laplace points ``s``: the one exact solve,
+    :func:`vibss.linear.solve.response` (dense batched LU for small dense plants, banded or SuperLU
+    for large or scipy.sparse ones; the 0 Hz limit at ``s = 0``; ``inf`` only where an exactly
+    singular resonance is seen and driven)."""
+    return response(p, np.atleast_1d(np.asarray(s, complex)))

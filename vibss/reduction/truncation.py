@@ -48,6 +48,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spl
 
 from .._validate import choice
+from ..linear.eigen import symmetric_eigen, undamped
 from ..linear.plant import Plant
 from .prune import DENSE_MAX, frf
 
@@ -105,15 +106,10 @@ class _Static:
 
 def _lowest_modes(p: Plant, k: int, mats: dict) -> tuple[np.ndarray, np.ndarray]:
     if not mats or k >= p.n - 1:
-        return sl.eigh(p.K, p.M, subset_by_index=[0, min(k, p.n) - 1], check_finite=False)
-    Ks, Ms = mats["K"], mats["M"]
-    d = Ks.diagonal() / Ms.diagonal()
-    sigma = -1e-6 * float(np.median(d[d > 0])) if np.any(d > 0) else -1.0
-    w2, phi = spl.eigsh(Ks, k=k, M=Ms, sigma=sigma, which="LM")
-    o = np.argsort(w2)
-    w2, phi = w2[o], phi[:, o]
-    phi = phi / np.sqrt(np.einsum("ij,ij->j", phi, Ms @ phi))
-    return w2, phi
+        spec = undamped(p.K, p.M, p.Kf, n_modes=min(k, p.n))
+    else:
+        spec = undamped(mats["K"], mats["M"], p.Kf, n_modes=k, method="shift-invert")
+    return spec.omega2, spec.phi
 
 
 def _gain_factors(w: np.ndarray, wr: np.ndarray, gr: np.ndarray, eta: float,
@@ -155,14 +151,14 @@ class _Modes:
         self.r_tail = np.maximum(self.static.knorm2(resid), 0.0)
         self.contrib = self.c**2 * self.inv[:, None]
         mul = (lambda a: mats[a] @ phi) if mats else (lambda a: getattr(p, a) @ phi)
-        self.Cm = phi.T @ mul("C")
-        self.Hm = phi.T @ mul("H") if np.any(p.H) else np.zeros((self.nc, self.nc))
-        self.gam = np.diag(self.Cm).copy()
-        self.proj = {k: phi.T @ getattr(p, k) for k in ("F", "Kz", "Cz", "Mz", "Hz")}
-        self.proj.update({k: getattr(p, k) @ phi for k in ("Oq", "Ov", "Oa")})
-        self.proj["Oh"] = None if p.Oh is None else p.Oh @ phi
+        cm = phi.T @ mul("C")
+        hm = phi.T @ mul("H") if np.any(p.H) else np.zeros((self.nc, self.nc))
+        self.gam = np.diag(cm).copy()
+        # the plant on all nc modes; plant(k) restricts it to the first k (after _permute's order)
+        self.modal = p.project(phi, tuple(f"mode{i + 1}" for i in range(self.nc)), M=np.eye(self.nc),
+                               K=np.diag(self.ev), C=cm, H=hm)
         self.oq_x0 = p.Oq @ self.x_full[:, :p.F.shape[1]]
-        off = np.abs(self.Cm - np.diag(self.gam))
+        off = np.abs(cm - np.diag(self.gam))
         g = np.abs(self.gam)
         self.classical = bool(np.all(off <= 1e-8 * np.sqrt(np.outer(g, g)) + 1e-14 * (g.max() + 1e-300)))
 
@@ -194,26 +190,15 @@ class _Modes:
         for name in ("ev", "phi", "rigid", "inv", "c", "contrib", "gam"):
             a = getattr(self, name)
             setattr(self, name, a[:, order] if name == "phi" else a[order])
-        self.Cm = self.Cm[np.ix_(order, order)]
-        self.Hm = self.Hm[np.ix_(order, order)]
-        for key in ("F", "Kz", "Cz", "Mz", "Hz"):
-            self.proj[key] = self.proj[key][order]
-        for key in ("Oq", "Ov", "Oa"):
-            self.proj[key] = self.proj[key][:, order]
-        if self.proj["Oh"] is not None:
-            self.proj["Oh"] = self.proj["Oh"][:, order]
+        self.modal = self.modal.restrict(order)
 
     def plant(self, k: int) -> Plant:
         """Kept modes 1..k plus the static correction of ``b0 = F - Kz`` on ``Oq``."""
-        p, pr = self.p, self.proj
+        p = self.p
         m = p.F.shape[1]
-        corr = self.oq_x0 - pr["Oq"][:, :k] @ (self.c[:k, :m] * self.inv[:k, None])
+        corr = self.oq_x0 - self.modal.Oq[:, :k] @ (self.c[:k, :m] * self.inv[:k, None])
         force = np.array([kind == "force" for kind in p.kinds])
-        return replace(p, dofs=tuple(f"mode{i + 1}" for i in range(k)), M=np.eye(k),
-                       K=np.diag(self.ev[:k]), C=self.Cm[:k, :k], H=self.Hm[:k, :k],
-                       F=pr["F"][:k], Kz=pr["Kz"][:k], Cz=pr["Cz"][:k], Mz=pr["Mz"][:k], Hz=pr["Hz"][:k],
-                       Oq=pr["Oq"][:, :k], Ov=pr["Ov"][:, :k], Oa=pr["Oa"][:, :k],
-                       Oh=None if pr["Oh"] is None else pr["Oh"][:, :k],
+        return replace(self.modal.restrict(np.arange(k)), dofs=tuple(f"mode{i + 1}" for i in range(k)),
                        Pf=p.Pf + np.where(force[None, :], corr, 0.0),
                        Pz=p.Pz + np.where(force[None, :], 0.0, corr))
 
@@ -286,22 +271,19 @@ def _ritz_plant(md: _Modes, k: int, mats: dict) -> Plant:
     for _ in range(2):
         resid = resid - md.phi[:, :k] @ (md.phi[:, :k].T @ mul("M", resid))
     g = resid.T @ mul("M", resid)
-    lam, u = np.linalg.eigh(0.5 * (g + g.T))
+    lam, u = symmetric_eigen(g)
     ok = lam > 1e-12 * lam.max()
     q = resid @ (u[:, ok] / np.sqrt(lam[ok]))
     kq = q.T @ mul("K", q)
-    w2q, uq = np.linalg.eigh(0.5 * (kq + kq.T))        # diagonalise the residual block
+    w2q, uq = symmetric_eigen(kq)        # diagonalise the residual block
     q = q @ uq
     v = np.hstack([md.phi[:, :k], q])
     nq = q.shape[1]
-    pr = md.plant(k)
-    kk = np.diag(np.r_[md.ev[:k], w2q])
     cq = v.T @ mul("C", v)
     hq = v.T @ mul("H", v) if np.any(p.H) else np.zeros((k + nq, k + nq))
-    labels = pr.dofs + tuple(f"residual{i + 1}" for i in range(nq))
-    return replace(p, dofs=labels, M=np.eye(k + nq), K=kk, C=0.5 * (cq + cq.T), H=0.5 * (hq + hq.T),
-                   F=v.T @ p.F, Kz=v.T @ p.Kz, Cz=v.T @ p.Cz, Mz=v.T @ p.Mz, Hz=v.T @ p.Hz,
-                   Oq=p.Oq @ v, Ov=p.Ov @ v, Oa=p.Oa @ v, Oh=None if p.Oh is None else p.Oh @ v)
+    labels = tuple(f"mode{i + 1}" for i in range(k)) + tuple(f"residual{i + 1}" for i in range(nq))
+    return p.project(v, labels, M=np.eye(k + nq), K=np.diag(np.r_[md.ev[:k], w2q]), C=0.5 * (cq + cq.T),
+                     H=0.5 * (hq + hq.T))
 
 
 def truncate(p: Plant, band: tuple[float, float], tol: float, grid: np.ndarray,

@@ -1,4 +1,4 @@
-"""Time responses: exact modal recurrences, integrators, swept-sine envelopes (api / kernels)."""
+"""Time responses: exact modal recurrences, integrators, swept-sine envelopes (api / methods / kernels)."""
 
 from .api import *  # noqa: F401,F403
 from .api import __all__

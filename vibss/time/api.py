@@ -5,7 +5,7 @@
 Methods are chosen by name through :data:`METHODS` (a callable is accepted too):
 
 ``"modal"`` (the fast path, and ``"auto"``)
-    Exact modal superposition of piecewise-linear (PWL) inputs: ``eigh(K, M)`` real modes for
+    Exact modal superposition of piecewise-linear (PWL) inputs: real undamped modes (the one eigen path) for
     classical damping (2x2 blocks, exact also for rigid-body modes, omega = 0); complex modes of the
     scaled modal first-order form for the modes that non-proportional damping couples. Each mode is
     discretised exactly for polynomial forcing (first-order hold, and the exact polynomial
@@ -39,7 +39,6 @@ Examples
 
 from __future__ import annotations
 
-import dataclasses
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, cast
@@ -49,111 +48,22 @@ from control import TimeResponseData
 import scipy.sparse as sp
 import numpy.typing as npt
 
-from . import kernels as tm
 from .._validate import choice, name_index, number, vector
 from ..errors import AnalysisError, ArgumentError, DefectiveModesError, ModelError
 from ..results import Result, Table, jsonable, require_pandas
-from .integrators import central_difference_method, newmark_method
+from .methods import METHODS, SimulationJob, TimeMethod, resolve_method
 from ..model.model import DOF_NAMES, Model
 from ..linear.plant import Plant
 from ..linear.signals import build_plant
 from ..studies import steady_sweeps, transient_excitations
-from ..diagnostics import check_central_difference, check_excitations, check_explicit_rk
+from ..diagnostics import check_excitations, check_explicit_rk
 
 EXPLICIT_RK = ("RK23", "RK45", "DOP853")
 
 
-__all__ = ["simulate", "TimeResponse", "PeakTable", "SimulationJob", "METHODS"]
+__all__ = ["simulate", "TimeResponse", "PeakTable", "SimulationJob", "TimeMethod", "METHODS"]
 
 SignalInput = Callable[[np.ndarray], np.ndarray] | npt.ArrayLike
-
-
-@dataclass(frozen=True, eq=False)
-class SimulationJob:
-    """Everything a method needs; what a user-supplied method callable receives.
-
-    Attributes
-    ----------
-    plant : Plant
-        The plant (n free DOFs, m inputs, p outputs).
-    time : (ns,) ndarray
-        Sample times ``k dt`` from 0 to ``t_end`` [s].
-    funcs : tuple of callable
-        The m input signals ``u_j(t)`` (vectorised, SI).
-    breakpoints : (k,) ndarray
-        Times where an input or its slope jumps [s].
-    q0, v0 : (n,) ndarray
-        Initial displacement and velocity of the free DOFs at ``t = 0-`` [m, rad, m/s, rad/s].
-    rtol, atol : float, float or None
-        Tolerances (``ivp``).
-    solver : str
-        ``solve_ivp`` method name (``ivp``).
-
-    A method callable returns ``(y, note)``: y of shape (ns, p) at ``time``, and a text.
-    """
-
-    plant: Plant
-    time: np.ndarray
-    funcs: tuple[Callable[[np.ndarray], np.ndarray], ...]
-    breakpoints: np.ndarray
-    q0: np.ndarray
-    v0: np.ndarray
-    rtol: float = 1e-6
-    atol: float | None = None
-    solver: str = "Radau"
-
-    def sampled(self, grid: tm.Grid) -> tm.Kinematics:
-        """Exact PWL kinematics of the inputs on ``grid`` (right and left limits at its points)."""
-        d = tm.nudge(grid.t, float(self.time[1] - self.time[0]))
-        up, dn = grid.t + d, grid.t - d
-        u_r = np.column_stack([np.broadcast_to(f(up), up.shape) for f in self.funcs]) if self.funcs \
-            else np.zeros((len(up), 0))
-        u_l = np.column_stack([np.broadcast_to(f(dn), dn.shape) for f in self.funcs]) if self.funcs \
-            else np.zeros((len(up), 0))
-        return tm.kinematics(grid, np.asarray(u_r, float), np.asarray(u_l, float), self.plant.kinds)
-
-
-def _method_modal(job: SimulationJob) -> tuple[np.ndarray, str]:
-    dt = job.time[1] - job.time[0]
-    grid = tm.make_grid(len(job.time), dt, job.breakpoints)
-    kin = job.sampled(grid)
-    y, how = tm.run_modal(tm.prepare(job.plant), grid, kin, grid.samples, job.q0, job.v0)
-    extra = len(grid.t) - len(job.time)
-    return y, f"exact modal FOH ({how}); {extra} breakpoints inserted into the grid"
-
-
-def _method_forced_response(job: SimulationJob) -> tuple[np.ndarray, str]:
-    dt = job.time[1] - job.time[0]
-    grid = tm.make_grid(len(job.time), dt, np.array([]))
-    t = job.time
-    u = np.column_stack([np.broadcast_to(f(t), t.shape) for f in job.funcs]) if job.funcs \
-        else np.zeros((len(t), 0))
-    kin = tm.kinematics(grid, u, u, job.plant.kinds)
-    return tm.run_forced_response(tm.prepare(job.plant), t, u, kin, job.q0, job.v0)
-
-
-def _method_ivp(job: SimulationJob) -> tuple[np.ndarray, str]:
-    return tm.run_ivp(tm.prepare(job.plant), list(job.funcs), job.breakpoints, job.time, job.q0,
-                      job.v0, rtol=job.rtol, atol=job.atol, solver=job.solver)
-
-
-def _method_central_difference(job: SimulationJob) -> tuple[np.ndarray, str]:
-    finding = check_central_difference(job.plant.M, job.plant.K, float(job.time[1] - job.time[0]))
-    if not finding.ok:
-        raise AnalysisError(f"central_difference would blow up: {finding.message}")
-    return central_difference_method(job)
-
-
-METHODS: dict[str, Callable[[SimulationJob], tuple[np.ndarray, str]]] = {
-    "modal": _method_modal,
-    "forced_response": _method_forced_response,
-    "ivp": _method_ivp,
-    "newmark": newmark_method,
-    "central_difference": _method_central_difference,
-}
-"""Simulation methods by name (``"auto"`` picks ``"modal"``). ``newmark`` (average acceleration,
-unconditionally stable, second order) and ``central_difference`` (explicit; refused beyond
-``dt = 2 / w_max``) take force inputs only and are there for comparison (docs/performance.md)."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -418,8 +328,9 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
         (either key may be left out). Default: the model's bodies' ``initial``. With no
         excitations and no inputs, the free vibration from these initial conditions is simulated
         (the result then has no inputs).
-    method : {"auto", "modal", "forced_response", "ivp", "newmark", "central_difference"} or callable
-        See the module docstring and :data:`METHODS`; a callable takes a :class:`SimulationJob`.
+    method : {"auto", "modal", "forced_response", "ivp", "newmark", "central_difference"}, TimeMethod or callable
+        See the module docstring and :data:`METHODS`; a callable ``f(job) -> (y, note)`` gets the
+        :class:`SimulationJob` the built-ins get.
         A :class:`~vibss.errors.VibssWarning` says when the sampling smears a pulse or aliases a
         sweep for the method chosen, or when an explicit ``solver`` meets a stiff model.
     rtol, atol : float, float or None
@@ -507,29 +418,29 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
     _check_derivatives(plant)
     job = SimulationJob(plant=plant, time=ts, funcs=tuple(funcs), breakpoints=np.array(bps, float),
                         q0=q0, v0=v0, rtol=float(rtol), atol=atol, solver=solver)
-    choice(method, "method", ["auto", *METHODS], who="simulate", callable_ok=True)
-    if callable(method):
-        name, fn = getattr(method, "__name__", "callable"), method
-    else:
-        name = "modal" if method == "auto" else method
-        fn = METHODS[name]
-    for finding in check_excitations(excitations, dt, inserts_breakpoints=name in ("modal", "ivp")):
+    chosen, auto = resolve_method(method)
+    motions = [u for u, kind in zip(plant.inputs, plant.kinds) if kind != "force"]
+    if chosen.forces_only and motions:
+        raise ModelError(f"simulate: method {chosen.name!r} takes only force inputs; inputs {motions} "
+                         "are prescribed motions (use method='modal')")
+    for finding in check_excitations(excitations, dt, inserts_breakpoints=chosen.hits_edges):
         finding.warn(stacklevel=3)
-    if name == "ivp" and solver in EXPLICIT_RK:
+    if chosen.uses_solver and solver in EXPLICIT_RK:
         check_explicit_rk(plant.M, plant.K, t_end, rtol=rtol, solver=solver, C=plant.C).warn(stacklevel=3)
     try:
-        y, note = fn(job)
+        y, note = chosen.kernel(job)
     except DefectiveModesError as exc:
-        if method != "auto":
+        if not auto or chosen.fallback is None:
             raise
-        name, (y, note) = "forced_response", METHODS["forced_response"](job)
-        note = f"modal refused ({exc}); forced_response: " + note
+        refused, chosen = chosen, METHODS[chosen.fallback]
+        y, note = chosen.kernel(job)
+        note = f"{refused.name} refused ({exc}); {chosen.name}: " + note
+    name = chosen.name
     y = np.asarray(y, float)
     if y.shape != (ns, len(plant.outputs)):
         raise AnalysisError(f"simulate: method {name!r} returned shape {y.shape}, expected {(ns, len(plant.outputs))}")
-    if method == "auto":
-        note = (f"auto -> {name}: " + ("exact for piecewise-linear inputs and the fastest; "
-                                       if name == "modal" else "") + note)
+    if auto:
+        note = f"auto -> {name}: " + (f"{chosen.auto_reason}; " if chosen.auto_reason else "") + note
     keep = ts >= record_from - 1e-9 * dt
     shown = [] if hidden else funcs
     u = np.array([np.broadcast_to(f(ts[keep]), (int(keep.sum()),)) for f in shown]).reshape(len(shown), int(keep.sum()))
@@ -602,12 +513,8 @@ def _sum(terms: list[tuple[Callable[[np.ndarray], np.ndarray], tuple[float, ...]
 
 
 def _select_outputs(plant: Plant, outputs: Sequence[str]) -> Plant:
-    idx = []
     for o in outputs:
         if o not in plant.outputs:
             raise ModelError(f"simulate: outputs: {o!r} is not an output of the plant; outputs are "
                              f"{list(plant.outputs)}")
-        idx.append(plant.outputs.index(o))
-    rows = {k: getattr(plant, k)[idx] for k in ("Oq", "Ov", "Oa", "Pz", "Pv", "Pa", "Pf")}
-    return dataclasses.replace(plant, outputs=tuple(outputs),
-                               units=tuple(plant.units[i] for i in idx), **rows)
+    return plant.select(outputs=list(outputs))

@@ -40,6 +40,7 @@ import numpy as np
 import scipy.linalg as sl
 
 from ..errors import ModelError
+from ..linear.eigen import generalized_eigvals
 from ..linear.plant import Plant
 
 __all__ = ["newmark", "central_difference", "newmark_method", "central_difference_method",
@@ -100,7 +101,7 @@ def critical_step(plant: Plant) -> float:
     float
         ``2 / omega_max`` [s]; ``inf`` for a model without stiffness.
     """
-    w2 = sl.eigh(np.asarray(plant.K, float), np.asarray(plant.M, float), eigvals_only=True)
+    w2 = generalized_eigvals(plant.K, plant.M)
     wmax = float(np.sqrt(max(w2.max(), 0.0)))
     return 2.0 / wmax if wmax > 0 else np.inf
 

@@ -38,8 +38,9 @@ from threadpoolctl import threadpool_limits
 
 from ..linear.complex_modes import complex_modes
 from ..errors import AnalysisError
-from ..linear.eigen import damping_coupling, generalized_eigh, modal_basis, rigid_mask
+from ..linear.eigen import damping_coupling, modal_basis, symmetric_eigen
 from ..linear.plant import Plant
+from ..linear.projection import projected_damping
 from ..linear.statespace import statespace
 
 __all__ = ["Prepared", "Grid", "Kinematics", "prepare", "make_grid", "nudge", "kinematics",
@@ -281,20 +282,20 @@ class _ModalSet:
 
 def _modal_sets(prep: Prepared, q0: np.ndarray, v0: np.ndarray) -> tuple[list[_ModalSet], str]:
     plant = prep.plant
-    M, K, C = (np.asarray(a, float) for a in (plant.M, plant.K, plant.C))
-    w2, phi = generalized_eigh(K, M)
-    rigid = rigid_mask(w2, phi, np.diag(K))
-    w2 = np.where(rigid, 0.0, np.maximum(w2, 0.0))
+    M = np.asarray(plant.M, float)
+    mb = modal_basis(plant)
+    w2, phi, rigid = mb.omega2, mb.phi, mb.rigid
+    chat = projected_damping(plant, mb)[0]          # Phi^T C Phi, shared with the other consumers
     if rigid.any():
         # rotate the rigid subspace so that its damping block is diagonal: undamped combinations of
         # rigid modes then decouple as exact double integrators instead of 2x2 Jordan blocks at 0
         rid = np.flatnonzero(rigid)
-        g = phi[:, rid].T @ C @ phi[:, rid]
-        _, q = np.linalg.eigh(0.5 * (g + g.T))
-        phi = phi.copy()
+        _, q = symmetric_eigen(chat[np.ix_(rid, rid)])
+        phi, chat = phi.copy(), chat.copy()
         phi[:, rid] = phi[:, rid] @ q
+        chat[rid, :] = q.T @ chat[rid, :]
+        chat[:, rid] = chat[:, rid] @ q
     w = np.sqrt(w2)
-    chat = phi.T @ C @ phi
     coupled = (damping_coupling(0.5 * (chat + chat.T)) > 0).any(axis=1)
     eta0, deta0 = phi.T @ (M @ q0), phi.T @ (M @ v0)
     s = np.where(w > 0, w, 1.0)
@@ -310,7 +311,7 @@ def _modal_sets(prep: Prepared, q0: np.ndarray, v0: np.ndarray) -> tuple[list[_M
         Y = np.stack([Ceta[:, d] / s[d], Cdeta[:, d]], axis=-1)
         sets.append(_ModalSet(A=A, P=phi[:, d].T, x0=np.column_stack([s[d] * eta0[d], deta0[d]]),
                               Y=Y))
-    how = "classical damping: real modes from eigh(K, M)"
+    how = "classical damping: real undamped modes"
     if coupled.any():
         e = coupled
         ne = int(e.sum())

@@ -4,13 +4,12 @@ A sweep with ``sweep_time > 0`` passes each resonance in finite time, so the res
 lower, later (shifted in the sweep direction) and followed by beating. :func:`sweep_envelope`
 simulates the sweep (:func:`vibss.time.simulate`), takes the envelope of every output (magnitude of
 the analytic signal, :func:`scipy.signal.hilbert`) against the instantaneous frequency, and sets it
-beside the steady-state amplitude ``|H(f)| a(f)`` from a direct solve of
-``(K - w^2 M + i w C) X = RHS``.
+beside the steady-state amplitude ``|H(f)| a(f)`` from the exact solve of
+``(K - w^2 M + i w C) X = RHS`` (:func:`vibss.linear.solve.response`).
 """
 
 from __future__ import annotations
 
-import dataclasses
 from dataclasses import dataclass
 from typing import Any
 
@@ -18,9 +17,9 @@ import numpy as np
 from scipy.signal import hilbert
 
 from ..errors import ArgumentError, ModelError
-from ..frequency.kernels import zero_frequency_limit
 from ..model.model import Model
 from ..linear.signals import build_plant
+from ..linear.solve import response, without_hysteresis
 from ..results import Result, Table, jsonable, require_pandas
 from .api import TimeResponse, simulate
 
@@ -184,50 +183,12 @@ def sweep_envelope(model: Model, excitation: Any, *, outputs: Any = None, dt: fl
 
 
 def _frf(plant: Any, w: np.ndarray) -> np.ndarray:
-    """(p, k) response per unit input of the plant's single input, by a direct solve.
+    """(p, k) response per unit input of the plant's single input: the one exact solve
+    (:func:`vibss.linear.solve.response`) without the hysteretic parts (the time domain has none).
 
-    At ``w = 0`` the value is the exact limit ``w -> 0+`` (:func:`vibss.frequency.kernels.zero_frequency_limit`:
-    finite, e.g. a static deflection, or ``inf``, e.g. a displacement under a constant
-    acceleration). Where the dynamic matrix is exactly singular (an undamped resonance on the
-    grid), an output the resonant mode drives is ``inf`` and one it does not drive keeps its
-    finite value.
+    At ``w = 0`` the value is the exact limit ``w -> 0+`` (finite, e.g. a static deflection, or
+    ``inf``, e.g. a displacement under a constant acceleration). Where the dynamic matrix is exactly
+    singular (an undamped resonance on the grid), an output the resonant mode drives is ``inf``
+    and one it does not drive keeps its finite value.
     """
-    # the time domain has no hysteretic damping: neither has its steady state
-    plant = dataclasses.replace(plant, H=np.zeros_like(plant.H), Hz=np.zeros_like(plant.Hz),
-                                Oh=None, Ph=None)
-    out = np.empty((len(plant.outputs), len(w)), complex)
-    for i, wi in enumerate(np.asarray(w, float)):
-        if wi == 0.0:
-            out[:, i] = zero_frequency_limit(plant)[:, 0]
-            continue
-        try:
-            out[:, i] = _solve(plant, 1j * wi)
-        except np.linalg.LinAlgError:
-            out[:, i] = _at_pole(plant, wi)
-    return out
-
-
-def _solve(plant: Any, s: complex) -> np.ndarray:
-    """(p,) response at ``s != 0``; LinAlgError where ``K + s C + s^2 M`` is singular."""
-    order = int(plant.order[0])
-    z = 1.0 / s**order if order >= 0 else 0.0
-    f = plant.F[:, 0] if order < 0 else 0.0
-    rhs = f - (plant.Kz[:, 0] + s * plant.Cz[:, 0] + s**2 * plant.Mz[:, 0]) * z
-    X = np.linalg.solve(plant.K + s * plant.C + s**2 * plant.M, rhs)
-    return ((plant.Oq + s * plant.Ov + s**2 * plant.Oa) @ X
-            + (plant.Pz[:, 0] + s * plant.Pv[:, 0] + s**2 * plant.Pa[:, 0]) * z
-            + (plant.Pf[:, 0] if order < 0 else 0.0))
-
-
-def _at_pole(plant: Any, w: float, delta: float = 1e-7) -> np.ndarray:
-    """(p,) response at an exactly singular ``w`` (an undamped resonance).
-
-    Solved at ``w (1 +- delta)``: the pole's part changes sign across it, the regular part does
-    not, so half the difference is the pole's part and half the sum the regular value. An output
-    whose pole part dominates (the mode drives it) is ``inf``.
-    """
-    a, b = _solve(plant, 1j * w * (1 + delta)), _solve(plant, 1j * w * (1 - delta))
-    pole, regular = np.abs(a - b) / 2, (a + b) / 2
-    big = max(float(np.abs(regular).max()), float(pole.max()), 1e-300)
-    driven = (pole > 1e3 * np.abs(regular)) & (pole > 1e-6 * big)
-    return np.where(driven, complex(np.inf, 0.0), regular)
+    return response(without_hysteresis(plant), 1j * np.asarray(w, float))[:, 0, :]

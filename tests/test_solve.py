@@ -1,0 +1,270 @@
+"""The one exact solve (vibss.linear.solve): its back-ends against a 60-digit reference and each
+other, the 0 Hz limit, the singular-frequency policy, the s^-order rule, and every FRF method of
+frequency.kernels.METHODS against the reference on the badly scaled family."""
+
+from __future__ import annotations
+
+from functools import lru_cache
+
+import numpy as np
+import pytest
+
+import mp_reference as mpr
+import scaled_cases as sc
+from vibss import Body, Model, Mount, MountType
+from vibss.errors import AnalysisError
+from vibss.frequency.kernels import METHODS
+from vibss.linear.signals import build_plant
+from vibss.linear import backends
+from vibss.linear.solve import response, states, zero_frequency_limit, zfactor
+
+BACKENDS = ("dense", "banded", "superlu")
+TOL = 1e-8
+
+FAMILY = {
+    "graded_chain": lambda damped=True: sc.graded_chain(damped=damped),
+    "hanging_chain": lambda damped=True: sc.hanging_chain(),
+    "stiff_links_1e10": lambda damped=True: sc.stiff_links(1e10, damped=damped),
+    "instrument": lambda damped=True: sc.instrument(damped=damped),
+}
+PLAIN_LU_FAILS = {"graded_chain", "hanging_chain"}
+"""Stiffness ratios of 1e5 and more: the entries of K carry round-off of the largest stiffness and
+the soft modes are sensitive to it; measured 2.6e-3 (graded) and 4.5e-8 (hanging) relative error
+even with the exactly rounded K, with any LU and with diag(M)^-1/2 or diag(K)^-1/2 scaling. The
+form in the mounts' forces ([[s^2 M, B^T], [B, -Z(s)^-1]], scaled) measured 1e-12 ... 1e-16."""
+
+
+@lru_cache(maxsize=None)
+def _case(name: str, damped: bool = True) -> tuple:
+    """Model, plant (every generalised force in, every DOF out), Laplace points, references."""
+    model = FAMILY[name](damped)
+    dofs = [f"{b.name}.{d}" for b in model.bodies for d in ("x", "y", "z", "rx", "ry", "rz")]
+    ins = [f"{b.name}.{d}" for b in model.bodies for d in ("fx", "fy", "fz", "mx", "my", "mz")]
+    plant = build_plant(model, ins, dofs)
+    assert plant.dofs == tuple(dofs) and np.array_equal(plant.F, np.eye(plant.n))
+    wn = mpr.natural_frequencies(model)
+    el = wn[wn > 0]
+    # below the lowest mode, just above it, just below a middle one, above the highest
+    w = np.array([0.3 * el.min(), 1.001 * el.min(), 0.999 * el[el.size // 2], 1.01 * el.max()])
+    refs = np.stack([mpr.receptance(model, complex(0.0, x)) for x in w], axis=-1)
+    return model, plant, 1j * w, refs
+
+
+def _error(h: np.ndarray, ref: np.ndarray) -> float:
+    """Largest normwise relative error per column (input) over every frequency."""
+    return float((np.linalg.norm(h - ref, axis=0) / np.linalg.norm(ref, axis=0)).max())
+
+
+def _family_params(fails: set[str], reason: str) -> list:
+    return [pytest.param(n, marks=pytest.mark.xfail(strict=True, reason=reason)) if n in fails else n
+            for n in FAMILY]
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+@pytest.mark.parametrize("name", _family_params(PLAIN_LU_FAILS, "the assembled K loses the soft modes: "
+                                                "needs the mounts' form"))
+def test_assembled_backends_meet_the_60_digit_reference(name: str, backend: str) -> None:
+    _, plant, s, refs = _case(name)
+    assert _error(response(plant, s, backend=backend, form="assembled"), refs) <= TOL
+
+
+@pytest.mark.parametrize("dense_max", [1000, 10])                # dense LU, SuperLU
+@pytest.mark.parametrize("name", list(FAMILY))
+def test_mounts_form_meets_the_60_digit_reference(name: str, dense_max: int, monkeypatch) -> None:
+    monkeypatch.setattr(backends, "MOUNTS_DENSE_MAX", dense_max)
+    _, plant, s, refs = _case(name)
+    assert _error(response(plant, s, form="mounts"), refs) <= TOL
+    assert _error(response(plant, s), refs) <= TOL               # "auto" picks a form that is exact
+
+
+@pytest.mark.parametrize("k_link", [1e10, 1e13, 1e16])
+def test_stiff_links_stay_exact_up_to_1e16(k_link: float) -> None:
+    """The issue's stiff-link pair: the physics barely changes with the link stiffness, so neither
+    may the answer (60-digit reference; the assembled K is off by 1e-3 at 1e16 N/m)."""
+    model = sc.stiff_links(k_link, damped=True)
+    plant = build_plant(model, ["b.fz", "a.mx"], ["a.z", "b.rx", "b.x"])
+    s = 1j * np.array([2.0, 9.0, 30.0])
+    y = response(plant, s)
+    for k, sk in enumerate(s):
+        full = mpr.receptance(model, complex(sk))
+        ref = full[np.ix_([2, 9, 6], [8, 3])]
+        assert np.linalg.norm(y[:, :, k] - ref) <= TOL * np.linalg.norm(ref)
+
+
+def _rich_model() -> Model:
+    """Two bodies, hysteretic and viscous mounts and a pure damper (no stiffness)."""
+    t1 = MountType("t1", [2e4, 3e4, 5e4], [20.0, 10.0, 40.0], loss_factor=[0.05, 0.02, 0.1])
+    t2 = MountType("t2", [1e5, 2e5, 1e5], [5.0, 5.0, 50.0])
+    t3 = MountType("t3", [0.0, 0.0, 0.0], [8.0, 8.0, 8.0])
+    return Model([Body("a", 10.0, [0.3, 0.4, 0.5], cog=[0, 0, 0.1]), Body("b", 2.0, [0.02, 0.03, 0.04], cog=[0.2, 0.1, 0.3])],
+                 [Mount("g1", t1, "a", at=[0.2, 0.1, -0.1]), Mount("g2", t1, "a", at=[-0.2, 0.15, -0.1]),
+                  Mount("g3", t1, "a", at=[0.0, -0.2, -0.1]), Mount("l", t2, "b", to="a", at=[0.0, 0.0, -0.05]),
+                  Mount("d", t3, "b", at=[0.05, 0.0, 0.0])])
+
+
+def _rich_plant(**kw):
+    """Every input kind, motion and force outputs."""
+    return build_plant(_rich_model(), ["b.fz", "a.mx", "ground.z.disp", "ground.x.vel", "ground.rx.acc"],
+                       ["b.z", "a.rx.vel", "b.x.acc", "mount.l.fz", "mount.g1.dz"], **kw)
+
+
+@pytest.mark.parametrize("kw", [{}, {"modal_damping": 0.02}], ids=["mounts", "modal damping"])
+def test_backends_and_forms_agree_on_every_plant_term(kw: dict) -> None:
+    """Hysteresis, motion inputs of every order, a prescribed body DOF, velocity/acceleration/force
+    outputs, a damper without stiffness, added modal damping: one answer from every back-end and
+    from both forms (assembled matrices, mounts kept apart)."""
+    s = 1j * np.geomspace(0.5, 500.0, 40)
+    for plant in (_rich_plant(**kw), build_plant(_rich_model(), ["b.x.disp", "a.fy"], ["b.z", "mount.l.fx"], **kw)):
+        assert plant.mounts is not None and plant.mounts.matches(plant)
+        ys = [response(plant, s, backend=b, form="assembled") for b in BACKENDS]
+        ys.append(response(plant, s, form="mounts"))
+        for y in ys[1:]:
+            np.testing.assert_allclose(y, ys[0], rtol=1e-10, atol=1e-12 * np.abs(ys[0]).max())
+
+
+def test_a_derived_plant_falls_back_to_its_own_matrices() -> None:
+    """dataclasses.replace with new matrices: the mounts' form no longer describes the plant."""
+    from dataclasses import replace
+    plant = _rich_plant()
+    stiffer = replace(plant, K=2.0 * plant.K)
+    assert not plant.mounts.matches(stiffer)
+    s = np.array([7j])
+    a = stiffer.K + 1j * stiffer.H + s[0] * stiffer.C + s[0] ** 2 * stiffer.M
+    zf = zfactor(s, stiffer.order)[0]
+    x = np.linalg.solve(a, stiffer.F - (stiffer.Kz + 1j * stiffer.Hz + s[0] * stiffer.Cz + s[0] ** 2 * stiffer.Mz) * zf)
+    np.testing.assert_allclose(states(stiffer, s)[0][0], x, rtol=1e-12)
+    with pytest.raises(ValueError, match="form: 'mounts' needs"):
+        states(stiffer, s, form="mounts")
+
+
+def test_states_match_the_equations() -> None:
+    """An invariant: the solution satisfies (K + iH + sC + s^2 M) X = R to round-off."""
+    plant = _rich_plant()
+    s = 1j * np.array([3.0, 30.0])
+    zf = zfactor(s, plant.order)
+    for b in BACKENDS:
+        x, bad = states(plant, s, backend=b)
+        assert not bad.any()
+        for k, sk in enumerate(s):
+            a = plant.K + 1j * plant.H + sk * plant.C + sk**2 * plant.M
+            r = plant.F - (plant.Kz + 1j * plant.Hz + sk * plant.Cz + sk**2 * plant.Mz) * zf[k]
+            assert np.linalg.norm(a @ x[k] - r) <= 1e-12 * np.linalg.norm(a) * np.linalg.norm(x[k])
+
+
+# ---------------------------------------------------------------------------- 0 Hz limit
+
+@pytest.mark.parametrize("backend", BACKENDS)
+@pytest.mark.parametrize("name", [n for n in FAMILY if n != "hanging_chain"])   # free rotations: K singular
+def test_zero_hz_is_the_static_deflection(name: str, backend: str) -> None:
+    """s = 0 gives K^-1 F (60-digit reference) for a force on the last body, through the rotations."""
+    model, plant, _, _ = _case(name)
+    col = plant.n - 4                                         # a force along z on the last body
+    x0 = mpr.static(model, np.eye(plant.n)[col])
+    p1 = build_plant(model, [plant.inputs[col]], list(plant.outputs))
+    y = response(p1, np.zeros(1, complex), backend=backend)[:, 0, 0]
+    assert np.linalg.norm(y - x0) <= TOL * np.linalg.norm(x0)
+    assert np.all(y.imag == 0)
+
+
+def test_zero_hz_limit_of_rigid_modes_and_motion_inputs() -> None:
+    """A free rotation under a moment diverges; z under ground displacement gives 1, under ground
+    velocity and acceleration diverges; mobility of a grounded body goes to 0."""
+    m = Model([Body("b", 2.0, [1, 1, 1])], [Mount("m", MountType("t", [1e4, 1e4, 1e4], [5.0] * 3), "b")])
+    p = build_plant(m, ["b.fz", "b.mx", "ground.z.disp", "ground.z.vel", "ground.z.acc"], ["b.z", "b.rx"])
+    y = response(p, np.zeros(1, complex))[:, :, 0]
+    np.testing.assert_allclose(y[0, [0, 2]].real, [1e-4, 1.0], rtol=1e-12)
+    assert np.isinf(y[1, 1]) and np.isinf(y[0, 3]) and np.isinf(y[0, 4])
+    assert y[1, 0] == 0 and y[0, 1] == 0
+    np.testing.assert_allclose(zero_frequency_limit(p, power=1)[0, 0], 0.0, atol=1e-15)
+
+
+# ---------------------------------------------------------------------------- singular policy
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_exact_resonance_is_inf_only_where_seen_and_driven(backend: str) -> None:
+    """Undamped body at its COG mount: k_x = 4e4, k_y = 9e4, k_z = 1e4 N/m on 1 kg, exactly at
+    w_z = 100 rad/s. z driven and seen: inf; x (another mode) keeps 1 / (k_x - w^2); the cross
+    terms are 0."""
+    m = Model([Body("b", 1.0, [1, 1, 1])], [Mount("m", MountType("t", [4e4, 9e4, 1e4]), "b")])
+    p = build_plant(m, ["b.fz", "b.fx"], ["b.z", "b.x", "mount.m.fx"])
+    y = response(p, np.array([100j]), backend=backend)[:, :, 0]
+    assert np.isinf(y[0, 0])
+    np.testing.assert_allclose(y[1, 1].real, 1 / (4e4 - 1e4), rtol=1e-9)
+    np.testing.assert_allclose(y[2, 1].real, 4e4 / (4e4 - 1e4), rtol=1e-9)   # k_x x pulls the ground along
+    assert y[1, 0] == 0 and y[0, 1] == 0 and y[2, 0] == 0
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_repeated_resonance_sees_only_the_driven_mode(backend: str) -> None:
+    """Isotropic mount: x, y, z share w_n. fz drives z only, so x stays finite (0) though the
+    resonant null space also holds x."""
+    m = Model([Body("b", 1.0, [1, 1, 1])], [Mount("m", MountType("t", [1e4] * 3), "b")])
+    p = build_plant(m, ["b.fz"], ["b.z", "b.x"])
+    y = response(p, np.array([100j, 50j]), backend=backend)[:, 0, :]
+    assert np.isinf(y[0, 0]) and y[1, 0] == 0
+    np.testing.assert_allclose(y[0, 1].real, 1 / (1e4 - 2500), rtol=1e-12)
+
+
+def test_a_mode_not_seen_stays_finite_in_a_chain() -> None:
+    """Two 1 kg bodies at one point, each on k = 6400 N/m to ground, joined by k_c = 1800 N/m:
+    in z the in-phase mode is at 80 rad/s, the anti-phase one at 100 rad/s (both exact in floating
+    point). At 80 rad/s a.z sees the in-phase mode (inf) but the link's deflection z_b - z_a does
+    not: it keeps the anti-phase mode's part, (1/sqrt2)(-sqrt2) / (100^2 - 80^2) = -1/3600 m/N."""
+    t, tc = MountType("t", [6400.0] * 3), MountType("tc", [1800.0] * 3)
+    m = Model([Body("a", 1.0, [1, 1, 1]), Body("b", 1.0, [1, 1, 1])],
+              [Mount("ga", t, "a"), Mount("gb", t, "b"), Mount("c", tc, "b", to="a")])
+    p = build_plant(m, ["a.fz"], ["a.z", "mount.c.dz"])
+    for b in BACKENDS:
+        y = response(p, np.array([80j]), backend=b)[:, 0, 0]
+        assert np.isinf(y[0])
+        np.testing.assert_allclose(y[1].real, -1 / 3600, rtol=1e-9)
+
+
+# ---------------------------------------------------------------------------- s^-order rule
+
+def test_one_motion_given_three_ways_gives_one_response() -> None:
+    """Base excitation of a damped body: x / z = (k + s c) / (k + s c + s^2 m) (closed form);
+    a velocity input is z' = s z and an acceleration z'' = s^2 z."""
+    k, c, mass = 1e4, 20.0, 3.0
+    m = Model([Body("b", mass, [1, 1, 1])], [Mount("m", MountType("t", [k] * 3, [c] * 3), "b")])
+    p = build_plant(m, ["ground.z.disp", "ground.z.vel", "ground.z.acc"], ["b.z"])
+    s = 1j * np.array([1.0, 30.0, 57.7, 300.0])
+    y = response(p, s)[0]
+    t = (k + s * c) / (k + s * c + s**2 * mass)
+    np.testing.assert_allclose(y[0], t, rtol=1e-12)
+    np.testing.assert_allclose(y[1] * s, t, rtol=1e-12)
+    np.testing.assert_allclose(y[2] * s**2, t, rtol=1e-12)
+    np.testing.assert_allclose(zfactor(s, p.order) * s[:, None] ** np.array([0, 1, 2]), 1.0, rtol=1e-15)
+
+
+# ---------------------------------------------------------------------------- every FRF method
+
+EIGEN_FAILS = {"modal": {"graded_chain"}, "complex_modal": {"graded_chain"}, "statespace": {"graded_chain"}}
+"""Measured after the one eigen path: every method meets 1e-8 on the hanging chain, the stiff-link
+pair and the instrument; on the graded chain (masses 1 g ... 10 t, damping ratios down to 4e-7)
+the modal superpositions stay short (see the closing note of the core issue for the figures)."""
+
+
+def _method_cases() -> list:
+    out = []
+    for method in METHODS:
+        for name in FAMILY:
+            if name in EIGEN_FAILS.get(method, set()):
+                out.append(pytest.param(method, name, marks=pytest.mark.xfail(
+                    strict=True, reason="needs the high-accuracy eigen path")))
+            else:
+                out.append(pytest.param(method, name))
+    return out
+
+
+@pytest.mark.parametrize("method,name", _method_cases())
+def test_every_frf_method_meets_the_reference(method: str, name: str) -> None:
+    """Each registry entry against the 60-digit receptance (damped family; 'modal' on the
+    undamped twin, which is classically damped)."""
+    damped = method != "modal"
+    _, plant, s, refs = _case(name, damped)
+    try:
+        h = METHODS[method](plant, s)
+    except AnalysisError as exc:           # a method that refuses says why; refusing is not exact
+        pytest.fail(f"{method} refused {name}: {exc}")
+    assert _error(h, refs) <= TOL

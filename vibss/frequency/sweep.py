@@ -1,0 +1,169 @@
+"""Transmissibility and swept-sine steady states, built on :func:`~vibss.frequency.api.frequency_response`."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from typing import Any
+
+import numpy as np
+
+from ..errors import AnalysisError, ModelError
+from ..linear.assemble import Assembly
+from ..linear.signals import build_plant
+from ..model.model import Model
+from .api import FrequencyGrid, FrequencyResponse, frequency_response
+
+__all__ = ["transmissibility", "sweep_response"]
+
+
+def transmissibility(system: Model | Assembly, inputs: Sequence[str], outputs: Sequence[str] | None = None,
+                     frequencies: Any = None, method: str | Callable[..., np.ndarray] = "auto") -> FrequencyResponse:
+    """Motion or force transmissibility (dimensionless), safe at 0 Hz.
+
+    Motion: prescribed motion inputs (``'ground.z'`` or ``'ground.z.disp'``; velocity and
+    acceleration inputs are read as the same motion) to motion outputs of the same kind
+    (default: every body DOF): ``|T| = |y| / |z|``. Force: force inputs (``'<body>.fz'``) to force
+    outputs (default: the total force and moment into ground, and each ground mount's force).
+
+    Parameters
+    ----------
+    system : Model or Assembly
+    inputs : sequence of str
+        All motion inputs or all force inputs.
+    outputs : sequence of str or None
+        Outputs (see above for the defaults).
+    frequencies : array_like [Hz], grid spec or None
+    method : str or callable
+        As :func:`frequency_response`.
+
+    Returns
+    -------
+    FrequencyResponse
+        ``quantity = "transmissibility"``.
+
+    Examples
+    --------
+    >>> from vibss import Body, Model, Mount, MountType
+    >>> m = Model([Body("b", 1.0, [1, 1, 1])], [Mount("m", MountType("t", [1.0] * 3, [0.2] * 3), "b")])
+    >>> t = transmissibility(m, ["ground.z"], ["b.z"], frequencies=[0.0])
+    >>> print(f"{abs(t.response[0, 0, 0]):.12f}")
+    1.000000000000
+    """
+    model = system.model if isinstance(system, Assembly) else system
+    names = [u if isinstance(u, str) else u.signal for u in inputs]
+    motion = [u.rsplit(".", 1)[-1] in ("disp", "vel", "acc") or u.startswith("ground.") for u in names]
+    if any(motion) and not all(motion):
+        raise ModelError(f"inputs: mix of motion and force inputs {names}; transmissibility takes one kind")
+    if all(motion):
+        ins = [u if u.rsplit(".", 1)[-1] in ("disp", "vel", "acc") else f"{u}.disp" for u in names]
+        ins = [u.rsplit(".", 1)[0] + ".disp" for u in ins]
+        outs = list(outputs) if outputs is not None else None
+        plant = build_plant(system, ins, outs)
+        if any(u.split("/")[0] not in ("m", "rad") for u in plant.units):
+            raise ModelError("outputs: motion transmissibility needs displacement outputs "
+                             f"(got units {list(plant.units)}); drop .vel/.acc (the ratio is the same)")
+    else:
+        if outputs is None:
+            outputs = [f"ground.{c}" for c in ("fx", "fy", "fz", "mx", "my", "mz")]
+            outputs += [f"mount.{m.name}.{c}" for m in model.mounts if m.to == "ground" for c in ("fx", "fy", "fz")]
+        plant = build_plant(system, names, outputs)
+        if any(u not in ("N", "N m") for u in plant.units):
+            raise ModelError(f"outputs: force transmissibility needs force outputs, got units {list(plant.units)}")
+    r = frequency_response(plant, frequencies=frequencies, method=method)
+    return FrequencyResponse(r.frequency_hz, r.response, r.outputs, r.inputs,
+                             tuple(f"{u} per unit input" for u in r.units), "transmissibility",
+                             r.method, r.reason, r.natural_hz, r.name)
+
+
+def sweep_response(system: Model | Assembly, excitations: Sequence[Any] | None = None,
+                   f1: float | None = None, f2: float | None = None, points: int = 1000,
+                   spacing: str = "log", outputs: Sequence[str] | None = None,
+                   quantity: str = "receptance", refine: bool = True,
+                   method: str | Callable[..., np.ndarray] = "auto") -> FrequencyResponse:
+    """Steady state of swept-sine excitations (infinitely slow sweep, ``sweep_time = 0``).
+
+    Each excitation's amplitude varies linearly from ``a1`` at its ``f1`` to ``a2`` at its ``f2``
+    (zero outside); all act in phase. The response is ``sum_j H_j(f) a_j(f)``.
+
+    Parameters
+    ----------
+    system : Model or Assembly
+    excitations : sequence or None
+        Excitation objects with a ``sine_sweep`` function (``.signal`` and
+        ``.function.amplitude_at(f_hz)``), or ``(signal, (a1, a2))`` pairs (amplitudes at ``f1``
+        and ``f2`` of this call); default: the model's steady (``sweep_time = 0``) sine-sweep
+        excitations (time-domain ones are for the time response and are skipped).
+    f1, f2 : float or None
+        Band [Hz]; default: the excitations' own band (their sweep limits).
+    points, spacing, refine :
+        Grid (see :class:`FrequencyGrid`).
+    outputs : sequence of str or None
+        Outputs; default every body DOF's displacement.
+    quantity : str
+        As :func:`frequency_response`.
+    method : str or callable
+        As :func:`frequency_response`.
+
+    Returns
+    -------
+    FrequencyResponse
+        One input, ``"sweep"``; ``quantity = "sweep"``-style amplitudes in output units.
+
+    Raises
+    ------
+    AnalysisError
+        An excitation has a finite ``sweep_time`` (a transient: simulate it in time) or no
+        frequency-domain amplitude.
+    """
+    model = system.model if isinstance(system, Assembly) else system
+    if excitations is None:      # the model's frequency-domain (steady sine sweep) excitations only
+        excitations = [e for e in model.excitations
+                       if hasattr(getattr(e, "function", None), "amplitude_at")
+                       and not getattr(e.function, "sweep_time", 0.0)]
+        if not excitations:
+            raise ModelError("excitations: the model has no sine_sweep excitation with sweep_time = 0 "
+                             f"(it has {[getattr(e, 'name', e) for e in model.excitations]}); "
+                             "name inputs instead")
+    excitations = list(excitations)
+    if not excitations:
+        raise ModelError("excitations: none given")
+    signals: list[Any] = []
+    amps: list[tuple[Any, ...]] = []
+    bands = []
+    for e in excitations:
+        if isinstance(e, tuple) and len(e) == 2 and not hasattr(e, "signal"):
+            sig, (a1, a2) = e
+            signals.append(sig)
+            amps.append(("pair", float(a1), float(a2)))
+            continue
+        fn = getattr(e, "function", None)
+        if fn is None or not hasattr(fn, "amplitude_at"):
+            raise AnalysisError(f"excitation {getattr(e, 'name', e)!r}: has no frequency-domain amplitude "
+                                "(a sine_sweep function with sweep_time = 0 is needed)")
+        if getattr(fn, "sweep_time", 0.0):
+            raise AnalysisError(f"excitation {getattr(e, 'name', e)!r}: sweep_time = {fn.sweep_time} s is a "
+                                "transient sweep; simulate it with the time response (sweep_time 0 = "
+                                "steady state)")
+        signals.append(e)
+        amps.append(("fn", fn))
+        bands.append((min(fn.f1, fn.f2), max(fn.f1, fn.f2)))
+    lo = f1 if f1 is not None else (min(b[0] for b in bands) if bands else None)
+    hi = f2 if f2 is not None else (max(b[1] for b in bands) if bands else None)
+    grid = FrequencyGrid(lo, hi, points, spacing, refine)
+    r = frequency_response(system, signals, outputs, grid, quantity, method)
+    f = r.frequency_hz
+    a = np.empty((len(signals), f.size))
+    for j, spec in enumerate(amps):
+        if spec[0] == "fn":
+            a[j] = spec[1].amplitude_at(f)
+        else:
+            _, a1, a2 = spec
+            flo, fhi = f.min(), f.max()
+            a[j] = a1 + (a2 - a1) * (f - flo) / (fhi - flo) if fhi > flo else a1
+    with np.errstate(invalid="ignore"):
+        terms = r.response * a[None, :, :]
+    terms = np.where(a[None, :, :] == 0, 0.0, terms)       # inf * 0 outside a sweep band -> 0
+    y = terms.sum(axis=1, keepdims=True)
+    units = tuple(u.replace(" per unit input", "") for u in r.units)
+    return FrequencyResponse(f, y, r.outputs, ("sweep",), units, quantity, r.method, r.reason,
+                             r.natural_hz, r.name)

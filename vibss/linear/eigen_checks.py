@@ -1,0 +1,240 @@
+"""Checks of computed undamped modes on the stiffness factor: the rigid-mode test and error bounds.
+
+The factor ``G`` of ``K = G^T G`` (one row per mount principal axis,
+:meth:`vibss.linear.assemble.Assembly.stiffness_factor`) keeps every mount's stiffness apart, so
+products with it do not cancel soft mounts against stiff links the way K formed in floats does.
+
+- :func:`rigid_mask`: the one test of which computed modes are rigid-body modes;
+- :func:`error_estimate`: a relative error bound of each computed frequency (Kato-Temple);
+- block-diagonal mass helpers shared with :mod:`vibss.linear.eigen`.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import scipy.linalg as sl
+import scipy.sparse as sp
+import scipy.sparse.linalg as spl
+from scipy.sparse.csgraph import connected_components
+
+__all__ = ["rigid_mask", "error_estimate", "RIGID_RTOL", "fast_matrix", "stiffness_solver"]
+
+RIGID_RTOL = 1e-10
+"""A mode is rigid when its stiffness cancels to round-off (see :func:`rigid_mask`):
+``|G phi| <= RIGID_RTOL |G| |phi|`` with the stiffness factor G (``K = G^T G``), or
+``phi^T K phi <= RIGID_RTOL^2 phi^T |K| phi``-like on K alone (the energy ratio is the square)."""
+
+_BLOCK_MAX = 12
+"""Largest diagonal block of M that :func:`generalized_eigh` factorises on its own."""
+
+
+def _inverse_cholesky(M: Any) -> Any:
+    """Sparse ``L^-1`` with ``M = L L^T``, block by block (M block-diagonal), or None.
+
+    Rigid bodies have 6x6 mass blocks with no coupling between bodies, so ``M`` splits into small
+    diagonal blocks (the connected components of its pattern); each is factorised on its own.
+    None when a block is larger than :data:`_BLOCK_MAX` or not positive definite.
+    """
+    Ms = sp.csr_matrix(M)
+    n = Ms.shape[0]
+    count, labels = connected_components(Ms != 0, directed=False)
+    if n == 0 or np.bincount(labels).max() > _BLOCK_MAX:
+        return None
+    rows, cols, vals = [], [], []
+    sizes = np.bincount(labels)
+    order = np.argsort(labels, kind="stable")          # DOFs grouped by block, blocks in label order
+    starts = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+    for size in np.unique(sizes):                      # all blocks of one size at once
+        first = starts[sizes == size]
+        idx = order[first[:, None] + np.arange(size)[None, :]]            # (blocks, size)
+        r = np.broadcast_to(idx[:, :, None], idx.shape + (size,))
+        c = np.broadcast_to(idx[:, None, :], idx.shape + (size,))
+        blocks = np.asarray(Ms[r.ravel(), c.ravel()]).reshape(r.shape)
+        try:
+            inv = np.linalg.inv(np.linalg.cholesky(blocks))
+        except np.linalg.LinAlgError:
+            return None
+        rows.append(r.ravel())
+        cols.append(c.ravel())
+        vals.append(inv.ravel())
+    return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n, n))
+
+
+def _as_factor(factor: Any) -> Any:
+    """A sparse factor with sorted indices, copied if needed: products never sort the caller's
+    matrix in place (which would change the summation order, hence the last bits, between calls)."""
+    if sp.issparse(factor):
+        g = sp.csr_matrix(factor)
+        return g if g.has_sorted_indices else g.sorted_indices()
+    return np.asarray(factor, float)
+
+
+def _factor_norms(factor: Any, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``G phi``, ``||G phi||`` and ``|| |G| |phi| ||`` per column (G sparse or dense)."""
+    g = sp.csr_matrix(factor) if sp.issparse(factor) else np.asarray(factor, float)
+    gphi = np.asarray(g @ phi)
+    absg = abs(g) if sp.issparse(g) else np.abs(g)
+    agp = np.asarray(absg @ np.abs(phi))
+    return gphi, np.sqrt(np.einsum("ij,ij->j", gphi, gphi)), np.sqrt(np.einsum("ij,ij->j", agp, agp))
+
+
+def rigid_mask(shapes: np.ndarray, K: Any = None, factor: Any = None, floor: float = 0.0,
+               norms: tuple | None = None) -> np.ndarray:
+    """Which computed modes are rigid-body (zero-frequency) modes: the one test.
+
+    A mode is rigid when its stiffness cancels to round-off: ``||X phi|| <= RIGID_RTOL ||X| |phi||
+    + floor`` with X the stiffness factor G (``K = G^T G``; preferred) or K itself. For a true null
+    vector the left side is round-off (~1e-16 of the right); an elastic mode stores stiffness energy
+    (a 0.005 Hz suspension mode beside 1e6 N/m links: ~1e-5; six isolation modes beside 1e16 N/m
+    links, on the factor: ~1e-6). The test looks at each mode alone, so it does not depend on how
+    many modes were computed, and both sides scale alike with the units.
+
+    Parameters
+    ----------
+    shapes : (n, k) ndarray
+        Mass-normalised shapes.
+    K : (n, n) array_like or sparse, optional
+        Stiffness matrix (used when no factor is given).
+    factor : (r, n) array_like or sparse, optional
+        Stiffness factor G with ``K = G^T G``.
+    floor : float
+        Absolute round-off floor of ``||X phi||`` (the backward error of the eigen-solver).
+    norms : tuple, optional
+        ``(G phi, ||G phi||, || |G| |phi| ||)`` when already computed (``_factor_norms``).
+
+    Returns
+    -------
+    (k,) bool ndarray
+    """
+    if factor is not None:
+        _, num, den = _factor_norms(factor, shapes) if norms is None else norms
+    else:
+        k = sp.csr_matrix(K) if sp.issparse(K) else np.asarray(K, float)
+        num = np.linalg.norm(np.asarray(k @ shapes), axis=0)
+        den = np.linalg.norm(np.asarray(abs(k) @ np.abs(shapes)), axis=0)
+    return num <= RIGID_RTOL * den + floor
+
+
+def _trace_norm(M: Any, K: Any = None, factor: Any = None) -> float:
+    """``||L^-1 K L^-T||_F``-like scale ``sqrt(trace(M^-1 K))``: an upper bound of ``sqrt(w2_max)``."""
+    md = M.diagonal() if sp.issparse(M) else np.diag(np.asarray(M, float))
+    if factor is not None:
+        g: Any = _as_factor(factor)
+        col = np.asarray(g.multiply(g).sum(axis=0)).ravel() if sp.issparse(g) else np.sum(g * g, axis=0)
+    else:
+        col = np.abs(K.diagonal() if sp.issparse(K) else np.diag(np.asarray(K, float)))
+    return float(np.sqrt(np.sum(col / np.where(md > 0, md, 1.0)) * 10))
+
+
+def _six_blocks(M: Any) -> np.ndarray | None:
+    """(n/6, 6, 6) diagonal blocks of M when M is block diagonal with 6x6 blocks, else None."""
+    if sp.issparse(M) or M.shape[0] % 6 or M.shape[0] == 0:
+        return None
+    m = np.asarray(M, float)
+    nb = m.shape[0] // 6
+    blocks = m.reshape(nb, 6, nb, 6)[np.arange(nb), :, np.arange(nb), :]
+    if np.count_nonzero(blocks) != np.count_nonzero(m):
+        return None
+    return blocks
+
+
+def error_estimate(w2: np.ndarray, phi: np.ndarray, M: Any, K: Any = None, factor: Any = None,
+                   rigid: np.ndarray | None = None, li: Any = None, norms: tuple | None = None) -> np.ndarray:
+    """Relative error bound of each computed natural frequency ``sqrt(w2)``.
+
+    Residual-based (Kato-Temple): with the Rayleigh quotient ``rho = ||G phi||^2 / phi^T M phi``
+    (on the factor: no cancellation against stiff links), the residual ``r = G^T G phi - rho M phi``
+    in the ``M^-1`` norm ``e`` and the gap ``d`` from ``rho`` to the other computed eigenvalues,
+    an eigenvalue lies within ``min(e, e^2 / d)`` of ``rho``. The estimate of ``|w - w_true| / w`` is
+    ``(|w2 - rho| + min(e, e^2 / d)) / (2 rho)`` plus the round-off of ``rho`` itself
+    (``k eps / c`` with ``c = ||G phi|| / || |G| |phi| ||``), and never below ``4 sqrt(n) eps``.
+    Rigid modes get NaN (their 0 is exact).
+
+    Parameters
+    ----------
+    w2 : (k,) ndarray
+        Computed eigenvalues [rad^2/s^2].
+    phi : (n, k) ndarray
+        Their shapes.
+    M : (n, n) array_like or sparse
+        Mass matrix.
+    K, factor : optional
+        Stiffness matrix, or its factor G (``K = G^T G``; preferred).
+    rigid : (k,) bool ndarray, optional
+        Rigid-body modes (estimate NaN).
+    li : sparse matrix, optional
+        ``L^-1`` with ``M = L L^T`` when already known.
+    norms : tuple, optional
+        ``(G phi, ||G phi||, || |G| |phi| ||)`` when already computed.
+
+    Returns
+    -------
+    (k,) ndarray
+        Relative error bound of each frequency [-].
+    """
+    eps = np.finfo(float).eps
+    blocks = _six_blocks(M)
+    if blocks is not None:
+        mphi = np.matmul(blocks, phi.reshape(blocks.shape[0], 6, -1)).reshape(phi.shape)
+    else:
+        mphi = np.asarray((sp.csr_matrix(M) if sp.issparse(M) else fast_matrix(np.asarray(M, float))) @ phi)
+    norm2 = np.einsum("ij,ij->j", phi, mphi)
+    if factor is not None:
+        g: Any = _as_factor(factor)
+        gphi, num, den = _factor_norms(g, phi) if norms is None else norms
+        kphi = np.asarray(g.T @ gphi)
+        per_row = np.diff(g.indptr).max(initial=1) if sp.issparse(g) else g.shape[1]
+        rho = num ** 2 / norm2
+        with np.errstate(divide="ignore", invalid="ignore"):
+            rounding = (per_row + 2) * eps * den / num
+    else:
+        k: Any = sp.csr_matrix(K) if sp.issparse(K) else np.asarray(K, float)
+        kphi = np.asarray(k @ phi)
+        per_row = np.diff(k.indptr).max(initial=1) if sp.issparse(k) else k.shape[1]
+        rho = np.einsum("ij,ij->j", phi, kphi) / norm2
+        absk = abs(k) if sp.issparse(k) else np.abs(k)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            rounding = (per_row + 2) * eps * np.einsum("ij,ij->j", np.abs(phi), np.asarray(absk @ np.abs(phi))) \
+                / np.abs(rho) / norm2
+    r = kphi - rho[None, :] * mphi
+    if blocks is not None:                   # rigid bodies: 6x6 mass blocks on the diagonal
+        y = np.matmul(np.linalg.inv(np.linalg.cholesky(blocks)), r.reshape(blocks.shape[0], 6, -1))
+        e = np.sqrt(np.einsum("bij,bij->j", y, y))
+    elif (li := _inverse_cholesky(M) if li is None else li) is not None:
+        e = np.linalg.norm(np.asarray(li @ r), axis=0)
+    else:
+        md = M.toarray() if sp.issparse(M) else np.asarray(M, float)
+        e = np.sqrt(np.abs(np.einsum("ij,ij->j", r, sl.cho_solve(sl.cho_factor(md), r))))
+    e = e / np.sqrt(norm2)
+    lam = np.asarray(w2, float)
+    gap = np.full(lam.shape, np.inf)
+    if lam.size > 1:                       # ascending: the nearest others are the neighbours
+        gap[1:] = np.abs(rho[1:] - lam[:-1])
+        gap[:-1] = np.minimum(gap[:-1], np.abs(rho[:-1] - lam[1:]))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        shift = np.minimum(e, e * e / gap)
+        est = (np.abs(lam - rho) + shift) / (2 * np.abs(rho)) + rounding
+    # floor: the round-off of any eigen-solver's answer (and of the reference it is checked against)
+    est = np.maximum(est, 4 * np.sqrt(phi.shape[0]) * eps)
+    est = np.where(np.isfinite(est), est, np.inf)
+    if rigid is not None:
+        est = np.where(rigid, np.nan, est)
+    return est
+
+
+def fast_matrix(a: np.ndarray) -> Any:
+    """``a`` as CSR when it is mostly zeros (a mass matrix: 6x6 blocks), for cheap products."""
+    return sp.csr_matrix(a) if np.count_nonzero(a) < 0.05 * a.size else a
+
+
+def stiffness_solver(k: np.ndarray) -> Any:
+    """``b -> k^-1 b`` by sparse LU when ``k`` is mostly zeros, else dense LU (raises if singular)."""
+    if np.count_nonzero(k) < 0.05 * k.size:
+        lu = spl.splu(sp.csc_matrix(k))
+        return lambda b: lu.solve(np.asarray(b, dtype=lu.U.dtype) if np.isrealobj(b) else b)
+    fac = sl.lu_factor(k, check_finite=False)
+    if np.any(np.diag(fac[0]) == 0):
+        raise np.linalg.LinAlgError("singular stiffness")
+    return lambda b: sl.lu_solve(fac, b, check_finite=False)

@@ -1,0 +1,173 @@
+"""Time-response methods: the job they receive, the registry of :class:`TimeMethod` objects, the resolver.
+
+Every method, built-in or a user's callable, has one signature: ``kernel(job) -> (y, note)`` with
+``job`` a :class:`SimulationJob` and ``y`` the (ns, p) outputs at ``job.time``. Each
+:data:`METHODS` entry carries the facts :func:`vibss.time.simulate` acts on (hits pulse edges,
+force inputs only, uses ``solve_ivp``'s ``solver``, falls back to ...), so the driver never tests
+a method's name.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from . import kernels as tm
+from ..diagnostics import check_central_difference
+from ..errors import AnalysisError
+from ..linear.plant import Plant
+from ..methods import Method, callable_name, resolve
+from .integrators import central_difference_method, newmark_method
+
+__all__ = ["SimulationJob", "TimeMethod", "METHODS", "AUTO", "resolve_method"]
+
+
+@dataclass(frozen=True)
+class TimeMethod(Method):
+    """A simulation method: ``kernel(job: SimulationJob) -> (y (ns, p), note)``.
+
+    Attributes
+    ----------
+    hits_edges : bool
+        Input breakpoints (pulse edges, table knots) are hit exactly (inserted into the grid or
+        restarted at), so the sampling check only looks at aliasing.
+    forces_only : bool
+        Takes force inputs only (no prescribed motion).
+    uses_solver : bool
+        Integrates with ``solve_ivp``'s ``solver`` (explicit Runge-Kutta solvers are checked for
+        stiffness).
+    auto_reason : str
+        Why ``auto`` picks it (empty: ``auto`` does not).
+    """
+
+    hits_edges: bool = False
+    forces_only: bool = False
+    uses_solver: bool = False
+    auto_reason: str = ""
+
+
+@dataclass(frozen=True, eq=False)
+class SimulationJob:
+    """Everything a method needs; what a user-supplied method callable receives.
+
+    Attributes
+    ----------
+    plant : Plant
+        The plant (n free DOFs, m inputs, p outputs).
+    time : (ns,) ndarray
+        Sample times ``k dt`` from 0 to ``t_end`` [s].
+    funcs : tuple of callable
+        The m input signals ``u_j(t)`` (vectorised, SI).
+    breakpoints : (k,) ndarray
+        Times where an input or its slope jumps [s].
+    q0, v0 : (n,) ndarray
+        Initial displacement and velocity of the free DOFs at ``t = 0-`` [m, rad, m/s, rad/s].
+    rtol, atol : float, float or None
+        Tolerances (``ivp``).
+    solver : str
+        ``solve_ivp`` method name (``ivp``).
+
+    A method callable returns ``(y, note)``: y of shape (ns, p) at ``time``, and a text.
+    """
+
+    plant: Plant
+    time: np.ndarray
+    funcs: tuple[Callable[[np.ndarray], np.ndarray], ...]
+    breakpoints: np.ndarray
+    q0: np.ndarray
+    v0: np.ndarray
+    rtol: float = 1e-6
+    atol: float | None = None
+    solver: str = "Radau"
+
+    def sampled(self, grid: tm.Grid) -> tm.Kinematics:
+        """Exact PWL kinematics of the inputs on ``grid`` (right and left limits at its points)."""
+        d = tm.nudge(grid.t, float(self.time[1] - self.time[0]))
+        up, dn = grid.t + d, grid.t - d
+        u_r = np.column_stack([np.broadcast_to(f(up), up.shape) for f in self.funcs]) if self.funcs \
+            else np.zeros((len(up), 0))
+        u_l = np.column_stack([np.broadcast_to(f(dn), dn.shape) for f in self.funcs]) if self.funcs \
+            else np.zeros((len(up), 0))
+        return tm.kinematics(grid, np.asarray(u_r, float), np.asarray(u_l, float), self.plant.kinds)
+
+
+def _method_modal(job: SimulationJob) -> tuple[np.ndarray, str]:
+    dt = job.time[1] - job.time[0]
+    grid = tm.make_grid(len(job.time), dt, job.breakpoints)
+    kin = job.sampled(grid)
+    y, how = tm.run_modal(tm.prepare(job.plant), grid, kin, grid.samples, job.q0, job.v0)
+    extra = len(grid.t) - len(job.time)
+    return y, f"exact modal FOH ({how}); {extra} breakpoints inserted into the grid"
+
+
+def _method_forced_response(job: SimulationJob) -> tuple[np.ndarray, str]:
+    dt = job.time[1] - job.time[0]
+    grid = tm.make_grid(len(job.time), dt, np.array([]))
+    t = job.time
+    u = np.column_stack([np.broadcast_to(f(t), t.shape) for f in job.funcs]) if job.funcs \
+        else np.zeros((len(t), 0))
+    kin = tm.kinematics(grid, u, u, job.plant.kinds)
+    return tm.run_forced_response(tm.prepare(job.plant), t, u, kin, job.q0, job.v0)
+
+
+def _method_ivp(job: SimulationJob) -> tuple[np.ndarray, str]:
+    return tm.run_ivp(tm.prepare(job.plant), list(job.funcs), job.breakpoints, job.time, job.q0,
+                      job.v0, rtol=job.rtol, atol=job.atol, solver=job.solver)
+
+
+def _method_central_difference(job: SimulationJob) -> tuple[np.ndarray, str]:
+    finding = check_central_difference(job.plant.M, job.plant.K, float(job.time[1] - job.time[0]))
+    if not finding.ok:
+        raise AnalysisError(f"central_difference would blow up: {finding.message}")
+    return central_difference_method(job)
+
+
+METHODS: dict[str, TimeMethod] = {m.name: m for m in (
+    TimeMethod("modal", _method_modal, exact=True, hits_edges=True, fallback="forced_response",
+               auto_reason="exact for piecewise-linear inputs and the fastest",
+               summary="exact modal superposition of piecewise-linear inputs (breakpoints inserted)"),
+    TimeMethod("forced_response", _method_forced_response, exact=True,
+               summary="control.forced_response of the exact realization on the sample grid"),
+    TimeMethod("ivp", _method_ivp, hits_edges=True, uses_solver=True,
+               summary="solve_ivp with variable steps to rtol/atol, restarted at every breakpoint"),
+    TimeMethod("newmark", newmark_method, forces_only=True,
+               summary="Newmark average acceleration (unconditionally stable, second order)"),
+    TimeMethod("central_difference", _method_central_difference, forces_only=True,
+               summary="explicit central difference (refused beyond dt = 2 / w_max)"),
+)}
+"""Simulation methods by name (``"auto"`` picks :data:`AUTO`). ``newmark`` (average acceleration,
+unconditionally stable, second order) and ``central_difference`` (explicit; refused beyond
+``dt = 2 / w_max``) take force inputs only and are there for comparison (docs/performance.md)."""
+
+AUTO = "modal"
+"""The method ``"auto"`` runs (falling back as its :attr:`TimeMethod.fallback` says)."""
+
+
+def _custom(fn: Callable[..., Any]) -> TimeMethod:
+    return TimeMethod(callable_name(fn), fn, summary="user method")
+
+
+def resolve_method(method: Any) -> tuple[TimeMethod, bool]:
+    """The :class:`TimeMethod` for a name, ``"auto"``, a TimeMethod or a callable ``f(job)``, and
+    whether it was ``"auto"``.
+
+    Parameters
+    ----------
+    method : str, TimeMethod or callable
+
+    Returns
+    -------
+    method : TimeMethod
+    auto : bool
+
+    Raises
+    ------
+    ModelError
+        An unknown name (the valid ones listed, with a did-you-mean).
+    """
+    if isinstance(method, str) and method == "auto":
+        return METHODS[AUTO], True
+    return resolve(method, METHODS, where="simulate", custom=_custom, extra=["auto"]), False
