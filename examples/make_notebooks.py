@@ -201,8 +201,60 @@ plot_energy(md)"""),
     ("code", """plot_modes(md, which=[roll_mode(md)[0]], view="three")"""),
 ]
 
+DESIGN = [
+    ("md", """# Designing a powertrain mount system
+
+The example powertrain (175 kg, a full inertia tensor, two V-inclined engine mounts, a gearbox mount
+and a torque strut) is not decoupled: its roll mode keeps only 60 % of its kinetic energy about the
+torque-roll axis (TRA). We (1) find the axes, (2) certify the layout, (3) optimise rates, positions
+and the V angle so every rigid-body mode is at least 90 % pure in TRA axes within 5 ... 18.9 Hz
+(idle 800 rpm, second order 26.7 Hz, divided by √2), (4) check the optimum under ±15 % rate
+tolerance."""),
+    ("code", """%matplotlib inline
+import numpy as np
+import vibss
+from vibss import design
+from vibss.plotting.design import plot_design_axes
+
+pt = vibss.load_example("powertrain")
+windows = (5.0, 26.7 / np.sqrt(2))
+plot_design_axes(pt)"""),
+    ("md", """## 1-2. Axes and certificate
+
+The TRA is the direction of J⁻¹e (e the crank axis). The static rotation under a pure torque is
+11.5° away from it, and the mounts have no elastic centre: the layout is not focalised."""),
+    ("code", """cert = design.certificate(pt, purity=0.9, windows=windows, frame="tra")
+print(cert.summary())
+cert.plot()"""),
+    ("md", """## 3. Optimisation with exact gradients
+
+Fifteen variables: the three rates of the engine-mount pair (kept symmetric), of the gearbox mount
+and of the torque strut (×0.5 ... ×2), the height and spread of the engine pair, the V angle, the
+gearbox mount's x and z and the strut's z (±30 mm, ±20°). SLSQP with the analytic gradients of
+the purities and frequencies."""),
+    ("code", """from vibss.design.optimise import benchmark_case
+
+model, variables, options = benchmark_case()
+opt = design.optimise(model, variables, **options)
+print(opt.comparison())
+opt.plot()"""),
+    ("md", """## 4. Tolerance check: ±15 % on every rate
+
+Twenty thousand variants, Latin hypercube, solved as one batch."""),
+    ("code", """tol = {f"{m.name}.k{j}": 0.15 for m in opt.model.mounts for j in (1, 2, 3)}
+mc = design.monte_carlo(opt.model, tol, n=20_000, purity=0.9, windows=windows, frame="tra")
+print(mc.summary())
+mc.plot()"""),
+    ("md", """The optimum put the first mode on the 5 Hz edge of its window, and three modes just above
+90 %: under tolerance only about 28 % of the variants meet every target. A robust layout asks for
+margins: optimise again for 5.5 ... 18 Hz and a 93 % purity floor, then check."""),
+    ("code", """robust = design.optimise(model, variables, frame="tra", windows=(5.5, 18.0), purity=0.93)
+mc2 = design.monte_carlo(robust.model, tol, n=20_000, purity=0.9, windows=windows, frame="tra")
+print(f"P(all targets) {mc.probability['all']:.2f} -> {mc2.probability['all']:.2f}")"""),
+]
+
 NOTEBOOKS = {"frf_transmissibility.ipynb": FRF, "shock_study.ipynb": SHOCK,
-             "mount_stiffness_study.ipynb": STIFFNESS}
+             "mount_stiffness_study.ipynb": STIFFNESS, "mount_design.ipynb": DESIGN}
 
 
 def build(cells: list[tuple[str, str]]) -> nbformat.NotebookNode:

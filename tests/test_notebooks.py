@@ -15,7 +15,7 @@ import pytest
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
-NOTEBOOKS = ["frf_transmissibility.ipynb", "mount_stiffness_study.ipynb", "shock_study.ipynb"]
+NOTEBOOKS = ["frf_transmissibility.ipynb", "mount_design.ipynb", "mount_stiffness_study.ipynb", "shock_study.ipynb"]
 
 
 def test_every_notebook_is_listed():

@@ -37,6 +37,8 @@ from .statics import StaticResult, static
 from .studies import StudyDefaults, study_defaults
 from .time.api import TimeResponse, simulate
 from .time.sweep import SweepEnvelope, sweep_envelope
+from . import design  # vibss.design.*: mount-system design
+from .design.study import study
 
 __version__ = "0.1.0"
 
@@ -45,5 +47,5 @@ __all__ = [
     "FrequencyGrid", "FrequencyResponse", "GROUND", "Load", "MissingDependencyError", "Model", "ModelError", "ModelFileError", "Modes", "Mount", "MountType", "NamedStateSpace",
     "Orientation", "Plant", "Reduction", "Scope", "SignalError", "StaticResult", "StudyDefaults", "SweepEnvelope", "TimeResponse", "VibssError", "VibssWarning", "assemble", "build_plant", "damped_modes", "dump_model",
     "dumps_model", "example_names", "frequency_grid", "frequency_response", "load_example", "load_model", "loads_model", "modes", "reduce", "simulate", "static",
-    "statespace", "study_defaults", "sweep_envelope", "sweep_response", "symmetric", "transmissibility",
+    "statespace", "study", "study_defaults", "sweep_envelope", "sweep_response", "symmetric", "transmissibility",
 ]

@@ -1,0 +1,54 @@
+"""``vibss study``: one analysis over a grid of mount-parameter values, as a table (CSV or JSON)."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from ..design.study import ANALYSES, study
+from ..errors import ArgumentError
+from .common import load_from_args
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    """Add the ``study`` sub-command."""
+    p = sub.add_parser("study", help="an analysis over a grid of mount rates/positions/angles",
+                       description="Run an analysis on every combination of parameter values (a full "
+                                   "grid) and print one row per variant. Parameters are "
+                                   "'<mount>.<kind>' (k1 k2 k3 [N/m], x y z shifts [m], rx ry rz "
+                                   "[rad]); e.g. --vary engine.k3=2e5,2.5e5,3e5.")
+    p.add_argument("file", nargs="?", metavar="FILE", help="model file (.toml or .json)")
+    p.add_argument("--example", metavar="NAME", help="use a built-in example model instead of FILE")
+    p.add_argument("--vary", action="append", required=True, metavar="PARAM=V1,V2,...",
+                   help="a parameter and its values (repeatable: every combination is run)")
+    p.add_argument("--analysis", choices=sorted(ANALYSES), default="modes", help="analysis (default modes)")
+    p.add_argument("--client", metavar="ADDRESS",
+                   help="run on Dask: a scheduler address, or 'local' for a 2-worker LocalCluster")
+    p.add_argument("--format", choices=("csv", "json"), default="csv", help="table format (default csv)")
+    p.add_argument("--progress", action="store_true", help="show a progress bar on stderr")
+    p.set_defaults(func=run)
+
+
+def _grid(items: list[str]) -> dict[str, list[float]]:
+    grid = {}
+    for item in items:
+        name, sep, values = item.partition("=")
+        try:
+            grid[name.strip()] = [float(v) for v in values.split(",")]
+        except ValueError:
+            sep = ""
+        if not sep or not name.strip():
+            raise ArgumentError(f"--vary: expected PARAM=V1,V2,... with numbers, got {item!r}",
+                                argument="vary", received=item)
+    return grid
+
+
+def run(args: argparse.Namespace) -> int:
+    """Print the study's table."""
+    df = study(load_from_args(args), args.analysis, grid=_grid(args.vary), client=args.client,
+               progress=bool(args.progress))
+    if args.format == "json":
+        sys.stdout.write(df.to_json(orient="records", indent=2) + "\n")
+    else:
+        sys.stdout.write(df.to_csv())
+    return 0

@@ -1,0 +1,428 @@
+"""Optimisation of a mount layout with the exact gradients of :mod:`vibss.design.sensitivity`.
+
+The design variables (:class:`~vibss.design.parameters.Parameter`: rates [N/m] absolute, shifts [m]
+and angles [rad] from the given model) are scaled to ``[0, 1]`` inside their bounds. The objective
+maximises the mean purity (largest KE fraction, full M, in the chosen frame) of the selected modes;
+constraints keep each mode's frequency in its window and, optionally, each selected mode's purity
+above a target and the sag under weight below a limit. scipy's SLSQP or trust-constr runs from the
+given layout and from ``starts - 1`` Latin-hypercube points; the best feasible result wins.
+
+The purity is a maximum over coordinates, so it is smooth only while the dominant coordinate of a
+mode stays the same; the exact gradient is that of the dominant entry.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, ClassVar
+
+import numpy as np
+import scipy.optimize as so
+from scipy.stats import qmc
+
+from .._validate import array, choice, integer
+from ..errors import AnalysisError, ArgumentError, VibssError, did_you_mean
+from ..io.modelfile import dump_model
+from ..model.model import DOF_NAMES, Model
+from ..results import Result, Table, jsonable, require_pandas
+from .certificate import Certificate, certificate, windows_for
+from .parameters import Parameter, apply, current_values, parameters_of
+from .sensitivity import Sensitivity, evaluate
+
+__all__ = ["Optimisation", "optimise", "METHODS", "GRADIENTS", "benchmark_case"]
+
+METHODS = ("SLSQP", "trust-constr", "global")
+GRADIENTS = ("exact", "finite-difference")
+
+
+@dataclass(frozen=True, eq=False)
+class Optimisation(Result):
+    """An optimised layout, with the certificates before and after.
+
+    Attributes
+    ----------
+    model : Model
+        The optimised model.
+    base : Model
+        The model optimised from.
+    variables : tuple of str
+        Design variable names.
+    units : tuple of str
+        Their units.
+    bounds : (p, 2) ndarray
+        Their bounds.
+    x0 : (p,) ndarray
+        Initial values.
+    x : (p,) ndarray
+        Optimised values.
+    objective : float
+        Mean purity of the selected modes at the optimum [-].
+    before, after : Certificate
+        Certificates of the base and the optimised layout.
+    success : bool
+        The optimiser converged to a feasible point.
+    message : str
+        The optimiser's message.
+    evaluations : int
+        Modal evaluations (each gives values and gradients).
+    starts : int
+        Starting points tried.
+    method : str
+        ``SLSQP`` or ``trust-constr``, with the gradient kind.
+    note : str
+        What was optimised.
+    """
+
+    signal_kind: ClassVar[str] = "variable"
+
+    model: Model
+    base: Model
+    variables: tuple[str, ...]
+    units: tuple[str, ...]
+    bounds: np.ndarray
+    x0: np.ndarray
+    x: np.ndarray
+    objective: float
+    before: Certificate
+    after: Certificate
+    success: bool
+    message: str
+    evaluations: int
+    starts: int
+    method: str
+    note: str = ""
+
+    @property
+    def output_labels(self) -> tuple[str, ...]:
+        """The design variables: ``opt['engine.k3']`` is its optimised value."""
+        return self.variables
+
+    def _item(self, i: int, j: int | None) -> float:
+        return float(self.x[i])
+
+    def summary(self) -> Table:
+        """Design variables: bounds, initial and optimised values."""
+        rows = [[v, u, f"{lo:.4g}", f"{hi:.4g}", f"{a:.5g}", f"{b:.5g}"]
+                for v, u, (lo, hi), a, b in zip(self.variables, self.units, self.bounds, self.x0, self.x)]
+        return Table(["variable", "unit", "lower", "upper", "before", "after"], rows,
+                     title="Design variables (shifts and angles from the base layout)")
+
+    def comparison(self) -> Table:
+        """Per mode: frequency and purity before and after."""
+        b, a = self.before, self.after
+        rows = [[f"{k + 1}", f"{b.frequency_hz[k]:.3f}", f"{100 * b.purity[k]:.1f} {b.dominant[k]}",
+                 f"{a.frequency_hz[k]:.3f}", f"{100 * a.purity[k]:.1f} {a.dominant[k]}",
+                 "yes" if a.in_window[k] else "NO"] for k in range(len(a.purity))]
+        return Table(["mode", "f before [Hz]", "purity before [%]", "f after [Hz]", "purity after [%]",
+                      "in window"], rows, title=f"Before and after ({a.frame_name} frame)")
+
+    def report(self) -> str:
+        """Text: verdict, variables, before/after table and both certificates' verdicts."""
+        head = (f"Optimised layout of {self.base.name!r}: {'converged' if self.success else 'NOT converged'} "
+                f"({self.message}); mean purity {self.objective:.4f}; {self.evaluations} evaluations, "
+                f"{self.starts} start(s), {self.method}")
+        return "\n\n".join([head, self.summary().render(), self.comparison().render(),
+                            "before: " + self.before.report().split("\n", 1)[0],
+                            "after:  " + self.after.report().split("\n", 1)[0], self.note])
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready variables, objective and both certificates."""
+        return jsonable({"model": self.base.name, "variables": list(self.variables), "units": list(self.units),
+                         "bounds": self.bounds, "x0": self.x0, "x": self.x, "objective": self.objective,
+                         "success": self.success, "message": self.message, "evaluations": self.evaluations,
+                         "starts": self.starts, "before": self.before.to_dict(), "after": self.after.to_dict(),
+                         "method": self.method, "note": self.note})
+
+    def to_pandas(self) -> Any:
+        """DataFrame: one row per design variable."""
+        pd = require_pandas()
+        return pd.DataFrame({"unit": list(self.units), "lower": self.bounds[:, 0], "upper": self.bounds[:, 1],
+                             "before": self.x0, "after": self.x},
+                            index=pd.Index(list(self.variables), name="variable"))
+
+    def plot(self, ax: Any = None, **kwargs: Any) -> Any:
+        """Purity per mode before and after: :func:`vibss.plotting.design.plot_optimisation`.
+
+        Parameters
+        ----------
+        ax : Axes or None
+            Draw into existing axes; default: a new figure.
+        **kwargs
+            Passed to :func:`vibss.plotting.design.plot_optimisation`.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+        """
+        from ..plotting.design import plot_optimisation
+
+        return plot_optimisation(self, ax=ax, **kwargs)
+
+    def write(self, path: str | Path) -> None:
+        """Write the optimised model as a model file (``.toml`` or ``.json``).
+
+        Parameters
+        ----------
+        path : str or Path
+            The file.
+        """
+        dump_model(self.model, path)
+
+
+def _select(modes: Any, k: int) -> Any:
+    """Mode selector: None (all), 1-based numbers, or DOF names (x ... rz) of the dominant coordinate."""
+    if modes is None:
+        return None
+    items = [modes] if isinstance(modes, (str, int)) else list(modes)
+    for m in items:
+        if isinstance(m, str) and m not in DOF_NAMES or not isinstance(m, str) and not 1 <= int(m) <= k:
+            raise ArgumentError(f"optimise: modes: expected mode numbers 1 ... {k} or directions "
+                                f"{list(DOF_NAMES)}, got {m!r}", argument="modes", received=modes)
+    return items
+
+
+def _chosen(items: Any, sens: Sensitivity) -> np.ndarray:
+    k = len(sens.frequency_hz)
+    if items is None:
+        return np.arange(k)
+    dom = [DOF_NAMES[j % 6] for j in np.argmax(sens.ke_matrix, axis=1)]
+    rows = {int(m) - 1 for m in items if not isinstance(m, str)}
+    rows |= {i for i, d in enumerate(dom) if d in {m for m in items if isinstance(m, str)}}
+    return np.array(sorted(rows), dtype=int)
+
+
+def optimise(model: Model, variables: Mapping[Any, Any], *, modes: Any = None, purity: float | None = None,
+             windows: Any = None, max_sag: float | None = None, frame: Any = "global", axis: Any = "x",
+             body: str | None = None, method: str = "SLSQP", gradient: str = "exact", starts: int = 1,
+             seed: int | None = 0, maxiter: int = 200,
+             catalogue: Mapping[Any, Any] | None = None) -> Optimisation:
+    """Optimise a mount layout for decoupling within frequency windows, with exact gradients.
+
+    Parameters
+    ----------
+    model : Model
+        The layout to start from (shifts and angles are measured from it).
+    variables : mapping of str or Parameter to (2,) array_like
+        Design variable (``"<mount>.<kind>"`` or a tied :class:`~vibss.design.parameters.Parameter`)
+        to its bounds ``(lower, upper)``: rates [N/m] (positive), shifts [m], angles [rad].
+    modes : sequence of int or str, or None
+        Modes whose mean purity is maximised: 1-based numbers, or DOF names (``"rx"``: modes whose
+        dominant coordinate is a roll); None: all.
+    purity : float or None
+        Constraint: every selected mode at least this pure [-]; None: none.
+    windows : (2,) array_like, mapping or None
+        Frequency windows [Hz] as constraints (as :func:`~vibss.design.certificate`, directions from
+        the base layout's modes).
+    max_sag : float or None
+        Constraint: vertical sag of the COG under weight at most this [m]; None: none.
+    frame : {"global", "tra", "principal"} or (3, 3) array_like
+        Axes of the KE fractions.
+    axis : {"x", "y", "z"} or (3,) array_like
+        Crank axis (for ``frame="tra"``).
+    body : str or None
+        Body whose inertia defines the frame (None: the only or first body).
+    method : {"SLSQP", "trust-constr", "global"}
+        scipy optimiser; ``"global"``: :func:`scipy.optimize.differential_evolution` on the
+        objective with a quadratic penalty for the constraints (seeded, ``15 x p`` members, the
+        given layout among them), then SLSQP with the exact gradients from its best point.
+    gradient : {"exact", "finite-difference"}
+        Exact gradients, or scipy's finite differences (for comparison).
+    starts : int
+        Starting points: the given layout plus ``starts - 1`` Latin-hypercube points.
+    seed : int or None
+        Seed of the extra starting points.
+    maxiter : int
+        Iterations per start.
+    catalogue : mapping of str or Parameter to sequence of float, or None
+        Discrete choices for some variables (catalogue rates [N/m]): after the continuous optimum,
+        each takes the better of its two neighbouring catalogue values (greedily, one after the
+        other) and the remaining variables are optimised again.
+
+    Returns
+    -------
+    Optimisation
+
+    Examples
+    --------
+    >>> import vibss
+    >>> pt = vibss.load_example("powertrain")
+    >>> opt = optimise(pt, {"torque-strut.k1": (5e4, 2e5), "gearbox.k3": (1e5, 3e5)}, modes=[3, 6])
+    >>> bool(opt.after.purity[[2, 5]].mean() > opt.before.purity[[2, 5]].mean())
+    True
+    """
+    who = "optimise"
+    if not isinstance(variables, Mapping) or not variables:
+        raise ArgumentError(f"{who}: variables: expected a mapping of parameter to (lower, upper), got "
+                            f"{variables!r}", argument="variables", received=variables)
+    params = parameters_of(model, list(variables))
+    bounds = np.array([array(b, f"variables[{getattr(k, 'name', k)!r}]", (2,), who=who)
+                       for k, b in variables.items()])
+    for p, (lo, hi) in zip(params, bounds):
+        if not lo < hi or (p.is_rate and lo <= 0):
+            raise ArgumentError(f"{who}: variables[{p.name!r}]: bounds must satisfy lower < upper "
+                                f"(rates: 0 < lower), got {[lo, hi]}", argument="variables", received=[lo, hi])
+    method = choice(method, "method", METHODS, who=who)
+    gradient = choice(gradient, "gradient", GRADIENTS, who=who)
+    starts = integer(starts, "starts", who=who)
+    maxiter = integer(maxiter, "maxiter", who=who)
+    x0 = current_values(model, params)
+    names = [p.name for p in params]
+    cat: dict[int, np.ndarray] = {}
+    for key, values in (catalogue or {}).items():
+        name = key.name if isinstance(key, Parameter) else str(key)
+        if name not in names:
+            raise ArgumentError(f"{who}: catalogue: {name!r} is not a design variable; variables are {names}"
+                                + did_you_mean(name, names), argument="catalogue", received=name)
+        i = names.index(name)
+        v = np.sort(array(values, f"catalogue[{name!r}]", (None,), who=who))
+        v = v[(v >= bounds[i, 0]) & (v <= bounds[i, 1])]
+        if not v.size:
+            raise ArgumentError(f"{who}: catalogue[{name!r}]: no value inside the bounds {bounds[i].tolist()}",
+                                argument="catalogue", received=values)
+        cat[i] = v
+    before = certificate(model, body, purity=0.9 if purity is None else purity, windows=windows, frame=frame, axis=axis)
+    k = len(before.frequency_hz)
+    items = _select(modes, k)
+    dirs = [DOF_NAMES[j % 6] for j in np.argmax(before.ke_matrix, axis=1)]
+    win = windows_for(windows, dirs, who)
+    lo, span = bounds[:, 0], bounds[:, 1] - bounds[:, 0]
+    cache: dict[bytes, Sensitivity] = {}
+    count = [0]
+
+    def at(z: np.ndarray) -> Sensitivity:
+        key = np.asarray(z, float).tobytes()
+        if key not in cache:
+            if len(cache) > 64:
+                cache.clear()
+            count[0] += 1
+            cache[key] = evaluate(model, params, lo + span * z, body=body, frame=frame, axis=axis)
+        return cache[key]
+
+    def fun(z: np.ndarray) -> float:
+        s = at(z)
+        return -float(np.mean(s.purity[_chosen(items, s)]))
+
+    def jac(z: np.ndarray) -> np.ndarray:
+        s = at(z)
+        return -np.mean(s.d_purity[_chosen(items, s)], axis=0) * span
+
+    cons_f, cons_j = [], []
+    lower_w, upper_w = np.isfinite(win[:, 0]) & (win[:, 0] > 0), np.isfinite(win[:, 1])
+    if lower_w.any() or upper_w.any():
+        cons_f.append(lambda z: np.concatenate([(at(z).frequency_hz - win[:, 0])[lower_w],
+                                                (win[:, 1] - at(z).frequency_hz)[upper_w]]))
+        cons_j.append(lambda z: np.vstack([at(z).d_frequency[lower_w], -at(z).d_frequency[upper_w]]) * span)
+    if purity is not None:
+        cons_f.append(lambda z: at(z).purity[_chosen(items, at(z))] - purity)
+        cons_j.append(lambda z: at(z).d_purity[_chosen(items, at(z))] * span)
+    if max_sag is not None:
+        zi = 6 * model.body_index(before.body) + 2
+        cons_f.append(lambda z: np.atleast_1d(max_sag + at(z).sag[zi]))        # sag[z] is negative
+        cons_j.append(lambda z: at(z).d_sag[zi][None, :] * span)
+    exact = gradient == "exact"
+    constraints = [{"type": "ineq", "fun": f, **({"jac": j} if exact else {})} for f, j in zip(cons_f, cons_j)]
+    z_start = [np.clip((x0 - lo) / span, 0.0, 1.0)]
+    if method == "global":
+        z_start = [_differential_evolution(fun, cons_f, z_start[0], seed, maxiter)]
+        method = "SLSQP"
+        label = "differential evolution + SLSQP"
+    else:
+        label = method
+    if starts > 1:
+        z_start += list(qmc.LatinHypercube(len(params), seed=seed).random(starts - 1))
+    def search(starts_z: list[np.ndarray], zb: list[tuple[float, float]]) -> Any:
+        best = None
+        for z in starts_z:
+            try:
+                if method == "SLSQP":
+                    r = so.minimize(fun, z, jac=jac if exact else "2-point", bounds=zb, constraints=constraints,
+                                    method="SLSQP", options={"maxiter": maxiter, "ftol": 1e-10})
+                else:
+                    nl = [so.NonlinearConstraint(f, 0.0, np.inf, jac=j if exact else "2-point")
+                          for f, j in zip(cons_f, cons_j)]
+                    r = so.minimize(fun, z, jac=jac if exact else "2-point", bounds=zb,
+                                    constraints=nl, method="trust-constr", options={"maxiter": maxiter})
+            except VibssError:      # a start in a degenerate corner (repeated modes): try the next
+                continue
+            feasible = all(np.all(f(r.x) >= -1e-6) for f in cons_f)
+            score = (feasible, -r.fun)
+            if best is None or score > best[0]:
+                best = (score, r)
+        if best is None:
+            raise AnalysisError(f"{who}: every start failed (repeated frequencies or an unrestrained layout)",
+                                argument="variables")
+        return best
+
+    best = search(z_start, [(0.0, 1.0)] * len(params))
+    if cat:
+        zc = np.clip(best[1].x, 0.0, 1.0)
+        for i, values in cat.items():      # greedy: the better catalogue neighbour, one at a time
+            vz = (values - lo[i]) / span[i]
+            below, above = vz[vz <= zc[i]], vz[vz >= zc[i]]
+            options = ([below.max()] if below.size else []) + ([above.min()] if above.size else [])
+            trial = []
+            for c in options:
+                z = zc.copy()
+                z[i] = c
+                trial.append(_penalised(fun, cons_f, z))
+            zc[i] = options[int(np.argmin(trial))]
+        best = search([zc], [(zc[i], zc[i]) if i in cat else (0.0, 1.0) for i in range(len(params))])
+        label += " with catalogue rates"
+    (feasible, _), r = best
+    x = lo + span * np.clip(r.x, 0.0, 1.0)
+    optimum = apply(model, params, x)
+    after = certificate(optimum, body, purity=0.9 if purity is None else purity, windows=windows, frame=frame, axis=axis)
+    return Optimisation(model=optimum, base=model, variables=tuple(p.name for p in params),
+                        units=tuple(p.unit for p in params), bounds=bounds, x0=x0, x=x,
+                        objective=-float(r.fun), before=before, after=after,
+                        success=bool(r.success) and feasible, message=str(r.message),
+                        evaluations=count[0], starts=len(z_start), method=f"{label}, {gradient} gradients",
+                        note=f"maximised the mean purity of modes {items or 'all'} in the {before.frame_name} frame")
+
+
+def _penalised(fun: Any, cons: list[Any], z: np.ndarray) -> float:
+    """Objective plus a quadratic penalty of the violated constraints (1e6 where the layout fails)."""
+    try:
+        g = np.concatenate([np.atleast_1d(c(z)) for c in cons]) if cons else np.zeros(0)
+        return float(fun(z)) + 1e3 * float(np.sum(np.minimum(g, 0.0) ** 2))
+    except VibssError:
+        return 1e6
+
+
+def _differential_evolution(fun: Any, cons: list[Any], z0: np.ndarray, seed: int | None,
+                            maxiter: int) -> np.ndarray:
+    """Best point of a penalised differential evolution on the unit box (modes that repeat or a
+    layout that fails count as bad points)."""
+    def penalised(z: np.ndarray) -> float:
+        return _penalised(fun, cons, z)
+
+    p = len(z0)
+    rng = np.random.default_rng(seed)
+    init = np.vstack([z0, rng.random((15 * p - 1, p))])
+    r = so.differential_evolution(penalised, [(0.0, 1.0)] * p, init=init, seed=seed, polish=False,
+                                  maxiter=maxiter, tol=1e-8)
+    return np.asarray(r.x)
+
+
+def benchmark_case() -> tuple[Model, dict[Any, tuple[float, float]], dict[str, Any]]:
+    """The powertrain with 15 design variables (rates of each mount pair, positions, the V angle):
+    the model, the variables with bounds and the keyword arguments of :func:`optimise`."""
+    from ..io.modelfile import load_example
+
+    model = load_example("powertrain")
+    rates = {m.name: m.type.stiffness for m in model.mounts}
+    var: dict[Any, tuple[float, float]] = {}
+    for j in range(3):
+        var[Parameter(f"engine pair k{j + 1}", [("engine", f"k{j + 1}", 1.0), ("engine.xz", f"k{j + 1}", 1.0)])] = \
+            (0.5 * rates["engine"][j], 2.0 * rates["engine"][j])
+        var[f"gearbox.k{j + 1}"] = (0.5 * rates["gearbox"][j], 2.0 * rates["gearbox"][j])
+        var[f"torque-strut.k{j + 1}"] = (0.5 * rates["torque-strut"][j], 2.0 * rates["torque-strut"][j])
+    var[Parameter("engine pair height", [("engine", "z", 1.0), ("engine.xz", "z", 1.0)])] = (-0.03, 0.03)
+    var[Parameter("engine pair spread", [("engine", "y", 1.0), ("engine.xz", "y", -1.0)])] = (-0.03, 0.03)
+    var[Parameter("engine V angle", [("engine", "rx", 1.0), ("engine.xz", "rx", -1.0)])] = (-0.35, 0.35)
+    var["gearbox.x"] = (-0.03, 0.03)
+    var["gearbox.z"] = (-0.03, 0.03)
+    var["torque-strut.z"] = (-0.03, 0.03)
+    return model, var, {"frame": "tra", "windows": (5.0, 26.7 / np.sqrt(2))}

@@ -1,0 +1,272 @@
+"""Design parameters of a mount layout: rates, positions and orientation angles of mounts, alone or
+tied together, with a model rebuilt for any values and the exact stiffness derivatives.
+
+A parameter names one mount quantity (``"front.k3"``) or ties several with factors
+(:class:`Parameter`). Kinds and what a value means:
+
+- ``k1``, ``k2``, ``k3``: the mount's rate along its local axis 1, 2, 3 [N/m], absolute
+  (``factor * value`` for each tied mount). A mount whose rate changes gets a mount type of its
+  own (``"<type>.<mount>"``) unless every mount of that type gets the same rates.
+- ``x``, ``y``, ``z``: a shift of the mount point along a global axis [m] from where the model
+  puts it (value 0 = as given).
+- ``rx``, ``ry``, ``rz``: a rotation of the mount's local axes about a global axis [rad] from the
+  model's orientation (value 0 = as given); several on one mount compose as
+  ``R_x(rx) R_y(ry) R_z(rz) T_0``.
+
+Derivatives of ``K = sum_p B_p^T k_p B_p`` (``k_p = T diag(k) T^T``, ``B_p`` the map from DOFs to
+mount deflection): a rate gives ``B^T t_j t_j^T B``; a shift along ``e_i`` changes the lever arms,
+``dB = [0 | -[e_i]x]`` on the mount's body minus the same on its other end; a rotation about an
+axis ``w`` gives ``dk_p = [w]x k_p - k_p [w]x``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from scipy.spatial.transform import Rotation
+
+from ..errors import ArgumentError, did_you_mean
+from ..linear.assemble import Assembly, assemble
+from ..model.geometry import Orientation, point_transfer, skew
+from ..model.model import Model, MountType
+
+__all__ = ["Parameter", "KINDS", "parameters_of", "apply", "stiffness_derivatives", "current_values"]
+
+KINDS: dict[str, str] = {"k1": "N/m", "k2": "N/m", "k3": "N/m", "x": "m", "y": "m", "z": "m",
+                         "rx": "rad", "ry": "rad", "rz": "rad"}
+"""Parameter kinds and their units."""
+
+_RATE = ("k1", "k2", "k3")
+_SHIFT = ("x", "y", "z")
+_ANGLE = ("rx", "ry", "rz")
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """One design variable: a mount quantity, or several tied with factors.
+
+    Parameters
+    ----------
+    name : str
+        Label (e.g. ``"engine.k3"``, ``"front pair height"``).
+    targets : sequence of (mount, kind, factor)
+        Mount name, kind (``k1 k2 k3 x y z rx ry rz``) and factor [-]: the mount quantity is
+        ``factor * value``. All targets share one unit.
+
+    Examples
+    --------
+    >>> Parameter.coerce("engine.xz.k3").targets
+    (('engine.xz', 'k3', 1.0),)
+    >>> Parameter("height", [("a", "z", 1.0), ("b", "z", 1.0)]).unit
+    'm'
+    """
+
+    name: str
+    targets: Any
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.name, str) or not self.name:
+            raise ArgumentError(f"parameter: name must be a non-empty string, got {self.name!r}",
+                                argument="name", received=self.name)
+        out = []
+        for t in self.targets:
+            if not (isinstance(t, (tuple, list)) and len(t) == 3 and isinstance(t[0], str)
+                    and t[1] in KINDS):
+                raise ArgumentError(f"parameter {self.name!r}: targets: expected (mount, kind, factor) "
+                                    f"with kind one of {list(KINDS)}, got {t!r}", argument="targets",
+                                    received=t, expected=list(KINDS))
+            out.append((t[0], t[1], float(t[2])))
+        if not out:
+            raise ArgumentError(f"parameter {self.name!r}: needs at least one target", argument="targets")
+        if len({KINDS[k] for _, k, _ in out}) != 1:
+            raise ArgumentError(f"parameter {self.name!r}: targets mix units "
+                                f"{sorted({KINDS[k] for _, k, _ in out})}", argument="targets")
+        object.__setattr__(self, "targets", tuple(out))
+
+    @property
+    def unit(self) -> str:
+        """Unit of the value (N/m, m or rad)."""
+        return KINDS[self.targets[0][1]]
+
+    @property
+    def is_rate(self) -> bool:
+        """Whether the value is a rate (absolute) rather than a shift or angle (increment)."""
+        return self.targets[0][1] in _RATE
+
+    @classmethod
+    def coerce(cls, value: Any) -> Parameter:
+        """A Parameter, or ``"<mount>.<kind>"``."""
+        if isinstance(value, Parameter):
+            return value
+        if isinstance(value, str) and "." in value:
+            mount, kind = value.rsplit(".", 1)
+            if kind in KINDS:
+                return cls(value, [(mount, kind, 1.0)])
+        raise ArgumentError(f"parameters: expected a Parameter or '<mount>.<kind>' with kind one of "
+                            f"{list(KINDS)}, got {value!r}", argument="parameters", received=value,
+                            expected=list(KINDS))
+
+
+def parameters_of(model: Model, parameters: Any) -> tuple[Parameter, ...]:
+    """Validated parameters (every target mount exists; names unique)."""
+    if isinstance(parameters, (str, Parameter)) or not isinstance(parameters, Iterable):
+        parameters = [parameters]
+    out = tuple(Parameter.coerce(p) for p in parameters)
+    names = [m.name for m in model.mounts]
+    for p in out:
+        for mount, _, _ in p.targets:
+            if mount not in names:
+                raise ArgumentError(f"parameter {p.name!r}: unknown mount {mount!r}"
+                                    + did_you_mean(mount, names), argument="parameters",
+                                    received=mount, expected=names)
+    if len({p.name for p in out}) != len(out):
+        raise ArgumentError("parameters: names must be unique", argument="parameters")
+    if not out:
+        raise ArgumentError("parameters: give at least one", argument="parameters")
+    return out
+
+
+def current_values(model: Model, parameters: Sequence[Parameter]) -> np.ndarray:
+    """Values of the parameters in ``model``: rates from the first target, 0 for shifts and angles."""
+    by_name = {m.name: m for m in model.mounts}
+    out = np.zeros(len(parameters))
+    for i, p in enumerate(parameters):
+        mount, kind, factor = p.targets[0]
+        if kind in _RATE:
+            out[i] = by_name[mount].type.stiffness[_RATE.index(kind)] / factor
+    return out
+
+
+def _angles(model: Model, parameters: Sequence[Parameter], values: np.ndarray) -> dict[str, np.ndarray]:
+    ang: dict[str, np.ndarray] = {}
+    for p, v in zip(parameters, values):
+        for mount, kind, factor in p.targets:
+            if kind in _ANGLE:
+                ang.setdefault(mount, np.zeros(3))[_ANGLE.index(kind)] += factor * v
+    return ang
+
+
+def apply(model: Model, parameters: Sequence[Parameter], values: Any) -> Model:
+    """Copy of ``model`` with the parameters set to ``values`` (see the module docstring).
+
+    Parameters
+    ----------
+    model : Model
+        The base model (shifts and angles are measured from it).
+    parameters : sequence of Parameter
+        The parameters (:func:`parameters_of`).
+    values : (p,) array_like
+        Their values [N/m, m, rad].
+
+    Returns
+    -------
+    Model
+    """
+    values = np.asarray(values, dtype=float)
+    by_name = {m.name: m for m in model.mounts}
+    rates = {m: by_name[m].type.stiffness.copy() for m in by_name}
+    shift = {m: np.zeros(3) for m in by_name}
+    for p, v in zip(parameters, values):
+        for mount, kind, factor in p.targets:
+            if kind in _RATE:
+                rates[mount][_RATE.index(kind)] = factor * v
+            elif kind in _SHIFT:
+                shift[mount][_SHIFT.index(kind)] += factor * v
+    angles = _angles(model, parameters, values)
+    # one mount type per (type, rates): keep the type's name where all its mounts agree
+    groups: dict[str, set[bytes]] = {}
+    for m in model.mounts:
+        groups.setdefault(m.type.name, set()).add(rates[m.name].tobytes())
+    types: dict[tuple[str, bytes], MountType] = {}
+    mounts = []
+    for m in model.mounts:
+        r = rates[m.name]
+        if np.array_equal(r, m.type.stiffness):
+            mtype = m.type
+        elif len(groups[m.type.name]) == 1:         # every mount of the type gets these rates
+            mtype = types.setdefault((m.type.name, r.tobytes()), dataclasses.replace(m.type, stiffness=r))
+        else:
+            mtype = _own(m, r, types)
+        change: dict[str, Any] = {"type": mtype}
+        if np.any(shift[m.name]):
+            change["at"] = m.at + shift[m.name]
+        if m.name in angles:
+            rot = Rotation.from_euler("XYZ", angles[m.name]).as_matrix()     # Rx Ry Rz
+            change["orientation"] = Orientation(rot @ m.orientation.matrix)
+        mounts.append(dataclasses.replace(m, **change))
+    return model.replace(mounts=mounts)
+
+
+def _own(m: Any, r: np.ndarray, types: dict[tuple[str, bytes], MountType]) -> MountType:
+    """A mount type of the mount's own (named after it)."""
+    name = f"{m.type.name}.{m.name}"
+    return types.setdefault((name, r.tobytes()), dataclasses.replace(m.type, name=name, stiffness=r))
+
+
+def stiffness_derivatives(a: Assembly, parameters: Sequence[Parameter],
+                          angles: dict[str, np.ndarray] | None = None) -> np.ndarray:
+    """(p, n, n) exact ``dK/dp`` of each parameter at the assembled model.
+
+    Parameters
+    ----------
+    a : Assembly
+        The model at the parameters' values.
+    parameters : sequence of Parameter
+        The parameters.
+    angles : mapping of mount name to (3,) ndarray or None
+        The angle parameters' current values per mount [rad] (``rx ry rz``): the rotation axes of
+        the composed ``R_x R_y R_z`` at those values; None: all zero.
+
+    Returns
+    -------
+    (p, n, n) ndarray
+        Derivatives [N/m per unit of each parameter].
+    """
+    model = a.model
+    index = {m.name: i for i, m in enumerate(model.mounts)}
+    n = a.n
+    nb = len(model.bodies)
+    out = np.zeros((len(parameters), n, n))
+    lb, la = point_transfer(a.r_b), point_transfer(a.r_a)
+    for ip, p in enumerate(parameters):
+        for mount, kind, factor in p.targets:
+            q = index[mount]
+            B = np.zeros((3, 6 * nb + 6))
+            B[:, 6 * a.b_index[q]:6 * a.b_index[q] + 6] += lb[q]
+            B[:, 6 * a.a_index[q]:6 * a.a_index[q] + 6] -= la[q]
+            B = B[:, :n]
+            kp = a.kp[q]
+            if kind in _RATE:
+                t = model.mounts[q].orientation.matrix[:, _RATE.index(kind)]
+                bt = t @ B
+                d = np.outer(bt, bt)
+            elif kind in _SHIFT:
+                dl = np.zeros((3, 6 * nb + 6))
+                s = -skew(np.eye(3)[_SHIFT.index(kind)])
+                dl[:, 6 * a.b_index[q] + 3:6 * a.b_index[q] + 6] += s
+                dl[:, 6 * a.a_index[q] + 3:6 * a.a_index[q] + 6] -= s
+                dB = dl[:, :n]
+                d = dB.T @ kp @ B
+                d = d + d.T
+            else:
+                w = _rotation_axis(_ANGLE.index(kind), (angles or {}).get(mount, np.zeros(3)))
+                S = skew(w)
+                d = B.T @ (S @ kp - kp @ S) @ B
+            out[ip] += factor * d
+    return out
+
+
+def _rotation_axis(i: int, theta: np.ndarray) -> np.ndarray:
+    """Axis of ``d/d theta_i (R_x R_y R_z)`` as a rotation applied on the left, at ``theta``."""
+    e = np.eye(3)
+    if i == 0:
+        return e[0]
+    rx = Rotation.from_euler("X", theta[0]).as_matrix()
+    if i == 1:
+        return rx @ e[1]
+    ry = Rotation.from_euler("Y", theta[1]).as_matrix()
+    return rx @ ry @ e[2]
