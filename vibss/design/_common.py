@@ -6,6 +6,7 @@ from typing import Any
 
 import numpy as np
 
+from ..linear.eigen import symmetric_eigen
 from .._validate import vector
 from ..errors import AnalysisError, ArgumentError, VibssError, did_you_mean
 from ..linear.assemble import Assembly, assemble
@@ -84,7 +85,7 @@ def frame_axes(model: Model, body: str, frame: Any, axis: Any, who: str) -> np.n
         if frame == "global":
             return np.eye(3)
         if frame == "principal":
-            w, v = np.linalg.eigh(J)
+            w, v = symmetric_eigen(J)
             v = v * np.sign(v[np.argmax(np.abs(v), axis=0), np.arange(3)])
             return v if np.linalg.det(v) > 0 else v * np.array([1.0, 1.0, -1.0])
         t = np.linalg.solve(J, unit_axis(axis, "axis", who))

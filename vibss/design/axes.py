@@ -36,6 +36,7 @@ from typing import Any
 
 import numpy as np
 
+from ..linear.eigen import symmetric_eigen
 from ..linear.assemble import Assembly
 from ..model.model import Model
 from ._common import body_blocks, body_name, unit_axis
@@ -52,10 +53,10 @@ def _vex(a: np.ndarray) -> np.ndarray:
     return np.array([a[2, 1], a[0, 2], a[1, 0]])
 
 
-def _sorted_eigh(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _sorted_axes(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Eigenvalues ascending, eigenvectors as columns, each with its largest component positive,
     right-handed."""
-    w, v = np.linalg.eigh(0.5 * (a + a.T))
+    w, v = symmetric_eigen(a)
     v = v * np.sign(v[np.argmax(np.abs(v), axis=0), np.arange(3)])
     if np.linalg.det(v) < 0:
         v[:, 2] = -v[:, 2]
@@ -117,7 +118,7 @@ def principal_axes(model: Model | Assembly, body: str | None = None) -> tuple[np
     axes : (3, 3) ndarray
         Principal axes as columns (global axes), right-handed [-].
     """
-    return _sorted_eigh(_mass(model, body)[3:, 3:])
+    return _sorted_axes(_mass(model, body)[3:, 3:])
 
 
 @dataclass(frozen=True, eq=False)
@@ -190,8 +191,8 @@ def elastic_axes(model: Model | Assembly, body: str | None = None) -> ElasticAxe
     c = _vex(skew_part)
     scale = max(float(np.linalg.norm(A)), float(np.linalg.norm(c)), 1e-300)
     screw = float(np.linalg.norm(sym_part) / scale)
-    kr, vr = _sorted_eigh(np.linalg.inv(crr))
-    kt, vt = _sorted_eigh(K[:3, :3])
+    kr, vr = _sorted_axes(np.linalg.inv(crr))
+    kt, vt = _sorted_axes(K[:3, :3])
     mismatch = float(np.max(1.0 - np.max(np.abs(vr.T @ vt), axis=1)))
     exists = screw <= EXIST_RTOL
     axes_exist = exists and mismatch <= EXIST_RTOL

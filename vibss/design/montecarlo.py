@@ -21,6 +21,7 @@ from typing import Any, ClassVar
 import numpy as np
 from scipy.stats import norm, qmc
 
+from ..linear.eigen import symmetric_eigen
 from .._validate import choice, integer, number
 from ..errors import AnalysisError, ArgumentError
 from ..linear.assemble import assemble
@@ -107,7 +108,7 @@ def batch_modes(model: Model, parameters: tuple[Parameter, ...], values: np.ndar
     Li = np.linalg.inv(L)
     A = Li @ K @ Li.T
     A = 0.5 * (A + A.transpose(0, 2, 1))
-    w2, V = np.linalg.eigh(A)
+    w2, V = symmetric_eigen(A)
     phi = Li.T @ V
     idx = np.argmax(np.abs(phi), axis=1)                                          # (nv, n)
     sign = np.sign(np.take_along_axis(phi, idx[:, None, :], axis=1))

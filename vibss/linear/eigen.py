@@ -166,10 +166,12 @@ def damping_coupling(projected: np.ndarray) -> np.ndarray:
 
 
 def symmetric_eigen(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Eigenvalues (ascending) and orthonormal eigenvectors of a small symmetric matrix.
+    """Eigenvalues (ascending) and orthonormal eigenvectors of a small symmetric matrix, or of a
+    stack of them (``(..., k, k)``: one LAPACK call for every matrix, e.g. 100,000 Monte Carlo
+    variants of a 6-DOF layout).
 
     The one call for the small problems (cluster rotations, principal axes of an inertia tensor,
-    projected damping blocks); ``a`` is symmetrised first.
+    projected damping blocks, batched variants); ``a`` is symmetrised first.
 
     Examples
     --------
@@ -178,7 +180,7 @@ def symmetric_eigen(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     [1.0, 3.0]
     """
     a = np.asarray(a)
-    return np.linalg.eigh(0.5 * (a + a.T))
+    return np.linalg.eigh(0.5 * (a + np.swapaxes(a, -1, -2)))
 
 
 def projected_eigen(kr: np.ndarray, mr: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -66,7 +66,7 @@ from .methods import (BALANCED_MAX_STATES, KRYLOV_MIN_DOF, METHODS, MODE_PRUNE_M
                       ReductionMethod, _floor, _states, check_grid, choose, resolve_method)
 from ..results import Result, Table, jsonable, require_pandas
 from .scope import Scope
-from ..linear.signals import build_plant, control_name
+from ..linear.signals import build_plant
 from ..linear.solve import statespace_plant
 from ..linear.statespace import NamedStateSpace, statespace
 
