@@ -347,7 +347,7 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
                     1e-6 * float(np.median(ratio[ratio > 0])) if np.any(ratio > 0) else 1.0
             refined = False
             for _ in range(3):                 # a few sweeps of subspace inverse iteration
-                w2, phi, est, ok = _refine(K, M, factor, w2, phi, est, need, shift)
+                w2, phi, est, ok = _refine(K, M, factor, w2, phi, est, need, shift, whole=True)
                 if not ok:
                     break
                 refined = True
