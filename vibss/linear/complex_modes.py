@@ -120,7 +120,7 @@ def eigenpairs(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return sl.eig(a, right=True, check_finite=False)
 
 
-REFINE_RISK = 1e-10
+REFINE_RISK = 1e-9
 """Refine a complex mode when ``eps max|lam| / |Re lam|`` (the relative error that ``eig``'s absolute
 eigenvalue error ``eps max|lam|`` makes of its resonance peak) exceeds this."""
 
