@@ -184,8 +184,8 @@ def _superpose(plant: Plant, s: np.ndarray, left: list[_Factors],
         costs.append(np.where(ok, cost, np.inf))
     pick = np.argmin(np.stack(costs), axis=0)
     y = np.zeros((nf, p * m), dtype=complex)
-    for k, (dd, ys, scale) in enumerate(forms):
-        rows = pick == k
+    for which, (dd, consts, cscale) in enumerate(forms):
+        rows = pick == which
         if not np.any(rows):
             continue
         dd, sr, zr = dd[rows], s[rows], zf[rows]
@@ -197,8 +197,8 @@ def _superpose(plant: Plant, s: np.ndarray, left: list[_Factors],
                     t = dd.real @ w + 1j * (dd.imag @ w)
                 else:
                     t = dd @ w
-                if ys is not None and scale is not None:
-                    t = t + scale[rows, None] * ys[(a, i)].reshape(1, p * m)
+                if consts is not None and cscale is not None:
+                    t = t + cscale[rows, None] * consts[(a, i)].reshape(1, p * m)
                 fac = sr[:, None] ** (a + b) * (zr if scaled else np.ones((1, m)))   # (nr, m)
                 part += (t.reshape(sr.size, p, m) * fac[:, None, :]).reshape(sr.size, p * m)
         y[rows] = part
