@@ -132,11 +132,12 @@ def _refine_slow_modes(lam: np.ndarray, v: np.ndarray, scale: np.ndarray, rows: 
 
     ``eig`` is backward stable for ``A``: each eigenvalue carries an absolute error of about
     ``eps max|lam|``, which a mode decaying at ``|Re lam|`` << ``max|lam|`` feels as a relative
-    error ``eps max|lam| / |Re lam|`` at its resonance (graded chain: 1.8e-8 on the lowest pole,
+    error ``eps max|lam| / |Re lam|`` at its resonance (graded chain: 8.9e-9 on the lowest pole,
     8.9e-6 in the FRF at 1.001 omega_1 for a damping ratio of 4e-7). For those modes one step of
     inverse iteration on ``Q(lam) = lam^2 I + lam G + Kt P`` (``Kt P = Omega^2 + i Phi^T H Phi``,
     nk x nk, whose entries are exact: Omega^2 comes from the Jacobi SVD to high relative
-    accuracy) and a Newton step on ``x^T Q(lam) x = 0`` give the pole to ``eps |lam|``.
+    accuracy) and a Newton step on ``x^T Q(lam) x = 0`` give the pole to ``eps |lam|`` (measured
+    against 60 digits: 8.9e-9 -> 2.1e-12, the error of omega_1^2 itself).
     """
     ne, nk = scale.size, damping.shape[0]
     if not ne or not lam.size:
