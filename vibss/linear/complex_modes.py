@@ -120,6 +120,62 @@ def eigenpairs(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return sl.eig(a, right=True, check_finite=False)
 
 
+REFINE_RISK = 1e-9
+"""Refine a complex mode when ``eps max|lam| / |Re lam|`` (the relative error that ``eig``'s absolute
+eigenvalue error ``eps max|lam|`` makes of its resonance peak) exceeds this."""
+
+
+def _refine_slow_modes(lam: np.ndarray, v: np.ndarray, scale: np.ndarray, rows: np.ndarray,
+                       omega2: np.ndarray, damping: np.ndarray,
+                       coupling: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
+    """Refine the lightly damped modes of ``eig`` on the quadratic problem ``Q(lam) x = 0``.
+
+    ``eig`` is backward stable for ``A``: each eigenvalue carries an absolute error of about
+    ``eps max|lam|``, which a mode decaying at ``|Re lam|`` << ``max|lam|`` feels as a relative
+    error ``eps max|lam| / |Re lam|`` at its resonance (graded chain: 8.9e-9 on the lowest pole,
+    8.9e-6 in the FRF at 1.001 omega_1 for a damping ratio of 4e-7). For those modes one step of
+    inverse iteration on ``Q(lam) = lam^2 I + lam G + Kt P`` (``Kt P = Omega^2 + i Phi^T H Phi``,
+    nk x nk, whose entries are exact: Omega^2 comes from the Jacobi SVD to high relative
+    accuracy) and a Newton step on ``x^T Q(lam) x = 0`` give the pole to ``eps |lam|`` (measured
+    against 60 digits: 8.9e-9 -> 2.1e-12, the error of omega_1^2 itself).
+    """
+    ne, nk = scale.size, damping.shape[0]
+    if not ne or not lam.size:
+        return lam, v
+    decay = np.abs(lam.real)
+    risk = np.finfo(float).eps * float(np.abs(lam).max()) / np.maximum(decay, np.finfo(float).tiny)
+    todo = np.flatnonzero((risk > REFINE_RISK) & (np.abs(lam) > 0) & np.isfinite(risk))
+    if not todo.size:
+        return lam, v
+    kp = np.zeros((nk, nk), dtype=complex)
+    kp[rows, rows] = omega2
+    if coupling is not None:
+        kp[:, rows] += coupling * scale[None, :]
+    eye = np.eye(nk)
+    lam, v = lam.astype(complex), v.astype(complex)
+    for j in todo:
+        lj = lam[j]
+        x = v[ne:, j] / lj
+        for _ in range(2):
+            q = lj * lj * eye + lj * damping + kp
+            dq = 2 * lj * eye + damping
+            try:
+                y = np.linalg.solve(q, dq @ x)                    # inverse iteration (Newton) step
+            except np.linalg.LinAlgError:                          # lj exact: nothing to refine
+                break
+            if not np.all(np.isfinite(y)) or not np.any(y):
+                break
+            x = y / np.linalg.norm(y)
+            num = x @ (lj * lj * x + lj * (damping @ x) + kp @ x)    # x^T Q(lj) x (Q symmetric)
+            den = x @ (2 * lj * x + damping @ x)
+            if den == 0:
+                break
+            lj = lj - num / den
+        vj = np.concatenate([scale * x[rows], lj * x])
+        lam[j], v[:, j] = lj, vj / np.linalg.norm(vj)
+    return lam, v
+
+
 def complex_modes(scale: np.ndarray, rows: np.ndarray, omega2: np.ndarray, damping: np.ndarray,
                   coupling: np.ndarray | None = None, seed: int = 0) -> ComplexModes:
     """Eigen-decompose ``A = [[0, P], [-Kt, -G]]`` (see the module docstring).
@@ -174,6 +230,7 @@ def complex_modes(scale: np.ndarray, rows: np.ndarray, omega2: np.ndarray, dampi
         a[ne:, :ne] -= coupling
     a[ne:, ne:] = -damping
     lam, v = eigenpairs(a)
+    lam, v = _refine_slow_modes(lam, v, scale, rows, omega2, damping, coupling)
     kt = (rows, omega2 / scale, coupling)
     tol = 1e-9 * max(float(np.abs(lam).max()), np.finfo(float).tiny)
     reason = ""
