@@ -92,3 +92,21 @@ def test_exact_pruning_hanging_chain():
     i_out, i_in = 2, 6 * 1 + 2
     exact = np.array([ref.receptance(model, 2j * np.pi * fk)[i_out, i_in] for fk in f])
     assert channel_error(got[None, :], exact[None, :]) <= TOL
+
+
+def test_inexact_methods_say_so_with_a_checked_error():
+    """A method that is neither exact nor built on the certified modal basis (a user's kernel,
+    'statespace') reports its error against the exact solve; here a kernel off by exactly 1e-6."""
+    from vibss.linear.solve import response
+
+    def off_by_a_millionth(plant, s, basis=None):
+        return (1 + 1e-6) * response(plant, s)
+
+    model = instrument()
+    f = np.geomspace(1.0, 2000.0, 40)
+    r = vibss.frequency_response(model, ["sensor.fz"], ["block.z", "sensor.z"], f, method=off_by_a_millionth)
+    assert "not an exact method" in r.note
+    reported = float(r.note.split("relative error ")[1].split()[0])
+    assert abs(reported - 1e-6) <= 1e-9
+    exact = vibss.frequency_response(model, ["sensor.fz"], ["block.z", "sensor.z"], f, method="direct")
+    assert "not an exact method" not in exact.note

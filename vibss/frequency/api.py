@@ -40,6 +40,7 @@ from ..linear.assemble import Assembly
 from .._validate import choice, integer, name_index, number
 from ..errors import AnalysisError, ArgumentError, DefectiveModesError, ModelError
 from .kernels import METHODS, zero_frequency_limit
+from ..linear.solve import response
 from .methods import choose, resolve_method
 from ..model.model import Model
 from ..linear.plant import Plant
@@ -427,6 +428,20 @@ def _units(plant: Plant, quantity: str) -> tuple[str, ...]:
     return tuple(f"{u} per unit input" if quantity != "receptance" else u for u in units)
 
 
+def _checked(plant: Plant, s: np.ndarray, raw: np.ndarray, name: str) -> str:
+    """The note of a method that is neither exact nor built on the certified modal basis
+    (``statespace``, a user's kernel): its error against the one exact solve at the frequency of
+    the largest response and at both ends of the band (relative to each frequency's response)."""
+    size = np.linalg.norm(raw, axis=(0, 1))
+    idx = np.unique([0, int(np.argmax(size)), s.size - 1])
+    exact = response(plant, s[idx])
+    err = np.linalg.norm(raw[:, :, idx] - exact, axis=(0, 1)) / np.maximum(np.linalg.norm(exact, axis=(0, 1)),
+                                                                         np.finfo(float).tiny)
+    where = ", ".join(f"{abs(x) / (2 * np.pi):.4g}" for x in s[idx])
+    return (f"{name!r} is not an exact method: relative error {float(err.max()):.1e} against the exact "
+            f"solve at {idx.size} check frequencies ({where} Hz)")
+
+
 def frequency_response(system: Model | Assembly | Plant, inputs: Sequence[Any] | None = None,
                        outputs: Sequence[str] | None = None, frequencies: Any = None,
                        quantity: str = "receptance",
@@ -500,6 +515,8 @@ def frequency_response(system: Model | Assembly | Plant, inputs: Sequence[Any] |
             what = "complex modes" if refused.name == "complex_modal" else f"method {refused.name!r}"
             reason = f"{reason}; {what} refused ({exc}): {chosen.summary}"
             raw = chosen.kernel(plant, s, basis)
+        if not chosen.exact and not chosen.needs_basis:
+            reason = "; ".join(x for x in (reason, _checked(plant, s, raw, chosen.name)) if x)
         h[:, :, pos] = _times_power(raw, s, k)
     if np.any(~pos):
         h[:, :, ~pos] = zero_frequency_limit(plant, power=k)[:, :, None]
