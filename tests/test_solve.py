@@ -253,7 +253,7 @@ def _method_cases() -> list:
         for name in FAMILY:
             if name in EIGEN_FAILS.get(method, set()):
                 out.append(pytest.param(method, name, marks=pytest.mark.xfail(
-                    strict=True, reason="needs the high-accuracy eigen path")))
+                    strict=True, reason="first-order cancellation above the modes: |s| / omega_1 = 2e7 (see EIGEN_FAILS)")))
             else:
                 out.append(pytest.param(method, name))
     return out
