@@ -22,7 +22,7 @@ LAYERS = [
      "statics", "time.integrators", "diagnostics"},
     {"linear", "modal"},
     {"frequency.kernels", "time.kernels", "studies"},
-    {"frequency", "time", "reduction"},
+    {"frequency", "time", "reduction", "shock"},
     {"plotting", "report"},
     {"commands", "cli", "__main__"},
 ]
