@@ -30,7 +30,7 @@ def half_sine(amplitude_g: float, duration: float, *, start: float = 0.0) -> Hal
     Examples
     --------
     >>> round(float(half_sine(50.0, 0.011).value(0.0055)), 3)
-    490.333
+    490.332
     """
     a, d, s = _args(amplitude_g, duration, start, "half_sine")
     return HalfSine(amplitude=a, start=s, duration=d)

@@ -66,32 +66,38 @@ class ShockResponseSpectrum(Result):
 
     @property
     def output_labels(self) -> tuple[str, ...]:
+        """One output: the spectrum."""
         return ("srs",)
 
     @property
     def units(self) -> dict[str, str]:
+        """Units of the fields."""
         return {"frequency_hz": "Hz", "response": _UNITS[self.quantity]}
 
     def _item(self, i: int, j: int | None) -> Any:
         return self.response
 
     def summary(self) -> Table:
+        """Kind, quantity, Q and the peak."""
         k = int(np.argmax(np.abs(self.response)))
         return Table(["quantity", "value"],
                      [["kind", self.kind], ["response", self.quantity], ["Q", f"{self.q:g}"],
                       ["peak", f"{self.response[k]:.6g} at {self.frequency_hz[k]:.6g} Hz"]])
 
     def report(self) -> str:
+        """The spectrum as a text table."""
         lines = [f"Shock response spectrum ({self.kind} {self.quantity}, Q = {self.q:g})",
                  f"{'f [Hz]':>12} {'response':>14}"]
         lines += [f"{f:12.6g} {r:14.6g}" for f, r in zip(self.frequency_hz, self.response)]
         return "\n".join(lines)
 
     def to_dict(self) -> dict[str, Any]:
+        """JSON-ready data."""
         return {"frequency_hz": self.frequency_hz.tolist(), "response": self.response.tolist(),
                 "q": self.q, "kind": self.kind, "quantity": self.quantity, "units": self.units}
 
     def to_pandas(self) -> Any:
+        """The spectrum as a DataFrame indexed by frequency [Hz]."""
         import pandas as pd
         return pd.DataFrame({"response": self.response},
                             index=pd.Index(self.frequency_hz, name="frequency_hz"))
