@@ -1,0 +1,8 @@
+"""Shock environments: standard pulses by their specification parameters and the shock response spectrum."""
+
+from __future__ import annotations
+
+from .pulses import G, haversine, half_sine, sawtooth, trapezoid
+from .srs import ShockResponseSpectrum, srs
+
+__all__ = ["G", "ShockResponseSpectrum", "half_sine", "haversine", "sawtooth", "srs", "trapezoid"]
