@@ -101,6 +101,8 @@ def render() -> tuple[str, list[str]]:
                         lines.append(f"- `.{m}`: {_first_paragraph(mdoc) if mdoc else ''}")
                     if members:
                         lines.append("")
+            elif inspect.ismodule(obj):      # by name and summary: a module's repr holds its path
+                lines += [f"### `{name}`", "", f"*module* `{obj.__name__}` — {_first_paragraph(obj.__doc__ or '')}", ""]
             else:
                 lines += [f"### `{name}`", "", f"constant: `{obj!r}`", ""]
     return "\n".join(lines).rstrip() + "\n", problems
