@@ -4,11 +4,11 @@ optimisation of the mount rates."""
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import sys
-
 from typing import Any
 
-from ..design import Parameter, certificate, monte_carlo, optimise
+from ..design.filespec import design_spec, run_design
 from ..errors import ArgumentError
 from .common import add_model_arguments, emit, load_from_args
 
@@ -45,46 +45,27 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=run)
 
 
-def _type_rates(model: Any) -> dict[Any, tuple[float, float]]:
-    """Every rate of every mount type, tied over the type's mounts, between x0.5 and x2."""
-    variables: dict[Any, tuple[float, float]] = {}
-    for name, mtype in model.mount_types.items():
-        users = [m.name for m in model.mounts if m.type.name == name]
-        for j, k in enumerate(mtype.stiffness):
-            if k > 0:
-                variables[Parameter(f"{name}.k{j + 1}", [(u, f"k{j + 1}", 1.0) for u in users])] = (0.5 * k, 2.0 * k)
-    return variables
-
-
 def run(args: argparse.Namespace) -> int:
     """Print the certificate (and the study and optimisation asked for)."""
     model = load_from_args(args)
-    spec = dict(model.settings.get("design", {}))     # the file's [design] table (SI)
-    purity = args.purity if args.purity is not None else spec.get("purity", 0.9)
-    kw = {"windows": args.window if args.window is not None else spec.get("windows"),
-          "frame": args.frame or spec.get("frame", "global"), "axis": args.axis or spec.get("axis", "x")}
-    emit(certificate(model, purity=purity, damped=args.damped, **kw), args.format)
-    if args.optimise:
-        variables = {k: tuple(v) for k, v in spec["variables"].items()} if spec.get("variables") else _type_rates(model)
-        extra = {k: spec[k] for k in ("modes", "max_sag", "method", "starts", "catalogue") if k in spec}
-        opt = optimise(model, variables, purity=purity if "purity" in spec or args.purity is not None else None,
-                       **kw, **extra)
-        emit(opt, args.format)
+    spec = design_spec(model)                         # the file's [design] table, or the defaults
+    change: dict[str, Any] = {k: v for k, v in (("windows", args.window), ("frame", args.frame),
+                                                ("axis", args.axis)) if v is not None}
+    if args.purity is not None:
+        change.update(purity=args.purity, purity_given=True)
+    spec = dataclasses.replace(spec, **change)
+    if args.tolerance == _FROM_FILE and not spec.tolerances:
+        raise ArgumentError("--tolerance without a value needs a [design.tolerances] table in the "
+                            "model file; give a relative tolerance (e.g. --tolerance 0.15)", argument="tolerance")
+    tolerance = {None: False, _FROM_FILE: True}.get(args.tolerance, args.tolerance)
+    run_ = run_design(model, spec, optimise_layout=args.optimise, damped=args.damped, samples=args.samples,
+                      tolerance=tolerance)
+    emit(run_.certificate, args.format)
+    if run_.optimisation is not None:
+        emit(run_.optimisation, args.format)
         if args.output:
-            opt.write(args.output)
+            run_.optimisation.write(args.output)
             print(f"optimised model written to {args.output}", file=sys.stderr)
-        model = opt.model
-    if args.tolerance is not None:
-        if args.tolerance == _FROM_FILE:
-            if not spec.get("tolerances"):
-                raise ArgumentError("--tolerance without a value needs a [design.tolerances] table in the "
-                                    "model file; give a relative tolerance (e.g. --tolerance 0.15)",
-                                    argument="tolerance")
-            tol = dict(spec["tolerances"])
-        else:
-            tol = {f"{m.name}.k{j + 1}": args.tolerance for m in model.mounts for j in range(3)
-                   if m.type.stiffness[j] > 0}
-        n = args.samples if args.samples is not None else spec.get("samples", 10_000)
-        sampling = spec.get("sampling", "lhs")
-        emit(monte_carlo(model, tol, n=n, purity=purity, sampling=sampling, **kw), args.format)
+    if run_.tolerance is not None:
+        emit(run_.tolerance, args.format)
     return 0

@@ -50,14 +50,12 @@ def run(args: argparse.Namespace) -> int:
     model = load_from_args(args)
     spec = dict(model.settings.get("study", {}))       # the file's [study] table (SI)
     analysis = args.analysis or spec.get("analysis", "modes")
-    if args.vary:
-        variants = {"grid": _grid(args.vary)}
-    elif "grid" in spec or "table" in spec:
-        variants = {k: dict(spec[k]) for k in ("grid", "table") if k in spec}
-    else:
+    grid = _grid(args.vary) if args.vary else spec.get("grid")
+    table = None if args.vary else spec.get("table")
+    if grid is None and table is None:
         raise ArgumentError("vibss study: nothing to vary: give --vary PARAM=V1,V2,... or a [study] table "
                             "in the model file (docs/model-file.md)", argument="vary")
-    df = study(model, analysis, **variants, client=args.client, progress=bool(args.progress))
+    df = study(model, analysis, grid=grid, table=table, client=args.client, progress=bool(args.progress))
     if args.format == "json":
         sys.stdout.write(df.to_json(orient="records", indent=2) + "\n")
     else:

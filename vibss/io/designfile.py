@@ -19,6 +19,8 @@ Example (a file in mm, N and degrees)::
     "engine.k3" = [150.0, 400.0]  # N/mm
     "engine.k1/k3" = [0.2, 0.6]   # -
     "engine.rx" = [-20.0, 20.0]   # deg
+    # several mounts tied: (mount, kind, factor) targets, the value is factor x the variable
+    "engine pair spread" = { bounds = [-30.0, 30.0], targets = [["engine", "y", 1], ["engine.xz", "y", -1]] }
     [design.catalogue]            # optional discrete rates
     "engine.k3" = [200.0, 250.0, 300.0]
     [design.tolerances]           # relative for rates and ratios, absolute for shifts and angles
@@ -57,7 +59,7 @@ def kind_quantity(name: str) -> str:
             "z": "length", "rx": "angle", "ry": "angle", "rz": "angle"}.get(kind, "dimensionless")
 
 
-def _columns(e: Entry, shape: tuple[int | None, ...] | None, *, relative: bool = False) -> dict[str, Any]:
+def _columns(e: Entry, shape: tuple[int, ...] | None, *, relative: bool = False) -> dict[str, Any]:
     out: dict[str, Any] = {}
     for name in e.data:
         value = numbers(e.data[name])
@@ -69,8 +71,25 @@ def _columns(e: Entry, shape: tuple[int | None, ...] | None, *, relative: bool =
                 raise e.fail(name, f"expected a list of numbers [{e.units.label(q)}], got {e.data[name]!r}")
             out[name] = e.array(name, [value.shape], q).tolist()
         else:
-            out[name] = e.array(name, [shape], q).tolist()  # type: ignore[list-item]
+            out[name] = e.array(name, [shape], q).tolist()
     return out
+
+
+def _tied(e: Entry) -> dict[str, Any]:
+    """A tied variable ``{bounds = [lo, hi], targets = [[mount, kind, factor], ...]}``."""
+    e.check_keys(("bounds", "targets"), required=("bounds", "targets"))
+    targets = e.data["targets"]
+    kinds = {"k1", "k2", "k3", "x", "y", "z", "rx", "ry", "rz", "k1/k3", "k2/k3", "k1/k2", "k2/k1", "k3/k1", "k3/k2"}
+    if not (isinstance(targets, list) and targets and all(
+            isinstance(t, list) and len(t) == 3 and isinstance(t[0], str) and t[1] in kinds
+            and isinstance(t[2], (int, float)) and not isinstance(t[2], bool) for t in targets)):
+        raise e.fail("targets", f"expected a list of [mount, kind, factor] with kind one of {sorted(kinds)}, "
+                     f"got {targets!r}")
+    quantities = {kind_quantity(f"m.{t[1]}") for t in targets}
+    if len(quantities) != 1:
+        raise e.fail("targets", f"mixes quantities {sorted(quantities)}; tie kinds of one unit")
+    bounds = e.array("bounds", [(2,)], quantities.pop()).tolist()
+    return {"bounds": bounds, "targets": [[t[0], t[1], float(t[2])] for t in targets]}
 
 
 def read_design(e: Entry) -> dict[str, Any]:
@@ -110,17 +129,29 @@ def read_design(e: Entry) -> dict[str, Any]:
                 raise e.fail(key, f"expected a whole number >= 1, got {v!r}")
             out[key] = v
     for key, shape in (("variables", (2,)), ("catalogue", None), ("tolerances", ())):
-        sub = e.sub(key)
-        if sub is not None:
-            out[key] = _columns(sub, shape, relative=key == "tolerances")
-    for name, (lo, hi) in out.get("variables", {}).items():
+        part = e.sub(key)
+        if part is not None:
+            tied = {k: v for k, v in part.data.items() if isinstance(v, Mapping)} if key == "variables" else {}
+            plain = Entry({k: v for k, v in part.data.items() if k not in tied}, part.where, part.units)
+            read = _columns(plain, shape, relative=key == "tolerances")
+            for name, value in tied.items():
+                read[name] = _tied(Entry(value, f"{part.where}: {name!r}", e.units))
+            out[key] = {k: read[k] for k in part.data}            # the file's order
+    for name, (lo, hi) in ((k, v if isinstance(v, list) else v["bounds"]) for k, v in out.get("variables", {}).items()):
         if not lo < hi:
             raise e.fail("variables", f"{name!r}: expected [lower, upper] with lower < upper, got "
                          f"{e.data['variables'][name]!r}")
-    for key in ("catalogue",):
-        for name in out.get(key, {}):
-            if name not in out.get("variables", {}):
-                raise e.fail(key, f"{name!r} is not in [design.variables]; catalogue values need bounds there")
+    for name in out.get("catalogue", {}):
+        if name not in out.get("variables", {}):
+            raise e.fail("catalogue", f"{name!r} is not in [design.variables]; catalogue values need bounds there")
+    tied_names = {k for k, v in out.get("variables", {}).items() if isinstance(v, dict)}
+    for name in out.get("tolerances", {}):
+        if name in tied_names:
+            continue
+        kind = name.rsplit(".", 1)[-1]
+        if "." not in name or kind_quantity(name) == "dimensionless" and "/" not in kind:
+            raise e.fail("tolerances", f"{name!r}: expected '<mount>.<kind>' or the name of a tied "
+                         "variable in [design.variables]")
     return out
 
 
@@ -132,8 +163,7 @@ def read_study(e: Entry) -> dict[str, Any]:
         raise e.fail(None, "give exactly one of [study.grid] (every combination) and [study.table] "
                      "(one variant per row)")
     key = "grid" if "grid" in e else "table"
-    sub = e.sub(key)
-    assert sub is not None
+    sub = e.sub(key) or Entry({}, f"{e.where}: {key}", e.units)
     if not sub.data:
         raise e.fail(key, "is empty; give at least one parameter and its values")
     out[key] = _columns(sub, None)
