@@ -47,6 +47,9 @@ class DesignSpec:
         Monte Carlo variants.
     sampling : str
         ``"lhs"``, ``"random"`` or ``"sobol"``.
+    beta : float or None
+        Reliability index: optimise with the windows kept this many deviations inside under the
+        tolerances (:mod:`vibss.design.reliability`); None: a deterministic optimisation.
     """
 
     purity: float = 0.9
@@ -59,6 +62,7 @@ class DesignSpec:
     tolerances: Mapping[Any, float] | None = None
     samples: int = 10_000
     sampling: str = "lhs"
+    beta: float | None = None
 
     @property
     def targets(self) -> dict[str, Any]:
@@ -75,7 +79,7 @@ def design_spec(model: Model) -> DesignSpec:
         variables=_variables(d["variables"]) if d.get("variables") else None,
         options={k: d[k] for k in ("modes", "max_sag", "method", "starts", "catalogue") if k in d},
         tolerances=_tolerances(d) if d.get("tolerances") else None,
-        samples=d.get("samples", 10_000), sampling=d.get("sampling", "lhs"))
+        samples=d.get("samples", 10_000), sampling=d.get("sampling", "lhs"), beta=d.get("beta"))
 
 
 def _variables(table: Mapping[str, Any]) -> dict[Any, tuple[float, float]]:
@@ -146,8 +150,10 @@ def run_design(model: Model, spec: DesignSpec | None = None, *, optimise_layout:
     opt = None
     if optimise_layout or (optimise_layout is None and spec.variables):
         variables = dict(spec.variables) if spec.variables else type_rate_variables(model)
+        reliable: dict[str, Any] = {"tolerances": spec.tolerances, "beta": spec.beta, "samples": spec.samples} \
+            if spec.beta is not None and spec.tolerances else {}
         opt = optimise(model, variables, purity=spec.purity if spec.purity_given else None,
-                       **spec.targets, **spec.options)
+                       **spec.targets, **spec.options, **reliable)
         model = opt.model
     tol = None
     if isinstance(tolerance, bool) or tolerance is None:

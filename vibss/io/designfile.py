@@ -15,6 +15,7 @@ Example (a file in mm, N and degrees)::
     modes = ["rx", "z"]           # modes whose mean purity is maximised (default: all)
     max_sag = 3.0                 # mm, vertical sag of the COG under weight
     samples = 10000               # Monte Carlo variants for the tolerance study
+    beta = 2.0                    # optional: keep the windows 2 sigma inside under the tolerances
     [design.variables]            # bounds of each design variable
     "engine.k3" = [150.0, 400.0]  # N/mm
     "engine.k1/k3" = [0.2, 0.6]   # -
@@ -42,7 +43,7 @@ from .filetable import Entry, numbers
 __all__ = ["DESIGN_KEYS", "STUDY_KEYS", "read_design", "read_study", "kind_quantity", "write_tables"]
 
 DESIGN_KEYS = ("purity", "frame", "axis", "windows", "modes", "max_sag", "method", "starts",
-               "samples", "sampling", "variables", "catalogue", "tolerances")
+               "samples", "sampling", "beta", "variables", "catalogue", "tolerances")
 STUDY_KEYS = ("analysis", "grid", "table")
 _FRAMES = ("global", "tra", "principal")
 _AXES = ("x", "y", "z")
@@ -120,6 +121,10 @@ def read_design(e: Entry) -> dict[str, Any]:
             raise e.fail("modes", f"expected a list of mode numbers (1, 2 ...) or DOF names {list(_DOFS)}, "
                          f"got {modes!r}")
         out["modes"] = list(modes)
+    if "beta" in e:
+        out["beta"] = e.number("beta", nonnegative=True)
+        if "tolerances" not in e or "windows" not in e:
+            raise e.fail("beta", "a reliability-based optimisation needs windows and [design.tolerances]")
     if "max_sag" in e:
         out["max_sag"] = e.number("max_sag", "length", positive=True)
     for key in ("starts", "samples"):
