@@ -30,3 +30,7 @@ def test_design_guide(capsys, tmp_path, monkeypatch):
     assert sorted(cert.purity.round(2))[:3] == [0.51, 0.6, 0.75]
     assert opt.evaluations == 72 and all(opt.after.in_window) and opt.after.purity.min() >= 0.9
     assert scope["df"]["error"].isna().all()
+    rel = scope["reliable"].reliability
+    assert rel.deterministic.probability["window 1"] == pytest.approx(0.50, abs=0.03)
+    assert rel.reliable.probability["window 1"] >= 0.95 and rel.reliable.probability["all"] > 0.5
+    assert "(6, 2)" in out

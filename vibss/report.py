@@ -21,7 +21,7 @@ Examples
 ...                 vibss.symmetric(vibss.Mount("m", t, "b", at=[1, 2, 0])), name="prism")
 >>> r = study(m, figures=False)
 >>> [s.key for s in r.sections if not s.skipped]
-['model', 'modes']
+['model', 'modes', 'design']
 """
 
 from __future__ import annotations
@@ -50,11 +50,11 @@ from .studies import frequency_band, steady_sweeps, time_window, transient_excit
 __all__ = ["Section", "Report", "study", "write_report", "html_table", "slug", "default_folder",
            "progress_on_stderr", "STEPS", "MAX_MODE_PANELS"]
 
-STEPS = ("model", "static", "modes", "damped", "frequency", "time")
+STEPS = ("model", "static", "modes", "damped", "design", "frequency", "time")
 """The report's sections, in order."""
 
 TITLES = {"model": "Model", "static": "Static deflection", "modes": "Undamped modes",
-          "damped": "Damped modes", "frequency": "Frequency response (sine sweeps)",
+          "damped": "Damped modes", "design": "Mount-system design (decoupling)", "frequency": "Frequency response (sine sweeps)",
           "time": "Time response (transient excitations)"}
 
 MAX_MODE_PANELS = 12
@@ -268,6 +268,30 @@ def _damped_section(model: Model, figures: bool, results: dict[str, Any]) -> Sec
     return Section("damped", TITLES["damped"], d.report(), (d.table(),), note=d.method)
 
 
+def _design_section(model: Model, figures: bool, results: dict[str, Any]) -> Section:
+    given = "design" in model.settings
+    if not given and len(model.bodies) != 1:
+        return Section("design", TITLES["design"], skipped=True,
+                       note="no [design] table: the decoupling certificate of a multi-body model needs "
+                            "its targets (docs/model-file.md)")
+    from .design.filespec import run_design
+
+    run = run_design(model)
+    results["design"] = run
+    done = [r for r in (run.certificate, run.optimisation, run.tolerance) if r is not None]
+    tables: list[Table] = [run.certificate.summary(), run.certificate.ke_table()]
+    if run.optimisation is not None:
+        tables += [run.optimisation.summary(), run.optimisation.comparison()]
+    if run.tolerance is not None:
+        tables.append(run.tolerance.summary())
+    figs = tuple((f"design_{k}.png", r.plot()) for k, r in
+                 zip(("certificate", "optimisation", "tolerance"), (run.certificate, run.optimisation, run.tolerance))
+                 if r is not None) if figures else ()
+    note = ("targets, variables and tolerances from the file's [design] table" if given else
+            "default targets (purity 0.9, global axes, no windows); a [design] table sets them")
+    return Section("design", TITLES["design"], "\n\n".join(r.report() for r in done), tuple(tables), figs, note)
+
+
 def _available(module: str) -> bool:
     return importlib.util.find_spec(f"vibss.{module}") is not None
 
@@ -363,7 +387,7 @@ solve, a division by zero, an overflow, a solver that gave up) so that the other
 run. Programming errors (TypeError, AttributeError, KeyError, IndexError ...) propagate."""
 
 _RUNNERS = {"static": _static_section, "modes": _modes_section, "damped": _damped_section,
-            "frequency": _frequency_section, "time": _time_section}
+            "design": _design_section, "frequency": _frequency_section, "time": _time_section}
 
 
 def study(model: Model, figures: bool = True, progress: Progress | None = None,

@@ -4,10 +4,16 @@ optimisation of the mount rates."""
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import sys
+from typing import Any
 
-from ..design import Parameter, certificate, monte_carlo, optimise
+from ..design.filespec import design_spec, run_design
+from ..errors import ArgumentError
 from .common import add_model_arguments, emit, load_from_args
+
+
+_FROM_FILE = -1.0      # --tolerance given without a value: the file's [design.tolerances]
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -20,17 +26,21 @@ def register(sub: argparse._SubParsersAction) -> None:
                                    "--optimise: the rates of each mount type (x0.5 ... x2) that maximise "
                                    "the mean purity within the windows.")
     add_model_arguments(p)
-    p.add_argument("--purity", type=float, default=0.9, help="purity target (default 0.9)")
+    p.add_argument("--purity", type=float, help="purity target (default: the file's [design] purity, else 0.9)")
     p.add_argument("--window", type=float, nargs=2, metavar=("F_LOW", "F_HIGH"),
-                   help="frequency window of every mode [Hz]")
-    p.add_argument("--frame", choices=("global", "tra", "principal"), default="global",
-                   help="axes of the energy split (tra: first axis along the torque-roll axis)")
-    p.add_argument("--axis", choices=("x", "y", "z"), default="x", help="crank axis (default x)")
+                   help="frequency window of every mode [Hz] (default: the file's [design] windows)")
+    p.add_argument("--frame", choices=("global", "tra", "principal"),
+                   help="axes of the energy split (tra: first axis along the torque-roll axis; "
+                        "default: the file's [design] frame, else global)")
+    p.add_argument("--axis", choices=("x", "y", "z"), help="crank axis (default: [design] axis, else x)")
     p.add_argument("--damped", action="store_true", help="also the complex (damped) modes")
-    p.add_argument("--tolerance", type=float, metavar="REL",
-                   help="Monte Carlo: every mount rate +-REL (e.g. 0.15), uniform, Latin hypercube")
-    p.add_argument("--samples", type=int, default=10_000, help="Monte Carlo variants (default 10000)")
-    p.add_argument("--optimise", action="store_true", help="optimise the rates of each mount type")
+    p.add_argument("--tolerance", type=float, metavar="REL", nargs="?", const=_FROM_FILE,
+                   help="Monte Carlo: every mount rate +-REL (e.g. 0.15), uniform, Latin hypercube; "
+                        "without REL: the file's [design.tolerances]")
+    p.add_argument("--samples", type=int, help="Monte Carlo variants (default: [design] samples, else 10000)")
+    p.add_argument("--optimise", action="store_true",
+                   help="optimise the file's [design.variables] (without them: the rates of each "
+                        "mount type between x0.5 and x2)")
     p.add_argument("--output", metavar="FILE", help="with --optimise: write the optimised model here")
     p.set_defaults(func=run)
 
@@ -38,23 +48,24 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     """Print the certificate (and the study and optimisation asked for)."""
     model = load_from_args(args)
-    kw = {"windows": args.window, "frame": args.frame, "axis": args.axis}
-    emit(certificate(model, purity=args.purity, damped=args.damped, **kw), args.format)
-    if args.optimise:
-        variables = {}
-        for name, mtype in model.mount_types.items():
-            users = [m.name for m in model.mounts if m.type.name == name]
-            for j, k in enumerate(mtype.stiffness):
-                if k > 0:
-                    variables[Parameter(f"{name}.k{j + 1}", [(u, f"k{j + 1}", 1.0) for u in users])] = (0.5 * k, 2.0 * k)
-        opt = optimise(model, variables, **kw)
-        emit(opt, args.format)
+    spec = design_spec(model)                         # the file's [design] table, or the defaults
+    change: dict[str, Any] = {k: v for k, v in (("windows", args.window), ("frame", args.frame),
+                                                ("axis", args.axis)) if v is not None}
+    if args.purity is not None:
+        change.update(purity=args.purity, purity_given=True)
+    spec = dataclasses.replace(spec, **change)
+    if args.tolerance == _FROM_FILE and not spec.tolerances:
+        raise ArgumentError("--tolerance without a value needs a [design.tolerances] table in the "
+                            "model file; give a relative tolerance (e.g. --tolerance 0.15)", argument="tolerance")
+    tolerance = {None: False, _FROM_FILE: True}.get(args.tolerance, args.tolerance)
+    run_ = run_design(model, spec, optimise_layout=args.optimise, damped=args.damped, samples=args.samples,
+                      tolerance=tolerance)
+    emit(run_.certificate, args.format)
+    if run_.optimisation is not None:
+        emit(run_.optimisation, args.format)
         if args.output:
-            opt.write(args.output)
+            run_.optimisation.write(args.output)
             print(f"optimised model written to {args.output}", file=sys.stderr)
-        model = opt.model
-    if args.tolerance is not None:
-        tol = {f"{m.name}.k{j + 1}": args.tolerance for m in model.mounts for j in range(3)
-               if m.type.stiffness[j] > 0}
-        emit(monte_carlo(model, tol, n=args.samples, purity=args.purity, **kw), args.format)
+    if run_.tolerance is not None:
+        emit(run_.tolerance, args.format)
     return 0

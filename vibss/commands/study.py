@@ -19,9 +19,11 @@ def register(sub: argparse._SubParsersAction) -> None:
                                    "[rad]); e.g. --vary engine.k3=2e5,2.5e5,3e5.")
     p.add_argument("file", nargs="?", metavar="FILE", help="model file (.toml or .json)")
     p.add_argument("--example", metavar="NAME", help="use a built-in example model instead of FILE")
-    p.add_argument("--vary", action="append", required=True, metavar="PARAM=V1,V2,...",
-                   help="a parameter and its values (repeatable: every combination is run)")
-    p.add_argument("--analysis", choices=sorted(ANALYSES), default="modes", help="analysis (default modes)")
+    p.add_argument("--vary", action="append", metavar="PARAM=V1,V2,...",
+                   help="a parameter and its values in SI (repeatable: every combination is run); "
+                        "default: the model file's [study] table")
+    p.add_argument("--analysis", choices=sorted(ANALYSES),
+                   help="analysis (default: the file's [study] analysis, else modes)")
     p.add_argument("--client", metavar="ADDRESS",
                    help="run on Dask: a scheduler address, or 'local' for a 2-worker LocalCluster")
     p.add_argument("--format", choices=("csv", "json"), default="csv", help="table format (default csv)")
@@ -45,8 +47,15 @@ def _grid(items: list[str]) -> dict[str, list[float]]:
 
 def run(args: argparse.Namespace) -> int:
     """Print the study's table."""
-    df = study(load_from_args(args), args.analysis, grid=_grid(args.vary), client=args.client,
-               progress=bool(args.progress))
+    model = load_from_args(args)
+    spec = dict(model.settings.get("study", {}))       # the file's [study] table (SI)
+    analysis = args.analysis or spec.get("analysis", "modes")
+    grid = _grid(args.vary) if args.vary else spec.get("grid")
+    table = None if args.vary else spec.get("table")
+    if grid is None and table is None:
+        raise ArgumentError("vibss study: nothing to vary: give --vary PARAM=V1,V2,... or a [study] table "
+                            "in the model file (docs/model-file.md)", argument="vary")
+    df = study(model, analysis, grid=grid, table=table, client=args.client, progress=bool(args.progress))
     if args.format == "json":
         sys.stdout.write(df.to_json(orient="records", indent=2) + "\n")
     else:

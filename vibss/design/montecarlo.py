@@ -30,7 +30,7 @@ from ..model.model import DOF_NAMES, Model
 from ..results import Result, Table, jsonable, require_pandas
 from ._common import body_name, frame_axes, frame_rotation, ke_fractions
 from .certificate import in_windows, windows_for
-from .parameters import _ANGLE, _RATE, _SHIFT, Parameter, current_values, parameters_of
+from .parameters import _ANGLE, _RATE, _RATIO, _SHIFT, Parameter, current_values, parameters_of, ratio_axes
 
 __all__ = ["MonteCarlo", "monte_carlo", "batch_modes", "SAMPLINGS", "DISTRIBUTIONS"]
 
@@ -78,8 +78,13 @@ def batch_modes(model: Model, parameters: tuple[Parameter, ...], values: np.ndar
                 rates[:, q, _RATE.index(kind)] = factor * values[:, i]
             elif kind in _SHIFT:
                 shift[:, q, _SHIFT.index(kind)] += factor * values[:, i]
-            else:
+            elif kind in _ANGLE:
                 angle[:, q, _ANGLE.index(kind)] += factor * values[:, i]
+    for i, p in enumerate(parameters):            # ratios after rates: the denominator is final
+        for mount, kind, factor in p.targets:
+            if kind in _RATIO:
+                num, den = ratio_axes(kind)
+                rates[:, index[mount], num] = factor * values[:, i] * rates[:, index[mount], den]
     t0 = np.array([m.orientation.matrix for m in model.mounts])                 # (nm, 3, 3)
     t = np.broadcast_to(t0, (nv, nm, 3, 3)).copy()
     turned = np.flatnonzero(np.any(angle != 0, axis=(0, 2)))                       # mounts with angles

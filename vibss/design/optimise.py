@@ -73,6 +73,9 @@ class Optimisation(Result):
         ``SLSQP`` or ``trust-constr``, with the gradient kind.
     note : str
         What was optimised.
+    reliability : Reliability or None
+        For a reliability-based optimisation (``tolerances=``): margins, their iterations and the
+        Monte Carlo check of the deterministic and the reliable optimum.
     """
 
     signal_kind: ClassVar[str] = "variable"
@@ -93,6 +96,7 @@ class Optimisation(Result):
     starts: int
     method: str
     note: str = ""
+    reliability: Any = None
 
     @property
     def output_labels(self) -> tuple[str, ...]:
@@ -125,7 +129,8 @@ class Optimisation(Result):
                 f"{self.starts} start(s), {self.method}")
         return "\n\n".join([head, self.summary().render(), self.comparison().render(),
                             "before: " + self.before.report().split("\n", 1)[0],
-                            "after:  " + self.after.report().split("\n", 1)[0], self.note])
+                            "after:  " + self.after.report().split("\n", 1)[0], self.note]
+                           + ([self.reliability.table().render()] if self.reliability is not None else []))
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready variables, objective and both certificates."""
@@ -133,7 +138,12 @@ class Optimisation(Result):
                          "bounds": self.bounds, "x0": self.x0, "x": self.x, "objective": self.objective,
                          "success": self.success, "message": self.message, "evaluations": self.evaluations,
                          "starts": self.starts, "before": self.before.to_dict(), "after": self.after.to_dict(),
-                         "method": self.method, "note": self.note})
+                         "method": self.method, "note": self.note,
+                         "reliability": None if self.reliability is None else {
+                             "beta": self.reliability.beta, "iterations": self.reliability.iterations,
+                             "margins": self.reliability.margins,
+                             "probability_deterministic": self.reliability.deterministic.probability,
+                             "probability": self.reliability.reliable.probability}})
 
     def to_pandas(self) -> Any:
         """DataFrame: one row per design variable."""
@@ -197,7 +207,8 @@ def optimise(model: Model, variables: Mapping[Any, Any], *, modes: Any = None, p
              windows: Any = None, max_sag: float | None = None, frame: Any = "global", axis: Any = "x",
              body: str | None = None, method: str = "SLSQP", gradient: str = "exact", starts: int = 1,
              seed: int | None = 0, maxiter: int = 200,
-             catalogue: Mapping[Any, Any] | None = None) -> Optimisation:
+             catalogue: Mapping[Any, Any] | None = None, tolerances: Mapping[Any, float] | None = None,
+             beta: float = 2.0, samples: int = 10_000, margins: Mapping[str, Any] | None = None) -> Optimisation:
     """Optimise a mount layout for decoupling within frequency windows, with exact gradients.
 
     Parameters
@@ -239,6 +250,21 @@ def optimise(model: Model, variables: Mapping[Any, Any], *, modes: Any = None, p
         Discrete choices for some variables (catalogue rates [N/m]): after the continuous optimum,
         each takes the better of its two neighbouring catalogue values (greedily, one after the
         other) and the remaining variables are optimised again.
+    tolerances : mapping or None
+        Reliability-based optimisation: parameter (``"<mount>.<kind>"`` or tied) to its production
+        tolerance, uniform ``±tol`` (relative for rates and ratios, absolute [m, rad] otherwise).
+        The window and purity constraints then hold with a margin of ``beta`` standard deviations,
+        the deviations from the exact sensitivities at the optimum (first-order second-moment),
+        shifted and re-optimised until the margins settle (sequential optimisation and reliability
+        assessment); a Monte Carlo study of ``samples`` variants checks the result
+        (:attr:`Optimisation.reliability`). Needs ``purity`` or ``windows``.
+    beta : float
+        Reliability index of the margins (2: about 98 % of variants per constraint if normal).
+    samples : int
+        Variants of the Monte Carlo check.
+    margins : mapping or None
+        Constraint margins per mode (used by the reliability loop): ``"lower"``, ``"upper"`` [Hz]
+        and ``"purity"`` [-], arrays over the modes; None: none.
 
     Returns
     -------
@@ -253,6 +279,13 @@ def optimise(model: Model, variables: Mapping[Any, Any], *, modes: Any = None, p
     True
     """
     who = "optimise"
+    if tolerances is not None:
+        from .reliability import reliable_optimise
+
+        return reliable_optimise(model, variables, tolerances, beta=beta, samples=samples, modes=modes,
+                                 purity=purity, windows=windows, max_sag=max_sag, frame=frame, axis=axis,
+                                 body=body, method=method, gradient=gradient, starts=starts, seed=seed,
+                                 maxiter=maxiter, catalogue=catalogue)
     if not isinstance(variables, Mapping) or not variables:
         raise ArgumentError(f"{who}: variables: expected a mapping of parameter to (lower, upper), got "
                             f"{variables!r}", argument="variables", received=variables)
@@ -310,12 +343,14 @@ def optimise(model: Model, variables: Mapping[Any, Any], *, modes: Any = None, p
 
     cons_f, cons_j = [], []
     lower_w, upper_w = np.isfinite(win[:, 0]) & (win[:, 0] > 0), np.isfinite(win[:, 1])
+    m_lo, m_hi, m_p = (np.zeros(k) + np.asarray((margins or {}).get(key, 0.0), dtype=float)
+                       for key in ("lower", "upper", "purity"))
     if lower_w.any() or upper_w.any():
-        cons_f.append(lambda z: np.concatenate([(at(z).frequency_hz - win[:, 0])[lower_w],
-                                                (win[:, 1] - at(z).frequency_hz)[upper_w]]))
+        cons_f.append(lambda z: np.concatenate([(at(z).frequency_hz - win[:, 0] - m_lo)[lower_w],
+                                                (win[:, 1] - at(z).frequency_hz - m_hi)[upper_w]]))
         cons_j.append(lambda z: np.vstack([at(z).d_frequency[lower_w], -at(z).d_frequency[upper_w]]) * span)
     if purity is not None:
-        cons_f.append(lambda z: at(z).purity[_chosen(items, at(z))] - purity)
+        cons_f.append(lambda z: (at(z).purity - m_p)[_chosen(items, at(z))] - purity)
         cons_j.append(lambda z: at(z).d_purity[_chosen(items, at(z))] * span)
     if max_sag is not None:
         zi = 6 * model.body_index(before.body) + 2

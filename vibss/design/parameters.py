@@ -12,6 +12,10 @@ A parameter names one mount quantity (``"front.k3"``) or ties several with facto
 - ``rx``, ``ry``, ``rz``: a rotation of the mount's local axes about a global axis [rad] from the
   model's orientation (value 0 = as given); several on one mount compose as
   ``R_x(rx) R_y(ry) R_z(rz) T_0``.
+- ``k1/k3``, ``k2/k3``, ``k1/k2``, ``k2/k1``, ``k3/k1``, ``k3/k2``: a rate ratio [-]: the numerator
+  rate is ``factor * value`` times the denominator rate (as the model gives it, or as a rate
+  parameter of the same mount sets it). A mount cannot have both a ratio and a rate on the same
+  numerator axis.
 
 Derivatives of ``K = sum_p B_p^T k_p B_p`` (``k_p = T diag(k) T^T``, ``B_p`` the map from DOFs to
 mount deflection): a rate gives ``B^T t_j t_j^T B``; a shift along ``e_i`` changes the lever arms,
@@ -37,12 +41,20 @@ from ..model.model import Model, MountType
 __all__ = ["Parameter", "KINDS", "parameters_of", "apply", "stiffness_derivatives", "current_values"]
 
 KINDS: dict[str, str] = {"k1": "N/m", "k2": "N/m", "k3": "N/m", "x": "m", "y": "m", "z": "m",
-                         "rx": "rad", "ry": "rad", "rz": "rad"}
+                         "rx": "rad", "ry": "rad", "rz": "rad",
+                         "k1/k3": "-", "k2/k3": "-", "k1/k2": "-", "k2/k1": "-", "k3/k1": "-", "k3/k2": "-"}
 """Parameter kinds and their units."""
 
 _RATE = ("k1", "k2", "k3")
 _SHIFT = ("x", "y", "z")
 _ANGLE = ("rx", "ry", "rz")
+_RATIO = ("k1/k3", "k2/k3", "k1/k2", "k2/k1", "k3/k1", "k3/k2")
+
+
+def ratio_axes(kind: str) -> tuple[int, int]:
+    """(numerator, denominator) local axes (0-based) of a rate-ratio kind ``"ki/kj"``."""
+    num, den = kind.split("/")
+    return _RATE.index(num), _RATE.index(den)
 
 
 @dataclass(frozen=True)
@@ -94,8 +106,9 @@ class Parameter:
 
     @property
     def is_rate(self) -> bool:
-        """Whether the value is a rate (absolute) rather than a shift or angle (increment)."""
-        return self.targets[0][1] in _RATE
+        """Whether the value is a rate or a rate ratio (absolute, positive) rather than a shift or
+        an angle (an increment)."""
+        return self.targets[0][1] in _RATE or self.targets[0][1] in _RATIO
 
     @classmethod
     def coerce(cls, value: Any) -> Parameter:
@@ -125,6 +138,13 @@ def parameters_of(model: Model, parameters: Any) -> tuple[Parameter, ...]:
                                     received=mount, expected=names)
     if len({p.name for p in out}) != len(out):
         raise ArgumentError("parameters: names must be unique", argument="parameters")
+    rated = {(mount, _RATE.index(kind)): p.name for p in out for mount, kind, _ in p.targets if kind in _RATE}
+    for p in out:
+        for mount, kind, _ in p.targets:
+            if kind in _RATIO and (mount, ratio_axes(kind)[0]) in rated:
+                raise ArgumentError(f"parameter {p.name!r}: mount {mount!r}: {kind} sets k{ratio_axes(kind)[0] + 1}, "
+                                    f"which parameter {rated[(mount, ratio_axes(kind)[0])]!r} also sets; "
+                                    "give one of them", argument="parameters", received=p.name)
     if not out:
         raise ArgumentError("parameters: give at least one", argument="parameters")
     return out
@@ -136,8 +156,15 @@ def current_values(model: Model, parameters: Sequence[Parameter]) -> np.ndarray:
     out = np.zeros(len(parameters))
     for i, p in enumerate(parameters):
         mount, kind, factor = p.targets[0]
+        k = by_name[mount].type.stiffness
         if kind in _RATE:
-            out[i] = by_name[mount].type.stiffness[_RATE.index(kind)] / factor
+            out[i] = k[_RATE.index(kind)] / factor
+        elif kind in _RATIO:
+            num, den = ratio_axes(kind)
+            if k[den] == 0:
+                raise ArgumentError(f"parameter {p.name!r}: mount {mount!r} has no rate along axis "
+                                    f"{den + 1}, so {kind} is undefined", argument="parameters", received=p.name)
+            out[i] = k[num] / k[den] / factor
     return out
 
 
@@ -176,6 +203,11 @@ def apply(model: Model, parameters: Sequence[Parameter], values: Any) -> Model:
                 rates[mount][_RATE.index(kind)] = factor * v
             elif kind in _SHIFT:
                 shift[mount][_SHIFT.index(kind)] += factor * v
+    for p, v in zip(parameters, values):          # ratios after rates: the denominator is final
+        for mount, kind, factor in p.targets:
+            if kind in _RATIO:
+                num, den = ratio_axes(kind)
+                rates[mount][num] = factor * v * rates[mount][den]
     angles = _angles(model, parameters, values)
     # one mount type per (type, rates): keep the type's name where all its mounts agree
     groups: dict[str, set[bytes]] = {}
@@ -232,6 +264,13 @@ def stiffness_derivatives(a: Assembly, parameters: Sequence[Parameter],
     nb = len(model.bodies)
     out = np.zeros((len(parameters), n, n))
     lb, la = point_transfer(a.r_b), point_transfer(a.r_a)
+    # rate ratios on a mount: a rate parameter on the denominator also moves the numerator
+    follows: dict[tuple[str, int], list[int]] = {}
+    for p in parameters:
+        for mount, kind, _ in p.targets:
+            if kind in _RATIO:
+                num, den = ratio_axes(kind)
+                follows.setdefault((mount, den), []).append(num)
     for ip, p in enumerate(parameters):
         for mount, kind, factor in p.targets:
             q = index[mount]
@@ -240,10 +279,16 @@ def stiffness_derivatives(a: Assembly, parameters: Sequence[Parameter],
             B[:, 6 * a.a_index[q]:6 * a.a_index[q] + 6] -= la[q]
             B = B[:, :n]
             kp = a.kp[q]
-            if kind in _RATE:
-                t = model.mounts[q].orientation.matrix[:, _RATE.index(kind)]
-                bt = t @ B
-                d = np.outer(bt, bt)
+            if kind in _RATE or kind in _RATIO:
+                j = _RATE.index(kind) if kind in _RATE else ratio_axes(kind)[0]
+                k = model.mounts[q].type.stiffness
+                T = model.mounts[q].orientation.matrix
+                bt = T[:, j] @ B
+                # d k_j / d value: 1 for a rate; the denominator rate for a ratio
+                d = np.outer(bt, bt) * (1.0 if kind in _RATE else k[ratio_axes(kind)[1]])
+                for num in follows.get((mount, j), ()) if kind in _RATE else ():
+                    bn = T[:, num] @ B                  # k_num = ratio * k_j moves with k_j
+                    d = d + (k[num] / k[j]) * np.outer(bn, bn)
             elif kind in _SHIFT:
                 dl = np.zeros((3, 6 * nb + 6))
                 s = -skew(np.eye(3)[_SHIFT.index(kind)])

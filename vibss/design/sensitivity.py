@@ -292,7 +292,8 @@ def sensitivity(model: Model, parameters: Any, *, body: str | None = None, frame
     model : Model
         The layout (ground fixed, no rigid-body modes, no repeated frequencies).
     parameters : str, Parameter or sequence of them
-        ``"<mount>.<kind>"`` (kinds ``k1 k2 k3`` [N/m], ``x y z`` [m], ``rx ry rz`` [rad]; see
+        ``"<mount>.<kind>"`` (kinds ``k1 k2 k3`` [N/m], ``x y z`` [m], ``rx ry rz`` [rad], rate
+        ratios ``k1/k3`` ... [-]; see
         :mod:`vibss.design.parameters`) or tied :class:`~vibss.design.parameters.Parameter`.
     body : str or None
         Body whose inertia defines ``frame`` (None: the only or first body).

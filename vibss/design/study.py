@@ -91,6 +91,8 @@ def _stderr_bar(done: int, total: int) -> None:
 
 
 def _client(client: Any) -> tuple[Any, Any]:
+    """(client, what to close afterwards): nothing for the user's client; the client made for an
+    address; the client and its cluster for ``"local"``."""
     try:
         import distributed
     except ImportError:
@@ -102,14 +104,16 @@ def _client(client: Any) -> tuple[Any, Any]:
         cluster = distributed.LocalCluster(n_workers=2, threads_per_worker=1, dashboard_address=None)
         return distributed.Client(cluster), cluster
     if isinstance(client, str):
-        return distributed.Client(client), None
+        made = distributed.Client(client)
+        return made, made
     raise ArgumentError(f"study: client: expected a distributed.Client, a scheduler address or 'local', "
                         f"got {client!r}", argument="client", received=client)
 
 
 def study(model: Model, analysis: Any = "modes", *, grid: Mapping[Any, Sequence[float]] | None = None,
           table: Mapping[Any, Sequence[float]] | None = None, build: Callable[[Model, dict[str, float]], Model] | None = None,
-          client: Any = None, chunk: int | None = None, progress: bool | Progress = False) -> Any:
+          client: Any = None, scheduler: str | None = None, chunk: int | None = None,
+          progress: bool | Progress = False) -> Any:
     """Run an analysis on every variant of a model; one row per variant.
 
     Parameters
@@ -132,6 +136,9 @@ def study(model: Model, analysis: Any = "modes", *, grid: Mapping[Any, Sequence[
     client : distributed.Client, str or None
         Run on Dask: a client, a scheduler address, or ``"local"`` (a 2-worker LocalCluster, closed
         afterwards); None: in-process.
+    scheduler : str or None
+        Address of a running Dask scheduler (``"tcp://host:8786"``): the same as
+        ``client=address``; give one of the two.
     chunk : int or None
         Variants per Dask task (default: about 8 tasks per worker).
     progress : bool or callable
@@ -150,6 +157,15 @@ def study(model: Model, analysis: Any = "modes", *, grid: Mapping[Any, Sequence[
     ((4, 9), [5.513, 5.614, 5.517, 5.621])
     """
     pd = require_pandas()
+    if scheduler is not None:
+        if client is not None:
+            raise ArgumentError("study: give client= or scheduler=, not both", argument="scheduler",
+                                received=scheduler)
+        if not isinstance(scheduler, str) or not scheduler:
+            raise ArgumentError(f"study: scheduler: expected a scheduler address such as "
+                                f"'tcp://127.0.0.1:8786', got {scheduler!r}", argument="scheduler",
+                                received=scheduler)
+        client = scheduler
     if (grid is None) == (table is None):
         raise ArgumentError("study: give exactly one of grid= (every combination) and table= (one "
                             "variant per row)", argument="grid")
@@ -206,9 +222,10 @@ def study(model: Model, analysis: Any = "modes", *, grid: Mapping[Any, Sequence[
                     report(done, total)
             results = [r for part in parts for r in (part or [])]
         finally:
-            if cluster is not None:
+            if cluster is not None:             # what this call started, not the user's client
                 cl.close()
-                cluster.close()
+                if cluster is not cl:
+                    cluster.close()
     df = pd.DataFrame([dict(zip(names, r)) for r in rows])
     out = pd.DataFrame(results)
     err = out.pop("error") if "error" in out else pd.Series([None] * total)

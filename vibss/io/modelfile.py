@@ -34,6 +34,7 @@ import numpy as np
 from ..errors import ModelError, ModelFileError, did_you_mean
 from ..model.excitation import Excitation, amplitude_quantity, function_from_dict
 from .filetable import MISSING, Entry
+from .designfile import read_design, read_study, write_tables
 from ..model.geometry import Orientation
 from ..model.model import (DOF_NAMES, GROUND, SYMMETRIES, Body, ControlPoint, Load, Model, Mount,
                     MountType, symmetric)
@@ -46,7 +47,8 @@ __all__ = ["load_model", "loads_model", "dump_model", "dumps_model", "model_to_d
 EXAMPLES_DIR = Path(__file__).parent.parent / "examples"
 """Folder of the built-in example model files."""
 
-_TABLES = ("model", "body", "mount_type", "mount", "control_point", "load", "excitation", "analysis")
+_TABLES = ("model", "body", "mount_type", "mount", "control_point", "load", "excitation", "analysis",
+           "design", "study")
 
 
 def _entries(data: Mapping[str, Any], table: str, source: str, units: Units) -> list[Entry]:
@@ -275,6 +277,11 @@ def _build(data: Any, source: str, base: Path | None, default_name: str) -> Mode
     if not isinstance(analysis, Mapping):
         raise ModelFileError(f"{source}: analysis: expected an [analysis] table, got {analysis!r}")
     settings = _analysis(Entry(analysis, f"{source}: [analysis]", units))
+    for key, reader in (("design", read_design), ("study", read_study)):
+        if key in data:
+            if not isinstance(data[key], Mapping):
+                raise ModelFileError(f"{source}: {key}: expected a [{key}] table, got {data[key]!r}")
+            settings[key] = reader(Entry(data[key], f"{source}: [{key}]", units))
     if initial:
         settings["initial"] = initial
     if set(cases) - {"default"}:
@@ -437,6 +444,7 @@ def model_to_dict(model: Model) -> dict[str, Any]:
     analysis = {k: dict(settings[k]) for k in ("time", "frequency") if k in settings}
     if analysis:
         out["analysis"] = analysis
+    out.update(write_tables(settings))
     return {k: v for k, v in out.items() if v != []}
 
 
