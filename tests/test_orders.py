@@ -158,3 +158,76 @@ def test_orders_guide(capsys):
     a = np.abs(r["mount.engine.fz", "order 2"])
     assert a[np.searchsorted(r.rpm, 800)] == pytest.approx(17.7, abs=0.05)
     assert "peak engine-mount force at" in out
+
+
+ORDERS = '''
+[orders]
+rpm = [300.0, 3000.0]
+points = 200
+outputs = ["powertrain.rx", "mount.engine.fz"]
+
+[[orders.unbalance]]
+name = "crank"
+body = "powertrain"
+mass = 0.005
+radius = 50.0                           # mm
+axis = "x"
+
+[[orders.force]]
+name = "2nd order torque"
+body = "powertrain"
+order = 2.0
+rpm = [300.0, 6000.0]
+moment = [[6.0e4, 0.0, 0.0], [6.0e4, 0.0, 0.0]]     # N mm
+'''
+
+
+def _powertrain_text():
+    from vibss.io.modelfile import example_path
+
+    return example_path("powertrain").read_text()
+
+
+def test_orders_table_read_in_file_units_and_written_back():
+    model = vibss.loads_model(_powertrain_text() + ORDERS)
+    spec = model.settings["orders"]
+    assert spec["unbalance"][0]["radius"] == pytest.approx(0.05, rel=1e-15)
+    assert spec["force"][0]["moment"][0] == pytest.approx([60.0, 0.0, 0.0], rel=1e-15)
+    again = vibss.loads_model(vibss.dumps_model(model))
+    assert again.settings["orders"] == spec
+
+
+@pytest.mark.parametrize("bad, message", [
+    ("[orders]\nrpm = [3000.0, 300.0]\n[[orders.unbalance]]\nname='u'\nbody='powertrain'\nmass=1.0\nradius=1.0\n",
+     r"rpm: expected \[low, high\]"),
+    ("[orders]\nrpm = [300.0, 3000.0]\n", r"no \[\[orders.unbalance\]\] or \[\[orders.force\]\] source"),
+    ("[[orders.unbalance]]\nname='u'\nbody='powertrain'\nmass=1.0\n", r"unbalance\[1\] \('u'\): radius: missing"),
+    ("[[orders.force]]\nname='f'\nbody='powertrain'\norder=2.0\nrpm=[1.0, 2.0]\n", r"force\[1\] \('f'\): give force, moment"),
+    ("[[orders.force]]\nname='f'\nbody='powertrain'\norder=2.0\nrpm=[1.0, 2.0]\nforce=[[1.0, 2.0, 3.0]]\n",
+     r"force: expected 3 numbers or a 2x3 array"),
+])
+def test_bad_orders_tables_located(bad, message):
+    with pytest.raises(vibss.ModelFileError, match=message):
+        vibss.loads_model(_powertrain_text() + bad, source="pt.toml")
+
+
+def test_orders_command(tmp_path, capsys):
+    from vibss.cli import main
+
+    src = tmp_path / "pt.toml"
+    src.write_text(_powertrain_text() + ORDERS)
+    png = tmp_path / "cuts.png"
+    assert main(["orders", str(src), "--format", "json", "--plot", str(png)]) == 0
+    import json
+
+    data = json.loads(capsys.readouterr().out)
+    model = vibss.load_model(src)
+    ref = order_response(model, [Unbalance("crank", "powertrain", 0.005, 0.05, axis="x"),
+                                 OrderForce("2nd order torque", "powertrain", 2.0, rpm=[300, 6000],
+                                            moment=[[60.0, 0, 0], [60.0, 0, 0]])],
+                         np.linspace(300, 3000, 200), ["powertrain.rx", "mount.engine.fz"])
+    np.testing.assert_allclose(data["outputs"]["mount.engine.fz"]["order 2"]["amplitude"],
+                               np.abs(ref["mount.engine.fz", "order 2"]), rtol=1e-12)
+    assert len(data["critical_speeds"]) == 8 and png.stat().st_size > 10_000
+    assert main(["orders", "--example", "prism"]) == 2
+    assert "no [orders] table" in capsys.readouterr().err

@@ -27,7 +27,7 @@ from ..errors import ArgumentError, ModelError, did_you_mean
 from ..model.geometry import skew
 from ..model.model import Model
 
-__all__ = ["Unbalance", "OrderForce", "Source", "generalised_forces"]
+__all__ = ["Unbalance", "OrderForce", "Source", "generalised_forces", "sources_from_settings"]
 
 _AXES = {"x": np.eye(3)[0], "y": np.eye(3)[1], "z": np.eye(3)[2]}
 
@@ -200,3 +200,10 @@ def generalised_forces(model: Model, sources: Sequence[Source], rpm: np.ndarray)
         out[key] = out.get(key, 0.0) + s.phasors(model, rpm)
     return out
 
+
+
+def sources_from_settings(model: Model) -> list[Source]:
+    """The sources of a model file's ``[orders]`` table (``model.settings["orders"]``); [] if none."""
+    spec = (model.settings or {}).get("orders", {})
+    return ([Unbalance(**d) for d in spec.get("unbalance", [])]
+            + [OrderForce(**d) for d in spec.get("force", [])])
