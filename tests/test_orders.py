@@ -185,7 +185,7 @@ moment = [[6.0e4, 0.0, 0.0], [6.0e4, 0.0, 0.0]]     # N mm
 def _powertrain_text():
     from vibss.io.modelfile import example_path
 
-    return example_path("powertrain").read_text()
+    return example_path("powertrain").read_text().split("\n[orders]")[0]     # without its own
 
 
 def test_orders_table_read_in_file_units_and_written_back():
@@ -231,3 +231,41 @@ def test_orders_command(tmp_path, capsys):
     assert len(data["critical_speeds"]) == 8 and png.stat().st_size > 10_000
     assert main(["orders", "--example", "prism"]) == 2
     assert "no [orders] table" in capsys.readouterr().err
+
+
+def test_report_has_an_orders_section(tmp_path):
+    from vibss.report import study, write_report
+
+    model = vibss.loads_model(_powertrain_text() + ORDERS)
+    rep = study(model, figures=True)
+    sec = rep.section("orders")
+    assert not sec.skipped and "Critical speeds" in sec.text and len(sec.figures) == 2
+    ref = order_response(model, [Unbalance("crank", "powertrain", 0.005, 0.05, axis="x"),
+                                 OrderForce("2nd order torque", "powertrain", 2.0, rpm=[300, 6000],
+                                            moment=[[60.0, 0, 0], [60.0, 0, 0]])],
+                         np.linspace(300, 3000, 200), ["powertrain.rx", "mount.engine.fz"])
+    np.testing.assert_allclose(rep.results["orders"].response, ref.response, rtol=1e-12)
+    write_report(rep, tmp_path / "out")
+    assert (tmp_path / "out" / "campbell.png").exists()
+    assert study(vibss.load_example("prism"), figures=False).section("orders").skipped
+
+
+def test_packaged_powertrain_orders():
+    """The example's [orders] table: the 2nd-order vertical force table is 0.0258 kg m x w^2 at its
+    speeds; above 600 rpm order 1 meets only modes 5 and 6 (10.8 Hz at 650 rpm, 13.0 Hz at 782 rpm)."""
+    pt = vibss.load_example("powertrain")
+    force = pt.settings["orders"]["force"][1]
+    w = 2 * np.pi * 2 * np.array(force["rpm"]) / 60 / 2           # crank speed [rad/s]
+    np.testing.assert_allclose([row[2] for row in force["force"]], 0.0258 * w ** 2, rtol=0.005)
+    from vibss.orders.sources import sources_from_settings
+
+    r = order_response(pt, sources_from_settings(pt), np.linspace(600, 6000, 100), ["powertrain.z"])
+    assert [(c[0], c[1]) for c in r.critical_speeds()] == [(1.0, 5), (1.0, 6)]
+
+
+def test_order_table_follows_a_power_law_exactly():
+    """Between table speeds a column of positive amplitudes is interpolated log-log: a force
+    c w^2 given at two speeds is exact at every speed between."""
+    src = OrderForce("f", "box", 2.0, rpm=[1000.0, 4000.0], force=[[0, 0, 1.0], [0, 0, 16.0]])
+    rpm = np.linspace(1000, 4000, 31)
+    np.testing.assert_allclose(src.phasors(isolator(), rpm)[2].real, (rpm / 1000) ** 2, rtol=1e-13)

@@ -10,8 +10,9 @@ at the frequency ``order * rpm / 60`` [Hz]; the physical load is ``Re(F e^{i w t
   right-handed frame, so the force points along ``u`` at ``t = 0`` and turns towards ``v``
   (positive rotation about ``axis``); its moment about the COG is ``(at - cog) x F``.
 - :class:`OrderForce`: an engine order (or any harmonic of the shaft speed): force [N] and/or
-  moment [N m] amplitudes per global axis against speed, from a table (interpolated linearly in
-  rpm, refused outside it), with a phase per axis [rad].
+  moment [N m] amplitudes per global axis against speed, from a table (interpolated log-log
+  between positive amplitudes, so a force growing with speed squared is followed exactly; linearly
+  where a column has zeros; refused outside the table), with a phase per axis [rad].
 """
 
 from __future__ import annotations
@@ -184,9 +185,18 @@ class OrderForce:
                                 f"{self.rpm[0]:g} ... {self.rpm[-1]:g} rpm", argument="rpm")
         table = np.hstack([np.zeros((self.rpm.size, 3)) if self.force is None else self.force,
                            np.zeros((self.rpm.size, 3)) if self.moment is None else self.moment])
-        amp = np.array([np.interp(rpm, self.rpm, table[:, j]) if self.rpm.size > 1 else np.full(rpm.size, table[0, j])
-                        for j in range(6)])
+        amp = np.array([_interp(rpm, self.rpm, table[:, j]) for j in range(6)])
         return amp * np.exp(1j * self.phase)[:, None]
+
+
+def _interp(x: np.ndarray, xp: np.ndarray, fp: np.ndarray) -> np.ndarray:
+    """Table lookup: log-log between positive amplitudes (exact for power laws such as an inertia
+    force growing with speed squared), linear where the column has zeros or signs."""
+    if xp.size == 1:
+        return np.full(x.size, fp[0])
+    if np.all(fp > 0):
+        return np.exp(np.interp(np.log(x), np.log(xp), np.log(fp)))
+    return np.interp(x, xp, fp)
 
 
 Source = Unbalance | OrderForce
