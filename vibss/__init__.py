@@ -40,6 +40,7 @@ from .time.sweep import SweepEnvelope, sweep_envelope
 from . import design  # vibss.design.*: mount-system design
 from .design.study import study
 from . import shock
+from . import orders  # vibss.orders.*: rotating unbalance and engine orders
 from .shock import srs
 
 __version__ = "0.1.0"
@@ -48,6 +49,6 @@ __all__ = [
     "AnalysisError", "ArgumentError", "Assembly", "DefectiveModesError", "Body", "ControlPoint", "DOF_NAMES", "DampedModes", "Excitation",
     "FrequencyGrid", "FrequencyResponse", "GROUND", "Load", "MissingDependencyError", "Model", "ModelError", "ModelFileError", "Modes", "Mount", "MountType", "NamedStateSpace",
     "Orientation", "Plant", "Reduction", "Scope", "SignalError", "StaticResult", "StudyDefaults", "SweepEnvelope", "TimeResponse", "VibssError", "VibssWarning", "assemble", "build_plant", "damped_modes", "dump_model",
-    "dumps_model", "example_names", "frequency_grid", "frequency_response", "load_example", "load_model", "loads_model", "modes", "reduce", "shock", "simulate", "srs", "static",
+    "dumps_model", "example_names", "frequency_grid", "frequency_response", "load_example", "load_model", "loads_model", "modes", "orders", "reduce", "shock", "simulate", "srs", "static",
     "statespace", "study", "study_defaults", "sweep_envelope", "sweep_response", "symmetric", "transmissibility",
 ]

@@ -50,11 +50,12 @@ from .studies import frequency_band, steady_sweeps, time_window, transient_excit
 __all__ = ["Section", "Report", "study", "write_report", "html_table", "slug", "default_folder",
            "progress_on_stderr", "STEPS", "MAX_MODE_PANELS"]
 
-STEPS = ("model", "static", "modes", "damped", "design", "frequency", "time")
+STEPS = ("model", "static", "modes", "damped", "design", "frequency", "orders", "time")
 """The report's sections, in order."""
 
 TITLES = {"model": "Model", "static": "Static deflection", "modes": "Undamped modes",
-          "damped": "Damped modes", "design": "Mount-system design (decoupling)", "frequency": "Frequency response (sine sweeps)",
+          "damped": "Damped modes", "design": "Mount-system design (decoupling)",
+          "orders": "Rotating machinery (orders against speed)", "frequency": "Frequency response (sine sweeps)",
           "time": "Time response (transient excitations)"}
 
 MAX_MODE_PANELS = 12
@@ -292,6 +293,24 @@ def _design_section(model: Model, figures: bool, results: dict[str, Any]) -> Sec
     return Section("design", TITLES["design"], "\n\n".join(r.report() for r in done), tuple(tables), figs, note)
 
 
+def _orders_section(model: Model, figures: bool, results: dict[str, Any]) -> Section:
+    spec = model.settings.get("orders")
+    if not spec:
+        return Section("orders", TITLES["orders"], skipped=True, note="no [orders] table in the model")
+    if "rpm" not in spec:
+        return Section("orders", TITLES["orders"], skipped=True,
+                       note="the [orders] table gives no speed range (rpm = [low, high])")
+    from .orders import order_response
+    from .orders.sources import sources_from_settings
+
+    lo, hi = spec["rpm"]
+    r = order_response(model, sources_from_settings(model), np.linspace(lo, hi, spec.get("points", 400)),
+                       spec.get("outputs"))
+    results["orders"] = r
+    figs = (("orders.png", r.plot()), ("campbell.png", r.campbell())) if figures else ()
+    return Section("orders", TITLES["orders"], r.report(), (r.summary(), r.critical_table()), figs)
+
+
 def _available(module: str) -> bool:
     return importlib.util.find_spec(f"vibss.{module}") is not None
 
@@ -387,7 +406,7 @@ solve, a division by zero, an overflow, a solver that gave up) so that the other
 run. Programming errors (TypeError, AttributeError, KeyError, IndexError ...) propagate."""
 
 _RUNNERS = {"static": _static_section, "modes": _modes_section, "damped": _damped_section,
-            "design": _design_section, "frequency": _frequency_section, "time": _time_section}
+            "design": _design_section, "frequency": _frequency_section, "orders": _orders_section, "time": _time_section}
 
 
 def study(model: Model, figures: bool = True, progress: Progress | None = None,

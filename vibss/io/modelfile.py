@@ -35,6 +35,7 @@ from ..errors import ModelError, ModelFileError, did_you_mean
 from ..model.excitation import Excitation, amplitude_quantity, function_from_dict
 from .filetable import MISSING, Entry
 from .designfile import read_design, read_study, write_tables
+from .ordersfile import read_orders
 from ..model.geometry import Orientation
 from ..model.model import (DOF_NAMES, GROUND, SYMMETRIES, Body, ControlPoint, Load, Model, Mount,
                     MountType, symmetric)
@@ -48,7 +49,7 @@ EXAMPLES_DIR = Path(__file__).parent.parent / "examples"
 """Folder of the built-in example model files."""
 
 _TABLES = ("model", "body", "mount_type", "mount", "control_point", "load", "excitation", "analysis",
-           "design", "study")
+           "design", "study", "orders")
 
 
 def _entries(data: Mapping[str, Any], table: str, source: str, units: Units) -> list[Entry]:
@@ -277,7 +278,7 @@ def _build(data: Any, source: str, base: Path | None, default_name: str) -> Mode
     if not isinstance(analysis, Mapping):
         raise ModelFileError(f"{source}: analysis: expected an [analysis] table, got {analysis!r}")
     settings = _analysis(Entry(analysis, f"{source}: [analysis]", units))
-    for key, reader in (("design", read_design), ("study", read_study)):
+    for key, reader in (("design", read_design), ("study", read_study), ("orders", read_orders)):
         if key in data:
             if not isinstance(data[key], Mapping):
                 raise ModelFileError(f"{source}: {key}: expected a [{key}] table, got {data[key]!r}")
