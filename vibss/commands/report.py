@@ -6,7 +6,6 @@ import argparse
 import sys
 from pathlib import Path
 
-from ..report import default_folder, progress_on_stderr, study, write_report
 from .common import load_from_args
 
 
@@ -33,6 +32,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Run the study, print it and write the folder."""
+    from ..report import default_folder, progress_on_stderr, study, write_report
+
     model = load_from_args(args)
     source = f"example {args.example}" if args.example else str(args.file)
     progress = None if args.quiet else progress_on_stderr()
