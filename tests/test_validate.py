@@ -124,8 +124,12 @@ BUILTIN_ERRORS = {n for n, o in vars(builtins).items() if isinstance(o, type) an
 def _builtin_raises(root: Path = PACKAGE) -> list[str]:
     hits = []
     for path in sorted(root.rglob("*.py")):
-        for node in ast.walk(ast.parse(path.read_text())):
-            if not isinstance(node, ast.Raise) or node.exc is None:
+        tree = ast.parse(path.read_text())
+        # a module's __getattr__ must raise AttributeError: that is Python's attribute protocol
+        protocol = {id(n) for f in ast.walk(tree) if isinstance(f, ast.FunctionDef) and f.name == "__getattr__"
+                    for n in ast.walk(f) if isinstance(n, ast.Raise)}
+        for node in ast.walk(tree):
+            if not isinstance(node, ast.Raise) or node.exc is None or id(node) in protocol:
                 continue
             exc = node.exc.func if isinstance(node.exc, ast.Call) else node.exc
             name = exc.id if isinstance(exc, ast.Name) else None
@@ -145,7 +149,8 @@ def test_the_grep_finds_a_builtin_raise(tmp_path: Path) -> None:
     pkg = tmp_path / "pkg"
     pkg.mkdir()
     (pkg / "m.py").write_text("def f():\n    raise ValueError('x')\n\ndef g():\n    raise KeyError\n\n"
-                              "def h():\n    raise NotImplementedError\n")
+                              "def h():\n    raise NotImplementedError\n\n"
+                              "def __getattr__(name):\n    raise AttributeError(name)\n")
     assert _builtin_raises(pkg) == ["pkg/m.py:2: raise ValueError", "pkg/m.py:5: raise KeyError"]
 
 

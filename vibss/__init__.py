@@ -15,33 +15,85 @@ array([ 1.01,  1.42,  1.74, 12.33, 14.24, 34.87])
 
 from __future__ import annotations
 
-from .linear.assemble import Assembly, assemble
-from .modal.damped import DampedModes, damped_modes
+import importlib
+from typing import TYPE_CHECKING, Any
+
 from .errors import (AnalysisError, ArgumentError, DefectiveModesError, MissingDependencyError, ModelError,
                      ModelFileError, SignalError, VibssError, VibssWarning)
-from .model.excitation import Excitation
-from .model.geometry import Orientation
-from .io.modelfile import (dump_model, dumps_model, example_names, load_example, load_model,
-                 loads_model)
-from .modal.undamped import Modes, modes
-from .model.model import (DOF_NAMES, GROUND, Body, ControlPoint, Load, Model, Mount, MountType,
-                    symmetric)
-from .frequency.api import FrequencyGrid, FrequencyResponse, frequency_grid, frequency_response
-from .frequency.sweep import sweep_response, transmissibility
-from .linear.plant import Plant
-from .reduction.api import Reduction, reduce
-from .reduction.scope import Scope
-from .linear.signals import build_plant
-from .linear.statespace import NamedStateSpace, statespace
-from .statics import StaticResult, static
-from .studies import StudyDefaults, study_defaults
-from .time.api import TimeResponse, simulate
-from .time.sweep import SweepEnvelope, sweep_envelope
-from . import design  # vibss.design.*: mount-system design
-from .design.study import study
-from . import shock
-from . import orders  # vibss.orders.*: rotating unbalance and engine orders
-from .shock import srs
+
+# Public names, loaded on first use (PEP 562) so that ``import vibss`` stays light: python-control,
+# matplotlib, pandas and the heavy SciPy submodules load only when a function needs them.
+# A new public name: one line here (name -> module) and one in __all__ (tests/test_startup.py
+# checks that every name resolves).
+_LAZY: dict[str, str] = {
+    "Assembly": ".linear.assemble", "assemble": ".linear.assemble",
+    "DampedModes": ".modal.damped", "damped_modes": ".modal.damped",
+    "Excitation": ".model.excitation",
+    "Orientation": ".model.geometry",
+    "dump_model": ".io.modelfile", "dumps_model": ".io.modelfile", "example_names": ".io.modelfile",
+    "load_example": ".io.modelfile", "load_model": ".io.modelfile", "loads_model": ".io.modelfile",
+    "Modes": ".modal.undamped", "modes": ".modal.undamped",
+    "DOF_NAMES": ".model.model", "GROUND": ".model.model", "Body": ".model.model",
+    "ControlPoint": ".model.model", "Load": ".model.model", "Model": ".model.model",
+    "Mount": ".model.model", "MountType": ".model.model", "symmetric": ".model.model",
+    "FrequencyGrid": ".frequency.api", "FrequencyResponse": ".frequency.api",
+    "frequency_grid": ".frequency.api", "frequency_response": ".frequency.api",
+    "sweep_response": ".frequency.sweep", "transmissibility": ".frequency.sweep",
+    "Plant": ".linear.plant",
+    "Reduction": ".reduction.api", "reduce": ".reduction.api",
+    "Scope": ".reduction.scope",
+    "build_plant": ".linear.signals",
+    "NamedStateSpace": ".linear.statespace", "statespace": ".linear.statespace",
+    "StaticResult": ".statics", "static": ".statics",
+    "StudyDefaults": ".studies", "study_defaults": ".studies",
+    "TimeResponse": ".time.api", "simulate": ".time.api",
+    "SweepEnvelope": ".time.sweep", "sweep_envelope": ".time.sweep",
+    "study": ".design.study",
+    "srs": ".shock",
+    # subpackages
+    "design": ".design",            # vibss.design.*: mount-system design
+    "shock": ".shock",              # vibss.shock.*: shock pulses and the SRS
+    "orders": ".orders",            # vibss.orders.*: rotating unbalance and engine orders
+}
+_MODULES = {"design", "shock", "orders"}
+
+
+def __getattr__(name: str) -> Any:
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module 'vibss' has no attribute {name!r}")
+    mod = importlib.import_module(module, __name__)
+    value = mod if name in _MODULES else getattr(mod, name)
+    globals()[name] = value                # later lookups skip __getattr__
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_LAZY))
+
+
+if TYPE_CHECKING:                          # what static checkers and IDEs see
+    from . import design, orders, shock
+    from .design.study import study
+    from .frequency.api import FrequencyGrid, FrequencyResponse, frequency_grid, frequency_response
+    from .frequency.sweep import sweep_response, transmissibility
+    from .io.modelfile import dump_model, dumps_model, example_names, load_example, load_model, loads_model
+    from .linear.assemble import Assembly, assemble
+    from .linear.plant import Plant
+    from .linear.signals import build_plant
+    from .linear.statespace import NamedStateSpace, statespace
+    from .modal.damped import DampedModes, damped_modes
+    from .modal.undamped import Modes, modes
+    from .model.excitation import Excitation
+    from .model.geometry import Orientation
+    from .model.model import DOF_NAMES, GROUND, Body, ControlPoint, Load, Model, Mount, MountType, symmetric
+    from .reduction.api import Reduction, reduce
+    from .reduction.scope import Scope
+    from .shock import srs
+    from .statics import StaticResult, static
+    from .studies import StudyDefaults, study_defaults
+    from .time.api import TimeResponse, simulate
+    from .time.sweep import SweepEnvelope, sweep_envelope
 
 __version__ = "0.1.0"
 

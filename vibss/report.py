@@ -33,6 +33,7 @@ import importlib.util
 import re
 import sys
 from collections.abc import Callable
+import dataclasses
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -47,7 +48,7 @@ from .results import Table
 from .statics import StaticResult, static
 from .studies import frequency_band, steady_sweeps, time_window, transient_excitations
 
-__all__ = ["Section", "Report", "study", "write_report", "html_table", "slug", "default_folder",
+__all__ = ["Section", "Report", "study", "write_report", "render_report", "html_table", "slug", "default_folder",
            "progress_on_stderr", "STEPS", "MAX_MODE_PANELS"]
 
 STEPS = ("model", "static", "modes", "damped", "design", "frequency", "orders", "time")
@@ -84,6 +85,8 @@ class Section:
         One line: why the section was skipped, or a remark on how it was run.
     skipped : bool
         Whether the analysis did not run.
+    failed : bool
+        Whether it was attempted and failed (``note`` says how); the other sections are unaffected.
     """
 
     key: str
@@ -93,6 +96,7 @@ class Section:
     figures: tuple[tuple[str, Any], ...] = ()
     note: str = ""
     skipped: bool = False
+    failed: bool = False
 
 
 @dataclass(frozen=True)
@@ -123,10 +127,16 @@ class Report:
         for s in self.sections:
             parts.append(f"\n== {s.title} ==")
             if s.note:
-                parts.append(("skipped: " if s.skipped else "note: ") + s.note)
+                parts.append(("FAILED: " + s.note.removeprefix("failed: ")) if s.failed else
+                             ("skipped: " if s.skipped else "note: ") + s.note)
             if s.text:
                 parts.append(s.text)
         return "\n".join(parts) + "\n"
+
+    @property
+    def failed(self) -> tuple[str, ...]:
+        """Keys of the sections that failed (the command line then exits with status 3)."""
+        return tuple(s.key for s in self.sections if s.failed)
 
     def section(self, key: str) -> Section:
         """The section called ``key``."""
@@ -401,9 +411,15 @@ def _time_section(model: Model, figures: bool, results: dict[str, Any]) -> Secti
 
 SECTION_ERRORS: tuple[type[BaseException], ...] = (
     VibssError, np.linalg.LinAlgError, ValueError, ArithmeticError, RuntimeError, MemoryError)
-"""What :func:`study` turns into a section's "failed: ..." note (numerical failures: a singular
-solve, a division by zero, an overflow, a solver that gave up) so that the other sections still
-run. Programming errors (TypeError, AttributeError, KeyError, IndexError ...) propagate."""
+"""Failures of the analysis itself (a refusal, a singular solve, an overflow, a solver that gave
+up): the section's note says ``failed: <error>``. Any other exception (a bug in vibss) fails its
+section too, with ``failed: internal error, please report: <error>``: one section never takes the
+others down (:func:`study`)."""
+
+
+def _failure(key: str, exc: Exception) -> Section:
+    what = "" if isinstance(exc, SECTION_ERRORS) else "internal error, please report: "
+    return Section(key, TITLES[key], skipped=True, failed=True, note=f"failed: {what}{type(exc).__name__}: {exc}")
 
 _RUNNERS = {"static": _static_section, "modes": _modes_section, "damped": _damped_section,
             "design": _design_section, "frequency": _frequency_section, "orders": _orders_section, "time": _time_section}
@@ -434,14 +450,11 @@ def study(model: Model, figures: bool = True, progress: Progress | None = None,
     for n, key in enumerate(STEPS, start=1):
         if progress is not None:
             progress(n, len(STEPS), TITLES[key].lower())
-        if key == "model":
-            sections.append(_model_section(model, figures))
-            continue
         try:
-            sections.append(_RUNNERS[key](model, figures, results))
-        except SECTION_ERRORS as exc:   # one failed analysis is that section's note, not the report's end
-            sections.append(Section(key, TITLES[key], skipped=True,
-                                    note=f"failed: {type(exc).__name__}: {exc}"))
+            runner = _RUNNERS.get(key)
+            sections.append(_model_section(model, figures) if runner is None else runner(model, figures, results))
+        except Exception as exc:        # one failed analysis is that section's note, not the report's end
+            sections.append(_failure(key, exc))
     return Report(model, tuple(sections), source, results)
 
 
@@ -486,7 +499,7 @@ body { font-family: system-ui, -apple-system, "Segoe UI", sans-serif; margin: 2e
        color: #222; padding: 0 1em; }
 h1 { font-size: 1.6em; margin-bottom: 0.2em; } h2 { border-bottom: 2px solid #1f77b4; padding-bottom: 0.2em;
        margin-top: 2em; } .meta { color: #666; } .note { color: #555; font-style: italic; }
-.skipped { color: #999; } nav a { margin-right: 1em; }
+.skipped { color: #999; } .failed { color: #b00020; font-weight: bold; } nav a { margin-right: 1em; }
 table { border-collapse: collapse; margin: 1em 0; font-size: 0.85em; }
 caption { text-align: left; font-weight: bold; padding: 0.3em 0; }
 th, td { border: 1px solid #ccc; padding: 0.2em 0.5em; } th { background: #eef3f8; }
@@ -511,8 +524,9 @@ def _html(report: Report, images: dict[str, bytes]) -> str:
     for s in report.sections:
         parts.append(f'<h2 id="{s.key}">{html.escape(s.title)}</h2>')
         if s.note:
-            cls = "skipped" if s.skipped else "note"
-            parts.append(f'<p class="{cls}">{"Skipped: " if s.skipped else ""}{html.escape(s.note)}</p>')
+            cls = "failed" if s.failed else "skipped" if s.skipped else "note"
+            head = "Failed: " if s.failed else "Skipped: " if s.skipped else ""
+            parts.append(f'<p class="{cls}">{head}{html.escape(s.note.removeprefix("failed: "))}</p>')
         if s.key == "model" and s.text:
             parts.append(f"<p>{html.escape(s.text.splitlines()[0])}</p>")
         for name, _ in s.figures:
@@ -527,7 +541,16 @@ def _html(report: Report, images: dict[str, bytes]) -> str:
 
 
 def write_report(report: Report, out: str | Path, dpi: int = 110) -> Path:
-    """Write the figures (PNG) and ``index.html`` of a report into folder ``out``.
+    """Write the figures (PNG) and ``index.html`` of a report into folder ``out``
+    (:func:`render_report` without the updated report)."""
+    return render_report(report, out, dpi)[0]
+
+
+def render_report(report: Report, out: str | Path, dpi: int = 110) -> tuple[Path, Report]:
+    """Write the figures (PNG), ``index.html`` and ``report.txt`` of a report into folder ``out``.
+
+    A figure that fails to save is left out and its section marked failed with a note; the rest is
+    written.
 
     Parameters
     ----------
@@ -540,21 +563,33 @@ def write_report(report: Report, out: str | Path, dpi: int = 110) -> Path:
 
     Returns
     -------
-    Path
+    index : Path
         The ``index.html`` written.
+    report : Report
+        The report as written (figure failures noted).
     """
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     images: dict[str, bytes] = {}
+    sections = []
     for s in report.sections:
+        kept = []
         for name, fig in s.figures:
             path = out / name
-            fig.savefig(path, dpi=dpi)
+            try:
+                fig.savefig(path, dpi=dpi)
+            except Exception as exc:    # a figure that cannot be drawn is noted; the rest is written
+                s = dataclasses.replace(s, failed=True, note=(s.note + "; " if s.note else "")
+                                        + f"figure {name} failed: {type(exc).__name__}: {exc}")
+                continue
             images[name] = path.read_bytes()
+            kept.append((name, fig))
+        sections.append(dataclasses.replace(s, figures=tuple(kept)))
+    report = dataclasses.replace(report, sections=tuple(sections))
     index = out / "index.html"
     index.write_text(_html(report, images), encoding="utf-8")
     (out / "report.txt").write_text(report.text(), encoding="utf-8")
-    return index
+    return index, report
 
 
 def default_folder(source: str, model: Model) -> Path:

@@ -7,9 +7,10 @@ import sys
 from typing import Any
 
 from ..errors import ModelError
-from ..io.modelfile import load_example, load_model
-from ..model.model import Model
-from ..results import jsonable
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from ..model.model import Model
 
 __all__ = ["add_model_arguments", "load_from_args", "emit", "finite_json"]
 
@@ -25,6 +26,8 @@ def add_model_arguments(parser: argparse.ArgumentParser) -> None:
 
 def load_from_args(args: argparse.Namespace) -> Model:
     """The model named by ``FILE`` or ``--example``."""
+    from ..io.modelfile import load_example, load_model
+
     if args.example and args.file:
         raise ModelError("give either FILE or --example, not both")
     if args.example:
@@ -34,8 +37,11 @@ def load_from_args(args: argparse.Namespace) -> Model:
     return load_model(args.file)
 
 
-finite_json = jsonable
-"""Old name of :func:`vibss.results.jsonable` (non-finite numbers as None)."""
+def finite_json(value: Any) -> Any:
+    """Old name of :func:`vibss.results.jsonable` (non-finite numbers as None)."""
+    from ..results import jsonable
+
+    return jsonable(value)
 
 
 def emit(result: Any, fmt: str, out: Any = None) -> None:

@@ -8,7 +8,6 @@ import dataclasses
 import sys
 from typing import Any
 
-from ..design.filespec import design_spec, run_design
 from ..errors import ArgumentError
 from .common import add_model_arguments, emit, load_from_args
 
@@ -47,6 +46,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Print the certificate (and the study and optimisation asked for)."""
+    from ..design.filespec import design_spec, run_design
+
     model = load_from_args(args)
     spec = design_spec(model)                         # the file's [design] table, or the defaults
     change: dict[str, Any] = {k: v for k, v in (("windows", args.window), ("frame", args.frame),

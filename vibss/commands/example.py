@@ -8,7 +8,6 @@ import sys
 import tomllib
 from pathlib import Path
 
-from ..io.modelfile import example_names, example_path
 
 
 def describe(name: str) -> tuple[str, str]:
@@ -17,6 +16,8 @@ def describe(name: str) -> tuple[str, str]:
     The title is the file's ``[model] name``; the description is the first sentence of the
     file's leading comment (``''`` if it has none).
     """
+    from ..io.modelfile import example_path
+
     path = example_path(name)
     text = path.read_text(encoding="utf-8")
     try:
@@ -57,6 +58,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run_list(args: argparse.Namespace) -> int:
     """Print each example's name, title and description."""
+    from ..io.modelfile import example_names
+
     names = example_names()
     width = max((len(n) for n in names), default=4)
     for n in names:
@@ -69,6 +72,8 @@ def run_list(args: argparse.Namespace) -> int:
 
 def run_write(args: argparse.Namespace) -> int:
     """Copy example ``args.name`` to ``args.path``."""
+    from ..io.modelfile import example_path
+
     src = example_path(args.name)
     dest = args.path if args.path is not None else Path(src.name)
     if dest.is_dir():

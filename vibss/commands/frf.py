@@ -5,9 +5,6 @@ from __future__ import annotations
 import argparse
 
 from ..errors import ModelError
-from ..frequency.api import FrequencyGrid, frequency_response
-from ..frequency.sweep import sweep_response
-from ..studies import frequency_band, steady_sweeps
 from .common import add_model_arguments, emit, load_from_args
 
 
@@ -38,6 +35,10 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Compute and print the frequency response."""
+    from ..frequency.api import FrequencyGrid, frequency_response
+    from ..frequency.sweep import sweep_response
+    from ..studies import frequency_band, steady_sweeps
+
     model = load_from_args(args)
     settings = frequency_band(model).grid()     # the report's band (vibss.studies)
     for key in ("f1", "f2", "points", "spacing"):

@@ -4,8 +4,6 @@ from __future__ import annotations
 
 import argparse
 
-from ..modal.damped import damped_modes
-from ..modal.undamped import modes
 from .common import add_model_arguments, emit, load_from_args
 
 
@@ -28,11 +26,15 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run_modes(args: argparse.Namespace) -> int:
     """Print the undamped modes."""
+    from ..modal.undamped import modes
+
     emit(modes(load_from_args(args), n_modes=args.modes), args.format)
     return 0
 
 
 def run_damped(args: argparse.Namespace) -> int:
     """Print the damped modes."""
+    from ..modal.damped import damped_modes
+
     emit(damped_modes(load_from_args(args)), args.format)
     return 0

@@ -6,7 +6,6 @@ from __future__ import annotations
 import argparse
 import sys
 
-import numpy as np
 
 from ..errors import ArgumentError
 from .common import add_model_arguments, emit, load_from_args
@@ -32,6 +31,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Print the order response."""
+    import numpy as np
+
     from ..orders import order_response
     from ..orders.sources import sources_from_settings
 

@@ -6,7 +6,6 @@ import argparse
 import sys
 from pathlib import Path
 
-from ..report import default_folder, progress_on_stderr, study, write_report
 from .common import load_from_args
 
 
@@ -33,15 +32,22 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Run the study, print it and write the folder."""
+    from ..report import default_folder, progress_on_stderr, render_report, study
+
     model = load_from_args(args)
     source = f"example {args.example}" if args.example else str(args.file)
     progress = None if args.quiet else progress_on_stderr()
     report = study(model, figures=not args.no_figures, progress=progress, source=source)
     if not args.quiet:
         sys.stdout.write(report.text())
-    if args.no_figures:
-        return 0
-    out = args.out or default_folder(args.example or str(args.file), model)
-    index = write_report(report, out)
-    print(f"vibss: report written to {index}", file=sys.stderr)
+    if not args.no_figures:
+        out = args.out or default_folder(args.example or str(args.file), model)
+        index, report = render_report(report, out)
+        print(f"vibss: report written to {index}", file=sys.stderr)
+    failed = report.failed
+    if failed:                          # everything that worked is written; the status says what did not
+        print(f"vibss: {len(failed)} section(s) failed: {', '.join(failed)}; the others are written "
+              "(see their notes)", file=sys.stderr)
+        return 3
     return 0
+

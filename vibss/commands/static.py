@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 
-from ..statics import static
 from .common import add_model_arguments, emit, load_from_args
 
 
@@ -24,5 +23,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Print the static deflection."""
+    from ..statics import static
+
     emit(static(load_from_args(args), gravity=not args.no_gravity, case=args.case), args.format)
     return 0

@@ -5,9 +5,11 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ..design.study import ANALYSES, study
 from ..errors import ArgumentError
 from .common import load_from_args
+
+ANALYSES = ("certificate", "modes")
+"""Names of :data:`vibss.design.study.ANALYSES` (written out: the parser must not import the analyses)."""
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -22,7 +24,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--vary", action="append", metavar="PARAM=V1,V2,...",
                    help="a parameter and its values in SI (repeatable: every combination is run); "
                         "default: the model file's [study] table")
-    p.add_argument("--analysis", choices=sorted(ANALYSES),
+    p.add_argument("--analysis", choices=ANALYSES,
                    help="analysis (default: the file's [study] analysis, else modes)")
     p.add_argument("--client", metavar="ADDRESS",
                    help="run on Dask: a scheduler address, or 'local' for a 2-worker LocalCluster")
@@ -47,6 +49,8 @@ def _grid(items: list[str]) -> dict[str, list[float]]:
 
 def run(args: argparse.Namespace) -> int:
     """Print the study's table."""
+    from ..design.study import study
+
     model = load_from_args(args)
     spec = dict(model.settings.get("study", {}))       # the file's [study] table (SI)
     analysis = args.analysis or spec.get("analysis", "modes")

@@ -6,10 +6,10 @@ import argparse
 import sys
 
 from ..errors import ModelError
-from ..linear.signals import default_outputs
-from ..studies import steady_sweeps, time_window, transient_excitations
-from ..time.api import METHODS, simulate
 from .common import add_model_arguments, emit, load_from_args
+
+METHODS = ("modal", "forced_response", "ivp", "newmark", "central_difference")
+"""Names of :data:`vibss.time.api.METHODS` (written out: the parser must not import the analyses)."""
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -38,6 +38,10 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Run the simulation and print it."""
+    from ..linear.signals import default_outputs
+    from ..studies import steady_sweeps, time_window, transient_excitations
+    from ..time.api import simulate
+
     model = load_from_args(args)
     # a sweep with sweep_time = 0 is a steady state: frequency studies only
     excitations = list(transient_excitations(model))

@@ -31,9 +31,7 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-import control
 import numpy as np
-from control import FrequencyResponseData
 import scipy.sparse as sp
 
 from ..linear.assemble import Assembly
@@ -248,8 +246,10 @@ class FrequencyResponse(Result):
         return np.degrees(np.angle(np.where(np.isfinite(self.response), self.response, 1.0)))
 
     @property
-    def control(self) -> FrequencyResponseData:
+    def control(self) -> Any:
         """The response as a python-control FrequencyResponseData (finite frequencies only, rad/s)."""
+        import control
+
         keep = np.all(np.isfinite(self.response), axis=(0, 1))
         return control.frd(self.response[:, :, keep], self.omega[keep],
                            inputs=[control_name(u) for u in self.inputs],

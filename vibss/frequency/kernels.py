@@ -32,7 +32,6 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from functools import reduce
 
-import control
 import numpy as np
 
 from ..linear.complex_modes import complex_modes
@@ -41,7 +40,6 @@ from ..linear.plant import Plant
 from ..linear.eigen import ModalBasis, damping_coupling, modal_basis, stiffness_solver, symmetric_eigen
 from ..linear.projection import projected_damping
 from ..linear.solve import MOUNTS_RATIO, response, states, zero_frequency_limit, zfactor
-from ..linear.statespace import statespace
 from ..methods import Method, callable_name
 
 __all__ = ["METHODS", "FrequencyMethod", "custom_method", "direct", "modal", "complex_modal", "sparse", "via_statespace", "classical_damping",
@@ -404,6 +402,10 @@ def complex_modal(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) 
 
 def via_statespace(plant: Plant, s: np.ndarray) -> np.ndarray:
     """``control.frequency_response`` of :func:`vibss.linear.statespace.statespace` (s = i w only)."""
+    import control
+
+    from ..linear.statespace import statespace
+
     s = np.asarray(s, dtype=complex)
     if np.any(plant.H) or np.any(plant.Hz) or (plant.Oh is not None and np.any(plant.Oh)):
         raise AnalysisError("method 'statespace' cannot represent hysteretic damping (loss factors); "

@@ -44,7 +44,6 @@ from dataclasses import dataclass
 from typing import Any, cast
 
 import numpy as np
-from control import TimeResponseData
 import scipy.sparse as sp
 import numpy.typing as npt
 
@@ -156,8 +155,10 @@ class TimeResponse(Result):
         return self.outputs[i]
 
     @property
-    def control(self) -> TimeResponseData:
+    def control(self) -> Any:
         """The same response as a python-control :class:`control.TimeResponseData`."""
+        from control import TimeResponseData
+
         return TimeResponseData(
             self.time, self.outputs, None, self.inputs if self.inputs.size else None,
             output_labels=list(self.output_names),

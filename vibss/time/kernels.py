@@ -30,10 +30,8 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, cast
 
-import control
 import numpy as np
 import scipy.linalg as sl
-from scipy.integrate import solve_ivp
 from threadpoolctl import threadpool_limits
 
 from ..linear.complex_modes import complex_modes
@@ -41,7 +39,6 @@ from ..errors import AnalysisError
 from ..linear.eigen import damping_coupling, modal_basis, symmetric_eigen
 from ..linear.plant import Plant
 from ..linear.projection import projected_damping
-from ..linear.statespace import statespace
 
 __all__ = ["Prepared", "Grid", "Kinematics", "prepare", "make_grid", "nudge", "kinematics",
            "run_modal", "run_forced_response", "run_ivp", "realization"]
@@ -515,6 +512,10 @@ def run_forced_response(prep: Prepared, t: np.ndarray, u: np.ndarray, kin: Kinem
     refuses an output that needs an input's derivative, the local z-only realization is used and
     the derivative term is added from the inputs' piecewise-linear slopes.
     """
+    import control
+
+    from ..linear.statespace import statespace
+
     plant = prep.plant
     n = plant.n
     try:
@@ -554,6 +555,8 @@ def run_ivp(prep: Prepared, funcs: list[Callable[[np.ndarray], np.ndarray]], edg
     ts : (ns,) ndarray
         Sample times [s] (0 .. t_end).
     """
+    from scipy.integrate import solve_ivp
+
     r = realization(prep)
     plant = prep.plant
     n = plant.n
