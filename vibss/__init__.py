@@ -16,6 +16,7 @@ array([ 1.01,  1.42,  1.74, 12.33, 14.24, 34.87])
 from __future__ import annotations
 
 import importlib
+import importlib.util
 from typing import TYPE_CHECKING, Any
 
 from .errors import (AnalysisError, ArgumentError, DefectiveModesError, MissingDependencyError, ModelError,
@@ -50,20 +51,24 @@ _LAZY: dict[str, str] = {
     "SweepEnvelope": ".time.sweep", "sweep_envelope": ".time.sweep",
     "study": ".design.study",
     "srs": ".shock",
+    "random_response": ".random", "PSD": ".random",
     # subpackages
     "design": ".design",            # vibss.design.*: mount-system design
     "shock": ".shock",              # vibss.shock.*: shock pulses and the SRS
     "orders": ".orders",            # vibss.orders.*: rotating unbalance and engine orders
+    "random": ".random",            # vibss.random.*: random vibration
 }
-_MODULES = {"design", "shock", "orders"}
+_MODULES = {"design", "shock", "orders", "random"}
 
 
 def __getattr__(name: str) -> Any:
     module = _LAZY.get(name)
-    if module is None:
-        raise AttributeError(f"module 'vibss' has no attribute {name!r}")
+    if module is None:                     # a subpackage (vibss.io, vibss.linear, vibss.plotting ...)
+        if name.startswith("_") or importlib.util.find_spec(f"{__name__}.{name}") is None:
+            raise AttributeError(f"module 'vibss' has no attribute {name!r}")
+        module = f".{name}"
     mod = importlib.import_module(module, __name__)
-    value = mod if name in _MODULES else getattr(mod, name)
+    value = mod if name in _MODULES or module == f".{name}" else getattr(mod, name)
     globals()[name] = value                # later lookups skip __getattr__
     return value
 
@@ -73,7 +78,7 @@ def __dir__() -> list[str]:
 
 
 if TYPE_CHECKING:                          # what static checkers and IDEs see
-    from . import design, orders, shock
+    from . import design, orders, random, shock
     from .design.study import study
     from .frequency.api import FrequencyGrid, FrequencyResponse, frequency_grid, frequency_response
     from .frequency.sweep import sweep_response, transmissibility
@@ -89,7 +94,8 @@ if TYPE_CHECKING:                          # what static checkers and IDEs see
     from .model.model import DOF_NAMES, GROUND, Body, ControlPoint, Load, Model, Mount, MountType, symmetric
     from .reduction.api import Reduction, reduce
     from .reduction.scope import Scope
-    from .shock import srs
+    from .random import PSD, random_response
+    from .shock import srs  # type: ignore[no-redef]  # the function, not the module vibss.shock.srs
     from .statics import StaticResult, static
     from .studies import StudyDefaults, study_defaults
     from .time.api import TimeResponse, simulate
@@ -100,7 +106,7 @@ __version__ = "0.1.0"
 __all__ = [
     "AnalysisError", "ArgumentError", "Assembly", "DefectiveModesError", "Body", "ControlPoint", "DOF_NAMES", "DampedModes", "Excitation",
     "FrequencyGrid", "FrequencyResponse", "GROUND", "Load", "MissingDependencyError", "Model", "ModelError", "ModelFileError", "Modes", "Mount", "MountType", "NamedStateSpace",
-    "Orientation", "Plant", "Reduction", "Scope", "SignalError", "StaticResult", "StudyDefaults", "SweepEnvelope", "TimeResponse", "VibssError", "VibssWarning", "assemble", "build_plant", "damped_modes", "dump_model",
-    "dumps_model", "example_names", "frequency_grid", "frequency_response", "load_example", "load_model", "loads_model", "modes", "orders", "reduce", "shock", "simulate", "srs", "static",
+    "Orientation", "PSD", "Plant", "Reduction", "Scope", "SignalError", "StaticResult", "StudyDefaults", "SweepEnvelope", "TimeResponse", "VibssError", "VibssWarning", "assemble", "build_plant", "damped_modes", "dump_model",
+    "dumps_model", "example_names", "frequency_grid", "frequency_response", "load_example", "load_model", "loads_model", "modes", "orders", "random", "random_response", "reduce", "shock", "simulate", "srs", "static",
     "statespace", "study", "study_defaults", "sweep_envelope", "sweep_response", "symmetric", "transmissibility",
 ]

@@ -26,7 +26,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 from functools import partial
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 import scipy.linalg as sl
@@ -478,7 +478,12 @@ def modal_basis(plant: Plant) -> ModalBasis:
     Returns
     -------
     ModalBasis
+        Computed once per plant (the plant is frozen; repeated FRF calls on it share it).
     """
+    return cast(ModalBasis, plant.cached("modal basis", lambda: _modal_basis(plant)))
+
+
+def _modal_basis(plant: Plant) -> ModalBasis:
     spec = undamped(plant.K, plant.M, plant.Kf)
     w2, phi, rigid, est, method = spec.omega2, spec.phi, spec.rigid, spec.error, spec.method
     if method.startswith("dense") and not np.any(rigid):
