@@ -83,3 +83,17 @@ def test_result_protocol_and_plot(tmp_path):
 def test_bad_input_named(call, message):
     with pytest.raises(ArgumentError, match=message):
         call(isolator())
+
+
+def test_random_guide(capsys):
+    """The random-vibration block of docs/analyses/shock-and-random.md runs and prints what it says."""
+    import re
+    from pathlib import Path
+
+    text = (Path(__file__).parents[1] / "docs/analyses/shock-and-random.md").read_text()
+    block = re.findall(r"```python\n(.*?)```", text.split("## Random vibration", 1)[1], re.S)[0]
+    scope: dict = {}
+    exec(compile(block, "shock-and-random.md", "exec"), scope)
+    out = capsys.readouterr().out
+    assert "(7.966 g)" in out and "(7.941 g)" in out
+    assert scope["r"].rms[0] / G == pytest.approx(np.sqrt(np.pi / 2 * 100 * 0.04 * 10.1), rel=1e-7)
