@@ -18,6 +18,11 @@ import vibss
 OUT = Path(__file__).with_name("api.md")
 
 
+def _doc_of(v: object) -> str:
+    """Docstring of a function or property (of its getter)."""
+    return ((v.fget.__doc__ if isinstance(v, property) else getattr(v, "__doc__", None)) or "")
+
+
 def _first_paragraph(doc: str) -> str:
     return inspect.cleandoc(doc).split("\n\n")[0].replace("\n", " ")
 
@@ -96,6 +101,9 @@ def render() -> tuple[str, list[str]]:
                     for m in members:
                         v = vars(obj)[m]
                         mdoc = (v.fget.__doc__ if isinstance(v, property) else v.__doc__) or ""
+                        if not mdoc:                # an override documented by its base class
+                            mdoc = next((_doc_of(vars(base)[m]) for base in obj.__mro__[1:]
+                                         if m in vars(base) and _doc_of(vars(base)[m])), "")
                         if not mdoc:
                             problems.append(f"{name}.{m} has no docstring")
                         lines.append(f"- `.{m}`: {_first_paragraph(mdoc) if mdoc else ''}")

@@ -67,3 +67,22 @@ def test_subpackages_resolve_as_attributes():
     code = ("import vibss\nassert vibss.io.modelfile.example_names()\nassert vibss.linear.plant.Plant\n"
             "assert vibss.plotting.plot_modes")
     assert "matplotlib" in _loaded(code)
+
+
+def test_time_functions_are_public():
+    import vibss
+    from vibss.model import timefunctions
+
+    for name in ("HalfSine", "Haversine", "SineSweep", "Table", "Step", "Sine", "TimeFunction"):
+        assert getattr(vibss, name) is getattr(timefunctions, name) and name in vibss.__all__
+
+
+def test_frf_no_refine_keeps_exactly_the_base_points(capsys):
+    from vibss.cli import main
+
+    args = ["frf", "--example", "prism", "--input", "prism.fz", "--output", "prism.z", "--points", "5",
+            "--format", "json"]
+    assert main(args + ["--no-refine"]) == 0
+    assert len(json.loads(capsys.readouterr().out)["frequency_hz"]) == 5
+    assert main(args) == 0
+    assert len(json.loads(capsys.readouterr().out)["frequency_hz"]) > 5      # refined at the resonances

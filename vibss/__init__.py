@@ -30,6 +30,20 @@ _LAZY: dict[str, str] = {
     "Assembly": ".linear.assemble", "assemble": ".linear.assemble",
     "DampedModes": ".modal.damped", "damped_modes": ".modal.damped",
     "Excitation": ".model.excitation",
+    # time functions of excitations (vibss.model.timefunctions)
+    "TimeFunction": ".model.timefunctions",
+    "Step": ".model.timefunctions",
+    "Rectangular": ".model.timefunctions",
+    "HalfSine": ".model.timefunctions",
+    "Haversine": ".model.timefunctions",
+    "Triangle": ".model.timefunctions",
+    "Sawtooth": ".model.timefunctions",
+    "Ramp": ".model.timefunctions",
+    "Sine": ".model.timefunctions",
+    "SineSweep": ".model.timefunctions",
+    "Table": ".model.timefunctions",
+    "Sum": ".model.timefunctions",
+
     "Orientation": ".model.geometry",
     "dump_model": ".io.modelfile", "dumps_model": ".io.modelfile", "example_names": ".io.modelfile",
     "load_example": ".io.modelfile", "load_model": ".io.modelfile", "loads_model": ".io.modelfile",
@@ -90,6 +104,8 @@ if TYPE_CHECKING:                          # what static checkers and IDEs see
     from .modal.damped import DampedModes, damped_modes
     from .modal.undamped import Modes, modes
     from .model.excitation import Excitation
+    from .model.timefunctions import (HalfSine, Haversine, Ramp, Rectangular, Sawtooth, Sine, SineSweep, Step,
+                                      Sum, Table, TimeFunction, Triangle)
     from .model.geometry import Orientation
     from .model.model import DOF_NAMES, GROUND, Body, ControlPoint, Load, Model, Mount, MountType, symmetric
     from .reduction.api import Reduction, reduce
@@ -104,6 +120,8 @@ if TYPE_CHECKING:                          # what static checkers and IDEs see
 __version__ = "0.1.0"
 
 __all__ = [
+    "HalfSine", "Haversine", "Ramp", "Rectangular", "Sawtooth", "Sine", "SineSweep", "Step", "Sum", "Table",
+    "TimeFunction", "Triangle",
     "AnalysisError", "ArgumentError", "Assembly", "DefectiveModesError", "Body", "ControlPoint", "DOF_NAMES", "DampedModes", "Excitation",
     "FrequencyGrid", "FrequencyResponse", "GROUND", "Load", "MissingDependencyError", "Model", "ModelError", "ModelFileError", "Modes", "Mount", "MountType", "NamedStateSpace",
     "Orientation", "PSD", "Plant", "Reduction", "Scope", "SignalError", "StaticResult", "StudyDefaults", "SweepEnvelope", "TimeResponse", "VibssError", "VibssWarning", "assemble", "build_plant", "damped_modes", "dump_model",

@@ -25,6 +25,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--f1", type=float, help="lowest frequency [Hz]")
     p.add_argument("--f2", type=float, help="highest frequency [Hz]")
     p.add_argument("--points", type=int, help="number of base points (default 1000)")
+    p.add_argument("--no-refine", action="store_true",
+                   help="exactly the base points: no points added at the resonances")
     p.add_argument("--spacing", choices=("log", "linear"), help="base grid spacing (default log)")
     p.add_argument("--quantity", choices=("receptance", "mobility", "accelerance"), default="receptance",
                    help="outputs as named (default), or their first or second time derivative")
@@ -44,6 +46,8 @@ def run(args: argparse.Namespace) -> int:
     for key in ("f1", "f2", "points", "spacing"):
         if getattr(args, key) is not None:
             settings[key] = getattr(args, key)
+    if args.no_refine:
+        settings["refine"] = False
     outputs = args.output or None
     if args.input:
         result = frequency_response(model, args.input, outputs, FrequencyGrid(**settings),
@@ -54,7 +58,8 @@ def run(args: argparse.Namespace) -> int:
                              "(e.g. --input engine.fz)")
         result = sweep_response(model, list(steady_sweeps(model)) or None, settings["f1"],
                                 settings["f2"], int(settings["points"]), settings["spacing"],
-                                outputs, args.quantity, method=args.method)
+                                outputs, args.quantity, refine=settings.get("refine", True),
+                                method=args.method)
     emit(result, args.format)
     if args.plot:
         fig = result.plot()
