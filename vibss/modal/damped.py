@@ -136,7 +136,7 @@ class DampedModes(Result):
             rows.append([f"{k + 1}", f"{self.frequency_hz[k]:.4f}", f"{self.damped_frequency_hz[k]:.4f}",
                          f"{self.damping_ratio[k]:.5f}", f"{self.poles[k].real:.5g}",
                          f"{self.poles[k].imag:.5g}", f"{j + 1} ({self.undamped.frequency_hz[j]:.3f} Hz, "
-                         f"{self.undamped.directions[j]})"])
+                         f"{self.undamped.labels[j]})"])
         return Table(["mode", "fn [Hz]", "fd [Hz]", "zeta", "Re p [1/s]", "Im p [rad/s]", "undamped mode"],
                      rows, title=f"Damped modes ({self.method})")
 

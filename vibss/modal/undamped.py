@@ -161,6 +161,21 @@ class Modes(Result):
     def _directions(self) -> tuple[str, ...]:
         return tuple(dominant_direction(self.energy))
 
+    @property
+    def labels(self) -> list[str]:
+        """Mode labels for tables and figures: the dominant direction, with the body holding most of
+        that direction's kinetic energy for multi-body models (``"tank.y"``; single body: ``"y"``)."""
+        return list(self._labels)
+
+    @cached_property
+    def _labels(self) -> tuple[str, ...]:
+        bodies = [b.name for b in self.model.bodies]
+        if len(bodies) == 1:
+            return self._directions
+        e = np.asarray(self.energy).reshape(len(self), len(bodies), 6)
+        return tuple(f"{bodies[int(np.argmax(e[k, :, DOF_NAMES.index(d)]))]}.{d}"
+                     for k, d in enumerate(self._directions))
+
     @cached_property
     def direction_energy(self) -> np.ndarray:
         """(k, 6) kinetic-energy share per direction, summed over bodies."""
@@ -206,7 +221,7 @@ class Modes(Result):
 
     def energy_table(self) -> Table:
         """Kinetic-energy distribution [%]: one row per mode, one column per body DOF."""
-        rows = [[f"{k + 1}", f"{self.frequency_hz[k]:.3f}", self.directions[k]]
+        rows = [[f"{k + 1}", f"{self.frequency_hz[k]:.3f}", self.labels[k]]
                 + [f"{100 * e:.1f}" for e in self.energy[k]] for k in range(len(self))]
         return Table(["mode", "f [Hz]", "dir"] + list(self.dofs), rows,
                      title="Modal kinetic-energy distribution [%]")
@@ -224,7 +239,7 @@ class Modes(Result):
         frac = 100 * self.effective_mass_fraction
         for k in range(len(self)):
             rows.append([f"{k + 1}", f"{self.frequency_hz[k]:.4f}", f"{self.cpm[k]:.0f}",
-                         f"{self.omega[k]:.4g}", self.directions[k] + (" (rigid)" if self.rigid[k] else ""),
+                         f"{self.omega[k]:.4g}", self.labels[k] + (" (rigid)" if self.rigid[k] else ""),
                          f"{self.modal_mass[k]:.4g}"]
                         + [f"{m:.1f}" if m >= 0.05 else "0" for m in frac[k]]
                         + [("-" if self._estimate(k) is None else f"{self._estimate(k):.1e}")])

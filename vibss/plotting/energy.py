@@ -59,7 +59,7 @@ def plot_energy(modes: Modes, kind: str = "heatmap", which: Sequence[int] | None
     e = 100 * modes.energy[ks]
     names = modes.model.body_names
     cols = list(DOF_NAMES) if len(names) == 1 else list(modes.dofs)
-    ylabels = [f"{k + 1}: {modes.frequency_hz[k]:.3g} Hz {modes.directions[k]}" for k in ks]
+    ylabels = [f"{k + 1}: {modes.frequency_hz[k]:.3g} Hz {modes.labels[k]}" for k in ks]
     if kind == "heatmap":
         fig = new_figure(1.2 + 0.62 * len(cols), 1.3 + 0.36 * len(ks))
         ax = fig.add_subplot()

@@ -26,8 +26,8 @@ def mode_title(modes: Modes, k: int) -> str:
     """``"mode k: f Hz (CPM), direction"`` for mode index ``k`` (0-based; printed 1-based)."""
     f = modes.frequency_hz[k]
     if modes.rigid[k]:
-        return f"mode {k + 1}: 0 Hz (rigid), {modes.directions[k]}"
-    return f"mode {k + 1}: {f:.3g} Hz ({modes.cpm[k]:.0f} CPM), {modes.directions[k]}"
+        return f"mode {k + 1}: 0 Hz (rigid), {modes.labels[k]}"
+    return f"mode {k + 1}: {f:.3g} Hz ({modes.cpm[k]:.0f} CPM), {modes.labels[k]}"
 
 
 def mode_motion(modes: Modes, k: int, scene: Scene, scale: float | None = None) -> tuple[np.ndarray, float]:

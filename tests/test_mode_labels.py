@@ -1,0 +1,35 @@
+"""Mode labels name the body on multi-body models (``body2.x``) and stay the direction on one body;
+the body is the one holding most of that direction's kinetic energy, computed here from phi o (M phi)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+import vibss
+from vibss.model.model import DOF_NAMES
+
+
+def test_multi_body_labels_name_the_body():
+    model = vibss.load_example("two_mass")
+    m = vibss.modes(model)
+    M = np.asarray(vibss.assemble(model).dense("M"))
+    ke = (m.shapes * (M @ m.shapes)).T                                 # (modes, DOFs)
+    ke = ke / ke.sum(axis=1, keepdims=True)
+    names = [b.name for b in model.bodies]
+    for k, (label, d) in enumerate(zip(m.labels, m.directions)):
+        body = names[int(np.argmax(ke[k].reshape(len(names), 6)[:, DOF_NAMES.index(d)]))]
+        assert label == f"{body}.{d}"
+    assert len(set(m.labels)) == len(m.labels)                          # no two modes called "x"
+    assert m.labels[0] in m.frequency_table().render() and m.labels[0] in m.report()
+
+
+def test_single_body_labels_are_the_directions():
+    m = vibss.modes(vibss.load_example("prism"))
+    assert m.labels == m.directions
+
+
+def test_figure_titles_use_the_labels():
+    from vibss.plotting import mode_title
+
+    m = vibss.modes(vibss.load_example("two_mass"))
+    assert mode_title(m, 0).endswith(m.labels[0]) and "." in m.labels[0]
