@@ -167,11 +167,15 @@ class _Pulse(TimeFunction):
     roles: ClassVar[dict[str, str]] = {"amplitude": "value", "start": "time", "duration": "time"}
     amplitude: float
     start: float = 0.0
-    duration: float = 1.0
+    duration: float = math.nan      # required: a pulse without a stated length is refused
 
     def __post_init__(self) -> None:
         self._num("amplitude")
         self._num("start")
+        d = self.duration
+        if isinstance(d, float) and math.isnan(d):
+            raise ModelError(f"{self.type} function: duration: missing (required: the pulse's length [s], "
+                             "e.g. 0.011 for an 11 ms shock; there is no default)")
         self._num("duration", positive=True)
 
     def _shape(self, u: np.ndarray) -> np.ndarray:
