@@ -51,3 +51,15 @@ def test_pulses_need_a_duration():
             'function = { type = "half_sine", amplitude = 100.0 }\n')
     with pytest.raises(ModelError, match=r"excitation\[1\] \('shock'\).*duration: missing"):
         vibss.loads_model(text)
+
+
+def test_no_negative_zeros_in_tables():
+    """Issue 16: '-0.0' and 'zeta -0.00000' in tables. Cells that round to zero lose the sign;
+    genuine small negatives keep it."""
+    from vibss.results import Table
+
+    t = Table(["a", "b"], [["-0.0", "-0.00000 mm"], ["-0.01", "-0e+00"], ["-1e-06", "x-0.0"]])
+    assert t.rows == [["0.0", "0.00000 mm"], ["-0.01", "0e+00"], ["-1e-06", "x-0.0"]]
+    # the powertrain's energy table printed "-0.0" for a tiny negative share before
+    m = vibss.modes(vibss.load_example("powertrain"))
+    assert np.any((m.energy < 0) & (m.energy > -5e-4)) and " -0.0" not in m.energy_table().render()

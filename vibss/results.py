@@ -23,6 +23,7 @@
 from __future__ import annotations
 
 import html
+import re
 import json
 import math
 from collections.abc import Mapping, Sequence
@@ -35,6 +36,18 @@ from ._validate import name_index
 from .errors import ArgumentTypeError, MissingDependencyError, SignalError
 
 __all__ = ["Table", "Result", "jsonable", "require_pandas"]
+
+
+_NEGATIVE_ZERO = re.compile(r"^(\s*)-(0(?:\.0*)?(?:[eE][-+]?\d+)?)(\s.*)?$")
+
+
+def _no_negative_zero(cell: Any) -> Any:
+    """``"-0.000"`` -> ``"0.000"`` (also ``"-0.0 mm"``, ``"-0e+00"``); other cells unchanged."""
+    if isinstance(cell, str):
+        m = _NEGATIVE_ZERO.match(cell)
+        if m:
+            return m.group(1) + m.group(2) + (m.group(3) or "")
+    return cell
 
 
 @dataclass(frozen=True)
@@ -57,6 +70,10 @@ class Table:
     rows: Sequence[Sequence[str]]
     title: str = ""
     notes: Sequence[str] = field(default_factory=tuple)
+
+    def __post_init__(self) -> None:
+        # a rounded tiny negative prints as "-0.0": an engineer reads a sign that is not there
+        object.__setattr__(self, "rows", [[_no_negative_zero(c) for c in r] for r in self.rows])
 
     def render(self) -> str:
         """The table as aligned text (numbers right-aligned)."""
