@@ -63,3 +63,18 @@ def test_no_negative_zeros_in_tables():
     # the powertrain's energy table printed "-0.0" for a tiny negative share before
     m = vibss.modes(vibss.load_example("powertrain"))
     assert np.any((m.energy < 0) & (m.energy > -5e-4)) and " -0.0" not in m.energy_table().render()
+
+
+def test_assembly_matrices_cannot_be_changed_from_outside():
+    """Issue 18: `K = asm.dense('K'); K *= 4` doubled every later frequency of modes(asm)."""
+    import pytest
+
+    asm = vibss.assemble(vibss.load_example("two_mass"), sparse=True)
+    before = vibss.modes(asm).frequency_hz
+    K = asm.dense("K")
+    with pytest.raises(ValueError, match="read-only"):
+        K *= 4
+    np.testing.assert_array_equal(vibss.modes(asm).frequency_hz, before)
+    mine = asm.dense("K").copy()
+    mine *= 4                                           # a copy is the user's to change
+    assert np.allclose(mine, 4 * asm.dense("K"))

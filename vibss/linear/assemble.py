@@ -102,12 +102,19 @@ class Assembly:
         return bool(np.any(self.hp))
 
     def dense(self, name: str) -> np.ndarray:
-        """Matrix ``name`` ('M', 'K', 'C' or 'H') as a dense array (cached for sparse models)."""
+        """Matrix ``name`` ('M', 'K', 'C' or 'H') as a dense array (cached for sparse models).
+
+        Read-only: it is the assembly's own matrix (or its cached dense copy), shared by every later
+        analysis of this assembly; ``.copy()`` it to change it."""
         mat = getattr(self, name)
         if not sp.issparse(mat):
+            if isinstance(mat, np.ndarray):
+                mat.flags.writeable = False
             return mat
         if name not in self._cache:
-            self._cache[name] = mat.toarray()
+            dense = mat.toarray()
+            dense.flags.writeable = False
+            self._cache[name] = dense
         return self._cache[name]
 
     def dof_index(self, label: str) -> int:
