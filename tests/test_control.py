@@ -273,9 +273,14 @@ def test_quarter_car_lqr_and_hinf_match_the_hand_written_plant() -> None:
     Dg[:3, [0]] = sw[:, None] * np.vstack([D[[1, 2]][:, [0]], [[0.0]]])
     Dg[:3, [2]] = sw[:, None] * Dz
     Dg[3, 1] = 1e-3
-    _, _, gam, _ = control.hinfsyn(control.ss(A, Bw, Cg, Dg), 1, 1)
-    # SB10AD's gamma iteration stops within its own tolerance of the optimum; measured 0.5 % apart
-    assert Kinf.design["gamma"] == pytest.approx(gam, rel=1e-2)
+    _, gam, _ = vc.optimal._synthesise(control.ss(A, Bw, Cg, Dg), 1, 1, "hand-written")
+    assert Kinf.design["gamma"] == pytest.approx(gam, rel=2e-3)          # two bisections to 1e-3 each
+    # the achieved norm, independently: the weighted closed loop on a dense grid
+    cl = vc.close(Pn, Kinf, margins=False)
+    w = np.geomspace(0.1, 1e4, 6000)
+    h = evaluate(cl.system, w)[:3, :2] * np.sqrt(np.array(list(wts.values())))[:, None, None]
+    peak = max(np.linalg.svd(h[:, :, i], compute_uv=False)[0] for i in range(w.size))
+    assert peak <= Kinf.design["gamma"] * (1 + 1e-6) and peak >= Kinf.design["gamma"] * (1 - 1e-2)
     assert np.all(vc.close(Pn, Kinf, margins=False).poles.real < 0)
 
 
@@ -328,6 +333,33 @@ def test_platform_skyhook_meets_the_isolation_targets() -> None:
     cl = vc.close(P, vc.skyhook(P, cs["gain"]))
     assert min(x.gain_margin_db for x in cl.margins) >= 6.0
     assert min(x.phase_margin_deg for x in cl.margins) >= 45.0
+    f = np.geomspace(0.3, 30.0, 400)
+    passive, active = cl.transmissibility(cs["disturbances"], cs["performance"], f)
+    for i in range(3):
+        tp, ta = np.abs(passive.response[i, i]), np.abs(active.response[i, i])
+        k = int(np.argmax(tp))
+        assert 20 * np.log10(tp[k] / ta[k]) >= 20.0
+
+
+def platform_hinf() -> tuple[vc.ClosedLoop, dict]:
+    """The documented H-infinity design: synthesised on the ideal-actuator plant, closed on the real one."""
+    m = load_example("platform")
+    cs = m.settings["control"]
+    perf = [f"table.{d}.vel" for d in ("x", "y", "z", "rx", "ry", "rz")]
+    design = vc.plant(m, cs["disturbances"], performance=perf + [a.command for a in m.actuators], noise=1e-2,
+                      ideal_actuators=True)
+    weights = {**{s: 1.0 for s in perf}, "table.x.vel": 2.0, "table.y.vel": 2.0,
+               **{a.command: 1.6e-3 for a in m.actuators}}
+    K = vc.hinf(design, weights)
+    P = vc.plant(m, cs["disturbances"], performance=cs["performance"])
+    return vc.close(P, K), cs
+
+
+def test_platform_hinf_meets_the_isolation_targets() -> None:
+    cl, cs = platform_hinf()
+    assert min(x.gain_margin_db for x in cl.margins) >= 6.0
+    assert min(x.phase_margin_deg for x in cl.margins) >= 45.0
+    assert min(x.disk_margin for x in cl.margins) > 0.5
     f = np.geomspace(0.3, 30.0, 400)
     passive, active = cl.transmissibility(cs["disturbances"], cs["performance"], f)
     for i in range(3):

@@ -212,7 +212,9 @@ def weight(dc: float, crossover_hz: float, hf: float) -> Any:
 
 
 def hinf(P: Any, weights: Mapping[str, Any] | None = None) -> Controller:
-    """H-infinity output-feedback synthesis (``control.hinfsyn``, SLICOT SB10AD) on the weighted plant.
+    """H-infinity output-feedback synthesis on the weighted plant: a gamma bisection with SLICOT's
+    SB10FD whose every closed loop is verified with AB13DD (see :func:`_synthesise` for why not
+    ``control.hinfsyn``).
 
     Parameters
     ----------
@@ -225,7 +227,8 @@ def hinf(P: Any, weights: Mapping[str, Any] | None = None) -> Controller:
     Returns
     -------
     Controller
-        ``design["gamma"]`` is the achieved closed-loop H-infinity norm of the weighted ``w -> z``.
+        ``design["gamma"]`` is the achieved closed-loop H-infinity norm of the weighted ``w -> z``,
+        measured (SLICOT AB13DD), within 0.1 % of the smallest gamma SB10FD can reach.
 
     Raises
     ------
@@ -243,16 +246,77 @@ def hinf(P: Any, weights: Mapping[str, Any] | None = None) -> Controller:
                                      argument="slycot") from None
     preflight(P, ("stabilizable", "detectable", "D12", "D21"))
     Pw = _weighted(P, weights)
-    try:
-        K, CL, gam, rcond = control.hinfsyn(Pw, P.ny, P.nu)
-    except Exception as exc:    # SLICOT reports failures through its own exception types
-        raise ControlDesignError(f"hinf: SLICOT SB10AD refused the weighted plant of {P.name}: {exc}") from None
-    K = control.ss(K)
+    K, gam, steps = _synthesise(Pw, P.ny, P.nu, P.name)
     return controller(K.A, K.B, K.C, K.D, [vibss_name(s) for s in P.groups["y"]],
                       [vibss_name(s) for s in P.groups["u"]],
-                      {"design": "hinf", "gamma": float(gam), "weights": {k: (v if np.isscalar(v) else str(v).split(chr(10))[0])
-                                                                          for k, v in (weights or {}).items()}},
+                      {"design": "hinf", "gamma": gam, "bisection_steps": steps,
+                       "weights": {k: (v if np.isscalar(v) else str(v).split(chr(10))[0])
+                                   for k, v in (weights or {}).items()}},
                       name="hinf")
+
+
+def _achieved(Pw: Any, K: Any) -> float:
+    """H-infinity norm of the closed loop ``lft(Pw, K)`` (SLICOT AB13DD), inf when it is unstable."""
+    import control
+
+    cl = Pw.lft(K, K.noutputs, K.ninputs)
+    if cl.nstates and np.max(np.linalg.eigvals(np.asarray(cl.A)).real) >= 0:
+        return np.inf
+    return float(control.norm(cl, p="inf", print_warning=False))
+
+
+def _synthesise(Pw: Any, ny: int, nu: int, name: str, rtol: float = 1e-3) -> tuple[Any, float, int]:
+    """The best controller of a gamma bisection with verified closed-loop norms.
+
+    SB10AD (``control.hinfsyn``) lowers gamma while the closed loop stays *stable*, not while the
+    norm bound holds, so its gamma can be far below what its controller achieves (measured on the
+    quarter car: estimate 11.2, achieved 5,086) and on the 12-actuator platform it ran for minutes.
+    Here gamma is bisected with SB10FD (the central controller for a given gamma, which SLICOT
+    refuses when gamma is infeasible) and every candidate's closed-loop norm is measured with AB13DD;
+    the bisection starts from the open loop's norm (``K = 0``) when the plant is stable.
+    """
+    import control
+    from slycot import sb10fd
+
+    A, B, C, D = (np.asarray(x, dtype=float) for x in (Pw.A, Pw.B, Pw.C, Pw.D))
+    n, m, p = A.shape[0], B.shape[1], C.shape[0]
+    zero = control.ss(np.zeros((0, 0)), np.zeros((0, ny)), np.zeros((nu, 0)), np.zeros((nu, ny)))
+    best, best_k = _achieved(Pw, zero), zero
+    steps = 0
+
+    def attempt(g: float) -> tuple[float, Any]:
+        try:
+            ak, bk, ck, dk, _ = sb10fd(n, m, p, nu, ny, g, A, B, C, D)
+        except Exception:       # SLICOT raises when gamma is infeasible (or a Riccati equation fails)
+            return np.inf, None
+        k = control.ss(ak, bk, ck, dk)
+        return _achieved(Pw, k), k
+
+    hi = best
+    if not np.isfinite(hi):            # unstable plant: find a feasible gamma first
+        g = 1.0
+        for _ in range(60):
+            steps += 1
+            got, k = attempt(g)
+            if got <= g * (1 + 1e-9):
+                hi, best, best_k = g, got, k
+                break
+            g *= 4.0
+        else:
+            raise ControlDesignError(f"hinf: no stabilizing H-infinity controller found for {name} up to "
+                                     f"gamma = {g:.3g}; check the weights and the plant")
+    lo = 0.0
+    while hi - lo > rtol * hi and steps < 80:
+        steps += 1
+        g = np.sqrt(lo * hi) if lo > 0 else 0.5 * hi
+        got, k = attempt(g)
+        if got <= g * (1 + 1e-9):
+            hi = g
+            if got < best:
+                best, best_k = got, k
+        else:
+            lo = g
+    return best_k, best, steps
 
 
 def _weighted(P: Any, weights: Mapping[str, Any] | None) -> Any:

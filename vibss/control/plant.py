@@ -244,7 +244,7 @@ def plant(model: Model | Assembly, disturbances: Sequence[str] | None = None,
           actuators: Sequence[str] | None = None, performance: Sequence[str] | None = None,
           measurements: Sequence[str] | str | None = None, *, noise: float | Mapping[str, float] | None = None,
           dofs: Sequence[str] | None = None, modal_damping: float | None = None,
-          name: str | None = None) -> GeneralizedPlant:
+          ideal_actuators: bool = False, name: str | None = None) -> GeneralizedPlant:
     """The generalized plant ``(w, u) -> (z, y)`` of a model with actuators and sensors.
 
     Parameters
@@ -271,6 +271,9 @@ def plant(model: Model | Assembly, disturbances: Sequence[str] | None = None,
         others are not coupled to them.
     modal_damping : float or None
         Extra modal damping ratio (as :func:`~vibss.linear.signals.build_plant`).
+    ideal_actuators : bool
+        Leave out the actuators' bandwidths (force = command): a design model for synthesis when the
+        actuator poles are far above the loop's band; close the loop on the full plant to check it.
     name : str or None
         System name (default: the model's, python-control spelling).
 
@@ -325,7 +328,7 @@ def plant(model: Model | Assembly, disturbances: Sequence[str] | None = None,
     states = list(core.state_labels)
     # actuator dynamics in series: command -> force
     for k, a in enumerate(acts):
-        dyn = _dynamics(a)
+        dyn = None if ideal_actuators else _dynamics(a)
         if dyn is None:
             continue
         col = nw + k

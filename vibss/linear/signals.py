@@ -169,7 +169,7 @@ def parse_input(asm: Assembly, item: Any) -> _Input:
     if not isinstance(item, str):
         return _parse_excitation(asm, item)
     bodies, points = set(model.body_names), {p.name: p for p in model.control_points}
-    if item.startswith("actuator."):
+    if item.startswith("actuator.") and (model.actuators or "actuator" not in points.keys() | bodies):
         return _actuator_input(asm, item)
     head, _, last = item.rpartition(".")
     if last in _MOTION:
@@ -333,7 +333,7 @@ def output_row(asm: Assembly, name: Any, cache: dict) -> tuple[_Rows, str]:
     nf = asm.n + 6
     zero = np.zeros(nf)
     bodies, points = set(model.body_names), {p.name: p for p in model.control_points}
-    if name.startswith("sensor."):
+    if name.startswith("sensor.") and (model.sensors or "sensor" not in points.keys() | bodies):
         return _sensor_row(asm, name)
     if name.startswith("mount."):
         head, _, comp = name[6:].rpartition(".")

@@ -327,6 +327,10 @@ class Model:
         for ld in self.loads:
             if ld.body not in names:
                 raise ModelError(f"load {ld.name or ''}: unknown body {ld.body!r}" + did_you_mean(ld.body, names))
+        for what, items in (("actuator", self.actuators), ("sensor", self.sensors)):
+            if items and what in names | {c.name for c in self.control_points}:
+                raise ModelError(f"model: a body or control point is named {what!r} and the model has "
+                                 f"{what}s: signals '{what}.<name>' would be ambiguous; rename it")
         _check_elements(self.actuators, "actuator", names, {m.name for m in self.mounts})
         _check_elements(self.sensors, "sensor", names, {m.name for m in self.mounts})
         if self.gravity is not None:
