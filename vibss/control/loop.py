@@ -47,7 +47,16 @@ class Controller(NamedStateSpace):
         info = getattr(self, "design", {})
         lines = [f"controller {self.name}: {info.get('design', 'user')} "
                  f"({self.ninputs} measurements -> {self.noutputs} commands, {self.nstates} states)"]
-        lines += [f"  {k}: {v}" for k, v in info.items() if k != "design"]
+        for k, v in info.items():
+            if k == "design" or isinstance(v, np.ndarray):
+                continue
+            if isinstance(v, dict) and len(v) > 3:
+                vals = list(v.values())
+                if all(x == vals[0] for x in vals):
+                    v = f"{vals[0]} on each of {len(v)} loops"
+                else:
+                    v = ", ".join(f"{a}: {b}" for a, b in list(v.items())[:3]) + f", ... ({len(v)} in all)"
+            lines.append(f"  {k}: {v}")
         return "\n".join(lines)
 
 

@@ -34,15 +34,24 @@ def plot_transmissibility(passive: Any, active: Any, ax: Any = None, title: str 
     else:
         fig = ax.figure
     f = active.frequency_hz
-    k = 0
+    peak = max(float(np.abs(passive.response).max()), float(np.abs(active.response).max()), 1e-300)
+    k, skipped = 0, 0
     for i, y in enumerate(active.outputs):
         for j, u in enumerate(active.inputs):
+            if max(np.abs(passive.response[i, j]).max(), np.abs(active.response[i, j]).max()) < 1e-6 * peak:
+                skipped += 1          # a channel the symmetry decouples: round-off, not a response
+                continue
             colour = f"C{k % 10}"
             ax.semilogx(f, 20 * np.log10(np.maximum(np.abs(passive.response[i, j]), 1e-300)), color=colour,
                         ls="--", lw=1.0, label=f"{y} / {u}: passive")
             ax.semilogx(f, 20 * np.log10(np.maximum(np.abs(active.response[i, j]), 1e-300)), color=colour,
                         lw=1.6, label=f"{y} / {u}: closed loop")
             k += 1
+    top = 20 * np.log10(peak)
+    ax.set_ylim(bottom=max(ax.get_ylim()[0], top - 100.0), top=top + 10.0)
+    if skipped:
+        ax.text(0.01, 0.01, f"{skipped} channel(s) below -120 dB of the largest not drawn", transform=ax.transAxes,
+                fontsize=7, color="0.4", va="bottom")
     ax.set_xlabel("frequency [Hz]")
     ax.set_ylabel("transmissibility [dB]  (|output| / |input|, same units)")
     ax.grid(True, which="both", alpha=0.3)
