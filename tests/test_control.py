@@ -366,3 +366,19 @@ def test_platform_hinf_meets_the_isolation_targets() -> None:
         tp, ta = np.abs(passive.response[i, i]), np.abs(active.response[i, i])
         k = int(np.argmax(tp))
         assert 20 * np.log10(tp[k] / ta[k]) >= 20.0
+
+
+def test_report_and_cli_run_the_files_control_table(capsys: pytest.CaptureFixture[str]) -> None:
+    from vibss.cli import main
+    from vibss.report import study
+
+    r = study(load_example("platform"), figures=False)
+    sec = r.section("control")
+    assert not sec.skipped and not sec.failed
+    assert all(x["reduction_db"] >= 20.0 for x in r.results["control"].reductions())
+    assert main(["control", "--example", "platform", "--format", "json"]) == 0
+    import json
+    data = json.loads(capsys.readouterr().out)
+    assert len(data["margins"]) == 12 and data["design"]["design"] == "skyhook"
+    assert main(["control", "--example", "prism"]) == 2          # no [control] table: one clear line
+    assert "no [control] table" in capsys.readouterr().err

@@ -287,14 +287,13 @@ class _Loops:
     ``L_i = -(Q_ii + Q_io (I - Q_oo)^-1 Q_oi)``."""
 
     def __init__(self, plant: Any, k: Any, iy: np.ndarray, iu: np.ndarray) -> None:
-        self.plant, self.k, self.iy, self.iu = plant, k, iy, iu
+        from ..frequency.statespace_response import Evaluator
+
+        self.G = Evaluator(plant, outputs=iy, inputs=iu)
+        self.K = Evaluator(k)
 
     def q(self, omega: np.ndarray) -> np.ndarray:
-        from ..frequency.statespace_response import evaluate
-
-        G = evaluate(self.plant, omega, outputs=self.iy, inputs=self.iu)
-        K = evaluate(self.k, omega)
-        return np.einsum("ijf,jkf->fik", K, G)                  # (nf, nu, nu)
+        return np.einsum("ijf,jkf->fik", self.K(omega), self.G(omega))     # (nf, nu, nu)
 
     def loop(self, i: int, q: np.ndarray) -> np.ndarray:
         n = q.shape[1]
@@ -316,8 +315,10 @@ def _grid(poles: np.ndarray, extra: np.ndarray) -> np.ndarray:
     lo = mags.min() / 100 if mags.size else 1e-2
     hi = mags.max() * 100 if mags.size else 1e4
     base = np.geomspace(lo, hi, 800)
+    osc = [p for p in poles if abs(p) > 0 and p.imag > 0]
+    osc = sorted(osc, key=lambda p: abs(p.real) / abs(p))[:100]        # the 100 most lightly damped
     near = [np.abs(p) * (1 + np.linspace(-3, 3, 31) * max(min(abs(p.real) / max(abs(p), 1e-300), 0.3), 1e-4))
-            for p in poles if abs(p) > 0 and p.imag > 0]
+            for p in osc]
     return np.unique(np.concatenate([base, *near])) if near else base
 
 
