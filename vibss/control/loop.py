@@ -289,7 +289,7 @@ class _Loops:
     def __init__(self, plant: Any, k: Any, iy: np.ndarray, iu: np.ndarray) -> None:
         from ..frequency.statespace_response import Evaluator
 
-        self.G = Evaluator(plant, outputs=iy, inputs=iu)
+        self.G = Evaluator(plant, outputs=list(iy), inputs=list(iu))
         self.K = Evaluator(k)
 
     def q(self, omega: np.ndarray) -> np.ndarray:

@@ -70,7 +70,7 @@ def preflight(P: Any, need: tuple[str, ...]) -> None:
             if l.real < -1e-8 * scale:
                 continue
             v = vecs[:, k]
-            if np.linalg.norm(mat @ v) <= 1e-9 * np.linalg.norm(v) * max(np.linalg.norm(mat), 1e-300):
+            if float(np.linalg.norm(mat @ v)) <= 1e-9 * float(np.linalg.norm(v)) * max(float(np.linalg.norm(mat)), 1e-300):
                 kind = "marginally stable" if abs(l.real) <= 1e-8 * scale else "unstable"
                 raise ControlDesignError(
                     f"plant {P.name}: not {which}: the {kind} mode at s = {l.real:.3g}{l.imag:+.3g}j rad/s "
@@ -331,8 +331,8 @@ def _weighted(P: Any, weights: Mapping[str, Any] | None) -> Any:
         raise ModelError(f"weights: {unknown} are not performance outputs; they are {z}")
     parts = []
     for s in z:
-        v = given.get(s, 1.0)
-        if np.isscalar(v):
+        v: Any = given.get(s, 1.0)
+        if isinstance(v, (int, float, np.integer, np.floating)):
             if not np.isfinite(v) or v < 0:
                 raise ArgumentError(f"weights: {s!r}: expected a number >= 0 or a SISO system, got {v!r}")
             parts.append(control.ss([], [], [], [[float(v)]]))

@@ -185,7 +185,7 @@ def relative_plant(mech: Plant, model: Model) -> Plant:
         A body DOF is prescribed, the rigid-motion identity fails, or an output needs the integral of
         a disturbance.
     """
-    changes: dict[str, np.ndarray] = {k: np.array(getattr(mech, k), dtype=float)
+    changes: dict[str, Any] = {k: np.array(getattr(mech, k), dtype=float)
                                       for k in ("F", "Kz", "Cz", "Mz", "Hz", "Pz", "Pv", "Pa", "Pf")}
     kinds = list(mech.kinds)
     scale_k = np.abs(mech.K).max(initial=0.0) or 1.0

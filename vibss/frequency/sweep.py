@@ -149,7 +149,7 @@ def _system_transmissibility(system: Any, inputs: Sequence[str], outputs: Sequen
         s = 2j * np.pi * f
         for a, yo in enumerate(oo):
             for b, ui in enumerate(oi):
-                h[a, b] = h[a, b] * s ** (ui - yo)
+                h[a, b] = h[a, b] * s ** (int(ui or 0) - int(yo or 0))
     return FrequencyResponse(f, h, tuple(y.replace(":", ".") for y in outs), tuple(u.replace(":", ".") for u in ins),
                              tuple("- per unit input" for _ in outs), "transmissibility",
                              "statespace (balanced, direct solve)", "", np.zeros(0),

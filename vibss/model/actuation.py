@@ -273,7 +273,7 @@ def resolve(model: Any, e: Actuator | Sensor) -> tuple[str, str, np.ndarray, np.
         m = {x.name: x for x in model.mounts}[e.mount]
         d = m.orientation.matrix[:, e.axis - 1] if e.axis is not None else e.direction
         return m.body, m.to, model.mount_point(m), np.asarray(d, dtype=float)
-    body = e.body
+    body = str(e.body)
     to = GROUND if e.to is None else e.to
     point = model.point(body, e.at, e.frame) + model.body(body).cog
     return body, to, point, np.asarray(e.direction, dtype=float)

@@ -327,8 +327,9 @@ class Model:
         for ld in self.loads:
             if ld.body not in names:
                 raise ModelError(f"load {ld.name or ''}: unknown body {ld.body!r}" + did_you_mean(ld.body, names))
-        for what, items in (("actuator", self.actuators), ("sensor", self.sensors)):
-            if items and what in names | {c.name for c in self.control_points}:
+        elements: tuple[tuple[str, Sequence[Any]], ...] = (("actuator", self.actuators), ("sensor", self.sensors))
+        for what, group in elements:
+            if group and what in names | {c.name for c in self.control_points}:
                 raise ModelError(f"model: a body or control point is named {what!r} and the model has "
                                  f"{what}s: signals '{what}.<name>' would be ambiguous; rename it")
         _check_elements(self.actuators, "actuator", names, {m.name for m in self.mounts})
@@ -435,12 +436,12 @@ class Model:
             at=None if ld.at is None else q @ ld.at + (off if ld.frame == "global" else 0.0))
             for ld in self.loads]
         gravity = None if self.gravity is None else q @ self.gravity
-        elements = {key: [dataclasses.replace(
+        parts: dict[str, Any] = {key: [dataclasses.replace(
             e, at=q @ e.at + (off if e.frame == "global" else 0.0),
             direction=None if e.direction is None else q @ e.direction) for e in getattr(self, key)]
             for key in ("actuators", "sensors")}
         return dataclasses.replace(self, bodies=bodies, mounts=mounts, control_points=cps,
-                                   loads=loads, gravity=gravity, **elements)
+                                   loads=loads, gravity=gravity, **parts)
 
 
 def _check_elements(items: Sequence[Any], what: str, bodies: set[str], mounts: set[str]) -> None:
