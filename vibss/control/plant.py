@@ -30,10 +30,10 @@ Examples
 >>> m = Model([Body("b", 10.0, [1, 1, 1])], [Mount("m", t, "b")],
 ...           actuators=[Actuator("a", mount="m", axis=3)],
 ...           sensors=[Sensor("v", "velocity", body="b", direction=[0, 0, 1])])
->>> P = plant(m, disturbances=["ground.z.acc"], performance=["b.z.acc"], measurements=["sensor.v"],
+>>> P = plant(m, disturbances=["ground.z.vel"], performance=["b.z.acc"], measurements=["sensor.v"],
 ...           dofs=["b.z"])
 >>> P.groups["w"], P.groups["u"], P.nstates
-(['ground:z:acc'], ['actuator:a:u'], 2)
+(['ground:z:vel'], ['actuator:a:u'], 2)
 """
 
 from __future__ import annotations
