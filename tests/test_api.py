@@ -22,7 +22,7 @@ LAYERS = [
      "linear.projection", "statics", "time.integrators", "diagnostics"},
     {"linear", "modal"},
     {"frequency.kernels", "time.kernels", "studies"},
-    {"frequency", "time", "reduction", "design", "shock", "orders", "random"},
+    {"frequency", "time", "reduction", "design", "shock", "orders", "random", "control"},
     {"plotting", "report"},
     {"commands", "cli", "__main__"},
 ]

@@ -65,3 +65,14 @@ def test_api_reference_is_current_and_complete():
     text, problems = make_api.render()
     assert problems == []
     assert (DOCS / "api.md").read_text() == text, "run: python docs/make_api.py"
+
+
+def test_control_guide(capsys):
+    scope: dict = {}
+    for block in _blocks("analyses/control.md"):
+        exec(compile(block, "control.md", "exec"), scope)
+    out = capsys.readouterr().out
+    assert "['actuator:fl:x:u', 'actuator:fl:y:u', 'actuator:fl:z:u'] 24" in out
+    assert "bounce at 1.49 Hz: |T| 15.6 -> 0.93" in out           # the numbers the page quotes
+    assert "gamma = 3.708, controller states 12" in out
+    assert "1.558" in out and "0.6351" in out                     # the quarter car's body mode

@@ -15,7 +15,8 @@ import pytest
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
-NOTEBOOKS = ["frf_transmissibility.ipynb", "mount_design.ipynb", "mount_stiffness_study.ipynb", "shock_study.ipynb"]
+NOTEBOOKS = ["active_isolation.ipynb", "frf_transmissibility.ipynb", "mount_design.ipynb",
+             "mount_stiffness_study.ipynb", "shock_study.ipynb"]
 
 
 def test_every_notebook_is_listed():

@@ -19,8 +19,8 @@ import importlib
 import importlib.util
 from typing import TYPE_CHECKING, Any
 
-from .errors import (AnalysisError, ArgumentError, DefectiveModesError, MissingDependencyError, ModelError,
-                     ModelFileError, SignalError, VibssError, VibssWarning)
+from .errors import (AnalysisError, ArgumentError, ControlDesignError, DefectiveModesError,
+                     MissingDependencyError, ModelError, ModelFileError, SignalError, VibssError, VibssWarning)
 
 # Public names, loaded on first use (PEP 562) so that ``import vibss`` stays light: python-control,
 # matplotlib, pandas and the heavy SciPy submodules load only when a function needs them.
@@ -51,6 +51,7 @@ _LAZY: dict[str, str] = {
     "DOF_NAMES": ".model.model", "GROUND": ".model.model", "Body": ".model.model",
     "ControlPoint": ".model.model", "Load": ".model.model", "Model": ".model.model",
     "Mount": ".model.model", "MountType": ".model.model", "symmetric": ".model.model",
+    "Actuator": ".model.actuation", "Sensor": ".model.actuation",
     "FrequencyGrid": ".frequency.api", "FrequencyResponse": ".frequency.api",
     "frequency_grid": ".frequency.api", "frequency_response": ".frequency.api",
     "sweep_response": ".frequency.sweep", "transmissibility": ".frequency.sweep",
@@ -71,8 +72,9 @@ _LAZY: dict[str, str] = {
     "shock": ".shock",              # vibss.shock.*: shock pulses and the SRS
     "orders": ".orders",            # vibss.orders.*: rotating unbalance and engine orders
     "random": ".random",            # vibss.random.*: random vibration
+    "control": ".control",          # vibss.control.*: isolator controller design
 }
-_MODULES = {"design", "shock", "orders", "random"}
+_MODULES = {"design", "shock", "orders", "random", "control"}
 
 
 def __getattr__(name: str) -> Any:
@@ -92,7 +94,8 @@ def __dir__() -> list[str]:
 
 
 if TYPE_CHECKING:                          # what static checkers and IDEs see
-    from . import design, orders, random, shock
+    from . import control, design, orders, random, shock
+    from .model.actuation import Actuator, Sensor
     from .design.study import study
     from .frequency.api import FrequencyGrid, FrequencyResponse, frequency_grid, frequency_response
     from .frequency.sweep import sweep_response, transmissibility
@@ -121,7 +124,7 @@ __version__ = "0.1.0"
 
 __all__ = [
     "HalfSine", "Haversine", "Ramp", "Rectangular", "Sawtooth", "Sine", "SineSweep", "Step", "Sum", "Table",
-    "TimeFunction", "Triangle",
+    "TimeFunction", "Triangle", "Actuator", "Sensor", "ControlDesignError", "control",
     "AnalysisError", "ArgumentError", "Assembly", "DefectiveModesError", "Body", "ControlPoint", "DOF_NAMES", "DampedModes", "Excitation",
     "FrequencyGrid", "FrequencyResponse", "GROUND", "Load", "MissingDependencyError", "Model", "ModelError", "ModelFileError", "Modes", "Mount", "MountType", "NamedStateSpace",
     "Orientation", "PSD", "Plant", "Reduction", "Scope", "SignalError", "StaticResult", "StudyDefaults", "SweepEnvelope", "TimeResponse", "VibssError", "VibssWarning", "assemble", "build_plant", "damped_modes", "dump_model",

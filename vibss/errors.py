@@ -26,7 +26,7 @@ from typing import Any
 
 __all__ = ["VibssError", "ModelError", "ArgumentError", "SignalError", "SignalIndexError",
            "ArgumentTypeError", "AnalysisError",
-           "DefectiveModesError", "ModelFileError", "MissingDependencyError", "VibssWarning",
+           "DefectiveModesError", "ControlDesignError", "ModelFileError", "MissingDependencyError", "VibssWarning",
            "did_you_mean"]
 
 
@@ -101,6 +101,11 @@ class AnalysisError(VibssError, RuntimeError):
 class DefectiveModesError(AnalysisError):
     """Complex modes refused: the eigenvectors are nearly dependent (critically damped or defective
     modes), so a modal sum would lose accuracy. ``method="auto"`` then uses a direct method."""
+
+
+class ControlDesignError(AnalysisError):
+    """A control plant, design or closed loop is refused: an uncontrollable or unobservable unstable
+    mode, a rank-deficient channel, an ill-posed or unstable loop. The message names the channel."""
 
 
 class MissingDependencyError(VibssError, ImportError):

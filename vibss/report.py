@@ -51,12 +51,12 @@ from .studies import frequency_band, steady_sweeps, time_window, transient_excit
 __all__ = ["Section", "Report", "study", "write_report", "render_report", "html_table", "slug", "default_folder",
            "progress_on_stderr", "STEPS", "MAX_MODE_PANELS"]
 
-STEPS = ("model", "static", "modes", "damped", "design", "frequency", "orders", "time")
+STEPS = ("model", "static", "modes", "damped", "design", "control", "frequency", "orders", "time")
 """The report's sections, in order."""
 
 TITLES = {"model": "Model", "static": "Static deflection", "modes": "Undamped modes",
           "damped": "Damped modes", "design": "Mount-system design (decoupling)",
-          "orders": "Rotating machinery (orders against speed)", "frequency": "Frequency response (sine sweeps)",
+          "orders": "Rotating machinery (orders against speed)", "control": "Active isolation (closed loop)", "frequency": "Frequency response (sine sweeps)",
           "time": "Time response (transient excitations)"}
 
 MAX_MODE_PANELS = 12
@@ -321,6 +321,22 @@ def _orders_section(model: Model, figures: bool, results: dict[str, Any]) -> Sec
     return Section("orders", TITLES["orders"], r.report(), (r.summary(), r.critical_table()), figs)
 
 
+def _control_section(model: Model, figures: bool, results: dict[str, Any]) -> Section:
+    if "control" not in model.settings:
+        note = ("the model has actuators but no [control] table (design, gain, disturbances, performance)"
+                if model.actuators else "no actuators and no [control] table in the model")
+        return Section("control", TITLES["control"], skipped=True, note=note)
+    from .control.filespec import run_control
+
+    r = run_control(model)
+    results["control"] = r
+    figs = (("control.png", r.plot()),) if figures else ()
+    return Section("control", TITLES["control"], r.report(),
+                   (r.summary(), r.loop.margin_table(), r.loop.summary()), figs,
+                   note=f"{model.settings['control']['design']} loops from the file's [control] table; margins "
+                        "loop-at-a-time at the actuator commands")
+
+
 def _available(module: str) -> bool:
     return importlib.util.find_spec(f"vibss.{module}") is not None
 
@@ -422,7 +438,8 @@ def _failure(key: str, exc: Exception) -> Section:
     return Section(key, TITLES[key], skipped=True, failed=True, note=f"failed: {what}{type(exc).__name__}: {exc}")
 
 _RUNNERS = {"static": _static_section, "modes": _modes_section, "damped": _damped_section,
-            "design": _design_section, "frequency": _frequency_section, "orders": _orders_section, "time": _time_section}
+            "design": _design_section, "control": _control_section, "frequency": _frequency_section,
+            "orders": _orders_section, "time": _time_section}
 
 
 def study(model: Model, figures: bool = True, progress: Progress | None = None,

@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import AnalysisError, ModelError
+from ..errors import AnalysisError, ModelError, SignalError, did_you_mean
 from ..linear.assemble import Assembly
 from ..linear.signals import build_plant
 from ..model.model import Model
@@ -16,18 +16,27 @@ from .api import FrequencyGrid, FrequencyResponse, frequency_response
 __all__ = ["transmissibility", "sweep_response"]
 
 
-def transmissibility(system: Model | Assembly, inputs: Sequence[str], outputs: Sequence[str] | None = None,
+def transmissibility(system: Any, inputs: Sequence[str], outputs: Sequence[str] | None = None,
                      frequencies: Any = None, method: str | Callable[..., np.ndarray] = "auto") -> FrequencyResponse:
-    """Motion or force transmissibility (dimensionless), safe at 0 Hz.
+    """Motion or force transmissibility (dimensionless), safe at 0 Hz; of a model or of any named
+    python-control system (a closed loop).
 
     Motion: prescribed motion inputs (``'ground.z'`` or ``'ground.z.disp'``; velocity and
     acceleration inputs are read as the same motion) to motion outputs of the same kind
     (default: every body DOF): ``|T| = |y| / |z|``. Force: force inputs (``'<body>.fz'``) to force
     outputs (default: the total force and moment into ground, and each ground mount's force).
 
+    A python-control ``StateSpace`` (e.g. a closed loop from :func:`vibss.control.close`, or its
+    :class:`~vibss.control.ClosedLoop`) is evaluated directly (balanced realization, one solve per
+    frequency; :func:`vibss.frequency.statespace_response.evaluate`); its signal names, in either
+    spelling, say what each signal is: an input ``<...>.disp|vel|acc`` is a motion of that order, any
+    other input a force; an output's order comes from the system's ``vibss_units`` (set by vibss) or
+    its suffix (``.vel``, ``.acc``). The ratio of motions is taken between equal orders
+    (``|T| = |y| / |z|``).
+
     Parameters
     ----------
-    system : Model or Assembly
+    system : Model, Assembly, python-control StateSpace or ClosedLoop
     inputs : sequence of str
         All motion inputs or all force inputs.
     outputs : sequence of str or None
@@ -49,6 +58,8 @@ def transmissibility(system: Model | Assembly, inputs: Sequence[str], outputs: S
     >>> print(f"{abs(t.response[0, 0, 0]):.12f}")
     1.000000000000
     """
+    if not isinstance(system, (Model, Assembly)):
+        return _system_transmissibility(getattr(system, "system", system), inputs, outputs, frequencies)
     model = system.model if isinstance(system, Assembly) else system
     names = [u if isinstance(u, str) else u.signal for u in inputs]
     motion = [u.rsplit(".", 1)[-1] in ("disp", "vel", "acc") or u.startswith("ground.") for u in names]
@@ -73,6 +84,76 @@ def transmissibility(system: Model | Assembly, inputs: Sequence[str], outputs: S
     return FrequencyResponse(r.frequency_hz, r.response, r.outputs, r.inputs,
                              tuple(f"{u} per unit input" for u in r.units), "transmissibility",
                              r.method, r.reason, r.natural_hz, r.name)
+
+
+def _order(name: str, unit: str | None) -> int | None:
+    """Time-derivative order of a motion signal (None for a force)."""
+    if unit is not None:
+        if unit.startswith("N"):
+            return None
+        return 2 if unit.endswith("/s^2") else 1 if unit.endswith("/s") else 0
+    last = name.rsplit(".", 1)[-1]
+    if last in ("disp", "vel", "acc"):
+        return {"disp": 0, "vel": 1, "acc": 2}[last]
+    if last.startswith(("f", "m")) and len(last) == 2:
+        return None
+    return 0
+
+
+def _system_transmissibility(system: Any, inputs: Sequence[str], outputs: Sequence[str] | None,
+                             frequencies: Any) -> FrequencyResponse:
+    """Transmissibility of a named python-control state space (see :func:`transmissibility`)."""
+    import control
+
+    from ..frequency.statespace_response import evaluate
+    from ..linear.signals import control_name
+
+    if not isinstance(system, control.StateSpace):
+        raise ModelError(f"system: expected a Model, an Assembly or a python-control StateSpace, got "
+                         f"{type(system).__name__}")
+    if system.dt not in (0, None):
+        raise ModelError("system: continuous-time systems only (dt = 0)")
+    ins = [inputs] if isinstance(inputs, str) else list(inputs)
+    outs = list(outputs) if outputs is not None else [s.replace(":", ".") for s in system.output_labels]
+    units = getattr(system, "vibss_units", {}) or {}
+
+    def index(labels: Sequence[str], name: str, what: str) -> int:
+        c = control_name(name)
+        if c not in labels:
+            vib = [x.replace(":", ".") for x in labels]
+            raise SignalError(f"{what}: no {what[:-1]} named {name!r} in the system; they are {vib}"
+                              + did_you_mean(name.replace(":", "."), vib), argument=what, received=name)
+        return list(labels).index(c)
+
+    ii = [index(system.input_labels, u, "inputs") for u in ins]
+    io = [index(system.output_labels, y, "outputs") for y in outs]
+    oi = [_order(u.replace(":", "."), units.get(u.replace(":", "."))) for u in ins]
+    oo = [_order(y.replace(":", "."), units.get(y.replace(":", "."))) for y in outs]
+    if any(o is None for o in oi) != all(o is None for o in oi):
+        raise ModelError(f"inputs: mix of motion and force inputs {ins}; transmissibility takes one kind")
+    force = all(o is None for o in oi)
+    if force and any(o is not None for o in oo):
+        raise ModelError(f"outputs: force transmissibility needs force outputs, got {outs}")
+    if not force and any(o is None for o in oo):
+        raise ModelError(f"outputs: motion transmissibility needs motion outputs, got {outs}")
+    if frequencies is None:
+        poles = np.abs(np.linalg.eigvals(np.asarray(system.A, dtype=float))) if system.nstates else np.ones(1)
+        poles = poles[poles > 0] if np.any(poles > 0) else np.ones(1)
+        f = np.geomspace(poles.min() / (2 * np.pi) / 10, poles.max() / (2 * np.pi) * 10, 1000)
+    else:
+        f = np.atleast_1d(np.asarray(frequencies, dtype=float))
+        if f.ndim != 1 or f.size == 0 or not np.all(np.isfinite(f)) or np.any(f <= 0):
+            raise ModelError(f"frequencies: expected frequencies > 0 [Hz], got {frequencies!r}")
+    h = evaluate(system, 2 * np.pi * f, outputs=io, inputs=ii)
+    if not force:
+        s = 2j * np.pi * f
+        for a, yo in enumerate(oo):
+            for b, ui in enumerate(oi):
+                h[a, b] = h[a, b] * s ** (int(ui or 0) - int(yo or 0))
+    return FrequencyResponse(f, h, tuple(y.replace(":", ".") for y in outs), tuple(u.replace(":", ".") for u in ins),
+                             tuple("- per unit input" for _ in outs), "transmissibility",
+                             "statespace (balanced, direct solve)", "", np.zeros(0),
+                             str(getattr(system, "name", "system")).replace(":", "."))
 
 
 def sweep_response(system: Model | Assembly, excitations: Sequence[Any] | None = None,

@@ -179,9 +179,10 @@ def read_study(e: Entry) -> dict[str, Any]:
 
 
 def write_tables(settings: Mapping[str, Any]) -> dict[str, Any]:
-    """``[design]`` / ``[study]`` / ``[orders]`` data for a model file written in SI (angles in rad)."""
+    """``[design]`` / ``[study]`` / ``[orders]`` / ``[control]`` data for a model file written in SI
+    (angles in rad)."""
     out: dict[str, Any] = {}
-    for key in ("design", "study", "orders"):
+    for key in ("design", "study", "orders", "control"):
         if key in settings:
             out[key] = {k: (dict(v) if isinstance(v, Mapping) else v) for k, v in settings[key].items()}
     return out

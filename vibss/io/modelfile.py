@@ -36,7 +36,9 @@ from ..model.excitation import Excitation, amplitude_quantity, function_from_dic
 from .filetable import MISSING, Entry
 from .designfile import read_design, read_study, write_tables
 from .ordersfile import read_orders
+from .controlfile import read_control
 from ..model.geometry import Orientation
+from ..model.actuation import ACTUATOR_KINDS, SENSOR_KINDS, Actuator, Sensor
 from ..model.model import (DOF_NAMES, GROUND, SYMMETRIES, Body, ControlPoint, Load, Model, Mount,
                     MountType, symmetric)
 from .tomlwriter import dumps_toml
@@ -49,7 +51,7 @@ EXAMPLES_DIR = Path(__file__).parent.parent / "examples"
 """Folder of the built-in example model files."""
 
 _TABLES = ("model", "body", "mount_type", "mount", "control_point", "load", "excitation", "analysis",
-           "design", "study", "orders")
+           "design", "study", "orders", "actuator", "sensor", "control")
 
 
 def _entries(data: Mapping[str, Any], table: str, source: str, units: Units) -> list[Entry]:
@@ -153,6 +155,55 @@ def _control_point(e: Entry, i: int, bodies: Sequence[str]) -> ControlPoint:
     try:
         return ControlPoint(e.string("name", f"point{i}"), _reference(e, "body", bodies),
                             e.array("at", [(3,)], "length"), e.string("frame", "body", ("body", "global")))
+    except ModelError as exc:
+        raise _wrap(e, exc) from None
+
+
+def _element_fields(e: Entry, bodies: Sequence[str], mounts: Sequence[str]) -> dict[str, Any]:
+    """The placement keys shared by [[actuator]] and [[sensor]] (body, to, at, frame, direction,
+    mount, axis), read and checked against the model's bodies and mounts."""
+    out: dict[str, Any] = {}
+    if "body" in e:
+        out["body"] = _reference(e, "body", bodies)
+    if "to" in e:
+        out["to"] = _reference(e, "to", bodies, ground=True)
+    if "at" in e:
+        out["at"] = e.array("at", [(3,)], "length")
+    out["frame"] = e.string("frame", "body", ("body", "global"))
+    if "direction" in e:
+        out["direction"] = e.array("direction", [(3,)], "dimensionless")
+    if "mount" in e:
+        mount = e.string("mount")
+        if mount not in mounts:
+            raise e.fail("mount", f"unknown mount {mount!r}; mounts are {list(mounts)}"
+                         + did_you_mean(mount, mounts))
+        out["mount"] = mount
+    if "axis" in e:
+        axis = e.number("axis")
+        if axis not in (1, 2, 3):
+            raise e.fail("axis", f"expected 1, 2 or 3 (the mount's local axes), got {axis!r}")
+        out["axis"] = int(axis)
+    return out
+
+
+def _actuator(e: Entry, bodies: Sequence[str], mounts: Sequence[str]) -> Actuator:
+    e.check_keys(("name", "body", "to", "at", "frame", "direction", "mount", "axis", "bandwidth", "kind"),
+                 ("name",))
+    fields = _element_fields(e, bodies, mounts)
+    try:
+        return Actuator(e.string("name"), kind=e.string("kind", "force", ACTUATOR_KINDS),
+                        bandwidth=e.number("bandwidth", default=None), **fields)
+    except ModelError as exc:
+        raise _wrap(e, exc) from None
+
+
+def _sensor(e: Entry, bodies: Sequence[str], mounts: Sequence[str]) -> Sensor:
+    e.check_keys(("name", "kind", "body", "to", "at", "frame", "direction", "mount", "axis"),
+                 ("name", "kind"))
+    kind = e.string("kind", choices=tuple(SENSOR_KINDS))
+    fields = _element_fields(e, bodies, mounts)
+    try:
+        return Sensor(e.string("name"), kind, **fields)
     except ModelError as exc:
         raise _wrap(e, exc) from None
 
@@ -264,6 +315,9 @@ def _build(data: Any, source: str, base: Path | None, default_name: str) -> Mode
               for m in _mounts(e, i, types, names)]
     points = [_control_point(e, i, names)
               for i, e in enumerate(_entries(data, "control_point", source, units), 1)]
+    mount_names = [m.name for m in mounts]
+    actuators = [_actuator(e, names, mount_names) for e in _entries(data, "actuator", source, units)]
+    sensors = [_sensor(e, names, mount_names) for e in _entries(data, "sensor", source, units)]
     cases: dict[str, list[str]] = {}
     loads = [_load(e, i, names, cases) for i, e in enumerate(_entries(data, "load", source, units), 1)]
     excitations = [_excitation(e, i, names, base)
@@ -278,7 +332,8 @@ def _build(data: Any, source: str, base: Path | None, default_name: str) -> Mode
     if not isinstance(analysis, Mapping):
         raise ModelFileError(f"{source}: analysis: expected an [analysis] table, got {analysis!r}")
     settings = _analysis(Entry(analysis, f"{source}: [analysis]", units))
-    for key, reader in (("design", read_design), ("study", read_study), ("orders", read_orders)):
+    for key, reader in (("design", read_design), ("study", read_study), ("orders", read_orders),
+                        ("control", read_control)):
         if key in data:
             if not isinstance(data[key], Mapping):
                 raise ModelFileError(f"{source}: {key}: expected a [{key}] table, got {data[key]!r}")
@@ -289,7 +344,7 @@ def _build(data: Any, source: str, base: Path | None, default_name: str) -> Mode
         settings["load_cases"] = cases
     gravity, name = m.array("gravity", [(3,)], "acceleration", None), m.string("name", default_name)
     try:
-        return Model(bodies, mounts, points, loads, gravity, name, excitations, settings)
+        return Model(bodies, mounts, points, loads, gravity, name, excitations, settings, actuators, sensors)
     except ModelError as exc:
         raise ModelFileError(f"{source}: {exc}") from None
 
@@ -425,6 +480,8 @@ def model_to_dict(model: Model) -> dict[str, Any]:
         out["mount"].append(d)
     out["control_point"] = [{"name": c.name, "body": c.body, "at": c.at.tolist(), "frame": c.frame}
                             for c in model.control_points]
+    for key, items in (("actuator", model.actuators), ("sensor", model.sensors)):
+        out[key] = [_element_dict(x) for x in items]
     out["load"] = []
     for ld in model.loads:
         d = {"name": ld.name, "body": ld.body, "force": ld.force.tolist(), "moment": ld.moment.tolist()}
@@ -447,6 +504,28 @@ def model_to_dict(model: Model) -> dict[str, Any]:
         out["analysis"] = analysis
     out.update(write_tables(settings))
     return {k: v for k, v in out.items() if v != []}
+
+
+def _element_dict(x: Actuator | Sensor) -> dict[str, Any]:
+    """An [[actuator]] or [[sensor]] entry (only the keys that are set)."""
+    if isinstance(x, Actuator) and x.dynamics is not None:
+        raise ModelError(f"actuator {x.name!r}: its dynamics (a python-control system) cannot be "
+                         "written to a model file; give a bandwidth [Hz] instead")
+    d: dict[str, Any] = {"name": x.name}
+    if isinstance(x, Sensor):
+        d["kind"] = x.kind
+    elif x.kind != "force":
+        d["kind"] = x.kind
+    for key in ("body", "to", "mount", "axis"):
+        if getattr(x, key) is not None:
+            d[key] = getattr(x, key)
+    if x.mount is None:
+        d.update(at=x.at.tolist(), frame=x.frame)
+    if x.direction is not None:
+        d["direction"] = x.direction.tolist()
+    if isinstance(x, Actuator) and x.bandwidth is not None:
+        d["bandwidth"] = x.bandwidth
+    return d
 
 
 def dumps_model(model: Model, fmt: str = "toml") -> str:

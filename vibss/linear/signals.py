@@ -11,6 +11,8 @@ Inputs (``u``):
 ``<body|ground>.<dof>.disp``              prescribed displacement of a DOF [m, rad]
 ``<body|ground>.<dof>.vel``               prescribed velocity [m/s, rad/s]
 ``<body|ground>.<dof>.acc``               prescribed acceleration [m/s^2, rad/s^2]
+``actuator.<name>.f`` / ``.m``            force [N] (moment [N m]) of an actuator: ``+f d`` on
+                                          its body, ``-f d`` on its ``to`` side
 ========================================  =====================================================
 
 ``<dof>`` is one of ``x y z rx ry rz``. Ground DOFs are the rigid motion of ground about the global
@@ -36,7 +38,10 @@ Outputs (``y``):
 ``<body>.into.fx|fy|fz|mx|my|mz``         total force [N] and moment about the body's COG
                                           [N m] transmitted into the body by the mounts whose
                                           ``to`` side it is (what rests on it); ``ground.into.*``
-                                          is ``ground.*``
+                                          is ``ground.*``. Both include the reactions of the
+                                          actuators whose ``to`` side it is.
+``sensor.<name>``                         a sensor's measurement (unit by its kind, see
+                                          :mod:`vibss.model.actuation`)
 ========================================  =====================================================
 
 The default outputs are the displacements of every body DOF. python-control forbids ``.`` in signal
@@ -67,18 +72,19 @@ from .assemble import Assembly, assemble
 from ..errors import ModelError, SignalError, did_you_mean
 from ..model.geometry import point_transfer
 from .eigen import undamped
+from ..model.actuation import resolve
 from ..model.model import DOF_NAMES, GROUND, Model
 from .plant import INPUT_KINDS, MountForm, Plant
 
 __all__ = ["build_plant", "control_name", "default_outputs", "INPUT_FORMS", "OUTPUT_FORMS"]
 
 INPUT_FORMS = ("<body>.fx|fy|fz", "<body>.mx|my|mz", "<point>.fx|fy|fz",
-               "<body|ground>.<x|y|z|rx|ry|rz>.disp|vel|acc")
+               "<body|ground>.<x|y|z|rx|ry|rz>.disp|vel|acc", "actuator.<name>.f|m")
 """Valid input name forms (for messages)."""
 
 OUTPUT_FORMS = ("<body>.<x|y|z|rx|ry|rz>[.vel|.acc]", "<point>.x|y|z[.vel|.acc]",
                 "mount.<name>.dx|dy|dz|d1|d2|d3", "mount.<name>.fx|fy|fz|f1|f2|f3",
-                "ground.fx|fy|fz|mx|my|mz", "<body>.into.fx|fy|fz|mx|my|mz")
+                "ground.fx|fy|fz|mx|my|mz", "<body>.into.fx|fy|fz|mx|my|mz", "sensor.<name>")
 """Valid output name forms (for messages)."""
 
 _MOTION = {"disp": "displacement", "vel": "velocity", "acc": "acceleration"}
@@ -118,6 +124,7 @@ def _input_names(model: Model) -> list[str]:
     names = [f"{b}.{c}" for b in model.body_names for c in _FORCE]
     names += [f"{p.name}.{c}" for p in model.control_points for c in ("fx", "fy", "fz")]
     names += [f"{t}.{d}.{k}" for t in [*model.body_names, GROUND] for d in DOF_NAMES for k in _MOTION]
+    names += [a.signal for a in model.actuators]
     return names
 
 
@@ -127,6 +134,7 @@ def _output_names(model: Model) -> list[str]:
     names += [f"mount.{m.name}.{c}" for m in model.mounts for c in _MOUNT]
     names += [f"ground.{c}" for c in _FORCE]
     names += [f"{m}.into.{c}" for m in sorted({m.to for m in model.mounts}) for c in _FORCE]
+    names += [s.signal for s in model.sensors]
     return names
 
 
@@ -161,6 +169,8 @@ def parse_input(asm: Assembly, item: Any) -> _Input:
     if not isinstance(item, str):
         return _parse_excitation(asm, item)
     bodies, points = set(model.body_names), {p.name: p for p in model.control_points}
+    if item.startswith("actuator.") and (model.actuators or "actuator" not in points.keys() | bodies):
+        return _actuator_input(asm, item)
     head, _, last = item.rpartition(".")
     if last in _MOTION:
         target, _, dof = head.rpartition(".")
@@ -183,6 +193,65 @@ def parse_input(asm: Assembly, item: Any) -> _Input:
             raise _bad_input(model, item, " (a force on ground does nothing; prescribe ground "
                                           "motion, e.g. 'ground.z.disp')")
     raise _bad_input(model, item)
+
+
+def actuator_wrench(model: Model, actuator: Any) -> tuple[str, str, np.ndarray, np.ndarray]:
+    """Where an actuator acts: ``(body, to, point, w)`` with ``w`` (6,) the force and moment per
+    unit input applied at ``point`` (global) [N/N, N m/N m]."""
+    body, to, point, d = resolve(model, actuator)
+    w = np.concatenate([d, np.zeros(3)]) if actuator.kind == "force" else np.concatenate([np.zeros(3), d])
+    return body, to, point, w
+
+
+def _actuator_input(asm: Assembly, item: str) -> _Input:
+    model = asm.model
+    head, _, comp = item[len("actuator."):].rpartition(".")
+    found = {a.name: a for a in model.actuators}
+    a = found.get(head)
+    if a is None:
+        raise _bad_input(model, item, f" (no actuator named {head!r}; actuators are {sorted(found)})")
+    if item != a.signal:
+        raise _bad_input(model, item, f" (actuator {head!r} is a {a.kind} actuator: its signal is "
+                                      f"{a.signal!r})")
+    body, to, point, w = actuator_wrench(model, a)
+    f = np.zeros(asm.n)
+    for side, sign in ((body, 1.0), (to, -1.0)):
+        if side == GROUND:
+            continue
+        i = model.body_index(side)
+        r = point - model.body(side).cog
+        f[6 * i:6 * i + 3] += sign * w[:3]
+        f[6 * i + 3:6 * i + 6] += sign * (np.cross(r, w[:3]) + w[3:])
+    return _Input(item, "force", force=f)
+
+
+def actuator_reactions(model: Model, inputs: Sequence[str], outputs: Sequence[str]) -> np.ndarray:
+    """(p, m) feedthrough of actuator inputs into the ``ground.*`` and ``<body>.into.*`` outputs:
+    the reaction ``-f d`` each actuator puts into its ``to`` side (moments about that side's
+    reference point: the COG, or the global origin for ground); and into ``mount_force`` sensors of
+    the mount an actuator acts in parallel with (a load cell under the pair carries both)."""
+    out = np.zeros((len(outputs), len(inputs)))
+    acts = {a.signal: a for a in model.actuators}
+    cells = {s.signal: s for s in model.sensors if s.kind == "mount_force"}
+    for j, u in enumerate(inputs):
+        a = acts.get(u) if isinstance(u, str) else None
+        if a is None:
+            continue
+        _, to, point, w = actuator_wrench(model, a)
+        ref = np.zeros(3) if to == GROUND else model.body(to).cog
+        wrench = -np.concatenate([w[:3], np.cross(point - ref, w[:3]) + w[3:]])
+        for i, y in enumerate(outputs):
+            cell = cells.get(y)
+            if cell is not None and cell.mount == a.mount and a.kind == "force":
+                m = next(x for x in model.mounts if x.name == cell.mount)
+                d = m.orientation.matrix[:, cell.axis - 1] if cell.axis is not None else cell.direction
+                out[i, j] = -float(d @ w[:3])      # a load cell under the mount carries its actuator too
+                continue
+            head, _, comp = y.rpartition(".")
+            target = head[:-5] if head.endswith(".into") else head
+            if target == to and comp in _FORCE and (head == GROUND or head.endswith(".into")):
+                out[i, j] = wrench[_FORCE[comp]]
+    return out
 
 
 def _parse_excitation(asm: Assembly, exc: Any) -> _Input:
@@ -264,6 +333,8 @@ def output_row(asm: Assembly, name: Any, cache: dict) -> tuple[_Rows, str]:
     nf = asm.n + 6
     zero = np.zeros(nf)
     bodies, points = set(model.body_names), {p.name: p for p in model.control_points}
+    if name.startswith("sensor.") and (model.sensors or "sensor" not in points.keys() | bodies):
+        return _sensor_row(asm, name)
     if name.startswith("mount."):
         head, _, comp = name[6:].rpartition(".")
         if comp not in _MOUNT:
@@ -315,6 +386,37 @@ def output_row(asm: Assembly, name: Any, cache: dict) -> tuple[_Rows, str]:
     parts = [zero, zero, zero]
     parts[order] = row
     return _Rows(parts[0], parts[1], parts[2], zero), unit
+
+
+def _sensor_row(asm: Assembly, name: str) -> tuple[_Rows, str]:
+    """Output rows of ``sensor.<name>`` over ``[q; q_ground]``."""
+    model = asm.model
+    found = {s.name: s for s in model.sensors}
+    s = found.get(name[len("sensor."):])
+    if s is None:
+        raise _bad_output(model, name, f" (no sensor named {name[7:]!r}; sensors are {sorted(found)})")
+    nf = asm.n + 6
+    zero = np.zeros(nf)
+    if s.mount is not None:
+        p = [m.name for m in model.mounts].index(s.mount)
+        b = asm.deflection_matrix()[3 * p:3 * p + 3].toarray()
+        t = model.mounts[p].orientation.matrix
+        d = t[:, s.axis - 1] if s.axis is not None else s.direction
+        if s.kind == "mount_force":
+            return _Rows(d @ asm.kp[p] @ b, d @ asm.cp[p] @ b, zero, d @ asm.hp[p] @ b), s.unit
+        row = d @ b
+    else:
+        body, to, point, d = resolve(model, s)
+        row = zero.copy()
+        row[:asm.n] = d @ asm.point_matrix(body, point - model.body(body).cog)
+        if s.kind.startswith("relative"):
+            if to == GROUND:
+                row[asm.n:] -= d @ point_transfer(point)
+            else:
+                row[:asm.n] -= d @ asm.point_matrix(to, point - model.body(to).cog)
+    parts = [zero, zero, zero]
+    parts[s.order] = row
+    return _Rows(parts[0], parts[1], parts[2], zero), s.unit
 
 
 def input_maps(asm: Assembly, parsed: Sequence[Any]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -445,7 +547,7 @@ def build_plant(model_or_assembly: Model | Assembly, inputs: Sequence[Any],
         F=force[free], Kz=fz("K"), Cz=fz("C"), Mz=fz("M"), Hz=fz("H"),
         outputs=outputs, units=tuple(units),
         Oq=o["d"], Ov=o["v"], Oa=o["a"], Pz=pz["d"], Pv=pz["v"], Pa=pz["a"],
-        Pf=np.zeros((len(outputs), m)), name=model.name,
+        Pf=actuator_reactions(model, [p.name for p in parsed], outputs), name=model.name,
         Oh=o["h"], Ph=pz["h"], Kf=_columns(asm.stiffness_factor(), free),
     )
 

@@ -191,6 +191,30 @@ class NamedStateSpace(control.StateSpace):
         return self._wrap(super().sample(Ts, method=method, alpha=alpha, prewarp_frequency=prewarp_frequency,
                                          name=name, copy_names=copy_names))
 
+    def feedback(self, other: Any = 1, sign: float = -1) -> "NamedStateSpace":
+        """``control.feedback(self, other, sign)`` keeping this system's signal names.
+
+        When ``other`` names its signals after this system's (its inputs are outputs here and its
+        outputs inputs here, either spelling, any order), it is reordered to match; unnamed signals
+        (python-control's ``u[0]``) are taken by position.
+
+        Parameters
+        ----------
+        other : StateSpace, array_like or float
+            Feedback path.
+        sign : float
+            -1 for negative feedback (default), +1 for positive.
+        """
+        if isinstance(other, control.StateSpace):
+            other = _matched(self, other)
+        out = super().feedback(other, sign)
+        extra = [] if not isinstance(other, control.StateSpace) else [
+            f"{other.name}:{s}" for s in other.state_labels]
+        sys = NamedStateSpace(out.A, out.B, out.C, out.D, out.dt, inputs=self.input_labels,
+                              outputs=self.output_labels, states=list(self.state_labels) + extra,
+                              name=f"{self.name}:feedback")
+        return sys
+
     def find_input(self, name: Any) -> int | None:
         """Index of an input (``engine.fz`` or ``engine:fz``), None if absent."""
         return super().find_input(_control_key(name))
@@ -214,6 +238,28 @@ class NamedStateSpace(control.StateSpace):
     def find_states(self, name_list: Any) -> list[int | None]:
         """Indices of states by name (either spelling, or a python-control pattern)."""
         return super().find_states(_control_key(name_list))
+
+
+def _matched(forward: control.StateSpace, back: control.StateSpace) -> control.StateSpace:
+    """``back`` with its inputs ordered as ``forward``'s outputs and its outputs as ``forward``'s inputs,
+    when its signals carry those names; unchanged when they are python-control's defaults."""
+    def generic(labels: list[str]) -> bool:
+        return all(lab.endswith("]") and "[" in lab for lab in labels)
+
+    ins, outs = [control_name(x) for x in back.input_labels], [control_name(x) for x in back.output_labels]
+    if generic(ins) and generic(outs):
+        return back
+    want_in, want_out = list(forward.output_labels), list(forward.input_labels)
+    missing = [x for x in ins if x not in want_in] + [x for x in outs if x not in want_out]
+    if missing or len(ins) != len(want_in) or len(outs) != len(want_out):
+        raise SignalError(f"feedback: the feedback system's signals {[x.replace(':', '.') for x in missing] or ins} "
+                          f"do not match the forward system's outputs {[x.replace(':', '.') for x in want_in]} "
+                          f"and inputs {[x.replace(':', '.') for x in want_out]}; connect subsystems by name "
+                          "with vibss.control.interconnect or vibss.control.close",
+                          argument="feedback", received=ins + outs)
+    sub = back[[outs.index(x) for x in want_out], [ins.index(x) for x in want_in]]
+    return control.ss(sub.A, sub.B, sub.C, sub.D, sub.dt, inputs=want_in, outputs=want_out,
+                      states=back.state_labels, name=back.name)
 
 
 @dataclass(frozen=True)

@@ -32,6 +32,7 @@ from ..errors import ModelError, did_you_mean
 from ._common import (DOF_NAMES, GROUND, _frame, _freeze, _name, _orientation, _point_name,
                       _signal_safe, _vec)
 from .geometry import Orientation
+from .actuation import Actuator, Sensor
 from .mounts import SYMMETRIES, Mount, MountType, symmetric  # re-exported: vibss.model.model keeps every name
 
 __all__ = [
@@ -44,6 +45,8 @@ __all__ = [
     "Load",
     "Model",
     "symmetric",
+    "Actuator",
+    "Sensor",
 ]
 
 @dataclass(frozen=True, eq=False)
@@ -264,6 +267,10 @@ class Model:
         Excitations for frequency and time studies (:class:`vibss.model.excitation.Excitation`).
     settings : mapping
         Default study settings read from a model file's ``[analysis]`` table.
+    actuators : sequence of Actuator
+        Force or moment pairs (input signals ``actuator.<name>.f``; :mod:`vibss.model.actuation`).
+    sensors : sequence of Sensor
+        Named measurements (output signals ``sensor.<name>``).
     """
 
     bodies: Sequence[Body]
@@ -274,10 +281,13 @@ class Model:
     name: str = "model"
     excitations: Sequence[Any] = ()
     settings: Any = None
+    actuators: Sequence[Actuator] = ()
+    sensors: Sequence[Sensor] = ()
 
     def __post_init__(self) -> None:
         for key, cls in (("bodies", Body), ("mounts", Mount),
-                         ("control_points", ControlPoint), ("loads", Load)):
+                         ("control_points", ControlPoint), ("loads", Load),
+                         ("actuators", Actuator), ("sensors", Sensor)):
             value = getattr(self, key)
             if isinstance(value, (str, bytes, cls)) or not isinstance(value, Iterable):
                 raise ModelError(f"model: {key}: expected a sequence of {cls.__name__}, got {value!r}")
@@ -317,6 +327,13 @@ class Model:
         for ld in self.loads:
             if ld.body not in names:
                 raise ModelError(f"load {ld.name or ''}: unknown body {ld.body!r}" + did_you_mean(ld.body, names))
+        elements: tuple[tuple[str, Sequence[Any]], ...] = (("actuator", self.actuators), ("sensor", self.sensors))
+        for what, group in elements:
+            if group and what in names | {c.name for c in self.control_points}:
+                raise ModelError(f"model: a body or control point is named {what!r} and the model has "
+                                 f"{what}s: signals '{what}.<name>' would be ambiguous; rename it")
+        _check_elements(self.actuators, "actuator", names, {m.name for m in self.mounts})
+        _check_elements(self.sensors, "sensor", names, {m.name for m in self.mounts})
         if self.gravity is not None:
             object.__setattr__(self, "gravity", _vec(self.gravity, 3, "model", "gravity"))
         if self.settings is not None and not isinstance(self.settings, Mapping):
@@ -419,8 +436,31 @@ class Model:
             at=None if ld.at is None else q @ ld.at + (off if ld.frame == "global" else 0.0))
             for ld in self.loads]
         gravity = None if self.gravity is None else q @ self.gravity
+        parts: dict[str, Any] = {key: [dataclasses.replace(
+            e, at=q @ e.at + (off if e.frame == "global" else 0.0),
+            direction=None if e.direction is None else q @ e.direction) for e in getattr(self, key)]
+            for key in ("actuators", "sensors")}
         return dataclasses.replace(self, bodies=bodies, mounts=mounts, control_points=cps,
-                                   loads=loads, gravity=gravity)
+                                   loads=loads, gravity=gravity, **parts)
+
+
+def _check_elements(items: Sequence[Any], what: str, bodies: set[str], mounts: set[str]) -> None:
+    """Actuators or sensors: unique names, and bodies, ``to`` sides and mounts that exist."""
+    _unique([e.name for e in items], what)
+    for e in items:
+        who = f"{what} {e.name!r}"
+        if e.mount is not None and e.mount not in mounts:
+            raise ModelError(f"{who}: mount: unknown mount {e.mount!r}" + did_you_mean(e.mount, mounts))
+        if e.body is not None and e.body not in bodies:
+            raise ModelError(f"{who}: body: unknown body {e.body!r}; bodies are {sorted(bodies)}"
+                             + did_you_mean(e.body, bodies))
+        to = getattr(e, "to", None)
+        if to is not None and to != GROUND and to not in bodies:
+            raise ModelError(f"{who}: to: unknown body {to!r}; expected 'ground' or one of "
+                             f"{sorted(bodies)}" + did_you_mean(to, bodies))
+        if to is not None and to == e.body:
+            raise ModelError(f"{who}: body and to are both {to!r}; an element between a body and "
+                             "itself does nothing")
 
 
 def _same_type(a: MountType, b: MountType) -> bool:
