@@ -278,7 +278,7 @@ loop cannot go unstable; the actuators' 300 Hz lag only trims the phase far abov
     ("code", """K = vc.skyhook(P, gains=1200.0)           # N s/m per loop
 cl = vc.close(P, K)
 print(cl.margin_table())
-cl.plot_transmissibility(ground, table, np.geomspace(0.3, 30, 400));"""),
+cl.plot_transmissibility(ground, table, np.geomspace(0.3, 30, 400))"""),
     ("md", """## H-infinity, weights named after the goals
 
 The performance outputs are the table's six velocities and the twelve actuator commands; the
@@ -296,7 +296,7 @@ for name, loop in (("skyhook", cl), ("H-infinity", clh)):
     passive, active = loop.transmissibility(ground, table, np.geomspace(0.3, 30, 400))
     k = np.abs(passive.response[2, 2]).argmax()
     print(f"{name}: bounce |T| {abs(passive.response[2, 2, k]):.1f} -> {abs(active.response[2, 2, k]):.2f}")
-clh.plot_transmissibility(ground, table, np.geomspace(0.3, 30, 400));"""),
+clh.plot_transmissibility(ground, table, np.geomspace(0.3, 30, 400))"""),
     ("md", """## Semi-active: clipped skyhook on one isolator
 
 A variable damper can only dissipate. The clipped law gives the skyhook force when the damper can,
