@@ -382,3 +382,38 @@ def test_report_and_cli_run_the_files_control_table(capsys: pytest.CaptureFixtur
     assert len(data["margins"]) == 12 and data["design"]["design"] == "skyhook"
     assert main(["control", "--example", "prism"]) == 2          # no [control] table: one clear line
     assert "no [control] table" in capsys.readouterr().err
+
+
+def test_demand_random_rms_against_the_closed_form_and_shock_peak_against_simulate() -> None:
+    """Velocity feedback makes the isolator a single-DOF oscillator with zeta_total: under a white
+    ground-acceleration PSD G the stroke's variance is G / (8 zeta w^3) (one-sided PSD in Hz)."""
+    from vibss.random import PSD
+
+    g = 120.0
+    m = sdof(0.01)
+    P = vc.plant(m, ["ground.z.acc"], performance=["b.z.acc"], measurements=["sensor.rv", "sensor.s"], dofs=["b.z"])
+    cl = vc.close(P, vc.velocity_feedback(P, g, pairs={"a": "sensor.rv"}))
+    zeta = (2 * 0.01 * M_ * WN + g) / (2 * M_ * WN)
+    level = 0.02 * 9.80665 ** 2                               # (m/s^2)^2/Hz
+    white = PSD([1e-3, 1e4], [0.02, 0.02])
+    d = cl.demand({"ground.z.acc": white}, ["sensor.s", "actuator.a.u"])
+    assert d["sensor.s"] == pytest.approx(np.sqrt(level / (8 * zeta * WN ** 3)), rel=2e-3)
+    # the actuator force is g times the relative velocity: variance G / (8 zeta w) times g^2
+    assert d["actuator.a.u"] == pytest.approx(g * np.sqrt(level / (8 * zeta * WN)), rel=2e-3)
+    # a half-sine shock: the peak stroke equals the passive isolator with damping c + g, simulated by vibss
+    pulse = vibss.HalfSine(20.0, start=0.0, duration=0.01)
+    peak = cl.demand({"ground.z.acc": pulse}, ["sensor.s"], end=1.0, step=2e-5)["sensor.s"]
+    c = 2 * 0.01 * M_ * WN + g
+    passive = Model([Body("b", M_, [1, 1, 1])], [Mount("m", MountType("iso", [K_] * 3, [c] * 3), "b")])
+    r = vibss.simulate(passive, inputs={"ground.z.acc": pulse.value}, outputs=["mount.m.dz"], t_end=1.0, dt=2e-5)
+    assert peak == pytest.approx(np.abs(r["mount.m.dz"]).max(), rel=1e-3)
+
+
+def test_preflight_names_an_undetectable_mode() -> None:
+    free = Model([Body("b", 1.0, [1, 1, 1])], [Mount("m", MountType("t", [0, 0, 1e3], [0, 0, 1.0]), "b")],
+                 actuators=[Actuator("a", mount="m", axis=3), Actuator("h", body="b", direction=[1, 0, 0])],
+                 sensors=[Sensor("s", "relative_displacement", mount="m", axis=3)])
+    P = vc.plant(free, ["b.fx", "b.fz"], performance=["b.z", "b.x", "actuator.a.u", "actuator.h.u"],
+                 measurements=["sensor.s"], noise=1e-3, dofs=["b.x", "b.z"])
+    with pytest.raises(ControlDesignError, match=r"not detectable.*unobservable.*no measurement sees it"):
+        vc.lqg(P)

@@ -5,10 +5,12 @@
   :func:`velocity_feedback`, :func:`integral_force`, :func:`pid`, :func:`lqr`, :func:`lqg`,
   :func:`hinf`;
 - :func:`close`: the closed loop, stability checked first, with poles, damping and margins;
+- :func:`demand`: actuator force and stroke (RMS under a PSD, peak under a shock);
 - :func:`clipped_skyhook`: semi-active skyhook simulated in time (a variable damper);
 - :func:`interconnect` and :func:`feedback`: python-control's, with vibss names in and out.
 """
 
+from .demand import Demand, demand
 from .designs import integral_force, pairs, pid, skyhook, velocity_feedback
 from .loop import ClosedLoop, Controller, LoopMargins, close
 from .names import feedback, interconnect
@@ -18,4 +20,4 @@ from .semiactive import SemiActiveResponse, clipped_skyhook
 
 __all__ = ["plant", "GeneralizedPlant", "skyhook", "velocity_feedback", "integral_force", "pid",
            "lqr", "lqg", "hinf", "weight", "close", "ClosedLoop", "Controller", "LoopMargins",
-           "clipped_skyhook", "SemiActiveResponse", "interconnect", "feedback", "pairs"]
+           "clipped_skyhook", "SemiActiveResponse", "interconnect", "feedback", "pairs", "demand", "Demand"]

@@ -233,6 +233,13 @@ class ClosedLoop(Result):
         passive = transmissibility(passive_sys, inputs, outputs, active.frequency_hz)
         return passive, active
 
+    def demand(self, environment: Any, outputs: Sequence[str] | None = None, **kwargs: Any) -> Any:
+        """RMS under PSDs, or peaks under shocks, of the outputs and actuator commands
+        (:func:`vibss.control.demand.demand`)."""
+        from .demand import demand
+
+        return demand(self, environment, outputs, **kwargs)
+
     def plot_transmissibility(self, inputs: Sequence[str], outputs: Sequence[str], frequencies: Any = None,
                               ax: Any = None) -> Any:
         """One figure: passive and closed-loop transmissibility magnitude [dB] against frequency [Hz]."""
