@@ -177,7 +177,7 @@ class FrequencyResponse(Result):
     outputs, inputs : tuple of str
         Signal names (vibss spelling, with dots).
     units : tuple of str
-        Unit of each output row (of the quantity, per unit input).
+        SI unit of each output row's quantity (``"m"``; ``"m/s"`` for a mobility ...).
     quantity : str
         ``"receptance"``, ``"mobility"``, ``"accelerance"``, ``"transmissibility"`` or ``"sweep"``.
     method : str
@@ -188,6 +188,9 @@ class FrequencyResponse(Result):
         Undamped natural frequencies in the band [Hz] (resonance markers).
     name : str
         System name.
+    input_units : tuple of str
+        SI unit of each input (``"N"``, ``"m/s^2"`` ...); empty for a sweep (its amplitudes are
+        already in the outputs' units). :meth:`channel_unit` combines the two.
     """
 
     frequency_hz: np.ndarray
@@ -200,6 +203,7 @@ class FrequencyResponse(Result):
     note: str = ""
     natural_hz: np.ndarray = field(default_factory=lambda: np.zeros(0))
     name: str = "vibss"
+    input_units: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         for key in ("frequency_hz", "response", "natural_hz"):
@@ -259,6 +263,26 @@ class FrequencyResponse(Result):
     frd = control
     """Old name of :attr:`control`."""
 
+    def channel_unit(self, output: str | int, input: str | int | None = None) -> str:
+        """Unit of one channel: output per input (``m/N``, ``(m/s^2)/(m/s^2)``, ``N/(N m)``); ``-`` for
+        a transmissibility between equal units; the output's unit for a sweep.
+
+        Parameters
+        ----------
+        output, input : str or int
+            Signal names or positions (input: default the only one).
+        """
+        from ..model.units import ratio_unit
+
+        i = output if isinstance(output, int) else _index(self.outputs, output, "output")
+        if not self.input_units:
+            return self.units[i]
+        j = (0 if input is None else input) if not isinstance(input, str) else _index(self.inputs, input, "input")
+        num, den = self.units[i], self.input_units[j]
+        if self.quantity == "transmissibility" and num == den:
+            return "-"
+        return ratio_unit(num, den)
+
     def channel(self, output: str, input: str | None = None) -> np.ndarray:
         """(nf,) complex response of one output to one input (default: the only input)."""
         i = _index(self.outputs, output, "output")
@@ -301,7 +325,7 @@ class FrequencyResponse(Result):
         """
         def outs(j: int) -> dict[str, Any]:
             amp, ph = self.magnitude[:, j], self.phase_deg[:, j]
-            return {y: {"amplitude": amp[i], "phase_deg": ph[i], "unit": self.units[i]}
+            return {y: {"amplitude": amp[i], "phase_deg": ph[i], "unit": self.channel_unit(i, j)}
                     for i, y in enumerate(self.outputs)}
         head = {"frequency_hz": self.frequency_hz, "quantity": self.quantity,
                 "method": self.method, "note": self.note}
@@ -318,7 +342,11 @@ class FrequencyResponse(Result):
 
         cols = {f"{y}/{u}": self.response[i, j] for i, y in enumerate(self.outputs)
                 for j, u in enumerate(self.inputs)}
-        return pd.DataFrame(cols, index=pd.Index(self.frequency_hz, name="frequency_hz"))
+        df = pd.DataFrame(cols, index=pd.Index(self.frequency_hz, name="frequency_hz"))
+        df.attrs["units"] = {f"{y}/{u}": self.channel_unit(i, j) for i, y in enumerate(self.outputs)
+                             for j, u in enumerate(self.inputs)}
+        df.attrs["quantity"] = self.quantity
+        return df
 
     def report(self, count: int = 3) -> str:
         """Text table: the largest peaks of every channel, with their frequencies."""
@@ -342,7 +370,7 @@ class FrequencyResponse(Result):
                     edge = ""
                 for k, (f, a) in enumerate(rows):
                     lines.append(f"{y if k == 0 else '':<28} {u if k == 0 else '':<22} "
-                                 f"{f:>12.4f} {a}  {self.units[i]}" + (edge if k == 0 else ""))
+                                 f"{f:>12.4f} {a}  {self.channel_unit(i, j)}" + (edge if k == 0 else ""))
         return "\n".join(lines)
 
     def summary(self) -> Table:
@@ -352,7 +380,7 @@ class FrequencyResponse(Result):
             for j, u in enumerate(self.inputs):
                 pk = self.peaks(y, u, 1)
                 f, a = pk[0] if pk else (float("nan"), float("nan"))
-                rows.append([y, u, f"{f:.4f}", f"{a:.4e}", self.units[i]])
+                rows.append([y, u, f"{f:.4f}", f"{a:.4e}", self.channel_unit(i, j)])
         return Table(["output", "input", "peak f [Hz]", "amplitude", "unit"], rows,
                      title=f"{self.quantity}, method {self.method}")
 
@@ -423,9 +451,16 @@ def _times_power(raw: np.ndarray, s: np.ndarray, k: int) -> np.ndarray:
 
 
 def _units(plant: Plant, quantity: str) -> tuple[str, ...]:
-    k = QUANTITIES[quantity]
-    units = tuple(u + ("", " s^-1", " s^-2")[k] if k else u for u in plant.units)
-    return tuple(f"{u} per unit input" if quantity != "receptance" else u for u in units)
+    """Units of the outputs' quantity: the output unit times ``s^-k`` (mobility k = 1, accelerance 2)."""
+    from ..model.units import times_s
+
+    return tuple(times_s(u, QUANTITIES[quantity]) for u in plant.units)
+
+
+def _input_units(plant: Plant) -> tuple[str, ...]:
+    from ..model.units import input_unit
+
+    return tuple(input_unit(u, k) for u, k in zip(plant.inputs, plant.kinds))
 
 
 def _checked(plant: Plant, s: np.ndarray, raw: np.ndarray, name: str) -> str:
@@ -523,4 +558,4 @@ def frequency_response(system: Model | Assembly | Plant, inputs: Sequence[Any] |
     units = _units(plant, quantity)
     fr = np.zeros(0) if basis is None else basis.omega[~basis.rigid] / (2 * np.pi)
     return FrequencyResponse(f, h, plant.outputs, plant.inputs, units, quantity, chosen.name, reason,
-                             fr[(fr >= f.min()) & (fr <= f.max())], plant.name)
+                             fr[(fr >= f.min()) & (fr <= f.max())], plant.name, _input_units(plant))

@@ -81,9 +81,8 @@ def transmissibility(system: Any, inputs: Sequence[str], outputs: Sequence[str] 
         if any(u not in ("N", "N m") for u in plant.units):
             raise ModelError(f"outputs: force transmissibility needs force outputs, got units {list(plant.units)}")
     r = frequency_response(plant, frequencies=frequencies, method=method)
-    return FrequencyResponse(r.frequency_hz, r.response, r.outputs, r.inputs,
-                             tuple(f"{u} per unit input" for u in r.units), "transmissibility",
-                             r.method, r.reason, r.natural_hz, r.name)
+    return FrequencyResponse(r.frequency_hz, r.response, r.outputs, r.inputs, r.units, "transmissibility",
+                             r.method, r.reason, r.natural_hz, r.name, r.input_units)
 
 
 def _order(name: str, unit: str | None) -> int | None:
@@ -150,10 +149,15 @@ def _system_transmissibility(system: Any, inputs: Sequence[str], outputs: Sequen
         for a, yo in enumerate(oo):
             for b, ui in enumerate(oi):
                 h[a, b] = h[a, b] * s ** (int(ui or 0) - int(yo or 0))
+    from ..model.units import input_unit, times_s
+
+    base_in = tuple(input_unit(u.replace(":", "."), "force" if o is None else "displacement") for u, o in zip(ins, oi))
+    base_out = tuple(("N" if not units.get(y.replace(":", "."), "N").startswith("N m") else "N m") if o is None
+                     else times_s(units.get(y.replace(":", "."), "m"), -o) for y, o in zip(outs, oo))
     return FrequencyResponse(f, h, tuple(y.replace(":", ".") for y in outs), tuple(u.replace(":", ".") for u in ins),
-                             tuple("- per unit input" for _ in outs), "transmissibility",
+                             base_out, "transmissibility",
                              "statespace (balanced, direct solve)", "", np.zeros(0),
-                             str(getattr(system, "name", "system")).replace(":", "."))
+                             str(getattr(system, "name", "system")).replace(":", "."), base_in)
 
 
 def sweep_response(system: Model | Assembly, excitations: Sequence[Any] | None = None,
@@ -245,6 +249,5 @@ def sweep_response(system: Model | Assembly, excitations: Sequence[Any] | None =
         terms = r.response * a[None, :, :]
     terms = np.where(a[None, :, :] == 0, 0.0, terms)       # inf * 0 outside a sweep band -> 0
     y = terms.sum(axis=1, keepdims=True)
-    units = tuple(u.replace(" per unit input", "") for u in r.units)
-    return FrequencyResponse(f, y, r.outputs, ("sweep",), units, quantity, r.method, r.reason,
+    return FrequencyResponse(f, y, r.outputs, ("sweep",), r.units, quantity, r.method, r.reason,
                              r.natural_hz, r.name)

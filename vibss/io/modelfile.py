@@ -342,11 +342,35 @@ def _build(data: Any, source: str, base: Path | None, default_name: str) -> Mode
         settings["initial"] = initial
     if set(cases) - {"default"}:
         settings["load_cases"] = cases
-    gravity, name = m.array("gravity", [(3,)], "acceleration", None), m.string("name", default_name)
+    gravity, name = _gravity(m, units), m.string("name", default_name)
     try:
         return Model(bodies, mounts, points, loads, gravity, name, excitations, settings, actuators, sensors)
     except ModelError as exc:
         raise ModelFileError(f"{source}: {exc}") from None
+
+
+def _gravity(m: Entry, units: Units) -> np.ndarray | None:
+    """``[model] gravity``: 3 numbers in the file's acceleration unit, or ``"standard"`` (9.80665 m/s^2
+    along -z). Numbers that look like m/s^2 in a file whose lengths are not metres get a warning."""
+    import warnings
+
+    from ..errors import VibssWarning
+    from ..model.units import STANDARD_GRAVITY
+
+    value = m.data.get("gravity")
+    if isinstance(value, str):
+        if value != "standard":
+            raise m.fail("gravity", f"expected 3 numbers (in the file's acceleration unit) or \"standard\", got {value!r}")
+        return np.array([0.0, 0.0, -STANDARD_GRAVITY])
+    g = m.array("gravity", [(3,)], "acceleration", None)
+    if g is not None and units.acceleration is None and units.length != "m":
+        raw = float(np.linalg.norm(g)) / units.factor("acceleration")
+        if 9.0 < raw < 10.5:
+            warnings.warn(f"{m.where}: gravity {raw:.4g} is read in {units.label('acceleration')} (the file's "
+                          f"units): {float(np.linalg.norm(g)):.4g} m/s^2, {STANDARD_GRAVITY / float(np.linalg.norm(g)):.0f}x "
+                          "less than standard gravity; write gravity = \"standard\" or give it in "
+                          f"{units.label('acceleration')}", VibssWarning, stacklevel=2)
+    return g
 
 
 # -- public loading --------------------------------------------------------------------------------

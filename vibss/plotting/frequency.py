@@ -72,15 +72,20 @@ def plot_frequency_response(response: Any, outputs: Sequence[str] | None = None,
     f = r.frequency_hz
     pos = f > 0
     phase = r.phase_deg
+    units = {r.channel_unit(i, j) for i, j in pairs}
     for i, j in pairs:
         label = r.output_labels[i] + (f" / {r.input_labels[j]}" if len(r.input_labels) > 1 else "")
+        if len(units) > 1:
+            label += f" [{r.channel_unit(i, j)}]"
         ax[0].loglog(f[pos], mag[i, j, pos], label=label)
         ax[1].semilogx(f[pos], phase[i, j, pos])
     if mark_resonances:
         for fr in r.natural_hz:
             for a in ax:
                 a.axvline(fr, color="0.6", lw=0.6, ls=":")
-    ax[0].set_ylabel(f"|H| ({r.quantity})")
+    what = "amplitude" if r.quantity == "sweep" else r.quantity
+    ax[0].set_ylabel(f"|{'y' if r.quantity == 'sweep' else 'H'}| [{units.pop()}] ({what})" if len(units) == 1
+                     else f"|H| ({what}; units in the legend)")
     ax[1].set_ylabel("phase [deg]")
     ax[1].set_xlabel("frequency [Hz]")
     ax[0].set_title(f"{r.name}: method {r.method}")

@@ -1,0 +1,102 @@
+"""The unit algebra of signals: output per input units in text, JSON, pandas and figures; the ``g``
+acceleration unit and ``gravity = "standard"`` in model files."""
+
+from __future__ import annotations
+
+import json
+import warnings
+
+import numpy as np
+import pytest
+
+import vibss
+from vibss.errors import ModelError, VibssWarning
+from vibss.io.modelfile import loads_model
+from vibss.model.units import STANDARD_GRAVITY
+
+BOX = """
+[model]
+units = {{ length = "mm"{extra} }}
+{gravity}
+[[body]]
+name = "box"
+mass = 20.0
+inertia = [0.1, 0.1, 0.1]
+[[mount_type]]
+name = "iso"
+stiffness = [50.0, 50.0, 80.0]          # N/mm
+damping = [0.2, 0.2, 0.2]
+[[mount]]
+type = "iso"
+body = "box"
+at = [100.0, 100.0, -50.0]
+symmetry = "double"
+"""
+
+
+def box(gravity: str = "", extra: str = "") -> vibss.Model:
+    return loads_model(BOX.format(gravity=gravity, extra=extra))
+
+
+def test_frf_units_are_output_per_input() -> None:
+    r = vibss.frequency_response(box(), ["box.fz", "box.my", "ground.z.acc"], ["box.z", "ground.fz", "box.ry"],
+                                 [2.0, 20.0])
+    assert r.channel_unit("box.z", "box.fz") == "m/N"
+    assert r.channel_unit("ground.fz", "box.my") == "N/(N m)"
+    assert r.channel_unit("box.ry", "ground.z.acc") == "rad/(m/s^2)"
+    data = json.loads(r.to_json())
+    assert data["inputs"]["box.my"]["outputs"]["box.ry"]["unit"] == "rad/(N m)"
+    assert "N/(N m)" in r.report() and "m/N" in str(r.summary())
+    acc = vibss.frequency_response(box(), ["ground.z.acc"], ["box.z"], [5.0], quantity="accelerance")
+    assert acc.channel_unit("box.z") == "(m/s^2)/(m/s^2)"
+    pytest.importorskip("pandas")
+    assert r.to_pandas().attrs["units"]["ground.fz/box.fz"] == "N/N"
+
+
+def test_transmissibility_is_dimensionless_only_between_equal_units() -> None:
+    t = vibss.transmissibility(box(), ["ground.z"], ["box.z", "box.ry"], [5.0])
+    assert t.channel_unit("box.z") == "-"
+    assert t.channel_unit("box.ry") == "rad/m"
+    f = vibss.transmissibility(box(), ["box.fz", "box.my"], ["ground.fz"], [5.0])
+    assert f.channel_unit("ground.fz", "box.fz") == "-" and f.channel_unit("ground.fz", "box.my") == "N/(N m)"
+
+
+def test_bode_axis_carries_the_unit() -> None:
+    r = vibss.frequency_response(box(), ["box.fz"], ["box.z", "box.x"], [1.0, 5.0, 20.0])
+    fig = r.plot()
+    assert "[m/N]" in fig.axes[0].get_ylabel()
+
+
+def test_g_unit_and_standard_gravity() -> None:
+    standard = box(gravity='gravity = "standard"')
+    np.testing.assert_array_equal(standard.gravity, [0.0, 0.0, -STANDARD_GRAVITY])
+    in_g = box(gravity="gravity = [0.0, 0.0, -1.0]", extra=', acceleration = "g"')
+    np.testing.assert_array_equal(in_g.gravity, standard.gravity)
+    # the static sag is the same physics: m g / k_total
+    sag = vibss.static(standard).q[2]
+    assert sag == pytest.approx(-20.0 * STANDARD_GRAVITY / (4 * 80e3), rel=1e-9)
+    with pytest.warns(VibssWarning, match=r"gravity 9\.81 is read in mm/s\^2.*\"standard\""):
+        looks_si = box(gravity="gravity = [0.0, 0.0, -9.81]")
+    assert looks_si.gravity[2] == pytest.approx(-9.81e-3)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        box(gravity="gravity = [0.0, 0.0, -9810.0]")          # mm/s^2, as the file says: no warning
+    with pytest.raises(ModelError, match="gravity.*\"standard\""):
+        box(gravity='gravity = "earth"')
+    with pytest.raises(ModelError, match="acceleration.*\"g\""):
+        box(extra=', acceleration = "gee"')
+
+
+def test_acceleration_excitations_in_g() -> None:
+    """A 30 g, 11 ms half-sine written in g and ms: its peak is 30 x 9.80665 m/s^2 at 5.5 ms."""
+    text = BOX.format(gravity="", extra=', time = "ms", acceleration = "g"') + """
+[[excitation]]
+name = "shock"
+kind = "acceleration"
+target = "ground"
+dof = "z"
+function = { type = "half_sine", amplitude = 30.0, start = 0.0, duration = 11.0 }
+"""
+    f = loads_model(text).excitations[0].function
+    assert f.value(np.array([5.5e-3]))[0] == pytest.approx(30 * STANDARD_GRAVITY, rel=1e-12)
+    assert f.value(np.array([11.5e-3]))[0] == 0.0
