@@ -341,20 +341,31 @@ def _available(module: str) -> bool:
     return importlib.util.find_spec(f"vibss.{module}") is not None
 
 
-def _bode(r: Any, name: str) -> tuple[str, Any]:
-    from .plotting._draw import new_figure
+def _bode(r: Any, name: str, title: str = "") -> tuple[str, Any]:
+    from .plotting._draw import new_figure, plain_frequency_axis
 
     fig = new_figure(8.0, 6.0)
     axes = fig.subplots(2, 1, sharex=True)
     r.plot(ax=axes)
-    units = sorted(set(r.units))
-    axes[0].set_ylabel(f"|{r.quantity}|" + (f" [{units[0]}]" if len(units) == 1 else ""))
-    axes[0].set_title(f"{r.name}: {r.quantity} from {', '.join(r.inputs)} (method {r.method})", fontsize=10)
+    if tuple(r.inputs) == ("sweep",):   # a sweep's amplitudes: only its band, named as what they are
+        kind = {"receptance": "displacement", "mobility": "velocity", "accelerance": "acceleration"}.get(r.quantity, r.quantity)
+        units = sorted(set(r.units))
+        axes[0].set_ylabel(f"{kind} amplitude" + (f" [{units[0]}]" if len(units) == 1 else " (units in the legend)"))
+        live = np.flatnonzero(np.any(np.abs(r.response[:, 0, :]) > 0, axis=0) & (r.frequency_hz > 0))
+        if live.size > 1:
+            axes[1].set_xlim(r.frequency_hz[live[0]], r.frequency_hz[live[-1]])
+            plain_frequency_axis(axes[1])
+        axes[0].set_title(title or f"{r.name}: steady-state {kind} amplitude (method {r.method})", fontsize=10)
+    else:
+        axes[0].set_title(title or f"{r.name}: {r.quantity} from {', '.join(r.inputs)} (method {r.method})",
+                          fontsize=10)
     return name, fig
 
 
 def _frequency_section(model: Model, figures: bool, results: dict[str, Any]) -> Section:
     sweeps = list(steady_sweeps(model))
+    if not sweeps and any(m.to == "ground" for m in model.mounts) and _available("frequency"):
+        return _isolation_section(model, figures, results)
     if not sweeps:
         return Section("frequency", TITLES["frequency"], skipped=True,
                        note="no steady-state sine-sweep excitation (sweep_time = 0) in the model")
@@ -370,7 +381,8 @@ def _frequency_section(model: Model, figures: bool, results: dict[str, Any]) -> 
     results["frequency"] = r
     texts = [r.report()]
     tables = [_frf_table(r, f"Steady-state sweep response of {', '.join(e.name for e in sweeps)}")]
-    figs = [_bode(r, "sweep.png")] if figures else []
+    figs = [_bode(r, "sweep.png", f"{model.name}: steady-state amplitude under "
+                  f"{', '.join(e.name for e in sweeps)}")] if figures else []
     grid = band.grid()
     for e in sweeps:
         ground = None if e.target == "ground" else [f"ground.{c}" for c in ("fx", "fy", "fz", "mx", "my", "mz")]
@@ -390,8 +402,51 @@ def _frf_table(r: Any, title: str) -> Table:
         for j, u in enumerate(r.inputs):
             peaks = r.peaks(y, u, 1)
             f, a = peaks[0] if peaks else (float("nan"), 0.0)
-            rows.append([y, u, f"{f:.4f}", f"{a:.4e}", r.units[i]])
+            rows.append([y, u, f"{f:.4f}", f"{a:.4e}", r.channel_unit(i, j)])
     return Table(["output", "input", "peak f [Hz]", "amplitude", "unit"], rows, title=title)
+
+
+def _isolation_section(model: Model, figures: bool, results: dict[str, Any]) -> Section:
+    """An isolator model without a sine sweep: motion transmissibility from ground (x, y, z) to each
+    body's COG along the same axis, and force transmissibility from a force at each body's COG into
+    ground, over the report's band."""
+    from .frequency.sweep import transmissibility
+
+    band = frequency_band(model, results.get("modes"))
+    grid = band.grid()
+    motion, force = {}, {}
+    for d in "xyz":
+        motion[d] = transmissibility(model, [f"ground.{d}"], [f"{b}.{d}" for b in model.body_names], frequencies=grid)
+        force[d] = transmissibility(model, [f"{b}.f{d}" for b in model.body_names], [f"ground.f{d}"], frequencies=grid)
+    results["transmissibility:motion"], results["transmissibility:force"] = motion, force
+    rows, lines = [], []
+    undamped = all(not np.any(m.type.damping) and not np.any(m.type.loss_factor) for m in model.mounts)
+    for kind, group in (("motion", motion), ("force", force)):
+        for d, r in group.items():
+            for i, y in enumerate(r.outputs):
+                for j, u in enumerate(r.inputs):
+                    pk = r.peaks(y, u, 1)
+                    f, a = pk[0] if pk else (float("nan"), float("nan"))
+                    top = float(np.nanmax(np.abs(r.response[i, j])))
+                    amp = np.abs(r.response[i, j])
+                    over = np.flatnonzero(~(amp < 1.0))          # |T| >= 1 (or not finite)
+                    iso = (np.nan if over.size and over[-1] == amp.size - 1
+                           else float(r.frequency_hz[over[-1] + 1]) if over.size else float(r.frequency_hz[0]))
+                    peak = "unbounded (no damping)" if undamped else f"{a:.4g}"
+                    rows.append([kind, u, y, f"{f:.4g}", peak, "unbounded" if undamped else f"{top:.4g}",
+                                 "-" if not np.isfinite(iso) else f"{iso:.4g}"])
+    table = Table(["kind", "input", "output", "peak f [Hz]", "peak |T| [-]", "max |T| [-]", "|T| < 1 above [Hz]"],
+                  rows, title="Transmissibility (no sine sweep in the file: unit ground motion along each axis, "
+                              "unit forces at each body's COG)")
+    lines.append(str(table))
+    figs: list[tuple[str, Any]] = []
+    if figures:
+        from .plotting.frequency import plot_transmissibility_set
+
+        figs.append(("transmissibility.png", plot_transmissibility_set(motion, force, model.body_names)))
+    return Section("frequency", "Transmissibility (isolation)", "\n".join(lines), (table,), tuple(figs),
+                   note=f"{band.f1:g} to {band.f2:g} Hz ({band.note}); the file has no sine sweep, so the "
+                        "report shows the isolator's own transmissibility")
 
 
 def _time_section(model: Model, figures: bool, results: dict[str, Any]) -> Section:

@@ -275,3 +275,22 @@ def new_figure(width: float, height: float) -> Figure:
     fig = Figure(figsize=(width, height), layout="constrained")
     FigureCanvasAgg(fig)
     return fig
+
+
+def plain_frequency_axis(ax: Axes) -> None:
+    """Log frequency axis labelled in plain numbers (0.5, 1, 2, 5, 10, 20, 50 ... Hz), not powers of ten.
+
+    Labels sit at 1, 2 and 5 times each power of ten inside the axis range; minor ticks stay unlabelled.
+    """
+    from matplotlib.ticker import FixedLocator, FuncFormatter, NullFormatter
+
+    lo, hi = ax.get_xlim()
+    if not (lo > 0 and hi > lo):
+        return
+    ticks = [m * 10.0 ** e for e in range(int(np.floor(np.log10(lo))), int(np.ceil(np.log10(hi))) + 1)
+             for m in (1, 2, 5) if lo <= m * 10.0 ** e <= hi]
+    if len(ticks) < 2:
+        return
+    ax.xaxis.set_major_locator(FixedLocator(ticks))
+    ax.xaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
+    ax.xaxis.set_minor_formatter(NullFormatter())

@@ -7,7 +7,7 @@ from typing import Any
 import numpy as np
 from matplotlib.figure import Figure
 
-from ._draw import new_figure
+from ._draw import new_figure, plain_frequency_axis
 
 __all__ = ["plot_transmissibility"]
 
@@ -53,6 +53,7 @@ def plot_transmissibility(passive: Any, active: Any, ax: Any = None, title: str 
         ax.text(0.01, 0.01, f"{skipped} channel(s) below -120 dB of the largest not drawn", transform=ax.transAxes,
                 fontsize=7, color="0.4", va="bottom")
     ax.set_xlabel("frequency [Hz]")
+    plain_frequency_axis(ax)
     ax.set_ylabel("transmissibility [dB]  (|output| / |input|, same units)")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)

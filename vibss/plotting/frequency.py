@@ -10,7 +10,7 @@ from matplotlib.figure import Figure
 
 from .._validate import name_index
 from ..errors import ArgumentError
-from ._draw import new_figure
+from ._draw import new_figure, plain_frequency_axis
 
 __all__ = ["plot_frequency_response"]
 
@@ -88,6 +88,48 @@ def plot_frequency_response(response: Any, outputs: Sequence[str] | None = None,
                      else f"|H| ({what}; units in the legend)")
     ax[1].set_ylabel("phase [deg]")
     ax[1].set_xlabel("frequency [Hz]")
+    plain_frequency_axis(ax[1])
     ax[0].set_title(f"{r.name}: method {r.method}")
-    ax[0].legend(fontsize="small")
+    ax[0].legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
+    return fig
+
+
+def plot_transmissibility_set(motion: Any, force: Any, bodies: Any) -> Any:
+    """Motion (ground -> body, per axis) and force (body -> ground, per axis) transmissibility
+    magnitudes [-] on two panels, one colour per axis, one line style per body.
+
+    Parameters
+    ----------
+    motion, force : mapping of {"x", "y", "z"} to FrequencyResponse
+        From :func:`vibss.transmissibility` (motion: ground.<d> -> <body>.<d>; force: <body>.f<d> -> ground.f<d>).
+    bodies : sequence of str
+        Body names (line styles).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig = new_figure(8.5, 6.5)
+    axes = fig.subplots(2, 1, sharex=True)
+    styles = ["-", "--", ":", "-."]
+    colours = {"x": "C0", "y": "C1", "z": "C2"}
+    for ax, group, what in ((axes[0], motion, "motion: ground -> body COG"),
+                            (axes[1], force, "force: body COG -> ground")):
+        for d, r in group.items():
+            f = r.frequency_hz
+            pos = f > 0
+            for k, b in enumerate(bodies):
+                i, j = (k, 0) if what.startswith("motion") else (0, k)
+                label = (f"{b}.{d} / ground.{d}" if what.startswith("motion") else f"ground.f{d} / {b}.f{d}")
+                ax.loglog(f[pos], np.abs(r.response[i, j, pos]), color=colours[d], ls=styles[k % 4], label=label)
+        ax.axhline(1.0, color="0.5", lw=0.8)
+        for fr in next(iter(group.values())).natural_hz:
+            ax.axvline(fr, color="0.7", lw=0.6, ls=":")
+        ax.set_ylabel("|T| [-]")
+        ax.set_title(what, fontsize=9)
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
+    axes[1].set_xlabel("frequency [Hz]")
+    plain_frequency_axis(axes[1])
+    fig.suptitle("Transmissibility (dotted: undamped natural frequencies)", fontsize=10)
     return fig
