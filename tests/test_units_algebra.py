@@ -116,3 +116,18 @@ def test_isolator_without_a_sweep_gets_transmissibility_in_the_report() -> None:
         np.testing.assert_allclose(motion[d].response[0, 0], force[d].response[0, 0], rtol=1e-9)
         np.testing.assert_allclose(motion[d].response[1, 0], force[d].response[0, 1], rtol=1e-9)
     assert all(row[3] != "nan" for row in sec.tables[0].rows)
+
+
+def test_shock_study_leads_with_stroke_and_acceleration_and_names_the_pulse() -> None:
+    from vibss.report import study
+
+    r = study(vibss.load_example("packaged_item"), figures=False)
+    rows = r.section("time").tables[0].rows
+    assert rows[0][0].startswith("mount.") and rows[0][4] == "m"         # stroke first
+    units = [row[4] for row in rows]
+    assert units.index("m/s^2") < max(i for i, row in enumerate(rows) if not row[0].startswith("mount."))
+    peaks = np.array([abs(float(row[1])) for row in rows if row[4] == "m"])
+    assert peaks.min() > 1e-9 * peaks.max()                              # zero channels dropped
+    excitations = r.section("model").tables[-1]
+    params = excitations.rows[0][5]
+    assert "duration 0.011 s" in params and "(50.02 g)" in params        # 490.5 m/s^2 / 9.80665

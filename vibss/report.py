@@ -43,7 +43,7 @@ import numpy as np
 from .modal.damped import damped_modes
 from .errors import SignalError, VibssError, did_you_mean
 from .modal.undamped import modes
-from .model.model import DOF_NAMES, Model
+from .model.model import DOF_NAMES, GROUND, Model
 from .results import Table
 from .statics import StaticResult, static
 from .studies import frequency_band, steady_sweeps, time_window, transient_excitations
@@ -185,9 +185,10 @@ def _model_section(model: Model, figures: bool) -> Section:
         tables.append(Table(["point", "body", "x [m]", "y [m]", "z [m]"], pts, title="Control points"))
     if model.excitations:
         rows = [[e.name, e.kind, e.target, e.dof or "direction " + str(np.round(e.direction, 3).tolist()),
-                 type(e.function).__name__, e.unit] for e in model.excitations]
-        tables.append(Table(["excitation", "kind", "target", "dof", "function", "unit"], rows,
-                            title="Excitations"))
+                 type(e.function).__name__, _function_parameters(e.function.to_dict(), e.unit), e.unit]
+                for e in model.excitations]
+        tables.append(Table(["excitation", "kind", "target", "dof", "function", "parameters", "unit"], rows,
+                            title="Excitations (amplitudes in the unit column, times in s, frequencies in Hz)"))
     nb = len(model.bodies)
     text = (f"{nb} bod{'y' if nb == 1 else 'ies'}, {len(model.mounts)} mounts, total mass "
             f"{model.total_mass:.4g} kg" + ("" if model.gravity is None else
@@ -341,6 +342,33 @@ def _available(module: str) -> bool:
     return importlib.util.find_spec(f"vibss.{module}") is not None
 
 
+_PARAMETER_UNITS = {"start": "s", "end": "s", "duration": "s", "sweep_time": "s", "f1": "Hz", "f2": "Hz",
+                    "frequency": "Hz", "phase": "rad"}
+
+
+def _function_parameters(d: dict[str, Any], unit: str) -> str:
+    """A time function's parameters as one line: ``amplitude 490.5 m/s^2 (50 g), duration 0.011 s``."""
+    from .model.units import STANDARD_GRAVITY
+
+    if d.get("type") == "sum":
+        return " + ".join(_function_parameters(t, unit) for t in d.get("terms", []))
+    parts = []
+    for k, v in d.items():
+        if k == "type":
+            continue
+        if isinstance(v, (int, float)):
+            u = _PARAMETER_UNITS.get(k, unit if k in ("amplitude", "a1", "a2", "slope") else "")
+            text = f"{k} {v:.6g}" + (f" {u}" if u else "")
+            if u == "m/s^2" and v:
+                text += f" ({v / STANDARD_GRAVITY:.4g} g)"
+            parts.append(text)
+        elif isinstance(v, list):
+            parts.append(f"{k} [{len(v)} values]")
+        else:
+            parts.append(f"{k} {v}")
+    return ", ".join(parts)
+
+
 def _bode(r: Any, name: str, title: str = "") -> tuple[str, Any]:
     from .plotting._draw import new_figure, plain_frequency_axis
 
@@ -459,24 +487,37 @@ def _time_section(model: Model, figures: bool, results: dict[str, Any]) -> Secti
     from .time.api import simulate
 
     window = time_window(model, results.get("modes"))     # the window of ``vibss time``
-    outputs = [f"{b}.{d}" for b in model.body_names for d in DOF_NAMES]
-    outputs += [f"{b}.{d}.acc" for b in model.body_names for d in "xyz"]
-    outputs += [f"mount.{m.name}.{d}" for m in model.mounts for d in ("dx", "dy", "dz")]
+    base = all(e.target == GROUND and e.kind != "force" for e in transient)
+    deflections = [f"mount.{m.name}.{d}" for m in model.mounts for d in ("dx", "dy", "dz")]
+    accelerations = [f"{b}.{d}.acc" for b in model.body_names for d in "xyz"]
+    motions = [f"{b}.{d}" for b in model.body_names for d in DOF_NAMES]
+    forces = [f"mount.{m.name}.{d}" for m in model.mounts for d in ("fx", "fy", "fz")]
+    # base excitation: what the isolator strokes and what the item feels lead, absolute motion last
+    # (it follows the ground); force excitation: the motion and the forces into the mounts
+    outputs = deflections + accelerations + motions if base else motions + forces + accelerations + deflections
     r = simulate(model, transient, outputs=outputs, t_end=window.end, dt=window.step,
                  record_from=window.record_from, rtol=window.tolerance)
     results["time"] = r
     pk = r.peaks()
-    table = Table(["output", "peak", "at [s]", "RMS", "unit"],
-                  [[n, f"{v:.5e}", f"{t:.5f}", f"{s:.5e}", u]
-                   for n, u, v, t, s in zip(pk.outputs, pk.units, pk.value, pk.time, pk.rms)],
+    largest: dict[str, float] = {}          # per unit, rotations with translations (rad ~ m on a 1 m body)
+    for u, v in zip(pk.units, pk.value):
+        largest[u.replace("rad", "m")] = max(largest.get(u.replace("rad", "m"), 0.0), abs(float(v)))
+    rows = [[n, f"{v:.5e}", f"{t:.5f}", f"{s:.5e}", u]
+            for n, u, v, t, s in zip(pk.outputs, pk.units, pk.value, pk.time, pk.rms)
+            if abs(v) > 1e-9 * largest[u.replace("rad", "m")]]  # channels the symmetry leaves at zero: dropped
+    dropped = len(pk.outputs) - len(rows)
+    table = Table(["output", "peak", "at [s]", "RMS", "unit"], rows,
                   title=f"Peaks of the response to {', '.join(e.name for e in transient)} "
-                        "(body motions absolute; mount deflection = body side minus other side)")
+                        "(body motions absolute; mount deflection = body side minus other side)"
+                        + (f"; {dropped} channels below 1e-9 of the largest of their unit not listed" if dropped else ""))
     figs: list[tuple[str, Any]] = []
     if figures:
         from .plotting import plot_time_groups
 
-        figs.append(("time.png", plot_time_groups(r)))
-    return Section("time", TITLES["time"], r.report(), (table,), tuple(figs),
+        lead = ["mount deflection", "acceleration"] if base else ["body translation", "mount force"]
+        figs.append(("time.png", plot_time_groups(r, order=lead, show_inputs=True)))
+    head = "\n".join(r.report().split("\n")[:2])
+    return Section("time", TITLES["time"], f"{head}\n\n{table}", (table,), tuple(figs),
                    note=f"0 to {window.end:g} s, step {window.step:g} s ({window.note}), method {r.method}")
 
 

@@ -40,7 +40,8 @@ def quantity_of(name: str, unit: str) -> str:
     return "body rotation" if unit == "rad" else "body translation"
 
 
-def plot_time_groups(response: Any, max_lines: int = 6) -> Figure:
+def plot_time_groups(response: Any, max_lines: int = 6, order: Sequence[str] | None = None,
+                     show_inputs: bool = False) -> Figure:
     """Plot a time response with one panel per quantity (translation, rotation, acceleration,
     mount deflection ...), each showing its ``max_lines`` outputs of largest peak, peaks marked.
 
@@ -50,6 +51,10 @@ def plot_time_groups(response: Any, max_lines: int = 6) -> Figure:
         The response (``time``, ``outputs``, ``output_names``, ``units``).
     max_lines : int
         Most lines per panel (the outputs with the largest peaks).
+    order : sequence of str or None
+        Panels first in this order (quantities as :func:`quantity_of` names them); the rest after.
+    show_inputs : bool
+        A first panel with the input signals (the excitation drawn).
 
     Returns
     -------
@@ -58,16 +63,28 @@ def plot_time_groups(response: Any, max_lines: int = 6) -> Figure:
     groups: dict[str, list[int]] = {}
     for i, (n, u) in enumerate(zip(response.output_names, response.units)):
         groups.setdefault(quantity_of(n, u), []).append(i)
-    keys = sorted(groups, key=lambda k: _ORDER.index(k) if k in _ORDER else len(_ORDER))
+    rank = list(order or ()) + [k for k in _ORDER if k not in (order or ())]
+    keys = sorted(groups, key=lambda k: rank.index(k) if k in rank else len(rank))
     zero = [k for k in keys if not np.any(np.abs(response.outputs[groups[k]]) > 1e-15)]
     keys = [k for k in keys if k not in zero] or keys[:1]
-    fig = new_figure(8.5, 1.0 + 2.1 * max(len(keys), 1))
-    axes = np.atleast_1d(fig.subplots(max(len(keys), 1), 1, sharex=True, squeeze=False)[:, 0])
+    extra = 1 if show_inputs and len(response.input_names) else 0
+    fig = new_figure(8.5, 1.0 + 2.1 * max(len(keys) + extra, 1))
+    axes = np.atleast_1d(fig.subplots(max(len(keys) + extra, 1), 1, sharex=True, squeeze=False)[:, 0])
     t = response.time
+    if extra:
+        from ..model.units import input_unit
+
+        ax0, axes = axes[0], axes[1:]
+        for j, name in enumerate(response.input_names):
+            ax0.plot(t, response.inputs[j], lw=1.1, color="0.25", ls=("-", "--", ":")[j % 3], label=name)
+        units = {input_unit(n, _kind_of(n)) for n in response.input_names}
+        ax0.set_ylabel("input\n[" + (units.pop() if len(units) == 1 else "SI") + "]", fontsize=9)
+        ax0.grid(True, lw=0.3, alpha=0.6)
+        ax0.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.0, 1.0), frameon=False)
     for ax, key in zip(axes, keys):
         rows = groups[key]
         peak = np.array([np.max(np.abs(response.outputs[i]), initial=0.0) for i in rows])
-        shown = [rows[j] for j in np.argsort(peak)[::-1][:max_lines]]
+        shown = [rows[j] for j in np.argsort(peak)[::-1][:max_lines] if peak[j] > 1e-9 * peak.max()]
         for i in shown:
             y = response.outputs[i]
             (line,) = ax.plot(t, y, lw=1.1, label=response.output_names[i])
@@ -84,6 +101,12 @@ def plot_time_groups(response: Any, max_lines: int = 6) -> Figure:
     fig.suptitle(f"Time response of {response.name!r} (peaks marked)"
                  + (f"; zero throughout: {', '.join(zero)}" if zero else ""), fontsize=10)
     return fig
+
+
+def _kind_of(name: str) -> str:
+    """What an input signal is, from its name's suffix."""
+    last = name.rsplit(".", 1)[-1]
+    return {"disp": "displacement", "vel": "velocity", "acc": "acceleration"}.get(last, "force")
 
 
 def plot_time_response(response: Any, outputs: Sequence[str] | None = None, by: str = "body",
