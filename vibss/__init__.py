@@ -65,7 +65,7 @@ _LAZY: dict[str, str] = {
     "TimeResponse": ".time.api", "simulate": ".time.api",
     "SweepEnvelope": ".time.sweep", "sweep_envelope": ".time.sweep",
     "study": ".design.study",
-    "srs": ".shock",
+    "srs": ".shock", "ShockResponseSpectrum": ".shock.srs",
     "random_response": ".random", "PSD": ".random",
     # subpackages
     "design": ".design",            # vibss.design.*: mount-system design
@@ -96,6 +96,7 @@ def __dir__() -> list[str]:
 if TYPE_CHECKING:                          # what static checkers and IDEs see
     from . import control, design, orders, random, shock
     from .model.actuation import Actuator, Sensor
+    from .shock.srs import ShockResponseSpectrum
     from .design.study import study
     from .frequency.api import FrequencyGrid, FrequencyResponse, frequency_grid, frequency_response
     from .frequency.sweep import sweep_response, transmissibility
@@ -124,7 +125,7 @@ __version__ = "0.1.0"
 
 __all__ = [
     "HalfSine", "Haversine", "Ramp", "Rectangular", "Sawtooth", "Sine", "SineSweep", "Step", "Sum", "Table",
-    "TimeFunction", "Triangle", "Actuator", "Sensor", "ControlDesignError", "control",
+    "TimeFunction", "Triangle", "Actuator", "Sensor", "ShockResponseSpectrum", "ControlDesignError", "control",
     "AnalysisError", "ArgumentError", "Assembly", "DefectiveModesError", "Body", "ControlPoint", "DOF_NAMES", "DampedModes", "Excitation",
     "FrequencyGrid", "FrequencyResponse", "GROUND", "Load", "MissingDependencyError", "Model", "ModelError", "ModelFileError", "Modes", "Mount", "MountType", "NamedStateSpace",
     "Orientation", "PSD", "Plant", "Reduction", "Scope", "SignalError", "StaticResult", "StudyDefaults", "SweepEnvelope", "TimeResponse", "VibssError", "VibssWarning", "assemble", "build_plant", "damped_modes", "dump_model",

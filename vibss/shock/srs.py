@@ -158,19 +158,20 @@ def srs(time: Any, signal: Any, frequencies: Any, q: float = 10.0, kind: str = "
     xx = np.concatenate([x, np.zeros(ntail)])
     out = np.empty(f.size)
     n = x.size
+    # one C-speed lfilter pass per frequency (measured as fast as scipy's sosfilt, and threads do not
+    # help: the filter holds the GIL); the extremes without an |y| temporary (half the old time)
     for i, fn in enumerate(f):
         b, a = _coefficients(float(fn), zeta, dt)
         y = scipy.signal.lfilter(b, a, xx)
         if kind == "maximax":
-            out[i] = np.max(np.abs(y))
+            out[i] = max(y.max(), -y.min())
         elif kind == "positive":
-            out[i] = np.max(y)
+            out[i] = y.max()
         elif kind == "negative":
-            out[i] = -np.min(y)
-        elif kind == "primary":
-            out[i] = np.max(np.abs(y[:n]))
+            out[i] = -y.min()
         else:
-            out[i] = np.max(np.abs(y[n:]))
+            part = y[:n] if kind == "primary" else y[n:]
+            out[i] = max(part.max(), -part.min())
     w = 2.0 * np.pi * f
     if quantity == "pseudo_velocity":
         out = out / w
