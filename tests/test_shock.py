@@ -86,3 +86,37 @@ def test_errors_and_result_protocol():
     assert "Shock response spectrum" in r.report()
     assert r.to_dict()["kind"] == "maximax"
     assert vibss.srs is shock.srs
+
+
+def test_envelope_check_margins_against_the_closed_form_peak():
+    """Undamped maximax SRS of a half-sine peaks at 1.7685 A near fn T = 0.81: a flat spec at that
+    level gives a 0 dB margin there and negative margins elsewhere."""
+    import numpy as np
+
+    from vibss.shock import check_envelope, srs
+
+    T, A = 0.01, 1.0
+    t = np.arange(0, 0.05, 1e-6)
+    x = np.where(t < T, A * np.sin(np.pi * t / T), 0.0)
+    f = np.array([40.0, 81.0, 200.0])
+    r = srs(t, x, f, q=np.inf)
+    c = check_envelope(r, [10.0, 1000.0], [1.7685, 1.7685], lower_db=-np.inf, upper_db=0.01)
+    assert c.margin_db[1] == pytest.approx(0.0, abs=0.01)
+    assert c.passed and np.all(c.margin_db[[0, 2]] < -0.5)
+    tight = check_envelope(r, [10.0, 1000.0], [1.7685, 1.7685], lower_db=-0.5, upper_db=0.5)
+    assert not tight.passed and "FAIL" in tight.report()
+    with pytest.raises(ValueError, match="spec needs"):
+        check_envelope(r, [100.0, 10.0], [1.0, 1.0])
+
+
+def test_tripartite_plots_pseudo_velocity():
+    import numpy as np
+
+    from vibss.shock import srs
+
+    t = np.arange(0, 0.05, 1e-5)
+    r = srs(t, np.where(t < 0.011, 100 * np.sin(np.pi * t / 0.011), 0.0), [20.0, 100.0, 500.0])
+    fig = r.tripartite()
+    line = fig.axes[0].lines[0]
+    np.testing.assert_allclose(line.get_ydata(), r.response / (2 * np.pi * r.frequency_hz), rtol=1e-12)
+    assert fig.axes[0].get_ylabel() == "pseudo-velocity [m/s]"

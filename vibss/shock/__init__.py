@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 from .pulses import G, haversine, half_sine, sawtooth, trapezoid
+from .envelope import EnvelopeCheck, check_envelope
 from .srs import ShockResponseSpectrum, srs
 
-__all__ = ["G", "ShockResponseSpectrum", "half_sine", "haversine", "sawtooth", "srs", "trapezoid"]
+__all__ = ["G", "ShockResponseSpectrum", "half_sine", "haversine", "sawtooth", "srs", "trapezoid",
+           "check_envelope", "EnvelopeCheck"]

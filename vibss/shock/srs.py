@@ -96,6 +96,18 @@ class ShockResponseSpectrum(Result):
         return {"frequency_hz": self.frequency_hz.tolist(), "response": self.response.tolist(),
                 "q": self.q, "kind": self.kind, "quantity": self.quantity, "units": self.units}
 
+    def tripartite(self, unit: str = "m/s^2", ax: Any = None) -> Any:
+        """Four-coordinate plot (:func:`vibss.plotting.shock.plot_tripartite`); ``unit`` of the signal."""
+        from ..plotting.shock import plot_tripartite
+
+        return plot_tripartite(self, unit, ax)
+
+    def check(self, frequency_hz: Any, level: Any, lower_db: float = -3.0, upper_db: float = 6.0) -> Any:
+        """Against a specification envelope (:func:`vibss.shock.envelope.check_envelope`)."""
+        from .envelope import check_envelope
+
+        return check_envelope(self, frequency_hz, level, lower_db, upper_db)
+
     def to_pandas(self) -> Any:
         """The spectrum as a DataFrame indexed by frequency [Hz]."""
         import pandas as pd
