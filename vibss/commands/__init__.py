@@ -5,6 +5,6 @@ To add one: write ``vibss/commands/<name>.py`` with ``register(subparsers)`` and
 
 from __future__ import annotations
 
-from . import control, design, example, frf, modes, orders, report, static, study, time
+from . import control, design, example, frf, modes, orders, random, report, srs, static, study, time
 
-COMMANDS = [modes, static, frf, time, orders, design, study, control, report, example]
+COMMANDS = [modes, static, frf, time, orders, srs, random, design, study, control, report, example]

@@ -182,7 +182,7 @@ def write_tables(settings: Mapping[str, Any]) -> dict[str, Any]:
     """``[design]`` / ``[study]`` / ``[orders]`` / ``[control]`` data for a model file written in SI
     (angles in rad)."""
     out: dict[str, Any] = {}
-    for key in ("design", "study", "orders", "control"):
+    for key in ("design", "study", "orders", "control", "shock", "random"):
         if key in settings:
             out[key] = {k: (dict(v) if isinstance(v, Mapping) else v) for k, v in settings[key].items()}
     return out

@@ -37,6 +37,7 @@ from .filetable import MISSING, Entry
 from .designfile import read_design, read_study, write_tables
 from .ordersfile import read_orders
 from .controlfile import read_control
+from .environmentsfile import read_random, read_shock
 from ..model.geometry import Orientation
 from ..model.actuation import ACTUATOR_KINDS, SENSOR_KINDS, Actuator, Sensor
 from ..model.model import (DOF_NAMES, GROUND, SYMMETRIES, Body, ControlPoint, Load, Model, Mount,
@@ -51,7 +52,7 @@ EXAMPLES_DIR = Path(__file__).parent.parent / "examples"
 """Folder of the built-in example model files."""
 
 _TABLES = ("model", "body", "mount_type", "mount", "control_point", "load", "excitation", "analysis",
-           "design", "study", "orders", "actuator", "sensor", "control")
+           "design", "study", "orders", "actuator", "sensor", "control", "shock", "random")
 
 
 def _entries(data: Mapping[str, Any], table: str, source: str, units: Units) -> list[Entry]:
@@ -333,7 +334,7 @@ def _build(data: Any, source: str, base: Path | None, default_name: str) -> Mode
         raise ModelFileError(f"{source}: analysis: expected an [analysis] table, got {analysis!r}")
     settings = _analysis(Entry(analysis, f"{source}: [analysis]", units))
     for key, reader in (("design", read_design), ("study", read_study), ("orders", read_orders),
-                        ("control", read_control)):
+                        ("control", read_control), ("shock", read_shock), ("random", read_random)):
         if key in data:
             if not isinstance(data[key], Mapping):
                 raise ModelFileError(f"{source}: {key}: expected a [{key}] table, got {data[key]!r}")
