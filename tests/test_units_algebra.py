@@ -131,3 +131,16 @@ def test_shock_study_leads_with_stroke_and_acceleration_and_names_the_pulse() ->
     excitations = r.section("model").tables[-1]
     params = excitations.rows[0][5]
     assert "duration 0.011 s" in params and "(50.02 g)" in params        # 490.5 m/s^2 / 9.80665
+
+
+def test_static_section_draws_body_and_mount_deflections() -> None:
+    from vibss.report import study
+
+    m = vibss.load_example("inertia_block")
+    r = study(m, figures=True)
+    names = [n for n, _ in r.section("static").figures]
+    assert names == ["static.png", "static_mounts.png"]
+    fig = dict(r.section("static").figures)["static_mounts.png"]
+    bars = [p.get_height() for p in fig.axes[0].patches]
+    local = r.results["static"].mount_deflection_local.reshape(-1, 3) * 1e3
+    np.testing.assert_allclose(sorted(bars), sorted(local.ravel()), rtol=1e-12, atol=1e-12)

@@ -249,7 +249,14 @@ def _static_section(model: Model, figures: bool, results: dict[str, Any]) -> Sec
     if cases != [None]:
         what += "; load case" + ("s " if len(cases) > 1 else " ") + ", ".join(repr(c) for c in cases)
     tables = tuple(t for r in solved for t in _static_tables(r))
-    return Section("static", TITLES["static"], "\n\n".join(r.report() for r in solved), tables,
+    figs: tuple[tuple[str, Any], ...] = ()
+    if figures:
+        from .plotting.summary import plot_mount_deflections, plot_static
+
+        figs = (("static.png", plot_static(solved[0])),)
+        if model.mounts:
+            figs += (("static_mounts.png", plot_mount_deflections(solved[0])),)
+    return Section("static", TITLES["static"], "\n\n".join(r.report() for r in solved), tables, figs,
                    note=f"under {what}")
 
 

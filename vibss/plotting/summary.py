@@ -35,12 +35,20 @@ def plot_static(result: Any, ax: Any = None) -> Figure:
     -------
     Figure
     """
-    d = result.deflections
+    d = np.array(result.deflections, dtype=float)
+    # round-off (a rotation of 1e-17 rad under a symmetric load) is not a deflection: values below 1e-9
+    # of the largest (rotations counted on a 1 m lever) are drawn as zero
+    floor = 1e-9 * max(float(np.abs(d).max(initial=0.0)), 1e-300)
+    d[np.abs(d) < floor] = 0.0
     names = result.model.body_names
     fig, axes = _axes(ax, 2, 7, 5)
     x = np.arange(len(names))
     for a, cols, scale, unit, labels in ((axes[0], slice(0, 3), 1e3, "mm", "xyz"),
                                          (axes[1], slice(3, 6), 1e3, "mrad", ("rx", "ry", "rz"))):
+        if not np.any(d[:, cols]):
+            a.set_ylim(-1.0, 1.0)
+            a.text(0.5, 0.75, "none (below 1e-9 of the largest deflection)", transform=a.transAxes,
+                   ha="center", va="center", fontsize=8, color="0.4")
         for k, lab in enumerate(labels):
             a.bar(x + (k - 1) * 0.27, scale * d[:, cols][:, k], width=0.27, label=lab)
         a.set_xticks(x, names)
@@ -50,6 +58,38 @@ def plot_static(result: Any, ax: Any = None) -> Figure:
         a.legend(fontsize=7)
     axes[0].set_title(f"Static deflection of {result.model.name!r}"
                       + (f", load case {result.case!r}" if result.case else ""), fontsize=10)
+    return fig
+
+
+def plot_mount_deflections(result: Any, ax: Any = None) -> Figure:
+    """Bar chart of every mount's static deflection along its local axes 1, 2, 3 [mm] (what a mount
+    catalogue's load-deflection limit is checked against).
+
+    Parameters
+    ----------
+    result : vibss.StaticResult
+        The static result.
+    ax : Axes or None
+        Axes to draw in; default: a new figure.
+
+    Returns
+    -------
+    Figure
+    """
+    names = [m.name for m in result.model.mounts]
+    d = np.asarray(result.mount_deflection_local, dtype=float).reshape(len(names), 3) * 1e3
+    fig, (a,) = _axes(ax, 1, max(6.0, 0.45 * len(names) + 2.5), 4.2)
+    x = np.arange(len(names))
+    for k in range(3):
+        a.bar(x + (k - 1) * 0.27, d[:, k], width=0.27, label=f"axis {k + 1}")
+    a.set_xticks(x, names, rotation=30 if len(names) > 4 else 0, ha="right" if len(names) > 4 else "center",
+                 fontsize=8)
+    a.set_ylabel("deflection [mm] (local axes)")
+    a.axhline(0.0, color="0.3", lw=0.6)
+    a.grid(True, axis="y", alpha=0.3)
+    a.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
+    a.set_title(f"Static mount deflections of {result.model.name!r}"
+                + (f", load case {result.case!r}" if result.case else ""), fontsize=10)
     return fig
 
 
