@@ -47,10 +47,18 @@ def results() -> dict[str, Result]:
                          t_end=0.5, dt=1e-3),
         "sweep": sweep_envelope(m, sweep, outputs=["b.z"], points=50),
         "reduction": reduce(m, Scope(["b.fz"], ["b.z"], 0.0, 20.0, 1e-6), method="modal"),
+        "srs": _half_sine_srs(),
     }
 
 
-KINDS = ["static", "modes", "damped", "frequency", "time", "sweep", "reduction"]
+def _half_sine_srs() -> Result:
+    """SRS of a 1 m/s^2, 10 ms half-sine, named like a body signal so the name checks apply."""
+    t = np.arange(0.0, 0.02, 1e-5)
+    return vibss.srs(t, np.where(t < 0.01, np.sin(np.pi * t / 0.01), 0.0), [20.0, 81.0, 300.0],
+                     q=np.inf, name="b.z")
+
+
+KINDS = ["static", "modes", "damped", "frequency", "time", "sweep", "reduction", "srs"]
 
 
 def test_every_public_result_type_is_walked(results: dict[str, Result]) -> None:
@@ -58,7 +66,7 @@ def test_every_public_result_type_is_walked(results: dict[str, Result]) -> None:
               and issubclass(getattr(vibss, name), Result)}
     assert {type(r).__name__ for r in results.values()} == public
     assert public == {"StaticResult", "Modes", "DampedModes", "FrequencyResponse", "TimeResponse",
-                      "SweepEnvelope", "Reduction"}
+                      "SweepEnvelope", "Reduction", "ShockResponseSpectrum"}
 
 
 @pytest.mark.parametrize("kind", KINDS)
@@ -137,6 +145,8 @@ def test_indexing_by_signal_name_gives_closed_forms(results: dict[str, Result]) 
     assert np.abs(tr["b.z"]).max() == pytest.approx(2 * 5.0 / k4 * 1.0, rel=0.2)   # < 2F/k (damped)
     assert np.abs(tr["b.z"]).max() <= 2 * 5.0 / k4
     assert results["sweep"]["b.z"].shape == (50,)
+    # undamped half-sine SRS at fn T = 0.81: the closed-form primary maximum 1.768 (Harris, table 8.1)
+    assert results["srs"]["b.z"][1] == pytest.approx(1.768, abs=2e-3)
     red = results["reduction"]
     sub = red["b.z", "b.fz"]
     assert isinstance(sub, control.StateSpace)
@@ -171,7 +181,7 @@ def test_python_control_twins(results: dict[str, Result]) -> None:
     assert isinstance(tr, control.TimeResponseData)
     assert list(tr.output_labels) == ["b.z", "b.x"]
     assert isinstance(results["reduction"].control, control.StateSpace)
-    for kind in ("static", "modes", "damped", "sweep"):
+    for kind in ("static", "modes", "damped", "sweep", "srs"):
         assert results[kind].control is None
 
 

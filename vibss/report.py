@@ -2,8 +2,9 @@
 
 :func:`study` runs, in order, the model summary, the static deflection (under the model's loads
 and, where the model sets it, gravity), the undamped modes with their kinetic-energy table, the
-damped modes, the steady-state response to the model's sine-sweep excitations (with the
-transmissibility from each swept input) and the time response to its transient excitations, over
+damped modes, the design checks, the closed loop of an active model, the steady-state response to
+the model's sine-sweep excitations (with the transmissibility from each swept input; without a
+sweep, the isolator's own motion and force transmissibility), the order analysis and the time response to its transient excitations, over
 the window and band of :mod:`vibss.studies` (the ones ``vibss time`` and ``vibss frf`` use). An
 analysis that does not apply (no loads, no damping, no excitation of that kind) or whose module is
 not installed is skipped with a one-line note; one that fails is reported with its error message
@@ -21,7 +22,7 @@ Examples
 ...                 vibss.symmetric(vibss.Mount("m", t, "b", at=[1, 2, 0])), name="prism")
 >>> r = study(m, figures=False)
 >>> [s.key for s in r.sections if not s.skipped]
-['model', 'modes', 'design']
+['model', 'modes', 'design', 'frequency']
 """
 
 from __future__ import annotations

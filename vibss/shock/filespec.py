@@ -115,12 +115,12 @@ def run_shock(model: Any) -> ShockStudy:
     step = min(window.step, 1.0 / (20.0 * hi))
     end = max(window.end, float(getattr(exc.function, "end_time", 0.0)) + 1.0 / lo)
     t = np.arange(0.0, end + 0.5 * step, step)
-    spectra = {exc.signal: srs(t, exc.function.value(t), f, q=q)}
+    spectra = {exc.signal: srs(t, exc.function.value(t), f, q=q, name=exc.signal)}
     outputs = spec.get("outputs") or []
     if outputs:
         r = simulate(model, [exc], outputs=outputs, t_end=float(t[-1]), dt=step)
         for name in outputs:
-            spectra[name] = srs(r.time, r[name], f, q=q)
+            spectra[name] = srs(r.time, r[name], f, q=q, name=name)
     checks = {}
     if "spec" in spec:
         s = spec["spec"]

@@ -21,7 +21,7 @@ import scipy.signal
 
 from .. import _validate as v
 from ..errors import ArgumentError
-from ..results import Result, Table
+from ..results import Result, Table, require_pandas
 
 KINDS = ("maximax", "positive", "negative", "primary", "residual")
 RESPONSES = ("acceleration", "pseudo_velocity", "displacement")
@@ -53,6 +53,8 @@ class ShockResponseSpectrum(Result):
         Quality factor (inf for undamped).
     kind, quantity : str
         Which extremum and which response quantity.
+    name : str
+        The signal's name (the one output label; ``"srs"`` when not given).
     """
 
     frequency_hz: np.ndarray
@@ -60,19 +62,21 @@ class ShockResponseSpectrum(Result):
     q: float
     kind: str
     quantity: str
+    name: str = "srs"
 
     method = "ramp-invariant recursive filter (Smallwood; ISO 18431-4)"
     note = ""
 
     @property
     def output_labels(self) -> tuple[str, ...]:
-        """One output: the spectrum."""
-        return ("srs",)
+        """One output: the spectrum of the named signal."""
+        return (self.name,)
 
     @property
-    def units(self) -> dict[str, str]:
-        """Units of the fields."""
-        return {"frequency_hz": "Hz", "response": _UNITS[self.quantity]}
+    def units(self) -> tuple[str, ...]:
+        """Unit of the spectrum (the signal's unit, times s or s^2 for the pseudo quantities);
+        frequencies are in Hz."""
+        return (_UNITS[self.quantity],)
 
     def _item(self, i: int, j: int | None) -> Any:
         return self.response
@@ -92,9 +96,11 @@ class ShockResponseSpectrum(Result):
         return "\n".join(lines)
 
     def to_dict(self) -> dict[str, Any]:
-        """JSON-ready data."""
+        """JSON-ready data (``q`` is null for the undamped spectrum)."""
         return {"frequency_hz": self.frequency_hz.tolist(), "response": self.response.tolist(),
-                "q": self.q, "kind": self.kind, "quantity": self.quantity, "units": self.units}
+                "q": self.q if np.isfinite(self.q) else None,  # undamped: null (strict JSON)
+                "kind": self.kind, "quantity": self.quantity, "name": self.name,
+                "units": {"frequency_hz": "Hz", "response": _UNITS[self.quantity]}}
 
     def tripartite(self, unit: str = "m/s^2", ax: Any = None) -> Any:
         """Four-coordinate plot (:func:`vibss.plotting.shock.plot_tripartite`); ``unit`` of the signal."""
@@ -108,15 +114,19 @@ class ShockResponseSpectrum(Result):
 
         return check_envelope(self, frequency_hz, level, lower_db, upper_db)
 
+    def plot(self, ax: Any = None, unit: str = "m/s^2") -> Any:
+        """The spectrum on four-coordinate (tripartite) axes; ``unit`` is the signal's unit."""
+        return self.tripartite(unit, ax)
+
     def to_pandas(self) -> Any:
-        """The spectrum as a DataFrame indexed by frequency [Hz]."""
-        import pandas as pd
-        return pd.DataFrame({"response": self.response},
+        """The spectrum as a DataFrame indexed by frequency [Hz], one column named for the signal."""
+        pd = require_pandas()
+        return pd.DataFrame({self.name: self.response},
                             index=pd.Index(self.frequency_hz, name="frequency_hz"))
 
 
 def srs(time: Any, signal: Any, frequencies: Any, q: float = 10.0, kind: str = "maximax", *,
-        quantity: str = "acceleration") -> ShockResponseSpectrum:
+        quantity: str = "acceleration", name: str = "srs") -> ShockResponseSpectrum:
     """Shock response spectrum of a uniformly sampled base acceleration.
 
     Parameters
@@ -135,6 +145,8 @@ def srs(time: Any, signal: Any, frequencies: Any, q: float = 10.0, kind: str = "
     quantity : {"acceleration", "pseudo_velocity", "displacement"}
         Absolute acceleration, or its pseudo-velocity ``A/w`` and relative displacement ``A/w^2``
         (the pseudo relations, exact for the undamped oscillator).
+    name : str
+        Name of the signal, the result's one output label (e.g. ``"table.az"``).
 
     Returns
     -------
@@ -189,7 +201,9 @@ def srs(time: Any, signal: Any, frequencies: Any, q: float = 10.0, kind: str = "
         out = out / w
     elif quantity == "displacement":
         out = out / (w * w)
-    return ShockResponseSpectrum(f, out, qv, kind, quantity)
+    if not isinstance(name, str) or not name:
+        raise ArgumentError(f"srs: name must be a non-empty string, got {name!r}", argument="name", received=name)
+    return ShockResponseSpectrum(f, out, qv, kind, quantity, name)
 
 
 __all__ = ["KINDS", "ShockResponseSpectrum", "srs"]
