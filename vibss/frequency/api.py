@@ -203,9 +203,8 @@ class FrequencyResponse(Result):
 
     def __post_init__(self) -> None:
         for key in ("frequency_hz", "response", "natural_hz"):
-            a = np.array(getattr(self, key))
-            a.setflags(write=False)
-            object.__setattr__(self, key, a)
+            object.__setattr__(self, key, np.asarray(getattr(self, key)))
+        super().__post_init__()
 
     @property
     def output_labels(self) -> tuple[str, ...]:

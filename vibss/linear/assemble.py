@@ -13,7 +13,7 @@ into a dense array for small models or a scipy.sparse CSR matrix for large ones.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from functools import cached_property
 
 import numpy as np
@@ -21,6 +21,7 @@ import numpy.typing as npt
 import scipy.sparse as sp
 
 from ..errors import ModelError
+from ..results import ReadOnly, freeze
 from ..model.geometry import point_transfer
 from ..model.model import DOF_NAMES, Model
 
@@ -38,7 +39,7 @@ def dof_labels(body_names: list[str]) -> tuple[str, ...]:
 
 
 @dataclass(frozen=True, eq=False)
-class Assembly:
+class Assembly(ReadOnly):
     """Assembled matrices of a model.
 
     Attributes
@@ -85,6 +86,13 @@ class Assembly:
     r_a: np.ndarray
     sparse: bool = False
     _cache: dict = field(default_factory=dict, repr=False)
+
+    def __post_init__(self) -> None:
+        # the assembly owns its matrices and every later analysis shares them: read-only, so an
+        # in-place change through a handle cannot alter those analyses
+        for f in fields(self):
+            if not f.name.startswith("_"):
+                freeze(getattr(self, f.name))
 
     @property
     def n(self) -> int:

@@ -29,6 +29,7 @@ import scipy.linalg as sl
 from scipy.linalg import get_lapack_funcs
 
 from ..errors import DefectiveModesError
+from ..results import ReadOnly
 
 __all__ = ["ComplexModes", "complex_modes", "PROBE_TOL"]
 
@@ -43,7 +44,7 @@ would lose ``log10(cond)`` digits, and :func:`complex_modes` raises."""
 
 
 @dataclass(frozen=True, eq=False)
-class ComplexModes:
+class ComplexModes(ReadOnly):
     """Eigenvalues and right eigenvectors of ``A = [[0, P], [-Kt, -G]]`` and the means to apply ``V^-1``.
 
     Attributes

@@ -35,6 +35,7 @@ import scipy.sparse.linalg as spl
 from scipy.linalg import lapack
 
 from .._validate import choice
+from ..results import ReadOnly
 from ..errors import ModelError
 from .eigen_checks import (RIGID_RTOL, _as_factor, _factor_norms, _inverse_cholesky, _six_blocks, _trace_norm,
                            error_estimate, fast_matrix, rigid_mask, stiffness_solver)
@@ -240,7 +241,7 @@ def _jacobi(factor: Any, M: Any) -> tuple[np.ndarray, np.ndarray, float]:
 
 
 @dataclass(frozen=True, eq=False)
-class Spectrum:
+class Spectrum(ReadOnly):
     """Undamped modes from :func:`undamped`.
 
     Attributes
@@ -431,7 +432,7 @@ def _refine(K: Any, M: Any, factor: Any, w2: np.ndarray, phi: np.ndarray, est: n
 
 
 @dataclass(frozen=True, eq=False)
-class ModalBasis:
+class ModalBasis(ReadOnly):
     """Undamped modes of a plant's free DOFs.
 
     Attributes

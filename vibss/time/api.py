@@ -49,7 +49,7 @@ import numpy.typing as npt
 
 from .._validate import choice, name_index, number, vector
 from ..errors import AnalysisError, ArgumentError, DefectiveModesError, ModelError
-from ..results import Result, Table, jsonable, require_pandas
+from ..results import ReadOnly, Result, Table, jsonable, require_pandas
 from .methods import METHODS, SimulationJob, TimeMethod, resolve_method
 from ..model.model import DOF_NAMES, Model
 from ..linear.plant import Plant
@@ -66,7 +66,7 @@ SignalInput = Callable[[np.ndarray], np.ndarray] | npt.ArrayLike
 
 
 @dataclass(frozen=True, eq=False)
-class PeakTable:
+class PeakTable(ReadOnly):
     """Peak (largest magnitude) value, its time, and RMS of each output.
 
     Attributes
