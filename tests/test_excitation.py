@@ -153,7 +153,7 @@ def test_table_from_file(tmp_path):
     (tmp_path / "bad.csv").write_text("0 0\n1 2 3\n")
     with pytest.raises(ModelError, match="line 2.*two columns"):
         function_from_dict({"type": "table", "file": "bad.csv"}, base=tmp_path)
-    with pytest.raises(ModelError, match="cannot be read"):
+    with pytest.raises(ModelError, match="cannot read the file"):
         function_from_dict({"type": "table", "file": "missing.csv"}, base=tmp_path)
 
 

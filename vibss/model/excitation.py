@@ -19,6 +19,7 @@ Examples
 from __future__ import annotations
 
 import dataclasses
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -27,7 +28,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from .._validate import choice, vector
+from .._validate import choice, read_regular_file, vector
 from ..errors import ModelError, did_you_mean
 from .model import DOF_NAMES, GROUND
 from ..linear.plant import INPUT_KINDS
@@ -38,17 +39,24 @@ from .units import Units
 __all__ = [
     "TimeFunction", "Step", "Rectangular", "HalfSine", "Haversine", "Triangle", "Sawtooth",
     "Ramp", "Sine", "SineSweep", "Table", "Sum", "FUNCTIONS", "function_from_dict",
-    "read_table_file", "Excitation", "amplitude_quantity",
+    "read_table_file", "MAX_TABLE_FILE_BYTES", "Excitation", "amplitude_quantity",
 ]
 
 _MOTION_SUFFIX = {"displacement": "disp", "velocity": "vel", "acceleration": "acc"}
+
+
+MAX_TABLE_FILE_BYTES = 32 * 2**20
+"""Largest table file :func:`read_table_file` reads [bytes] (32 MiB: about a million rows)."""
 
 
 def read_table_file(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
     """Read a two-column (time, value) text file: comma, semicolon, tab or space separated.
 
     Blank lines and lines starting with ``#`` are skipped, and so is a first line that is not
-    numeric (a header). Values are returned as written (no unit conversion).
+    numeric (a header). Values are returned as written (no unit conversion). The file must be a
+    regular file (symbolic links are followed and their target checked; a device, FIFO or folder
+    is refused before it is opened) of at most :data:`MAX_TABLE_FILE_BYTES`; a UTF-8 byte-order
+    mark is accepted.
 
     Parameters
     ----------
@@ -60,10 +68,11 @@ def read_table_file(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
     time, value : (k,) ndarray
     """
     path = Path(path)
+    raw = read_regular_file(path, MAX_TABLE_FILE_BYTES, "table file")
     try:
-        lines = path.read_text(encoding="utf-8").splitlines()
-    except OSError as exc:
-        raise ModelError(f"table file {str(path)!r}: cannot be read ({exc.strerror or exc})") from None
+        lines = raw.decode("utf-8-sig").splitlines()
+    except UnicodeDecodeError as exc:
+        raise ModelError(f"table file {str(path)!r}: not UTF-8 text ({exc.reason} at byte {exc.start})") from None
     rows: list[tuple[float, float]] = []
     first = True
     for n, line in enumerate(lines, start=1):
@@ -72,13 +81,13 @@ def read_table_file(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
             continue
         parts = text.replace(",", " ").replace(";", " ").split()
         is_first, first = first, False
-        try:
-            numbers = [float(p) for p in parts]
-        except ValueError:
+        read = [_table_number(p) for p in parts]
+        numbers = [x for x in read if x is not None]
+        if len(numbers) < len(read):
             if is_first:
                 continue  # a header line
             raise ModelError(f"table file {str(path)!r}: line {n}: expected two numbers, "
-                             f"got {text!r}") from None
+                             f"got {text!r}")
         if len(numbers) != 2:
             raise ModelError(f"table file {str(path)!r}: line {n}: expected two columns (time, value), "
                              f"got {len(numbers)}")
@@ -87,6 +96,18 @@ def read_table_file(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
         raise ModelError(f"table file {str(path)!r}: no data")
     data = np.array(rows)
     return data[:, 0], data[:, 1]
+
+
+def _table_number(text: str) -> float | None:
+    """A finite number of a table file, or None (``float`` alone reads ``nan``, ``inf`` and
+    5,000-digit integers)."""
+    if len(text) > 100:
+        return None
+    try:
+        value = float(text)
+    except ValueError:
+        return None
+    return value if math.isfinite(value) else None
 
 
 def function_from_dict(data: Any, who: str = "function", *, value_scale: float = 1.0,
