@@ -268,5 +268,5 @@ def complex_modes(scale: np.ndarray, rows: np.ndarray, omega2: np.ndarray, dampi
     if not rcond > 1.0 / COND_MAX:
         raise DefectiveModesError(f"complex modes: the eigenvectors are nearly dependent (cond(V) ~ "
                             f"{1 / max(rcond, 1e-300):.1e}: critically damped or defective modes), so a "
-                            "modal sum would lose accuracy; use method='sparse' or 'direct'")
+                            "modal sum would lose accuracy")
     return ComplexModes(lam, v, ne, f"LU of V ({reason})", None, None, lu)

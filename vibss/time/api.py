@@ -432,7 +432,10 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
         y, note = chosen.kernel(job)
     except DefectiveModesError as exc:
         if not auto or chosen.fallback is None:
-            raise
+            others = [n for n, m in METHODS.items() if m is not chosen and not (m.forces_only and motions)]
+            raise DefectiveModesError(f"simulate: method {chosen.name!r} refused: {exc}; use one of the "
+                                      f"methods simulate accepts: {others} (or 'auto')", argument="method",
+                                      received=chosen.name, expected=others) from None
         refused, chosen = chosen, METHODS[chosen.fallback]
         y, note = chosen.kernel(job)
         note = f"{refused.name} refused ({exc}); {chosen.name}: " + note

@@ -1,0 +1,52 @@
+"""Issue 18: a refusal suggests only what the refusing function accepts.
+
+``simulate(method='modal')`` on a model whose complex modes are defective said "use method='sparse'
+or 'direct'" — frequency-response methods that ``simulate`` does not take. Each suggestion is now
+taken from the refusing function's own registry, and this test runs every suggestion.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from test_signals import two_body
+from vibss import (Body, DefectiveModesError, Excitation, Model, Mount, MountType, Step, frequency_response,
+                   simulate, symmetric)
+from vibss.frequency.kernels import METHODS as FREQUENCY_METHODS
+from vibss.time.methods import METHODS as TIME_METHODS
+
+
+def critical() -> Model:
+    """two_body (non-proportional damping) plus a body whose z mode is critically damped: its
+    complex modes are a Jordan block (nearly dependent eigenvectors)."""
+    k, c = 1e4, 2 * np.sqrt(1e4)
+    base = two_body()
+    iso = MountType("tiso", [3 * k / 4, k / 2, k / 4], [0.01 * c, 0.01 * c, c / 4])
+    return Model(list(base.bodies) + [Body("iso", 1.0, [0.1, 0.12, 0.14], cog=[3, 0, 0])],
+                 list(base.mounts) + list(symmetric(Mount("iso", iso, "iso", at=[0.3, 0.2, 0.0]))))
+
+
+def test_simulate_suggests_only_its_own_methods() -> None:
+    kick = [Excitation("kick", "force", "iso", Step(1.0), dof="z")]
+    kw = dict(outputs=["iso.z"], t_end=0.05, dt=1e-3)
+    with pytest.raises(DefectiveModesError, match=r"simulate: method 'modal' refused: .*nearly dependent") as err:
+        simulate(critical(), kick, method="modal", **kw)
+    text = str(err.value)
+    assert "'sparse'" not in text and "'direct'" not in text
+    suggested = err.value.expected
+    assert suggested and set(suggested) <= set(TIME_METHODS) and "modal" not in suggested
+    ref = simulate(critical(), kick, method="forced_response", **kw).outputs
+    for method in suggested:                        # every suggestion is accepted and agrees
+        got = simulate(critical(), kick, method=method, **kw).outputs
+        assert np.abs(got - ref).max() <= 0.05 * np.abs(ref).max(), method
+
+
+def test_frequency_response_suggests_exact_methods() -> None:
+    args = (critical(), ["iso.fz"], ["iso.z"], [1.0, 5.0])
+    with pytest.raises(DefectiveModesError, match="method 'complex_modal' refused") as err:
+        frequency_response(*args, method="complex_modal")
+    assert set(err.value.expected) == {n for n, m in FREQUENCY_METHODS.items() if m.exact}
+    ref = frequency_response(*args, method="direct").response
+    for method in err.value.expected:
+        np.testing.assert_allclose(frequency_response(*args, method=method).response, ref, rtol=1e-9)
