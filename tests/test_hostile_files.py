@@ -193,3 +193,25 @@ def test_the_loader_never_changes_its_input(tmp_path: Path) -> None:
     load_model(path)
     assert {p.name: p.read_bytes() for p in tmp_path.iterdir()} == before
     np.testing.assert_array_equal(load_model(path).excitations[0].function.values, [0.0, 1.0])
+
+
+def test_table_files_are_read_only_by_the_analyses_that_use_them(tmp_path: Path,
+                                                                monkeypatch: pytest.MonkeyPatch) -> None:
+    """`vibss modes` read (and, for /dev/zero, hung on) an excitation's table file it never uses."""
+    from vibss.cli import main
+
+    table = tmp_path / "t.csv"
+    table.write_text("0, 0\n0.01, 1\nnot a number here\n")        # broken on line 3
+    path = _model_with_table(tmp_path, "t.csv")
+    reads: list[str] = []
+    real = excitation_module.read_table_file
+    monkeypatch.setattr(excitation_module, "read_table_file", lambda p: reads.append(str(p)) or real(p))
+    model = load_model(path)
+    vibss.modes(model)
+    vibss.static(model)
+    assert reads == []
+    assert main(["modes", str(path)]) == 0 and reads == []
+    with pytest.raises(ModelError, match=r"m\.toml: excitation\[1\] \('e'\): function: .*line 3: expected two numbers"):
+        vibss.simulate(model, t_end=0.02, dt=1e-3)
+    assert reads == [str(table)]
+    assert main(["time", str(path), "--end", "0.02", "--step", "0.001"]) == 2

@@ -35,7 +35,7 @@ import numpy as np
 from .errors import ArgumentError, ModelError, SignalError, did_you_mean
 
 __all__ = ["prefix", "is_numeric", "array", "vector", "number", "integer", "choice", "name_index",
-           "read_regular_file"]
+           "read_regular_file", "regular_file"]
 
 
 def prefix(argument: str, who: str = "") -> str:
@@ -253,6 +253,43 @@ def read_regular_file(path: str | os.PathLike[str], limit: int, what: str = "fil
     """
     name = os.fspath(path)
     who = who or f"{what} {name!r}"
+    real = regular_file(path, limit, what, who)
+    too_big = (f"{who}: larger than the limit of {limit:,} bytes "
+               f"({{size:,}} bytes)")
+    try:
+        with open(real, "rb") as f:
+            data = f.read(limit + 1)
+    except OSError as exc:
+        raise ModelError(f"{who}: cannot read the file ({exc.strerror or exc})", argument=what,
+                         received=name) from None
+    if len(data) > limit:
+        raise ModelError(too_big.format(size=len(data)), argument=what, received=name,
+                         expected=f"at most {limit} bytes")
+    return data
+
+
+def regular_file(path: str | os.PathLike[str], limit: int, what: str = "file", who: str = "") -> str:
+    """The resolved path of a regular file of at most ``limit`` bytes (checked without opening it),
+    or the :class:`~vibss.errors.ModelError` of :func:`read_regular_file`.
+
+    Parameters
+    ----------
+    path : str or PathLike
+        The file.
+    limit : int
+        Largest accepted size [bytes].
+    what, who : str
+        As :func:`read_regular_file`.
+
+    Examples
+    --------
+    >>> regular_file("/tmp", 10, "table file")
+    Traceback (most recent call last):
+    ...
+    vibss.errors.ModelError: table file '/tmp': not a regular file (a directory); expected a text file
+    """
+    name = os.fspath(path)
+    who = who or f"{what} {name!r}"
     try:
         real = os.path.realpath(name)
         info = os.stat(real)
@@ -266,18 +303,7 @@ def read_regular_file(path: str | os.PathLike[str], limit: int, what: str = "fil
         via = f" (a link to {real!r})" if real != os.path.abspath(name) else ""
         raise ModelError(f"{who}{via}: not a regular file ({kind}); expected a text file",
                          argument=what, received=name)
-    too_big = (f"{who}: larger than the limit of {limit:,} bytes "
-               f"({{size:,}} bytes)")
     if info.st_size > limit:
-        raise ModelError(too_big.format(size=info.st_size), argument=what, received=name,
-                         expected=f"at most {limit} bytes")
-    try:
-        with open(real, "rb") as f:
-            data = f.read(limit + 1)
-    except OSError as exc:
-        raise ModelError(f"{who}: cannot read the file ({exc.strerror or exc})", argument=what,
-                         received=name) from None
-    if len(data) > limit:
-        raise ModelError(too_big.format(size=len(data)), argument=what, received=name,
-                         expected=f"at most {limit} bytes")
-    return data
+        raise ModelError(f"{who}: larger than the limit of {limit:,} bytes ({info.st_size:,} bytes)",
+                         argument=what, received=name, expected=f"at most {limit} bytes")
+    return real

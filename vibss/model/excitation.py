@@ -20,15 +20,16 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from functools import cached_property
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 import numpy.typing as npt
 
-from .._validate import choice, read_regular_file, vector
+from .._validate import choice, read_regular_file, regular_file, vector
 from ..errors import ModelError, did_you_mean
 from .model import DOF_NAMES, GROUND
 from ..linear.plant import INPUT_KINDS
@@ -39,7 +40,7 @@ from .units import Units
 __all__ = [
     "TimeFunction", "Step", "Rectangular", "HalfSine", "Haversine", "Triangle", "Sawtooth",
     "Ramp", "Sine", "SineSweep", "Table", "Sum", "FUNCTIONS", "function_from_dict",
-    "read_table_file", "MAX_TABLE_FILE_BYTES", "Excitation", "amplitude_quantity",
+    "read_table_file", "MAX_TABLE_FILE_BYTES", "TableFile", "Excitation", "amplitude_quantity",
 ]
 
 _MOTION_SUFFIX = {"displacement": "disp", "velocity": "vel", "acceleration": "acc"}
@@ -96,6 +97,90 @@ def read_table_file(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
         raise ModelError(f"table file {str(path)!r}: no data")
     data = np.array(rows)
     return data[:, 0], data[:, 1]
+
+
+@dataclass(frozen=True, eq=False)
+class TableFile(TimeFunction):
+    """A :class:`Table` kept in a two-column text file, read on first use.
+
+    A model file's ``function = { type = "table", file = "rec.csv" }``. Loading the model only
+    checks that the file is a regular file within :data:`MAX_TABLE_FILE_BYTES`; the numbers are
+    read (by :func:`read_table_file`) when an analysis first asks for a value, so ``vibss modes``
+    never reads an excitation's table. Errors in the file's contents are then raised as a
+    :class:`~vibss.errors.ModelError` naming the model file's entry (``who``).
+
+    Parameters
+    ----------
+    file : str
+        Path of the file.
+    extrapolate : {"zero", "hold"}
+        As :class:`Table`.
+    time_scale, value_scale : float
+        SI value of one unit of the file's times and values.
+    who : str
+        Prefix of error messages (the model file's entry).
+
+    Examples
+    --------
+    >>> import tempfile, os
+    >>> with tempfile.NamedTemporaryFile("w", suffix=".csv", delete=False) as f:
+    ...     _ = f.write("0, 0\n1, 10\n")
+    >>> TableFile(f.name).value([0.5]).tolist()
+    [5.0]
+    >>> os.remove(f.name)
+    """
+
+    type: ClassVar[str] = "table"
+    roles: ClassVar[dict[str, str]] = {"file": "text", "extrapolate": "text"}
+    file: str
+    extrapolate: str = "zero"
+    time_scale: float = 1.0
+    value_scale: float = 1.0
+    who: str = field(default="", compare=False)
+
+    def __post_init__(self) -> None:
+        if self.extrapolate not in ("zero", "hold"):
+            raise ModelError(f"table function: extrapolate: expected 'zero' or 'hold', got {self.extrapolate!r}")
+        regular_file(self.file, MAX_TABLE_FILE_BYTES, "table file", f"table file {self.file!r}")
+
+    @cached_property
+    def table(self) -> Table:
+        """The :class:`Table` of the file's numbers in SI (read once, on first use)."""
+        try:
+            t, v = read_table_file(self.file)
+            return Table(t * self.time_scale, v * self.value_scale, self.extrapolate, source=self.file)
+        except ModelError as exc:
+            raise ModelError(f"{self.who}: {exc}" if self.who else str(exc)) from None
+
+    @property
+    def times(self) -> np.ndarray:
+        """(k,) times [s] (reads the file)."""
+        return self.table.times
+
+    @property
+    def values(self) -> np.ndarray:
+        """(k,) values [SI] (reads the file)."""
+        return self.table.values
+
+    @property
+    def source(self) -> str:
+        """The file (as :attr:`Table.source`)."""
+        return self.file
+
+    def value(self, t: npt.ArrayLike) -> np.ndarray:
+        return self.table.value(t)
+
+    @property
+    def breakpoints(self) -> tuple[float, ...]:
+        return self.table.breakpoints
+
+    @property
+    def end_time(self) -> float:
+        return self.table.end_time
+
+    def to_dict(self) -> dict[str, Any]:
+        """The table's numbers inline (SI), as :meth:`Table.to_dict`."""
+        return self.table.to_dict()
 
 
 def _table_number(text: str) -> float | None:
@@ -172,11 +257,10 @@ def function_from_dict(data: Any, who: str = "function", *, value_scale: float =
         if not isinstance(fname, str):
             raise ModelError(f"{who}: table function: file: expected a file name, got {fname!r}")
         path = Path(fname) if base is None else Path(base) / fname
-        try:
-            params["time"], params["value"] = read_table_file(path)
+        try:       # checked now (a regular file, not too large), read by the first analysis using it
+            return TableFile(str(path), params.get("extrapolate", "zero"), time_scale, value_scale, who)
         except ModelError as exc:
             raise ModelError(f"{who}: {exc}") from None
-        params["source"] = str(path)
     scales = {"value": value_scale, "time": time_scale, "rate": value_scale / time_scale,
               "angle": angle_scale}
     kwargs: dict[str, Any] = {}
