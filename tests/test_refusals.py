@@ -59,3 +59,51 @@ def test_frequency_response_suggests_exact_methods() -> None:
     ref = frequency_response(*args, method="direct").response
     for method in err.value.expected:
         np.testing.assert_allclose(frequency_response(*args, method=method).response, ref, rtol=1e-9)
+
+
+def _row(n: int, free_z: int | None, gravity: bool) -> Model:
+    """n boxes in a row, each on four mounts, linked to the next (links without z stiffness);
+    box ``free_z`` has mounts without z stiffness: free to move in z."""
+    t = MountType("t", [1e4, 1.2e4, 2e4])
+    free = MountType("f", [1e4, 1.2e4, 0.0])
+    link = MountType("l", [1e3, 1e3, 0.0])
+    bodies, mounts = [], []
+    for i in range(n):
+        bodies.append(Body(f"b{i}", 10.0 + i % 7, [1.0, 1.1, 1.2], cog=[2.0 * i, 0, 0]))
+        mounts += list(symmetric(Mount(f"m{i}", free if i == free_z else t, f"b{i}", at=[0.3, 0.2, 0.0])))
+        if i:
+            mounts.append(Mount(f"l{i}", link, f"b{i}", to=f"b{i - 1}", at=[-1.0, 0.0, 0.5]))
+    return Model(bodies, mounts, gravity=[0.0, 0.0, -9.81] if gravity else None)
+
+
+def test_free_motions_of_a_large_model_are_found_without_dense_work(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Issue 18: `static` on a 1,000-body model with a free motion took 76 s and 1.6 GB (a dense
+    eigendecomposition and a dense M) before naming it. Above NULL_DENSE_MAX free DOFs the free
+    motions are found per connected component and by sparse shift-invert; the answer is the dense
+    path's."""
+    import vibss.statics as st
+    from vibss import AnalysisError, static
+
+    n = 130                                              # 780 DOFs > NULL_DENSE_MAX
+    assert 6 * n > st.NULL_DENSE_MAX
+    dense_eigen = st.symmetric_eigen
+
+    def small_only(a: np.ndarray) -> object:
+        assert a.shape[0] <= st.NULL_DENSE_MAX, f"dense eigen of {a.shape[0]} DOFs"
+        return dense_eigen(a)
+
+    loaded = _row(n, 60, gravity=True)
+    with monkeypatch.context() as mp:
+        mp.setattr(st, "symmetric_eigen", small_only)
+        with pytest.raises(AnalysisError, match=r"do not restrain the load: body 'b60' is free to move in z"):
+            static(loaded)
+    unloaded = _row(n, 60, gravity=False)
+    load = np.zeros(6 * n)
+    load[0::6] = 1.0                                     # x forces: along no free motion
+    with monkeypatch.context() as mp:
+        mp.setattr(st, "symmetric_eigen", small_only)
+        sparse = static(unloaded, load)
+    monkeypatch.setattr(st, "NULL_DENSE_MAX", 10**6)     # the dense path on the same model
+    dense = static(unloaded, load)
+    assert sparse.free_motions == dense.free_motions == ("body 'b60' is free to move in z",)
+    np.testing.assert_allclose(sparse.q, dense.q, rtol=1e-9, atol=1e-12 * np.abs(dense.q).max())
