@@ -229,10 +229,22 @@ def freeze_fields(obj: Any) -> None:
 class ReadOnly:
     """Mixin of frozen dataclasses whose arrays must not change: every public field becomes
     :func:`read_only` on construction, and again after unpickling (pickle brings arrays back
-    writeable and does not run ``__post_init__``)."""
+    writeable and does not run ``__post_init__``).
+
+    A class that builds and owns its arrays (``owns_arrays = True``: an assembly, a plant) freezes
+    them in place instead, keeping their identity (a plant's mounts' form refers to its very
+    arrays); arrays handed to such a constructor become read-only.
+    """
+
+    owns_arrays: ClassVar[bool] = False
 
     def __post_init__(self) -> None:
-        freeze_fields(self)
+        if self.owns_arrays:
+            for f in dataclasses.fields(self):  # type: ignore[arg-type]
+                if not f.name.startswith("_"):
+                    freeze(getattr(self, f.name))
+        else:
+            freeze_fields(self)
 
     def __setstate__(self, state: dict[str, Any]) -> None:
         # cached derived values are pickled with the object: frozen too

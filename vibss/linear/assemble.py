@@ -13,15 +13,16 @@ into a dense array for small models or a scipy.sparse CSR matrix for large ones.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field
 from functools import cached_property
+from typing import ClassVar
 
 import numpy as np
 import numpy.typing as npt
 import scipy.sparse as sp
 
 from ..errors import ModelError
-from ..results import ReadOnly, freeze
+from ..results import ReadOnly
 from ..model.geometry import point_transfer
 from ..model.model import DOF_NAMES, Model
 
@@ -41,6 +42,9 @@ def dof_labels(body_names: list[str]) -> tuple[str, ...]:
 @dataclass(frozen=True, eq=False)
 class Assembly(ReadOnly):
     """Assembled matrices of a model.
+
+    Its arrays and sparse matrices are read-only (every later analysis of the assembly shares
+    them); ``.copy()`` one to change it.
 
     Attributes
     ----------
@@ -87,12 +91,9 @@ class Assembly(ReadOnly):
     sparse: bool = False
     _cache: dict = field(default_factory=dict, repr=False)
 
-    def __post_init__(self) -> None:
-        # the assembly owns its matrices and every later analysis shares them: read-only, so an
-        # in-place change through a handle cannot alter those analyses
-        for f in fields(self):
-            if not f.name.startswith("_"):
-                freeze(getattr(self, f.name))
+    # the assembly owns its matrices and every later analysis shares them: frozen in place, so an
+    # in-place change through a handle cannot alter those analyses
+    owns_arrays: ClassVar[bool] = True
 
     @property
     def n(self) -> int:

@@ -25,14 +25,14 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 import numpy.typing as npt
 
 from .._validate import name_index
 from ..errors import AnalysisError, ModelError, SignalIndexError
-from ..results import ReadOnly, freeze
+from ..results import ReadOnly
 
 __all__ = ["Plant", "MountForm", "INPUT_KINDS", "MOTION_ORDER", "FIELD_ROLES"]
 
@@ -99,10 +99,7 @@ class MountForm(ReadOnly):
     source: tuple
     stiffness_ratio: float
 
-    def __post_init__(self) -> None:
-        for f in dataclasses.fields(self):
-            if f.name != "source":          # the plant's arrays, frozen by the plant itself
-                freeze(getattr(self, f.name))
+    owns_arrays: ClassVar[bool] = True     # read-only in place (source: the plant's own arrays)
 
     def matches(self, plant: Plant) -> bool:
         """Whether ``plant`` holds the very ``K, C, H, M`` arrays this form was built for."""
@@ -112,6 +109,9 @@ class MountForm(ReadOnly):
 @dataclass(frozen=True, eq=False)
 class Plant(ReadOnly):
     """Second-order matrices of the free DOFs plus named input and output maps.
+
+    Its arrays are read-only (made so in place on construction: every analysis and cached
+    factorisation of the plant shares them); ``.copy()`` one to change it.
 
     Attributes
     ----------
@@ -181,12 +181,9 @@ class Plant(ReadOnly):
     mounts: MountForm | None = None
     _cache: dict[str, Any] = field(default_factory=dict, init=False, repr=False)
 
-    def __post_init__(self) -> None:
-        # shared by every analysis of this plant and by its cached factorisations: read-only, so
-        # an in-place change through a handle cannot make a cached value stale
-        for f in dataclasses.fields(self):
-            if not f.name.startswith("_"):
-                freeze(getattr(self, f.name))
+    # shared by every analysis of this plant and by its cached factorisations: read-only in place,
+    # so an in-place change through a handle cannot make a cached value stale
+    owns_arrays: ClassVar[bool] = True
 
     def cached(self, key: str, make: Callable[[], Any]) -> Any:
         """``make()``, computed once per plant (sparse forms, factorisations of its matrices).
