@@ -15,6 +15,7 @@ Stated tolerances (the figures the long run is held to):
 - modes: elastic w^2 within 1e-8 (relative) of the 60-digit values; a reference rigid mode
   (|w^2| < 1e-30 of the largest) within 1e-10 of the largest in vibss;
 - frame invariance (the model rotated and moved as a whole): the same within 1e-7 (relative);
+- time: ``simulate`` by modal superposition and by ``forced_response`` within 1e-8 of the largest output;
 - statics and FRF: within 1e-8 of the largest reference value (60 digits); reciprocity within 1e-10;
   the FRF at 0 Hz applied to the load is the static deflection (without hysteretic damping: with it,
   ``(K + iH)^-1`` is complex and is checked against 60 digits instead).
@@ -146,6 +147,19 @@ def test_frf_matches_60_digits_and_is_reciprocal(spec: fuzzing.Spec, f_hz: float
     full = vibss.frequency_response(model, inputs, outputs, frequencies=[f_hz]).response[:, :, 0]
     big = float(np.abs(full).max())
     assert np.abs(full - full.T).max() <= 1e-10 * big
+
+
+@SETTINGS
+@given(fuzzing.model_specs())
+def test_time_methods_agree(spec: fuzzing.Spec) -> None:
+    """A step force: exact modal superposition and python-control's exact discretisation agree
+    (rigid modes, stiff links and non-proportional damping included)."""
+    model = fuzzing.build(spec)
+    kick = [vibss.Excitation("kick", "force", "b0", vibss.Step(1.0), dof="z")]
+    kw = dict(outputs=[f"b0.{d}" for d in vibss.DOF_NAMES], t_end=0.05, dt=1e-3)
+    modal = vibss.simulate(model, kick, method="modal", **kw).outputs
+    ref = vibss.simulate(model, kick, method="forced_response", **kw).outputs
+    assert np.abs(modal - ref).max() <= 1e-8 * max(float(np.abs(ref).max()), 1e-300)
 
 
 # -- the loader fuzzer ---------------------------------------------------------------------------------
