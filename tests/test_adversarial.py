@@ -16,7 +16,7 @@ Stated tolerances (the figures the long run is held to):
   (|w^2| < 1e-30 of the largest) within 1e-10 of the largest in vibss;
 - frame invariance (the model rotated and moved as a whole): the same within 1e-7 (relative);
 - time: ``simulate`` by modal superposition and by ``forced_response`` within 1e-8 of the largest output;
-- statics and FRF: within 1e-8 of the largest reference value (60 digits); reciprocity within 1e-10;
+- statics and FRF: within 1e-8 of the largest reference value (60 digits); reciprocity within 1e-9;
   the FRF at 0 Hz applied to the load is the static deflection (without hysteretic damping: with it,
   ``(K + iH)^-1`` is complex and is checked against 60 digits instead).
 """
@@ -146,7 +146,7 @@ def test_frf_matches_60_digits_and_is_reciprocal(spec: fuzzing.Spec, f_hz: float
     assert np.abs(h - ref).max() <= 1e-8 * scale, r.method
     full = vibss.frequency_response(model, inputs, outputs, frequencies=[f_hz]).response[:, :, 0]
     big = float(np.abs(full).max())
-    assert np.abs(full - full.T).max() <= 1e-10 * big
+    assert np.abs(full - full.T).max() <= 1e-9 * big
 
 
 @SETTINGS

@@ -7,9 +7,12 @@ dropped duplicate key, a byte-order mark read as a syntax error, or an absurd va
 
 from __future__ import annotations
 
+import contextlib
 import os
 import stat
 import threading
+import warnings
+from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
@@ -215,3 +218,25 @@ def test_table_files_are_read_only_by_the_analyses_that_use_them(tmp_path: Path,
         vibss.simulate(model, t_end=0.02, dt=1e-3)
     assert reads == [str(table)]
     assert main(["time", str(path), "--end", "0.02", "--step", "0.001"]) == 2
+
+
+def test_values_that_overflow_in_si_are_refused_in_one_line() -> None:
+    """Found by the fuzzer: 1e308 N s/mm is 1e311 N s/m: an overflow warning, then inf."""
+    text = '[model]\nunits = { length = "mm" }\n' + toml()
+    with _no_warning():
+        with pytest.raises(ModelFileError, match=r"mount_type\[1\] \('t'\): stiffness: .* overflows when converted to SI"):
+            loads_model(text.replace("[1e4, 1e4, 1e4]", "[1e4, 1e308, 1e4]"))
+    shock = (toml() + '[[excitation]]\nkind = "force"\ntarget = "b"\ndof = "z"\n'
+             'function = { type = "step", amplitude = 1e308, start = 0.0 }\n')
+    with _no_warning():
+        with pytest.raises(ModelFileError, match=r"step function: amplitude: 1e\+308 overflows when converted to SI"):
+            loads_model('[model]\nunits = { force = "kN" }\n' + shock)
+    ok = shock.replace("start = 0.0 }", "start = 0.0, end = inf }").replace("1e308", "1.0")
+    assert loads_model('[model]\nunits = { time = "ms" }\n' + ok).excitations[0].function.end == np.inf
+
+
+@contextlib.contextmanager
+def _no_warning() -> Iterator[None]:
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        yield

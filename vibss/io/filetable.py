@@ -263,7 +263,10 @@ class Entry:
             raise self.fail(key, f"must be positive, got {value!r} [{label}]")
         if nonnegative and np.any(a < 0):
             raise self.fail(key, f"must not be negative, got {value!r} [{label}]")
-        out = a * factor
+        with np.errstate(over="ignore"):
+            out = a * factor
+        if not np.all(np.isfinite(out)):
+            raise self.fail(key, f"{value!r} [{label}] overflows when converted to SI")
         if isinstance(quantity, str) and quantity in PLAUSIBLE:
             self._plausible(key, value, out, quantity, label, float(factor), positive)
         return out

@@ -268,9 +268,13 @@ def function_from_dict(data: Any, who: str = "function", *, value_scale: float =
         role = cls.roles.get(key, "text")
         if role in scales and scales[role] != 1.0:
             try:
-                v = np.asarray(v, dtype=float) * scales[role]
-            except (TypeError, ValueError):
+                given = np.asarray(v, dtype=float)
+                with np.errstate(over="ignore"):
+                    v = given * scales[role]
+            except (TypeError, ValueError, OverflowError):
                 raise ModelError(f"{who}: {kind} function: {key}: expected a number, got {v!r}") from None
+            if np.any(np.isfinite(given) & ~np.isfinite(v)):        # (end = inf stays inf)
+                raise ModelError(f"{who}: {kind} function: {key}: {data[key]!r} overflows when converted to SI")
             v = float(v) if v.ndim == 0 else v
         kwargs[cls.aliases.get(key, key)] = v
     required = [f.name for f in dataclasses.fields(cls)
