@@ -124,7 +124,7 @@ class TableFile(TimeFunction):
     --------
     >>> import tempfile, os
     >>> with tempfile.NamedTemporaryFile("w", suffix=".csv", delete=False) as f:
-    ...     _ = f.write("0, 0\n1, 10\n")
+    ...     _ = f.write("0, 0\\n1, 10\\n")
     >>> TableFile(f.name).value([0.5]).tolist()
     [5.0]
     >>> os.remove(f.name)
