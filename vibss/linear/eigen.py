@@ -497,9 +497,11 @@ def _modal_basis(plant: Plant) -> ModalBasis:
             need = np.arange(w2.size) <= np.flatnonzero(need).max()
             w2, phi, est, ok = _refine(plant.K, plant.M, plant.Kf, w2, phi, est, need, solve=solve, whole=True)
             method = method if not ok or method.endswith("+refined") else method + "+refined"
-    elastic = np.sqrt(w2[~rigid])
+    elastic = np.sqrt(w2[~rigid & (w2 > 0)])
     floor = float(elastic.min()) if elastic.size else 1.0
-    scale = np.where(rigid, floor, np.sqrt(w2))
+    # a zero w2 the rigid test did not flag (issue 18's fuzzer: a free motion whose stiffness norms
+    # are both round-off) must not divide the realization by zero
+    scale = np.where(rigid | ~(w2 > 0), floor, np.sqrt(np.maximum(w2, 0.0)))
     return ModalBasis(w2, phi, rigid, scale, est, method)
 
 
