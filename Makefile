@@ -6,7 +6,7 @@ STAMP := $(VENV)/.installed
 export OPENBLAS_NUM_THREADS ?= 1
 export MPLBACKEND ?= Agg
 
-.PHONY: demo test bench venv clean
+.PHONY: demo test bench fuzz venv clean
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -23,6 +23,11 @@ demo: $(STAMP)
 test: $(STAMP)
 	$(BIN)/python -m mypy
 	$(BIN)/python -m pytest -n 2 -q vibss tests
+
+# The adversarial suite of tests/test_adversarial.py, long (1,000 random models per property, 10,000
+# mutated model files; VIBSS_FUZZ_MODELS / VIBSS_FUZZ_FILES override); figures in docs/robustness.md
+fuzz: $(STAMP)
+	VIBSS_FUZZ=1 $(BIN)/python -m pytest -q -s -p no:cacheprovider --durations=0 tests/test_adversarial.py
 
 bench: $(STAMP)
 	$(BIN)/python benchmarks/run_all.py

@@ -151,9 +151,10 @@ def test_table_from_file(tmp_path):
     f = function_from_dict({"type": "table", "file": "rec.csv"}, base=tmp_path, value_scale=0.5)
     assert f.value([0.005, 0.01]).tolist() == pytest.approx([0.5, 1.0])
     (tmp_path / "bad.csv").write_text("0 0\n1 2 3\n")
-    with pytest.raises(ModelError, match="line 2.*two columns"):
-        function_from_dict({"type": "table", "file": "bad.csv"}, base=tmp_path)
-    with pytest.raises(ModelError, match="cannot be read"):
+    bad = function_from_dict({"type": "table", "file": "bad.csv"}, base=tmp_path, who="m.toml: e")
+    with pytest.raises(ModelError, match="m.toml: e: .*line 2.*two columns"):   # read on first use
+        bad.value(0.5)
+    with pytest.raises(ModelError, match="cannot read the file"):
         function_from_dict({"type": "table", "file": "missing.csv"}, base=tmp_path)
 
 

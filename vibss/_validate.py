@@ -25,14 +25,17 @@ vibss.errors.ArgumentError: method: unknown 'modall' (did you mean 'modal'?); ex
 from __future__ import annotations
 
 import math
+import os
+import stat
 from collections.abc import Iterable, Sequence
 from typing import Any
 
 import numpy as np
 
-from .errors import ArgumentError, SignalError, did_you_mean
+from .errors import ArgumentError, ModelError, SignalError, did_you_mean
 
-__all__ = ["prefix", "is_numeric", "array", "vector", "number", "integer", "choice", "name_index"]
+__all__ = ["prefix", "is_numeric", "array", "vector", "number", "integer", "choice", "name_index",
+           "read_regular_file", "regular_file"]
 
 
 def prefix(argument: str, who: str = "") -> str:
@@ -217,3 +220,90 @@ def name_index(name: Any, names: Sequence[str], argument: str, *, who: str = "")
     hint = did_you_mean(name, names) if isinstance(name, str) else ""
     raise SignalError(f"{prefix(argument, who)}: no {argument} named {name!r}{hint}; the {argument}s are "
                       f"{list(names)}", argument=argument, received=name, expected=tuple(names))
+
+
+def read_regular_file(path: str | os.PathLike[str], limit: int, what: str = "file", who: str = "") -> bytes:
+    """The bytes of a regular file of at most ``limit`` bytes, or a :class:`~vibss.errors.ModelError`.
+
+    A device (``/dev/zero``), a FIFO, a socket or a directory is refused before it is opened (reading
+    one would hang or never end), symbolic links are resolved and their target is checked, and at
+    most ``limit + 1`` bytes are ever read (a file that grows while it is read is refused too).
+
+    Parameters
+    ----------
+    path : str or PathLike
+        The file.
+    limit : int
+        Largest accepted size [bytes] (the caller's module constant, named in its docs).
+    what : str
+        What the file is, for messages (``"table file"``).
+    who : str
+        How messages start (default: ``what`` and the quoted path).
+
+    Returns
+    -------
+    bytes
+
+    Examples
+    --------
+    >>> read_regular_file("/dev/zero", 1000, "table file")
+    Traceback (most recent call last):
+    ...
+    vibss.errors.ModelError: table file '/dev/zero': not a regular file (a character device); expected a text file
+    """
+    name = os.fspath(path)
+    who = who or f"{what} {name!r}"
+    real = regular_file(path, limit, what, who)
+    too_big = (f"{who}: larger than the limit of {limit:,} bytes "
+               f"({{size:,}} bytes)")
+    try:
+        with open(real, "rb") as f:
+            data = f.read(limit + 1)
+    except OSError as exc:
+        raise ModelError(f"{who}: cannot read the file ({exc.strerror or exc})", argument=what,
+                         received=name) from None
+    if len(data) > limit:
+        raise ModelError(too_big.format(size=len(data)), argument=what, received=name,
+                         expected=f"at most {limit} bytes")
+    return data
+
+
+def regular_file(path: str | os.PathLike[str], limit: int, what: str = "file", who: str = "") -> str:
+    """The resolved path of a regular file of at most ``limit`` bytes (checked without opening it),
+    or the :class:`~vibss.errors.ModelError` of :func:`read_regular_file`.
+
+    Parameters
+    ----------
+    path : str or PathLike
+        The file.
+    limit : int
+        Largest accepted size [bytes].
+    what, who : str
+        As :func:`read_regular_file`.
+
+    Examples
+    --------
+    >>> regular_file("/tmp", 10, "table file")
+    Traceback (most recent call last):
+    ...
+    vibss.errors.ModelError: table file '/tmp': not a regular file (a directory); expected a text file
+    """
+    name = os.fspath(path)
+    who = who or f"{what} {name!r}"
+    try:
+        real = os.path.realpath(name)
+        info = os.stat(real)
+    except (OSError, ValueError) as exc:
+        raise ModelError(f"{who}: cannot read the file ({getattr(exc, 'strerror', None) or exc})",
+                         argument=what, received=name) from None
+    if not stat.S_ISREG(info.st_mode):
+        kind = ("a directory" if stat.S_ISDIR(info.st_mode) else "a character device" if stat.S_ISCHR(info.st_mode)
+                else "a block device" if stat.S_ISBLK(info.st_mode) else "a FIFO"
+                if stat.S_ISFIFO(info.st_mode) else "a socket" if stat.S_ISSOCK(info.st_mode) else "not a file")
+        via = f" (a link to {real!r})" if real != os.path.abspath(name) else ""
+        raise ModelError(f"{who}{via}: not a regular file ({kind}); expected a text file",
+                         argument=what, received=name)
+    if info.st_size > limit:
+        raise ModelError(f"{who}: larger than the limit of {limit:,} bytes ({info.st_size:,} bytes)",
+                         argument=what, received=name, expected=f"at most {limit} bytes")
+    return real

@@ -2,20 +2,26 @@
 
 Each sub-command lives in :mod:`vibss.commands` as a module with ``register(subparsers)``, which
 adds its parser and sets ``func(args) -> int``. Errors in the model or the analysis print as one
-line on stderr with exit status 2 (model) or 3 (analysis), never a traceback.
+line on stderr with exit status 2 (model) or 3 (analysis), never a traceback; any other error (a
+bug) prints one line asking for a report and exits with :data:`INTERNAL_ERROR` (70, BSD's
+``EX_SOFTWARE``); ``vibss --debug ...`` prints the traceback too.
 """
 
 from __future__ import annotations
 
 import argparse
 import sys
+import traceback
 from collections.abc import Sequence
 
 from . import __version__
 from .commands import COMMANDS
-from .errors import AnalysisError, ModelError
+from .errors import AnalysisError, ModelError, VibssError
 
-__all__ = ["main", "build_parser"]
+__all__ = ["main", "build_parser", "INTERNAL_ERROR"]
+
+INTERNAL_ERROR = 70
+"""Exit status of an unexpected error (a bug in vibss; BSD's ``EX_SOFTWARE``)."""
 
 DESCRIPTION = """\
 vibss: vibration of rigid bodies on flexible mounts (engines, machines, equipment on isolators).
@@ -33,6 +39,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="vibss", description=DESCRIPTION, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--version", action="version", version=f"vibss {__version__}")
+    parser.add_argument("--debug", action="store_true",
+                        help="print the Python traceback of an error (for reporting a bug)")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     for module in COMMANDS:
         module.register(sub)
@@ -48,20 +56,37 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 1
     try:
         return int(args.func(args) or 0)
-    except ModelError as exc:
+    except Exception as exc:
+        if getattr(args, "debug", False):
+            traceback.print_exc()
+        return _status(exc)
+    except KeyboardInterrupt:
+        print("vibss: interrupted", file=sys.stderr)
+        return 130
+
+
+def _status(exc: Exception) -> int:
+    """One line on stderr for ``exc`` and the exit status (never a traceback)."""
+    if isinstance(exc, ModelError):
         print(f"vibss: error in model: {exc}", file=sys.stderr)
         return 2
-    except AnalysisError as exc:
+    if isinstance(exc, AnalysisError):
         print(f"vibss: analysis failed: {exc}", file=sys.stderr)
         return 3
-    except ValueError as exc:  # e.g. an unknown method name: the library's message names it
+    if isinstance(exc, (ValueError, VibssError)):  # an unknown name, a missing optional dependency ...
         print(f"vibss: error: {exc}", file=sys.stderr)
         return 2
-    except (FileNotFoundError, IsADirectoryError, PermissionError) as exc:
+    if isinstance(exc, (FileNotFoundError, IsADirectoryError, PermissionError)):
         print(f"vibss: {exc.strerror}: {exc.filename}", file=sys.stderr)
         return 2
-    except BrokenPipeError:  # pragma: no cover - e.g. piped into head
+    if isinstance(exc, BrokenPipeError):  # pragma: no cover - e.g. piped into head
         return 0
+    text = " ".join(str(exc).split())       # a bug: one line, never a traceback (unless --debug)
+    text = text if len(text) <= 300 else text[:297] + "..."
+    print(f"vibss: internal error ({type(exc).__name__}{': ' + text if text else ''}); please report "
+          "it to the vibss maintainers with the command, the model file and `vibss --version` "
+          "(`vibss --debug ...` prints the traceback)", file=sys.stderr)
+    return INTERNAL_ERROR
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -22,6 +22,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import html
 import re
 import json
@@ -35,7 +36,7 @@ import numpy as np
 from ._validate import name_index
 from .errors import ArgumentTypeError, MissingDependencyError, SignalError
 
-__all__ = ["Table", "Result", "jsonable", "require_pandas"]
+__all__ = ["Table", "Result", "jsonable", "require_pandas", "freeze", "read_only", "freeze_fields", "ReadOnly"]
 
 
 _NEGATIVE_ZERO = re.compile(r"^(\s*)-(0(?:\.0*)?(?:[eE][-+]?\d+)?)(\s.*)?$")
@@ -152,6 +153,104 @@ def _array(a: np.ndarray) -> Any:
     return jsonable(a.tolist())
 
 
+def freeze(value: Any) -> Any:
+    """``value`` with every numpy array in it made read-only **in place**, and returned.
+
+    Walks tuples, lists and dict values and the ``data``, ``indices`` and ``indptr`` arrays of
+    scipy.sparse matrices. For objects that own their arrays (an :class:`~vibss.linear.assemble.Assembly`,
+    a :class:`~vibss.linear.plant.Plant`); results use :func:`read_only`, which never touches the
+    arrays it was given.
+
+    Examples
+    --------
+    >>> a = freeze({"x": (np.zeros(2),)})["x"][0]
+    >>> a.flags.writeable
+    False
+    """
+    if isinstance(value, np.ndarray):
+        value.flags.writeable = False
+    elif isinstance(value, (tuple, list)):
+        for v in value:
+            freeze(v)
+    elif isinstance(value, dict):
+        for v in value.values():
+            freeze(v)
+    elif _is_compressed_sparse(value):
+        for a in (value.data, value.indices, value.indptr):
+            a.flags.writeable = False
+    return value
+
+
+def _is_compressed_sparse(value: Any) -> bool:
+    return all(isinstance(getattr(value, k, None), np.ndarray) for k in ("data", "indices", "indptr"))
+
+
+def read_only(value: Any) -> Any:
+    """A read-only version of ``value`` that leaves ``value`` itself alone.
+
+    An array becomes a read-only view of it (no copy; the caller's array stays writeable); tuples,
+    lists and dicts are rebuilt around read-only versions of their items; a scipy.sparse matrix is
+    copied with read-only arrays; anything else is returned as it is.
+
+    Examples
+    --------
+    >>> mine = np.zeros(2)
+    >>> ro = read_only(mine)
+    >>> ro.flags.writeable, mine.flags.writeable, np.shares_memory(ro, mine)
+    (False, True, True)
+    """
+    if isinstance(value, np.ndarray):
+        if not value.flags.writeable:
+            return value
+        view = value.view()
+        view.flags.writeable = False
+        return view
+    if type(value) is tuple:
+        return tuple(read_only(v) for v in value)
+    if type(value) is list:
+        return [read_only(v) for v in value]
+    if type(value) is dict:
+        return {k: read_only(v) for k, v in value.items()}
+    if _is_compressed_sparse(value):
+        return freeze(value.copy())
+    return value
+
+
+def freeze_fields(obj: Any) -> None:
+    """Replace every public dataclass field of the frozen ``obj`` by its :func:`read_only` version.
+
+    Fields whose name starts with ``_`` (private caches) are left alone.
+    """
+    for f in dataclasses.fields(obj):
+        if not f.name.startswith("_"):
+            object.__setattr__(obj, f.name, read_only(getattr(obj, f.name)))
+
+
+class ReadOnly:
+    """Mixin of frozen dataclasses whose arrays must not change: every public field becomes
+    :func:`read_only` on construction, and again after unpickling (pickle brings arrays back
+    writeable and does not run ``__post_init__``).
+
+    A class that builds and owns its arrays (``owns_arrays = True``: an assembly, a plant) freezes
+    them in place instead, keeping their identity (a plant's mounts' form refers to its very
+    arrays); arrays handed to such a constructor become read-only.
+    """
+
+    owns_arrays: ClassVar[bool] = False
+
+    def __post_init__(self) -> None:
+        if self.owns_arrays:
+            for f in dataclasses.fields(self):  # type: ignore[arg-type]
+                if not f.name.startswith("_"):
+                    freeze(getattr(self, f.name))
+        else:
+            freeze_fields(self)
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        # cached derived values are pickled with the object: frozen too
+        self.__dict__.update(freeze(dict(state)))
+
+
 def require_pandas() -> Any:
     """The pandas module, or a :class:`~vibss.errors.MissingDependencyError` naming the extra."""
     try:
@@ -162,7 +261,7 @@ def require_pandas() -> Any:
     return pandas
 
 
-class Result:
+class Result(ReadOnly):
     """Base of every public result: the shared half of the protocol (see the module docstring).
 
     A subclass provides ``report()``, ``summary()`` (a :class:`Table`), ``to_dict()``,
@@ -174,6 +273,9 @@ class Result:
     """What ``output_labels`` name (``"output"``, or ``"DOF"`` for modes and static results)."""
 
     __iter__ = None     # result[...] is a lookup by name, not the sequence protocol
+
+    # ReadOnly: results are frozen data; an array handed out cannot be changed in place, so a
+    # cached derived value (frequency_hz from omega ...) can never go stale
 
     # -- supplied by each result -------------------------------------------------------------
     def report(self) -> str:

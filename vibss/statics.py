@@ -29,7 +29,7 @@ import scipy.sparse.linalg as spl
 from .linear.assemble import Assembly, assemble
 from .linear.directions import align_cluster, describe_motion
 from ._validate import number, vector
-from .linear.eigen import symmetric_eigen
+from .linear.eigen import symmetric_eigen, undamped
 from .errors import AnalysisError, ModelError
 from .model.geometry import point_transfer
 from .model.model import DOF_NAMES, GROUND, Model
@@ -42,6 +42,11 @@ SINGULAR_RCOND = 1e-12
 
 FACTOR_MAX = 1200
 """Largest number of free DOFs solved from the stiffness factor (dense QR, O(r n^2))."""
+
+NULL_DENSE_MAX = 600
+"""Above this many free DOFs the free motions of a singular system are found by sparse
+shift-invert (a few lowest eigenpairs), not by a dense eigendecomposition (a 1,000-body model took
+76 s and 1.6 GB before naming its free motion)."""
 
 FACTOR_RANK_RTOL = 1e-12
 """The factored solve is used when every pivot of R exceeds this times the first (else the
@@ -360,14 +365,17 @@ def _solve(a: Assembly, kff: Any, rhs: np.ndarray, free: np.ndarray) -> tuple[np
             singular = True
         if not singular:
             return d * solve(d * rhs), ()
-    # Singular: null space of the equilibrated matrix (dense; its size is the user's model).
-    kd = _dense(ks)
-    w, v = symmetric_eigen(kd)
-    null = w <= np.sqrt(SINGULAR_RCOND) * max(w.max(), np.finfo(float).tiny) * 1e-2
+    # Singular: null space of the equilibrated matrix (dense up to NULL_DENSE_MAX DOFs, else sparse)
+    if free.size > NULL_DENSE_MAX:
+        v = _sparse_null(ks)
+        w, null = np.zeros(v.shape[1]), np.ones(v.shape[1], dtype=bool)
+    else:
+        w, v = symmetric_eigen(_dense(ks))
+        null = w <= np.sqrt(SINGULAR_RCOND) * max(w.max(), np.finfo(float).tiny) * 1e-2
     basis = d[:, None] * v[:, null]                     # back to physical DOFs
     full = np.zeros((a.n, basis.shape[1]))
     full[free] = basis
-    M = a.dense("M")
+    M = a.M                 # sparse on a sparse assembly (a dense copy cost 1.6 GB at 1,000 bodies)
     full = align_cluster(full / np.sqrt(np.einsum("ij,ij->j", full, M @ full)), M)
     full = full[:, np.argsort(np.argmax(np.abs(full), axis=0), kind="stable")]  # DOF order
     names = a.model.body_names
@@ -387,9 +395,54 @@ def _solve(a: Assembly, kff: Any, rhs: np.ndarray, free: np.ndarray) -> tuple[np
         x = _factored_solve(np.vstack([g, weight * cons]), rhs)
         if x is not None:
             return x, tuple(described)
+    if free.size > NULL_DENSE_MAX:      # (ks + N N^T) y = d rhs: y is orthogonal to the null space N
+        nn = v[:, null]
+        y = spl.splu(sp.csc_matrix(ks + sp.csr_matrix(nn @ nn.T))).solve(d * rhs)
+        return d * y, tuple(described)
     keep = ~null
     y = v[:, keep] @ ((v[:, keep].T @ (d * rhs)) / w[keep])
     return d * y, tuple(described)
+
+
+def _sparse_null(ks: Any) -> np.ndarray:
+    """(n, k) orthonormal null vectors of the equilibrated singular ``ks``, sparse.
+
+    Per connected component of its pattern (a body cut off, a DOF with no stiffness): a small
+    component by dense eigen, a large one only when its sparse LU says it is singular, by
+    shift-invert (the eigen module's path) for its lowest eigenpairs, enough to hold its null space.
+    """
+    ks = sp.csc_matrix(ks)
+    n = ks.shape[0]
+    _, labels = csgraph.connected_components(abs(ks) > 0, directed=False)
+    top = float(abs(ks).sum(axis=0).max())              # >= the largest eigenvalue
+    tol = np.sqrt(SINGULAR_RCOND) * top * 1e-2
+    out = []
+    for c in range(labels.max() + 1):
+        idx = np.flatnonzero(labels == c)
+        block = ks[idx][:, idx]
+        if idx.size <= NULL_DENSE_MAX:
+            w, v = symmetric_eigen(block.toarray())
+        else:
+            try:
+                solve = _factor(block)
+                op = spl.LinearOperator(block.shape, matvec=solve, rmatvec=solve, dtype=float)
+                if 1.0 / (abs(block).sum(axis=0).max() * spl.onenormest(op)) >= SINGULAR_RCOND:
+                    continue                            # regular: no free motion here
+            except (np.linalg.LinAlgError, RuntimeError):
+                pass
+            k = 6
+            while True:
+                spectrum = undamped(block, sp.identity(idx.size, format="csc"), n_modes=min(k, idx.size - 2),
+                                    method="shift-invert")
+                w, v = spectrum.omega2, spectrum.phi
+                if not (w <= tol).all() or k >= idx.size - 2:
+                    break
+                k *= 4
+        for j in np.flatnonzero(w <= tol):
+            full = np.zeros(n)
+            full[idx] = v[:, j]
+            out.append(full)
+    return np.array(out).T.reshape(n, len(out))
 
 
 def _factored_solve(g: Any, rhs: np.ndarray) -> np.ndarray | None:

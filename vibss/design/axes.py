@@ -37,6 +37,7 @@ from typing import Any
 import numpy as np
 
 from ..linear.eigen import symmetric_eigen
+from ..results import ReadOnly
 from ..linear.assemble import Assembly
 from ..model.model import Model
 from ._common import body_blocks, body_name, unit_axis
@@ -122,7 +123,7 @@ def principal_axes(model: Model | Assembly, body: str | None = None) -> tuple[np
 
 
 @dataclass(frozen=True, eq=False)
-class ElasticAxes:
+class ElasticAxes(ReadOnly):
     """Elastic centre and axes of the mounts of one body (see the module docstring).
 
     Attributes
@@ -212,7 +213,7 @@ def elastic_axes(model: Model | Assembly, body: str | None = None) -> ElasticAxe
 
 
 @dataclass(frozen=True, eq=False)
-class TorqueResponse:
+class TorqueResponse(ReadOnly):
     """Static response of one body to a pure torque, against its torque-roll axis.
 
     Attributes

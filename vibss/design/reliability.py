@@ -31,14 +31,14 @@ from scipy import special
 from .._validate import integer, number
 from ..errors import ArgumentError
 from ..model.model import Model
-from ..results import Table
+from ..results import ReadOnly, Table
 from .montecarlo import MonteCarlo, monte_carlo
 
 __all__ = ["Reliability", "reliable_optimise", "quantile_margins"]
 
 
 @dataclass(frozen=True)
-class Reliability:
+class Reliability(ReadOnly):
     """How a reliability-based optimisation went.
 
     Attributes

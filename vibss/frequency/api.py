@@ -207,9 +207,8 @@ class FrequencyResponse(Result):
 
     def __post_init__(self) -> None:
         for key in ("frequency_hz", "response", "natural_hz"):
-            a = np.array(getattr(self, key))
-            a.setflags(write=False)
-            object.__setattr__(self, key, a)
+            object.__setattr__(self, key, np.asarray(getattr(self, key)))
+        super().__post_init__()
 
     @property
     def output_labels(self) -> tuple[str, ...]:
@@ -545,7 +544,10 @@ def frequency_response(system: Model | Assembly | Plant, inputs: Sequence[Any] |
             raw = chosen.kernel(plant, s, basis)
         except DefectiveModesError as exc:
             if method != "auto" or chosen.fallback is None:
-                raise
+                exact = [n for n, m in METHODS.items() if m.exact]
+                raise DefectiveModesError(f"frequency_response: method {chosen.name!r} refused: {exc}; use an "
+                                          f"exact method: {exact} (or 'auto')", argument="method",
+                                          received=chosen.name, expected=exact) from None
             refused, chosen = chosen, METHODS[chosen.fallback]
             what = "complex modes" if refused.name == "complex_modal" else f"method {refused.name!r}"
             reason = f"{reason}; {what} refused ({exc}): {chosen.summary}"

@@ -9,6 +9,9 @@ Used by :mod:`vibss.io`.
 
 from __future__ import annotations
 
+import json
+import re
+import tomllib
 from collections.abc import Collection, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -19,10 +22,151 @@ from ..errors import ModelError, ModelFileError, did_you_mean
 from ..model.geometry import DEFAULT_SEQUENCE, Orientation
 from ..model.units import Units
 
-__all__ = ["MISSING", "Entry", "numbers"]
+__all__ = ["MISSING", "Entry", "numbers", "parse_text", "check_tree", "MAX_DEPTH", "MAX_INT_DIGITS", "PLAUSIBLE",
+           "MAX_EULER_RAD"]
 
 MISSING: Any = object()
 """Default meaning "this key is required"."""
+
+
+MAX_DEPTH = 24
+"""Deepest nesting of tables and arrays a model file may have (the format needs fewer than 10)."""
+
+MAX_INT_DIGITS = 30
+"""Most digits an integer of a model file may have (larger numbers are written as floats, ``1e40``)."""
+
+
+PLAUSIBLE: dict[str, tuple[float, float]] = {
+    "mass": (1e-9, 1e10),
+    "inertia": (1e-15, 1e14),
+    "stiffness": (1e-6, 1e20),
+    "damping": (0.0, 1e16),
+    "length": (0.0, 1e5),
+}
+"""The range [SI] of the magnitude of a file's values per quantity: what a rigid-body mount model can
+mean (a 1 microgram part to a 10,000 t machine; a link of 1e20 N/m is already rigid to 15 digits).
+The lower bound applies to values that must be positive and to nonzero stiffnesses (zero means "no
+stiffness"); values outside are refused with the range in the file's units."""
+
+MAX_EULER_RAD = 2 * np.pi
+"""Largest magnitude of an Euler angle of a model file [rad] (360 degrees)."""
+
+
+class _Duplicates(dict):  # type: ignore[type-arg]
+    """A JSON object that named a key more than once (``duplicates``); refused by :func:`check_tree`."""
+
+    duplicates: list[str]
+
+
+def _object(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
+    out = dict(pairs)
+    if len(out) < len(pairs):
+        seen: set[str] = set()
+        dup = [k for k, _ in pairs if k in seen or seen.add(k)]  # type: ignore[func-returns-value]
+        marked = _Duplicates(out)
+        marked.duplicates = dup
+        return marked
+    return out
+
+
+class _HugeInt:
+    """An integer of a JSON file with more than :data:`MAX_INT_DIGITS` digits (refused by :func:`check_tree`)."""
+
+    def __init__(self, text: str) -> None:
+        self.digits = len(text.lstrip("-"))
+
+
+def _int(text: str) -> Any:
+    return _HugeInt(text) if len(text.lstrip("-")) > MAX_INT_DIGITS else int(text)
+
+
+def parse_text(text: str, fmt: str, source: str) -> Any:
+    """The data of a model file's text (TOML or JSON), checked by :func:`check_tree`.
+
+    A UTF-8 byte-order mark is skipped; JSON keys given twice, integers of more than
+    :data:`MAX_INT_DIGITS` digits and nesting deeper than :data:`MAX_DEPTH` are refused with a
+    :class:`~vibss.errors.ModelFileError` naming ``source``, the entry and the key (never a
+    ``RecursionError``, ``OverflowError`` or Python's integer-digit limit).
+
+    Parameters
+    ----------
+    text : str
+        The file's contents.
+    fmt : {"toml", "json"}
+    source : str
+        The file name, for messages.
+
+    Examples
+    --------
+    >>> parse_text('{"body": [{"mass": 1, "mass": 2}]}', "json", "m.json")
+    Traceback (most recent call last):
+    ...
+    vibss.errors.ModelFileError: m.json: body[1]: mass: key given more than once (JSON keys must be unique)
+    """
+    text = text.removeprefix("\ufeff")
+    deep = f"{source}: tables or arrays nested deeper than {MAX_DEPTH} levels; a model file needs fewer than 10"
+    if fmt == "toml":
+        try:
+            data = tomllib.loads(text)
+        except tomllib.TOMLDecodeError as exc:
+            raise ModelFileError(f"{source}: TOML syntax error: {exc}") from None
+        except RecursionError:
+            raise ModelFileError(deep) from None
+        except ValueError:      # Python's limit on the digits of an integer
+            m = re.search(r"\d[\d_]{%d,}" % MAX_INT_DIGITS, text)
+            line = text.count("\n", 0, m.start()) + 1 if m else 0
+            raise ModelFileError(f"{source}: line {line}: an integer with more than {MAX_INT_DIGITS} digits; "
+                                 "write large numbers as floats (1e40)") from None
+    elif fmt == "json":
+        try:
+            data = json.loads(text, object_pairs_hook=_object, parse_int=_int)
+        except json.JSONDecodeError as exc:
+            raise ModelFileError(f"{source}: JSON syntax error: {exc.msg} "
+                                 f"(at line {exc.lineno}, column {exc.colno})") from None
+        except RecursionError:
+            raise ModelFileError(deep) from None
+    else:
+        raise ModelFileError(f"{source}: unknown format {fmt!r}; expected 'toml' or 'json'")
+    check_tree(data, source)
+    return data
+
+
+def check_tree(data: Any, source: str) -> None:
+    """Refuse what no model file means before any table is read (see :func:`parse_text`).
+
+    Parameters
+    ----------
+    data : object
+        Parsed model-file data.
+    source : str
+        The file name, for messages.
+    """
+    stack: list[tuple[Any, tuple[str, ...], int]] = [(data, (), 0)]
+    while stack:
+        node, where, depth = stack.pop()
+        here = ": ".join((source,) + where)
+        if depth > MAX_DEPTH:
+            raise ModelFileError(f"{here}: tables or arrays nested deeper than {MAX_DEPTH} levels; "
+                                 "a model file needs fewer than 10")
+        if isinstance(node, _HugeInt) or (isinstance(node, int) and not isinstance(node, bool)
+                                          and abs(node) >= 10 ** MAX_INT_DIGITS):
+            digits = node.digits if isinstance(node, _HugeInt) else len(str(abs(node)))
+            raise ModelFileError(f"{here}: an integer with {digits} digits; at most {MAX_INT_DIGITS} "
+                                 "(write large numbers as floats: 1e40)")
+        if isinstance(node, Mapping):
+            dup = getattr(node, "duplicates", None)
+            if dup:
+                raise ModelFileError(f"{here}: {dup[0]}: key given more than once (JSON keys must be unique)")
+            for k, v in node.items():
+                stack.append((v, where + (str(k),), depth + 1))
+        elif isinstance(node, list):
+            for i, v in enumerate(node, start=1):
+                if len(where) == 1 and isinstance(v, Mapping):     # [[body]] tables: body[2] ('engine')
+                    name = v.get("name")
+                    label = f"{where[0]}[{i}]" + (f" ({name!r})" if isinstance(name, str) else "")
+                    stack.append((v, (label,), depth + 1))
+                else:
+                    stack.append((v, where[:-1] + (f"{where[-1] if where else ''}[{i}]",), depth + 1))
 
 
 def numbers(value: Any) -> np.ndarray | None:
@@ -119,7 +263,23 @@ class Entry:
             raise self.fail(key, f"must be positive, got {value!r} [{label}]")
         if nonnegative and np.any(a < 0):
             raise self.fail(key, f"must not be negative, got {value!r} [{label}]")
-        return a * factor
+        with np.errstate(over="ignore"):
+            out = a * factor
+        if not np.all(np.isfinite(out)):
+            raise self.fail(key, f"{value!r} [{label}] overflows when converted to SI")
+        if isinstance(quantity, str) and quantity in PLAUSIBLE:
+            self._plausible(key, value, out, quantity, label, float(factor), positive)
+        return out
+
+    def _plausible(self, key: str, value: Any, si: np.ndarray, quantity: str, label: str, factor: float,
+                   positive: bool) -> None:
+        lo, hi = PLAUSIBLE[quantity]
+        size = np.abs(si)
+        low = (positive or quantity == "stiffness") and bool(np.any((size > 0) & (size < lo)))
+        if low or bool(np.any(size > hi)):
+            lower = f"{lo / factor:g}" if positive or quantity == "stiffness" else "0"
+            raise self.fail(key, f"{value!r} [{label}] is outside what a rigid-body mount model means: "
+                            f"{quantity} magnitudes from {lower} to {hi / factor:g} [{label}]")
 
     def number(self, key: str, quantity: str = "dimensionless", default: Any = MISSING,
                **checks: bool) -> Any:
@@ -149,8 +309,12 @@ class Entry:
                 if "sequence" in e:
                     raise e.fail("sequence", "only applies to euler angles")
                 return Orientation(e.array("matrix", [(3, 3)], "dimensionless"))
-            return Orientation.from_euler(e.array("euler", [(3,)], "angle"),
-                                          e.string("sequence", DEFAULT_SEQUENCE))
+            angles = e.array("euler", [(3,)], "angle")
+            if np.any(np.abs(angles) > MAX_EULER_RAD * (1 + 1e-12)):
+                turn = MAX_EULER_RAD / self.units.factor("angle")
+                raise e.fail("euler", f"angles must lie within +-{turn:g} [{self.units.label('angle')}] "
+                             f"(one turn), got {e.data['euler']!r}")
+            return Orientation.from_euler(angles, e.string("sequence", DEFAULT_SEQUENCE))
         except ModelFileError:
             raise
         except ModelError as exc:

@@ -24,16 +24,16 @@ Examples
 from __future__ import annotations
 
 import json
-import tomllib
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from .._validate import read_regular_file
 from ..errors import ModelError, ModelFileError, did_you_mean
 from ..model.excitation import Excitation, amplitude_quantity, function_from_dict
-from .filetable import MISSING, Entry
+from .filetable import MISSING, Entry, parse_text
 from .designfile import read_design, read_study, write_tables
 from .ordersfile import read_orders
 from .controlfile import read_control
@@ -47,6 +47,9 @@ from ..model.units import Units
 
 __all__ = ["load_model", "loads_model", "dump_model", "dumps_model", "model_to_dict",
            "load_example", "example_names", "example_path"]
+
+MAX_MODEL_FILE_BYTES = 16 * 2**20
+"""Largest model file :func:`load_model` reads [bytes] (16 MiB)."""
 
 EXAMPLES_DIR = Path(__file__).parent.parent / "examples"
 """Folder of the built-in example model files."""
@@ -411,19 +414,7 @@ def loads_model(text: str, fmt: str = "toml", source: str = "<string>",
     >>> loads_model(text).bodies[0].mass
     2.0
     """
-    if fmt == "toml":
-        try:
-            data = tomllib.loads(text)
-        except tomllib.TOMLDecodeError as exc:
-            raise ModelFileError(f"{source}: TOML syntax error: {exc}") from None
-    elif fmt == "json":
-        try:
-            data = json.loads(text)
-        except json.JSONDecodeError as exc:
-            raise ModelFileError(f"{source}: JSON syntax error: {exc.msg} "
-                                 f"(at line {exc.lineno}, column {exc.colno})") from None
-    else:
-        raise ModelFileError(f"{source}: unknown format {fmt!r}; expected 'toml' or 'json'")
+    data = parse_text(text, fmt, source)    # bounded depth and digits, unique keys, BOM skipped
     stem = Path(source).stem if not source.startswith("<") else "model"
     return _build(data, source, None if base is None else Path(base), stem)
 
@@ -450,10 +441,12 @@ def load_model(path: str | Path) -> Model:
     fmt = {".toml": "toml", ".json": "json"}.get(path.suffix.lower())
     if fmt is None:
         raise ModelFileError(f"{path}: unknown model file type {path.suffix!r}; expected .toml or .json")
+    try:        # a regular file of bounded size (a FIFO or /dev/zero named *.toml would hang)
+        raw = read_regular_file(path, MAX_MODEL_FILE_BYTES, "model file", str(path))
+    except ModelError as exc:
+        raise ModelFileError(str(exc), argument="model file", received=str(path)) from None
     try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise ModelFileError(f"{path}: cannot read the file: {exc.strerror or exc}") from None
+        text = raw.decode("utf-8")
     except UnicodeDecodeError as exc:
         raise ModelFileError(f"{path}: not UTF-8 text ({exc.reason})") from None
     return loads_model(text, fmt, str(path), path.parent)

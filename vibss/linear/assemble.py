@@ -15,12 +15,14 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from functools import cached_property
+from typing import ClassVar
 
 import numpy as np
 import numpy.typing as npt
 import scipy.sparse as sp
 
 from ..errors import ModelError
+from ..results import ReadOnly
 from ..model.geometry import point_transfer
 from ..model.model import DOF_NAMES, Model
 
@@ -38,8 +40,11 @@ def dof_labels(body_names: list[str]) -> tuple[str, ...]:
 
 
 @dataclass(frozen=True, eq=False)
-class Assembly:
+class Assembly(ReadOnly):
     """Assembled matrices of a model.
+
+    Its arrays and sparse matrices are read-only (every later analysis of the assembly shares
+    them); ``.copy()`` one to change it.
 
     Attributes
     ----------
@@ -85,6 +90,10 @@ class Assembly:
     r_a: np.ndarray
     sparse: bool = False
     _cache: dict = field(default_factory=dict, repr=False)
+
+    # the assembly owns its matrices and every later analysis shares them: frozen in place, so an
+    # in-place change through a handle cannot alter those analyses
+    owns_arrays: ClassVar[bool] = True
 
     @property
     def n(self) -> int:

@@ -29,6 +29,7 @@ import scipy.linalg as sl
 from scipy.linalg import get_lapack_funcs
 
 from ..errors import DefectiveModesError
+from ..results import ReadOnly
 
 __all__ = ["ComplexModes", "complex_modes", "PROBE_TOL"]
 
@@ -43,7 +44,7 @@ would lose ``log10(cond)`` digits, and :func:`complex_modes` raises."""
 
 
 @dataclass(frozen=True, eq=False)
-class ComplexModes:
+class ComplexModes(ReadOnly):
     """Eigenvalues and right eigenvectors of ``A = [[0, P], [-Kt, -G]]`` and the means to apply ``V^-1``.
 
     Attributes
@@ -267,5 +268,5 @@ def complex_modes(scale: np.ndarray, rows: np.ndarray, omega2: np.ndarray, dampi
     if not rcond > 1.0 / COND_MAX:
         raise DefectiveModesError(f"complex modes: the eigenvectors are nearly dependent (cond(V) ~ "
                             f"{1 / max(rcond, 1e-300):.1e}: critically damped or defective modes), so a "
-                            "modal sum would lose accuracy; use method='sparse' or 'direct'")
+                            "modal sum would lose accuracy")
     return ComplexModes(lam, v, ne, f"LU of V ({reason})", None, None, lu)

@@ -35,6 +35,7 @@ import scipy.sparse.linalg as spl
 from scipy.linalg import lapack
 
 from .._validate import choice
+from ..results import ReadOnly
 from ..errors import ModelError
 from .eigen_checks import (RIGID_RTOL, _as_factor, _factor_norms, _inverse_cholesky, _six_blocks, _trace_norm,
                            error_estimate, fast_matrix, rigid_mask, stiffness_solver)
@@ -240,7 +241,7 @@ def _jacobi(factor: Any, M: Any) -> tuple[np.ndarray, np.ndarray, float]:
 
 
 @dataclass(frozen=True, eq=False)
-class Spectrum:
+class Spectrum(ReadOnly):
     """Undamped modes from :func:`undamped`.
 
     Attributes
@@ -431,7 +432,7 @@ def _refine(K: Any, M: Any, factor: Any, w2: np.ndarray, phi: np.ndarray, est: n
 
 
 @dataclass(frozen=True, eq=False)
-class ModalBasis:
+class ModalBasis(ReadOnly):
     """Undamped modes of a plant's free DOFs.
 
     Attributes
@@ -496,9 +497,11 @@ def _modal_basis(plant: Plant) -> ModalBasis:
             need = np.arange(w2.size) <= np.flatnonzero(need).max()
             w2, phi, est, ok = _refine(plant.K, plant.M, plant.Kf, w2, phi, est, need, solve=solve, whole=True)
             method = method if not ok or method.endswith("+refined") else method + "+refined"
-    elastic = np.sqrt(w2[~rigid])
+    elastic = np.sqrt(w2[~rigid & (w2 > 0)])
     floor = float(elastic.min()) if elastic.size else 1.0
-    scale = np.where(rigid, floor, np.sqrt(w2))
+    # a zero w2 the rigid test did not flag (issue 18's fuzzer: a free motion whose stiffness norms
+    # are both round-off) must not divide the realization by zero
+    scale = np.where(rigid | ~(w2 > 0), floor, np.sqrt(np.maximum(w2, 0.0)))
     return ModalBasis(w2, phi, rigid, scale, est, method)
 
 

@@ -25,13 +25,14 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 import numpy.typing as npt
 
 from .._validate import name_index
 from ..errors import AnalysisError, ModelError, SignalIndexError
+from ..results import ReadOnly
 
 __all__ = ["Plant", "MountForm", "INPUT_KINDS", "MOTION_ORDER", "FIELD_ROLES"]
 
@@ -63,7 +64,7 @@ silently get it wrong."""
 
 
 @dataclass(frozen=True, eq=False)
-class MountForm:
+class MountForm(ReadOnly):
     """The dynamic stiffness of a plant kept as a sum over its mounts: ``K + iH + sC = R(s) + B^T Z(s) B``.
 
     Assembling ``K = sum B_p^T k_p B_p`` rounds every entry at the level of the stiffest mount it
@@ -98,14 +99,19 @@ class MountForm:
     source: tuple
     stiffness_ratio: float
 
+    owns_arrays: ClassVar[bool] = True     # read-only in place (source: the plant's own arrays)
+
     def matches(self, plant: Plant) -> bool:
         """Whether ``plant`` holds the very ``K, C, H, M`` arrays this form was built for."""
         return all(a is b for a, b in zip(self.source, (plant.K, plant.C, plant.H, plant.M)))
 
 
 @dataclass(frozen=True, eq=False)
-class Plant:
+class Plant(ReadOnly):
     """Second-order matrices of the free DOFs plus named input and output maps.
+
+    Its arrays are read-only (made so in place on construction: every analysis and cached
+    factorisation of the plant shares them); ``.copy()`` one to change it.
 
     Attributes
     ----------
@@ -174,6 +180,10 @@ class Plant:
     Kf: Any = None
     mounts: MountForm | None = None
     _cache: dict[str, Any] = field(default_factory=dict, init=False, repr=False)
+
+    # shared by every analysis of this plant and by its cached factorisations: read-only in place,
+    # so an in-place change through a handle cannot make a cached value stale
+    owns_arrays: ClassVar[bool] = True
 
     def cached(self, key: str, make: Callable[[], Any]) -> Any:
         """``make()``, computed once per plant (sparse forms, factorisations of its matrices).

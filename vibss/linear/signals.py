@@ -588,7 +588,9 @@ def mount_form(asm: Assembly, free: np.ndarray, source: tuple, extra_c: Any = No
         return None
     lam = np.linalg.eigvalsh(0.5 * (asm.kp + asm.kp.transpose(0, 2, 1)))          # (q, 3)
     rows = np.diff(b.indptr).reshape(q, 3).sum(axis=1)
-    apart = (lam.min(axis=1) > 0) & (rows > 0)
+    # positive definite beyond round-off: an inclined zero-stiffness axis leaves lam.min ~ eps lam.max
+    # > 0, and its Z(s) is singular (issue 18's fuzzer: LinAlgError in the mounts' solve)
+    apart = (lam.min(axis=1) > 1e3 * np.finfo(float).eps * lam.max(axis=1)) & (rows > 0)
     if not apart.any():
         return None
     idx = (3 * np.flatnonzero(apart)[:, None] + np.arange(3)).ravel()

@@ -31,7 +31,7 @@ from ..model.model import Model
 from ..linear.complex_modes import eigenpairs
 from ..linear.eigen import damping_coupling
 from .undamped import Modes, modes
-from ..results import Result, Table, jsonable, require_pandas
+from ..results import Result, Table, freeze, jsonable, require_pandas
 
 __all__ = ["DampedModes", "damped_modes"]
 
@@ -86,24 +86,24 @@ class DampedModes(Result):
     @cached_property
     def natural_frequency(self) -> np.ndarray:
         """Undamped natural frequency of each pole, ``|lambda|`` [rad/s]."""
-        return np.abs(self.poles)
+        return freeze(np.abs(self.poles))
 
     @cached_property
     def frequency_hz(self) -> np.ndarray:
         """``|lambda| / 2 pi`` [Hz]."""
-        return self.natural_frequency / (2 * np.pi)
+        return freeze(self.natural_frequency / (2 * np.pi))
 
     @cached_property
     def damped_frequency_hz(self) -> np.ndarray:
         """Damped frequency ``Im(lambda) / 2 pi`` [Hz] (0 for real poles)."""
-        return self.poles.imag / (2 * np.pi)
+        return freeze(self.poles.imag / (2 * np.pi))
 
     @cached_property
     def damping_ratio(self) -> np.ndarray:
         """``-Re(lambda) / |lambda|`` [-] (0 for zero poles)."""
         wn = self.natural_frequency
         with np.errstate(invalid="ignore", divide="ignore"):
-            return np.where(wn > 0, -self.poles.real / np.where(wn > 0, wn, 1.0), 0.0)
+            return freeze(np.where(wn > 0, -self.poles.real / np.where(wn > 0, wn, 1.0), 0.0))
 
     def __len__(self) -> int:
         return len(self.poles)

@@ -19,15 +19,17 @@ Examples
 from __future__ import annotations
 
 import dataclasses
+import math
+from functools import cached_property
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 import numpy.typing as npt
 
-from .._validate import choice, vector
+from .._validate import choice, read_regular_file, regular_file, vector
 from ..errors import ModelError, did_you_mean
 from .model import DOF_NAMES, GROUND
 from ..linear.plant import INPUT_KINDS
@@ -38,17 +40,24 @@ from .units import Units
 __all__ = [
     "TimeFunction", "Step", "Rectangular", "HalfSine", "Haversine", "Triangle", "Sawtooth",
     "Ramp", "Sine", "SineSweep", "Table", "Sum", "FUNCTIONS", "function_from_dict",
-    "read_table_file", "Excitation", "amplitude_quantity",
+    "read_table_file", "MAX_TABLE_FILE_BYTES", "TableFile", "Excitation", "amplitude_quantity",
 ]
 
 _MOTION_SUFFIX = {"displacement": "disp", "velocity": "vel", "acceleration": "acc"}
+
+
+MAX_TABLE_FILE_BYTES = 32 * 2**20
+"""Largest table file :func:`read_table_file` reads [bytes] (32 MiB: about a million rows)."""
 
 
 def read_table_file(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
     """Read a two-column (time, value) text file: comma, semicolon, tab or space separated.
 
     Blank lines and lines starting with ``#`` are skipped, and so is a first line that is not
-    numeric (a header). Values are returned as written (no unit conversion).
+    numeric (a header). Values are returned as written (no unit conversion). The file must be a
+    regular file (symbolic links are followed and their target checked; a device, FIFO or folder
+    is refused before it is opened) of at most :data:`MAX_TABLE_FILE_BYTES`; a UTF-8 byte-order
+    mark is accepted.
 
     Parameters
     ----------
@@ -60,10 +69,11 @@ def read_table_file(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
     time, value : (k,) ndarray
     """
     path = Path(path)
+    raw = read_regular_file(path, MAX_TABLE_FILE_BYTES, "table file")
     try:
-        lines = path.read_text(encoding="utf-8").splitlines()
-    except OSError as exc:
-        raise ModelError(f"table file {str(path)!r}: cannot be read ({exc.strerror or exc})") from None
+        lines = raw.decode("utf-8-sig").splitlines()
+    except UnicodeDecodeError as exc:
+        raise ModelError(f"table file {str(path)!r}: not UTF-8 text ({exc.reason} at byte {exc.start})") from None
     rows: list[tuple[float, float]] = []
     first = True
     for n, line in enumerate(lines, start=1):
@@ -72,13 +82,13 @@ def read_table_file(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
             continue
         parts = text.replace(",", " ").replace(";", " ").split()
         is_first, first = first, False
-        try:
-            numbers = [float(p) for p in parts]
-        except ValueError:
+        read = [_table_number(p) for p in parts]
+        numbers = [x for x in read if x is not None]
+        if len(numbers) < len(read):
             if is_first:
                 continue  # a header line
             raise ModelError(f"table file {str(path)!r}: line {n}: expected two numbers, "
-                             f"got {text!r}") from None
+                             f"got {text!r}")
         if len(numbers) != 2:
             raise ModelError(f"table file {str(path)!r}: line {n}: expected two columns (time, value), "
                              f"got {len(numbers)}")
@@ -87,6 +97,102 @@ def read_table_file(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
         raise ModelError(f"table file {str(path)!r}: no data")
     data = np.array(rows)
     return data[:, 0], data[:, 1]
+
+
+@dataclass(frozen=True, eq=False)
+class TableFile(TimeFunction):
+    """A :class:`Table` kept in a two-column text file, read on first use.
+
+    A model file's ``function = { type = "table", file = "rec.csv" }``. Loading the model only
+    checks that the file is a regular file within :data:`MAX_TABLE_FILE_BYTES`; the numbers are
+    read (by :func:`read_table_file`) when an analysis first asks for a value, so ``vibss modes``
+    never reads an excitation's table. Errors in the file's contents are then raised as a
+    :class:`~vibss.errors.ModelError` naming the model file's entry (``who``).
+
+    Parameters
+    ----------
+    file : str
+        Path of the file.
+    extrapolate : {"zero", "hold"}
+        As :class:`Table`.
+    time_scale, value_scale : float
+        SI value of one unit of the file's times and values.
+    who : str
+        Prefix of error messages (the model file's entry).
+
+    Examples
+    --------
+    >>> import tempfile, os
+    >>> with tempfile.NamedTemporaryFile("w", suffix=".csv", delete=False) as f:
+    ...     _ = f.write("0, 0\\n1, 10\\n")
+    >>> TableFile(f.name).value([0.5]).tolist()
+    [5.0]
+    >>> os.remove(f.name)
+    """
+
+    type: ClassVar[str] = "table"
+    roles: ClassVar[dict[str, str]] = {"file": "text", "extrapolate": "text"}
+    file: str
+    extrapolate: str = "zero"
+    time_scale: float = 1.0
+    value_scale: float = 1.0
+    who: str = field(default="", compare=False)
+
+    def __post_init__(self) -> None:
+        if self.extrapolate not in ("zero", "hold"):
+            raise ModelError(f"table function: extrapolate: expected 'zero' or 'hold', got {self.extrapolate!r}")
+        regular_file(self.file, MAX_TABLE_FILE_BYTES, "table file", f"table file {self.file!r}")
+
+    @cached_property
+    def table(self) -> Table:
+        """The :class:`Table` of the file's numbers in SI (read once, on first use)."""
+        try:
+            t, v = read_table_file(self.file)
+            return Table(t * self.time_scale, v * self.value_scale, self.extrapolate, source=self.file)
+        except ModelError as exc:
+            raise ModelError(f"{self.who}: {exc}" if self.who else str(exc)) from None
+
+    @property
+    def times(self) -> np.ndarray:
+        """(k,) times [s] (reads the file)."""
+        return self.table.times
+
+    @property
+    def values(self) -> np.ndarray:
+        """(k,) values [SI] (reads the file)."""
+        return self.table.values
+
+    @property
+    def source(self) -> str:
+        """The file (as :attr:`Table.source`)."""
+        return self.file
+
+    def value(self, t: npt.ArrayLike) -> np.ndarray:
+        return self.table.value(t)
+
+    @property
+    def breakpoints(self) -> tuple[float, ...]:
+        return self.table.breakpoints
+
+    @property
+    def end_time(self) -> float:
+        return self.table.end_time
+
+    def to_dict(self) -> dict[str, Any]:
+        """The table's numbers inline (SI), as :meth:`Table.to_dict`."""
+        return self.table.to_dict()
+
+
+def _table_number(text: str) -> float | None:
+    """A finite number of a table file, or None (``float`` alone reads ``nan``, ``inf`` and
+    5,000-digit integers)."""
+    if len(text) > 100:
+        return None
+    try:
+        value = float(text)
+    except ValueError:
+        return None
+    return value if math.isfinite(value) else None
 
 
 def function_from_dict(data: Any, who: str = "function", *, value_scale: float = 1.0,
@@ -151,11 +257,10 @@ def function_from_dict(data: Any, who: str = "function", *, value_scale: float =
         if not isinstance(fname, str):
             raise ModelError(f"{who}: table function: file: expected a file name, got {fname!r}")
         path = Path(fname) if base is None else Path(base) / fname
-        try:
-            params["time"], params["value"] = read_table_file(path)
+        try:       # checked now (a regular file, not too large), read by the first analysis using it
+            return TableFile(str(path), params.get("extrapolate", "zero"), time_scale, value_scale, who)
         except ModelError as exc:
             raise ModelError(f"{who}: {exc}") from None
-        params["source"] = str(path)
     scales = {"value": value_scale, "time": time_scale, "rate": value_scale / time_scale,
               "angle": angle_scale}
     kwargs: dict[str, Any] = {}
@@ -163,9 +268,13 @@ def function_from_dict(data: Any, who: str = "function", *, value_scale: float =
         role = cls.roles.get(key, "text")
         if role in scales and scales[role] != 1.0:
             try:
-                v = np.asarray(v, dtype=float) * scales[role]
-            except (TypeError, ValueError):
+                given = np.asarray(v, dtype=float)
+                with np.errstate(over="ignore"):
+                    v = given * scales[role]
+            except (TypeError, ValueError, OverflowError):
                 raise ModelError(f"{who}: {kind} function: {key}: expected a number, got {v!r}") from None
+            if np.any(np.isfinite(given) & ~np.isfinite(v)):        # (end = inf stays inf)
+                raise ModelError(f"{who}: {kind} function: {key}: {data[key]!r} overflows when converted to SI")
             v = float(v) if v.ndim == 0 else v
         kwargs[cls.aliases.get(key, key)] = v
     required = [f.name for f in dataclasses.fields(cls)

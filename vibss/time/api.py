@@ -49,7 +49,7 @@ import numpy.typing as npt
 
 from .._validate import choice, name_index, number, vector
 from ..errors import AnalysisError, ArgumentError, DefectiveModesError, ModelError
-from ..results import Result, Table, jsonable, require_pandas
+from ..results import ReadOnly, Result, Table, jsonable, require_pandas
 from .methods import METHODS, SimulationJob, TimeMethod, resolve_method
 from ..model.model import DOF_NAMES, Model
 from ..linear.plant import Plant
@@ -66,7 +66,7 @@ SignalInput = Callable[[np.ndarray], np.ndarray] | npt.ArrayLike
 
 
 @dataclass(frozen=True, eq=False)
-class PeakTable:
+class PeakTable(ReadOnly):
     """Peak (largest magnitude) value, its time, and RMS of each output.
 
     Attributes
@@ -432,7 +432,10 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
         y, note = chosen.kernel(job)
     except DefectiveModesError as exc:
         if not auto or chosen.fallback is None:
-            raise
+            others = [n for n, m in METHODS.items() if m is not chosen and not (m.forces_only and motions)]
+            raise DefectiveModesError(f"simulate: method {chosen.name!r} refused: {exc}; use one of the "
+                                      f"methods simulate accepts: {others} (or 'auto')", argument="method",
+                                      received=chosen.name, expected=others) from None
         refused, chosen = chosen, METHODS[chosen.fallback]
         y, note = chosen.kernel(job)
         note = f"{refused.name} refused ({exc}); {chosen.name}: " + note
