@@ -36,7 +36,8 @@ physical one divided by a power of 2 (``StateSpace.vibss_state_scale`` holds the
 Integrator states of motion inputs are named ``<input>:z`` and ``<input>:zdot``. Signal names are
 the vibss names with ``.`` replaced by ``:`` (python-control reserves ``.``;
 :func:`vibss.linear.signals.control_name`). Hysteretic damping (``H``) is frequency-domain only and is
-left out of every time-domain realization.
+left out of every time-domain realization, with a :class:`~vibss.errors.VibssWarning` naming the mounts
+(:func:`vibss.linear.hysteresis.dropped_hysteresis`).
 
 Examples
 --------
@@ -66,6 +67,7 @@ from .._validate import choice
 from ..errors import (AnalysisError, ArgumentError, ArgumentTypeError, ModelError, SignalError,
                       SignalIndexError, did_you_mean)
 from .eigen import modal_basis
+from .hysteresis import dropped_hysteresis
 from ..model.model import Model
 from .plant import Plant
 from .projection import projected_damping
@@ -309,9 +311,12 @@ def statespace(plant: Plant | Model | Assembly, realization: str = "modal", bala
     if not isinstance(plant, Plant):
         if inputs is None:
             raise ModelError("statespace: a model needs inputs=[...] (and optionally outputs=[...])")
+        dropped_hysteresis(plant, "statespace")
         plant = build_plant(plant, inputs, outputs)
     elif inputs is not None or outputs is not None:
         raise ModelError("statespace: inputs/outputs are fixed by the Plant; pass them to build_plant")
+    else:
+        dropped_hysteresis(plant, "statespace")
     if sp.issparse(plant.K):
         raise AnalysisError("statespace: the plant has sparse matrices (build_plant(..., sparse=True)); "
                             "a state space is dense: build the plant densely, or reduce it (vibss.reduce)")

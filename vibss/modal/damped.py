@@ -30,6 +30,7 @@ from ..errors import ArgumentError
 from ..model.model import Model
 from ..linear.complex_modes import eigenpairs
 from ..linear.eigen import damping_coupling
+from ..linear.hysteresis import dropped_hysteresis
 from .undamped import Modes, modes
 from ..results import Result, Table, jsonable, require_pandas
 
@@ -178,6 +179,9 @@ class DampedModes(Result):
 def damped_modes(model: Model | Assembly, undamped: Modes | None = None) -> DampedModes:
     """Poles, damping ratios and complex shapes of a viscously damped model.
 
+    Loss factors (hysteretic damping) have no causal time-domain form and are left out: a
+    :class:`~vibss.errors.VibssWarning` names the mounts and ``note`` says so.
+
     Parameters
     ----------
     model : Model or Assembly
@@ -205,6 +209,7 @@ def damped_modes(model: Model | Assembly, undamped: Modes | None = None) -> Damp
         raise ArgumentError(f"damped_modes: undamped: needs all {a.n} undamped modes (modes(model, "
                             f"n_modes=None)), got {len(und)}", argument="undamped", received=len(und),
                             expected=a.n)
+    left_out = dropped_hysteresis(a, "damped_modes")
     phi, w = und.shapes, und.omega
     chat = phi.T @ (a.dense("C") @ phi)
     chat = 0.5 * (chat + chat.T)
@@ -261,4 +266,4 @@ def damped_modes(model: Model | Assembly, undamped: Modes | None = None) -> Damp
     shapes = phi @ eta
     big = shapes[np.argmax(np.abs(shapes), axis=0), np.arange(shapes.shape[1])]
     shapes = shapes / np.where(big == 0, 1.0, big)
-    return DampedModes(poles=poles, shapes=shapes, paired=paired, undamped=und, method=method)
+    return DampedModes(poles=poles, shapes=shapes, paired=paired, undamped=und, method=method, note=left_out)

@@ -52,8 +52,10 @@ from ..errors import AnalysisError, ArgumentError, DefectiveModesError, ModelErr
 from ..results import Result, Table, jsonable, require_pandas
 from .methods import METHODS, SimulationJob, TimeMethod, resolve_method
 from ..model.model import DOF_NAMES, Model
+from ..linear.hysteresis import dropped_hysteresis
 from ..linear.plant import Plant
 from ..linear.signals import build_plant
+from ..linear.solve import without_hysteresis
 from ..studies import steady_sweeps, transient_excitations
 from ..diagnostics import check_excitations, check_explicit_rk
 
@@ -351,6 +353,12 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
     AnalysisError
         A method cannot answer (e.g. solve_ivp failed), or an output needs the second derivative
         of a displacement input (impulsive: prescribe the motion as an acceleration input).
+
+    Warns
+    -----
+    VibssWarning
+        Mounts with a loss factor: it has no causal time-domain form and is left out (named in the
+        warning and in ``note``; :func:`vibss.linear.hysteresis.dropped_hysteresis`).
     """
     secs = "a number of seconds"
     dt = number(dt, "dt", who="simulate", minimum=0.0, strict=True, what=secs, must="a positive time step [s]")
@@ -417,6 +425,9 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
                          "nonzero initial conditions (initial={body: {'displacement': [6], "
                          "'velocity': [6]}})")
     _check_derivatives(plant)
+    left_out = dropped_hysteresis(model if model is not None else plant, "simulate")
+    if left_out:                         # said once here; the kernels then see no hysteretic part
+        plant = without_hysteresis(plant)
     job = SimulationJob(plant=plant, time=ts, funcs=tuple(funcs), breakpoints=np.array(bps, float),
                         q0=q0, v0=v0, rtol=float(rtol), atol=atol, solver=solver)
     chosen, auto = resolve_method(method)
@@ -447,6 +458,8 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
     u = np.array([np.broadcast_to(f(ts[keep]), (int(keep.sum()),)) for f in shown]).reshape(len(shown), int(keep.sum()))
     if hidden:
         note = "free vibration from the initial conditions; " + note
+    if left_out:
+        note = f"{left_out}; " + note
     if skipped:
         note = (f"skipped steady sweep(s) {[e.name for e in skipped]} (sweep_time = 0: frequency "
                 "studies only); " + note)
