@@ -68,6 +68,7 @@ from ..errors import ModelError, SignalError, did_you_mean
 from ..model.geometry import point_transfer
 from .eigen import undamped
 from ..model.model import DOF_NAMES, GROUND, Model
+from .branches import build_branches
 from .plant import INPUT_KINDS, MountForm, Plant
 
 __all__ = ["build_plant", "control_name", "default_outputs", "INPUT_FORMS", "OUTPUT_FORMS"]
@@ -235,6 +236,7 @@ class _Rows:
     v: np.ndarray   # velocity part
     a: np.ndarray   # acceleration part
     h: np.ndarray   # hysteretic part (times i)
+    f: np.ndarray | None = None   # per unit force of each mount into its 'to' side (3 per mount)
 
 
 def _mount_wrench(asm: Assembly, target: str) -> dict[str, np.ndarray]:
@@ -249,11 +251,13 @@ def _mount_wrench(asm: Assembly, target: str) -> dict[str, np.ndarray]:
     i = len(model.bodies) if target == GROUND else model.body_index(target)
     b = asm.deflection_matrix()
     rows = {key: np.zeros((6, asm.n + 6)) for key in ("k", "c", "h")}
+    rows["f"] = np.zeros((6, 3 * len(model.mounts)))
     for p in np.flatnonzero(asm.a_index == i):
         lt = point_transfer(asm.r_a[p]).T                 # (6, 3): force at the point -> wrench
         bp = b[3 * p:3 * p + 3].toarray()
         for key, mat in (("k", asm.kp), ("c", asm.cp), ("h", asm.hp)):
             rows[key] += lt @ mat[p] @ bp
+        rows["f"][:, 3 * p:3 * p + 3] = lt
     return rows
 
 
@@ -278,7 +282,9 @@ def output_row(asm: Assembly, name: Any, cache: dict) -> tuple[_Rows, str]:
         axis = t[:, k] if frame == "l" else np.eye(3)[k]
         if what == "d":
             return _Rows(axis @ b, zero, zero, zero), "m"
-        return _Rows(axis @ asm.kp[p] @ b, axis @ asm.cp[p] @ b, zero, axis @ asm.hp[p] @ b), "N"
+        f = np.zeros(3 * len(model.mounts))
+        f[3 * p:3 * p + 3] = axis
+        return _Rows(axis @ asm.kp[p] @ b, axis @ asm.cp[p] @ b, zero, axis @ asm.hp[p] @ b, f), "N"
     head, _, comp = name.rpartition(".")
     target = head[:-5] if head.endswith(".into") else (GROUND if head == GROUND else None)
     if head.endswith(".into") and comp not in _FORCE:
@@ -294,7 +300,7 @@ def output_row(asm: Assembly, name: Any, cache: dict) -> tuple[_Rows, str]:
         g = cache.get(("wrench", target))
         if g is None:
             g = cache[("wrench", target)] = _mount_wrench(asm, target)
-        return _Rows(g["k"][k], g["c"][k], zero, g["h"][k]), ("N" if k < 3 else "N m")
+        return _Rows(g["k"][k], g["c"][k], zero, g["h"][k], g["f"][k]), ("N" if k < 3 else "N m")
     base, _, suffix = name.rpartition(".")
     order = _DERIV.get(suffix)
     if order is None or order == 0:
@@ -447,6 +453,9 @@ def build_plant(model_or_assembly: Model | Assembly, inputs: Sequence[Any],
         Oq=o["d"], Ov=o["v"], Oa=o["a"], Pz=pz["d"], Pv=pz["v"], Pa=pz["a"],
         Pf=np.zeros((len(outputs), m)), name=model.name,
         Oh=o["h"], Ph=pz["h"], Kf=_columns(asm.stiffness_factor(), free),
+        branches=build_branches(model, asm.deflection_matrix(), free, motion, np.array(
+            [np.zeros(3 * len(model.mounts)) if r.f is None else r.f for r in rows]).reshape(
+            len(outputs), 3 * len(model.mounts))) if any(t.has_branches for t in model.mount_types.values()) else None,
     )
 
 

@@ -45,6 +45,7 @@ import scipy.sparse.linalg as spl
 from ..errors import AnalysisError, ModelError
 from .backends import SOLVERS
 from .banded import structure
+from .branches import augment
 from .eigen import modal_basis
 from .plant import Plant
 
@@ -229,6 +230,15 @@ def states(plant: Plant, s: np.ndarray, rhs: np.ndarray | None = None,
     (1.0, True)
     """
     s = np.atleast_1d(np.asarray(s, dtype=complex))
+    if plant.branches is not None:          # frequency-dependent mounts: their internal DOFs too
+        n, aug = plant.n, augment(plant)
+        if rhs is not None:
+            r = np.asarray(rhs, dtype=complex)
+            pad = [(0, 0)] * r.ndim
+            pad[-2] = (0, aug.n - n)
+            rhs = np.pad(r, pad)
+        x, bad = states(aug, s, rhs, backend=backend, form="assembled" if form == "auto" else form)
+        return x[:, :n], bad
     if rhs is None:
         r_full = forcing(plant, s, zfactor(s, plant.order))
         def get(part: slice) -> np.ndarray:
@@ -243,6 +253,8 @@ def states(plant: Plant, s: np.ndarray, rhs: np.ndarray | None = None,
 
 def _plain(plant: Plant, s: np.ndarray, backend: str, form: str = "auto") -> tuple[np.ndarray, np.ndarray]:
     """(nf, p, m) response by the plain solve, and where ``A(s)`` is singular (values there: 0)."""
+    if plant.branches is not None:
+        plant, form = augment(plant), "assembled" if form == "auto" else form
     zf = zfactor(s, plant.order)
     x, bad = states(plant, s, backend=backend, form=form)
     return observe(plant, s, x, zf), bad
@@ -315,6 +327,7 @@ def _at_singular(plant: Plant, s0: complex, backend: str, form: str = "auto") ->
     finite limit, evaluated as the mean of the responses at ``s0 (1 +- POLE_DELTA)`` (the pole's
     part changes sign across ``s0``, the regular part does not; error ``O(delta^2)``).
     """
+    plant = augment(plant)
     a = _dense_matrix(plant, s0)
     u, sig, vh = np.linalg.svd(a)
     null = sig <= max(sig[0], np.finfo(float).tiny) * a.shape[0] * np.finfo(float).eps

@@ -424,8 +424,9 @@ class Model:
 
 
 def _same_type(a: MountType, b: MountType) -> bool:
-    return all(np.array_equal(getattr(a, k), getattr(b, k))
-               for k in ("stiffness", "damping", "loss_factor"))
+    rheology = [None if t.rheology is None else t.rheology.to_dict() for t in (a, b)]
+    return rheology[0] == rheology[1] and all(np.array_equal(getattr(a, k), getattr(b, k))
+                                              for k in ("stiffness", "damping", "loss_factor"))
 
 
 def _unique(names: Iterable[str], what: str) -> None:

@@ -52,6 +52,7 @@ from ..errors import AnalysisError, ArgumentError, DefectiveModesError, ModelErr
 from ..results import Result, Table, jsonable, require_pandas
 from .methods import METHODS, SimulationJob, TimeMethod, resolve_method
 from ..model.model import DOF_NAMES, Model
+from ..linear.branches import require_none
 from ..linear.hysteresis import dropped_hysteresis
 from ..linear.plant import Plant
 from ..linear.signals import build_plant
@@ -431,6 +432,16 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
     job = SimulationJob(plant=plant, time=ts, funcs=tuple(funcs), breakpoints=np.array(bps, float),
                         q0=q0, v0=v0, rtol=float(rtol), atol=atol, solver=solver)
     chosen, auto = resolve_method(method)
+    if plant.branches is not None and auto:
+        chosen, auto = METHODS["forced_response"], False
+        branch_note = f"{plant.branches.note()}: forced_response of the state space with them"
+    elif plant.branches is not None:
+        branch_note = plant.branches.note()
+        if not chosen.internal_states:
+            require_none(plant, f"simulate: method {chosen.name!r}",
+                         f"use one of {[k for k, v in METHODS.items() if v.internal_states]} or 'auto'")
+    else:
+        branch_note = ""
     motions = [u for u, kind in zip(plant.inputs, plant.kinds) if kind != "force"]
     if chosen.forces_only and motions:
         raise ModelError(f"simulate: method {chosen.name!r} takes only force inputs; inputs {motions} "
@@ -460,6 +471,8 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
         note = "free vibration from the initial conditions; " + note
     if left_out:
         note = f"{left_out}; " + note
+    if branch_note:
+        note = f"{branch_note}; " + note
     if skipped:
         note = (f"skipped steady sweep(s) {[e.name for e in skipped]} (sweep_time = 0: frequency "
                 "studies only); " + note)
