@@ -85,7 +85,9 @@ def dropped_hysteresis(source: Any, where: str, stacklevel: int = 3) -> str:
         return ""
     note = (f"loss factor of {what} left out (a constant loss factor has no causal time-domain form; "
             "it adds no damping here)")
-    warnings.warn(f"{where}: {note}; it is used by frequency responses only. Give those mounts viscous "
-                  "damping (c = eta k / w at the frequency of interest) for the same damping in the time "
-                  "domain and the damped modes", VibssWarning, stacklevel=stacklevel)
+    warnings.warn(f"{where}: {note}; it is used by frequency responses only. For the same damping in "
+                  "every analysis give those mounts a rheology instead (a 'table' with the loss factor "
+                  "over the band of interest is its causal approximation, with the fit error stated) or "
+                  "viscous damping (c = eta k / w at the frequency of interest)", VibssWarning,
+                  stacklevel=stacklevel)
     return note

@@ -50,13 +50,16 @@ from .._validate import is_numeric
 from ..errors import ModelError, VibssWarning
 
 __all__ = ["Rheology", "Ladder", "KelvinVoigt", "Zener", "Prony", "FractionalZener", "Table",
-           "RHEOLOGIES", "parse_rheology", "fit_ladder", "PER_DECADE", "FEW_POINTS"]
+           "RHEOLOGIES", "QUANTITIES", "parse_rheology", "fit_ladder", "PER_DECADE", "FEW_POINTS", "FIT_WARN"]
 
 PER_DECADE = 3
 """Relaxation times per decade of a fitted ladder."""
 
 FEW_POINTS = 4
 """A table with fewer points than this gets a warning (its interpolation and fit rest on little)."""
+
+FIT_WARN = 0.05
+"""A table whose fitted ladder is further than this (relative) from it gets a warning."""
 
 _FIT_POINTS = 400
 
@@ -142,7 +145,7 @@ def _axes(value: Any, who: str, key: str, *, positive: bool = False) -> np.ndarr
     bad = ~np.isfinite(a) | (a <= 0 if positive else a < 0)
     if np.any(bad):
         j = int(np.flatnonzero(bad)[0])
-        raise ModelError(f"{who}: {key}: axis {j + 1} is {a[j]!r}; expected a finite number "
+        raise ModelError(f"{who}: {key}: axis {j + 1} is {float(a[j])!r}; expected a finite number "
                          f"{'> 0' if positive else '>= 0'}")
     a.setflags(write=False)
     return a
@@ -163,7 +166,7 @@ def _per_axis_list(value: Any, who: str, key: str, *, positive: bool) -> np.ndar
     bad = ~np.isfinite(a) | (a <= 0 if positive else a < 0)
     if np.any(bad):
         j, i = (int(x[0]) for x in np.nonzero(bad))
-        raise ModelError(f"{who}: {key}: axis {j + 1}, term {i + 1} is {a[j, i]!r}; expected a finite "
+        raise ModelError(f"{who}: {key}: axis {j + 1}, term {i + 1} is {float(a[j, i])!r}; expected a finite "
                          f"number {'> 0' if positive else '>= 0'}")
     a = a.copy()
     a.setflags(write=False)
@@ -400,8 +403,14 @@ class Table(Rheology):
         if np.any(ladder.static <= 0):
             j = int(np.flatnonzero(ladder.static <= 0)[0])
             raise ModelError(f"{who}: axis {j + 1}: the fitted static stiffness is {ladder.static[j]:g} N/m; "
-                             "a passive mount needs a positive static stiffness (the table's stiffness "
-                             f"rises too steeply with frequency at {f[0]:g} Hz)")
+                             "a passive mount needs a positive static stiffness (no passive, causal "
+                             f"ladder comes near the table at its lowest frequency, {f[0]:g} Hz)")
+        if ladder.fit_error > FIT_WARN:
+            warnings.warn(f"{who}: the fitted Maxwell ladder, which every analysis uses, is up to "
+                          f"{100 * ladder.fit_error:.3g} % off the table over {self.band[0]:g} to "
+                          f"{self.band[1]:g} Hz (a passive, causal stiffness cannot follow it closer: e.g. "
+                          "a constant loss factor needs a stiffness rising with frequency)", VibssWarning,
+                          stacklevel=4)
         object.__setattr__(self, "_ladder", ladder)
 
     @staticmethod
@@ -438,6 +447,11 @@ class Table(Rheology):
     def ladder(self) -> Ladder:
         return self._ladder
 
+
+QUANTITIES: dict[str, str] = {"k": "stiffness", "k_0": "stiffness", "k_inf": "stiffness", "stiffness": "stiffness",
+                              "c": "damping", "tau": "time", "alpha": "dimensionless",
+                              "loss_factor": "dimensionless", "frequency": "frequency", "band": "frequency"}
+"""What each rheology key measures (a model file writes it in its units of that; frequencies in Hz)."""
 
 RHEOLOGIES: dict[str, type[Rheology]] = {c.kind: c for c in (KelvinVoigt, Zener, Prony, FractionalZener, Table)}
 """Rheological models by ``type`` name."""
