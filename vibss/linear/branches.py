@@ -14,9 +14,8 @@ so ``f_i = k_i tau_i s / (1 + tau_i s) delta_i`` in the frequency domain. :class
 ``B, Bz, O, k, tau`` of a plant (a field of :class:`~vibss.linear.plant.Plant`); every analysis
 takes the same ladder:
 
-- the exact solve (:mod:`vibss.linear.solve`) works on :func:`augment`, the plant with the ``u_i``
-  as massless DOFs (``M = 0``, ``C = k tau``, ``K = [[K + B^T k B, -B^T k], [-k B, k]]``): the
-  FRF of the ladder, exactly, through every back-end;
+- the exact solve (:mod:`vibss.linear.solve`) eliminates the ``u_i`` exactly (:func:`groups`):
+  ``K + iH + sC + s^2 M + sum_tau tau s / (1 + tau s) K_tau``, through every back-end;
 - :func:`vibss.linear.statespace.statespace` appends the ``u_i`` as states (:func:`close`), which the
   time response (``forced_response``) and the damped modes use.
 
@@ -28,8 +27,9 @@ Examples
 >>> p = build_plant(Model([Body("b", 1.0, [1, 1, 1])], [Mount("m", t, "b")]), ["b.fz"], ["b.z"])
 >>> p.branches.labels
 ('mount.m.1.b1', 'mount.m.2.b1', 'mount.m.3.b1')
->>> augment(p).n, float(augment(p).K[8, 8])          # 6 body DOFs + 3 internal; k_1 on the diagonal
-(9, 20000.0)
+>>> g = groups(p)[0]                      # one relaxation time; k_inf - k_0 on each axis
+>>> g.tau, float(g.K[2, 2])
+(0.01, 20000.0)
 """
 
 from __future__ import annotations
@@ -43,7 +43,7 @@ import scipy.sparse as sp
 
 from ..errors import AnalysisError
 
-__all__ = ["Branches", "build_branches", "augment", "mechanical", "close", "require_none"]
+__all__ = ["Branches", "Group", "build_branches", "groups", "mechanical", "close", "require_none"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -183,12 +183,45 @@ def require_none(plant: Any, where: str, instead: str) -> None:
                             f"states (Maxwell branches) that {where} does not represent; {instead}")
 
 
-def augment(plant: Any) -> Any:
-    """The plant with its branches' internal coordinates as massless DOFs (itself when it has none).
+@dataclass(frozen=True, eq=False)
+class Group:
+    """The branches of one relaxation time ``tau``, condensed: they add ``g(s) = tau s / (1 + tau s)``
+    times these matrices to the dynamic stiffness, the input coupling and the outputs.
 
-    ``M = diag(M, 0)``, ``C = diag(C, k tau)``, ``K = [[K + B^T k B, -B^T k], [-k B, diag k]]``,
-    ``Kz`` gains ``[B^T k Bz; -k Bz]``, the outputs ``O k (B q + Bz z - u)``; computed once per plant.
-    Its exact response is the FRF with every mount's ``k*(w)`` of its ladder.
+    Attributes
+    ----------
+    tau : float
+        Relaxation time [s].
+    K : (n, n) ndarray or scipy.sparse CSR matrix
+        ``B^T diag(k) B`` over the group [N/m].
+    Kz : (n, m) ndarray
+        ``B^T diag(k) Bz``.
+    Oq : (p, n) ndarray
+        ``O diag(k) B``.
+    Pz : (p, m) ndarray
+        ``O diag(k) Bz``.
+    """
+
+    tau: float
+    K: Any
+    Kz: np.ndarray
+    Oq: np.ndarray
+    Pz: np.ndarray
+
+    def factor(self, s: np.ndarray, derivative: bool = False) -> np.ndarray:
+        """``g(s) = tau s / (1 + tau s)`` (or ``dg/ds = tau / (1 + tau s)^2``) at Laplace values ``s``."""
+        s = np.asarray(s, dtype=complex)
+        return self.tau / (1 + self.tau * s) ** 2 if derivative else self.tau * s / (1 + self.tau * s)
+
+
+def groups(plant: Any) -> list[Group]:
+    """The plant's branches condensed per relaxation time (computed once per plant; [] without).
+
+    Eliminating each internal coordinate, ``u_i = delta_i / (1 + tau_i s)``, is exact: the dynamic
+    stiffness becomes ``K + iH + sC + s^2 M + sum_tau g_tau(s) K_tau`` with the pattern of the
+    mounts' own stiffness, so the exact solve costs about what it costs without the branches
+    (one ``g_tau(s) K_tau`` per distinct ``tau`` per frequency; a Zener model has one ``tau`` per
+    mount type, a fitted ladder shares three per decade of its band).
 
     Parameters
     ----------
@@ -196,43 +229,26 @@ def augment(plant: Any) -> Any:
 
     Returns
     -------
-    Plant
-        ``n + r`` DOFs (the internal ones labelled as the branches), no branches, no MountForm.
+    list of Group
     """
     br = plant.branches
     if br is None:
-        return plant
-    return plant.cached("augmented", lambda: _augment(plant, br))
+        return []
+    return plant.cached("branch groups", lambda: _groups(plant, br))
 
 
-def _augment(plant: Any, br: Branches) -> Any:
-    n, r = plant.n, br.r
-    kb = br.B * br.k[:, None]                              # (r, n): k B
+def _groups(plant: Any, br: Branches) -> list[Group]:
+    out = []
     sparse = sp.issparse(plant.K)
-
-    def blocks(tl: Any, tr: Any, bl: Any, brr: Any) -> Any:
-        if sparse:
-            return sp.bmat([[tl, sp.csr_matrix(tr)], [sp.csr_matrix(bl), sp.csr_matrix(brr)]], format="csr")
-        return np.block([[np.asarray(tl), tr], [bl, brr]])
-
-    zn, zr = np.zeros((n, r)), np.zeros((r, r))
-    k_top = plant.K + (sp.csr_matrix(br.B.T @ kb) if sparse else br.B.T @ kb)
-    K = blocks(k_top, -kb.T, -kb, np.diag(br.k))
-    C = blocks(plant.C, zn, zn.T, np.diag(br.k * br.tau))
-    M = blocks(plant.M, zn, zn.T, zr)
-    H = blocks(plant.H, zn, zn.T, zr)
-    kbz = br.Bz * br.k[:, None]                            # (r, m)
-    m = len(plant.inputs)
-    zm = np.zeros((r, m))
-    ok = br.O * br.k[None]                                 # (p, r)
-    pad = np.zeros((len(plant.outputs), r))
-    return dataclasses.replace(
-        plant, dofs=tuple(plant.dofs) + br.labels, M=M, C=C, K=K, H=H,
-        F=np.vstack([plant.F, zm]), Kz=np.vstack([plant.Kz + br.B.T @ kbz, -kbz]),
-        Cz=np.vstack([plant.Cz, zm]), Mz=np.vstack([plant.Mz, zm]), Hz=np.vstack([plant.Hz, zm]),
-        Oq=np.hstack([plant.Oq + ok @ br.B, -ok]), Ov=np.hstack([plant.Ov, pad]),
-        Oa=np.hstack([plant.Oa, pad]), Oh=None if plant.Oh is None else np.hstack([plant.Oh, pad]),
-        Pz=plant.Pz + ok @ br.Bz, Kf=None, mounts=None, branches=None)
+    for tau in np.unique(br.tau):
+        sel = br.tau == tau
+        b, k = br.B[sel], br.k[sel]
+        kb = b * k[:, None]
+        kmat = b.T @ kb
+        kmat = 0.5 * (kmat + kmat.T)
+        out.append(Group(tau=float(tau), K=sp.csr_matrix(kmat) if sparse else kmat, Kz=kb.T @ br.Bz[sel],
+                         Oq=(br.O[:, sel] * k[None]) @ b, Pz=(br.O[:, sel] * k[None]) @ br.Bz[sel]))
+    return out
 
 
 def close(plant: Any, make: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, list[str]]:
