@@ -345,3 +345,22 @@ def test_mounts_guide_runs_and_its_numbers_hold(capsys):
     k80 = _kstar(2j * np.pi * 80.0, damping=0.0)             # the rheology alone (no dashpot) ...
     np.testing.assert_allclose(scope["rubber"].dynamic_stiffness([80.0])[0, 2], k80 + 8.0 * 2j * np.pi * 80.0,
                                rtol=1e-12)                 # ... plus the parallel dashpot
+
+
+def test_report_lists_and_plots_the_rheologies():
+    from vibss.plotting import plot_dynamic_stiffness
+    from vibss.report import study
+
+    table = MountType("tab", rheology={"type": "table", "frequency": [1, 10, 100, 1000],
+                                       "stiffness": [1e4, 1.2e4, 1.5e4, 2e4], "loss_factor": [0.05, 0.1, 0.15, 0.2]})
+    model = Model([Body("b", 2.0, [1, 1, 1])], [Mount("m", _zener_type(), "b"), Mount("n", table, "b", at=[0.1, 0, 0])])
+    fig = plot_dynamic_stiffness(list(model.mount_types.values()))
+    top, bottom = fig.axes
+    line = top.get_lines()[0]                               # the Zener's |k*| on axis 1, solid
+    f, mag = line.get_data()
+    np.testing.assert_allclose(mag, np.abs(_kstar(2j * np.pi * f)), rtol=1e-12)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", VibssWarning)
+        section = study(model, figures=True).sections[0]
+    assert "zener" in section.text and f"table (fit {table.fit_error:.2g})" in section.text
+    assert "mount_stiffness.png" in [name for name, _ in section.figures]
