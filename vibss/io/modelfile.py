@@ -111,14 +111,18 @@ def _body(e: Entry, i: int, initial: dict[str, Any]) -> Body:
 
 
 def _mount_type(e: Entry) -> MountType:
-    e.check_keys(("name", "stiffness", "damping", "loss_factor", "rheology"),
-                 ("name",) if "rheology" in e else ("name", "stiffness"))
+    e.check_keys(("name", "stiffness", "damping", "loss_factor", "rheology", "rotational_stiffness",
+                  "rotational_damping"), ("name",) if "rheology" in e else ("name", "stiffness"))
     try:
         return MountType(e.string("name"),
                          e.array("stiffness", [(3,)], "stiffness", None, nonnegative=True),
                          e.array("damping", [(3,)], "damping", np.zeros(3), nonnegative=True),
                          e.array("loss_factor", [(), (3,)], "dimensionless", 0.0, nonnegative=True),
-                         _rheology(e))
+                         _rheology(e),
+                         e.array("rotational_stiffness", [(3,)], "rotational_stiffness", np.zeros(3),
+                                 nonnegative=True),
+                         e.array("rotational_damping", [(3,)], "rotational_damping", np.zeros(3),
+                                 nonnegative=True))
     except ModelError as exc:
         raise _wrap(e, exc) from None
 
@@ -438,6 +442,8 @@ def model_to_dict(model: Model) -> dict[str, Any]:
     out["mount_type"] = [{"name": t.name, "stiffness": t.stiffness.tolist(),
                           "damping": t.damping.tolist(), "loss_factor": t.loss_factor.tolist()}
                          | ({} if t.rheology is None else {"rheology": t.rheology.to_dict()})
+                         | ({} if not t.rotational else {"rotational_stiffness": t.rotational_stiffness.tolist(),
+                                                         "rotational_damping": t.rotational_damping.tolist()})
                          for t in model.mount_types.values()]
     out["mount"] = []
     for m in model.mounts:

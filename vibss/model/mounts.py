@@ -53,6 +53,12 @@ class MountType:
         ``{"type": "zener", "k_0": [...], "k_inf": [...], "tau": [...]}``: ``kelvin_voigt``,
         ``zener``, ``prony``, ``fractional_zener`` or ``table``. Every analysis uses its Maxwell
         ladder (:attr:`ladder`; exact for the rational models, fitted with :attr:`fit_error` else).
+    rotational_stiffness : (3,) array_like
+        Torsional and conical rates (kr1, kr2, kr3) about the mount's local axes [N m/rad]: the
+        moment ``T diag(kr) T^T (theta_body - theta_to)`` of a bushing or rubber block with size
+        (a 6x6 mount). Default zero. Constant (no loss factor, no rheology).
+    rotational_damping : (3,) array_like
+        Viscous rotational dampings (cr1, cr2, cr3) about the local axes [N m s/rad]. Default zero.
 
     Examples
     --------
@@ -68,6 +74,8 @@ class MountType:
     damping: Any = (0.0, 0.0, 0.0)
     loss_factor: Any = 0.0
     rheology: Any = None
+    rotational_stiffness: Any = (0.0, 0.0, 0.0)
+    rotational_damping: Any = (0.0, 0.0, 0.0)
     _ladder: Any = field(default=None, init=False, repr=False)
 
     def __post_init__(self) -> None:
@@ -83,7 +91,8 @@ class MountType:
                 object.__setattr__(self, "stiffness", ladder.static.copy())
         elif self.stiffness is None:
             raise ModelError(f"{who}: stiffness: give the 3 principal stiffnesses [N/m] (or a rheology)")
-        for key, unit in (("stiffness", "N/m"), ("damping", "N s/m")):
+        for key, unit in (("stiffness", "N/m"), ("damping", "N s/m"), ("rotational_stiffness", "N m/rad"),
+                          ("rotational_damping", "N m s/rad")):
             v = _vec(getattr(self, key), 3, who, key)
             if np.any(v < 0):
                 raise ModelError(f"{who}: {key} must not be negative, got {v.tolist()} {unit}")
@@ -118,6 +127,11 @@ class MountType:
     def ladder(self) -> Ladder | None:
         """The Maxwell ladder of a frequency-dependent type (None without ``rheology``)."""
         return self._ladder
+
+    @property
+    def rotational(self) -> bool:
+        """Whether the type has rotational stiffness or damping (a 6x6 mount)."""
+        return bool(np.any(self.rotational_stiffness) or np.any(self.rotational_damping))
 
     @property
     def has_branches(self) -> bool:
