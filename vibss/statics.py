@@ -189,7 +189,7 @@ class StaticResult(Result):
                    "deflection_local": self.mount_deflection_local[p].tolist(),
                    "force_global": self.mount_force[p].tolist(),
                    "force_local": (m.orientation.matrix.T @ self.mount_force[p]).tolist()}
-                  | ({} if self.mount_moment is None else {
+                  | ({} if self.mount_moment is None or self.mount_rotation is None else {
                       "rotation_global": self.mount_rotation[p].tolist(),
                       "moment_global": self.mount_moment[p].tolist(),
                       "moment_local": (m.orientation.matrix.T @ self.mount_moment[p]).tolist()})
