@@ -33,7 +33,6 @@ from ..linear.eigen import damping_coupling
 from ..linear.hysteresis import dropped_hysteresis
 from ..linear.signals import build_plant
 from ..linear.solve import without_hysteresis
-from ..linear.statespace import statespace
 from .undamped import Modes, modes
 from ..results import Result, Table, jsonable, require_pandas
 
@@ -279,6 +278,9 @@ def _with_branches(a: Assembly, und: Modes, left_out: str) -> DampedModes:
     :func:`vibss.statespace`, whose states include every mount's Maxwell branches (the same ladder
     as the FRF and the time response). The branches add real relaxation poles; shapes are the
     DOF displacements of the eigenvectors."""
+    # python-control is heavy at start-up (tests/test_startup.py): only models with branches need it
+    from ..linear.statespace import statespace
+
     plant = without_hysteresis(build_plant(a, [f"{a.model.body_names[0]}.fx"]))   # every DOF out
     sys = statespace(plant)
     lam, vec = eigenpairs(np.asarray(sys.A))

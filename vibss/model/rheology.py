@@ -43,8 +43,6 @@ from typing import Any, ClassVar
 
 import numpy as np
 import numpy.typing as npt
-from scipy.interpolate import PchipInterpolator
-from scipy.optimize import nnls
 
 from .._validate import is_numeric
 from ..errors import ModelError, VibssWarning
@@ -428,6 +426,8 @@ class Table(Rheology):
                          f"(one per axis), got shape {a.shape}")
 
     def _interpolate(self, omega: np.ndarray) -> np.ndarray:
+        from scipy.interpolate import PchipInterpolator   # loads scipy.optimize: heavy at start-up
+
         x = np.log(np.clip(np.asarray(omega, float) / (2 * np.pi), self.frequency[0], self.frequency[-1]))
         lf = np.log(self.frequency)
         k = PchipInterpolator(lf, self.stiffness, axis=1)(x).T
@@ -535,6 +535,8 @@ def fit_ladder(target: Any, band: npt.ArrayLike, static: np.ndarray | None = Non
     >>> round(fit_ladder(lambda w: np.full((np.size(w), 3), 1e4 * (1 + 0.05j)), [1.0, 100.0]).fit_error, 2)
     0.05
     """
+    from scipy.optimize import nnls      # heavy at start-up (tests/test_startup.py); only fits need it
+
     b = np.asarray(band, dtype=float)
     w1, w2 = 2 * np.pi * b[0], 2 * np.pi * b[1]
     below = 0.0 if static is None else 1.0
