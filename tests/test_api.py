@@ -16,8 +16,9 @@ PACKAGE = Path(vibss.__file__).parent
 # Layers, lowest first: a module may import only from its own layer or below.
 LAYERS = [
     {"errors", "_validate", "results", "methods", "model.units", "model.geometry", "io.tomlwriter"},
-    {"model", "linear.plant", "io.filetable"},
-    {"io", "examples", "linear.assemble", "linear.directions", "linear.eigen", "linear.eigen_checks"},
+    {"model", "linear.plant", "linear.branches", "io.filetable"},
+    {"io", "examples", "linear.assemble", "linear.directions", "linear.eigen", "linear.eigen_checks",
+     "linear.hysteresis"},
     {"linear.complex_modes", "linear.banded", "linear.signals", "linear.solve", "linear.backends",
      "linear.projection", "statics", "time.integrators", "diagnostics"},
     {"linear", "modal"},

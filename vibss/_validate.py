@@ -61,8 +61,8 @@ def is_numeric(value: Any) -> bool:
         return False
     if a.dtype.kind in "iuf":
         return True
-    if a.dtype.kind == "O" and a.size:
-        return all(is_numeric(v) for v in a.ravel())
+    if a.dtype.kind == "O" and a.ndim and a.size:   # 0-d object: a non-numeric scalar (a callable
+        return all(is_numeric(v) for v in a.ravel())  # would otherwise recurse into itself)
     return False
 
 

@@ -48,6 +48,9 @@ class Method:
         (e.g. complex modes refused as defective).
     summary : str
         One line on what it does.
+    internal_states : bool
+        Represents the internal states of frequency-dependent mounts (their Maxwell branches,
+        :mod:`vibss.linear.branches`); a driver refuses a plant with branches otherwise.
 
     Calling a Method calls its kernel, so ``METHODS["direct"](plant, s)`` keeps working.
     """
@@ -57,6 +60,7 @@ class Method:
     exact: bool = False
     fallback: str | None = None
     summary: str = ""
+    internal_states: bool = False
 
     def __call__(self, *args: Any, **kwargs: Any) -> Any:
         return self.kernel(*args, **kwargs)

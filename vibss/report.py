@@ -168,11 +168,18 @@ def _model_section(model: Model, figures: bool) -> Section:
                     + [f"{c:.4g}" for c in b.cog] for b in model.bodies],
                    title="Bodies (inertia tensor about the COG in global axes [kg m^2]; "
                          "off-diagonals are minus the products of inertia)")
+    rotational = any(t.rotational for t in model.mount_types.values())
     types = Table(["mount type", "k1 [N/m]", "k2 [N/m]", "k3 [N/m]", "c1 [N s/m]", "c2 [N s/m]",
-                   "c3 [N s/m]", "loss factor"],
+                   "c3 [N s/m]", "loss factor", "rheology"]
+                  + (["kr1 [N m/rad]", "kr2 [N m/rad]", "kr3 [N m/rad]", "cr1 [N m s/rad]", "cr2 [N m s/rad]",
+                      "cr3 [N m s/rad]"] if rotational else []),
                   [[t.name] + [f"{v:.4g}" for v in t.stiffness] + [f"{v:.4g}" for v in t.damping]
-                   + [" ".join(f"{v:.3g}" for v in np.unique(t.loss_factor))]
-                   for t in model.mount_types.values()], title="Mount types")
+                   + [" ".join(f"{v:.3g}" for v in np.unique(t.loss_factor)), _rheology_text(t)]
+                   + ([f"{v:.4g}" for v in np.concatenate([t.rotational_stiffness, t.rotational_damping])]
+                      if rotational else [])
+                   for t in model.mount_types.values()],
+                  title="Mount types (k: static stiffness; rheology: frequency-dependent, its ladder's "
+                        "fit error)")
     mounts = Table(["mount", "type", "joins", "x [m]", "y [m]", "z [m]", "orientation"],
                    [[m.name, m.type.name, f"{m.body}->{m.to}"]
                     + [f"{v:.4g}" for v in model.mount_point(m)] + [_describe(m.orientation)]
@@ -199,8 +206,19 @@ def _model_section(model: Model, figures: bool) -> Section:
         from .plotting import plot_model
 
         figs = (("model.png", plot_model(model)), ("model_views.png", plot_model(model, view="three")))
+        if any(t.rheology is not None for t in model.mount_types.values()):
+            from .plotting import plot_dynamic_stiffness
+
+            figs += (("mount_stiffness.png", plot_dynamic_stiffness(list(model.mount_types.values()))),)
     return Section("model", TITLES["model"], text + "\n\n" + "\n\n".join(t.render() for t in tables),
                    tuple(tables), figs)
+
+
+def _rheology_text(t: Any) -> str:
+    """``zener``, ``table (fit 0.031)`` or ``-``."""
+    if t.rheology is None:
+        return "-"
+    return t.rheology.kind + (f" (fit {t.fit_error:.2g})" if t.fit_error else "")
 
 
 def _describe(o: Any) -> str:
@@ -235,6 +253,8 @@ def _static_tables(r: StaticResult) -> tuple[Table, ...]:
                           + [f"{1e3 * v:.4f}" for v in r.mount_deflection_local[p]]
                           + [f"{v:.2f}" for v in r.mount_force[p]] for p, m in enumerate(r.model.mounts)],
                          title="Mounts (deflection = body side minus other side; force into the other side)"))
+        if r.mount_moment is not None:
+            out.append(r.moment_table())
     return tuple(out)
 
 

@@ -103,6 +103,12 @@ class StaticResult(Result):
         the force on ``body`` is its negative.
     free_motions : tuple of str
         Descriptions of unrestrained motions the load did not excite (empty if fully restrained).
+    mount_rotation : (n_mounts, 3) ndarray or None
+        Relative rotation ``theta_body - theta_to`` of each mount, global axes [rad] (None: no
+        6x6 mount in the model).
+    mount_moment : (n_mounts, 3) ndarray or None
+        Moment each 6x6 mount transmits into its ``to`` side, global axes [N m] (zero for the
+        others; None: no 6x6 mount).
     case : str
         The load case solved ("" when the model names none).
     method : str
@@ -121,6 +127,8 @@ class StaticResult(Result):
     mount_deflection_local: np.ndarray
     mount_force: np.ndarray
     free_motions: tuple[str, ...] = field(default=())
+    mount_rotation: np.ndarray | None = None
+    mount_moment: np.ndarray | None = None
     case: str = ""
     method: str = "direct"
     note: str = ""
@@ -170,6 +178,8 @@ class StaticResult(Result):
                 f = self.mount_force[p]
                 out[:3] += f
                 out[3:] += np.cross(self.model.mount_point(m), f)
+                if self.mount_moment is not None:
+                    out[3:] += self.mount_moment[p]
         return out
 
     def to_dict(self) -> dict[str, Any]:
@@ -184,6 +194,10 @@ class StaticResult(Result):
                    "deflection_local": self.mount_deflection_local[p].tolist(),
                    "force_global": self.mount_force[p].tolist(),
                    "force_local": (m.orientation.matrix.T @ self.mount_force[p]).tolist()}
+                  | ({} if self.mount_moment is None or self.mount_rotation is None else {
+                      "rotation_global": self.mount_rotation[p].tolist(),
+                      "moment_global": self.mount_moment[p].tolist(),
+                      "moment_local": (m.orientation.matrix.T @ self.mount_moment[p]).tolist()})
                   for p, m in enumerate(self.model.mounts)]
         return jsonable({"model": self.model.name, "case": self.case, "bodies": bodies, "mounts": mounts,
                          "control_points": self.control_points, "reaction": self.reaction,
@@ -234,12 +248,24 @@ class StaticResult(Result):
                                 "d3 [mm]", "Fx [N]", "Fy [N]", "Fz [N]"], rows,
                                title="Mounts (deflection = body side minus other side; force into the "
                                      "other side)").render())
+            if self.mount_moment is not None:
+                parts.append(self.moment_table().render())
         r = self.reaction
         parts.append("Total reaction into ground: F = (" + ", ".join(f"{v:.2f}" for v in r[:3])
                      + ") N, M about origin = (" + ", ".join(f"{v:.2f}" for v in r[3:]) + ") N m")
         if self.free_motions:
             parts.append("Unrestrained (not loaded, deflection set to zero): " + "; ".join(self.free_motions))
         return "\n\n".join(parts)
+
+    def moment_table(self) -> Table:
+        """Relative rotations [mrad] and moments [N m] of the 6x6 mounts (global axes)."""
+        rows = [[m.name, f"{m.body}->{m.to}"] + [f"{1e3 * v:.4f}" for v in self.mount_rotation[p]]
+                + [f"{v:.3f}" for v in self.mount_moment[p]]
+                for p, m in enumerate(self.model.mounts) if m.type.rotational] \
+            if self.mount_moment is not None and self.mount_rotation is not None else []
+        return Table(["mount", "joins", "rx [mrad]", "ry [mrad]", "rz [mrad]", "Mx [N m]", "My [N m]",
+                      "Mz [N m]"], rows, title="6x6 mounts (rotation = body side minus other side; "
+                                              "moment into the other side)")
 
     def to_pandas(self) -> Any:
         """DataFrame of body deflections (one row per body)."""
@@ -325,10 +351,15 @@ def static(model: Model | Assembly, loads: np.ndarray | None = None, *,
     t = np.array([m.orientation.matrix for m in a.model.mounts]).reshape(-1, 3, 3)
     local = np.einsum("pji,pj->pi", t, delta)
     force = np.einsum("pij,pj->pi", a.kp, delta)
+    rotation = moment = None
+    if np.any(a.krp):                     # 6x6 mounts: their relative rotations and moments
+        rotation = (a.rotation_matrix() @ full).reshape(-1, 3)
+        moment = np.einsum("pij,pj->pi", a.krp, rotation)
     method = ("minimum norm on the restrained subspace" if notes
               else "equilibrated sparse LU" if sp.issparse(kff) else "equilibrated Cholesky")
     return StaticResult(model=a.model, q=q, ground=qg, load=f, mount_deflection=delta,
                         mount_deflection_local=local, mount_force=force, free_motions=notes,
+                        mount_rotation=rotation, mount_moment=moment,
                         case=case or "", method=method,
                         note="unrestrained, not loaded: " + "; ".join(notes) if notes else "")
 

@@ -91,6 +91,8 @@ def batch_modes(model: Model, parameters: tuple[Parameter, ...], values: np.ndar
     if turned.size:
         t[:, turned] = _rxryrz(angle[:, turned]) @ t0[turned]
     kp = np.einsum("vpij,vpj,vpkj->vpik", t, rates, t)
+    kr = np.array([m.type.rotational_stiffness for m in model.mounts]).reshape(nm, 3)
+    krp = np.einsum("vpij,pj,vpkj->vpik", t, kr, t)                                # 6x6 mounts, turned too
     lb = point_transfer(a.r_b[None] + shift)                                      # (nv, nm, 3, 6)
     la = point_transfer(a.r_a[None] + shift)
     K = np.zeros((nv, n + 6, n + 6))
@@ -99,6 +101,13 @@ def batch_modes(model: Model, parameters: tuple[Parameter, ...], values: np.ndar
         kb = kp[:, q] @ lb[:, q]
         lbt = lb[:, q].transpose(0, 2, 1)
         K[:, sb, sb] += lbt @ kb
+        rb = slice(6 * a.b_index[q] + 3, 6 * a.b_index[q] + 6)
+        ra = slice(6 * a.a_index[q] + 3, 6 * a.a_index[q] + 6)
+        if np.any(kr[q]):                        # a 6x6 mount's rotational rates
+            K[:, rb, rb] += krp[:, q]
+            K[:, ra, ra] += krp[:, q]
+            K[:, rb, ra] -= krp[:, q]
+            K[:, ra, rb] -= krp[:, q]
         if a.a_index[q] == nb:                   # to ground: the ground blocks are dropped below
             continue
         sa = slice(6 * a.a_index[q], 6 * a.a_index[q] + 6)

@@ -301,6 +301,9 @@ def stiffness_derivatives(a: Assembly, parameters: Sequence[Parameter],
                 w = _rotation_axis(_ANGLE.index(kind), (angles or {}).get(mount, np.zeros(3)))
                 S = skew(w)
                 d = B.T @ (S @ kp - kp @ S) @ B
+                if np.any(a.krp[q]):                 # a 6x6 mount's rotational rates turn too
+                    R = a.rotation_matrix()[3 * q:3 * q + 3].toarray()[:, :n]
+                    d = d + R.T @ (S @ a.krp[q] - a.krp[q] @ S) @ R
             out[ip] += factor * d
     return out
 

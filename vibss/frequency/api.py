@@ -38,6 +38,7 @@ from ..linear.assemble import Assembly
 from .._validate import choice, integer, name_index, number
 from ..errors import AnalysisError, ArgumentError, DefectiveModesError, ModelError
 from .kernels import METHODS, zero_frequency_limit
+from ..linear.branches import require_none
 from ..linear.solve import response
 from .methods import choose, resolve_method
 from ..model.model import Model
@@ -535,6 +536,11 @@ def frequency_response(system: Model | Assembly | Plant, inputs: Sequence[Any] |
     if chosen is None:
         name, reason = choose(plant, f.size, basis)
         chosen = METHODS[name]
+    elif plant.branches is not None and not chosen.internal_states:
+        require_none(plant, f"frequency_response: method {chosen.name!r}",
+                     f"use one of {[k for k, v in METHODS.items() if v.internal_states]} or 'auto'")
+    elif plant.branches is not None:
+        reason = plant.branches.note()
     k = QUANTITIES[quantity]
     h = np.empty((len(plant.outputs), len(plant.inputs), f.size), dtype=complex)
     pos = f > 0

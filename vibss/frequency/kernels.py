@@ -449,15 +449,15 @@ def _statespace(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) ->
 
 
 METHODS: dict[str, FrequencyMethod] = {m.name: m for m in (
-    FrequencyMethod("direct", _direct, exact=True,
+    FrequencyMethod("direct", _direct, exact=True, internal_states=True,
                     summary="one dense complex solve per frequency (the reference)"),
     FrequencyMethod("modal", modal, needs_basis=True,
                     summary="undamped modal superposition (classical damping only)"),
     FrequencyMethod("complex_modal", complex_modal, needs_basis=True, fallback="sparse",
                     summary="complex modes of the scaled modal first-order form (any damping)"),
-    FrequencyMethod("sparse", _sparse, exact=True, sparse_ok=True,
+    FrequencyMethod("sparse", _sparse, exact=True, sparse_ok=True, internal_states=True,
                     summary="banded or SuperLU complex solve per frequency"),
-    FrequencyMethod("statespace", _statespace,
+    FrequencyMethod("statespace", _statespace, internal_states=True,
                     summary="control.frequency_response of the modal state space (viscous only)"),
 )}
 """Frequency-response methods by name (:class:`FrequencyMethod`; ``"auto"`` is chosen by

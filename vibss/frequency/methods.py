@@ -76,6 +76,9 @@ def choose(plant: Plant, nf: int, basis: ModalBasis | None) -> tuple[str, str]:
     """
     if basis is None:
         return "sparse", "sparse plant: sparse direct solve per frequency"
+    if plant.branches is not None:
+        name = "direct" if plant.n + plant.branches.r <= 12 else "sparse"
+        return name, f"{plant.branches.note()}: exact solve with them as DOFs"
     if plant.n <= 12:
         return "direct", f"small model ({plant.n} DOF): direct solve is exact and cheap"
     if not np.any(plant.C) and not np.any(plant.H):

@@ -33,7 +33,7 @@ import numpy as np
 from .._validate import read_regular_file
 from ..errors import ModelError, ModelFileError, did_you_mean
 from ..model.excitation import Excitation, amplitude_quantity, function_from_dict
-from .filetable import MISSING, Entry, parse_text
+from .filetable import MISSING, Entry, numbers, parse_text
 from .designfile import read_design, read_study, write_tables
 from .ordersfile import read_orders
 from .controlfile import read_control
@@ -43,6 +43,7 @@ from ..model.actuation import ACTUATOR_KINDS, SENSOR_KINDS, Actuator, Sensor
 from ..model.model import (DOF_NAMES, GROUND, SYMMETRIES, Body, ControlPoint, Load, Model, Mount,
                     MountType, symmetric)
 from .tomlwriter import dumps_toml
+from ..model.rheology import QUANTITIES as RHEOLOGY_QUANTITIES
 from ..model.units import Units
 
 __all__ = ["load_model", "loads_model", "dump_model", "dumps_model", "model_to_dict",
@@ -116,14 +117,39 @@ def _body(e: Entry, i: int, initial: dict[str, Any]) -> Body:
 
 
 def _mount_type(e: Entry) -> MountType:
-    e.check_keys(("name", "stiffness", "damping", "loss_factor"), ("name", "stiffness"))
+    e.check_keys(("name", "stiffness", "damping", "loss_factor", "rheology", "rotational_stiffness",
+                  "rotational_damping"), ("name",) if "rheology" in e else ("name", "stiffness"))
     try:
         return MountType(e.string("name"),
-                         e.array("stiffness", [(3,)], "stiffness", nonnegative=True),
+                         e.array("stiffness", [(3,)], "stiffness", None, nonnegative=True),
                          e.array("damping", [(3,)], "damping", np.zeros(3), nonnegative=True),
-                         e.array("loss_factor", [(), (3,)], "dimensionless", 0.0, nonnegative=True))
+                         e.array("loss_factor", [(), (3,)], "dimensionless", 0.0, nonnegative=True),
+                         _rheology(e),
+                         e.array("rotational_stiffness", [(3,)], "rotational_stiffness", np.zeros(3),
+                                 nonnegative=True),
+                         e.array("rotational_damping", [(3,)], "rotational_damping", np.zeros(3),
+                                 nonnegative=True))
     except ModelError as exc:
         raise _wrap(e, exc) from None
+
+
+def _rheology(e: Entry) -> dict[str, Any] | None:
+    """The ``rheology = {type = ..., ...}`` table in SI (stiffness keys in the file's stiffness unit,
+    ``c`` in its damping unit, ``tau`` in its time unit, frequencies in Hz); the model checks the rest."""
+    table = e.table("rheology")
+    if table is None:
+        return None
+    out: dict[str, Any] = {}
+    for key, value in table.items():
+        quantity = RHEOLOGY_QUANTITIES.get(key)
+        if key == "type" or quantity is None:       # unknown keys: the model names them
+            out[key] = value
+            continue
+        a = numbers(value)
+        if a is None:
+            raise e.fail(f"rheology.{key}", f"expected numbers, got {value!r}")
+        out[key] = a if quantity == "frequency" else a * e.units.factor(quantity)
+    return out
 
 
 def _reference(e: Entry, key: str, names: Sequence[str], default: Any = MISSING,
@@ -488,6 +514,9 @@ def model_to_dict(model: Model) -> dict[str, Any]:
         out["body"].append(d)
     out["mount_type"] = [{"name": t.name, "stiffness": t.stiffness.tolist(),
                           "damping": t.damping.tolist(), "loss_factor": t.loss_factor.tolist()}
+                         | ({} if t.rheology is None else {"rheology": t.rheology.to_dict()})
+                         | ({} if not t.rotational else {"rotational_stiffness": t.rotational_stiffness.tolist(),
+                                                         "rotational_damping": t.rotational_damping.tolist()})
                          for t in model.mount_types.values()]
     out["mount"] = []
     for m in model.mounts:

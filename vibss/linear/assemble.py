@@ -7,7 +7,7 @@ origin), so that prescribed ground motion and the rigid-motion invariant need no
 
 Per mount p joining point P of body b to the same point of a (a body or ground),
 ``delta_p = L(r_b) q_b - L(r_a) q_a = B_p q`` and ``K = sum_p B_p^T (T diag(k) T^T) B_p``, likewise
-for C. The sum is vectorised over mounts (no Python loop per mount) and scattered as COO triplets,
+for C; a 6x6 mount adds ``R_p^T (T diag(kr) T^T) R_p`` with ``theta_p = R_p q`` its relative rotation. The sum is vectorised over mounts (no Python loop per mount) and scattered as COO triplets,
 into a dense array for small models or a scipy.sparse CSR matrix for large ones.
 """
 
@@ -64,6 +64,9 @@ class Assembly(ReadOnly):
         Hysteretic coupling to ground.
     kp, cp, hp : (n_mounts, 3, 3) ndarray
         Each mount's stiffness, damping and hysteretic matrices in global axes.
+    krp, crp : (n_mounts, 3, 3) ndarray
+        Each mount's rotational stiffness [N m/rad] and damping [N m s/rad] in global axes (6x6
+        mounts; zeros otherwise): the moment ``krp (theta_body - theta_to)``.
     b_index, a_index : (n_mounts,) int ndarray
         Body index of each mount's ``body`` and ``to`` (``n_bodies`` for ground).
     r_b, r_a : (n_mounts, 3) ndarray
@@ -89,6 +92,8 @@ class Assembly(ReadOnly):
     r_b: np.ndarray
     r_a: np.ndarray
     sparse: bool = False
+    krp: np.ndarray = field(default_factory=lambda: np.zeros((0, 3, 3)))
+    crp: np.ndarray = field(default_factory=lambda: np.zeros((0, 3, 3)))
     _cache: dict = field(default_factory=dict, repr=False)
 
     # the assembly owns its matrices and every later analysis shares them: frozen in place, so an
@@ -102,8 +107,8 @@ class Assembly(ReadOnly):
 
     @property
     def has_damping(self) -> bool:
-        """Whether any mount has viscous damping."""
-        return bool(np.any(self.cp))
+        """Whether any mount has viscous damping (translational or rotational)."""
+        return bool(np.any(self.cp) or np.any(self.crp))
 
     @property
     def has_hysteresis(self) -> bool:
@@ -163,11 +168,28 @@ class Assembly(ReadOnly):
             self._cache["B"] = sp.csr_matrix((vv, (rr, cc)), shape=(3 * nm, 6 * nb + 6))
         return self._cache["B"]
 
+    def rotation_matrix(self) -> sp.csr_matrix:
+        """(3 n_mounts, n + 6) sparse map from ``[q; q_ground]`` to each mount's relative rotation.
+
+        Rows ``3p .. 3p+2`` give ``theta_p = theta_body - theta_to`` of mount p (global axes) [rad],
+        which its rotational stiffness resists (6x6 mounts).
+        """
+        if "R" not in self._cache:
+            nm, nb = len(self.b_index), len(self.model.bodies)
+            rows = np.tile(np.arange(3), nm) + np.repeat(3 * np.arange(nm), 3)
+            cb = (6 * np.repeat(self.b_index, 3) + 3 + np.tile(np.arange(3), nm))
+            ca = (6 * np.repeat(self.a_index, 3) + 3 + np.tile(np.arange(3), nm))
+            self._cache["R"] = sp.csr_matrix((np.concatenate([np.ones(3 * nm), -np.ones(3 * nm)]),
+                                              (np.concatenate([rows, rows]), np.concatenate([cb, ca]))),
+                                             shape=(3 * nm, 6 * nb + 6))
+        return self._cache["R"]
+
     def stiffness_factor(self) -> sp.csr_matrix:
         """(r, n) sparse factor G of the stiffness of the body DOFs: ``K = G^T G``.
 
         One row per mount principal axis with nonzero stiffness: ``sqrt(k_j) t_j^T B_p`` (``t_j`` the
-        mount's axis j in global axes, ``B_p`` its deflection rows, ground fixed). Unlike K it keeps
+        mount's axis j in global axes, ``B_p`` its deflection rows, ground fixed), then one per
+        nonzero rotational rate: ``sqrt(kr_j) t_j^T R_p`` (``R_p`` its rotation rows). Unlike K it keeps
         every mount's stiffness apart, so soft mounts are not lost beside stiff links when it is
         used by the eigen path (:func:`vibss.linear.eigen.undamped`) and by statics.
 
@@ -194,6 +216,12 @@ class Assembly(ReadOnly):
             g = (st @ self.deflection_matrix()[:, :self.n]).tocsr()
             keep = np.flatnonzero(np.sqrt(k).ravel() > 0)
             g = g[keep]
+            kr = np.array([m.type.rotational_stiffness for m in self.model.mounts], dtype=float).reshape(nm, 3)
+            if np.any(kr > 0):
+                br = np.sqrt(kr)[:, :, None] * t.transpose(0, 2, 1)
+                sr = sp.csr_matrix((br.ravel(), (r.ravel(), c.ravel())), shape=(3 * nm, 3 * nm))
+                gr = (sr @ self.rotation_matrix()[:, :self.n]).tocsr()[np.flatnonzero(kr.ravel() > 0)]
+                g = sp.vstack([g, gr]).tocsr()
             g.eliminate_zeros()
             g.sort_indices()
             self._cache["G"] = g
@@ -268,7 +296,10 @@ def assemble(model: Model, sparse: bool | None = None) -> Assembly:
         return np.einsum("pij,pj,pkj->pik", t, d, t)
 
     kp, cp, hp = principal("stiffness"), principal("damping"), principal("stiffness", "loss_factor")
+    krp, crp = principal("rotational_stiffness"), principal("rotational_damping")
     lb, la = point_transfer(r_b), point_transfer(r_a)
+    rot = np.zeros((nm, 3, 6))
+    rot[:, :, 3:] = np.eye(3)                              # relative rotation: theta_body - theta_to
 
     # COO pattern of the four 6x6 blocks of every mount, shared by K, C and H.
     ib = 6 * b_index[:, None] + np.arange(6)
@@ -279,11 +310,14 @@ def assemble(model: Model, sparse: bool | None = None) -> Assembly:
 
     lbt, lat = lb.transpose(0, 2, 1), la.transpose(0, 2, 1)
 
-    def full(kmat: np.ndarray) -> sp.csr_matrix:
+    def full(kmat: np.ndarray, rotational: np.ndarray | None = None) -> sp.csr_matrix:
         kb, ka = kmat @ lb, kmat @ la                       # (nm, 3, 6) each
         with np.errstate(over="ignore", invalid="ignore"):
             vals = np.concatenate([(lbt @ kb).ravel(), (lat @ ka).ravel(),
                                    -(lbt @ ka).ravel(), -(lat @ kb).ravel()])
+            if rotational is not None:                  # 6x6 mounts: the same four blocks
+                rr = rot.transpose(0, 2, 1) @ rotational @ rot
+                vals = vals + np.concatenate([rr.ravel(), rr.ravel(), -rr.ravel(), -rr.ravel()])
         if not np.all(np.isfinite(vals)):
             bad = int(np.flatnonzero((~np.isfinite(vals.reshape(4, nm, 36))).any(axis=(0, 2)))[0])
             raise ModelError(f"mount {model.mounts[bad].name!r}: its stiffness or damping about the COG "
@@ -293,12 +327,12 @@ def assemble(model: Model, sparse: bool | None = None) -> Assembly:
     mass = sp.block_diag([b.mass_matrix for b in model.bodies], format="csr")
     mats = {}
     couplings = {}
-    for key, pm in (("K", kp), ("C", cp), ("H", hp)):
-        if key != "K" and not np.any(pm):              # no dampers / no hysteresis: skip the work
+    for key, pm, rm in (("K", kp, krp), ("C", cp, crp), ("H", hp, None)):
+        if key != "K" and not np.any(pm) and not np.any(rm):   # no dampers / no hysteresis: skip the work
             mats[key] = sp.csr_matrix((n, n)) if sparse else np.zeros((n, n))
             couplings[key] = np.zeros((n, 6))
             continue
-        f = full(pm)
+        f = full(pm, rm if rm is not None and np.any(rm) else None)
         body_part = f[:n, :n]
         body_part = 0.5 * (body_part + body_part.T)  # exact symmetry despite summation order
         mats[key] = body_part.tocsr() if sparse else body_part.toarray()
@@ -311,5 +345,5 @@ def assemble(model: Model, sparse: bool | None = None) -> Assembly:
         Kg=couplings["K"], Cg=couplings["C"], Hg=couplings["H"],
         kp=kp, cp=cp, hp=hp,
         b_index=b_index, a_index=a_index, r_b=r_b, r_a=r_a,
-        sparse=bool(sparse),
+        sparse=bool(sparse), krp=krp, crp=crp,
     )

@@ -4,6 +4,8 @@ Each takes ``(plant, s, rhs)`` -- ``rhs(part)`` gives the right-hand sides ``(k,
 frequencies ``s[part]`` -- and returns the DOF solutions ``(nf, n, m)`` and a ``(nf,)`` mask of
 the frequencies where the matrix is exactly singular (a zero pivot; solutions there are zeros).
 
+Frequency-dependent mounts add ``g_tau(s) K_tau`` per relaxation time (:func:`vibss.linear.branches.groups`).
+
 - :func:`_dense`: batched LAPACK LU of the assembled ``K + iH + sC + s^2 M``;
 - :func:`_banded`: RCM ordering and LAPACK ``zgbsv`` (:mod:`vibss.linear.banded`);
 - :func:`_superlu`: :func:`scipy.sparse.linalg.splu`;
@@ -14,6 +16,7 @@ the frequencies where the matrix is exactly singular (a zero pivot; solutions th
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import replace
 from functools import partial
 from typing import Any
 
@@ -24,6 +27,7 @@ import scipy.sparse.linalg as spl
 from scipy.linalg.lapack import zgbsv
 
 from .banded import structure
+from .branches import groups
 from .plant import Plant
 
 __all__ = ["SOLVERS", "MOUNTS_DENSE_MAX"]
@@ -40,6 +44,7 @@ def _dense(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray]) -> t
     mats = {k: (getattr(plant, k).toarray() if sp.issparse(getattr(plant, k)) else getattr(plant, k))
             for k in ("K", "H", "C", "M")}
     k0 = mats["K"] + 1j * mats["H"] if np.any(mats["H"]) else mats["K"]
+    relax = [g if not sp.issparse(g.K) else replace(g, K=g.K.toarray()) for g in groups(plant)]
     n = plant.n
     chunk = max(1, _CHUNK_BYTES // (16 * max(n, 1) ** 2))
     xs, bad = [], np.zeros(s.size, dtype=bool)
@@ -47,6 +52,8 @@ def _dense(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray]) -> t
         part = slice(lo, lo + chunk)
         sc = s[part, None, None]
         dyn = k0[None] + sc * mats["C"][None] + sc**2 * mats["M"][None]
+        for g in relax:
+            dyn += g.factor(s[part])[:, None, None] * g.K[None]
         r = rhs(part)
         try:
             x = np.linalg.solve(dyn, r)
@@ -65,6 +72,7 @@ def _banded(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray]) -> 
     """RCM-ordered banded LU (``zgbsv``), ``K + iH + sC + s^2 M`` built in place per frequency."""
     st = plant.cached("band structure", lambda: structure(plant))
     parts, band, perm = st.parts, st.band, st.perm
+    relax = [(f"G{j}", g) for j, g in enumerate(groups(plant))]
     inv = np.argsort(perm)
     r_all = rhs(slice(None))
     # force inputs only: the same right-hand side (a broadcast view) at every s, reordered once
@@ -86,6 +94,10 @@ def _banded(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray]) -> 
             im += sk.imag * parts["C"]
         if "H" in parts:
             im += parts["H"]
+        for key, g in relax:
+            gk = complex(g.factor(np.array(sk)))
+            re += gk.real * parts[key]
+            im += gk.imag * parts[key]
         b = fixed.copy(order="F") if fixed is not None else np.asfortranarray(r_all[i][perm])
         _, _, xi, info = zgbsv(band, band, ab, b, overwrite_ab=1, overwrite_b=1)
         if info > 0:
@@ -98,6 +110,7 @@ def _banded(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray]) -> 
 def _superlu(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
     """SuperLU (COLAMD ordering) per frequency."""
     mats = {k: plant.cached(f"csc {k}", partial(sp.csc_matrix, getattr(plant, k))) for k in ("K", "H", "C", "M")}
+    relax = [replace(g, K=sp.csc_matrix(g.K)) for g in groups(plant)]
     r_all = rhs(slice(None))
     x = np.zeros(r_all.shape, dtype=complex)
     bad = np.zeros(s.size, dtype=bool)
@@ -107,6 +120,8 @@ def _superlu(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray]) ->
             a = a + sk * mats["C"]
         if mats["H"].nnz:
             a = a + 1j * mats["H"]
+        for g in relax:
+            a = a + complex(g.factor(np.array(sk))) * g.K
         try:
             x[i] = spl.splu(sp.csc_matrix(a, dtype=complex)).solve(r_all[i])
         except RuntimeError:                              # "Factor is exactly singular"

@@ -21,6 +21,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spl
 from scipy.sparse.csgraph import reverse_cuthill_mckee
 
+from .branches import groups
 from .plant import Plant
 
 __all__ = ["Structure", "structure", "BAND_MAX"]
@@ -48,7 +49,8 @@ class Structure:
     banded : bool
         Whether the band is narrow enough for the banded LU (``band <= BAND_MAX``).
     parts : dict of str to ndarray or scipy.sparse matrix
-        ``"K"``, ``"C"``, ``"M"``, ``"H"`` (only the nonzero ones): LAPACK band storage of the
+        ``"K"``, ``"C"``, ``"M"``, ``"H"`` (only the nonzero ones) and ``"G0"``, ``"G1"`` ... (the
+        frequency-dependent mounts' :func:`~vibss.linear.branches.groups`): LAPACK band storage of the
         reordered matrix, shape ``(2 band + 1, n)``, when ``banded``; else CSC matrices in the
         original order.
     seconds_per_frequency : float
@@ -109,6 +111,7 @@ def structure(plant: Plant) -> Structure:
     n = plant.n
     mats = {key: sp.csr_matrix(getattr(plant, key)) for key in ("K", "C", "M", "H")}
     mats = {key: a for key, a in mats.items() if a.count_nonzero() or key == "K"}
+    mats.update({f"G{j}": sp.csr_matrix(g.K) for j, g in enumerate(groups(plant))})   # branches
     pattern = sum(abs(a) for a in mats.values())
     pattern = sp.csr_matrix(pattern)
     band, perm = min((_bandwidth(pattern, order), i, order) for i, order in enumerate(

@@ -33,6 +33,7 @@ import numpy.typing as npt
 from .._validate import name_index
 from ..errors import AnalysisError, ModelError, SignalIndexError
 from ..results import ReadOnly
+from .branches import Branches
 
 __all__ = ["Plant", "MountForm", "INPUT_KINDS", "MOTION_ORDER", "FIELD_ROLES"]
 
@@ -47,7 +48,7 @@ FIELD_ROLES: dict[str, str] = {
     "F": "dof x input", "Kz": "dof x input", "Cz": "dof x input", "Mz": "dof x input",
     "Hz": "dof x input",
     "Oq": "output x dof", "Ov": "output x dof", "Oa": "output x dof", "Oh": "output x dof",
-    "Kf": "factor x dof", "mounts": "mount form",
+    "Kf": "factor x dof", "mounts": "mount form", "branches": "branches",
     "inputs": "input labels", "kinds": "input labels",
     "outputs": "output labels", "units": "output labels",
     "Pz": "output x input", "Pv": "output x input", "Pa": "output x input", "Pf": "output x input",
@@ -58,7 +59,8 @@ FIELD_ROLES: dict[str, str] = {
 :meth:`Plant.project`, by the axes it spans (``"factor x dof"`` is a stiffness factor ``Kf`` with
 ``K = Kf^T Kf``: its columns follow the DOFs; ``"mount form"`` is the :class:`MountForm`, kept by a
 selection of signals and dropped by restriction and projection, which change the matrices it
-reproduces). A field missing here is carried along unchanged when
+reproduces; ``"branches"`` is the :class:`~vibss.linear.branches.Branches`, cut and projected by its
+own methods). A field missing here is carried along unchanged when
 it is None and refused otherwise, so a new field must be classified before a plant operation can
 silently get it wrong."""
 
@@ -151,6 +153,9 @@ class Plant(ReadOnly):
     mounts : MountForm or None
         ``K, C, H`` kept as a sum over the mounts, for the exact solve on badly scaled models
         (:func:`vibss.linear.signals.build_plant` sets it; None: only the assembled matrices).
+    branches : Branches or None
+        Maxwell branches of frequency-dependent mounts (internal states; ``K`` and ``C`` hold their
+        static stiffness and dashpots only): :mod:`vibss.linear.branches`. None: no such mount.
     """
 
     dofs: tuple[str, ...]
@@ -179,6 +184,7 @@ class Plant(ReadOnly):
     Ph: np.ndarray | None = None
     Kf: Any = None
     mounts: MountForm | None = None
+    branches: Branches | None = None
     _cache: dict[str, Any] = field(default_factory=dict, init=False, repr=False)
 
     # shared by every analysis of this plant and by its cached factorisations: read-only in place,
@@ -278,6 +284,8 @@ class Plant(ReadOnly):
                 elif role == "output x input" and (i is not None or o is not None):
                     a = a if o is None else a[o]
                     changes[key] = a if i is None else a[:, i]
+                elif role == "branches":
+                    changes[key] = a.select(i, o)
         return dataclasses.replace(self, **changes)
 
     def restrict(self, dofs: Sequence[str | int] | npt.ArrayLike) -> Plant:
@@ -336,6 +344,8 @@ class Plant(ReadOnly):
                     changes[key] = a[:, idx]
                 elif role == "mount form":
                     changes[key] = None
+                elif role == "branches":
+                    changes[key] = a.restrict(idx)
         return dataclasses.replace(self, **changes)
 
     def project(self, V: npt.ArrayLike, dofs: Sequence[str] | None = None, **known: Any) -> Plant:
@@ -409,6 +419,8 @@ class Plant(ReadOnly):
                     changes[key] = None if "K" in known else np.asarray(a @ v)
                 elif role == "mount form":
                     changes[key] = None
+                elif role == "branches":
+                    changes[key] = a.project(v)
         return dataclasses.replace(self, **changes)
 
 

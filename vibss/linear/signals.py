@@ -33,6 +33,9 @@ Outputs (``y``):
 ``mount.<name>.d1|d2|d3``                 the same in the mount's local (principal) axes
 ``mount.<name>.fx|fy|fz`` / ``.f1|f2|f3`` force the mount transmits into its ``to`` side,
                                           K delta + C delta' (+ i H delta in frequency) [N]
+``mount.<name>.rx|ry|rz`` / ``.r1|r2|r3`` relative rotation theta_body - theta_to [rad]
+``mount.<name>.mx|my|mz`` / ``.m1|m2|m3`` moment a 6x6 mount transmits into its ``to`` side,
+                                          Kr theta + Cr theta' [N m]
 ``ground.fx|fy|fz|mx|my|mz``              total force [N] and moment about the global origin
                                           [N m] transmitted into ground by the mounts
 ``<body>.into.fx|fy|fz|mx|my|mz``         total force [N] and moment about the body's COG
@@ -74,6 +77,7 @@ from ..model.geometry import point_transfer
 from .eigen import undamped
 from ..model.actuation import resolve
 from ..model.model import DOF_NAMES, GROUND, Model
+from .branches import build_branches
 from .plant import INPUT_KINDS, MountForm, Plant
 
 __all__ = ["build_plant", "control_name", "default_outputs", "INPUT_FORMS", "OUTPUT_FORMS"]
@@ -84,6 +88,7 @@ INPUT_FORMS = ("<body>.fx|fy|fz", "<body>.mx|my|mz", "<point>.fx|fy|fz",
 
 OUTPUT_FORMS = ("<body>.<x|y|z|rx|ry|rz>[.vel|.acc]", "<point>.x|y|z[.vel|.acc]",
                 "mount.<name>.dx|dy|dz|d1|d2|d3", "mount.<name>.fx|fy|fz|f1|f2|f3",
+                "mount.<name>.rx|ry|rz|r1|r2|r3", "mount.<name>.mx|my|mz|m1|m2|m3",
                 "ground.fx|fy|fz|mx|my|mz", "<body>.into.fx|fy|fz|mx|my|mz", "sensor.<name>")
 """Valid output name forms (for messages)."""
 
@@ -93,7 +98,11 @@ _DERIV = {"": 0, "vel": 1, "acc": 2}
 _MOUNT = {"dx": ("d", "g", 0), "dy": ("d", "g", 1), "dz": ("d", "g", 2),
           "d1": ("d", "l", 0), "d2": ("d", "l", 1), "d3": ("d", "l", 2),
           "fx": ("f", "g", 0), "fy": ("f", "g", 1), "fz": ("f", "g", 2),
-          "f1": ("f", "l", 0), "f2": ("f", "l", 1), "f3": ("f", "l", 2)}
+          "f1": ("f", "l", 0), "f2": ("f", "l", 1), "f3": ("f", "l", 2),
+          "rx": ("r", "g", 0), "ry": ("r", "g", 1), "rz": ("r", "g", 2),
+          "r1": ("r", "l", 0), "r2": ("r", "l", 1), "r3": ("r", "l", 2),
+          "mx": ("m", "g", 0), "my": ("m", "g", 1), "mz": ("m", "g", 2),
+          "m1": ("m", "l", 0), "m2": ("m", "l", 1), "m3": ("m", "l", 2)}
 
 
 def control_name(name: str) -> str:
@@ -304,25 +313,33 @@ class _Rows:
     v: np.ndarray   # velocity part
     a: np.ndarray   # acceleration part
     h: np.ndarray   # hysteretic part (times i)
+    f: np.ndarray | None = None   # per unit force of each mount into its 'to' side (3 per mount)
 
 
 def _mount_wrench(asm: Assembly, target: str) -> dict[str, np.ndarray]:
     """(6, n + 6) rows of the force and moment transmitted into ``target`` (a body or ground) by the
     mounts whose ``to`` side it is.
 
-    A mount's force into its ``to`` side is ``K delta + C delta' (+ i H delta)``. Moments are about
-    the target's reference point: its COG (the global origin for ground). Keys ``"k"``, ``"c"``,
+    A mount's force into its ``to`` side is ``K delta + C delta' (+ i H delta)``, and a 6x6 mount's
+    moment ``Kr theta + Cr theta'``. Moments are about the target's reference point: its COG (the
+    global origin for ground). Keys ``"k"``, ``"c"``,
     ``"h"``: the displacement, velocity and hysteretic parts.
     """
     model = asm.model
     i = len(model.bodies) if target == GROUND else model.body_index(target)
     b = asm.deflection_matrix()
     rows = {key: np.zeros((6, asm.n + 6)) for key in ("k", "c", "h")}
+    rows["f"] = np.zeros((6, 3 * len(model.mounts)))
     for p in np.flatnonzero(asm.a_index == i):
         lt = point_transfer(asm.r_a[p]).T                 # (6, 3): force at the point -> wrench
         bp = b[3 * p:3 * p + 3].toarray()
         for key, mat in (("k", asm.kp), ("c", asm.cp), ("h", asm.hp)):
             rows[key] += lt @ mat[p] @ bp
+        rows["f"][:, 3 * p:3 * p + 3] = lt
+        if np.any(asm.krp[p]) or np.any(asm.crp[p]):         # a 6x6 mount's own moment
+            rp = asm.rotation_matrix()[3 * p:3 * p + 3].toarray()
+            rows["k"][3:] += asm.krp[p] @ rp
+            rows["c"][3:] += asm.crp[p] @ rp
     return rows
 
 
@@ -349,7 +366,14 @@ def output_row(asm: Assembly, name: Any, cache: dict) -> tuple[_Rows, str]:
         axis = t[:, k] if frame == "l" else np.eye(3)[k]
         if what == "d":
             return _Rows(axis @ b, zero, zero, zero), "m"
-        return _Rows(axis @ asm.kp[p] @ b, axis @ asm.cp[p] @ b, zero, axis @ asm.hp[p] @ b), "N"
+        if what in ("r", "m"):
+            rp = asm.rotation_matrix()[3 * p:3 * p + 3].toarray()
+            if what == "r":
+                return _Rows(axis @ rp, zero, zero, zero), "rad"
+            return _Rows(axis @ asm.krp[p] @ rp, axis @ asm.crp[p] @ rp, zero, zero), "N m"
+        f = np.zeros(3 * len(model.mounts))
+        f[3 * p:3 * p + 3] = axis
+        return _Rows(axis @ asm.kp[p] @ b, axis @ asm.cp[p] @ b, zero, axis @ asm.hp[p] @ b, f), "N"
     head, _, comp = name.rpartition(".")
     target = head[:-5] if head.endswith(".into") else (GROUND if head == GROUND else None)
     if head.endswith(".into") and comp not in _FORCE:
@@ -365,7 +389,7 @@ def output_row(asm: Assembly, name: Any, cache: dict) -> tuple[_Rows, str]:
         g = cache.get(("wrench", target))
         if g is None:
             g = cache[("wrench", target)] = _mount_wrench(asm, target)
-        return _Rows(g["k"][k], g["c"][k], zero, g["h"][k]), ("N" if k < 3 else "N m")
+        return _Rows(g["k"][k], g["c"][k], zero, g["h"][k], g["f"][k]), ("N" if k < 3 else "N m")
     base, _, suffix = name.rpartition(".")
     order = _DERIV.get(suffix)
     if order is None or order == 0:
@@ -549,6 +573,9 @@ def build_plant(model_or_assembly: Model | Assembly, inputs: Sequence[Any],
         Oq=o["d"], Ov=o["v"], Oa=o["a"], Pz=pz["d"], Pv=pz["v"], Pa=pz["a"],
         Pf=actuator_reactions(model, [p.name for p in parsed], outputs), name=model.name,
         Oh=o["h"], Ph=pz["h"], Kf=_columns(asm.stiffness_factor(), free),
+        branches=build_branches(model, asm.deflection_matrix(), free, motion, np.array(
+            [np.zeros(3 * len(model.mounts)) if r.f is None else r.f for r in rows]).reshape(
+            len(outputs), 3 * len(model.mounts))) if any(t.has_branches for t in model.mount_types.values()) else None,
     )
 
 
@@ -602,11 +629,19 @@ def mount_form(asm: Assembly, free: np.ndarray, source: tuple, extra_c: Any = No
             return sp.csr_matrix((free.size, free.size))
         return sp.csr_matrix(br.T @ sp.block_diag(list(blocks[~apart])) @ br)
 
-    c_rest = assembled(asm.cp)
+    def rotational(blocks: np.ndarray) -> sp.csr_matrix:
+        """6x6 mounts' rotational parts, assembled with the rest (they sum no lever arms)."""
+        if not np.any(blocks):
+            return sp.csr_matrix((free.size, free.size))
+        rr = sp.csr_matrix(asm.rotation_matrix()[:, :n_body][:, free])
+        return sp.csr_matrix(rr.T @ sp.block_diag(list(blocks)) @ rr)
+
+    c_rest = assembled(asm.cp) + rotational(asm.crp)
     if extra_c is not None:
         c_rest = sp.csr_matrix(c_rest + sp.csr_matrix(extra_c))
     return MountForm(B=b[idx], kp=asm.kp[apart], cp=asm.cp[apart], hp=asm.hp[apart],
-                     K=assembled(asm.kp), C=c_rest, H=assembled(asm.hp), source=source,
+                     K=sp.csr_matrix(assembled(asm.kp) + rotational(asm.krp)), C=sp.csr_matrix(c_rest),
+                     H=assembled(asm.hp), source=source,
                      stiffness_ratio=float(lam[apart].max() / lam[apart].min()))
 
 

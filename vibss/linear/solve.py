@@ -1,5 +1,9 @@
 """The one exact solve of a plant: ``(K + iH + sC + s^2 M) X = R`` for a batch of Laplace values ``s``.
 
+Frequency-dependent mounts add ``sum_tau tau s / (1 + tau s) K_tau`` to the matrix (and their
+terms to the inputs and outputs): their Maxwell branches eliminated exactly
+(:func:`vibss.linear.branches.groups`); every back-end takes them.
+
 Every path that claims an *exact* response (the ``direct`` and ``sparse`` FRF kernels, pruning,
 Krylov checks, the sweep envelope's steady state, reduction responses) goes through
 :func:`response` (outputs) or :func:`states` (the DOF solution). They share three rules:
@@ -45,6 +49,7 @@ import scipy.sparse.linalg as spl
 from ..errors import AnalysisError, ModelError
 from .backends import SOLVERS
 from .banded import structure
+from .branches import groups
 from .eigen import modal_basis
 from .plant import Plant
 
@@ -108,7 +113,8 @@ def _hyst(a: np.ndarray | None) -> Any:
 
 
 def forcing(plant: Plant, s: np.ndarray, zf: np.ndarray) -> np.ndarray:
-    """Right-hand sides ``F - (Kz + iHz + s Cz + s^2 Mz) Z(s)`` of the inputs.
+    """Right-hand sides ``F - (Kz + iHz + s Cz + s^2 Mz + sum g_tau(s) Kz_tau) Z(s)`` of the inputs
+    (``Kz_tau``: frequency-dependent mounts, :func:`vibss.linear.branches.groups`).
 
     Parameters
     ----------
@@ -126,18 +132,24 @@ def forcing(plant: Plant, s: np.ndarray, zf: np.ndarray) -> np.ndarray:
     kz = plant.Kz + 1j * plant.Hz if np.any(plant.Hz) else plant.Kz
     sc = s[:, None, None]
     motion = [(power, c) for power, c in ((0, kz), (1, plant.Cz), (2, plant.Mz)) if np.any(c)]
+    relax = [g for g in groups(plant) if np.any(g.Kz)]
     f = np.asarray(plant.F, dtype=complex)[None]
-    if not motion:                        # force inputs only: one read-only view for every s
+    if not motion and not relax:          # force inputs only: one read-only view for every s
         return np.broadcast_to(f, (s.size,) + plant.F.shape)
     out = np.broadcast_to(f, (s.size,) + plant.F.shape).copy()
     for power, c in motion:
         out -= (sc**power) * c[None] * zf[:, None, :]
+    for g in relax:                       # frequency-dependent mounts' branches
+        out -= g.factor(s)[:, None, None] * g.Kz[None] * zf[:, None, :]
     return out
 
 
 def output_map(plant: Plant, s: complex) -> np.ndarray:
-    """(p, n) ``O(s) = Oq + i Oh + s Ov + s^2 Oa`` at one Laplace value ``s`` [rad/s]."""
-    return plant.Oq + 1j * _hyst(plant.Oh) + s * plant.Ov + s**2 * plant.Oa
+    """(p, n) ``O(s) = Oq + i Oh + s Ov + s^2 Oa (+ sum g_tau(s) Oq_tau)`` at one Laplace value ``s`` [rad/s]."""
+    out = plant.Oq + 1j * _hyst(plant.Oh) + s * plant.Ov + s**2 * plant.Oa
+    for g in groups(plant):
+        out = out + g.factor(np.array(s)) * g.Oq
+    return out
 
 
 def observe(plant: Plant, s: np.ndarray, x: np.ndarray, zf: np.ndarray) -> np.ndarray:
@@ -166,6 +178,9 @@ def observe(plant: Plant, s: np.ndarray, x: np.ndarray, zf: np.ndarray) -> np.nd
     p0 = plant.Pz + 1j * ph if np.any(ph) else plant.Pz
     if np.any(p0) or np.any(plant.Pv) or np.any(plant.Pa):
         y += (p0[None] + sc * plant.Pv[None] + sc**2 * plant.Pa[None]) * zf[:, None, :]
+    for g in groups(plant):               # the branch forces seen by mount and ground force outputs
+        if np.any(g.Oq) or np.any(g.Pz):
+            y += g.factor(s)[:, None, None] * (g.Oq @ x + g.Pz[None] * zf[:, None, :])
     return y + plant.Pf[None]
 
 
@@ -184,6 +199,11 @@ def _use_mounts(plant: Plant, form: str) -> bool:
     if form not in FORMS:
         raise ModelError(f"form: expected one of {list(FORMS)}, got {form!r}")
     mf = plant.mounts
+    if plant.branches is not None:            # the mounts' form holds no branches
+        if form == "mounts":
+            raise ModelError("form: 'mounts' does not hold the branches of frequency-dependent mounts "
+                             f"{list(plant.branches.mounts)}; use 'assembled' or 'auto'")
+        return False
     if mf is None or not mf.matches(plant):
         if form == "mounts":
             raise ModelError("form: 'mounts' needs a plant built by build_plant whose K, C, H are its own "
@@ -300,9 +320,11 @@ def _dense_matrix(plant: Plant, s0: complex, derivative: bool = False) -> np.nda
     """Dense ``A(s0) = K + iH + s0 C + s0^2 M``, or its derivative ``C + 2 s0 M``."""
     d = {k: (getattr(plant, k).toarray() if sp.issparse(getattr(plant, k)) else np.asarray(getattr(plant, k)))
          for k in ("K", "H", "C", "M")}
+    extra = sum((g.factor(np.array(s0), derivative) * (g.K.toarray() if sp.issparse(g.K) else g.K)
+                 for g in groups(plant)), np.zeros_like(d["K"], dtype=complex))
     if derivative:
-        return d["C"] + 2 * s0 * d["M"]
-    return d["K"] + 1j * d["H"] + s0 * d["C"] + s0**2 * d["M"]
+        return d["C"] + 2 * s0 * d["M"] + extra
+    return d["K"] + 1j * d["H"] + s0 * d["C"] + s0**2 * d["M"] + extra
 
 
 def _at_singular(plant: Plant, s0: complex, backend: str, form: str = "auto") -> np.ndarray:

@@ -36,7 +36,8 @@ physical one divided by a power of 2 (``StateSpace.vibss_state_scale`` holds the
 Integrator states of motion inputs are named ``<input>:z`` and ``<input>:zdot``. Signal names are
 the vibss names with ``.`` replaced by ``:`` (python-control reserves ``.``;
 :func:`vibss.linear.signals.control_name`). Hysteretic damping (``H``) is frequency-domain only and is
-left out of every time-domain realization.
+left out of every time-domain realization, with a :class:`~vibss.errors.VibssWarning` naming the mounts
+(:func:`vibss.linear.hysteresis.dropped_hysteresis`).
 
 Examples
 --------
@@ -65,7 +66,9 @@ from .assemble import Assembly
 from .._validate import choice
 from ..errors import (AnalysisError, ArgumentError, ArgumentTypeError, ModelError, SignalError,
                       SignalIndexError, did_you_mean)
+from .branches import close
 from .eigen import modal_basis
+from .hysteresis import dropped_hysteresis
 from ..model.model import Model
 from .plant import Plant
 from .projection import projected_damping
@@ -355,13 +358,37 @@ def statespace(plant: Plant | Model | Assembly, realization: str = "modal", bala
     if not isinstance(plant, Plant):
         if inputs is None:
             raise ModelError("statespace: a model needs inputs=[...] (and optionally outputs=[...])")
+        dropped_hysteresis(plant, "statespace")
         plant = build_plant(plant, inputs, outputs)
     elif inputs is not None or outputs is not None:
         raise ModelError("statespace: inputs/outputs are fixed by the Plant; pass them to build_plant")
+    else:
+        dropped_hysteresis(plant, "statespace")
     if sp.issparse(plant.K):
         raise AnalysisError("statespace: the plant has sparse matrices (build_plant(..., sparse=True)); "
                             "a state space is dense: build the plant densely, or reduce it (vibss.reduce)")
     choice(realization, "realization", REALIZATIONS)
+    if plant.branches is not None:       # frequency-dependent mounts: their internal states appended
+        scales: list[np.ndarray] = []
+
+        def make(mech: Plant) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, list[str]]:
+            a, b, c, d, names, sc = _matrices(mech, realization, balance)
+            scales.append(sc)
+            return a, b, c, d, names
+        A, B, Cm, D, states = close(plant, make)
+        scale = np.concatenate([scales[0], np.ones(plant.branches.r)])
+    else:
+        A, B, Cm, D, states, scale = _matrices(plant, realization, balance)
+    ins = [control_name(u) for u in plant.inputs]
+    sys = NamedStateSpace(A, B, Cm, D, inputs=ins, outputs=[control_name(y) for y in plant.outputs],
+                          states=states, name=control_name(name or plant.name))
+    sys.vibss_state_scale = scale
+    return sys
+
+
+def _matrices(plant: Plant, realization: str, balance: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray,
+                                                                       np.ndarray, list[str], np.ndarray]:
+    """``(A, B, C, D, state names, scale)`` of a plant without branches (the module docstring)."""
     basis = _modal(plant) if realization == "modal" else _physical(plant)
     n, m, p = plant.n, len(plant.inputs), len(plant.outputs)
     o = plant.order
@@ -419,7 +446,4 @@ def statespace(plant: Plant | Model | Assembly, realization: str = "modal", bala
     ins = [control_name(u) for u in plant.inputs]
     states = (basis.names[0] + basis.names[1] + [f"{ins[j]}:z" for j in iz]
               + [f"{ins[j]}:zdot" for j in inu])
-    sys = NamedStateSpace(A, B, Cm, D, inputs=ins, outputs=[control_name(y) for y in plant.outputs],
-                          states=states, name=control_name(name or plant.name))
-    sys.vibss_state_scale = scale
-    return sys
+    return A, B, Cm, D, list(states), scale

@@ -30,6 +30,9 @@ from ..errors import ArgumentError
 from ..model.model import Model
 from ..linear.complex_modes import eigenpairs
 from ..linear.eigen import damping_coupling
+from ..linear.hysteresis import dropped_hysteresis
+from ..linear.signals import build_plant
+from ..linear.solve import without_hysteresis
 from .undamped import Modes, modes
 from ..results import Result, Table, freeze, jsonable, require_pandas
 
@@ -178,6 +181,9 @@ class DampedModes(Result):
 def damped_modes(model: Model | Assembly, undamped: Modes | None = None) -> DampedModes:
     """Poles, damping ratios and complex shapes of a viscously damped model.
 
+    Loss factors (hysteretic damping) have no causal time-domain form and are left out: a
+    :class:`~vibss.errors.VibssWarning` names the mounts and ``note`` says so.
+
     Parameters
     ----------
     model : Model or Assembly
@@ -205,6 +211,9 @@ def damped_modes(model: Model | Assembly, undamped: Modes | None = None) -> Damp
         raise ArgumentError(f"damped_modes: undamped: needs all {a.n} undamped modes (modes(model, "
                             f"n_modes=None)), got {len(und)}", argument="undamped", received=len(und),
                             expected=a.n)
+    left_out = dropped_hysteresis(a, "damped_modes")
+    if any(t.has_branches for t in a.model.mount_types.values()):
+        return _with_branches(a, und, left_out)
     phi, w = und.shapes, und.omega
     chat = phi.T @ (a.dense("C") @ phi)
     chat = 0.5 * (chat + chat.T)
@@ -261,4 +270,33 @@ def damped_modes(model: Model | Assembly, undamped: Modes | None = None) -> Damp
     shapes = phi @ eta
     big = shapes[np.argmax(np.abs(shapes), axis=0), np.arange(shapes.shape[1])]
     shapes = shapes / np.where(big == 0, 1.0, big)
-    return DampedModes(poles=poles, shapes=shapes, paired=paired, undamped=und, method=method)
+    return DampedModes(poles=poles, shapes=shapes, paired=paired, undamped=und, method=method, note=left_out)
+
+
+def _with_branches(a: Assembly, und: Modes, left_out: str) -> DampedModes:
+    """Damped modes of a model with frequency-dependent mounts: ``eig`` of the state matrix of
+    :func:`vibss.statespace`, whose states include every mount's Maxwell branches (the same ladder
+    as the FRF and the time response). The branches add real relaxation poles; shapes are the
+    DOF displacements of the eigenvectors."""
+    # python-control is heavy at start-up (tests/test_startup.py): only models with branches need it
+    from ..linear.statespace import statespace
+
+    plant = without_hysteresis(build_plant(a, [f"{a.model.body_names[0]}.fx"]))   # every DOF out
+    sys = statespace(plant)
+    lam, vec = eigenpairs(np.asarray(sys.A))
+    scale = max(float(np.abs(lam).max(initial=0.0)), np.finfo(float).tiny)
+    lam = np.where(np.abs(lam.imag) <= 1e-12 * scale, lam.real + 0j, lam)
+    keep = lam.imag >= 0
+    lam, shapes = lam[keep], np.asarray(sys.C) @ vec[:, keep]
+    order = np.lexsort((-lam.real, np.abs(lam)))
+    lam, shapes = lam[order], shapes[:, order]
+    mphi = und.shapes.T @ a.dense("M")
+    paired = np.argmax(np.abs(mphi @ shapes), axis=0)
+    big = shapes[np.argmax(np.abs(shapes), axis=0), np.arange(shapes.shape[1])]
+    shapes = shapes / np.where(big == 0, 1.0, big)
+    assert plant.branches is not None
+    note = "; ".join(x for x in (plant.branches.note() + " (their relaxation poles are real; undamped "
+                                 "modes at the static stiffness)", left_out) if x)
+    return DampedModes(poles=lam, shapes=shapes, paired=paired, undamped=und,
+                       method="frequency-dependent mounts: eig of the state matrix with their internal states",
+                       note=note)

@@ -8,15 +8,17 @@ from __future__ import annotations
 
 import dataclasses
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 
 from .._validate import is_numeric
 from ..errors import ModelError
 from ._common import GROUND, _frame, _freeze, _orientation, _signal_safe, _vec
 from .geometry import MIRRORS
+from .rheology import Ladder, Rheology, parse_rheology
 
 __all__ = ["MountType", "Mount", "symmetric", "SYMMETRIES"]
 
@@ -36,24 +38,61 @@ class MountType:
     ----------
     name : str
         Unique name.
-    stiffness : (3,) array_like
-        Principal stiffnesses (k1, k2, k3) [N/m]; zero is allowed (no stiffness along that axis).
+    stiffness : (3,) array_like or None
+        Principal (static) stiffnesses (k1, k2, k3) [N/m]; zero is allowed (no stiffness along that
+        axis). With ``rheology`` it may be omitted (None: the rheology's static stiffness) and must
+        otherwise equal it.
     damping : (3,) array_like
-        Viscous dampings (c1, c2, c3) [N s/m]. Default zero.
+        Viscous dampings (c1, c2, c3) [N s/m], in parallel with the rest. Default zero.
     loss_factor : float or (3,) array_like
-        Hysteretic loss factor eta [-] (complex stiffness k (1 + i eta)); frequency domain only.
+        Hysteretic loss factor eta [-] (complex stiffness k (1 + i eta)); frequency domain only
+        (time-domain analyses leave it out with a warning naming the mount). Not with ``rheology``
+        (give the loss there: a ``table`` with a constant loss factor is its causal approximation).
+    rheology : mapping, Rheology or None
+        Frequency-dependent stiffness per axis (:mod:`vibss.model.rheology`), e.g.
+        ``{"type": "zener", "k_0": [...], "k_inf": [...], "tau": [...]}``: ``kelvin_voigt``,
+        ``zener``, ``prony``, ``fractional_zener`` or ``table``. Every analysis uses its Maxwell
+        ladder (:attr:`ladder`; exact for the rational models, fitted with :attr:`fit_error` else).
+    rotational_stiffness : (3,) array_like
+        Torsional and conical rates (kr1, kr2, kr3) about the mount's local axes [N m/rad]: the
+        moment ``T diag(kr) T^T (theta_body - theta_to)`` of a bushing or rubber block with size
+        (a 6x6 mount). Default zero. Constant (no loss factor, no rheology).
+    rotational_damping : (3,) array_like
+        Viscous rotational dampings (cr1, cr2, cr3) about the local axes [N m s/rad]. Default zero.
+
+    Examples
+    --------
+    >>> t = MountType("rubber", rheology={"type": "zener", "k_0": 1e4, "k_inf": 2e4, "tau": 1e-3})
+    >>> t.stiffness.tolist(), t.has_branches
+    ([10000.0, 10000.0, 10000.0], True)
+    >>> complex(t.dynamic_stiffness([1000 / (2 * 3.141592653589793)])[0, 0])   # w tau = 1
+    (15000+5000j)
     """
 
     name: str
-    stiffness: Any
+    stiffness: Any = None
     damping: Any = (0.0, 0.0, 0.0)
     loss_factor: Any = 0.0
+    rheology: Any = None
+    rotational_stiffness: Any = (0.0, 0.0, 0.0)
+    rotational_damping: Any = (0.0, 0.0, 0.0)
+    _ladder: Any = field(default=None, init=False, repr=False)
 
     def __post_init__(self) -> None:
         if not isinstance(self.name, str) or not self.name:
             raise ModelError(f"mount type: name must be a non-empty string, got {self.name!r}")
         who = f"mount type {self.name!r}"
-        for key, unit in (("stiffness", "N/m"), ("damping", "N s/m")):
+        ladder: Ladder | None = None
+        if self.rheology is not None:
+            rh = parse_rheology(self.rheology, self.name)
+            object.__setattr__(self, "rheology", rh)
+            ladder = rh.ladder()
+            if self.stiffness is None:
+                object.__setattr__(self, "stiffness", ladder.static.copy())
+        elif self.stiffness is None:
+            raise ModelError(f"{who}: stiffness: give the 3 principal stiffnesses [N/m] (or a rheology)")
+        for key, unit in (("stiffness", "N/m"), ("damping", "N s/m"), ("rotational_stiffness", "N m/rad"),
+                          ("rotational_damping", "N m s/rad")):
             v = _vec(getattr(self, key), 3, who, key)
             if np.any(v < 0):
                 raise ModelError(f"{who}: {key} must not be negative, got {v.tolist()} {unit}")
@@ -65,6 +104,56 @@ class MountType:
         if not np.all(np.isfinite(eta)) or np.any(eta < 0):
             raise ModelError(f"{who}: loss_factor must be finite and not negative, got {eta.tolist()}")
         object.__setattr__(self, "loss_factor", _freeze(eta))
+        if ladder is not None:
+            if np.any(eta):
+                raise ModelError(f"{who}: loss_factor and rheology: give the loss in the rheology (a "
+                                 "'table' with a loss_factor), not both")
+            if not np.allclose(self.stiffness, ladder.static, rtol=1e-9, atol=0.0):
+                raise ModelError(f"{who}: stiffness {self.stiffness.tolist()} N/m differs from the static "
+                                 f"stiffness of its rheology, {ladder.static.tolist()} N/m; omit it or give "
+                                 "the same", argument="stiffness", received=self.stiffness.tolist(),
+                                 expected=ladder.static.tolist())
+            if np.any(ladder.viscous):
+                if np.any(self.damping) and not np.allclose(self.damping, ladder.viscous, rtol=1e-9):
+                    raise ModelError(f"{who}: damping {self.damping.tolist()} N s/m differs from the "
+                                     f"rheology's c = {ladder.viscous.tolist()} N s/m; omit it or give the same")
+                object.__setattr__(self, "damping", _freeze(ladder.viscous.copy()))
+            # the ladder every analysis uses: the rheology's branches, this type's static stiffness
+            # and damping (a parallel dashpot adds to a Zener or Prony rheology)
+            object.__setattr__(self, "_ladder", Ladder(self.stiffness, self.damping, ladder.k, ladder.tau,
+                                                       ladder.fit_error, ladder.band))
+
+    @property
+    def ladder(self) -> Ladder | None:
+        """The Maxwell ladder of a frequency-dependent type (None without ``rheology``)."""
+        return self._ladder
+
+    @property
+    def rotational(self) -> bool:
+        """Whether the type has rotational stiffness or damping (a 6x6 mount)."""
+        return bool(np.any(self.rotational_stiffness) or np.any(self.rotational_damping))
+
+    @property
+    def has_branches(self) -> bool:
+        """Whether the type has Maxwell branches (internal states in the time domain)."""
+        return self._ladder is not None and bool(np.any(self._ladder.k > 0))
+
+    @property
+    def fit_error(self) -> float:
+        """Largest relative error of the ladder over its band (0: exact or no rheology)."""
+        return 0.0 if self._ladder is None else float(self._ladder.fit_error)
+
+    def dynamic_stiffness(self, frequency_hz: npt.ArrayLike) -> np.ndarray:
+        """(nf, 3) complex dynamic stiffness ``k*`` per principal axis at ``frequency_hz`` [Hz] [N/m].
+
+        The rheology's exact ``k*`` (a table's interpolation, with a warning outside it) plus the
+        parallel dashpot; without rheology ``k (1 + i eta) + i w c``.
+        """
+        w = 2 * np.pi * np.atleast_1d(np.asarray(frequency_hz, dtype=float))
+        if isinstance(self.rheology, Rheology):
+            extra = self.damping - self.rheology.ladder().viscous      # a dashpot beside the rheology
+            return self.rheology.dynamic_stiffness(w) + 1j * w[:, None] * extra[None]
+        return self.stiffness[None] * (1 + 1j * self.loss_factor[None]) + 1j * w[:, None] * self.damping[None]
 
 
 @dataclass(frozen=True, eq=False)

@@ -51,6 +51,8 @@ QUANTITIES: dict[str, dict[str, int]] = {
     "damping": {"force": 1, "time": 1, "length": -1},
     "inertia": {"mass": 1, "length": 2},
     "moment": {"force": 1, "length": 1},
+    "rotational_stiffness": {"force": 1, "length": 1, "angle": -1},
+    "rotational_damping": {"force": 1, "length": 1, "time": 1, "angle": -1},
     "velocity": {"length": 1, "time": -1},
     "acceleration": {"length": 1, "time": -2},
     "angular_velocity": {"angle": 1, "time": -1},

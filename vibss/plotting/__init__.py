@@ -14,6 +14,7 @@ from __future__ import annotations
 from .energy import plot_energy
 from .layout import plot_model
 from .modes import animate_mode, mode_title, plot_modes
+from .mounts import plot_dynamic_stiffness
 from .frequency import plot_frequency_response
 from .response import plot_sweep_envelope, plot_time_groups, plot_time_response
 from .summary import plot_poles, plot_reduction, plot_static

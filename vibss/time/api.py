@@ -52,8 +52,11 @@ from ..errors import AnalysisError, ArgumentError, DefectiveModesError, ModelErr
 from ..results import ReadOnly, Result, Table, jsonable, require_pandas
 from .methods import METHODS, SimulationJob, TimeMethod, resolve_method
 from ..model.model import DOF_NAMES, Model
+from ..linear.branches import require_none
+from ..linear.hysteresis import dropped_hysteresis
 from ..linear.plant import Plant
 from ..linear.signals import build_plant
+from ..linear.solve import without_hysteresis
 from ..studies import steady_sweeps, transient_excitations
 from ..diagnostics import check_excitations, check_explicit_rk
 
@@ -351,6 +354,12 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
     AnalysisError
         A method cannot answer (e.g. solve_ivp failed), or an output needs the second derivative
         of a displacement input (impulsive: prescribe the motion as an acceleration input).
+
+    Warns
+    -----
+    VibssWarning
+        Mounts with a loss factor: it has no causal time-domain form and is left out (named in the
+        warning and in ``note``; :func:`vibss.linear.hysteresis.dropped_hysteresis`).
     """
     secs = "a number of seconds"
     dt = number(dt, "dt", who="simulate", minimum=0.0, strict=True, what=secs, must="a positive time step [s]")
@@ -417,9 +426,22 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
                          "nonzero initial conditions (initial={body: {'displacement': [6], "
                          "'velocity': [6]}})")
     _check_derivatives(plant)
+    left_out = dropped_hysteresis(model if model is not None else plant, "simulate")
+    if left_out:                         # said once here; the kernels then see no hysteretic part
+        plant = without_hysteresis(plant)
     job = SimulationJob(plant=plant, time=ts, funcs=tuple(funcs), breakpoints=np.array(bps, float),
                         q0=q0, v0=v0, rtol=float(rtol), atol=atol, solver=solver)
     chosen, auto = resolve_method(method)
+    if plant.branches is not None and auto:
+        chosen, auto = METHODS["forced_response"], False
+        branch_note = f"{plant.branches.note()}: forced_response of the state space with them"
+    elif plant.branches is not None:
+        branch_note = plant.branches.note()
+        if not chosen.internal_states:
+            require_none(plant, f"simulate: method {chosen.name!r}",
+                         f"use one of {[k for k, v in METHODS.items() if v.internal_states]} or 'auto'")
+    else:
+        branch_note = ""
     motions = [u for u, kind in zip(plant.inputs, plant.kinds) if kind != "force"]
     if chosen.forces_only and motions:
         raise ModelError(f"simulate: method {chosen.name!r} takes only force inputs; inputs {motions} "
@@ -450,6 +472,10 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
     u = np.array([np.broadcast_to(f(ts[keep]), (int(keep.sum()),)) for f in shown]).reshape(len(shown), int(keep.sum()))
     if hidden:
         note = "free vibration from the initial conditions; " + note
+    if left_out:
+        note = f"{left_out}; " + note
+    if branch_note:
+        note = f"{branch_note}; " + note
     if skipped:
         note = (f"skipped steady sweep(s) {[e.name for e in skipped]} (sweep_time = 0: frequency "
                 "studies only); " + note)

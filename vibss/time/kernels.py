@@ -37,6 +37,7 @@ from threadpoolctl import threadpool_limits
 from ..linear.complex_modes import complex_modes
 from ..errors import AnalysisError
 from ..linear.eigen import damping_coupling, modal_basis, symmetric_eigen
+from ..linear.branches import mechanical, require_none
 from ..linear.plant import Plant
 from ..linear.projection import projected_damping
 
@@ -521,6 +522,7 @@ def run_forced_response(prep: Prepared, t: np.ndarray, u: np.ndarray, kin: Kinem
     try:
         sys = statespace(plant)
     except AnalysisError as exc:
+        require_none(plant, "simulate: the local z-only realization", f"here: {exc}")
         r = realization(prep)
         sys = control.ss(r.A, r.B, r.C, r.D)
         x0 = np.zeros(r.A.shape[0])
@@ -528,11 +530,13 @@ def run_forced_response(prep: Prepared, t: np.ndarray, u: np.ndarray, kin: Kinem
         post = kin.z1 @ r.post1.T + kin.z2 @ r.post2.T
         note = f"python-control forced_response of the local z-only realization ({exc})"
     else:
-        mb = modal_basis(plant)
+        mb = modal_basis(plant if plant.branches is None else mechanical(plant))   # statespace's basis
         M = np.asarray(plant.M, float)
         x0 = np.zeros(sys.nstates)
         x0[:n] = mb.scale * (mb.phi.T @ (M @ q0))
         x0[n:2 * n] = mb.phi.T @ (M @ v0)
+        if plant.branches is not None:   # branches relaxed at the initial deflection (no force in them)
+            x0[-plant.branches.r:] = plant.branches.B @ q0
         post = 0.0
         note = "python-control forced_response of vibss.statespace (modal realization), FOH of the samples"
     with threadpool_limits(1):

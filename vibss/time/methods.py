@@ -129,7 +129,7 @@ METHODS: dict[str, TimeMethod] = {m.name: m for m in (
     TimeMethod("modal", _method_modal, exact=True, hits_edges=True, fallback="forced_response",
                auto_reason="exact for piecewise-linear inputs and the fastest",
                summary="exact modal superposition of piecewise-linear inputs (breakpoints inserted)"),
-    TimeMethod("forced_response", _method_forced_response, exact=True,
+    TimeMethod("forced_response", _method_forced_response, exact=True, internal_states=True,
                summary="control.forced_response of the exact realization on the sample grid"),
     TimeMethod("ivp", _method_ivp, hits_edges=True, uses_solver=True,
                summary="solve_ivp with variable steps to rtol/atol, restarted at every breakpoint"),
