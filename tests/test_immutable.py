@@ -28,6 +28,8 @@ from vibss.linear.signals import build_plant
 from vibss.model.excitation import SineSweep, Step
 from vibss.orders import Unbalance, order_response
 from vibss.results import Result, read_only
+from vibss.control.filespec import run_control
+from vibss.shock.filespec import run_shock
 
 SKIP = {"control", "frd", "data", "model", "plot", "deterministic", "reliable"}
 """Attributes not walked: python-control twins (their own objects), the model (frozen data with
@@ -69,6 +71,32 @@ def objects() -> dict[str, Any]:
         "orders": order_response(m, Unbalance("u", "b", 0.01, 0.05, axis="x"), [600.0, 1200.0], ["b.z"]),
         "random": vibss.random_response(m, {"b.fz": ([1.0, 100.0], [1.0, 1.0])}, ["b.z"]),
         "srs": vibss.srs(t, np.sin(2 * np.pi * 50 * t), [20.0, 50.0]),
+        "envelope": vibss.srs(t, np.sin(2 * np.pi * 50 * t), [20.0, 50.0]).check([20.0, 50.0], [1.0, 1.0]),
+        "shock study": run_shock(vibss.load_example("packaged_item")),
+        **control_objects(),
+    }
+
+
+def control_objects() -> dict[str, Any]:
+    """The closed loop, its demand, a semi-active run and a file's control study of small models."""
+    import vibss.control as vc
+    from vibss.model.actuation import Actuator, Sensor
+    from vibss.random import PSD
+
+    t = MountType("iso", [1e4] * 3, [20.0] * 3)
+    m = Model([Body("b", 10.0, [1, 1, 1])], [Mount("m", t, "b")], actuators=[Actuator("a", mount="m", axis=3)],
+              sensors=[Sensor("v", "velocity", body="b", direction=[0, 0, 1]),
+                       Sensor("rv", "relative_velocity", mount="m", axis=3),
+                       Sensor("s", "relative_displacement", mount="m", axis=3)])
+    P = vc.plant(m, ["ground.z.acc"], performance=["b.z.acc"], measurements=["sensor.rv", "sensor.s"], dofs=["b.z"])
+    cl = vc.close(P, vc.velocity_feedback(P, 100.0, pairs={"a": "sensor.rv"}))
+    Pv = vc.plant(m, ["ground.z.vel"], performance=["b.z.vel"], measurements=["sensor.v", "sensor.rv"], dofs=["b.z"])
+    return {
+        "closed loop": cl,
+        "demand": cl.demand({"ground.z.acc": PSD([1.0, 100.0], [0.01, 0.01])}, ["sensor.s"]),
+        "semi-active": vc.clipped_skyhook(Pv, {"ground.z.vel": vibss.HalfSine(0.2, start=0.0, duration=0.02)},
+                                          end=0.1, step=1e-3, c_sky=400.0, c_min=5.0, c_max=300.0),
+        "control study": run_control(vibss.load_example("platform")),
     }
 
 
@@ -122,12 +150,15 @@ def writable_handles(obj: Any) -> list[str]:
 
 KINDS = ["static", "modes", "damped", "frequency", "time", "peaks", "sweep", "reduction", "assembly",
          "sparse assembly", "plant", "certificate", "sensitivity", "monte carlo", "optimisation",
-         "elastic axes", "torque response", "orders", "random", "srs"]
+         "elastic axes", "torque response", "orders", "random", "srs", "envelope", "shock study", "closed loop",
+         "demand", "semi-active", "control study"]
 
 
 def test_every_public_result_type_is_in_the_walk(objects: dict[str, Any]) -> None:
     public = set()
-    for module in (vibss, vibss.design, vibss.orders, vibss.random, vibss.shock):
+    import vibss.control
+
+    for module in (vibss, vibss.design, vibss.orders, vibss.random, vibss.shock, vibss.control):
         public |= {getattr(module, n) for n in module.__all__
                    if isinstance(getattr(module, n), type) and issubclass(getattr(module, n), Result)}
     walked = {type(o) for o in objects.values()}
