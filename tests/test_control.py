@@ -417,3 +417,22 @@ def test_preflight_names_an_undetectable_mode() -> None:
                  measurements=["sensor.s"], noise=1e-3, dofs=["b.x", "b.z"])
     with pytest.raises(ControlDesignError, match=r"not detectable.*unobservable.*no measurement sees it"):
         vc.lqg(P)
+
+
+def test_frequency_dependent_mounts_in_a_control_plant() -> None:
+    """A Zener isolator (issue 14) under an actuator: with ground displacement the plant carries the
+    mount's internal state and matches k*(s) / (m s^2 + k*(s)); ground acceleration, whose
+    relative-motion realization has no place for that state, is refused by name."""
+    m0, k0, kinf, tau, c = 2.0, 1e4, 3e4, 2e-3, 8.0
+    t = MountType("rubber", damping=[c] * 3, rheology={"type": "zener", "k_0": k0, "k_inf": kinf, "tau": tau})
+    m = Model([Body("b", m0, [1, 1, 1])], [Mount("m", t, "b")], actuators=[Actuator("a", mount="m", axis=3)],
+              sensors=[Sensor("s", "relative_displacement", mount="m", axis=3)])
+    P = vc.plant(m, ["ground.z.disp"], performance=["b.z"], measurements=["sensor.s"], dofs=["b.z"])
+    w = np.array([3.0, 70.0, 400.0])
+    s = 1j * w
+    k = k0 + (kinf - k0) * s * tau / (1 + s * tau) + c * s
+    h = evaluate(P, w)
+    np.testing.assert_allclose(h[0, 0], k / (m0 * s ** 2 + k), rtol=1e-10)
+    np.testing.assert_allclose(h[0, 1], 1 / (m0 * s ** 2 + k), rtol=1e-10)        # actuator force -> body
+    with pytest.raises(ControlDesignError, match=r"ground\.z\.acc.*frequency-dependent mounts"):
+        vc.plant(m, ["ground.z.acc"], performance=["b.z"], measurements=["sensor.s"], dofs=["b.z"])

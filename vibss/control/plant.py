@@ -196,6 +196,10 @@ def relative_plant(mech: Plant, model: Model) -> Plant:
         if not u.startswith(GROUND + "."):
             raise ControlDesignError(f"disturbances: {u!r} prescribes a body DOF; a control plant takes "
                                      "ground motion (ground.<dof>.acc|vel|disp) and forces as disturbances")
+        if getattr(mech, "branches", None) is not None:
+            raise ControlDesignError(f"disturbances: {u!r}: the model has frequency-dependent mounts (rheology), "
+                                     "whose internal states the relative-motion realization does not carry; "
+                                     "give the ground motion as a displacement ('.disp') instead")
         t = _rigid_map(model, mech.dofs, u)
         bad_k = np.abs(mech.K @ t + mech.Kz[:, j]).max(initial=0.0) > 1e-9 * scale_k * max(1.0, np.abs(t).max())
         bad_c = np.abs(mech.C @ t + mech.Cz[:, j]).max(initial=0.0) > 1e-9 * scale_c * max(1.0, np.abs(t).max())
