@@ -49,3 +49,50 @@ def test_reads_a_file_written_by_pyuff_and_time_records(tmp_path) -> None:
     np.testing.assert_allclose(rec["data"], t["b.z"], rtol=1e-12)
     with pytest.raises(vibss.ModelError, match="no dataset 58 FRF"):
         read_uff(tp)
+
+
+def two_bodies() -> vibss.Model:
+    t = vibss.MountType("t", [1e4, 2e4, 3e4], [10.0, 20.0, 30.0])
+    a = vibss.Body("engine", 50.0, [2.0, 3.0, 4.0], cog=[0.1, -0.2, 0.5])
+    b = vibss.Body("frame", 20.0, [1.0, 1.5, 2.0], cog=[0.0, 0.3, 0.1])
+    return vibss.Model([a, b], [vibss.Mount("m1", t, "engine", at=[0.3, 0.2, 0.3]),
+                                vibss.Mount("m2", t, "engine", at=[-0.2, 0.1, 0.3], to="frame"),
+                                vibss.Mount("m3", t, "frame", at=[0.2, -0.3, 0.0]),
+                                vibss.Mount("m4", t, "frame", at=[-0.2, 0.3, 0.0])])
+
+
+def test_mode_shapes_out_as_datasets_55_and_2411(tmp_path) -> None:
+    """Six significant digits is the format (E13.5); what comes back is checked against the
+    invariants of mass-normalised modes (Phi' M Phi = I, Phi' K Phi = diag w^2) on vibss's own
+    matrices, the nodes against the bodies' centres of gravity, and pyuff reading the records."""
+    from vibss.io import read_uff_modes
+
+    m = two_bodies()
+    md = vibss.modes(m)
+    path = write_uff(md, tmp_path / "modes.uff")
+    back = read_uff_modes(path)
+    np.testing.assert_allclose(back.frequency_hz, md.frequency_hz, rtol=1e-5)
+    np.testing.assert_allclose(back.coordinates, [[0.1, -0.2, 0.5], [0.0, 0.3, 0.1]], rtol=1e-15)
+    asm = vibss.assemble(m)
+    M, K = asm.dense("M"), asm.dense("K")
+    phi = back.shapes                                            # rows engine x..rz, frame x..rz
+    assert md.dofs == tuple(f"{b}.{d}" for b in ("engine", "frame") for d in ("x", "y", "z", "rx", "ry", "rz"))
+    np.testing.assert_allclose(phi.T @ M @ phi, np.eye(12), atol=3e-5)
+    np.testing.assert_allclose(np.diag(phi.T @ K @ phi), md.omega ** 2, rtol=3e-5, atol=3e-5 * md.omega.max() ** 2)
+    recs = pyuff.UFF(str(path)).read_sets()
+    assert [r["type"] for r in recs] == [2411] + [55] * 12
+    assert recs[1]["analysis_type"] == 2 and recs[1]["n_data_per_node"] == 6 and recs[1]["id2"].startswith("nodes: engine,frame")
+
+
+def test_some_mode_shapes_and_errors(tmp_path) -> None:
+    from vibss.io import read_uff_modes
+
+    md = vibss.modes(two_bodies(), n_modes=3)
+    back = read_uff_modes(write_uff(md, tmp_path / "z.uff"))
+    assert back.shapes.shape == (12, 3) and back.ids == ("vibss mode 1", "vibss mode 2", "vibss mode 3")
+    np.testing.assert_allclose(back.shapes, md.shapes, rtol=0, atol=1e-5 * np.abs(md.shapes).max())
+    with pytest.raises(vibss.ModelError, match="no dataset 55"):
+        read_uff_modes(write_uff(vibss.frequency_response(model(), ["b.fz"], ["b.z"], [1.0, 2.0]),
+                                 tmp_path / "f.uff"))
+    with pytest.raises(vibss.ModelError, match="no such file"):
+        read_uff_modes(tmp_path / "none.uff")

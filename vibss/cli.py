@@ -16,7 +16,7 @@ from collections.abc import Sequence
 
 from . import __version__
 from .commands import COMMANDS
-from .errors import AnalysisError, ModelError, VibssError
+from .errors import AnalysisError, ArgumentError, ModelError, VibssError
 
 __all__ = ["main", "build_parser", "INTERNAL_ERROR"]
 
@@ -67,6 +67,9 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 def _status(exc: Exception) -> int:
     """One line on stderr for ``exc`` and the exit status (never a traceback)."""
+    if isinstance(exc, ArgumentError):            # a bad option or name: not the model's fault
+        print(f"vibss: error: {exc}", file=sys.stderr)
+        return 2
     if isinstance(exc, ModelError):
         print(f"vibss: error in model: {exc}", file=sys.stderr)
         return 2

@@ -12,7 +12,9 @@ from typing import TYPE_CHECKING
 if TYPE_CHECKING:
     from ..model.model import Model
 
-__all__ = ["add_model_arguments", "load_from_args", "emit", "finite_json"]
+__all__ = ["add_model_arguments", "load_from_args", "emit", "finite_json", "add_save_argument", "check_save", "save"]
+
+SAVE_FORMATS = {".csv": "CSV", ".uff": "UFF", ".unv": "UFF"}
 
 
 def add_model_arguments(parser: argparse.ArgumentParser) -> None:
@@ -53,3 +55,41 @@ def emit(result: Any, fmt: str, out: Any = None) -> None:
     else:
         out.write(result.report())
         out.write("\n")
+
+
+def add_save_argument(parser: argparse.ArgumentParser, what: str) -> None:
+    """Add ``--save FILE``: the result as test data, CSV or UFF by the file's suffix."""
+    parser.add_argument("--save", metavar="FILE",
+                        help=f"also write the {what} as test data: FILE.csv (CSV) or FILE.uff / .unv "
+                             "(universal file, needs vibss[uff])")
+
+
+def check_save(path: str | None, formats: tuple[str, ...] = (".csv", ".uff", ".unv")) -> str:
+    """The suffix of ``--save FILE`` ('' when not given), checked before any work is done."""
+    if not path:
+        return ""
+    from pathlib import Path
+
+    suffix = Path(path).suffix.lower()
+    if suffix not in formats:
+        from ..errors import ArgumentError
+
+        raise ArgumentError(f"--save {path}: the suffix says the format; expected one of {', '.join(formats)}",
+                            argument="--save", received=path)
+    return suffix
+
+
+def save(result: Any, path: str | None, formats: tuple[str, ...] = (".csv", ".uff", ".unv")) -> None:
+    """Write ``result`` to ``path`` (nothing when None) as CSV or UFF, chosen by the suffix."""
+    suffix = check_save(path, formats)
+    if not suffix:
+        return
+    if suffix == ".csv":
+        from ..io.csvdata import write_csv
+
+        write_csv(result, path)
+    else:
+        from ..io.uff import write_uff
+
+        write_uff(result, path)
+    print(f"{SAVE_FORMATS[suffix]} written to {path}", file=sys.stderr)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 
 from ..errors import ModelError
-from .common import add_model_arguments, emit, load_from_args
+from .common import add_model_arguments, add_save_argument, check_save, emit, load_from_args, save
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -32,11 +32,13 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="outputs as named (default), or their first or second time derivative")
     p.add_argument("--method", default="auto", help="auto (default), direct, modal, complex_modal, sparse, statespace")
     p.add_argument("--plot", metavar="PNG", help="also save a Bode plot of the response")
+    add_save_argument(p, "frequency response")
     p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
     """Compute and print the frequency response."""
+    check_save(args.save)
     from ..frequency.api import FrequencyGrid, frequency_response
     from ..frequency.sweep import sweep_response
     from ..studies import frequency_band, steady_sweeps
@@ -61,6 +63,7 @@ def run(args: argparse.Namespace) -> int:
                                 outputs, args.quantity, refine=settings.get("refine", True),
                                 method=args.method)
     emit(result, args.format)
+    save(result, args.save)
     if args.plot:
         fig = result.plot()
         fig.savefig(args.plot, dpi=120)

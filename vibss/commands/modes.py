@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from .common import add_model_arguments, emit, load_from_args
+from .common import add_model_arguments, add_save_argument, check_save, emit, load_from_args, save
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -16,6 +16,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_model_arguments(p)
     p.add_argument("-n", "--modes", type=int, default=None, metavar="N",
                    help="only the lowest N modes (default: all, 6 per body)")
+    add_save_argument(p, "mode shapes (UFF datasets 2411 and 55)")
     p.set_defaults(func=run_modes)
     d = sub.add_parser("damped", help="damped modes: poles, damping ratios, complex shapes",
                        description="Damped natural frequencies and damping ratios from the poles of "
@@ -26,9 +27,12 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run_modes(args: argparse.Namespace) -> int:
     """Print the undamped modes."""
+    check_save(args.save, (".uff", ".unv"))
     from ..modal.undamped import modes
 
-    emit(modes(load_from_args(args), n_modes=args.modes), args.format)
+    result = modes(load_from_args(args), n_modes=args.modes)
+    emit(result, args.format)
+    save(result, args.save, (".uff", ".unv"))
     return 0
 
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from .common import add_model_arguments, emit, load_from_args
+from .common import add_model_arguments, add_save_argument, check_save, emit, load_from_args, save
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -15,11 +15,13 @@ def register(sub: argparse._SubParsersAction) -> None:
                                    "PSD (log-log between breakpoints), integrated adaptively on the exact FRF.")
     add_model_arguments(p)
     p.add_argument("--plot", metavar="PNG", help="also save the PSDs")
+    add_save_argument(p, "output PSDs (CSV)")
     p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
     """Print the RMS table."""
+    check_save(args.save, (".csv",))
     from ..errors import ArgumentError
     from ..random import PSD, random_response
 
@@ -34,6 +36,7 @@ def run(args: argparse.Namespace) -> int:
     psd = PSD(spec["psd"]["frequency"], spec["psd"]["level"], unit=unit, name=f"[random] {signal}")
     r = random_response(model, {signal: psd}, spec.get("outputs"))
     emit(r, args.format)
+    save(r, args.save, (".csv",))
     if args.plot:
         r.plot().savefig(args.plot, dpi=110, bbox_inches="tight")
         print(f"figure written to {args.plot}", file=sys.stderr)

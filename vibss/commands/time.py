@@ -6,7 +6,7 @@ import argparse
 import sys
 
 from ..errors import ModelError
-from .common import add_model_arguments, emit, load_from_args
+from .common import add_model_arguments, add_save_argument, check_save, emit, load_from_args, save
 
 METHODS = ("modal", "forced_response", "ivp", "newmark", "central_difference")
 """Names of :data:`vibss.time.api.METHODS` (written out: the parser must not import the analyses)."""
@@ -33,11 +33,13 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="an output signal (repeatable), e.g. engine.z, sensor.x.acc, mount.front.fz; "
                         "default: every body DOF's displacement")
     p.add_argument("--plot", metavar="PNG", help="also save a plot of the outputs to this file")
+    add_save_argument(p, "output time histories")
     p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
     """Run the simulation and print it."""
+    check_save(args.save)
     from ..linear.signals import default_outputs
     from ..studies import steady_sweeps, time_window, transient_excitations
     from ..time.api import simulate
@@ -59,6 +61,7 @@ def run(args: argparse.Namespace) -> int:
     result = simulate(model, excitations, outputs=outputs, t_end=end, dt=step, record_from=record,
                       method=args.method, rtol=window.tolerance)
     emit(result, args.format)
+    save(result, args.save)
     if args.plot:
         import matplotlib
 
