@@ -82,7 +82,7 @@ def check_save(path: str | None, formats: tuple[str, ...] = (".csv", ".uff", ".u
 def save(result: Any, path: str | None, formats: tuple[str, ...] = (".csv", ".uff", ".unv")) -> None:
     """Write ``result`` to ``path`` (nothing when None) as CSV or UFF, chosen by the suffix."""
     suffix = check_save(path, formats)
-    if not suffix:
+    if not suffix or path is None:
         return
     if suffix == ".csv":
         from ..io.csvdata import write_csv
