@@ -96,3 +96,21 @@ def test_some_mode_shapes_and_errors(tmp_path) -> None:
                                  tmp_path / "f.uff"))
     with pytest.raises(vibss.ModelError, match="no such file"):
         read_uff_modes(tmp_path / "none.uff")
+
+
+def test_control_points_are_nodes_that_move_with_their_body(tmp_path) -> None:
+    """A point's mode shape is the body's rigid motion there: u = u_cog + theta x r (independent
+    cross product here), rotations equal to the body's."""
+    from vibss.io import read_uff_modes
+
+    base = two_bodies()
+    m = vibss.Model(base.bodies, base.mounts, control_points=[vibss.ControlPoint("top", "engine", [0.2, -0.1, 0.4])])
+    md = vibss.modes(m)
+    back = read_uff_modes(write_uff(md, tmp_path / "p.uff"))
+    assert back.nodes.tolist() == [1, 2, 3]
+    np.testing.assert_allclose(back.coordinates[2], [0.3, -0.3, 0.9], rtol=1e-15)
+    q = md.shapes[:6]                                                     # engine's six rows
+    u = q[:3] + np.cross(q[3:].T, [0.2, -0.1, 0.4]).T
+    scale = np.abs(md.shapes).max()
+    np.testing.assert_allclose(back.shapes[12:15], u, atol=2e-5 * scale)
+    np.testing.assert_allclose(back.shapes[15:18], q[3:], atol=2e-5 * scale)

@@ -11,8 +11,8 @@ ID lines (``id1`` the output, ``id2`` the input); nodes are channel numbers and 
 so values come back exactly.
 
 A :class:`~vibss.modal.undamped.Modes` goes out as one dataset 2411 with a node per body at its
-centre of gravity [m] (node ``n`` is the model's ``n``-th body; the body names are in each 55's
-``id2``) and one dataset 55 per mode (structural normal mode, six real values per node: x, y, z
+centre of gravity [m] (node ``n`` is the model's ``n``-th body), then one per control point (moving
+with its body), the names in each 55's ``id2``, and one dataset 55 per mode (structural normal mode, six real values per node: x, y, z
 [m] and rx, ry, rz [rad] of the mass-normalised shape, zero for a DOF the analysis held fixed);
 :func:`read_uff_modes` reads them back. pyuff is an optional extra: ``pip install 'vibss[uff]'``.
 """
@@ -112,21 +112,31 @@ _SIX = ("x", "y", "z", "rx", "ry", "rz")
 
 
 def _mode_sets(pyuff: Any, modes: Any) -> list[dict[str, Any]]:
-    """Dataset 2411 (a node per body at its COG) and one dataset 55 per mode."""
-    bodies = [b.name for b in modes.model.bodies]
-    nodes = np.arange(1, len(bodies) + 1)          # int: pyuff's 2411 check fails on float arrays
-    cog = np.array([np.asarray(b.cog, float) for b in modes.model.bodies]).reshape(-1, 3)
-    sets = [pyuff.prepare_2411(node_nums=nodes, def_cs=np.ones(len(bodies), dtype=int),
-                               disp_cs=np.ones(len(bodies), dtype=int), color=np.ones(len(bodies), dtype=int), x=cog[:, 0], y=cog[:, 1], z=cog[:, 2])]
+    """Dataset 2411 (a node per body at its COG, then per control point) and one dataset 55 per mode."""
+    from ..model.geometry import point_transfer
+
+    model = modes.model
+    bodies = [b.name for b in model.bodies]
+    points = list(model.control_points)
+    count = len(bodies) + len(points)
+    nodes = np.arange(1, count + 1)                # int: pyuff's 2411 check fails on float arrays
+    xyz = np.array([np.asarray(b.cog, float) for b in model.bodies]
+                   + [model.point(c.body, c.at, c.frame) + model.body(c.body).cog for c in points]).reshape(-1, 3)
+    sets = [pyuff.prepare_2411(node_nums=nodes, def_cs=np.ones(count, dtype=int), disp_cs=np.ones(count, dtype=int),
+                               color=np.ones(count, dtype=int), x=xyz[:, 0], y=xyz[:, 1], z=xyz[:, 2])]
     rows = {d: i for i, d in enumerate(modes.dofs)}
-    names = ",".join(bodies)
+    names = ",".join(bodies + [c.name for c in points])
     for k in range(modes.shapes.shape[1]):
-        full = np.zeros((len(bodies), 6))
+        full = np.zeros((count, 6))
         for n, b in enumerate(bodies):
             for c, d in enumerate(_SIX):
                 i = rows.get(f"{b}.{d}")
                 if i is not None:
                     full[n, c] = modes.shapes[i, k]
+        for j, c in enumerate(points):             # a point moves with its body: L(r) q and its rotation
+            q = full[bodies.index(c.body)]
+            full[len(bodies) + j, :3] = point_transfer(model.point(c.body, c.at, c.frame)) @ q
+            full[len(bodies) + j, 3:] = q[3:]
         f = float(modes.omega[k]) / (2 * np.pi)
         sets.append(pyuff.prepare_55(
             id1=f"vibss mode {k + 1}"[:80], id2=f"nodes: {names}"[:80], id3=f"{f:.12g} Hz"[:80],
