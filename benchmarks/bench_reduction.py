@@ -7,7 +7,11 @@ reduce(model, scope, "krylov") (its own sparse assembly included) + the same ana
 plant, single thread. The errors are relative per output (vibss.reduction.relative_error).
 Writes benchmarks/results/reduction.json.
 
-Run: ``OPENBLAS_NUM_THREADS=1 .venv/bin/python benchmarks/bench_reduction.py [n_bodies]``
+Run: ``OPENBLAS_NUM_THREADS=1 .venv/bin/python benchmarks/bench_reduction.py [n_bodies] [--quick]``
+(``--quick``: a 100-body chain, 60 frequencies). Deterministic: the model is seeded and every
+sparse eigen-solve starts from a seeded vector (ARPACK's default start is random), so two runs give
+the same basis sizes (:func:`quick_basis_sizes`, checked by ``tests/test_benchmarks.py``); only the
+timings move.
 """
 
 from __future__ import annotations
@@ -37,11 +41,19 @@ from vibss.model.timefunctions import HalfSine  # noqa: E402
 OUT = Path(__file__).resolve().parent / "results" / "reduction.json"
 
 
+def lowest_w2(a, k: int, seed: int = 0) -> np.ndarray:
+    """The k lowest squared natural frequencies [rad^2/s^2] of a sparse assembly, ascending
+    (shift-invert ``eigsh`` from a seeded start vector)."""
+    v0 = np.random.default_rng(seed).standard_normal(a.K.shape[0])
+    w2 = spl.eigsh(a.K.tocsc(), k=k, M=a.M.tocsc(), sigma=-1.0, which="LM", v0=v0, return_eigenvectors=False)
+    return np.sort(w2)
+
+
 def damped_chain(n_bodies: int, zeta: float = 2e-3, seed: int = 0):
     """chain_model without its dense eigh: c = beta k on every mount, beta from a sparse eigsh."""
     model = chain_model(n_bodies, damping="none", seed=seed)
     a = assemble(model, sparse=True)
-    w2 = spl.eigsh(a.K.tocsc(), k=1, M=a.M.tocsc(), sigma=-1.0, which="LM", return_eigenvectors=False)
+    w2 = lowest_w2(a, 1)
     beta = 2 * zeta / float(np.sqrt(w2[0]))
     mounts = [Mount(m.name, MountType(m.type.name, m.type.stiffness, beta * np.asarray(m.type.stiffness)),
                     m.body, at=m.at, to=m.to, orientation=m.orientation) for m in model.mounts]
@@ -55,8 +67,7 @@ def main(n_bodies: int = 1000, n_modes_band: int = 36, tol: float = 1e-6, nf: in
     inputs = [f"b{mid}.fz"]
     outputs = [f"b{mid}.z", f"b{mid + 2}.x", f"mount.n{mid + 1}.fz"]
     a = assemble(model, sparse=True)
-    w2 = np.sort(spl.eigsh(a.K.tocsc(), k=n_modes_band + 1, M=a.M.tocsc(), sigma=-1.0, which="LM",
-                           return_eigenvectors=False))
+    w2 = lowest_w2(a, n_modes_band + 1)
     wn = np.sqrt(w2)
     # band top between modes n_modes_band and n_modes_band + 1: the band holds n_modes_band modes
     f2 = float(np.sqrt(wn[n_modes_band - 1] * wn[n_modes_band])) / (2 * np.pi)
@@ -126,9 +137,28 @@ def main(n_bodies: int = 1000, n_modes_band: int = 36, tol: float = 1e-6, nf: in
     return out
 
 
+def quick_basis_sizes(n_bodies: int = 100, n_modes_band: int = 12, tol: float = 1e-6) -> tuple[int, int]:
+    """The reduced sizes (FRF scope, time scope) of the quick run's Krylov reductions, untimed: two
+    calls must return the same pair (the benchmark is deterministic)."""
+    model, _ = damped_chain(n_bodies)
+    mid = n_bodies // 2
+    inputs, outputs = [f"b{mid}.fz"], [f"b{mid}.z", f"b{mid + 2}.x", f"mount.n{mid + 1}.fz"]
+    wn = np.sqrt(lowest_w2(assemble(model, sparse=True), n_modes_band + 1))
+    f2 = float(np.sqrt(wn[n_modes_band - 1] * wn[n_modes_band])) / (2 * np.pi)
+    red = reduce(model, Scope(inputs, outputs, 0.0, f2, tol), "krylov")
+    tau = 5.0 / f2
+    shock = Excitation("shock", "force", f"b{mid}", HalfSine(1000.0, 0.0, tau), dof="z")
+    tscope = Scope.for_simulation([shock], outputs, t_end=20 * tau, dt=tau / 40, tolerance=tol, f_max=32 * f2)
+    tred = reduce(model, tscope, "krylov")
+    return int(red.plant.n), int(tred.plant.n)
+
+
 if __name__ == "__main__":
-    n = int(sys.argv[1]) if len(sys.argv) > 1 else 1000
-    res = main(n)
+    quick = "--quick" in sys.argv[1:]
+    numbers = [a for a in sys.argv[1:] if not a.startswith("--")]
+    n = int(numbers[0]) if numbers else (100 if quick else 1000)
+    res = main(n, n_modes_band=12, nf=60) if quick else main(n)
+    res["quick"] = quick
     OUT.parent.mkdir(exist_ok=True)
     OUT.write_text(json.dumps(res, indent=2))
     print(json.dumps({k: v for k, v in res.items() if not k.startswith("report")}, indent=2))

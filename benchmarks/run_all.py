@@ -9,7 +9,9 @@ with the machine line on top. The hand-written text around the markers is kept.
 
 Usage: ``python benchmarks/run_all.py [--quick] [--only NAME ...] [--no-run]``
 
-- ``--quick``: small sizes (about 2 minutes; passed on to the benchmarks that accept it);
+- ``--quick``: small sizes (about 2 minutes; passed on to the benchmarks that accept it;
+  ``make bench QUICK=1`` or ``make bench-quick``). Every run is seeded: two quick runs give the
+  same counts (basis sizes, frequencies, errors to their printed digits), only timings differ;
 - ``--only``: run these benchmarks (e.g. ``pareto stability``), tabulate all results present;
 - ``--no-run``: only regenerate the tables from the existing results.
 """
@@ -32,7 +34,9 @@ DOC = ROOT / "docs" / "performance.md"
 BEGIN, END = "<!-- BEGIN GENERATED: benchmarks/run_all.py -->", "<!-- END GENERATED -->"
 ORDER = ["core", "frf", "time", "reduction", "pareto", "stability"]
 THREAD_ENV = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1",
-              "MPLBACKEND": "Agg"}
+              "MPLBACKEND": "Agg", "PYTHONHASHSEED": "0"}
+"""One BLAS thread (timings comparable, sums in one order) and a fixed hash seed (set iteration order
+fixed), so two runs give the same numbers; the benchmarks seed their own random models and starts."""
 
 
 def benchmarks() -> list[tuple[str, Path]]:

@@ -72,7 +72,7 @@ def test_loads_at_points_give_moments():
     from vibss import Load
 
     m = Model([Body("b", 1.0, [1, 1, 1], cog=[1, 2, 3])],
-              loads=[Load("b", force=[0, 0, -10.0], at=[0.5, 0, 0])])
+              loads=[Load("l", "b", force=[0, 0, -10.0], at=[0.5, 0, 0])])
     f = assemble(m).load_vector()
     np.testing.assert_allclose(f[:3], [0, 0, -10])
     np.testing.assert_allclose(f[3:], np.cross([0.5, 0, 0], [0, 0, -10.0]))

@@ -445,3 +445,22 @@ def test_no_peak_beside_an_infinite_zero_hz_value() -> None:
     np.testing.assert_allclose(a, abs((sc.K + 1j * w * sc.C) / (sc.K - sc.M * w**2 + 1j * w * sc.C)) / w**2, rtol=1e-10)
     assert abs(fp - sc.WN / (2 * np.pi)) < 0.02
     assert "infinite" in r.report()
+
+
+def test_grid_without_refinement_keeps_exactly_the_base_points():
+    """Issue 16: refine=False (CLI --no-refine) gives exactly `points` frequencies, the geometric
+    series from f1 to f2; refine=True adds points at the resonances inside the band."""
+    import vibss
+    from vibss.frequency.api import FrequencyGrid
+    from vibss.frequency.sweep import sweep_response
+
+    model = vibss.load_example("prism")
+    r = vibss.frequency_response(model, ["prism.fz"], ["prism.z"],
+                                 frequencies=FrequencyGrid(1.0, 100.0, 5, refine=False))
+    assert np.allclose(r.frequency_hz, [1.0, 10**0.5, 10.0, 10**1.5, 100.0])
+    r = vibss.frequency_response(model, ["prism.fz"], ["prism.z"], frequencies={"points": 7, "refine": False})
+    assert r.frequency_hz.size == 7
+    refined = vibss.frequency_response(model, ["prism.fz"], ["prism.z"], frequencies={"points": 7})
+    assert refined.frequency_hz.size > 7
+    sw = sweep_response(vibss.load_example("powertrain"), points=5, refine=False)
+    assert sw.frequency_hz.size == 5

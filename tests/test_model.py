@@ -67,7 +67,7 @@ def test_model_cross_references():
     with pytest.raises(ModelError, match=r"control point 'cp': unknown body"):
         Model([b], control_points=[ControlPoint("cp", "engin", [0, 0, 0])])
     with pytest.raises(ModelError, match=r"load .*unknown body"):
-        Model([b], loads=[Load("nobody", force=[1, 0, 0])])
+        Model([b], loads=[Load("l", "nobody", force=[1, 0, 0])])
     with pytest.raises(ModelError, match=r"needs at least one body"):
         Model([])
 
@@ -128,7 +128,7 @@ def test_control_point_named_like_a_body_is_refused():
     (lambda b: Model([b], settings=[1]), r"settings: expected a mapping"),
     (lambda b: Model([b], excitations=5), r"excitations: expected a sequence"),
     (lambda b: Model([b], control_points=[ControlPoint("p", ["b"], [0, 0, 0])]), r"body must be a body name"),
-    (lambda b: Model([b], loads=[Load(["b"])]), r"body must be a body name"),
+    (lambda b: Model([b], loads=[Load("l", body=["b"])]), r"body must be a body name"),
     (lambda b: symmetric(Mount("m", T, "b"), ["xz"]), r"unknown symmetry"),
 ])
 def test_malformed_arguments_are_model_errors(call, pattern):
@@ -174,3 +174,73 @@ def test_names_that_would_make_signals_ambiguous_are_refused(make, match):
     points made signals unreachable or gave an input and an output the same name."""
     with pytest.raises(ModelError, match=match):
         make(MountType("t", [1e4, 1e4, 1e4]))
+
+
+def _load_fields(load):
+    return (load.name, load.body, load.force.tolist(), load.moment.tolist(),
+            None if load.at is None else load.at.tolist(), load.frame, load.case)
+
+
+def test_load_takes_its_name_first_and_the_old_order_warns():
+    """Issue 16: Load(name, body, ...) as Body and Mount; the old Load(body, force, ..., name=...) gives
+    the same load with a DeprecationWarning that spells the new call."""
+    import warnings
+
+    new = Load("pump", "frame", [0.0, 0.0, -120.0], [1.0, 0.0, 0.0], [0.1, 0.0, 0.0], "global", "run")
+    assert _load_fields(new) == ("pump", "frame", [0.0, 0.0, -120.0], [1.0, 0.0, 0.0], [0.1, 0.0, 0.0], "global", "run")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")                                   # the new spellings never warn
+        assert _load_fields(Load("pump", body="frame", force=[0, 0, -120.0], moment=[1, 0, 0], at=[0.1, 0, 0],
+                                 frame="global", case="run")) == _load_fields(new)
+        assert _load_fields(Load(body="frame", name="pump", force=[0, 0, -120.0], moment=[1, 0, 0],
+                                 at=[0.1, 0, 0], frame="global", case="run")) == _load_fields(new)
+    olds = [lambda: Load("frame", [0, 0, -120.0], [1, 0, 0], [0.1, 0, 0], "global", "pump", "run"),
+            lambda: Load("frame", force=[0, 0, -120.0], moment=[1, 0, 0], at=[0.1, 0, 0], frame="global",
+                         name="pump", case="run")]
+    for make in olds:
+        with pytest.warns(DeprecationWarning, match=r"name comes first.*Load\('pump', 'frame', force=\.\.\.\)"):
+            assert _load_fields(make()) == _load_fields(new)
+    with pytest.warns(DeprecationWarning):
+        assert Load("frame").body == "frame" and Load("frame").name == ""  # one positional: the body
+    with pytest.raises(ModelError, match="body: missing"):
+        Load(name="pump")
+    with pytest.raises(ModelError, match="name given twice"):
+        Load("pump", "frame", name="other")
+    with pytest.raises(ModelError, match="unknown argument"):
+        Load("pump", "frame", forces=[0, 0, 1])
+
+
+def test_files_read_loads_without_a_warning():
+    """The file reader builds loads itself: a model file with [[load]] never shows the deprecation."""
+    import warnings
+
+    import vibss
+
+    text = ('[[body]]\nname = "b"\nmass = 1.0\ninertia = [1, 1, 1]\n[[mount_type]]\nname = "t"\n'
+            'stiffness = [1e4, 1e4, 1e4]\n[[mount]]\nname = "m"\ntype = "t"\nbody = "b"\n'
+            '[[load]]\nname = "w"\nbody = "b"\nforce = [0, 0, -10]\n')
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", DeprecationWarning)
+        (load,) = vibss.loads_model(text).loads
+    assert _load_fields(load)[:3] == ("w", "b", [0.0, 0.0, -10.0])
+
+
+def test_table_takes_the_file_spelling_and_the_old_one():
+    """Table(time=, value=) as in files; times=/values= (and positions) give the same table; the file
+    reader gives it too."""
+    from vibss import Table
+
+    t, v = [0.0, 0.5, 2.0], [0.0, 4.0, 1.0]
+    tables = [Table(time=t, value=v), Table(times=t, values=v), Table(t, v), Table(t, values=v)]
+    probe = np.linspace(-1.0, 3.0, 17)
+    expected = np.interp(probe, t, v, left=0.0, right=0.0)              # linear interpolation, zero outside
+    for tab in tables:
+        assert tab.times.tolist() == t and tab.values.tolist() == v
+        assert np.allclose(tab.value(probe), expected)
+    from vibss.model.excitation import function_from_dict
+
+    assert function_from_dict({"type": "table", "time": t, "value": v}).values.tolist() == v
+    with pytest.raises(ModelError, match="time: given twice"):
+        Table(time=t, times=t, value=v)
+    with pytest.raises(ModelError, match="value: missing"):
+        Table(time=t)

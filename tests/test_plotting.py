@@ -105,3 +105,50 @@ def test_gif_written(prism_modes, tmp_path):
 
 def test_modes_plot_method(prism_modes):
     assert len(prism_modes.plot(which=[0]).axes) == 1
+
+
+def test_springs_are_drawn_along_the_stiffest_local_axis():
+    """Issue 16: the torque strut (stiff along its rod, local axis 1 = global y) was drawn vertical.
+    Each spring symbol is parallel to the local axis with the largest stiffness, pointing up."""
+    model = vibss.load_example("powertrain")
+    scene = Scene.of(model)
+    for k, m in enumerate(model.mounts):
+        t = m.orientation.matrix
+        k_axis = np.asarray(m.type.stiffness, float)[:3]
+        stiffest = [j for j in range(3) if k_axis[j] == k_axis.max()]
+        d = scene.spring_axis[k]
+        assert np.isclose(np.linalg.norm(d), 1.0)
+        assert max(abs(float(d @ t[:, j])) for j in stiffest) == pytest.approx(1.0)
+        assert d[2] >= -1e-12
+    strut = [k for k, m in enumerate(model.mounts) if m.name == "torque-strut"][0]
+    assert np.allclose(np.abs(scene.spring_axis[strut]), [0.0, 1.0, 0.0], atol=1e-9)   # along its rod
+
+
+def test_spring_direction_ties_take_the_most_vertical_axis():
+    from scipy.spatial.transform import Rotation
+
+    from vibss.plotting._scene import spring_direction
+
+    t = Rotation.from_euler("x", 30, degrees=True).as_matrix()       # axis 3 tilted 30 deg about x
+    assert np.allclose(spring_direction(t, [1e4, 1e4, 1e4]), t[:, 2])
+    assert np.allclose(spring_direction(t, [1e4, 3e4, 1e4]), -t[:, 1] if t[2, 1] < 0 else t[:, 1])
+    assert np.allclose(spring_direction(np.eye(3), [5e3, 1e3, 1e3]), [1.0, 0.0, 0.0])  # horizontal: +x
+
+
+@pytest.mark.parametrize("example, view", [("powertrain", "three"), ("powertrain", "iso"), ("two_mass", "iso"),
+                                           ("platform", "three")])
+def test_model_labels_do_not_overlap(example, view):
+    """Greedy placement: no two names overlap and every name is inside the figure."""
+    fig = plot_model(vibss.load_example(example), view=view)
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    model = vibss.load_example(example)
+    names = {b.name for b in model.bodies} | {m.name for m in model.mounts} | {c.name for c in model.control_points}
+    for ax in fig.axes:
+        boxes = [t.get_window_extent(renderer) for t in ax.texts if t.get_text() in names]
+        assert len(boxes) == len(names)
+        for i in range(len(boxes)):
+            b = boxes[i]
+            assert b.x0 >= 0 and b.y0 >= 0 and b.x1 <= fig.bbox.x1 and b.y1 <= fig.bbox.y1
+            for c in boxes[i + 1:]:
+                assert not (min(b.x1, c.x1) - max(b.x0, c.x0) > 0.5 and min(b.y1, c.y1) - max(b.y0, c.y0) > 0.5)

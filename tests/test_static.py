@@ -29,8 +29,8 @@ def test_weight_sag_on_n_identical_vertical_mounts(n_side):
 
 def test_equilibrium_and_independent_stiffness(asym):
     """Mount forces balance the loads (forces and moments), K from an independent loop agrees."""
-    loads = [Load("frame", force=[120.0, -40.0, -900.0], moment=[10.0, 0.0, -25.0], at=[0.2, 0.1, 0.0]),
-             Load("motor", force=[0.0, 300.0, -200.0], at=[0.1, -0.1, 0.2], frame="body")]
+    loads = [Load("frame load", "frame", force=[120.0, -40.0, -900.0], moment=[10.0, 0.0, -25.0], at=[0.2, 0.1, 0.0]),
+             Load("motor load", "motor", force=[0.0, 300.0, -200.0], at=[0.1, -0.1, 0.2], frame="body")]
     model = asym.replace(loads=loads, gravity=[0, 0, -9.81])
     r = static(model)
     f = assemble(model).load_vector()
@@ -44,7 +44,7 @@ def test_equilibrium_and_independent_stiffness(asym):
 
 
 def test_local_deflection_is_rotated_global(asym):
-    r = static(asym.replace(loads=[Load("motor", force=[50, 80, -400])]))
+    r = static(asym.replace(loads=[Load("m", "motor", force=[50, 80, -400])]))
     for p, m in enumerate(asym.mounts):
         np.testing.assert_allclose(m.orientation.matrix @ r.mount_deflection_local[p],
                                    r.mount_deflection[p], atol=1e-16)
@@ -62,7 +62,7 @@ def test_centre_of_rotation_closed_form():
 def test_unrestrained_direction_is_named():
     t = MountType("no-x", [0.0, 1e5, 2e5])
     m = Model([Body("engine", 100.0, [5, 5, 5])], symmetric(Mount("m", t, "engine", at=[0.5, 0.5, 0])),
-              loads=[Load("engine", force=[100.0, 0, 0])])
+              loads=[Load("e", "engine", force=[100.0, 0, 0])])
     with pytest.raises(AnalysisError, match=r"body 'engine' is free to move in x"):
         static(m)
 
@@ -70,11 +70,11 @@ def test_unrestrained_direction_is_named():
 def test_unconnected_body_is_named():
     t = MountType("t", [1e5, 1e5, 2e5])
     m = Model([Body("a", 100.0, [5, 5, 5]), Body("loose", 1.0, [1, 1, 1])],
-              symmetric(Mount("m", t, "a", at=[0.5, 0.5, 0])), loads=[Load("loose", force=[0, 0, -10])])
+              symmetric(Mount("m", t, "a", at=[0.5, 0.5, 0])), loads=[Load("l", "loose", force=[0, 0, -10])])
     with pytest.raises(AnalysisError, match=r"body 'loose' is free to move in z"):
         static(m)
     # loading only the restrained body works and lists the free motions
-    ok = static(m.replace(loads=[Load("a", force=[0, 0, -10])]))
+    ok = static(m.replace(loads=[Load("w", "a", force=[0, 0, -10])]))
     assert len(ok.free_motions) == 6 and ok.body("a")[2] == pytest.approx(-10 / 8e5)
 
 
@@ -94,16 +94,16 @@ def test_prescribed_body_dof(prism):
 
 
 def test_json(asym):
-    d = static(asym.replace(loads=[Load("motor", force=[0, 0, -100])])).to_dict()
+    d = static(asym.replace(loads=[Load("m", "motor", force=[0, 0, -100])])).to_dict()
     assert set(d["bodies"]) == {"frame", "motor"}
     assert len(d["mounts"]) == 7 and len(d["mounts"][0]["deflection_local"]) == 3
 
 
 def test_load_cases_are_alternatives_not_a_sum(prism):
     """Unnamed loads always apply; each named case adds its own; several cases need a choice."""
-    base = Load("prism", force=[0, 0, -1000.0])
-    idle = Load("prism", force=[100.0, 0, 0], case="idle")
-    full = Load("prism", force=[0, 400.0, 0], case="full")
+    base = Load("base", "prism", force=[0, 0, -1000.0])
+    idle = Load("idle", "prism", force=[100.0, 0, 0], case="idle")
+    full = Load("full", "prism", force=[0, 400.0, 0], case="full")
     m = prism.replace(loads=[base, idle, full])
     with pytest.raises(AnalysisError, match=r"load cases \['idle', 'full'\]"):
         static(m)

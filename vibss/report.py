@@ -398,7 +398,7 @@ def _function_parameters(d: dict[str, Any], unit: str) -> str:
 
 
 def _bode(r: Any, name: str, title: str = "") -> tuple[str, Any]:
-    from .plotting._draw import new_figure, plain_frequency_axis
+    from .plotting._draw import new_figure
 
     fig = new_figure(8.0, 6.0)
     axes = fig.subplots(2, 1, sharex=True)
@@ -407,10 +407,6 @@ def _bode(r: Any, name: str, title: str = "") -> tuple[str, Any]:
         kind = {"receptance": "displacement", "mobility": "velocity", "accelerance": "acceleration"}.get(r.quantity, r.quantity)
         units = sorted(set(r.units))
         axes[0].set_ylabel(f"{kind} amplitude" + (f" [{units[0]}]" if len(units) == 1 else " (units in the legend)"))
-        live = np.flatnonzero(np.any(np.abs(r.response[:, 0, :]) > 0, axis=0) & (r.frequency_hz > 0))
-        if live.size > 1:
-            axes[1].set_xlim(r.frequency_hz[live[0]], r.frequency_hz[live[-1]])
-            plain_frequency_axis(axes[1])
         axes[0].set_title(title or f"{r.name}: steady-state {kind} amplitude (method {r.method})", fontsize=10)
     else:
         axes[0].set_title(title or f"{r.name}: {r.quantity} from {', '.join(r.inputs)} (method {r.method})",

@@ -44,6 +44,7 @@ from .methods import choose, resolve_method
 from ..model.model import Model
 from ..linear.plant import Plant
 from ..linear.signals import build_plant, control_name
+from ..linear.directions import dof_labels, energy_fractions
 from ..linear.eigen import ModalBasis, modal_basis
 from ..linear.projection import projected_damping
 from ..results import Result, Table, jsonable, require_pandas
@@ -192,6 +193,12 @@ class FrequencyResponse(Result):
     input_units : tuple of str
         SI unit of each input (``"N"``, ``"m/s^2"`` ...); empty for a sweep (its amplitudes are
         already in the outputs' units). :meth:`channel_unit` combines the two.
+    mode_numbers : tuple of int
+        Number of the mode at each of ``natural_hz``, counted from 1 over all modes (rigid ones
+        included) as in :func:`vibss.modes`; empty when unknown (a reduced or sparse plant).
+    mode_labels : tuple of str
+        Label of each of those modes as :attr:`vibss.modal.Modes.labels` (``"tank.y"`` on
+        multi-body models, ``"y"`` on one body); the plots number the resonances with them.
     """
 
     frequency_hz: np.ndarray
@@ -205,10 +212,20 @@ class FrequencyResponse(Result):
     natural_hz: np.ndarray = field(default_factory=lambda: np.zeros(0))
     name: str = "vibss"
     input_units: tuple[str, ...] = ()
+    mode_numbers: tuple[int, ...] = ()
+    mode_labels: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         for key in ("frequency_hz", "response", "natural_hz"):
             object.__setattr__(self, key, np.asarray(getattr(self, key)))
+        object.__setattr__(self, "mode_numbers", tuple(int(k) for k in self.mode_numbers))
+        object.__setattr__(self, "mode_labels", tuple(str(x) for x in self.mode_labels))
+        if self.mode_numbers and len(self.mode_numbers) != len(self.natural_hz):
+            raise ModelError(f"mode_numbers: {len(self.mode_numbers)} numbers for {len(self.natural_hz)} "
+                             "natural frequencies; give one per frequency or none")
+        if self.mode_labels and len(self.mode_labels) != len(self.mode_numbers):
+            raise ModelError(f"mode_labels: {len(self.mode_labels)} labels for {len(self.mode_numbers)} "
+                             "mode numbers; give one per mode or none")
         super().__post_init__()
 
     @property
@@ -564,6 +581,23 @@ def frequency_response(system: Model | Assembly | Plant, inputs: Sequence[Any] |
     if np.any(~pos):
         h[:, :, ~pos] = zero_frequency_limit(plant, power=k)[:, :, None]
     units = _units(plant, quantity)
-    fr = np.zeros(0) if basis is None else basis.omega[~basis.rigid] / (2 * np.pi)
+    fr, numbers, labels = _resonances(plant, basis, float(f.min()), float(f.max()))
     return FrequencyResponse(f, h, plant.outputs, plant.inputs, units, quantity, chosen.name, reason,
-                             fr[(fr >= f.min()) & (fr <= f.max())], plant.name, _input_units(plant))
+                             fr, plant.name, _input_units(plant), numbers, labels)
+
+
+def _resonances(plant: Plant, basis: ModalBasis | None, lo: float,
+                hi: float) -> tuple[np.ndarray, tuple[int, ...], tuple[str, ...]]:
+    """Undamped natural frequencies [Hz] in ``[lo, hi]``, their mode numbers (from 1, rigid modes
+    counted, as :func:`vibss.modes`) and labels (``"tank.y"``); no numbers when the plant's DOFs are
+    not body DOFs (a modal plant)."""
+    if basis is None:
+        return np.zeros(0), (), ()
+    fr = basis.omega / (2 * np.pi)
+    keep = ~basis.rigid & (fr >= lo) & (fr <= hi)
+    if not keep.any():
+        return np.zeros(0), (), ()
+    labels = dof_labels(energy_fractions(basis.phi[:, keep], plant.M), plant.dofs)
+    if not all(labels):
+        return fr[keep], (), ()
+    return fr[keep], tuple(int(k) + 1 for k in np.flatnonzero(keep)), tuple(labels)

@@ -82,7 +82,8 @@ def transmissibility(system: Any, inputs: Sequence[str], outputs: Sequence[str] 
             raise ModelError(f"outputs: force transmissibility needs force outputs, got units {list(plant.units)}")
     r = frequency_response(plant, frequencies=frequencies, method=method)
     return FrequencyResponse(r.frequency_hz, r.response, r.outputs, r.inputs, r.units, "transmissibility",
-                             r.method, r.reason, r.natural_hz, r.name, r.input_units)
+                             r.method, r.reason, r.natural_hz, r.name, r.input_units, r.mode_numbers,
+                             r.mode_labels)
 
 
 def _order(name: str, unit: str | None) -> int | None:
@@ -250,4 +251,4 @@ def sweep_response(system: Model | Assembly, excitations: Sequence[Any] | None =
     terms = np.where(a[None, :, :] == 0, 0.0, terms)       # inf * 0 outside a sweep band -> 0
     y = terms.sum(axis=1, keepdims=True)
     return FrequencyResponse(f, y, r.outputs, ("sweep",), r.units, quantity, r.method, r.reason,
-                             r.natural_hz, r.name)
+                             r.natural_hz, r.name, mode_numbers=r.mode_numbers, mode_labels=r.mode_labels)

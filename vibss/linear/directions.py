@@ -18,7 +18,7 @@ from ..model.model import DOF_NAMES
 from .eigen import symmetric_eigen
 
 __all__ = ["energy_fractions", "direction_shares", "dominant_direction", "align_cluster",
-           "cluster_slices", "describe_motion"]
+           "cluster_slices", "describe_motion", "dof_labels"]
 
 # Distinct, well-separated weights: one per (body, DOF) pair, used to split repeated modes.
 _GOLDEN = 0.6180339887498949
@@ -53,6 +53,44 @@ def direction_shares(fractions: np.ndarray) -> np.ndarray:
 def dominant_direction(fractions: np.ndarray) -> list[str]:
     """DOF name holding the largest summed energy share, per shape (rows of ``fractions``)."""
     return [DOF_NAMES[i] for i in np.argmax(direction_shares(fractions), axis=1)]
+
+
+def dof_labels(fractions: np.ndarray, dofs: Sequence[str]) -> list[str]:
+    """Mode labels from energy fractions over named DOFs (``'<body>.<dof>'``), as
+    :attr:`vibss.modal.Modes.labels` gives them: the direction (x y z rx ry rz) with the largest
+    summed kinetic-energy share, prefixed with the body holding most of it when the DOFs belong
+    to more than one body (``"tank.y"``; one body: ``"y"``).
+
+    Works on any subset of DOFs (a plant whose prescribed DOFs were dropped); DOFs whose name
+    does not end in a direction are ignored.
+
+    Parameters
+    ----------
+    fractions : (k, n) ndarray
+        Kinetic-energy fraction per DOF of each mode (:func:`energy_fractions`).
+    dofs : sequence of str
+        The n DOF names.
+
+    Returns
+    -------
+    list of str
+        One label per mode ("" when no DOF carries a direction).
+    """
+    split = [d.rsplit(".", 1) for d in dofs]
+    bodies = list(dict.fromkeys(p[0] for p in split if len(p) == 2 and p[1] in DOF_NAMES))
+    e = np.abs(np.asarray(fractions, dtype=float))
+    table = np.zeros((e.shape[0], max(len(bodies), 1), 6))
+    for j, p in enumerate(split):
+        if len(p) == 2 and p[1] in DOF_NAMES:
+            table[:, bodies.index(p[0]), DOF_NAMES.index(p[1])] += e[:, j]
+    out = []
+    for k in range(e.shape[0]):
+        if not bodies or not table[k].any():
+            out.append("")
+            continue
+        d = int(np.argmax(table[k].sum(axis=0)))
+        out.append(DOF_NAMES[d] if len(bodies) == 1 else f"{bodies[int(np.argmax(table[k, :, d]))]}.{DOF_NAMES[d]}")
+    return out
 
 
 def cluster_slices(values: np.ndarray, rtol: float, atol: float) -> list[slice]:

@@ -28,7 +28,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .._validate import is_numeric
-from ..errors import ModelError, did_you_mean
+from ..errors import ArgumentError, ModelError, did_you_mean
 from ._common import (DOF_NAMES, GROUND, _frame, _freeze, _name, _orientation, _point_name,
                       _signal_safe, _vec)
 from .geometry import Orientation
@@ -198,12 +198,25 @@ class ControlPoint:
         object.__setattr__(self, "frame", _frame(self.frame, who))
 
 
-@dataclass(frozen=True, eq=False)
+_LOAD_FIELDS = ("name", "body", "force", "moment", "at", "frame", "case")
+_LOAD_OLD_ORDER = ("body", "force", "moment", "at", "frame", "name", "case")
+_LOAD_DEFAULTS: dict[str, Any] = {"name": "", "force": (0.0, 0.0, 0.0), "moment": (0.0, 0.0, 0.0), "at": None,
+                                  "frame": "body", "case": ""}
+
+
+@dataclass(frozen=True, eq=False, init=False)
 class Load:
-    """A static force and moment on a body.
+    """A static force and moment on a body: ``Load(name, body, force=..., moment=..., at=...)``, name
+    first as for :class:`Body` and :class:`Mount` (and as ``[[load]]`` tables in model files).
+
+    The old order ``Load(body, force, ..., name=...)`` still works with a ``DeprecationWarning``
+    naming the new spelling; it is recognised unambiguously: without ``body=``, a second positional
+    argument that is not a string (a force) or a single positional argument is the old order.
 
     Parameters
     ----------
+    name : str
+        Label for reports ("" allowed).
     body : str
         The loaded body.
     force : (3,) array_like
@@ -214,20 +227,51 @@ class Load:
         Point of application of ``force`` [m] (frame as ``frame``); None: the COG.
     frame : {"body", "global"}
         How ``at`` is measured.
-    name : str
-        Label for reports.
     case : str
         Load case. Unnamed loads (``""``) always apply; a named case is one alternative set of
         loads added to them (:func:`vibss.static`'s ``case``).
+
+    Examples
+    --------
+    >>> Load("pump", "frame", force=[0.0, 0.0, -120.0]).body
+    'frame'
     """
 
+    name: str
     body: str
-    force: Any = (0.0, 0.0, 0.0)
-    moment: Any = (0.0, 0.0, 0.0)
-    at: Any = None
-    frame: str = "body"
-    name: str = ""
-    case: str = ""
+    force: Any
+    moment: Any
+    at: Any
+    frame: str
+    case: str
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        unknown = sorted(set(kwargs) - set(_LOAD_FIELDS))
+        if unknown:
+            raise ArgumentError(f"Load: unknown argument(s) {unknown}; Load takes {list(_LOAD_FIELDS)}",
+                                argument=unknown[0], received=kwargs[unknown[0]], expected=_LOAD_FIELDS)
+        if len(args) > len(_LOAD_FIELDS):
+            raise ArgumentError(f"Load: at most {len(_LOAD_FIELDS)} positional arguments "
+                                f"({', '.join(_LOAD_FIELDS)}), got {len(args)}", argument="args",
+                                received=len(args), expected=len(_LOAD_FIELDS))
+        old = bool(args) and "body" not in kwargs and not (len(args) >= 2 and isinstance(args[1], str))
+        values = dict(zip(_LOAD_OLD_ORDER if old else _LOAD_FIELDS, args))
+        twice = sorted(set(values) & set(kwargs))
+        if twice:
+            raise ArgumentError(f"Load: {twice[0]} given twice (by position and by keyword)",
+                                argument=twice[0], received=kwargs[twice[0]], expected="one value")
+        values.update(kwargs)
+        if "body" not in values:
+            raise ModelError("load: body: missing; give Load(name, body, force=[fx, fy, fz] [N])")
+        if old and not _called_from_vibss():
+            import warnings
+
+            warnings.warn(f"Load(body, force, ..., name=...) is deprecated: the name comes first, as for "
+                          f"Body and Mount: Load({values.get('name', '')!r}, {values['body']!r}, force=...)",
+                          DeprecationWarning, stacklevel=2)
+        for key in _LOAD_FIELDS:
+            object.__setattr__(self, key, values.get(key, _LOAD_DEFAULTS.get(key)))
+        self.__post_init__()
 
     def __post_init__(self) -> None:
         if not isinstance(self.body, str):
@@ -242,6 +286,29 @@ class Load:
         object.__setattr__(self, "frame", _frame(self.frame, who))
         if not isinstance(self.case, str):
             raise ModelError(f"{who}: case must be a string (a load case name), got {self.case!r}")
+
+
+def _load_signature() -> Any:
+    import inspect
+
+    P = inspect.Parameter
+    params = [P("self", P.POSITIONAL_OR_KEYWORD), P("name", P.POSITIONAL_OR_KEYWORD, annotation="str"),
+              P("body", P.POSITIONAL_OR_KEYWORD, annotation="str")]
+    params += [P(k, P.POSITIONAL_OR_KEYWORD, default=_LOAD_DEFAULTS[k], annotation=a)
+               for k, a in (("force", "Any"), ("moment", "Any"), ("at", "Any"), ("frame", "str"), ("case", "str"))]
+    return inspect.Signature(params, return_annotation="None")
+
+
+Load.__init__.__signature__ = _load_signature()  # type: ignore[attr-defined]  # the documented order
+
+
+def _called_from_vibss() -> bool:
+    """Whether Load() was called from inside the vibss package (its file reader still passes the old
+    order; users are warned, internal callers are not)."""
+    import sys
+
+    caller = sys._getframe(2).f_globals.get("__name__", "")
+    return caller == "vibss" or caller.startswith("vibss.")
 
 
 @dataclass(frozen=True, eq=False)

@@ -460,16 +460,19 @@ class SineSweep(TimeFunction):
         return math.inf if self.steady_state else self.start + self.sweep_time
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, init=False)
 class Table(TimeFunction):
-    """Tabulated values, linearly interpolated (model files: ``time = [...]``, ``value = [...]``).
+    """Tabulated values, linearly interpolated: ``Table(time=[...], value=[...])``, spelled as in model
+    files (``time = [...]``, ``value = [...]``).
 
     Parameters
     ----------
-    times : (k,) array_like
-        Strictly increasing times [s], k >= 2.
-    values : (k,) array_like
-        Values [unit of the excitation].
+    time : (k,) array_like
+        Strictly increasing times [s], k >= 2 (first positional argument; ``times=`` is accepted too,
+        and the attribute is ``times``).
+    value : (k,) array_like
+        Values [unit of the excitation] (second positional argument; ``values=`` is accepted too, and
+        the attribute is ``values``: ``value(t)`` is the method that interpolates).
     extrapolate : {"zero", "hold"}
         Outside the table: zero (default), or hold the first / last value.
     source : str
@@ -477,8 +480,10 @@ class Table(TimeFunction):
 
     Examples
     --------
-    >>> Table([0.0, 1.0, 2.0], [0.0, 10.0, 0.0]).value([0.5, 1.5, 3.0]).tolist()
+    >>> Table(time=[0.0, 1.0, 2.0], value=[0.0, 10.0, 0.0]).value([0.5, 1.5, 3.0]).tolist()
     [5.0, 5.0, 0.0]
+    >>> Table([0.0, 1.0], [0.0, 2.0]).values.tolist()
+    [0.0, 2.0]
     """
 
     type: ClassVar[str] = "table"
@@ -488,6 +493,19 @@ class Table(TimeFunction):
     values: Any
     extrapolate: str = "zero"
     source: str = field(default="", compare=False)
+
+    def __init__(self, time: Any = None, value: Any = None, extrapolate: str = "zero", source: str = "", *,
+                 times: Any = None, values: Any = None) -> None:
+        for key, a, b in (("time", time, times), ("value", value, values)):
+            if a is not None and b is not None:
+                raise ModelError(f"table function: {key}: given twice (as {key} and {key}s); give one")
+            if a is None and b is None:
+                raise ModelError(f"table function: {key}: missing; give Table(time=[...], value=[...])")
+        object.__setattr__(self, "times", times if time is None else time)
+        object.__setattr__(self, "values", values if value is None else value)
+        object.__setattr__(self, "extrapolate", extrapolate)
+        object.__setattr__(self, "source", source)
+        self.__post_init__()
 
     def __post_init__(self) -> None:
         for key, name in self.aliases.items():

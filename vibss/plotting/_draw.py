@@ -24,7 +24,7 @@ if TYPE_CHECKING:
     from mpl_toolkits.mplot3d import Axes3D
 
 __all__ = ["VIEWS", "VIEW_TITLES", "Drawing", "add_view_axes", "set_limits", "legend_handles",
-           "check_view", "body_colour"]
+           "check_view", "body_colour", "place_labels"]
 
 VIEWS = ("iso", "xz", "yz", "xy")
 VIEW_TITLES = {"iso": "isometric", "xz": "front (x-z)", "yz": "side (y-z)", "xy": "top (x-y)"}
@@ -177,7 +177,8 @@ class Drawing:
     deformed : bool
         Coloured (deformed) or grey (undeformed) style.
     labels : bool
-        Write body, mount and control-point names.
+        Collect body, mount and control-point names; :meth:`place_labels` writes them once the
+        axes limits are final.
     ground : bool or None
         Draw the ground symbols; default: with the undeformed state only.
     """
@@ -185,7 +186,9 @@ class Drawing:
     def __init__(self, ax: Axes, view: str, scene: Scene, moved: Moved, deformed: bool,
                  labels: bool = False, ground: bool | None = None) -> None:
         self.p = _Painter(ax, view)
+        self.view = view
         self.scene = scene
+        self.label_items: list[tuple[np.ndarray, str, dict[str, Any]]] = []
         self.width = 0.035 * scene.size
         model = scene.model
         self.boxes: list[Any] = []
@@ -245,13 +248,27 @@ class Drawing:
             self.p.line(np.array(segs), color="0.35", lw=0.9)
 
     def _labels(self, moved: Moved) -> None:
+        """Collect the names to write (bodies first, then control points, then mounts); they are
+        placed by :meth:`place_labels` once the axes limits are final."""
         model = self.scene.model
+        items = self.label_items
         for i, b in enumerate(model.bodies):
-            self.p.text(moved.cogs[i], f"  {b.name}", color=body_colour(i), fontsize=9, weight="bold")
-        for k, m in enumerate(model.mounts):
-            self.p.text(moved.mount_body[k], f" {m.name}", color="0.3", fontsize=7)
+            items.append((moved.cogs[i], b.name, {"color": body_colour(i), "fontsize": 9, "weight": "bold"}))
         for k, c in enumerate(model.control_points):
-            self.p.text(moved.control_points[k], f" {c.name}", color="k", fontsize=7, style="italic")
+            items.append((moved.control_points[k], c.name, {"color": "k", "fontsize": 7, "style": "italic"}))
+        for k, m in enumerate(model.mounts):
+            items.append((moved.mount_body[k], m.name, {"color": "0.3", "fontsize": 7}))
+
+    def place_labels(self, avoid: Sequence[np.ndarray] = ()) -> list[Any]:
+        """Write the collected names beside their points without overlapping each other, the
+        points, the springs or the points in ``avoid`` ((k, 3) arrays [m]; greedy: the first of a
+        ring of offsets that collides with nothing placed so far, else the least-overlapping one).
+        Call after the axes limits are set. Returns the texts."""
+        sc = self.scene
+        springs = [sc.anchors + f * (sc.mount_points - sc.anchors) for f in (0.0, 0.25, 0.5, 0.75)]
+        # the ring drawn where a spring is seen end-on, and the spring's width
+        rings = [sc.mount_points + s * self.width * e for e in np.eye(3) for s in (-1.0, 1.0)]
+        return place_labels(self.p.ax, self.view, self.label_items, [*springs, *rings, *avoid])
 
     def update(self, moved: Moved) -> None:
         """Move the artists to another state of the same scene."""
@@ -266,6 +283,95 @@ class Drawing:
     def artists(self) -> list[Any]:
         """Every artist that :meth:`update` changes."""
         return self.boxes + self.cogs + [self.springs, self.ground_points, self.body_points, self.controls]
+
+
+_OFFSETS = [(dx * r, dy * r, ha, va) for r in (1.0, 2.2, 3.6)
+            for dx, dy, ha, va in ((5, 2, "left", "bottom"), (5, -2, "left", "top"), (-5, 2, "right", "bottom"),
+                                   (-5, -2, "right", "top"), (0, 6, "center", "bottom"), (0, -6, "center", "top"))]
+"""Candidate label offsets [points] from the labelled point, nearest first, with the alignment that
+keeps the text on that side."""
+
+
+def _projected(ax: Axes, view: str, pt: np.ndarray) -> tuple[float, float]:
+    """2-D data coordinates of a 3-D point in this axes (the 3-D projection for ``iso``)."""
+    p = np.reshape(np.asarray(pt, float), 3)
+    if view == "iso":
+        from mpl_toolkits.mplot3d import proj3d
+
+        x, y, _ = proj3d.proj_transform(p[0], p[1], p[2], cast("Axes3D", ax).get_proj())
+        return float(x), float(y)
+    i, j = _AXES[view]
+    return float(p[i]), float(p[j])
+
+
+def place_labels(ax: Axes, view: str, items: Sequence[tuple[np.ndarray, str, dict[str, Any]]],
+                 avoid: Sequence[np.ndarray] = ()) -> list[Any]:
+    """Write names beside 3-D points, greedily avoiding each other and the points.
+
+    Each label tries the offsets of :data:`_OFFSETS` in turn and takes the first whose box overlaps
+    no label placed before it, no labelled point and stays inside the axes; failing that, the one
+    with the least overlap. Items earlier in ``items`` are placed first.
+
+    Parameters
+    ----------
+    ax : Axes
+        The axes (3-D for ``view="iso"``), limits already set.
+    view : str
+        One of :data:`VIEWS`.
+    items : sequence of (point, text, style)
+        Point [m] (global), text and ``Axes.annotate`` keyword arguments.
+    avoid : sequence of (k, 3) ndarray
+        Further points [m] (global) the labels should not cover (spring symbols, arrow tips).
+
+    Returns
+    -------
+    list of matplotlib.text.Annotation
+    """
+    from matplotlib.transforms import Bbox
+
+    if not items:
+        return []
+    fig = cast(Figure, ax.get_figure(root=True))
+    fig.draw_without_rendering()                    # final layout, so display boxes are meaningful
+    renderer = cast(Any, fig.canvas).get_renderer()
+    frame = ax.get_window_extent(renderer)
+    xy = [_projected(ax, view, pt) for pt, _, _ in items]
+    disp = ax.transData.transform(np.array(xy))
+    points = [Bbox.from_bounds(x - 3, y - 3, 6, 6) for x, y in disp]
+    extra = np.vstack([np.reshape(a, (-1, 3)) for a in avoid]) if len(avoid) else np.zeros((0, 3))
+    if extra.size:
+        others = ax.transData.transform(np.array([_projected(ax, view, p) for p in extra]))
+        points += [Bbox.from_bounds(x - 3, y - 3, 6, 6) for x, y in others]
+
+    def overlap(a: Any, b: Any) -> float:
+        w = min(a.x1, b.x1) - max(a.x0, b.x0)
+        h = min(a.y1, b.y1) - max(a.y0, b.y0)
+        return w * h if w > 0 and h > 0 else 0.0
+
+    placed: list[Any] = []
+    out = []
+    for k, ((_, text, style), at) in enumerate(zip(items, xy)):
+        ann = ax.annotate(text, xy=at, xycoords="data", xytext=_OFFSETS[0][:2], textcoords="offset points",
+                          ha=_OFFSETS[0][2], va=_OFFSETS[0][3], annotation_clip=False, **style)
+        best, best_cost = _OFFSETS[0], np.inf
+        for cand in _OFFSETS:
+            ann.xyann = cand[:2]
+            ann.set_horizontalalignment(cast(Any, cand[2]))
+            ann.set_verticalalignment(cast(Any, cand[3]))
+            box = ann.get_window_extent(renderer)
+            inside = overlap(box, frame)
+            cost = (sum(overlap(box, b) for b in placed) + sum(overlap(box, p) for j, p in enumerate(points) if j != k)
+                    + (box.width * box.height - inside))
+            if cost < best_cost:
+                best, best_cost = cand, cost
+            if cost == 0:
+                break
+        ann.xyann = best[:2]
+        ann.set_horizontalalignment(cast(Any, best[2]))
+        ann.set_verticalalignment(cast(Any, best[3]))
+        placed.append(ann.get_window_extent(renderer))
+        out.append(ann)
+    return out
 
 
 def new_figure(width: float, height: float) -> Figure:

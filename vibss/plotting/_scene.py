@@ -10,6 +10,7 @@ the exact rotation of the small-rotation vector so that boxes stay rigid in the 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from scipy.spatial.transform import Rotation
@@ -19,7 +20,7 @@ from ..linear.eigen import symmetric_eigen
 from ..model.geometry import point_transfer
 from ..model.model import GROUND, Model
 
-__all__ = ["Scene", "box_half_sides", "BOX_EDGES", "zigzag"]
+__all__ = ["Scene", "box_half_sides", "BOX_EDGES", "zigzag", "spring_direction"]
 
 BOX_EDGES = np.array([[0, 1], [1, 3], [3, 2], [2, 0], [4, 5], [5, 7], [7, 6], [6, 4],
                       [0, 4], [1, 5], [2, 6], [3, 7]])
@@ -56,6 +57,33 @@ def box_half_sides(mass: float, moments: np.ndarray) -> np.ndarray:
     return 0.5 * np.sqrt(np.clip(sq, 0.0, None))
 
 
+def spring_direction(matrix: np.ndarray, stiffness: Any) -> np.ndarray:
+    """Unit direction [-] in which a mount's spring symbol is drawn: its stiffest local axis (a strut
+    along its rod, a compression mount along its compression axis); among equally stiff axes the
+    most nearly vertical. Pointing up (positive global z), or along the positive largest component
+    for a horizontal axis.
+
+    Parameters
+    ----------
+    matrix : (3, 3) ndarray
+        Local axes 1, 2, 3 as columns, in global coordinates.
+    stiffness : (3,) array_like
+        Stiffness along the local axes [N/m].
+
+    Returns
+    -------
+    (3,) ndarray
+    """
+    t = np.asarray(matrix, float)
+    k = np.abs(np.asarray(stiffness, float).ravel()[:3])
+    stiffest = np.flatnonzero(k >= (1 - 1e-9) * k.max()) if k.size == 3 and k.max() > 0 else np.arange(3)
+    j = int(stiffest[np.argmax(np.abs(t[2, stiffest]))])
+    d = t[:, j]
+    if abs(d[2]) > 1e-9:
+        return d * np.sign(d[2])
+    return d * (np.sign(d[int(np.argmax(np.abs(d)))]) or 1.0)
+
+
 def zigzag(a: np.ndarray, b: np.ndarray, side: np.ndarray, width: float, coils: int = 5) -> np.ndarray:
     """Points of a spring symbol from ``a`` to ``b`` (any dimension), zig-zagging along ``side``.
 
@@ -85,7 +113,8 @@ class Scene:
     anchors : (nm, 3) ndarray
         Fixed end of each ground spring's symbol [m] (the point itself for body-to-body mounts).
     spring_axis : (nm, 3) ndarray
-        Unit direction of each spring symbol (the mount's most nearly vertical local axis, upward).
+        Unit direction of each spring symbol: the mount's stiffest local axis (see
+        :func:`spring_direction`).
     control_points : (nc, 3) ndarray
         Control points [m].
     size : float
@@ -149,9 +178,7 @@ class Scene:
         anchors = mpts.copy()
         length = spring_length * size
         for p, m in enumerate(model.mounts):
-            t = m.orientation.matrix
-            j = int(np.argmax(np.abs(t[2])))
-            d = t[:, j] * (np.sign(t[2, j]) or 1.0)
+            d = spring_direction(m.orientation.matrix, m.type.stiffness)
             axis[p] = d
             if m.to == GROUND:
                 anchors[p] = mpts[p] - length * d

@@ -12,12 +12,22 @@ from .._validate import name_index
 from ..errors import ArgumentError
 from ._draw import new_figure, plain_frequency_axis
 
-__all__ = ["plot_frequency_response"]
+__all__ = ["plot_frequency_response", "mark_resonances_on"]
+
+_ROW_GAP = 0.015
+_CHAR = 0.011
+"""Gap between mode numbers in one row and the width of one character (fractions of the axis width);
+numbers that would touch go to the next row up."""
+_ROWS = 3
+_SAME = 0.004
+"""Modes closer than this (fraction of the axis width) share one tick label ("1,2,3")."""
+_KEY_MAX = 24
 
 
 def plot_frequency_response(response: Any, outputs: Sequence[str] | None = None,
                             inputs: Sequence[str] | None = None, max_channels: int = 12,
-                            mark_resonances: bool = True, ax: Any = None, by: str = "all") -> Figure:
+                            mark_resonances: bool = True, ax: Any = None, by: str = "all",
+                            key: bool = True) -> Figure:
     """Bode plot (magnitude and phase) of selected channels of a frequency response.
 
     Parameters
@@ -29,12 +39,15 @@ def plot_frequency_response(response: Any, outputs: Sequence[str] | None = None,
     max_channels : int
         Limit on the default selection.
     mark_resonances : bool
-        Dotted vertical lines at the undamped natural frequencies [Hz].
+        Dotted vertical lines at the undamped natural frequencies [Hz] in the plotted band, numbered
+        above the magnitude axes with their mode numbers (as in :func:`vibss.modes`).
     ax : (2,) sequence of matplotlib Axes or None
         Magnitude and phase axes to draw in (``by="all"`` only); default: a new figure.
     by : {"all", "body"}
         ``"all"``: every channel on one pair of axes; ``"body"``: one magnitude/phase column per
         group of outputs (the part of their name before the first ``.``).
+    key : bool
+        With ``mark_resonances``: list the numbered modes (``"3 tank.y 4.12 Hz"``) below the axes.
 
     Returns
     -------
@@ -52,7 +65,8 @@ def plot_frequency_response(response: Any, outputs: Sequence[str] | None = None,
         fig = new_figure(4.5 * len(groups) + 1, 6)
         axes = fig.subplots(2, len(groups), sharex=True, squeeze=False)
         for col, (group, outs_g) in enumerate(groups.items()):
-            plot_frequency_response(r, outs_g, inputs, max_channels, mark_resonances, ax=axes[:, col])
+            plot_frequency_response(r, outs_g, inputs, max_channels, mark_resonances, ax=axes[:, col],
+                                    key=mark_resonances and col == len(groups) - 1)
             axes[0, col].set_title(group)
         fig.suptitle(f"{r.name}: method {r.method}")
         return fig
@@ -79,10 +93,12 @@ def plot_frequency_response(response: Any, outputs: Sequence[str] | None = None,
             label += f" [{r.channel_unit(i, j)}]"
         ax[0].loglog(f[pos], mag[i, j, pos], label=label)
         ax[1].semilogx(f[pos], phase[i, j, pos])
+    if tuple(r.inputs) == ("sweep",):   # a sweep's amplitudes: only the swept band
+        live = np.flatnonzero(np.any(np.abs(r.response[:, 0, :]) > 0, axis=0) & pos)
+        if live.size > 1:
+            ax[1].set_xlim(f[live[0]], f[live[-1]])
     if mark_resonances:
-        for fr in r.natural_hz:
-            for a in ax:
-                a.axvline(fr, color="0.6", lw=0.6, ls=":")
+        mark_resonances_on(ax[0], list(ax), r, key=key)
     what = "amplitude" if r.quantity == "sweep" else r.quantity
     ax[0].set_ylabel(f"|{'y' if r.quantity == 'sweep' else 'H'}| [{units.pop()}] ({what})" if len(units) == 1
                      else f"|H| ({what}; units in the legend)")
@@ -92,6 +108,96 @@ def plot_frequency_response(response: Any, outputs: Sequence[str] | None = None,
     ax[0].set_title(f"{r.name}: method {r.method}")
     ax[0].legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     return fig
+
+
+def mark_resonances_on(top: Any, axes: Sequence[Any], response: Any, key: bool = True) -> list[str]:
+    """Mark the undamped natural frequencies of a response inside its axes' band.
+
+    Dotted vertical lines on every axes; the mode numbers on a secondary axis above ``top``
+    (staggered in up to three rows where they would touch); with ``key``, a figure legend below the
+    axes lists ``"<number> <label> <f> Hz"`` (labels as :attr:`vibss.modal.Modes.labels`). A
+    response without mode numbers gets the lines only.
+
+    Parameters
+    ----------
+    top : matplotlib Axes
+        Axes that carries the numbers (a logarithmic or linear frequency axis [Hz]).
+    axes : sequence of matplotlib Axes
+        Axes that get the dotted lines (``top`` included if it should have them).
+    response : FrequencyResponse
+        Its ``natural_hz`` [Hz], ``mode_numbers`` and ``mode_labels``.
+    key : bool
+        Add the figure legend of the numbered modes (only in a constrained-layout figure).
+
+    Returns
+    -------
+    list of str
+        The key entries, in frequency order.
+    """
+    lo, hi = sorted(top.get_xlim())
+    fr = np.asarray(response.natural_hz, dtype=float)
+    inside = np.flatnonzero((fr >= lo) & (fr <= hi))
+    for k in inside:
+        for a in axes:
+            a.axvline(fr[k], color="0.6", lw=0.6, ls=":")
+    numbers = tuple(getattr(response, "mode_numbers", ()))
+    if not numbers or not inside.size:
+        return []
+    labels = tuple(getattr(response, "mode_labels", ())) or ("",) * len(numbers)
+    log = top.get_xscale() == "log"
+    pos = (np.log10(fr[inside]) - np.log10(lo)) / (np.log10(hi) - np.log10(lo)) if log else \
+        (fr[inside] - lo) / (hi - lo)
+    # modes at (nearly) one frequency share a tick: "1,2,3"
+    groups: list[list[int]] = []
+    for j in np.argsort(pos, kind="stable"):
+        if groups and pos[j] - pos[groups[-1][-1]] < _SAME:
+            groups[-1].append(int(j))
+        else:
+            groups.append([int(j)])
+    at = np.array([fr[inside[g[0]]] for g in groups])
+    names = [",".join(str(numbers[inside[j]]) for j in g) for g in groups]
+    rows = _stagger(np.array([pos[g[0]] for g in groups]), np.array([len(n) for n in names]))
+    text = [n + "\n" * int(r) for n, r in zip(names, rows)]
+    sec = top.secondary_xaxis("top")
+    from matplotlib.ticker import FixedLocator, NullLocator
+
+    sec.xaxis.set_major_locator(FixedLocator(at.tolist()))
+    sec.xaxis.set_minor_locator(NullLocator())
+
+    def number_at(v: float, _: Any = None) -> str:
+        j = int(np.argmin(np.abs(at - v)))
+        return text[j] if np.isclose(at[j], v, rtol=1e-9) else ""
+
+    sec.xaxis.set_major_formatter(number_at)
+    sec.tick_params(axis="x", labelsize=7, length=3, pad=1, colors="0.3")
+    entries = [f"{numbers[k]} {labels[k]} {fr[k]:.3g} Hz".replace("  ", " ") for k in inside]
+    fig = top.figure
+    engine = fig.get_layout_engine()
+    if key and engine is not None and type(engine).__name__ == "ConstrainedLayoutEngine":
+        from matplotlib.lines import Line2D
+
+        shown = entries if len(entries) <= _KEY_MAX else entries[:_KEY_MAX - 1] + [f"... {len(entries) - _KEY_MAX + 1} more"]
+        handles = [Line2D([], [], ls="none") for _ in shown]
+        fig.legend(handles, shown, loc="outside lower center", ncols=min(len(shown), 4), fontsize=7,
+                   handlelength=0, handletextpad=0, columnspacing=1.6, frameon=False,
+                   title="numbered resonances (undamped natural frequencies, mode numbers as in the modes table)",
+                   title_fontsize=7)
+    return entries
+
+
+def _stagger(pos: np.ndarray, chars: np.ndarray) -> np.ndarray:
+    """Row (0, 1, 2) of each label at sorted positions ``pos`` (fractions of the axis width) with
+    ``chars`` characters: the lowest row where it clears its left neighbour (half widths plus a
+    gap), else the row whose last label is furthest left."""
+    last = np.full(_ROWS, -np.inf)
+    width = np.zeros(_ROWS)
+    rows = np.zeros(len(pos), dtype=int)
+    for k in np.argsort(pos, kind="stable"):
+        need = _CHAR * 0.5 * (width + chars[k]) + _ROW_GAP
+        free = np.flatnonzero(pos[k] - last >= need)
+        r = int(free[0]) if free.size else int(np.argmin(last))
+        rows[k], last[r], width[r] = r, pos[k], chars[k]
+    return rows
 
 
 def plot_transmissibility_set(motion: Any, force: Any, bodies: Any) -> Any:
@@ -123,13 +229,12 @@ def plot_transmissibility_set(motion: Any, force: Any, bodies: Any) -> Any:
                 label = (f"{b}.{d} / ground.{d}" if what.startswith("motion") else f"ground.f{d} / {b}.f{d}")
                 ax.loglog(f[pos], np.abs(r.response[i, j, pos]), color=colours[d], ls=styles[k % 4], label=label)
         ax.axhline(1.0, color="0.5", lw=0.8)
-        for fr in next(iter(group.values())).natural_hz:
-            ax.axvline(fr, color="0.7", lw=0.6, ls=":")
         ax.set_ylabel("|T| [-]")
         ax.set_title(what, fontsize=9)
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     axes[1].set_xlabel("frequency [Hz]")
     plain_frequency_axis(axes[1])
-    fig.suptitle("Transmissibility (dotted: undamped natural frequencies)", fontsize=10)
+    mark_resonances_on(axes[0], list(axes), next(iter(motion.values())))
+    fig.suptitle("Transmissibility (dotted, numbered: undamped natural frequencies)", fontsize=10)
     return fig

@@ -38,7 +38,8 @@ def _axes_arrows(ax: Axes, view: str, scene: Scene, length: float) -> None:
 def plot_model(model: Model, view: str = "iso", labels: bool = True,
                axis_length: float | None = None, box: str = "auto") -> Figure:
     """Draw the model: bodies (inertia boxes at their COGs), mounts with their local axes
-    (short arrows: axis 1 red, 2 green, 3 blue), and control points (triangles).
+    (short arrows: axis 1 red, 2 green, 3 blue) and a spring along each mount's stiffest axis,
+    and control points (triangles); names placed so they do not overlap.
 
     Parameters
     ----------
@@ -76,9 +77,10 @@ def plot_model(model: Model, view: str = "iso", labels: bool = True,
         fig = new_figure(6.4, 5.8)
     grid = fig.add_gridspec(1, len(views))
     rest = scene.moved(np.zeros(model.n_dof))
+    drawings: list[Drawing] = []
     for j, v in enumerate(views):
         ax = add_view_axes(fig, grid[0, j], v)
-        Drawing(ax, v, scene, rest, deformed=True, labels=labels, ground=True)
+        drawings.append(Drawing(ax, v, scene, rest, deformed=True, labels=labels, ground=True))
         _axes_arrows(ax, v, scene, length)
         tips = [scene.mount_points[k] + length * m.orientation.matrix.T
                 for k, m in enumerate(model.mounts)]
@@ -92,4 +94,8 @@ def plot_model(model: Model, view: str = "iso", labels: bool = True,
     # a single panel is half as wide: two legend rows instead of one clipped row
     fig.legend(handles=handles, loc="outside lower center", ncols=min(len(handles), 7 if len(views) > 1 else 4),
                fontsize=8, frameon=False)
+    tips = [scene.mount_points[k] + f * length * m.orientation.matrix.T
+            for k, m in enumerate(model.mounts) for f in (0.25, 0.5, 0.75, 1.0)]
+    for d in drawings:          # names last: their places depend on the final layout
+        d.place_labels(avoid=tips)
     return fig

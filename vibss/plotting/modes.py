@@ -86,8 +86,8 @@ def plot_modes(modes: Modes, which: int | Sequence[int] | None = None, view: str
 
     Each body is drawn as the uniform box with its mass and principal moments of inertia, at its
     centre of gravity; ground mounts as springs from a fixed ground symbol to the attachment point
-    along the mount's most nearly vertical local axis; body-to-body mounts as a line showing their
-    stretch; control points as triangles.
+    along the mount's stiffest local axis (the most nearly vertical of equally stiff ones);
+    body-to-body mounts as a line showing their stretch; control points as triangles.
 
     Parameters
     ----------

@@ -348,7 +348,24 @@ def krylov(p: Plant, band: tuple[float, float], tol: float, n_shifts: int = N_SH
     Returns
     -------
     KrylovBasis
+
+    Raises
+    ------
+    AnalysisError
+        The inputs force nothing, a shift stays singular, or a factorisation, solve or small
+        eigen-problem fails numerically (never a bare ``LinAlgError``).
     """
+    try:
+        return _krylov(p, band, tol, n_shifts, moments, two_sided, max_rounds)
+    except (np.linalg.LinAlgError, FloatingPointError) as exc:
+        raise AnalysisError(f"krylov: a linear-algebra step failed ({type(exc).__name__}: {exc}) while "
+                            f"building the basis for the band {band[0] / (2 * np.pi):.4g} to "
+                            f"{band[1] / (2 * np.pi):.4g} Hz; try method 'modal' or a wider tolerance") from exc
+
+
+def _krylov(p: Plant, band: tuple[float, float], tol: float, n_shifts: int, moments: int,
+            two_sided: bool | None, max_rounds: int) -> KrylovBasis:
+    """:func:`krylov` itself (the wrapper turns numerical failures into an AnalysisError)."""
     t_start = time.perf_counter()
     timings = {"shift_lu_s": 0.0, "basis_s": 0.0, "project_s": 0.0, "check_s": 0.0}
     w1, w2 = float(band[0]), float(band[1])
