@@ -244,10 +244,10 @@ def _load(e: Entry, i: int, bodies: Sequence[str], cases: dict[str, list[str]]) 
     case = e.string("case", "")
     cases.setdefault(case or "default", []).append(name)
     try:
-        return Load(_reference(e, "body", bodies), e.array("force", [(3,)], "force", np.zeros(3)),
-                    e.array("moment", [(3,)], "moment", np.zeros(3)),
-                    e.array("at", [(3,)], "length", None), e.string("frame", "body", ("body", "global")),
-                    name, case)
+        return Load(name, _reference(e, "body", bodies), force=e.array("force", [(3,)], "force", np.zeros(3)),
+                    moment=e.array("moment", [(3,)], "moment", np.zeros(3)),
+                    at=e.array("at", [(3,)], "length", None), frame=e.string("frame", "body", ("body", "global")),
+                    case=case)
     except ModelError as exc:
         raise _wrap(e, exc) from None
 

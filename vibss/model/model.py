@@ -263,7 +263,7 @@ class Load:
         values.update(kwargs)
         if "body" not in values:
             raise ModelError("load: body: missing; give Load(name, body, force=[fx, fy, fz] [N])")
-        if old and not _called_from_vibss():
+        if old:
             import warnings
 
             warnings.warn(f"Load(body, force, ..., name=...) is deprecated: the name comes first, as for "
@@ -300,15 +300,6 @@ def _load_signature() -> Any:
 
 
 Load.__init__.__signature__ = _load_signature()  # type: ignore[attr-defined]  # the documented order
-
-
-def _called_from_vibss() -> bool:
-    """Whether Load() was called from inside the vibss package (its file reader still passes the old
-    order; users are warned, internal callers are not)."""
-    import sys
-
-    caller = sys._getframe(2).f_globals.get("__name__", "")
-    return caller == "vibss" or caller.startswith("vibss.")
 
 
 @dataclass(frozen=True, eq=False)
