@@ -10,7 +10,10 @@ internal coordinate ``u_i``, the dashpot's stroke:
     on the DOFs       M q'' + C q' + K q = F u - (Kz z + Cz z' + Mz z'') - B^T f
     on the outputs    y += O f
 
-so ``f_i = k_i tau_i s / (1 + tau_i s) delta_i`` in the frequency domain. :class:`Branches` holds
+so ``f_i = k_i tau_i s / (1 + tau_i s) delta_i`` in the frequency domain. A hydraulic mount's branch
+(:class:`~vibss.model.rheology.Hydraulic`) gives its coordinate a mass, ``mu_i u_i'' + tau_i u_i' +
+u_i = delta_i`` with ``mu_i = m_i / k_i``: ``f_i = k_i P_i / (1 + P_i) delta_i``, ``P_i = mu_i s^2 +
+tau_i s`` (two states in the time domain: ``u_i`` and its rate). :class:`Branches` holds
 ``B, Bz, O, k, tau`` of a plant (a field of :class:`~vibss.linear.plant.Plant`); every analysis
 takes the same ladder:
 
@@ -68,6 +71,8 @@ class Branches:
         Output per unit branch force [output unit / N].
     fit_error : float
         Largest relative error of a fitted ladder over its band (0: every ladder exact).
+    mu : (r,) ndarray or None
+        Branch mass per unit stiffness [s^2] (hydraulic mounts; None: zeros, Maxwell branches).
     """
 
     labels: tuple[str, ...]
@@ -78,6 +83,16 @@ class Branches:
     Bz: np.ndarray
     O: np.ndarray
     fit_error: float = 0.0
+    mu: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        if self.mu is None:
+            object.__setattr__(self, "mu", np.zeros(len(self.labels)))
+
+    @property
+    def inertial(self) -> np.ndarray:
+        """(r,) bool: branches whose coordinate has mass (two states each in the time domain)."""
+        return np.asarray(self.mu) > 0
 
     @property
     def r(self) -> int:
@@ -85,8 +100,9 @@ class Branches:
         return len(self.labels)
 
     def dynamic(self, s: np.ndarray) -> np.ndarray:
-        """(nf, r) branch stiffness ``k tau s / (1 + tau s)`` at Laplace values ``s`` [N/m]."""
-        st = np.asarray(s, dtype=complex)[:, None] * self.tau[None]
+        """(nf, r) branch stiffness ``k P / (1 + P)``, ``P = mu s^2 + tau s``, at Laplace values ``s`` [N/m]."""
+        sv = np.asarray(s, dtype=complex)[:, None]
+        st = sv * sv * np.asarray(self.mu)[None] + sv * self.tau[None]
         return self.k[None] * st / (1.0 + st)
 
     def select(self, inputs: list[int] | None, outputs: list[int] | None) -> Branches:
@@ -106,7 +122,10 @@ class Branches:
         """One sentence for a result's note."""
         fit = (f"; fitted ladders within {self.fit_error:.2g} of the rheology over their bands"
                if self.fit_error else " (exact ladders)")
-        return f"frequency-dependent mounts {list(self.mounts)}: {self.r} internal Maxwell states{fit}"
+        n2 = int(np.count_nonzero(self.inertial))
+        kinds = f"{self.r - n2} internal Maxwell states" + (f" and {n2} fluid-track coordinates (two states each)"
+                                                             if n2 else "")
+        return f"frequency-dependent mounts {list(self.mounts)}: {kinds}{fit}"
 
 
 def build_branches(model: Any, deflection: Any, free: np.ndarray, motion: np.ndarray,
@@ -134,6 +153,7 @@ def build_branches(model: Any, deflection: Any, free: np.ndarray, motion: np.nda
     names: list[str] = []
     k: list[float] = []
     tau: list[float] = []
+    mu: list[float] = []
     rows: list[tuple[int, np.ndarray]] = []
     fit = 0.0
     for p, mount in enumerate(model.mounts):
@@ -149,6 +169,7 @@ def build_branches(model: Any, deflection: Any, free: np.ndarray, motion: np.nda
                 labels.append(f"mount.{mount.name}.{j + 1}.b{count + 1}")
                 k.append(float(lad.k[j, i]))
                 tau.append(float(lad.tau[j, i]))
+                mu.append(float(np.asarray(lad.mu)[j, i]))
                 rows.append((p, axes[:, j]))
     if not labels:
         return None
@@ -158,7 +179,7 @@ def build_branches(model: Any, deflection: Any, free: np.ndarray, motion: np.nda
         else np.zeros((0, len(rows)))
     return Branches(labels=tuple(labels), mounts=tuple(names), k=np.array(k), tau=np.array(tau),
                     B=full[:, free], Bz=full @ motion, O=o.reshape(force_rows.shape[0], len(rows)),
-                    fit_error=fit)
+                    fit_error=fit, mu=np.array(mu))
 
 
 def require_none(plant: Any, where: str, instead: str) -> None:
@@ -185,8 +206,9 @@ def require_none(plant: Any, where: str, instead: str) -> None:
 
 @dataclass(frozen=True, eq=False)
 class Group:
-    """The branches of one relaxation time ``tau``, condensed: they add ``g(s) = tau s / (1 + tau s)``
-    times these matrices to the dynamic stiffness, the input coupling and the outputs.
+    """The branches of one relaxation time ``tau`` (and mass ratio ``mu``), condensed: they add
+    ``g(s) = P / (1 + P)``, ``P = mu s^2 + tau s``, times these matrices to the dynamic stiffness,
+    the input coupling and the outputs.
 
     Attributes
     ----------
@@ -200,6 +222,8 @@ class Group:
         ``O diag(k) B``.
     Pz : (p, m) ndarray
         ``O diag(k) Bz``.
+    mu : float
+        Branch mass per unit stiffness [s^2] (0: Maxwell).
     """
 
     tau: float
@@ -207,11 +231,14 @@ class Group:
     Kz: np.ndarray
     Oq: np.ndarray
     Pz: np.ndarray
+    mu: float = 0.0
 
     def factor(self, s: np.ndarray, derivative: bool = False) -> np.ndarray:
-        """``g(s) = tau s / (1 + tau s)`` (or ``dg/ds = tau / (1 + tau s)^2``) at Laplace values ``s``."""
+        """``g(s) = P / (1 + P)`` with ``P = mu s^2 + tau s`` (or ``dg/ds = (2 mu s + tau) / (1 + P)^2``)
+        at Laplace values ``s`` (``tau s / (1 + tau s)`` for a Maxwell group)."""
         s = np.asarray(s, dtype=complex)
-        return self.tau / (1 + self.tau * s) ** 2 if derivative else self.tau * s / (1 + self.tau * s)
+        p = self.mu * s * s + self.tau * s
+        return (2 * self.mu * s + self.tau) / (1 + p) ** 2 if derivative else p / (1 + p)
 
 
 def groups(plant: Any) -> list[Group]:
@@ -240,14 +267,15 @@ def groups(plant: Any) -> list[Group]:
 def _groups(plant: Any, br: Branches) -> list[Group]:
     out = []
     sparse = sp.issparse(plant.K)
-    for tau in np.unique(br.tau):
-        sel = br.tau == tau
+    mu_all = np.asarray(br.mu)
+    for tau, mu in np.unique(np.column_stack([br.tau, mu_all]), axis=0):
+        sel = (br.tau == tau) & (mu_all == mu)
         b, k = br.B[sel], br.k[sel]
         kb = b * k[:, None]
         kmat = b.T @ kb
         kmat = 0.5 * (kmat + kmat.T)
         out.append(Group(tau=float(tau), K=sp.csr_matrix(kmat) if sparse else kmat, Kz=kb.T @ br.Bz[sel],
-                         Oq=(br.O[:, sel] * k[None]) @ b, Pz=(br.O[:, sel] * k[None]) @ br.Bz[sel]))
+                         Oq=(br.O[:, sel] * k[None]) @ b, Pz=(br.O[:, sel] * k[None]) @ br.Bz[sel], mu=float(mu)))
     return out
 
 
@@ -255,7 +283,8 @@ def close(plant: Any, make: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray, np
     """State-space matrices of a plant with branches: the mechanical part closed with the ``u_i``.
 
     The :func:`mechanical` plant is realized by ``make`` (the statespace construction); then
-    ``u' = (delta - u) / tau`` closes it: states ``[x; u]``.
+    ``u' = (delta - u) / tau`` closes it (``mu u'' + tau u' + u = delta`` for a fluid-track branch):
+    states ``[x; u; u']`` (the rates of the fluid-track branches last).
 
     Parameters
     ----------
@@ -277,16 +306,29 @@ def close(plant: Any, make: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray, np
     a0, b0, c0, d0, names = make(mech)
     if np.any(d0[p:, m:]):
         raise AnalysisError("statespace: a branch deflection depends directly on a branch force")
-    inv_tau = 1.0 / br.tau
-    N = a0.shape[0]
-    A = np.zeros((N + r, N + r))
-    A[:N, :N], A[:N, N:] = a0, b0[:, m:]
-    A[N:, :N] = inv_tau[:, None] * c0[p:]
-    A[N:, N:] = -np.diag(inv_tau)
-    B = np.vstack([b0[:, :m], inv_tau[:, None] * d0[p:, :m]])
-    C = np.hstack([c0[:p], d0[:p, m:]])
+    heavy = np.flatnonzero(br.inertial)                # fluid-track branches: a rate state each
+    light = np.setdiff1d(np.arange(r), heavy)
+    N, r2 = a0.shape[0], heavy.size
+    A = np.zeros((N + r + r2, N + r + r2))
+    B = np.zeros((N + r + r2, m))
+    A[:N, :N], A[:N, N:N + r] = a0, b0[:, m:]
+    B[:N] = b0[:, :m]
+    inv_tau = 1.0 / br.tau[light]                      # tau u' + u = delta
+    A[N + light, :N] = inv_tau[:, None] * c0[p + light]
+    A[N + light, N + light] = -inv_tau
+    B[N + light] = inv_tau[:, None] * d0[p + light, :m]
+    inv_mu = 1.0 / np.asarray(br.mu)[heavy]            # mu u'' + tau u' + u = delta
+    rate = N + r + np.arange(r2)
+    A[N + heavy, rate] = 1.0
+    A[rate, :N] = inv_mu[:, None] * c0[p + heavy]
+    A[rate, N + heavy] = -inv_mu
+    A[rate, rate] = -br.tau[heavy] * inv_mu
+    B[rate] = inv_mu[:, None] * d0[p + heavy, :m]
+    C = np.hstack([c0[:p], d0[:p, m:], np.zeros((p, r2))])
     D = d0[:p, :m]
-    return A, B, C, D, list(names) + [lab.replace(".", ":") for lab in br.labels]
+    return A, B, C, D, (list(names) + [lab.replace(".", ":") for lab in br.labels]
+                        + [br.labels[i].replace(".", ":") + ":v" for i in heavy])
+
 
 def mechanical(plant: Any) -> Any:
     """The plant's mechanical part with the branches opened (computed once per plant).

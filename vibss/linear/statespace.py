@@ -376,7 +376,7 @@ def statespace(plant: Plant | Model | Assembly, realization: str = "modal", bala
             scales.append(sc)
             return a, b, c, d, names
         A, B, Cm, D, states = close(plant, make)
-        scale = np.concatenate([scales[0], np.ones(plant.branches.r)])
+        scale = np.concatenate([scales[0], np.ones(A.shape[0] - scales[0].size)])
     else:
         A, B, Cm, D, states, scale = _matrices(plant, realization, balance)
     ins = [control_name(u) for u in plant.inputs]

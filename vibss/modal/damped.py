@@ -295,8 +295,10 @@ def _with_branches(a: Assembly, und: Modes, left_out: str) -> DampedModes:
     big = shapes[np.argmax(np.abs(shapes), axis=0), np.arange(shapes.shape[1])]
     shapes = shapes / np.where(big == 0, 1.0, big)
     assert plant.branches is not None
-    note = "; ".join(x for x in (plant.branches.note() + " (their relaxation poles are real; undamped "
-                                 "modes at the static stiffness)", left_out) if x)
+    poles_say = ("relaxation poles real, fluid-track poles complex" if plant.branches.inertial.any()
+                 else "their relaxation poles are real")
+    note = "; ".join(x for x in (plant.branches.note() + f" ({poles_say}; undamped modes at the static "
+                                 "stiffness)", left_out) if x)
     return DampedModes(poles=lam, shapes=shapes, paired=paired, undamped=und,
                        method="frequency-dependent mounts: eig of the state matrix with their internal states",
                        note=note)

@@ -121,7 +121,7 @@ class MountType:
             # the ladder every analysis uses: the rheology's branches, this type's static stiffness
             # and damping (a parallel dashpot adds to a Zener or Prony rheology)
             object.__setattr__(self, "_ladder", Ladder(self.stiffness, self.damping, ladder.k, ladder.tau,
-                                                       ladder.fit_error, ladder.band))
+                                                       ladder.fit_error, ladder.band, ladder.mu))
 
     @property
     def ladder(self) -> Ladder | None:

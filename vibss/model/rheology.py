@@ -11,11 +11,13 @@ type                k*(w) per axis                                             t
 ``prony``           ``k_0 + sum_i k_i i w tau_i / (1 + i w tau_i)``            exact
 ``fractional_zener`` ``(k_0 + k_inf (i w tau)^alpha) / (1 + (i w tau)^alpha)``  fitted ladder
 ``table``           PCHIP of ``k'`` and ``eta`` against frequency              fitted ladder
+``hydraulic``       ``k_r + i w c_r + k_b P / (k_b + P)``, ``P = -m_f w^2 + i w c_f``  exact
 ==================  =========================================================  ==============
 
 Every model becomes a :class:`Ladder` -- a spring ``k_0``, a dashpot ``c`` and Maxwell branches
-(spring ``k_i`` in series with a dashpot ``k_i tau_i``) in parallel -- which is causal and passive by
-construction and is what every analysis uses (FRF, time response, damped modes and the
+(spring ``k_i`` in series with a dashpot ``k_i tau_i``) in parallel, and for a hydraulic mount a
+branch whose internal coordinate carries a mass (the fluid in the inertia track) -- which is causal
+and passive by construction and is what every analysis uses (FRF, time response, damped modes and the
 python-control system: one mount, one answer). The rational models are their own ladders; the
 others are fitted over a band (non-negative least squares on fixed relaxation times, three per
 decade), and the fit's largest relative error ``|k_fit - k*| / |k*|`` over the band is
@@ -47,7 +49,7 @@ import numpy.typing as npt
 from .._validate import is_numeric
 from ..errors import ModelError, VibssWarning
 
-__all__ = ["Rheology", "Ladder", "KelvinVoigt", "Zener", "Prony", "FractionalZener", "Table",
+__all__ = ["Rheology", "Ladder", "KelvinVoigt", "Zener", "Prony", "FractionalZener", "Table", "Hydraulic",
            "RHEOLOGIES", "QUANTITIES", "parse_rheology", "fit_ladder", "PER_DECADE", "FEW_POINTS", "FIT_WARN"]
 
 PER_DECADE = 3
@@ -64,7 +66,9 @@ _FIT_POINTS = 400
 
 @dataclass(frozen=True, eq=False)
 class Ladder:
-    """A causal, passive realization ``k*(s) = k_0 + c s + sum_i k_i tau_i s / (1 + tau_i s)``.
+    """A causal, passive realization ``k*(s) = k_0 + c s + sum_i k_i P_i(s) / (1 + P_i(s))`` with
+    ``P_i(s) = mu_i s^2 + tau_i s``: a Maxwell branch when ``mu_i = 0``, an inertia-track branch of a
+    hydraulic mount (``mu_i = m_i / k_i``) otherwise.
 
     Attributes
     ----------
@@ -80,6 +84,8 @@ class Ladder:
         Largest ``|k_fit - k*| / |k*|`` over ``band`` (0 for an exact ladder).
     band : (2,) ndarray or None
         Band of the fit [Hz] (None: exact).
+    mu : (3, nb) ndarray or None
+        Branch mass per unit branch stiffness ``m_i / k_i`` [s^2] (None: zeros, Maxwell branches).
     """
 
     static: np.ndarray
@@ -88,11 +94,17 @@ class Ladder:
     tau: np.ndarray
     fit_error: float = 0.0
     band: np.ndarray | None = None
+    mu: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        if self.mu is None:
+            object.__setattr__(self, "mu", np.zeros(np.shape(self.k)))
 
     def stiffness(self, omega: npt.ArrayLike) -> np.ndarray:
         """(nf, 3) complex ``k*(i w)`` of the ladder at angular frequencies ``omega`` [rad/s]."""
         s = 1j * np.atleast_1d(np.asarray(omega, dtype=float))[:, None, None]
-        branch = np.sum(self.k[None] * s * self.tau[None] / (1.0 + s * self.tau[None]), axis=2)
+        p = s * s * np.asarray(self.mu)[None] + s * self.tau[None]
+        branch = np.sum(self.k[None] * p / (1.0 + p), axis=2)
         return self.static[None] + s[:, :, 0] * self.viscous[None] + branch
 
 
@@ -448,12 +460,77 @@ class Table(Rheology):
         return self._ladder
 
 
+@dataclass(frozen=True, eq=False)
+class Hydraulic(Rheology):
+    """Hydraulic mount: a rubber spring in parallel with a fluid column (the inertia track).
+
+    ``k* = k_r + i w c_r + k_b P / (k_b + P)`` with ``P = -m_f w^2 + i w c_f``: the pumping chamber's
+    bulge stiffness ``k_b`` drives the fluid's effective mass ``m_f`` through the track's damping
+    ``c_f``. Below the track's resonance ``sqrt(k_b / m_f)`` the fluid flows (stiffness ``k_r``, with
+    the notch just below it), above it the fluid is locked (``k_r + k_b``); the loss angle peaks near
+    it and is never negative (passive). One internal coordinate with mass per axis with ``k_b > 0``,
+    so the time domain, the damped modes and the state space carry it exactly.
+
+    Parameters
+    ----------
+    k_r : float or (3,) array_like
+        Rubber (static) stiffness per axis [N/m].
+    k_b : float or (3,) array_like
+        Bulge stiffness of the pumping chamber, referred to the mount's deflection [N/m]; 0: no fluid on
+        that axis.
+    m_f : float or (3,) array_like
+        Effective mass of the fluid in the track, referred to the mount's deflection
+        (``rho L A_p^2 / A_t``) [kg]; > 0 where ``k_b > 0``.
+    c_f : float or (3,) array_like
+        Damping of the track flow, referred to the deflection [N s/m].
+    c_r : float or (3,) array_like
+        Rubber damping per axis [N s/m] (default 0).
+    """
+
+    kind: ClassVar[str] = "hydraulic"
+    keys: ClassVar[tuple[str, ...]] = ("k_r", "k_b", "m_f", "c_f", "c_r")
+    required: ClassVar[tuple[str, ...]] = ("k_r", "k_b", "m_f", "c_f")
+    k_r: Any = 0.0
+    k_b: Any = 0.0
+    m_f: Any = 0.0
+    c_f: Any = 0.0
+    c_r: Any = 0.0
+
+    def __post_init__(self) -> None:
+        who = self._who()
+        for key in self.keys:
+            object.__setattr__(self, key, _axes(getattr(self, key), who, key))
+        bad = np.flatnonzero((self.k_b > 0) & (self.m_f <= 0))
+        if bad.size:
+            j = int(bad[0])
+            raise ModelError(f"{who}: axis {j + 1}: m_f must be > 0 where k_b > 0 (the fluid in the track "
+                             f"has mass); got m_f = {float(self.m_f[j])!r} kg")
+
+    def dynamic_stiffness(self, omega: npt.ArrayLike) -> np.ndarray:
+        w = np.atleast_1d(np.asarray(omega, dtype=float))[:, None]
+        p = -self.m_f[None] * w * w + 1j * w * self.c_f[None]
+        with np.errstate(invalid="ignore", divide="ignore"):
+            branch = np.where(self.k_b[None] > 0, self.k_b[None] * p / (self.k_b[None] + p), 0.0)
+        return self.k_r[None] + 1j * w * self.c_r[None] + branch
+
+    def ladder(self) -> Ladder:
+        kb = np.asarray(self.k_b, dtype=float)
+        on = kb > 0
+        safe = np.where(on, kb, 1.0)
+        tau = np.where(on, np.asarray(self.c_f) / safe, 1.0)
+        mu = np.where(on, np.asarray(self.m_f) / safe, 0.0)
+        return Ladder(np.asarray(self.k_r), np.asarray(self.c_r), kb[:, None].copy(), tau[:, None], mu=mu[:, None])
+
+
 QUANTITIES: dict[str, str] = {"k": "stiffness", "k_0": "stiffness", "k_inf": "stiffness", "stiffness": "stiffness",
                               "c": "damping", "tau": "time", "alpha": "dimensionless",
-                              "loss_factor": "dimensionless", "frequency": "frequency", "band": "frequency"}
+                              "loss_factor": "dimensionless", "frequency": "frequency", "band": "frequency",
+                              "k_r": "stiffness", "k_b": "stiffness", "c_r": "damping", "c_f": "damping",
+                              "m_f": "mass"}
 """What each rheology key measures (a model file writes it in its units of that; frequencies in Hz)."""
 
-RHEOLOGIES: dict[str, type[Rheology]] = {c.kind: c for c in (KelvinVoigt, Zener, Prony, FractionalZener, Table)}
+RHEOLOGIES: dict[str, type[Rheology]] = {c.kind: c for c in (KelvinVoigt, Zener, Prony, FractionalZener, Table,
+                                                               Hydraulic)}
 """Rheological models by ``type`` name."""
 
 

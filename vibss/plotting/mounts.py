@@ -46,8 +46,8 @@ def plot_dynamic_stiffness(mount_types: Sequence[Any], frequency_hz: Any = None,
     else:
         axes = list(np.atleast_1d(ax))
         fig = axes[0].figure
-    for i, t in enumerate(types):
-        color = f"C{i % 10}"
+    curve = 0
+    for t in types:
         with warnings.catch_warnings():       # the held ends of a table are drawn, not reported
             warnings.simplefilter("ignore")
             exact = t.dynamic_stiffness(f)
@@ -56,6 +56,8 @@ def plot_dynamic_stiffness(mount_types: Sequence[Any], frequency_hz: Any = None,
             if j and np.allclose(exact[:, j], exact[:, 0]) and np.allclose(ladder[:, j], ladder[:, 0]):
                 continue                      # an axis like the first: drawn once
             label = f"{t.name} axis {j + 1}"
+            color = f"C{curve % 10}"          # one colour per drawn curve (axes of one type differ)
+            curve += 1
             axes[0].loglog(f, np.abs(exact[:, j]), color=color, ls="-", label=label)
             axes[0].loglog(f, np.abs(ladder[:, j]), color=color, ls="--")
             axes[1].semilogx(f, np.degrees(np.angle(exact[:, j])), color=color, ls="-")

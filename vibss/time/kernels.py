@@ -536,7 +536,7 @@ def run_forced_response(prep: Prepared, t: np.ndarray, u: np.ndarray, kin: Kinem
         x0[:n] = mb.scale * (mb.phi.T @ (M @ q0))
         x0[n:2 * n] = mb.phi.T @ (M @ v0)
         if plant.branches is not None:   # branches relaxed at the initial deflection (no force in them)
-            x0[-plant.branches.r:] = plant.branches.B @ q0
+            x0[2 * n:2 * n + plant.branches.r] = plant.branches.B @ q0   # fluid-track rates (last) at rest
         post = 0.0
         note = "python-control forced_response of vibss.statespace (modal realization), FOH of the samples"
     with threadpool_limits(1):
