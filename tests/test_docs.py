@@ -9,6 +9,8 @@ import matplotlib
 import numpy as np
 import pytest
 
+import vibss
+
 matplotlib.use("Agg")
 
 DOCS = Path(__file__).parents[1] / "docs"
@@ -76,3 +78,44 @@ def test_control_guide(capsys):
     assert "bounce at 1.49 Hz: |T| 15.6 -> 0.93" in out           # the numbers the page quotes
     assert "gamma = 3.708, controller states 12" in out
     assert "1.558" in out and "0.6351" in out                     # the quarter car's body mode
+
+
+def test_the_two_first_studies(tmp_path, monkeypatch, capsys):
+    """docs/studies.md runs as written; its numbers against independent references."""
+    from scipy.integrate import solve_ivp
+
+    monkeypatch.chdir(tmp_path)
+    first, second = _blocks("studies.md")
+    ns: dict = {}
+    exec(first, ns)
+    # static equilibrium: the ground takes the weight of both bodies, and no horizontal force
+    weight = (900.0 + 120.0) * 9.81
+    np.testing.assert_allclose(ns["sag"].reaction[:3], [0.0, 0.0, -weight], atol=1e-9 * weight)
+    assert {lab.split(".")[0] for lab in ns["modes"].labels} == {"genset", "tank"}
+    # rigid-body limit: at 0 Hz the ground motion reaches both bodies unchanged
+    t0 = vibss.transmissibility(ns["model"], ["ground.z.acc"], ["genset.z.acc", "tank.z.acc"], frequencies=[0.0])
+    np.testing.assert_allclose(np.abs(t0.response[:, 0, 0]), 1.0, rtol=1e-12)
+    assert (tmp_path / "genset_transmissibility.png").stat().st_size > 0
+    out = capsys.readouterr().out
+    assert "tank.y" in out and "10006.20" in out
+    ns = {}
+    exec(second, ns)
+    # the box's z is a single-DOF isolator (mounts in the COG plane): z'' + c/m z' + k/m z = -a(t)
+    m, k, c = 20.0, 4 * 2.0e4, 4 * 63.0
+    a = ns["pulse"].value
+
+    def rhs(t: float, x: np.ndarray) -> list[float]:
+        return [x[1], -float(a(t)) - (c * x[1] + k * x[0]) / m]
+
+    tt = ns["r"].time
+    first_ = solve_ivp(rhs, (0.0, 0.011), [0.0, 0.0], rtol=1e-11, atol=1e-14, method="DOP853", dense_output=True)
+    then = solve_ivp(rhs, (0.011, 0.5), first_.y[:, -1], rtol=1e-11, atol=1e-14, method="DOP853", dense_output=True)
+    z, v = np.where(tt <= 0.011, first_.sol(np.minimum(tt, 0.011)), then.sol(np.maximum(tt, 0.011)))
+    acc = -(c * v + k * z) / m                                  # absolute acceleration of the box
+    # the pulse is sampled (linear between 110 samples per pulse: error ~ (pi / 110)^2 / 8 = 1e-4)
+    assert ns["stroke_mm"] == pytest.approx(1e3 * np.abs(z).max(), rel=1e-3)
+    assert ns["peak_g"] == pytest.approx(np.abs(acc).max() / 9.80665, rel=1e-3)
+    # and the SRS filter (Smallwood), a third path, at the isolator's own frequency and Q
+    fn, q = np.sqrt(k / m) / (2 * np.pi), np.sqrt(k * m) / c
+    box = vibss.srs(tt, a(tt), [fn], q=q).response[0]
+    assert box == pytest.approx(np.abs(acc).max(), rel=2e-3)

@@ -144,3 +144,20 @@ def test_static_section_draws_body_and_mount_deflections() -> None:
     bars = [p.get_height() for p in fig.axes[0].patches]
     local = r.results["static"].mount_deflection_local.reshape(-1, 3) * 1e3
     np.testing.assert_allclose(sorted(bars), sorted(local.ravel()), rtol=1e-12, atol=1e-12)
+
+
+def test_motion_transmissibility_of_accelerations_is_the_ratio_of_equal_orders() -> None:
+    """ground.z.acc -> b.z.acc is the same dimensionless ratio as displacement over displacement
+    (it was silently taken over the ground displacement: s^2 times too large, in (m/s^2)/m)."""
+    import numpy as np
+    import vibss
+
+    t = vibss.MountType("t", [1e4] * 3, [20.0] * 3)
+    m = vibss.Model([vibss.Body("b", 10.0, [1, 1, 1])], [vibss.Mount("m", t, "b")])
+    f = np.array([1.0, 5.0, 30.0])
+    acc = vibss.transmissibility(m, ["ground.z.acc"], ["b.z.acc"], frequencies=f)
+    s = 2j * np.pi * f
+    np.testing.assert_allclose(acc.response[0, 0], (1e4 + 20 * s) / (10 * s ** 2 + 20 * s + 1e4), rtol=1e-12)
+    assert acc.channel_unit(0, 0) == "-"
+    with pytest.raises(vibss.ModelError, match=r"needs motion outputs; \['mount.m.fz'\]"):
+        vibss.transmissibility(m, ["ground.z"], ["mount.m.fz"], frequencies=f)

@@ -68,11 +68,15 @@ def transmissibility(system: Any, inputs: Sequence[str], outputs: Sequence[str] 
     if all(motion):
         ins = [u if u.rsplit(".", 1)[-1] in ("disp", "vel", "acc") else f"{u}.disp" for u in names]
         ins = [u.rsplit(".", 1)[0] + ".disp" for u in ins]
-        outs = list(outputs) if outputs is not None else None
+        # a ratio of motions of equal order: velocity and acceleration outputs give the same ratio as
+        # their displacements (they were taken over a displacement input: the ratio was s^2 off)
+        outs = None if outputs is None else [o[:-4] if isinstance(o, str) and o.endswith((".vel", ".acc"))
+                                             else o for o in outputs]
         plant = build_plant(system, ins, outs)
-        if any(u.split("/")[0] not in ("m", "rad") for u in plant.units):
-            raise ModelError("outputs: motion transmissibility needs displacement outputs "
-                             f"(got units {list(plant.units)}); drop .vel/.acc (the ratio is the same)")
+        if any(u not in ("m", "rad") for u in plant.units):
+            bad = [y for y, u in zip(plant.outputs, plant.units) if u not in ("m", "rad")]
+            raise ModelError(f"outputs: motion transmissibility needs motion outputs; {bad} are not "
+                             f"(units {[u for u in plant.units if u not in ('m', 'rad')]})")
     else:
         if outputs is None:
             outputs = [f"ground.{c}" for c in ("fx", "fy", "fz", "mx", "my", "mz")]

@@ -110,8 +110,8 @@ def _kind_of(name: str) -> str:
 
 
 def plot_time_response(response: Any, outputs: Sequence[str] | None = None, by: str = "body",
-                       ax: Any = None) -> Figure:
-    """Outputs of a time response against time, peaks marked and annotated.
+                       ax: Any = None, inputs: bool | None = None) -> Figure:
+    """Outputs of a time response against time, peaks marked and annotated, one unit per axes.
 
     Parameters
     ----------
@@ -120,40 +120,64 @@ def plot_time_response(response: Any, outputs: Sequence[str] | None = None, by: 
     outputs : sequence of str or None
         Outputs to draw (default all).
     by : {"body", "all"}
-        One axes per body (the part of the name before the first dot) or all in one axes.
+        One axes per body (the part of the name before the first dot) and unit, or one per unit.
     ax : Axes, sequence of Axes or None
-        Axes to draw in, one per group; default: a new figure.
+        Axes to draw in, one per group (the input's first when drawn); default: a new figure.
+    inputs : bool or None
+        Draw the inputs in a panel of their own on top; default: when a ground motion is prescribed
+        (base excitation: the pulse the response answers) and no ``ax`` is given.
 
     Returns
     -------
     Figure
     """
+    from ..model.units import input_unit
+
     r = response
     choice(by, "by", ("body", "all"), who="TimeResponse.plot")
     names = list(outputs) if outputs is not None else list(r.output_labels)
-    groups: dict[str, list[int]] = {}
+    groups: dict[tuple[str, str], list[int]] = {}
     for n in names:
         i = name_index(n, r.output_labels, "output")
-        groups.setdefault(n.split(".")[0] if by == "body" else "all", []).append(i)
+        groups.setdefault((n.split(".")[0] if by == "body" else "", r.units[i]), []).append(i)
+    given = list(getattr(r, "input_names", ()) or ())
+    history = np.asarray(getattr(r, "inputs", np.zeros((0, 0))))
+    if inputs is None:
+        inputs = ax is None and any(u.startswith("ground.") for u in given)
+    inputs = bool(inputs) and bool(given) and history.shape[0] == len(given)
+    panels = len(groups) + int(inputs)
     if ax is None:
-        fig = new_figure(8, 2.2 + 1.8 * len(groups))
-        axes = list(fig.subplots(len(groups), 1, sharex=True, squeeze=False)[:, 0])
+        fig = new_figure(8, 2.2 + 1.8 * panels)
+        axes = list(fig.subplots(panels, 1, sharex=True, squeeze=False)[:, 0])
     else:
         axes = list(np.atleast_1d(ax))
         fig = axes[0].figure
-    for a, (key, rows) in zip(axes, groups.items()):
+    if inputs:
+        a = axes.pop(0)
+        kinds = {"disp": "displacement", "vel": "velocity", "acc": "acceleration"}
+        units = []
+        for j, u in enumerate(given):
+            unit = input_unit(u, kinds.get(u.rsplit(".", 1)[-1], "force"))
+            units.append(unit)
+            a.plot(r.time, history[j], color="0.3", label=f"{u} [{unit}]")
+        a.set_title("input", fontsize=9)
+        a.set_ylabel(f"[{', '.join(dict.fromkeys(units))}]", fontsize=8)
+        a.grid(True, alpha=0.3)
+        a.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    for a, ((key, unit), rows) in zip(axes, groups.items()):
         for i in rows:
             y = r.outputs[i]
-            (line,) = a.plot(r.time, y, label=f"{r.output_labels[i]} [{r.units[i]}]")
+            (line,) = a.plot(r.time, y, label=r.output_labels[i])
             if y.size:
                 k = int(np.argmax(np.abs(y)))
                 a.plot(r.time[k], y[k], "o", color=line.get_color())
                 a.annotate(f"{y[k]:.3g}", (r.time[k], y[k]), textcoords="offset points",
                            xytext=(4, 4), fontsize=8)
         a.set_title(key if by == "body" else r.name, fontsize=9)
+        a.set_ylabel(f"[{unit}]", fontsize=8)
         a.grid(True, alpha=0.3)
-        a.legend(fontsize=7, loc="best")
-    axes[-1].set_xlabel("time [s]")
+        a.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    (axes[-1] if axes else fig.axes[-1]).set_xlabel("time [s]")
     fig.suptitle(f"{r.name} ({r.method})", fontsize=10)
     return fig
 

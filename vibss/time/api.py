@@ -219,7 +219,8 @@ class TimeResponse(Result):
         cols.update({n: row for n, row in zip(self.input_names, self.inputs)})
         return pd.DataFrame(cols)
 
-    def plot(self, outputs: Sequence[str] | None = None, by: str = "body", ax: Any = None) -> Any:
+    def plot(self, outputs: Sequence[str] | None = None, by: str = "body", ax: Any = None,
+             inputs: bool | None = None) -> Any:
         """Plot outputs against time, peaks marked: :func:`vibss.plotting.plot_time_response`.
 
         Parameters
@@ -230,6 +231,8 @@ class TimeResponse(Result):
             One axes per body (the name before the first dot) or all in one axes.
         ax : Axes, sequence of Axes or None
             Axes to draw in (one per group); default: a new figure.
+        inputs : bool or None
+            Draw the inputs on top (default: for prescribed ground motion, in a new figure).
 
         Returns
         -------
@@ -237,7 +240,7 @@ class TimeResponse(Result):
         """
         from ..plotting import plot_time_response
 
-        return plot_time_response(self, outputs, by, ax)
+        return plot_time_response(self, outputs, by, ax, inputs)
 
 
 # ----------------------------------------------------------------------------------------------
