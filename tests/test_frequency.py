@@ -464,3 +464,25 @@ def test_grid_without_refinement_keeps_exactly_the_base_points():
     assert refined.frequency_hz.size > 7
     sw = sweep_response(vibss.load_example("powertrain"), points=5, refine=False)
     assert sw.frequency_hz.size == 5
+
+
+def test_large_models_with_explicit_frequencies_stay_sparse(monkeypatch) -> None:
+    """Above LARGE_DOFS a Model asked for explicit frequencies is solved sparse, with no dense
+    eigen-analysis (it took 200 s at 6,000 DOF); the answer equals the dense path's."""
+    import vibss
+    import vibss.frequency.api as fa
+    from vibss import Body, Model, Mount, MountType
+
+    t = MountType("t", [1e4, 2e4, 3e4], [10.0, 20.0, 30.0])
+    bodies = [Body(f"b{i}", 2.0 + i, [0.1, 0.2, 0.3], cog=[i, 0.0, 0.0]) for i in range(3)]
+    mounts = [Mount(f"g{i}", t, f"b{i}", at=[0.1, 0.2, -0.1]) for i in range(3)]
+    mounts += [Mount(f"n{i}", t, f"b{i}", at=[-0.5, 0.0, 0.0], to=f"b{i - 1}") for i in (1, 2)]
+    m = Model(bodies, mounts)
+    f = np.array([2.0, 7.0, 19.0])
+    dense = vibss.frequency_response(m, ["b0.fz"], ["b0.z", "b2.x"], frequencies=f)
+    monkeypatch.setattr(fa, "LARGE_DOFS", 12)
+    sparse = vibss.frequency_response(m, ["b0.fz"], ["b0.z", "b2.x"], frequencies=f)
+    assert sparse.method == "sparse" and "kept sparse" in sparse.note and sparse.natural_hz.size == 0
+    np.testing.assert_allclose(sparse.response, dense.response, rtol=1e-12)
+    # a grid spec needs the modes: the dense path stays
+    assert "kept sparse" not in vibss.frequency_response(m, ["b0.fz"], ["b0.z"], frequencies={"f1": 1, "f2": 30, "points": 5}).note

@@ -206,6 +206,8 @@ def read_only(value: Any) -> Any:
         view.flags.writeable = False
         return view
     if type(value) is tuple:
+        if all(type(v) is str for v in value):         # labels (60,000 DOF names): nothing to freeze
+            return value
         return tuple(read_only(v) for v in value)
     if type(value) is list:
         return [read_only(v) for v in value]

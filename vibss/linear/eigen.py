@@ -375,6 +375,45 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
     return Spectrum(w2, phi, rigid, est, name)
 
 
+TALL = 2000
+"""Rows above which :func:`jacobi_svd` does the row-sorted, column-pivoted QR itself (``gejsv``'s
+own preprocessing, but through LAPACK's blocked ``geqp3``: 0.09 s instead of 0.84 s on 100,000 x 20)."""
+
+
+def jacobi_svd(b: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
+    """Singular values and right singular vectors of ``b`` (m >= n) to high relative accuracy.
+
+    LAPACK ``gejsv`` (joba 'G', row sorting and pivoting): each singular value has a relative error
+    of about ``eps kappa(B)``, ``b = D1 B D2`` with diagonal D1, D2. For a tall ``b`` (more than
+    :data:`TALL` rows and 4 n) its first step -- rows sorted by decreasing norm, a QR factorization
+    with column pivoting ``b[:, p] = Q R`` (row-wise backward stable on row-sorted matrices, Cox and
+    Higham) -- is done here by ``geqp3`` and ``gejsv`` runs on the n x n factor R: the singular
+    values are R's, and ``V = P V_R``.
+
+    Returns
+    -------
+    sva : (n,) ndarray
+        Singular values divided by ``scale`` (descending, as LAPACK returns them).
+    v : (n, n) ndarray
+        Right singular vectors (columns).
+    scale : float
+        ``work[0] / work[1]`` of ``gejsv``: the singular values are ``scale * sva``.
+    """
+    m, n = b.shape
+    if m > max(TALL, 4 * n):
+        rows = np.argsort(-np.einsum("ij,ij->i", b, b), kind="stable")
+        r, piv = sl.qr(b[rows], mode="r", pivoting=True)
+        sva, _, vr, work, _, info = lapack.dgejsv(np.ascontiguousarray(r[:n]), joba=3, jobu=3, jobv=0, jobr=1,
+                                                  jobp=1)
+        v = np.empty_like(vr)
+        v[piv] = vr
+    else:
+        sva, _, v, work, _, info = lapack.dgejsv(b, joba=3, jobu=3, jobv=0, jobr=1, jobp=1)
+    if info != 0:
+        raise np.linalg.LinAlgError(f"gejsv returned info={info}")
+    return sva, v, float(work[0] / work[1])
+
+
 def _refine(K: Any, M: Any, factor: Any, w2: np.ndarray, phi: np.ndarray, est: np.ndarray,
             need: np.ndarray, shift: float = 0.0, solve: Any = None,
             whole: bool = False) -> tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
@@ -407,11 +446,9 @@ def _refine(K: Any, M: Any, factor: Any, w2: np.ndarray, phi: np.ndarray, est: n
             b = np.asarray(sp.csr_matrix(factor) @ x) if sp.issparse(factor) else np.asarray(factor) @ x
             if b.shape[0] < b.shape[1]:
                 b = np.vstack([b, np.zeros((b.shape[1] - b.shape[0], b.shape[1]))])
-            sva, _, v, work, _, info = lapack.dgejsv(b, joba=3, jobu=3, jobv=0, jobr=1, jobp=1)
-            if info != 0:
-                raise np.linalg.LinAlgError(f"gejsv returned info={info}")
+            sva, v, scale = jacobi_svd(b)
             order = np.argsort(sva)
-            lam, q = ((work[0] / work[1]) * sva[order]) ** 2, v[:, order]
+            lam, q = (scale * sva[order]) ** 2, v[:, order]
         else:
             kx = np.asarray(K @ x)
             lam, q = projected_eigen(x.T @ kx, np.eye(x.shape[1]))

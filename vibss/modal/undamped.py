@@ -54,14 +54,16 @@ def rigid_influence(model: Model, about: np.ndarray | None = None) -> np.ndarray
     Rotations are about ``about`` [m] (default: the system's centre of gravity).
     """
     c = model.centre_of_gravity if about is None else np.asarray(about, float)
-    out = np.zeros((model.n_dof, 6))
-    for i, b in enumerate(model.bodies):
-        out[6 * i:6 * i + 3, :3] = np.eye(3)
-        out[6 * i + 3:6 * i + 6, 3:] = np.eye(3)
-        r = b.cog - c
-        # translation of the COG for a rotation theta about c: theta x r = -[r]x theta
-        out[6 * i:6 * i + 3, 3:] = np.array([[0, r[2], -r[1]], [-r[2], 0, r[0]], [r[1], -r[0], 0]])
-    return out
+    nb = len(model.bodies)
+    out = np.zeros((nb, 6, 6))
+    out[:, :3, :3] = np.eye(3)
+    out[:, 3:, 3:] = np.eye(3)
+    r = np.array([b.cog for b in model.bodies], dtype=float).reshape(nb, 3) - c
+    # translation of the COG for a rotation theta about c: theta x r = -[r]x theta
+    out[:, 0, 4], out[:, 0, 5] = r[:, 2], -r[:, 1]
+    out[:, 1, 3], out[:, 1, 5] = -r[:, 2], r[:, 0]
+    out[:, 2, 3], out[:, 2, 4] = r[:, 1], -r[:, 0]
+    return out.reshape(6 * nb, 6)
 
 
 @dataclass(frozen=True, eq=False)
@@ -339,7 +341,7 @@ def modes(model: Model | Assembly, n_modes: int | None = None,
                             f"{exc}; check the model for extreme values (masses, inertias, stiffnesses "
                             "or positions many decades apart)") from None
     w2, phi, rigid, name = spec.omega2, spec.phi.copy(), spec.rigid, spec.method
-    M = a.dense("M")
+    M = a.M            # sparse on a large model: post-processing needs M times k vectors, not dense M
     # Repeated frequencies: rigid-body modes form one cluster; elastic ones by relative gap.
     groups = cluster_slices(np.sqrt(w2), REPEAT_RTOL, 0.0)
     if rigid.sum() > 1:
