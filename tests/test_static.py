@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from vibss import AnalysisError, Body, Load, Model, Mount, MountType, assemble, static, symmetric
+from vibss import AnalysisError, Body, Load, Model, ModelError, Mount, MountType, assemble, static, symmetric
 from vibss.statics import centre_of_rotation
 
 from reference_impl import loop_assemble
@@ -128,3 +128,17 @@ def test_bad_prescribed_values_are_model_errors(prism, prescribed, pattern):
 
     with pytest.raises(ModelError, match=pattern):
         static(prism, prescribed=prescribed)
+
+
+def test_self_weight_alone(prism):
+    """case='self-weight': gravity only, whatever loads the model has: m g / (4 k_z) (closed form)."""
+    g = 9.81
+    m = prism.replace(loads=[Load("push", "prism", force=[500.0, 0, -1000.0])], gravity=[0, 0, -g])
+    mass = m.body("prism").mass
+    r = static(m, case="self-weight")
+    np.testing.assert_allclose(r.body("prism")[:3], [0.0, 0.0, -mass * g / 12e4], atol=1e-15)
+    assert r.case == "self-weight"
+    with pytest.raises(ModelError, match="defines no gravity"):
+        static(prism, case="self-weight")
+    with pytest.raises(ModelError, match="case 'self-weight' is reserved"):
+        Load("w", "prism", force=[0, 0, 1.0], case="self-weight")

@@ -295,6 +295,7 @@ def static(model: Model | Assembly, loads: np.ndarray | None = None, *,
     case : str or None
         Load case: the unnamed loads plus the loads of this case. Default: the only case when the
         model names one (or none); a model with several cases needs one chosen.
+        ``"self-weight"`` (:data:`SELF_WEIGHT`): gravity alone, no load at all.
 
     Returns
     -------
@@ -317,6 +318,13 @@ def static(model: Model | Assembly, loads: np.ndarray | None = None, *,
     a = model if isinstance(model, Assembly) else assemble(model)
     n = a.n
     cases = a.model.load_cases
+    if case == SELF_WEIGHT:
+        if a.model.gravity is None:
+            raise ModelError(f"case {SELF_WEIGHT!r}: the model defines no gravity (Model(..., gravity=...))")
+        if loads is not None:
+            raise ModelError(f"case {SELF_WEIGHT!r} and loads: self-weight alone takes no load vector")
+        f = a.load_vector(include_gravity=True, include_loads=False)
+        return _solved(a, f, prescribed, SELF_WEIGHT)
     if case is None and len(cases) > 1 and loads is None:
         raise AnalysisError(f"the model has load cases {cases}: choose one (static(..., case=NAME), "
                             "or --case NAME on the command line); adding them up is not a load case")
@@ -324,6 +332,16 @@ def static(model: Model | Assembly, loads: np.ndarray | None = None, *,
         raise ModelError(f"case: unknown load case {case!r}; the model's cases are {cases}")
     case = case if case is not None else (cases[0] if cases else None)
     f = a.load_vector(include_gravity=gravity, case=case) if loads is None else _vector(loads, n, "loads")
+    return _solved(a, f, prescribed, case)
+
+
+SELF_WEIGHT = "self-weight"
+"""The ``case`` of :func:`static` that is gravity alone (no load, named or not)."""
+
+
+def _solved(a: Assembly, f: np.ndarray, prescribed: Mapping[str, float] | None, case: str | None) -> StaticResult:
+    """The static deflection under the generalised load ``f`` [N, N m] and prescribed displacements."""
+    n = a.n
     q = np.zeros(n)
     qg = np.zeros(6)
     fixed = np.zeros(n, dtype=bool)

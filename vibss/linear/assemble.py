@@ -227,7 +227,8 @@ class Assembly(ReadOnly):
             self._cache["G"] = g
         return self._cache["G"]
 
-    def load_vector(self, include_gravity: bool = True, case: str | None = None) -> np.ndarray:
+    def load_vector(self, include_gravity: bool = True, case: str | None = None,
+                    include_loads: bool = True) -> np.ndarray:
         """(n,) generalised force of the model's static loads (and self-weight) [N, N m].
 
         Parameters
@@ -236,9 +237,11 @@ class Assembly(ReadOnly):
             Add self-weight when the model defines gravity.
         case : str or None
             Load case: the unnamed loads plus those of this case; None: every load.
+        include_loads : bool
+            Add the loads at all (False: self-weight alone).
         """
         f = np.zeros(self.n)
-        for ld in self.model.loads:
+        for ld in self.model.loads if include_loads else ():
             if case is not None and ld.case not in ("", case):
                 continue
             i = self.model.body_index(ld.body)

@@ -286,6 +286,9 @@ class Load:
         object.__setattr__(self, "frame", _frame(self.frame, who))
         if not isinstance(self.case, str):
             raise ModelError(f"{who}: case must be a string (a load case name), got {self.case!r}")
+        if self.case == "self-weight":
+            raise ModelError(f"{who}: case 'self-weight' is reserved (static(..., case='self-weight') is "
+                             "gravity alone); name the case otherwise")
 
 
 def _load_signature() -> Any:
