@@ -37,8 +37,41 @@ from ..errors import AnalysisError, ModelError
 
 __all__ = [
     "TimeFunction", "Step", "Rectangular", "HalfSine", "Haversine", "Triangle", "Sawtooth",
-    "Ramp", "Sine", "SineSweep", "Table", "Sum", "FUNCTIONS",
+    "Ramp", "Sine", "SineSweep", "Table", "Sum", "FUNCTIONS", "Sinusoid",
 ]
+
+
+@dataclass(frozen=True)
+class Sinusoid:
+    """An additive sine/cosine piece of a time function: ``a cos(w (t - t0)) + b sin(w (t - t0))``
+    on ``[t0, t1)``, zero outside.
+
+    A function that declares its pieces (:attr:`TimeFunction.sinusoids`) is piecewise linear once
+    they are subtracted (its breakpoints include every ``t0`` and finite ``t1``); the exact modal
+    time path (:func:`vibss.time.kernels.run_modal`) then integrates it exactly at any step.
+
+    Attributes
+    ----------
+    t0, t1 : float
+        Window [s] (``t1`` may be ``inf``).
+    omega : float
+        Angular frequency [rad/s], > 0.
+    a, b : float
+        Cosine and sine amplitudes [unit of the function].
+    """
+
+    t0: float
+    t1: float
+    omega: float
+    a: float
+    b: float
+
+    def value(self, t: npt.ArrayLike) -> np.ndarray:
+        """The piece at times ``t`` [s] (zero outside its window)."""
+        t = np.asarray(t, dtype=float)
+        tau = t - self.t0
+        inside = (t >= self.t0) & (t < self.t1)
+        return np.where(inside, self.a * np.cos(self.omega * tau) + self.b * np.sin(self.omega * tau), 0.0)
 
 
 def _check_number(value: Any, kind: str, key: str, *, positive: bool = False,
@@ -89,6 +122,12 @@ class TimeFunction:
         return ()
 
     @property
+    def sinusoids(self) -> tuple[Sinusoid, ...]:
+        """Sine/cosine pieces; the function minus them is piecewise linear between its breakpoints
+        (empty: the function is integrated from its samples, linear between them)."""
+        return ()
+
+    @property
     def end_time(self) -> float:
         """Time [s] after which the value is identically zero or constant (``inf``: never)."""
         return math.inf
@@ -117,6 +156,12 @@ class TimeFunction:
         left = self.terms if isinstance(self, Sum) else (self,)
         right = other.terms if isinstance(other, Sum) else (other,)
         return Sum(left + right)
+
+
+def _linear(f: TimeFunction) -> bool:
+    """Whether ``f`` is piecewise linear between its breakpoints (a sum of such terms is too)."""
+    return isinstance(f, (Step, Rectangular, Triangle, Sawtooth, Ramp, Table)) or (
+        isinstance(f, Sum) and all(_linear(t) for t in f.terms))
 
 
 def _edges(*times: float) -> tuple[float, ...]:
@@ -227,6 +272,10 @@ class HalfSine(_Pulse):
     def _shape(self, u: np.ndarray) -> np.ndarray:
         return np.sin(np.pi * u)
 
+    @property
+    def sinusoids(self) -> tuple[Sinusoid, ...]:
+        return (Sinusoid(self.start, self.start + self.duration, math.pi / self.duration, 0.0, self.amplitude),)
+
 
 class Haversine(_Pulse):
     """Haversine pulse ``A sin^2(pi (t - start) / duration)`` (smooth edges); area ``A duration / 2``.
@@ -238,6 +287,12 @@ class Haversine(_Pulse):
 
     def _shape(self, u: np.ndarray) -> np.ndarray:
         return np.sin(np.pi * u) ** 2
+
+    @property
+    def sinusoids(self) -> tuple[Sinusoid, ...]:
+        # A sin^2(pi u) = A/2 - A/2 cos(2 pi u): the constant is the piecewise-linear rest
+        return (Sinusoid(self.start, self.start + self.duration, 2 * math.pi / self.duration,
+                         -0.5 * self.amplitude, 0.0),)
 
 
 class Triangle(_Pulse):
@@ -344,6 +399,13 @@ class Sine(TimeFunction):
     @property
     def breakpoints(self) -> tuple[float, ...]:
         return _edges(self.start, self.end)
+
+    @property
+    def sinusoids(self) -> tuple[Sinusoid, ...]:
+        if self.frequency <= 0:
+            return ()                                   # a constant A sin(phase): linear already
+        return (Sinusoid(self.start, self.end, 2 * math.pi * self.frequency,
+                         self.amplitude * math.sin(self.phase), self.amplitude * math.cos(self.phase)),)
 
     @property
     def end_time(self) -> float:
@@ -573,6 +635,13 @@ class Sum(TimeFunction):
     @property
     def breakpoints(self) -> tuple[float, ...]:
         return tuple(sorted({b for f in self.terms for b in f.breakpoints}))
+
+    @property
+    def sinusoids(self) -> tuple[Sinusoid, ...]:
+        """The terms' pieces, when every term is linear once its own are subtracted (else none)."""
+        if any(not f.sinusoids and not _linear(f) for f in self.terms):
+            return ()
+        return tuple(p for f in self.terms for p in f.sinusoids)
 
     @property
     def end_time(self) -> float:

@@ -52,6 +52,7 @@ from ..errors import AnalysisError, ArgumentError, DefectiveModesError, ModelErr
 from ..results import ReadOnly, Result, Table, jsonable, require_pandas
 from .methods import METHODS, SimulationJob, TimeMethod, resolve_method
 from ..model.model import DOF_NAMES, Model
+from ..model.timefunctions import TimeFunction
 from ..linear.branches import require_none
 from ..linear.hysteresis import dropped_hysteresis
 from ..linear.plant import Plant
@@ -291,6 +292,16 @@ def _initial(plant: Plant, initial: Any, model: Model | None) -> tuple[np.ndarra
     return q0, v0
 
 
+def _exact_terms(fn: TimeFunction) -> bool:
+    """Whether the exact modal path integrates ``fn`` exactly: piecewise linear, or linear once its
+    sine/cosine pieces are removed (every term of a sum)."""
+    from ..model.timefunctions import Sum, _linear
+
+    if isinstance(fn, Sum):
+        return all(_exact_terms(f) for f in fn.terms)
+    return _linear(fn) or bool(fn.sinusoids)
+
+
 def _as_function(value: Any, ts: np.ndarray, name: str) -> tuple[Callable[[np.ndarray], np.ndarray], tuple[float, ...]]:
     if hasattr(value, "value") and hasattr(value, "breakpoints"):
         return value.value, tuple(value.breakpoints)
@@ -388,15 +399,23 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
     excitations = list(excitations or [])
     signals: dict[str, list[tuple[Callable[[np.ndarray], np.ndarray], tuple[float, ...]]]] = {}
     sources: dict[str, Any] = {}
+    pieces: dict[str, list[Any]] = {}      # sine/cosine pieces per signal (exact in the modal path)
+    exact: dict[str, bool] = {}            # whether every term of a signal is linear once they are removed
     for e in excitations:
         sig = getattr(e, "signal", None)
         if sig is None:
             raise ModelError(f"simulate: excitations: expected Excitation objects, got {e!r}")
         signals.setdefault(sig, []).append((e.function.value, tuple(e.function.breakpoints)))
         sources.setdefault(sig, e)
+        pieces.setdefault(sig, []).extend(e.function.sinusoids)
+        exact[sig] = exact.get(sig, True) and _exact_terms(e.function)
     for name, value in (inputs or {}).items():
         signals.setdefault(name, []).append(_as_function(value, ts, name))
         sources.setdefault(name, name)
+        fn = value if isinstance(value, TimeFunction) else getattr(value, "__self__", None)
+        fn = fn if isinstance(fn, TimeFunction) and (fn is value or value == fn.value) else None
+        pieces.setdefault(name, []).extend(fn.sinusoids if fn is not None else ())
+        exact[name] = exact.get(name, True) and fn is not None and _exact_terms(fn)
     if isinstance(model_or_plant, Plant):
         plant = model_or_plant
         if sp.issparse(plant.K):
@@ -433,7 +452,9 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
     if left_out:                         # said once here; the kernels then see no hysteretic part
         plant = without_hysteresis(plant)
     job = SimulationJob(plant=plant, time=ts, funcs=tuple(funcs), breakpoints=np.array(bps, float),
-                        q0=q0, v0=v0, rtol=float(rtol), atol=atol, solver=solver)
+                        q0=q0, v0=v0, rtol=float(rtol), atol=atol, solver=solver,
+                        sinusoids=tuple(tuple(pieces.get(u, ())) for u in plant.inputs),
+                        exact_inputs=tuple(u for u in plant.inputs if exact.get(u, u not in signals)))
     chosen, auto = resolve_method(method)
     if plant.branches is not None and auto:
         chosen, auto = METHODS["forced_response"], False

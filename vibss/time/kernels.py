@@ -27,6 +27,7 @@ left-hand limit at the last sample).
 from __future__ import annotations
 
 from collections.abc import Callable
+import dataclasses
 from dataclasses import dataclass
 from typing import Any, cast
 
@@ -163,6 +164,10 @@ class Kinematics:
         left-hand at the last point).
     u : (ng, m) ndarray
         The input signals themselves at the grid points (same convention).
+    osc : tuple of (float, ndarray)
+        Sine/cosine parts: ``(omega, amp)`` with ``amp`` (ng - 1, 2, m) the amplitudes of
+        ``cos(omega tau)`` and ``sin(omega tau)`` in ``z`` (or ``f``) on each interval, ``tau`` from its
+        start [rad/s; unit of z or f]. ``coef`` holds the rest.
     """
 
     coef: np.ndarray
@@ -172,10 +177,13 @@ class Kinematics:
     z2: np.ndarray
     f: np.ndarray
     u: np.ndarray
+    osc: tuple[tuple[float, np.ndarray], ...] = ()
 
 
-def kinematics(grid: Grid, u_right: np.ndarray, u_left: np.ndarray, kinds: tuple[str, ...]) -> Kinematics:
-    """Exact kinematics of piecewise-linear inputs.
+def kinematics(grid: Grid, u_right: np.ndarray, u_left: np.ndarray, kinds: tuple[str, ...],
+               sinusoids: tuple[tuple[Any, ...], ...] | None = None,
+               offsets: np.ndarray | None = None) -> Kinematics:
+    """Exact kinematics of inputs that are piecewise linear once their sine/cosine pieces are removed.
 
     Parameters
     ----------
@@ -185,7 +193,104 @@ def kinematics(grid: Grid, u_right: np.ndarray, u_left: np.ndarray, kinds: tuple
         inputs are zero before ``t = 0``).
     kinds : tuple of str
         Input kind per column.
+    sinusoids : tuple (one per input) of tuples of Sinusoid, optional
+        Sine/cosine pieces of each input (:attr:`vibss.model.timefunctions.TimeFunction.sinusoids`):
+        taken out of the samples and carried exactly (:attr:`Kinematics.osc`). A piece whose window
+        does not start on the grid at ``t >= 0`` is left in the samples.
+    offsets : (ng,) ndarray, optional
+        The offsets [s] at which ``u_right`` / ``u_left`` were evaluated (:func:`nudge`); needed
+        with ``sinusoids``.
     """
+    if not sinusoids or not any(sinusoids):
+        return _pwl_kinematics(grid, u_right, u_left, kinds)
+    t = grid.t
+    tol = 1e-9 * float(np.min(grid.h)) if grid.h.size else 0.0
+    off = np.zeros_like(t) if offsets is None else np.asarray(offsets, float)
+    u_right, u_left = np.array(u_right, float), np.array(u_left, float)
+    kept: list[tuple[int, Any]] = []
+    for j, pieces in enumerate(sinusoids):
+        for p in pieces:
+            on_grid = lambda x: not np.isfinite(x) or x >= t[-1] or bool(np.min(np.abs(t - x)) <= tol)  # noqa: E731
+            if p.t0 < 0 or not on_grid(p.t0) or not on_grid(p.t1) or not p.omega > 0:
+                continue
+            u_right[:, j] -= p.value(t + off)
+            u_left[:, j] -= p.value(t - off)
+            kept.append((j, p))
+    kin = _pwl_kinematics(grid, u_right, u_left, kinds)
+    osc: dict[float, np.ndarray] = {}
+    for j, p in kept:
+        _add_sinusoid(kin, osc, grid, tol, j, kinds[j], p)
+    return dataclasses.replace(kin, osc=tuple(osc.items()))
+
+
+def _add_sinusoid(kin: Kinematics, osc: dict[float, np.ndarray], grid: Grid, tol: float, j: int, kind: str,
+                  p: Any) -> None:
+    """Add one sine/cosine piece of input ``j`` to the kinematics in place (see :func:`kinematics`).
+
+    In window time ``tau = t - t0`` the piece ``u = a cos(w tau) + b sin(w tau)`` makes the coordinate
+    ``z = c0 + c1 tau + Ac cos(w tau) + As sin(w tau)`` (a force or displacement: ``z = u``; a
+    velocity: ``z`` its integral from 0; an acceleration: its double integral); after the window
+    ``z`` goes on as the polynomial it left with.
+    """
+    w, a, b = float(p.omega), float(p.a), float(p.b)
+    if kind in ("force", "displacement"):
+        ac, as_, c0, c1 = a, b, 0.0, 0.0
+    elif kind == "velocity":
+        ac, as_, c0, c1 = -b / w, a / w, b / w, 0.0
+    else:
+        ac, as_, c0, c1 = -a / w ** 2, -b / w ** 2, a / w ** 2, b / w
+
+    def z(tau: np.ndarray) -> np.ndarray:
+        return c0 + c1 * tau + ac * np.cos(w * tau) + as_ * np.sin(w * tau)
+
+    def z1(tau: np.ndarray) -> np.ndarray:
+        return c1 + w * (as_ * np.cos(w * tau) - ac * np.sin(w * tau))
+
+    def z2(tau: np.ndarray) -> np.ndarray:
+        return -w * w * (ac * np.cos(w * tau) + as_ * np.sin(w * tau))
+
+    t = grid.t
+    t0, t1 = float(p.t0), float(p.t1)
+    span = t1 - t0
+    ti = t[:-1]
+    inside = (ti >= t0 - tol) & (ti < t1 - tol)
+    after = ti >= t1 - tol
+    tau = np.maximum(ti - t0, 0.0)
+    amp = osc.setdefault(w, np.zeros((len(ti), 2, kin.coef.shape[2])))
+    ci, si = np.cos(w * tau[inside]), np.sin(w * tau[inside])
+    amp[inside, 0, j] += ac * ci + as_ * si
+    amp[inside, 1, j] += as_ * ci - ac * si
+    kin.coef[inside, 0, j] += c0 + c1 * tau[inside]
+    kin.coef[inside, 1, j] += c1
+    end_z = end_v = 0.0
+    if np.isfinite(t1) and kind in ("velocity", "acceleration"):
+        end_z = float(z(np.array(span)))
+        end_v = float(z1(np.array(span))) if kind == "acceleration" else 0.0
+        kin.coef[after, 0, j] += end_z + end_v * (ti[after] - t1)
+        kin.coef[after, 1, j] += end_v
+    # values at the grid points: right-hand limits, the left-hand one at the last point
+    right = np.concatenate([(ti >= t0 - tol) & (ti < t1 - tol), [t[-1] > t0 + tol and t[-1] <= t1 + tol]])
+    post = np.concatenate([after, [t[-1] > t1 + tol]])
+    tp = np.clip(t - t0, 0.0, span if np.isfinite(span) else None)
+    piece = np.where(right, a * np.cos(w * tp) + b * np.sin(w * tp), 0.0)
+    kin.u[:, j] += piece
+    if kind == "force":
+        kin.f[:, j] += piece
+    elif kind == "displacement":
+        kin.z[:, j] += piece
+        kin.z1[:, j] += np.where(right, z1(tp), 0.0)
+        starts = np.flatnonzero(np.abs(ti - t0) <= tol)
+        kin.jump[starts, j] += a                                  # the piece's own edges (impulses)
+        ends = np.flatnonzero(np.abs(ti - t1) <= tol)
+        kin.jump[ends, j] -= a * np.cos(w * span) + b * np.sin(w * span)
+    else:
+        kin.z[:, j] += np.where(right, z(tp), np.where(post, end_z + end_v * (t - t1), 0.0))
+        kin.z1[:, j] += np.where(right, z1(tp), np.where(post, end_v, 0.0))
+        kin.z2[:, j] += np.where(right, z2(tp), 0.0)
+
+
+def _pwl_kinematics(grid: Grid, u_right: np.ndarray, u_left: np.ndarray, kinds: tuple[str, ...]) -> Kinematics:
+    """Exact kinematics of piecewise-linear inputs (see :func:`kinematics`)."""
     h = grid.h[:, None]
     ng, m = u_right.shape
     us, ue = u_right[:-1], u_left[1:]
@@ -266,6 +371,25 @@ def _foh_blocks(A: np.ndarray, steps: np.ndarray, degree: int) -> tuple[np.ndarr
         for k in range(degree + 1):
             gam[i, k] = ex[:, :b, b + k] * h ** (k + 1)
     return E, gam
+
+
+def _cs_blocks(A: np.ndarray, steps: np.ndarray, omega: float) -> np.ndarray:
+    """Exact response of ``x' = A x + b g(tau)`` over each step to ``g = cos(omega tau)`` and
+    ``g = sin(omega tau)`` from rest: (nh, 2, nb, b), by the matrix exponential of the block system
+    augmented with the harmonic oscillator ``c' = -omega s``, ``s' = omega c`` (which is ``cos`` from
+    ``(c, s) = (1, 0)`` and ``-sin`` from ``(0, 1)``)."""
+    nb, b, _ = A.shape
+    out = np.empty((len(steps), 2, nb, b), dtype=A.dtype)
+    for i, h in enumerate(steps):
+        aug = np.zeros((nb, b + 2, b + 2), dtype=A.dtype)
+        aug[:, :b, :b] = A * h
+        aug[:, b - 1, b] = h
+        aug[:, b, b + 1] = -omega * h
+        aug[:, b + 1, b] = omega * h
+        ex = sl.expm(aug)
+        out[i, 0] = ex[:, :b, b]
+        out[i, 1] = -ex[:, :b, b + 1]
+    return out
 
 
 @dataclass(frozen=True, eq=False)
@@ -357,6 +481,9 @@ def run_modal(prep: Prepared, grid: Grid, kin: Kinematics, rows: np.ndarray,
     V = np.concatenate([np.concatenate([pad[:, k], pad[:, k], pad[:, k + 1]], axis=1)
                         for k in range(degree + 1)], axis=1)           # (ni, (degree+1) 3m)
     J = np.concatenate([np.zeros((ni, 2 * m)), kin.jump], axis=1)       # (ni, 3m)
+    # sine/cosine parts per frequency: channel amplitudes [f, z, z'] of cos and sin (ni, 2, 3m)
+    osc = [(w, np.concatenate([amp, amp, np.stack([w * amp[:, 1], -w * amp[:, 0]], axis=1)], axis=2))
+           for w, amp in kin.osc]
     jumps = np.flatnonzero(np.any(kin.jump != 0, axis=1))
     with threadpool_limits(1):
         for ms in sets:
@@ -368,6 +495,11 @@ def run_modal(prep: Prepared, grid: Grid, kin: Kinematics, rows: np.ndarray,
             # per step length: drive = Va[i] @ fold[h]  (the FOH coefficients folded into the map)
             fold = np.einsum("mc,hkmb->hkcmb", PW[:, active], gam).reshape(len(grid.steps), -1, nb * b)
             jfold = np.einsum("mc,hmb->hcmb", PW, E[:, :, :, b - 1]).reshape(len(grid.steps), 3 * m, nb * b)
+            cs = []
+            for w, Vo in osc:
+                g2 = _cs_blocks(ms.A, grid.steps, w)                          # (nh, 2, nb, b)
+                fo = np.einsum("mc,hpmb->hpcmb", PW[:, active], g2).reshape(len(grid.steps), -1, nb * b)
+                cs.append((Vo[:, :, active].reshape(ni, -1), fo))
             x = ms.x0.copy()
             if want[0]:
                 y[0] += np.real(np.einsum("pnb,nb->p", ms.Y, x))
@@ -378,11 +510,15 @@ def run_modal(prep: Prepared, grid: Grid, kin: Kinematics, rows: np.ndarray,
                 keys = np.unique(hk)
                 if len(keys) == 1:
                     drive = Va[start:stop] @ fold[keys[0]]
+                    for Vo, fo in cs:
+                        drive = drive + Vo[start:stop] @ fo[keys[0]]
                 else:
                     drive = np.empty((stop - start, nb * b), dtype=fold.dtype)
                     for key in keys:
                         idx = np.flatnonzero(hk == key)
                         drive[idx] = Va[start + idx] @ fold[key]
+                        for Vo, fo in cs:
+                            drive[idx] += Vo[start + idx] @ fo[key]
                 for i in jumps[(jumps >= start) & (jumps < stop)]:
                     drive[i - start] += J[i] @ jfold[grid.hkey[i]]
                 X = _recur(E, hk, x, drive.reshape(stop - start, nb, b))

@@ -82,16 +82,21 @@ class SimulationJob:
     rtol: float = 1e-6
     atol: float | None = None
     solver: str = "Radau"
+    sinusoids: tuple[tuple[Any, ...], ...] = ()
+    exact_inputs: tuple[str, ...] = ()
 
     def sampled(self, grid: tm.Grid) -> tm.Kinematics:
-        """Exact PWL kinematics of the inputs on ``grid`` (right and left limits at its points)."""
+        """Exact kinematics of the inputs on ``grid`` (right and left limits at its points): linear
+        between the points once the inputs' sine/cosine pieces (``sinusoids``) are taken out, and
+        those pieces exactly."""
         d = tm.nudge(grid.t, float(self.time[1] - self.time[0]))
         up, dn = grid.t + d, grid.t - d
         u_r = np.column_stack([np.broadcast_to(f(up), up.shape) for f in self.funcs]) if self.funcs \
             else np.zeros((len(up), 0))
         u_l = np.column_stack([np.broadcast_to(f(dn), dn.shape) for f in self.funcs]) if self.funcs \
             else np.zeros((len(up), 0))
-        return tm.kinematics(grid, np.asarray(u_r, float), np.asarray(u_l, float), self.plant.kinds)
+        return tm.kinematics(grid, np.asarray(u_r, float), np.asarray(u_l, float), self.plant.kinds,
+                             self.sinusoids or None, d)
 
 
 def _method_modal(job: SimulationJob) -> tuple[np.ndarray, str]:
@@ -100,7 +105,13 @@ def _method_modal(job: SimulationJob) -> tuple[np.ndarray, str]:
     kin = job.sampled(grid)
     y, how = tm.run_modal(tm.prepare(job.plant), grid, kin, grid.samples, job.q0, job.v0)
     extra = len(grid.t) - len(job.time)
-    return y, f"exact modal FOH ({how}); {extra} breakpoints inserted into the grid"
+    given = [u for u in job.plant.inputs]
+    exact = [u for u in given if u in job.exact_inputs]
+    sampled = [u for u in given if u not in job.exact_inputs]
+    what = ("every input exact (piecewise linear, sine and cosine pieces)" if not sampled else
+            f"exact for {exact} (piecewise linear, sine and cosine pieces); {sampled} linear between "
+            "their samples" if exact else "the inputs linear between their samples")
+    return y, f"exact modal FOH ({how}); {what}; {extra} breakpoints inserted into the grid"
 
 
 def _method_forced_response(job: SimulationJob) -> tuple[np.ndarray, str]:
@@ -127,7 +138,7 @@ def _method_central_difference(job: SimulationJob) -> tuple[np.ndarray, str]:
 
 METHODS: dict[str, TimeMethod] = {m.name: m for m in (
     TimeMethod("modal", _method_modal, exact=True, hits_edges=True, fallback="forced_response",
-               auto_reason="exact for piecewise-linear inputs and the fastest",
+               auto_reason="exact for piecewise-linear inputs and sine/cosine pieces, and the fastest",
                summary="exact modal superposition of piecewise-linear inputs (breakpoints inserted)"),
     TimeMethod("forced_response", _method_forced_response, exact=True, internal_states=True,
                summary="control.forced_response of the exact realization on the sample grid"),
