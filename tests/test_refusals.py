@@ -10,6 +10,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+import vibss
+
 from test_signals import two_body
 from vibss import (Body, DefectiveModesError, Excitation, Model, Mount, MountType, Step, frequency_response,
                    simulate, symmetric)
@@ -107,3 +109,21 @@ def test_free_motions_of_a_large_model_are_found_without_dense_work(monkeypatch:
     dense = static(unloaded, load)
     assert sparse.free_motions == dense.free_motions == ("body 'b60' is free to move in z",)
     np.testing.assert_allclose(sparse.q, dense.q, rtol=1e-9, atol=1e-12 * np.abs(dense.q).max())
+
+
+@pytest.mark.parametrize("make, message", [
+    (lambda: vibss.Body("b", 1e-300, [1, 1, 1]), r"body 'b': mass: 1e-300 kg is outside .*1e-09 \.\. 1e\+10 kg"),
+    (lambda: vibss.Body("b", 1.0, [1e-20] * 3), r"body 'b': inertia \(principal moments\): 1e-20"),
+    (lambda: vibss.Body("b", 1.0, [1, 1, 1], cog=[0, 0, 1e9]), r"body 'b': cog: 1e\+09 m"),
+    (lambda: vibss.MountType("t", [1e25, 1.0, 1.0]), r"mount type 't': stiffness: 1e\+25 N/m"),
+    (lambda: vibss.MountType("t", [1e3, 1.0, 1.0], [1e20, 0, 0]), r"mount type 't': damping: 1e\+20 N s/m"),
+    (lambda: vibss.MountType("t", [1e-9, 1.0, 1.0]), r"stiffness: 1e-09 N/m"),
+    (lambda: vibss.Orientation.from_euler([-1e20, 0, 0], degrees=True), r"within \+-360 degrees"),
+])
+def test_the_python_api_refuses_what_files_refuse(make, message):
+    """Issue 18: the ranges of vibss.model.limits.PLAUSIBLE hold for the Python API as for files."""
+    with pytest.raises(vibss.ModelError, match=message):
+        make()
+    # and the limits themselves are accepted: a zero stiffness axis means "none"
+    vibss.MountType("t", [0.0, 1e-6, 1e20], [0.0, 0.0, 1e16])
+    vibss.Body("b", 1e-9, [1e-15, 1e-15, 1e-15], cog=[1e5, -1e5, 0.0])

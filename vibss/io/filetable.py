@@ -36,20 +36,7 @@ MAX_INT_DIGITS = 30
 """Most digits an integer of a model file may have (larger numbers are written as floats, ``1e40``)."""
 
 
-PLAUSIBLE: dict[str, tuple[float, float]] = {
-    "mass": (1e-9, 1e10),
-    "inertia": (1e-15, 1e14),
-    "stiffness": (1e-6, 1e20),
-    "damping": (0.0, 1e16),
-    "length": (0.0, 1e5),
-}
-"""The range [SI] of the magnitude of a file's values per quantity: what a rigid-body mount model can
-mean (a 1 microgram part to a 10,000 t machine; a link of 1e20 N/m is already rigid to 15 digits).
-The lower bound applies to values that must be positive and to nonzero stiffnesses (zero means "no
-stiffness"); values outside are refused with the range in the file's units."""
-
-MAX_EULER_RAD = 2 * np.pi
-"""Largest magnitude of an Euler angle of a model file [rad] (360 degrees)."""
+from ..model.limits import MAX_EULER_RAD, PLAUSIBLE  # noqa: E402  (one definition for files and API)
 
 
 class _Duplicates(dict):  # type: ignore[type-arg]

@@ -16,6 +16,7 @@ import numpy.typing as npt
 from scipy.spatial.transform import Rotation
 
 from .._validate import vector
+from .limits import MAX_EULER_RAD
 from ..errors import ModelError
 
 __all__ = [
@@ -106,6 +107,9 @@ class Orientation:
         except ValueError as exc:  # e.g. 'XXY'
             raise ModelError(f"sequence {sequence!r}: {exc}") from None
         rad = np.deg2rad(a) if degrees else a
+        if np.any(np.abs(rad) > MAX_EULER_RAD * (1 + 1e-12)):
+            raise ModelError(f"euler: {a.tolist()} {'deg' if degrees else 'rad'}: every angle must be within "
+                             "+-360 degrees (an angle beyond it is a typo or a unit mistake)")
         return cls(rot.as_matrix(), euler=rad, sequence=sequence)
 
     @classmethod

@@ -28,6 +28,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .._validate import is_numeric
+from .limits import check_range
 from ..errors import ArgumentError, ModelError, did_you_mean
 from ._common import (DOF_NAMES, GROUND, _frame, _freeze, _name, _orientation, _point_name,
                       _signal_safe, _vec)
@@ -101,7 +102,9 @@ class Body:
         masses = np.full(3, float(m)) if m.shape == () else m
         object.__setattr__(self, "mass", float(m) if m.shape == () else _freeze(m.copy()))
         object.__setattr__(self, "masses", _freeze(masses.copy()))
+        check_range(masses, "mass", who, "mass", "kg")
         object.__setattr__(self, "cog", _vec(self.cog, 3, who, "cog"))
+        check_range(self.cog, "length", who, "cog", "m")
 
         inertia = np.array(self.inertia, dtype=float) if is_numeric(self.inertia) else None
         if inertia is None or inertia.shape not in ((3,), (3, 3)):
@@ -128,6 +131,7 @@ class Body:
             tensor = 0.5 * (inertia + inertia.T)
             moments = np.linalg.eigvalsh(tensor)
         _check_moments(moments, who)
+        check_range(moments, "inertia", who, "inertia (principal moments)", "kg m^2")
         object.__setattr__(self, "inertia", _freeze(inertia))
         object.__setattr__(self, "tensor", _freeze(tensor))
 
@@ -195,6 +199,7 @@ class ControlPoint:
         if not isinstance(self.body, str):
             raise ModelError(f"{who}: body must be a body name, got {self.body!r}")
         object.__setattr__(self, "at", _vec(self.at, 3, who, "at"))
+        check_range(self.at, "length", who, "at", "m")
         object.__setattr__(self, "frame", _frame(self.frame, who))
 
 
@@ -283,6 +288,8 @@ class Load:
         object.__setattr__(self, "moment", _vec(self.moment, 3, who, "moment"))
         if self.at is not None:
             object.__setattr__(self, "at", _vec(self.at, 3, who, "at"))
+            check_range(self.at, "length", who, "at", "m")
+        check_range(self.at, "length", who, "at", "m")
         object.__setattr__(self, "frame", _frame(self.frame, who))
         if not isinstance(self.case, str):
             raise ModelError(f"{who}: case must be a string (a load case name), got {self.case!r}")

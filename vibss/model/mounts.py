@@ -15,6 +15,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .._validate import is_numeric
+from .limits import check_range
 from ..errors import ModelError
 from ._common import GROUND, _frame, _freeze, _orientation, _signal_safe, _vec
 from .geometry import MIRRORS
@@ -96,6 +97,8 @@ class MountType:
             v = _vec(getattr(self, key), 3, who, key)
             if np.any(v < 0):
                 raise ModelError(f"{who}: {key} must not be negative, got {v.tolist()} {unit}")
+            if key in ("stiffness", "damping"):
+                check_range(v, key, who, key, unit)
             object.__setattr__(self, key, v)
         eta = np.array(self.loss_factor, dtype=float) if is_numeric(self.loss_factor) else None
         if eta is None or eta.shape not in ((), (3,)):
@@ -203,6 +206,7 @@ class Mount:
             raise ModelError(f"{who}: joins body {self.body!r} to itself; a mount joins two "
                              "different bodies, or a body and ground")
         object.__setattr__(self, "at", _vec(self.at, 3, who, "at"))
+        check_range(self.at, "length", who, "at", "m")
         object.__setattr__(self, "frame", _frame(self.frame, who))
         object.__setattr__(self, "orientation", _orientation(self.orientation, who, "orientation"))
 
