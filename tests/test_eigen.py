@@ -212,8 +212,8 @@ def test_tall_jacobi_svd_keeps_high_relative_accuracy() -> None:
     rng = np.random.default_rng(4)
     m, n = TALL + 500, 5
     b = (10.0 ** rng.uniform(-8, 8, m))[:, None] * rng.standard_normal((m, n)) * (10.0 ** np.arange(0, 6.5, 1.5))[None]
-    sva, v, scale = jacobi_svd(b)
-    s = scale * sva
+    sva, v, work = jacobi_svd(b)
+    s = (work[0] / work[1]) * sva
     ref, _, vref, work, _, _ = lapack.dgejsv(b, joba=3, jobu=3, jobv=0, jobr=1, jobp=1)
     np.testing.assert_allclose(s, (work[0] / work[1]) * ref, rtol=1e-13)
     mpmath.mp.dps = 50
@@ -222,3 +222,4 @@ def test_tall_jacobi_svd_keeps_high_relative_accuracy() -> None:
     exact = sorted((float(mpmath.sqrt(x)) for x in mpmath.eigsy(gram)[0]), reverse=True)
     np.testing.assert_allclose(s, exact, rtol=1e-13)
     np.testing.assert_allclose(np.abs(v.T @ vref), np.eye(n), atol=1e-10)   # same right vectors
+    assert work[2] == pytest.approx(lapack.dgejsv(b, joba=3, jobu=3, jobv=0, jobr=1, jobp=1)[3][2], rel=1e-6)

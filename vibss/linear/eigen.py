@@ -223,9 +223,7 @@ def _jacobi(factor: Any, M: Any) -> tuple[np.ndarray, np.ndarray, float]:
         b = a[:, live]
         if b.shape[0] < live.size:                   # gejsv needs m >= n: zero rows change nothing
             b = np.vstack([b, np.zeros((live.size - b.shape[0], live.size))])
-        sva, _, vl, work, _, info = lapack.dgejsv(b, joba=3, jobu=3, jobv=0, jobr=1, jobp=1)
-        if info != 0:
-            raise np.linalg.LinAlgError(f"gejsv returned info={info}")
+        sva, vl, work = jacobi_svd(b)
         sigma[:live.size] = (work[0] / work[1]) * sva
         v[live, :live.size] = vl
         sconda = float(work[2])
@@ -234,8 +232,7 @@ def _jacobi(factor: Any, M: Any) -> tuple[np.ndarray, np.ndarray, float]:
             # rank deficient (rigid modes): LAPACK estimates no condition number; take it for
             # the elastic part, A restricted to the span of the elastic right singular vectors
             c = b @ vl[:, :rank]
-            work2 = lapack.dgejsv(c, joba=3, jobu=3, jobv=3, jobr=1, jobp=1)[3]
-            sconda = float(work2[2])
+            sconda = float(jacobi_svd(c, vectors=False)[2][2])
     dead = np.setdiff1d(np.arange(n), live)
     v[dead, live.size + np.arange(dead.size)] = 1.0
     order = np.argsort(sigma, kind="stable")
@@ -380,38 +377,48 @@ TALL = 2000
 own preprocessing, but through LAPACK's blocked ``geqp3``: 0.09 s instead of 0.84 s on 100,000 x 20)."""
 
 
-def jacobi_svd(b: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
-    """Singular values and right singular vectors of ``b`` (m >= n) to high relative accuracy.
+def jacobi_svd(b: np.ndarray, vectors: bool = True) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Singular values and right singular vectors of ``b`` (m >= n) to high relative accuracy: the
+    one Jacobi SVD of the eigen path (all modes, and the Ritz values of a refinement).
 
     LAPACK ``gejsv`` (joba 'G', row sorting and pivoting): each singular value has a relative error
     of about ``eps kappa(B)``, ``b = D1 B D2`` with diagonal D1, D2. For a tall ``b`` (more than
     :data:`TALL` rows and 4 n) its first step -- rows sorted by decreasing norm, a QR factorization
     with column pivoting ``b[:, p] = Q R`` (row-wise backward stable on row-sorted matrices, Cox and
     Higham) -- is done here by ``geqp3`` and ``gejsv`` runs on the n x n factor R: the singular
-    values are R's, and ``V = P V_R``.
+    values, and the columns' norms that scale the condition estimate, are R's; ``V = P V_R``.
+
+    Parameters
+    ----------
+    b : (m, n) ndarray
+    vectors : bool
+        Compute ``V`` (else an empty array is returned for it).
 
     Returns
     -------
     sva : (n,) ndarray
-        Singular values divided by ``scale`` (descending, as LAPACK returns them).
+        Singular values divided by ``work[0] / work[1]`` (descending, as LAPACK returns them).
     v : (n, n) ndarray
         Right singular vectors (columns).
-    scale : float
-        ``work[0] / work[1]`` of ``gejsv``: the singular values are ``scale * sva``.
+    work : ndarray
+        ``gejsv``'s work array: ``work[0] / work[1]`` scales ``sva``; ``work[2]`` estimates the
+        scaled condition number (0 when it could not).
     """
     m, n = b.shape
+    jobv = 0 if vectors else 3
     if m > max(TALL, 4 * n):
         rows = np.argsort(-np.einsum("ij,ij->i", b, b), kind="stable")
         r, piv = sl.qr(b[rows], mode="r", pivoting=True)
-        sva, _, vr, work, _, info = lapack.dgejsv(np.ascontiguousarray(r[:n]), joba=3, jobu=3, jobv=0, jobr=1,
-                                                  jobp=1)
+        sva, _, vr, work, _, info = lapack.dgejsv(np.ascontiguousarray(r[:n]), joba=3, jobu=3, jobv=jobv,
+                                                  jobr=1, jobp=1)
         v = np.empty_like(vr)
-        v[piv] = vr
+        if vectors:
+            v[piv] = vr
     else:
-        sva, _, v, work, _, info = lapack.dgejsv(b, joba=3, jobu=3, jobv=0, jobr=1, jobp=1)
+        sva, _, v, work, _, info = lapack.dgejsv(b, joba=3, jobu=3, jobv=jobv, jobr=1, jobp=1)
     if info != 0:
         raise np.linalg.LinAlgError(f"gejsv returned info={info}")
-    return sva, v, float(work[0] / work[1])
+    return sva, v, work
 
 
 def _refine(K: Any, M: Any, factor: Any, w2: np.ndarray, phi: np.ndarray, est: np.ndarray,
@@ -446,9 +453,9 @@ def _refine(K: Any, M: Any, factor: Any, w2: np.ndarray, phi: np.ndarray, est: n
             b = np.asarray(sp.csr_matrix(factor) @ x) if sp.issparse(factor) else np.asarray(factor) @ x
             if b.shape[0] < b.shape[1]:
                 b = np.vstack([b, np.zeros((b.shape[1] - b.shape[0], b.shape[1]))])
-            sva, v, scale = jacobi_svd(b)
+            sva, v, work = jacobi_svd(b)
             order = np.argsort(sva)
-            lam, q = (scale * sva[order]) ** 2, v[:, order]
+            lam, q = ((work[0] / work[1]) * sva[order]) ** 2, v[:, order]
         else:
             kx = np.asarray(K @ x)
             lam, q = projected_eigen(x.T @ kx, np.eye(x.shape[1]))
