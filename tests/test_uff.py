@@ -114,3 +114,41 @@ def test_control_points_are_nodes_that_move_with_their_body(tmp_path) -> None:
     scale = np.abs(md.shapes).max()
     np.testing.assert_allclose(back.shapes[12:15], u, atol=2e-5 * scale)
     np.testing.assert_allclose(back.shapes[15:18], q[3:], atol=2e-5 * scale)
+
+
+def test_frequency_shift_finds_a_stiffness_error() -> None:
+    """'Measured' = the model with every stiffness 4 % low: its frequencies are sqrt(0.96) of the
+    model's, so the computed response matches at alpha = 1 / sqrt(0.96) = 1.0206 (light damping:
+    the FRAC there is 1 to the damping's first order)."""
+    from vibss.io import frequency_shift
+
+    def sdof(k: float) -> vibss.Model:
+        t = vibss.MountType("t", [k] * 3, [0.5] * 3)
+        return vibss.Model([vibss.Body("b", 5.0, [0.1, 0.1, 0.1])], [vibss.Mount("m", t, "b")])
+
+    f_meas = np.linspace(5.0, 20.0, 301)
+    measured = vibss.frequency_response(sdof(0.96 * 2e4), ["b.fz"], ["b.z"], f_meas)
+    computed = vibss.frequency_response(sdof(2e4), ["b.fz"], ["b.z"], np.linspace(3.0, 26.0, 20001))
+    alpha, score = frequency_shift(measured, computed)["b.z/b.fz"]
+    assert alpha == pytest.approx(1 / np.sqrt(0.96), rel=1e-5)
+    assert score > 0.99 > frac(measured, computed)["b.z/b.fz"]
+    with pytest.raises(vibss.ModelError, match="covers"):
+        frequency_shift(measured, vibss.frequency_response(sdof(2e4), ["b.fz"], ["b.z"], f_meas))
+
+
+def test_overlay_of_a_measured_frf(tmp_path) -> None:
+    """The test-against-model figure: one magnitude and one phase axes, lines and markers per
+    channel, the FRAC in the measured channel's legend entry (equal to vibss.io.frac)."""
+    from vibss.plotting import plot_test_overlay
+
+    m = model()
+    computed = vibss.frequency_response(m, ["b.fz"], ["b.z", "b.x"], np.geomspace(1.0, 100.0, 400))
+    path = write_uff(vibss.frequency_response(m, ["b.fz"], ["b.z"], np.geomspace(2.0, 80.0, 60)), tmp_path / "t.uff")
+    measured = read_uff(path)
+    fig = plot_test_overlay(measured, computed)
+    top = fig.axes[0]
+    labels = [t.get_text() for t in top.get_legend().get_texts()]
+    assert labels == ["b.z/b.fz computed", f"b.z/b.fz measured (FRAC {frac(measured, computed)['b.z/b.fz']:.3f})"]
+    assert top.get_ylabel() == "|H| [m/N]" and fig.axes[1].get_xlabel() == "frequency [Hz]"
+    with pytest.raises(vibss.ModelError, match="not in both"):
+        plot_test_overlay(measured, computed, ["b.x/b.fz"])

@@ -4,6 +4,7 @@
 from .modelfile import *  # noqa: F401,F403
 from .modelfile import __all__ as _model_all
 from .csvdata import read_csv, write_csv
-from .uff import UffModes, frac, read_uff, read_uff_modes, write_uff
+from .uff import UffModes, frac, frequency_shift, read_uff, read_uff_modes, write_uff
 
-__all__ = [*_model_all, "write_uff", "read_uff", "read_uff_modes", "UffModes", "frac", "write_csv", "read_csv"]
+__all__ = [*_model_all, "write_uff", "read_uff", "read_uff_modes", "UffModes", "frac", "frequency_shift", "write_csv",
+           "read_csv"]

@@ -15,10 +15,10 @@ from .energy import plot_energy
 from .layout import plot_model
 from .modes import animate_mode, mode_title, plot_modes
 from .mounts import plot_dynamic_stiffness
-from .frequency import plot_frequency_response
+from .frequency import plot_frequency_response, plot_test_overlay
 from .response import plot_sweep_envelope, plot_time_groups, plot_time_response
 from .summary import plot_poles, plot_reduction, plot_static
 
 __all__ = ["plot_modes", "animate_mode", "plot_energy", "plot_model", "plot_time_groups", "mode_title",
            "plot_frequency_response", "plot_time_response", "plot_sweep_envelope", "plot_static",
-           "plot_poles", "plot_reduction"]
+           "plot_poles", "plot_reduction", "plot_test_overlay", "plot_dynamic_stiffness"]

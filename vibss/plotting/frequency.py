@@ -238,3 +238,55 @@ def plot_transmissibility_set(motion: Any, force: Any, bodies: Any) -> Any:
     mark_resonances_on(axes[0], list(axes), next(iter(motion.values())))
     fig.suptitle("Transmissibility (dotted, numbered: undamped natural frequencies)", fontsize=10)
     return fig
+
+
+def plot_test_overlay(measured: Any, computed: Any, channels: Sequence[str] | None = None) -> Figure:
+    """Measured FRFs (markers) over computed ones (lines), magnitude and phase, with each channel's
+    FRAC (:func:`vibss.io.frac`) in the legend.
+
+    Parameters
+    ----------
+    measured, computed : FrequencyResponse
+        E.g. :func:`vibss.io.read_uff` of a test and :func:`vibss.frequency_response` of the model.
+    channels : sequence of str or None
+        ``"<output>/<input>"`` channels to draw (default: every channel both have that is not
+        identically zero, at most 6).
+
+    Returns
+    -------
+    Figure
+    """
+    from ..io.uff import frac
+
+    scores = frac(measured, computed)
+    # by default the channels that carry something (an identically zero one has no FRAC)
+    names = list(channels) if channels is not None else [c for c in scores if np.isfinite(scores[c])][:6]
+    unknown = [c for c in names if c not in scores]
+    if unknown:
+        raise ArgumentError(f"plot_test_overlay: channels {unknown} are not in both responses; common "
+                            f"channels are {list(scores)}", argument="channels", received=unknown)
+    fig = new_figure(8, 6)
+    mag, ph = fig.subplots(2, 1, sharex=True)
+    units = []
+    for k, ch in enumerate(names):
+        y, u = ch.rsplit("/", 1)
+        color = f"C{k % 10}"
+        hc = computed.response[computed.outputs.index(y), computed.inputs.index(u)]
+        hm = measured.response[measured.outputs.index(y), measured.inputs.index(u)]
+        mag.semilogy(computed.frequency_hz, np.abs(hc), color=color, label=f"{ch} computed")
+        mag.semilogy(measured.frequency_hz, np.abs(hm), ".", color=color, ms=3,
+                     label=f"{ch} measured (FRAC {scores[ch]:.3f})")
+        ph.plot(computed.frequency_hz, np.degrees(np.angle(hc)), color=color)
+        ph.plot(measured.frequency_hz, np.degrees(np.angle(hm)), ".", color=color, ms=3)
+        unit = computed.channel_unit(y, u) if hasattr(computed, "channel_unit") else computed.units[0]
+        units.append(unit)
+    mag.set_ylabel(f"|H| [{', '.join(dict.fromkeys(units))}]")
+    ph.set_ylabel("phase [deg]")
+    ph.set_xlabel("frequency [Hz]")
+    for a in (mag, ph):
+        a.set_xscale("log")
+        plain_frequency_axis(a)
+        a.grid(True, which="both", alpha=0.3)
+    mag.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    mag.set_title("test against model", fontsize=10)
+    return fig
