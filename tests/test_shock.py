@@ -120,3 +120,18 @@ def test_tripartite_plots_pseudo_velocity():
     line = fig.axes[0].lines[0]
     np.testing.assert_allclose(line.get_ydata(), r.response / (2 * np.pi * r.frequency_hz), rtol=1e-12)
     assert fig.axes[0].get_ylabel() == "pseudo-velocity [m/s]"
+
+
+def test_srs_takes_a_damping_ratio_instead_of_q():
+    import numpy as np
+    from vibss import shock
+
+    t = np.arange(0, 0.03, 1e-5)
+    x = np.where(t < 0.01, np.sin(np.pi * t / 0.01), 0.0)
+    f = [40.0, 81.0, 200.0]
+    np.testing.assert_array_equal(shock.srs(t, x, f, zeta=0.05).response, shock.srs(t, x, f, q=10.0).response)
+    np.testing.assert_array_equal(shock.srs(t, x, f, zeta=0.0).response, shock.srs(t, x, f, q=np.inf).response)
+    with pytest.raises(vibss.ModelError, match="q or zeta, not both"):
+        shock.srs(t, x, f, q=5.0, zeta=0.1)
+    with pytest.raises(vibss.ModelError, match=r"zeta must be in \[0, 1\)"):
+        shock.srs(t, x, f, zeta=1.5)

@@ -126,7 +126,7 @@ class ShockResponseSpectrum(Result):
 
 
 def srs(time: Any, signal: Any, frequencies: Any, q: float = 10.0, kind: str = "maximax", *,
-        quantity: str = "acceleration", name: str = "srs") -> ShockResponseSpectrum:
+        quantity: str = "acceleration", name: str = "srs", zeta: float | None = None) -> ShockResponseSpectrum:
     """Shock response spectrum of a uniformly sampled base acceleration.
 
     Parameters
@@ -147,6 +147,8 @@ def srs(time: Any, signal: Any, frequencies: Any, q: float = 10.0, kind: str = "
         (the pseudo relations, exact for the undamped oscillator).
     name : str
         Name of the signal, the result's one output label (e.g. ``"table.az"``).
+    zeta : float or None
+        Damping ratio instead of ``q`` (``Q = 1 / (2 zeta)``; 0 is undamped); give one of the two.
 
     Returns
     -------
@@ -165,6 +167,13 @@ def srs(time: Any, signal: Any, frequencies: Any, q: float = 10.0, kind: str = "
     f = np.atleast_1d(v.array(frequencies, "frequencies", None, who="srs")).astype(float).ravel()
     kind = v.choice(kind, "kind", KINDS, who="srs")
     quantity = v.choice(quantity, "quantity", RESPONSES, who="srs")
+    if zeta is not None:
+        z = v.number(zeta, "zeta", who="srs", minimum=0.0)
+        if q != 10.0:
+            raise ArgumentError("srs: give q or zeta, not both", argument="zeta", received=zeta)
+        if not z < 1.0:
+            raise ArgumentError(f"srs: zeta must be in [0, 1), got {zeta!r}", argument="zeta", received=zeta)
+        q = np.inf if z == 0 else 1.0 / (2.0 * z)
     qv = float(q)
     if not qv > 0.5:
         raise ArgumentError(f"srs: q must be > 0.5 (or inf), got {q!r}", argument="q", received=q)
