@@ -29,7 +29,7 @@ import scipy.sparse.linalg as spl
 from .linear.assemble import Assembly, assemble
 from .linear.directions import align_cluster, describe_motion
 from ._validate import number, vector
-from .linear.eigen import symmetric_eigen, undamped
+from .linear.eigen import jacobi_svd, symmetric_eigen, undamped
 from .errors import AnalysisError, ModelError
 from .model.geometry import point_transfer
 from .model.model import DOF_NAMES, GROUND, Model
@@ -393,22 +393,29 @@ def _mul(K: Any, x: np.ndarray) -> np.ndarray:
 def _solve(a: Assembly, kff: Any, rhs: np.ndarray, free: np.ndarray) -> tuple[np.ndarray, tuple[str, ...]]:
     """Solve the equilibrated system; on a singular one, name the free motions."""
     diag = np.asarray(kff.diagonal()).ravel()
-    d = 1.0 / np.sqrt(np.where(diag > 0, diag, 1.0))
+    # a DOF whose stiffness is below eps^2 of the largest is unrestrained: a denormal 1e-323 N/m left
+    # by round-off (issue 18's fuzzer) would otherwise scale the system by 1e161 and solve to 1e164 m
+    live = diag > np.finfo(float).eps ** 2 * max(float(diag.max(initial=0.0)), np.finfo(float).tiny)
+    d = 1.0 / np.sqrt(np.where(live, diag, 1.0))
     if sp.issparse(kff):
         ks = sp.csc_matrix(sp.diags(d) @ kff @ sp.diags(d))
     else:
         ks = d[:, None] * kff * d[None, :]
-    singular = bool(np.any(diag <= 0)) or _unconnected(a, free)
-    if not singular and free.size <= FACTOR_MAX and len(a.model.mounts):
+    singular = bool(np.any(~live)) or _unconnected(a, free)
+    factored = free.size <= FACTOR_MAX and len(a.model.mounts) > 0
+    if not singular and factored:
         x = _factored_solve(a.stiffness_factor()[:, free], rhs)
         if x is not None:
             return x, ()
+        # the factor's pivoted QR found it rank deficient: a free motion, whatever round-off left in K
+        # (K's Cholesky can then succeed and return 1e164 m; issue 18's fuzzer)
+        singular = True
     if not singular:
         try:
             solve = _factor(ks)
             norm = abs(ks).sum(axis=0).max()
             op = spl.LinearOperator(ks.shape, matvec=solve, rmatvec=solve, dtype=float)
-            inv_norm = spl.onenormest(op) if ks.shape[0] > 4 else np.abs(np.linalg.inv(_dense(ks))).sum(0).max()
+            inv_norm = _onenormest(op) if ks.shape[0] > 4 else np.abs(np.linalg.inv(_dense(ks))).sum(0).max()
             singular = 1.0 / (norm * inv_norm) < SINGULAR_RCOND
         except (np.linalg.LinAlgError, RuntimeError):
             singular = True
@@ -418,6 +425,16 @@ def _solve(a: Assembly, kff: Any, rhs: np.ndarray, free: np.ndarray) -> tuple[np
     if free.size > NULL_DENSE_MAX:
         v = _sparse_null(ks)
         w, null = np.zeros(v.shape[1]), np.ones(v.shape[1], dtype=bool)
+    elif factored:
+        # ks = (G D)^T (G D): its eigenpairs from the Jacobi SVD of the equilibrated factor, to high
+        # relative accuracy (K's own eigenvalues can hide a free motion under round-off of 1e-10)
+        gd = a.stiffness_factor()[:, free].toarray() * d[None, :]
+        if gd.shape[0] < gd.shape[1]:
+            gd = np.vstack([gd, np.zeros((gd.shape[1] - gd.shape[0], gd.shape[1]))])
+        sva, vv, work = jacobi_svd(gd)
+        order = np.argsort(sva)
+        w, v = ((work[0] / work[1]) * sva[order]) ** 2, vv[:, order]
+        null = w <= np.sqrt(SINGULAR_RCOND) * max(w.max(), np.finfo(float).tiny) * 1e-2
     else:
         w, v = symmetric_eigen(_dense(ks))
         null = w <= np.sqrt(SINGULAR_RCOND) * max(w.max(), np.finfo(float).tiny) * 1e-2
@@ -437,7 +454,7 @@ def _solve(a: Assembly, kff: Any, rhs: np.ndarray, free: np.ndarray) -> tuple[np
                             + " (add mounts or stiffness in that direction, or prescribe it)")
     # minimum-norm solution on the restrained subspace (y = x / d orthogonal to the null vectors):
     # from the factor, with the constraints appended as rows, when the model is small enough
-    if free.size <= FACTOR_MAX and len(a.model.mounts):
+    if factored and null.any():
         g = a.stiffness_factor()[:, free].toarray()
         cons = (v[:, null] / d[:, None]).T
         weight = np.abs(g).max() / max(float(np.abs(cons).max()), np.finfo(float).tiny)
@@ -492,6 +509,18 @@ def _sparse_null(ks: Any) -> np.ndarray:
             full[idx] = v[:, j]
             out.append(full)
     return np.array(out).T.reshape(n, len(out))
+
+
+def _onenormest(op: Any) -> float:
+    """``scipy.sparse.linalg.onenormest`` with its random start vectors seeded: the same model gives
+    the same verdict whatever the caller's random state (the estimate draws from numpy's global
+    generator), and the caller's state is left as it was."""
+    state = np.random.get_state()
+    try:
+        np.random.seed(0)
+        return float(spl.onenormest(op))
+    finally:
+        np.random.set_state(state)
 
 
 def _factored_solve(g: Any, rhs: np.ndarray) -> np.ndarray | None:
