@@ -436,3 +436,25 @@ def test_frequency_dependent_mounts_in_a_control_plant() -> None:
     np.testing.assert_allclose(h[0, 1], 1 / (m0 * s ** 2 + k), rtol=1e-10)        # actuator force -> body
     with pytest.raises(ControlDesignError, match=r"ground\.z\.acc.*frequency-dependent mounts"):
         vc.plant(m, ["ground.z.acc"], performance=["b.z"], measurements=["sensor.s"], dofs=["b.z"])
+
+
+def test_lqg_closed_loop_poles_are_the_regulator_and_filter_poles() -> None:
+    """Separation principle: the LQG loop's poles are eig(A - B2 K) together with eig(A - L C2),
+    with K and L the gains the design reports (an invariant of the controller's assembly, not a
+    number from it); and it shares lqr's regulator gain on the same weights."""
+    perf = ["body.z.acc", "mount.suspension.d3", "actuator.act.u"]
+    wts = {"body.z.acc": 1.0, "mount.suspension.d3": 1e4, "actuator.act.u": 1e-6}
+    P = vc.plant(quarter_car(), ["ground.z.disp"], performance=perf, measurements=["sensor.travel"], noise=1e-3,
+                 dofs=["body.z", "wheel.z"])
+    k = vc.lqg(P, wts)
+    A = np.asarray(P.A)
+    u = [P.input_labels.index(n) for n in P.groups["u"]]
+    y = [P.output_labels.index(n) for n in P.groups["y"]]
+    B2, C2 = np.asarray(P.B)[:, u], np.asarray(P.C)[y]
+    K, L = k.design["K"], k.design["L"]
+    expected = np.concatenate([np.linalg.eigvals(A - B2 @ K), np.linalg.eigvals(A - L @ C2)])
+    cl = vc.close(P, k)
+    got = np.sort_complex(cl.poles)
+    np.testing.assert_allclose(got, np.sort_complex(expected), rtol=1e-7, atol=1e-9 * np.abs(expected).max())
+    Ps = vc.plant(quarter_car(), ["ground.z.disp"], performance=perf, measurements="states", dofs=["body.z", "wheel.z"])
+    np.testing.assert_allclose(K, vc.lqr(Ps, wts).design["K"], rtol=1e-9)

@@ -16,6 +16,7 @@ from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
+from ..linear.complex_modes import eigenpairs
 
 from ..errors import ArgumentError, ControlDesignError, MissingDependencyError, ModelError
 from .loop import Controller, controller
@@ -58,8 +59,8 @@ def preflight(P: Any, need: tuple[str, ...]) -> None:
         raise ModelError("plant: expected a vibss.control.plant(...) (its signals are grouped w, u, z, y)")
     p = _parts(P)
     A = p["A"]
-    lam, left = np.linalg.eig(A.T)
-    lam_r, right = np.linalg.eig(A)
+    lam, left = eigenpairs(A.T)          # the one general eigen solve (vibss.linear.complex_modes)
+    lam_r, right = eigenpairs(A)
     scale = max(np.abs(lam).max(initial=1.0), 1.0)
     for which, mat, vecs, vals, hint in (
             ("stabilizable", p["B2"].T, left, lam, "no actuator can move it: add an actuator that acts on it"),
@@ -108,6 +109,21 @@ def _weights(P: Any, weights: Mapping[str, float] | None) -> np.ndarray:
     return out
 
 
+def _state_feedback(p: Mapping[str, np.ndarray], w: np.ndarray,
+                    who: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """LQR gain ``K`` (``u = -K x``), Riccati solution and closed-loop poles for the cost
+    ``z^T W z`` with ``z = C1 x + D12 u`` (cross term ``N = C1^T W D12``)."""
+    import control
+
+    Q = p["C1"].T @ w @ p["C1"]
+    N = p["C1"].T @ w @ p["D12"]
+    R = p["D12"].T @ w @ p["D12"]
+    if np.linalg.matrix_rank(R) < R.shape[0]:
+        raise ControlDesignError(f"{who}: R = D12^T W D12 is singular: give every actuator command a weight > 0")
+    K, S, E = control.lqr(p["A"], p["B2"], 0.5 * (Q + Q.T), 0.5 * (R + R.T), N)
+    return np.asarray(K), np.asarray(S), np.asarray(E)
+
+
 def lqr(P: Any, weights: Mapping[str, float] | None = None) -> Controller:
     """Linear-quadratic state feedback minimising ``integral z^T W z dt``.
 
@@ -124,8 +140,6 @@ def lqr(P: Any, weights: Mapping[str, float] | None = None) -> Controller:
     Controller
         ``u = -K x``; ``design`` holds ``K``, the Riccati solution ``S`` and the closed-loop poles.
     """
-    import control
-
     preflight(P, ("stabilizable", "D12"))
     states = [vibss_name(s) for s in P.state_labels]
     if [vibss_name(s) for s in P.groups["y"]] != states:
@@ -133,13 +147,7 @@ def lqr(P: Any, weights: Mapping[str, float] | None = None) -> Controller:
                                  "measurements='states')); with sensors, use lqg")
     p = _parts(P)
     w = np.diag(_weights(P, weights))
-    Q = p["C1"].T @ w @ p["C1"]
-    N = p["C1"].T @ w @ p["D12"]
-    R = p["D12"].T @ w @ p["D12"]
-    if np.linalg.matrix_rank(R) < R.shape[0]:
-        raise ControlDesignError("lqr: R = D12^T W D12 is singular: give every actuator command a weight > 0")
-    K, S, E = control.lqr(p["A"], p["B2"], 0.5 * (Q + Q.T), 0.5 * (R + R.T), N)
-    K = np.asarray(K)
+    K, S, E = _state_feedback(p, w, "lqr")
     return controller(np.zeros((0, 0)), np.zeros((0, len(states))), np.zeros((K.shape[0], 0)), -K, states,
                       [vibss_name(s) for s in P.groups["u"]],
                       {"design": "lqr", "weights": dict(zip([vibss_name(s) for s in P.groups["z"]], np.diag(w).tolist())),
@@ -164,25 +172,29 @@ def lqg(P: Any, weights: Mapping[str, float] | None = None) -> Controller:
     Controller
         ``x_hat' = A x_hat + B2 u + L (y - C2 x_hat - D22 u)``, ``u = -K x_hat``.
     """
-    import control
-
     preflight(P, ("stabilizable", "detectable", "D12", "D21"))
     p = _parts(P)
     w = np.diag(_weights(P, weights))
-    Q = p["C1"].T @ w @ p["C1"]
-    N = p["C1"].T @ w @ p["D12"]
-    R = p["D12"].T @ w @ p["D12"]
-    if np.linalg.matrix_rank(R) < R.shape[0]:
-        raise ControlDesignError("lqg: R = D12^T W D12 is singular: give every actuator command a weight > 0")
-    K, _, _ = control.lqr(p["A"], p["B2"], 0.5 * (Q + Q.T), 0.5 * (R + R.T), N)
-    B1, D21 = p["B1"], p["D21"]
-    L, _, _ = control.lqe(p["A"], B1, p["C2"], np.eye(B1.shape[1]), D21 @ D21.T, B1 @ D21.T)
-    K, L = np.asarray(K), np.asarray(L)
+    K, _, _ = _state_feedback(p, w, "lqg")
+    L = _kalman_gain(p["A"], p["B1"], p["C2"], p["D21"])
     Ak = p["A"] - p["B2"] @ K - L @ p["C2"] + L @ p["D22"] @ K
     return controller(Ak, L, -K, np.zeros((K.shape[0], L.shape[1])), [vibss_name(s) for s in P.groups["y"]],
                       [vibss_name(s) for s in P.groups["u"]],
                       {"design": "lqg", "weights": dict(zip([vibss_name(s) for s in P.groups["z"]], np.diag(w).tolist())),
                        "K": K, "L": L}, name="lqg", states=[f"estimate:{s}" for s in P.state_labels])
+
+
+def _kalman_gain(A: np.ndarray, B1: np.ndarray, C2: np.ndarray, D21: np.ndarray) -> np.ndarray:
+    """Kalman gain of ``x' = A x + B1 w``, ``y = C2 x + D21 w`` for unit white ``w``: process and
+    measurement noise correlated through ``S = B1 D21^T`` (``control.lqe`` does not implement a cross
+    covariance), from the filter Riccati equation ``A P + P A^T - (P C2^T + S) R^-1 (C2 P + S^T) +
+    B1 B1^T = 0``, ``R = D21 D21^T``: ``L = (P C2^T + S) R^-1``."""
+    import scipy.linalg as sl
+
+    R = D21 @ D21.T
+    S = B1 @ D21.T
+    P = sl.solve_continuous_are(A.T, C2.T, B1 @ B1.T, R, s=S)
+    return np.asarray(sl.solve(R, (P @ C2.T + S).T, assume_a="pos").T)
 
 
 def weight(dc: float, crossover_hz: float, hf: float) -> Any:

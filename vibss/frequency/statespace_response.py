@@ -17,6 +17,8 @@ from typing import Any
 import numpy as np
 import scipy.linalg as sl
 
+from ..linear.complex_modes import eigenpairs
+
 __all__ = ["evaluate", "Evaluator"]
 
 
@@ -45,7 +47,7 @@ class Evaluator:
         self.D = D
         self.modal = False
         if n > 150:
-            lam, V = np.linalg.eig(A)
+            lam, V = eigenpairs(A)
             if np.linalg.cond(V) < 1e8:
                 self.modal = True
                 self.lam, self.left, self.right = lam, C @ V, np.linalg.solve(V, B)
