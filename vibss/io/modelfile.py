@@ -26,12 +26,13 @@ from __future__ import annotations
 import json
 from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import Any
+import warnings
+from typing import Any, Union
 
 import numpy as np
 
 from .._validate import read_regular_file
-from ..errors import ModelError, ModelFileError, did_you_mean
+from ..errors import ModelError, ModelFileError, VibssWarning, did_you_mean
 from ..model.excitation import Excitation, amplitude_quantity, function_from_dict
 from .filetable import MISSING, Entry, numbers, parse_text
 from .designfile import read_design, read_study, write_tables
@@ -311,7 +312,8 @@ def _analysis(e: Entry) -> dict[str, Any]:
     return out
 
 
-def _build(data: Any, source: str, base: Path | None, default_name: str) -> Model:
+def _build(data: Any, source: str, base: Path | None, default_name: str,
+           probe: Units | None = None) -> Model:
     if not isinstance(data, Mapping):
         raise ModelFileError(f"{source}: expected tables ([model], [[body]], ...) at the top level")
     for key in data:
@@ -329,6 +331,9 @@ def _build(data: Any, source: str, base: Path | None, default_name: str) -> Mode
         raise                               # already located (file and table)
     except ModelError as exc:
         raise ModelFileError(f"{source}: [model]: {exc}") from None
+    file_units = units
+    if probe is not None:                   # fileunits: the same data read with the probe's units
+        units = probe
     m = Entry(head, m.where, units)
     initial: dict[str, Any] = {}
     bodies = [_body(e, i, initial) for i, e in enumerate(_entries(data, "body", source, units), 1)]
@@ -372,6 +377,7 @@ def _build(data: Any, source: str, base: Path | None, default_name: str) -> Mode
         settings["initial"] = initial
     if set(cases) - {"default"}:
         settings["load_cases"] = cases
+    settings["units"] = {k: v for k, v in vars(file_units).items() if v is not None}
     gravity, name = _gravity(m, units), m.string("name", default_name)
     try:
         return Model(bodies, mounts, points, loads, gravity, name, excitations, settings, actuators, sensors)
@@ -487,12 +493,77 @@ def _plain(value: Any) -> Any:
     return value.tolist() if isinstance(value, np.ndarray) else value
 
 
-def model_to_dict(model: Model) -> dict[str, Any]:
-    """The model as model-file data (SI units, angles in rad), ready for TOML or JSON.
+UnitsLike = Union[Units, Mapping[str, str], str, None]
 
-    Mounts are written one by one (symmetry already expanded) and orientations as matrices, so
-    loading the result gives exactly the same matrices.
+
+def file_units(model: Model, units: UnitsLike = None) -> Units:
+    """The units :func:`dumps_model` writes ``model`` in.
+
+    Parameters
+    ----------
+    model : Model
+        The model; a model read from a file remembers that file's units (``settings["units"]``).
+    units : Units, mapping, "SI" or None
+        None: the model's file units (SI for a model built in Python); ``"SI"``: m, kg, N, s, rad;
+        a mapping as in a file's ``[model] units`` table (``{"length": "mm"}``; angles default to
+        degrees, as in files).
+
+    Examples
+    --------
+    >>> file_units(load_example("powertrain")).length
+    'mm'
+    >>> file_units(load_example("powertrain"), "SI").length
+    'm'
     """
+    if isinstance(units, Units):
+        return units
+    if isinstance(units, str):
+        if units.upper() != "SI":
+            raise ModelError(f"units: expected 'SI', a Units or a mapping like {{'length': 'mm'}}, got {units!r}")
+        return Units()
+    if units is None:
+        units = (model.settings or {}).get("units")
+        if units is None:
+            return Units()
+    return Units.from_mapping(units)
+
+
+def model_to_dict(model: Model, units: UnitsLike = "SI") -> dict[str, Any]:
+    """The model as model-file data, ready for TOML or JSON.
+
+    Mounts are written one by one (symmetry already expanded) and orientations as matrices. In SI
+    (the default) loading the result gives exactly the same matrices; in other units (see
+    :func:`file_units`) each number is the shortest that reads back to the same SI value, which
+    it does for all but a few (within one rounding, 1e-16 relative).
+
+    Parameters
+    ----------
+    model : Model
+        The model.
+    units : Units, mapping, "SI" or None
+        The units to write the numbers in (:func:`file_units`); None: the model's own file units.
+    """
+    target = file_units(model, units)
+    data = _si_dict(model)
+    if target == Units():
+        return data
+    from .fileunits import ProbeUnits, convert_tree
+    try:
+        probed = _si_dict(_build(data, "<units probe>", None, "model", probe=ProbeUnits()))
+        out = convert_tree(data, probed, target)
+    except ModelError as exc:       # a number the reader does not scale linearly: keep SI, say so
+        warnings.warn(f"model {model.name!r}: written in SI, not in {_units_text(target)}: {exc}",
+                      VibssWarning, stacklevel=2)
+        return data
+    out["model"]["units"] = {k: v for k, v in vars(target).items() if v is not None}
+    return out
+
+
+def _units_text(u: Units) -> str:
+    return ", ".join(v for v in vars(u).values() if v is not None)
+
+
+def _si_dict(model: Model) -> dict[str, Any]:
     settings = model.settings or {}
     head: dict[str, Any] = {"name": model.name, "units": {
         "length": "m", "mass": "kg", "force": "N", "angle": "rad", "time": "s"}}
@@ -575,8 +646,8 @@ def _element_dict(x: Actuator | Sensor) -> dict[str, Any]:
     return d
 
 
-def dumps_model(model: Model, fmt: str = "toml") -> str:
-    """The model as the text of a model file (SI units; floats written exactly).
+def dumps_model(model: Model, fmt: str = "toml", units: UnitsLike = None) -> str:
+    """The model as the text of a model file, in its own units (floats written exactly).
 
     Parameters
     ----------
@@ -584,21 +655,31 @@ def dumps_model(model: Model, fmt: str = "toml") -> str:
         The model.
     fmt : {"toml", "json"}
         Output format.
+    units : Units, mapping, "SI" or None
+        None (default): the units of the file the model was read from (a model built in Python:
+        SI); ``"SI"``; or a mapping like ``{"length": "mm"}`` (see :func:`file_units`). Comments
+        of the original file are not kept.
 
     Returns
     -------
     str
+
+    Examples
+    --------
+    >>> text = dumps_model(load_example("powertrain"))          # read in mm: written in mm
+    >>> 'length = "mm"' in text
+    True
     """
-    data = model_to_dict(model)
+    if fmt not in ("toml", "json"):
+        raise ModelError(f"unknown model file format {fmt!r}; expected 'toml' or 'json'")
+    data = model_to_dict(model, units)
     if fmt == "json":
         return json.dumps(data, indent=2) + "\n"
-    if fmt != "toml":
-        raise ModelError(f"unknown model file format {fmt!r}; expected 'toml' or 'json'")
-    return dumps_toml(data, header="vibss model file, written by vibss.io.dumps_model (SI units, "
-                                   "angles in rad)")
+    return dumps_toml(data, header="vibss model file, written by vibss.io.dumps_model (units: "
+                                   f"{_units_text(Units.from_mapping(data['model']['units']))})")
 
 
-def dump_model(model: Model, path: str | Path) -> None:
+def dump_model(model: Model, path: str | Path, units: UnitsLike = None) -> None:
     """Write the model to ``path`` (``.toml`` or ``.json``, by extension).
 
     Parameters
@@ -607,12 +688,14 @@ def dump_model(model: Model, path: str | Path) -> None:
         The model.
     path : str or Path
         The file to write.
+    units : Units, mapping, "SI" or None
+        As in :func:`dumps_model` (default: the model's own file units).
     """
     path = Path(path)
     fmt = {".toml": "toml", ".json": "json"}.get(path.suffix.lower())
     if fmt is None:
         raise ModelFileError(f"{path}: unknown model file type {path.suffix!r}; expected .toml or .json")
-    path.write_text(dumps_model(model, fmt), encoding="utf-8")
+    path.write_text(dumps_model(model, fmt, units), encoding="utf-8")
 
 
 # -- examples --------------------------------------------------------------------------------------
