@@ -100,22 +100,25 @@ def test_json(asym):
 
 
 def test_load_cases_are_alternatives_not_a_sum(prism):
-    """Unnamed loads always apply; each named case adds its own; several cases need a choice."""
+    """Unnamed loads always apply; each named case adds its own and is opt-in (issue 16)."""
     base = Load("base", "prism", force=[0, 0, -1000.0])
     idle = Load("idle", "prism", force=[100.0, 0, 0], case="idle")
     full = Load("full", "prism", force=[0, 400.0, 0], case="full")
     m = prism.replace(loads=[base, idle, full])
-    with pytest.raises(AnalysisError, match=r"load cases \['idle', 'full'\]"):
-        static(m)
+    plain = static(m)       # no case asked for: the unnamed loads alone, the cases named in the note
+    np.testing.assert_allclose(plain.body("prism")[:3], [0.0, 0.0, -1000.0 / 12e4], atol=1e-15)
+    assert "'idle', 'full' not applied" in plain.note and "'full' not applied" in plain.report()
     r = static(m, case="full")
     # closed form per direction: 4 mounts, kx = 1e4, ky = 2e4, kz = 3e4 N/m
     np.testing.assert_allclose(r.body("prism")[:3], [0.0, 400.0 / 8e4, -1000.0 / 12e4], atol=1e-15)
     assert r.case == "full" and r.to_dict()["case"] == "full"
     with pytest.raises(Exception, match="unknown load case 'ful'"):
         static(m, case="ful")
-    # one named case is the default
+    # a single named case is opt-in too
     only = static(prism.replace(loads=[base, idle]))
-    assert only.case == "idle" and only.body("prism")[0] == pytest.approx(100.0 / 4e4)
+    assert only.case == "" and only.body("prism")[0] == 0.0 and "'idle' not applied" in only.note
+    assert static(prism.replace(loads=[base, idle]), case="idle").body("prism")[0] == pytest.approx(100.0 / 4e4)
+    assert static(prism.replace(loads=[base])).note == ""
 
 
 @pytest.mark.parametrize("prescribed,pattern", [

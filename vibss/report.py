@@ -262,13 +262,13 @@ def _static_section(model: Model, figures: bool, results: dict[str, Any]) -> Sec
     if not model.loads and model.gravity is None:
         return Section("static", TITLES["static"], note="the model has no loads and no gravity",
                        skipped=True)
-    cases: list[str | None] = list(model.load_cases) or [None]   # each load case on its own
+    cases: list[str | None] = [None, *model.load_cases]   # the unnamed loads, then each case on its own
     solved = [static(model, case=c) for c in cases]
     results["static"] = solved[0]
     what = ", ".join(x for x in (f"{len(model.loads)} load(s)" if model.loads else "",
                                  "self-weight" if model.gravity is not None else "") if x)
-    if cases != [None]:
-        what += "; load case" + ("s " if len(cases) > 1 else " ") + ", ".join(repr(c) for c in cases)
+    if model.load_cases:
+        what += "; then each load case on its own: " + ", ".join(map(repr, model.load_cases))
     tables = tuple(t for r in solved for t in _static_tables(r))
     figs: tuple[tuple[str, Any], ...] = ()
     if figures:

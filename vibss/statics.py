@@ -17,7 +17,7 @@ are listed in the result.
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any, ClassVar
 
 import numpy as np
@@ -30,7 +30,7 @@ from .linear.assemble import Assembly, assemble
 from .linear.directions import align_cluster, describe_motion
 from ._validate import number, vector
 from .linear.eigen import jacobi_svd, symmetric_eigen, undamped
-from .errors import AnalysisError, ModelError
+from .errors import AnalysisError, ModelError, did_you_mean
 from .model.geometry import point_transfer
 from .model.model import DOF_NAMES, GROUND, Model
 from .results import Result, Table, jsonable, require_pandas
@@ -255,6 +255,8 @@ class StaticResult(Result):
                      + ") N, M about origin = (" + ", ".join(f"{v:.2f}" for v in r[3:]) + ") N m")
         if self.free_motions:
             parts.append("Unrestrained (not loaded, deflection set to zero): " + "; ".join(self.free_motions))
+        if "not applied" in self.note:
+            parts.append("Note: " + self.note.rsplit("; ", 1)[-1])
         return "\n\n".join(parts)
 
     def moment_table(self) -> Table:
@@ -293,9 +295,9 @@ def static(model: Model | Assembly, loads: np.ndarray | None = None, *,
     gravity : bool
         Include self-weight when the model defines gravity.
     case : str or None
-        Load case: the unnamed loads plus the loads of this case. Default: the only case when the
-        model names one (or none); a model with several cases needs one chosen.
-        ``"self-weight"`` (:data:`SELF_WEIGHT`): gravity alone, no load at all.
+        Load case: the unnamed loads plus the loads of this case. Named cases are opt-in: by
+        default (None) only the unnamed loads apply, and the result's ``note`` names the cases left
+        out. ``"self-weight"`` (:data:`SELF_WEIGHT`): gravity alone, no load at all.
 
     Returns
     -------
@@ -325,14 +327,18 @@ def static(model: Model | Assembly, loads: np.ndarray | None = None, *,
             raise ModelError(f"case {SELF_WEIGHT!r} and loads: self-weight alone takes no load vector")
         f = a.load_vector(include_gravity=True, include_loads=False)
         return _solved(a, f, prescribed, SELF_WEIGHT)
-    if case is None and len(cases) > 1 and loads is None:
-        raise AnalysisError(f"the model has load cases {cases}: choose one (static(..., case=NAME), "
-                            "or --case NAME on the command line); adding them up is not a load case")
     if case is not None and case not in cases:
-        raise ModelError(f"case: unknown load case {case!r}; the model's cases are {cases}")
-    case = case if case is not None else (cases[0] if cases else None)
-    f = a.load_vector(include_gravity=gravity, case=case) if loads is None else _vector(loads, n, "loads")
-    return _solved(a, f, prescribed, case)
+        raise ModelError(f"case: unknown load case {case!r}; the model's cases are "
+                         f"{cases + [SELF_WEIGHT] if a.model.gravity is not None else cases}"
+                         + did_you_mean(case, cases))
+    if loads is not None:
+        return _solved(a, _vector(loads, n, "loads"), prescribed, case)
+    r = _solved(a, a.load_vector(include_gravity=gravity, case="" if case is None else case), prescribed, case)
+    if case is None and cases:          # named cases are opt-in: say which were left out
+        left = (f"load case{'s' if len(cases) > 1 else ''} {', '.join(map(repr, cases))} not applied "
+                "(named cases are opt-in: static(..., case=NAME), --case NAME)")
+        r = replace(r, note="; ".join(x for x in (r.note, left) if x))
+    return r
 
 
 SELF_WEIGHT = "self-weight"
