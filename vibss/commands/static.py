@@ -17,7 +17,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_model_arguments(p)
     p.add_argument("--no-gravity", action="store_true", help="leave out self-weight")
     p.add_argument("--case", metavar="NAME", default=None,
-                   help="load case: the unnamed loads plus this case's (needed when the file names several); "
+                   help="load case: the unnamed loads plus this case's (named cases are opt-in: without --case only the unnamed loads apply); "
                         "'self-weight': gravity alone")
     p.set_defaults(func=run)
 
