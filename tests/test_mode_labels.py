@@ -161,3 +161,17 @@ def test_numbers_in_one_row_never_touch():
         crowded = [all(np.any((rows == q) & (pos < pos[j]) & (pos > pos[j] - need.max())) for q in range(3))
                    for j in idx[1:]]
         assert np.all((gaps >= need - 1e-12) | np.array(crowded, dtype=bool))
+
+
+def test_no_negative_zeros_outside_tables():
+    """The static reaction line and the certificate's sag printed '-0.00' (an exactly balanced
+    moment comes out of the solve as -1e-13): the powertrain's reaction about z is zero by its
+    symmetry, and its sign must not show."""
+    import re
+
+    r = vibss.static(vibss.load_example("powertrain"))
+    assert abs(r.reaction[5]) < 1e-6 and r.reaction[5] != 0.0
+    line = next(x for x in r.report().splitlines() if x.startswith("Total reaction"))
+    assert not re.search(r"(^|[ (,])-0\.0+([^0-9]|$)", line), line
+    assert not re.search(r"(^|[ (,])-0\.0+([^0-9]|$)", vibss.design.certificate(
+        vibss.load_example("powertrain")).report())

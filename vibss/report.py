@@ -45,7 +45,7 @@ from .modal.damped import damped_modes
 from .errors import SignalError, VibssError, did_you_mean
 from .modal.undamped import modes
 from .model.model import DOF_NAMES, GROUND, Model
-from .results import Table
+from .results import Table, number_text
 from .statics import StaticResult, static
 from .studies import frequency_band, steady_sweeps, time_window, transient_excitations
 
@@ -239,7 +239,7 @@ def _static_tables(r: StaticResult) -> tuple[Table, ...]:
     for b in r.model.bodies:
         d, c = r.body(b.name), r.centre_of_rotation(b.name)
         rows.append([b.name] + [f"{1e3 * v:.4f}" for v in d]
-                    + ["pure translation" if c is None else "(" + ", ".join(f"{v:.4f}" for v in c) + ")"])
+                    + ["pure translation" if c is None else "(" + ", ".join(number_text(v) for v in c) + ")"])
     out = [Table(["body", "x [mm]", "y [mm]", "z [mm]", "rx [mrad]", "ry [mrad]", "rz [mrad]",
                   "centre of rotation [m]"], rows, title="Bodies (COG)")]
     if r.model.control_points:

@@ -51,6 +51,17 @@ def _no_negative_zero(cell: Any) -> Any:
     return cell
 
 
+def number_text(value: float, spec: str = ".4f") -> str:
+    """``format(value, spec)`` without the sign of a value that rounds to zero (no ``-0.00``).
+
+    Examples
+    --------
+    >>> number_text(-1e-9, ".2f"), number_text(-0.5, ".2f")
+    ('0.00', '-0.50')
+    """
+    return _no_negative_zero(format(value, spec))
+
+
 @dataclass(frozen=True)
 class Table:
     """A titled table of strings that renders as aligned text.

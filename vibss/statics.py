@@ -33,7 +33,7 @@ from .linear.eigen import jacobi_svd, symmetric_eigen, undamped
 from .errors import AnalysisError, ModelError, did_you_mean
 from .model.geometry import point_transfer
 from .model.model import DOF_NAMES, GROUND, Model
-from .results import Result, Table, jsonable, require_pandas
+from .results import Result, Table, jsonable, number_text, require_pandas
 
 __all__ = ["StaticResult", "static", "centre_of_rotation", "SINGULAR_RCOND"]
 
@@ -210,7 +210,7 @@ class StaticResult(Result):
             d = self.body(b.name)
             c = self.centre_of_rotation(b.name)
             rows.append([b.name] + [f"{1e3 * v:.4f}" for v in d[:3]] + [f"{1e3 * v:.4f}" for v in d[3:]]
-                        + ["pure translation" if c is None else "(" + ", ".join(f"{v:.4f}" for v in c) + ")"])
+                        + ["pure translation" if c is None else "(" + ", ".join(number_text(v) for v in c) + ")"])
         return Table(["body", "x [mm]", "y [mm]", "z [mm]", "rx [mrad]", "ry [mrad]", "rz [mrad]",
                       "centre of rotation [m]"], rows, title="Bodies (COG)")
 
@@ -251,8 +251,8 @@ class StaticResult(Result):
             if self.mount_moment is not None:
                 parts.append(self.moment_table().render())
         r = self.reaction
-        parts.append("Total reaction into ground: F = (" + ", ".join(f"{v:.2f}" for v in r[:3])
-                     + ") N, M about origin = (" + ", ".join(f"{v:.2f}" for v in r[3:]) + ") N m")
+        parts.append("Total reaction into ground: F = (" + ", ".join(number_text(v, ".2f") for v in r[:3])
+                     + ") N, M about origin = (" + ", ".join(number_text(v, ".2f") for v in r[3:]) + ") N m")
         if self.free_motions:
             parts.append("Unrestrained (not loaded, deflection set to zero): " + "; ".join(self.free_motions))
         if "not applied" in self.note:

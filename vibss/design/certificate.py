@@ -32,7 +32,7 @@ from ..linear.assemble import assemble
 from ..modal.damped import damped_modes
 from ..modal.undamped import modes as undamped_modes
 from ..model.model import DOF_NAMES, Model
-from ..results import Result, Table, jsonable, require_pandas
+from ..results import Result, Table, jsonable, number_text, require_pandas
 from ._common import body_name, frame_axes, frame_rotation, ke_fractions, unit_axis
 
 __all__ = ["Certificate", "certificate", "windows_for", "in_windows", "STANDARD_GRAVITY", "WINDOW_RTOL"]
@@ -210,11 +210,12 @@ class Certificate(Result):
         """Text certificate: verdict, per-mode table, KE matrix, sag."""
         verdict = "PASSED" if self.passed else "FAILED"
         sw, st = self._sag(self.sag_weight), self._sag(self.sag_torque)
-        sag = (f"Sag of {self.body!r} under weight: {1e3 * sw[0]:.3f} {1e3 * sw[1]:.3f} {1e3 * sw[2]:.3f} mm, "
-               f"{np.degrees(sw[3]):.4f} {np.degrees(sw[4]):.4f} {np.degrees(sw[5]):.4f} deg\n"
-               f"Under drive torque {np.round(self.torque, 3).tolist()} N m: "
-               f"{1e3 * st[0]:.3f} {1e3 * st[1]:.3f} {1e3 * st[2]:.3f} mm, "
-               f"{np.degrees(st[3]):.4f} {np.degrees(st[4]):.4f} {np.degrees(st[5]):.4f} deg")
+        def motion(q: np.ndarray) -> str:
+            return (" ".join(number_text(1e3 * v, ".3f") for v in q[:3]) + " mm, "
+                    + " ".join(number_text(v, ".4f") for v in np.degrees(q[3:])) + " deg")
+
+        sag = (f"Sag of {self.body!r} under weight: {motion(sw)}\n"
+               f"Under drive torque {np.round(self.torque, 3).tolist()} N m: {motion(st)}")
         head = (f"Decoupling certificate of {self.model.name!r}: {verdict} "
                 f"({int(self.pure.sum())}/{len(self.purity)} modes >= {100 * self.target:.0f} % pure, "
                 f"{int(self.in_window.sum())}/{len(self.purity)} in window)")
