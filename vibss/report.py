@@ -398,20 +398,15 @@ def _function_parameters(d: dict[str, Any], unit: str) -> str:
 
 
 def _bode(r: Any, name: str, title: str = "") -> tuple[str, Any]:
-    from .plotting._draw import new_figure
+    from .plotting.frequency import plot_frequency_response
 
-    fig = new_figure(8.0, 6.0)
-    axes = fig.subplots(2, 1, sharex=True)
-    r.plot(ax=axes)
     if tuple(r.inputs) == ("sweep",):   # a sweep's amplitudes: only its band, named as what they are
         kind = {"receptance": "displacement", "mobility": "velocity", "accelerance": "acceleration"}.get(r.quantity, r.quantity)
-        units = sorted(set(r.units))
-        axes[0].set_ylabel(f"{kind} amplitude" + (f" [{units[0]}]" if len(units) == 1 else " (units in the legend)"))
-        axes[0].set_title(title or f"{r.name}: steady-state {kind} amplitude (method {r.method})", fontsize=10)
-    else:
-        axes[0].set_title(title or f"{r.name}: {r.quantity} from {', '.join(r.inputs)} (method {r.method})",
-                          fontsize=10)
-    return name, fig
+        return name, plot_frequency_response(
+            r, what=f"{kind} amplitude",
+            title=title or f"{r.name}: steady-state {kind} amplitude (method {r.method})")
+    return name, plot_frequency_response(
+        r, title=title or f"{r.name}: {r.quantity} from {', '.join(r.inputs)} (method {r.method})")
 
 
 def _frequency_section(model: Model, figures: bool, results: dict[str, Any]) -> Section:

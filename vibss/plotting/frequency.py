@@ -27,7 +27,7 @@ _KEY_MAX = 24
 def plot_frequency_response(response: Any, outputs: Sequence[str] | None = None,
                             inputs: Sequence[str] | None = None, max_channels: int = 12,
                             mark_resonances: bool = True, ax: Any = None, by: str = "all",
-                            key: bool = True) -> Figure:
+                            key: bool = True, title: str | None = None, what: str | None = None) -> Figure:
     """Bode plot (magnitude and phase) of selected channels of a frequency response.
 
     Parameters
@@ -48,6 +48,11 @@ def plot_frequency_response(response: Any, outputs: Sequence[str] | None = None,
         group of outputs (the part of their name before the first ``.``).
     key : bool
         With ``mark_resonances``: list the numbered modes (``"3 tank.y 4.12 Hz"``) below the axes.
+    title : str or None
+        Title above the axes (default: the response's name and method).
+    what : str or None
+        What the magnitude is, under its unit (default: the response's quantity, e.g.
+        ``"receptance"``; a sweep's ``"amplitude"``).
 
     Returns
     -------
@@ -78,36 +83,55 @@ def plot_frequency_response(response: Any, outputs: Sequence[str] | None = None,
     if outputs is None and inputs is None and len(pairs) > max_channels:
         peak = [np.nanmax(np.where(np.isfinite(mag[i, j]), mag[i, j], np.nan)) for i, j in pairs]
         pairs = [pairs[k] for k in np.argsort(peak)[::-1][:max_channels]]
-    if ax is None:
-        fig = new_figure(8, 6)
-        ax = fig.subplots(2, 1, sharex=True)
+    units = list(dict.fromkeys(r.channel_unit(i, j) for i, j in pairs))   # in order of first use
+    if ax is None:          # one magnitude axes per unit (m beside rad would squash one of them)
+        n_mag = len(units)
+        fig = new_figure(8, 6 if n_mag == 1 else 3.2 + 2.3 * n_mag)
+        axs = list(fig.subplots(n_mag + 1, 1, sharex=True, squeeze=False,
+                                gridspec_kw={"height_ratios": [1.5] * n_mag + [1.2]})[:, 0])
+        mag_ax = dict(zip(units, axs[:-1]))
     else:
         fig = ax[0].figure
+        axs = [ax[0], ax[1]]
+        mag_ax = {u: ax[0] for u in units}
     f = r.frequency_hz
     pos = f > 0
     phase = r.phase_deg
-    units = {r.channel_unit(i, j) for i, j in pairs}
-    for i, j in pairs:
+    colours = _colours(len(pairs))          # one colour per channel, the same in every panel
+    for k, (i, j) in enumerate(pairs):
+        u = r.channel_unit(i, j)
         label = r.output_labels[i] + (f" / {r.input_labels[j]}" if len(r.input_labels) > 1 else "")
-        if len(units) > 1:
-            label += f" [{r.channel_unit(i, j)}]"
-        ax[0].loglog(f[pos], mag[i, j, pos], label=label)
-        ax[1].semilogx(f[pos], phase[i, j, pos])
+        shared = sum(a is mag_ax[u] for a in mag_ax.values()) > 1
+        if shared:
+            label += f" [{u}]"
+        mag_ax[u].loglog(f[pos], mag[i, j, pos], label=label, color=colours[k])
+        axs[-1].semilogx(f[pos], phase[i, j, pos], color=colours[k])
     if tuple(r.inputs) == ("sweep",):   # a sweep's amplitudes: only the swept band
         live = np.flatnonzero(np.any(np.abs(r.response[:, 0, :]) > 0, axis=0) & pos)
         if live.size > 1:
-            ax[1].set_xlim(f[live[0]], f[live[-1]])
+            axs[-1].set_xlim(f[live[0]], f[live[-1]])
     if mark_resonances:
-        mark_resonances_on(ax[0], list(ax), r, key=key)
-    what = "amplitude" if r.quantity == "sweep" else r.quantity
-    ax[0].set_ylabel(f"|{'y' if r.quantity == 'sweep' else 'H'}| [{units.pop()}] ({what})" if len(units) == 1
-                     else f"|H| ({what}; units in the legend)")
-    ax[1].set_ylabel("phase [deg]")
-    ax[1].set_xlabel("frequency [Hz]")
-    plain_frequency_axis(ax[1])
-    ax[0].set_title(f"{r.name}: method {r.method}")
-    ax[0].legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
+        mark_resonances_on(axs[0], axs, r, key=key)
+    what = what or ("amplitude" if r.quantity == "sweep" else r.quantity)
+    symbol = "y" if r.quantity == "sweep" or tuple(r.inputs) == ("sweep",) else "H"   # amplitudes, not ratios
+    for a in dict.fromkeys(mag_ax.values()):
+        here = [u for u in units if mag_ax[u] is a]
+        a.set_ylabel(f"|{symbol}| [{here[0]}]\n({what})" if len(here) == 1
+                     else f"|{symbol}| ({what}; units in the legend)")
+        a.legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
+    axs[-1].set_ylabel("phase [deg]")
+    axs[-1].set_xlabel("frequency [Hz]")
+    plain_frequency_axis(axs[-1])
+    axs[0].set_title(title or f"{r.name}: method {r.method}", fontsize=10)
     return fig
+
+
+def _colours(n: int) -> list[Any]:
+    """``n`` distinct colours: tab10, or tab20 for more than ten channels (no colour used twice)."""
+    from matplotlib import colormaps
+
+    cmap = colormaps["tab10" if n <= 10 else "tab20"]
+    return [cmap(k % cmap.N) for k in range(n)]
 
 
 def mark_resonances_on(top: Any, axes: Sequence[Any], response: Any, key: bool = True) -> list[str]:
