@@ -152,3 +152,19 @@ def test_model_labels_do_not_overlap(example, view):
             assert b.x0 >= 0 and b.y0 >= 0 and b.x1 <= fig.bbox.x1 and b.y1 <= fig.bbox.y1
             for c in boxes[i + 1:]:
                 assert not (min(b.x1, c.x1) - max(b.x0, c.x0) > 0.5 and min(b.y1, c.y1) - max(b.y0, c.y0) > 0.5)
+
+
+def test_energy_title_fits_in_its_figure():
+    """Issue 16: the energy map's title ran off both edges for the powertrain's long name."""
+    import vibss
+    from vibss.plotting import plot_energy
+
+    fig = plot_energy(vibss.modes(vibss.load_example("powertrain")))
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    width = fig.get_figwidth() * fig.dpi
+    titles = [ax.title for ax in fig.axes if ax.get_title()]
+    assert titles
+    for t in titles:
+        box = t.get_window_extent(renderer)
+        assert box.x0 >= 0 and box.x1 <= width, (box, width)

@@ -383,6 +383,16 @@ def new_figure(width: float, height: float) -> Figure:
     return fig
 
 
+def fitted_title(ax: Axes, text: str, fontsize: float = 10) -> None:
+    """``ax.set_title(text)``, wrapped onto as many lines as the figure's width needs (a long model
+    name ran off both edges of a narrow figure)."""
+    import textwrap
+
+    width_pt = ax.figure.get_figwidth() * 72.0
+    chars = max(20, int(width_pt / (0.55 * fontsize)))      # a DejaVu Sans character: ~0.55 em
+    ax.set_title(textwrap.fill(text, chars), fontsize=fontsize)
+
+
 def plain_frequency_axis(ax: Axes) -> None:
     """Log frequency axis labelled in plain numbers (0.5, 1, 2, 5, 10, 20, 50 ... Hz), not powers of ten.
 

@@ -11,7 +11,7 @@ from matplotlib.patches import Patch
 from ..errors import ModelError
 from ..modal.undamped import Modes
 from ..model.model import DOF_NAMES
-from ._draw import new_figure
+from ._draw import fitted_title, new_figure
 
 __all__ = ["plot_energy"]
 
@@ -95,5 +95,5 @@ def plot_energy(modes: Modes, kind: str = "heatmap", which: Sequence[int] | None
                         for b, n in enumerate(names)]
         ax.legend(handles=handles, loc="upper left",
                   bbox_to_anchor=(1.0, 1.0), fontsize=8, frameon=False)
-    ax.set_title(f"Modal kinetic-energy distribution of {modes.model.name!r}", fontsize=10)
+    fitted_title(ax, f"Modal kinetic-energy distribution of {modes.model.name!r}")
     return fig
