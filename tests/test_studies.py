@@ -182,3 +182,28 @@ def test_a_given_end_sets_the_step_rule() -> None:
         time_window(box(), end=-1.0)
     out = cli_json(["time", "--example", "packaged_item", "--end", "0.05", "--output", "item.z"])
     assert out["time"][-1] == pytest.approx(0.05) and out["time"][1] == pytest.approx(1e-4)  # the file's step
+
+
+def test_time_studies_lead_with_what_matters(capsys):
+    """Issue 16 item 4: under a base pulse `vibss time` led with absolute displacements drifting to
+    0.67 m and listed 23 channels the symmetry leaves at zero. Now the mount strokes and the
+    item's acceleration lead (as in the report) and the zero channels are counted, not listed."""
+    import vibss
+    from vibss.cli import main
+    from vibss.studies import time_outputs
+
+    item = vibss.load_example("packaged_item")              # 50 g half-sine of the ground, vertical
+    chosen = time_outputs(item)
+    assert chosen.base and chosen.outputs[0].startswith("mount.") and chosen.outputs[-1] == "item.rz"
+    powertrain = vibss.load_example("powertrain")
+    forced = time_outputs(powertrain, [e for e in powertrain.excitations if e.kind == "force"])
+    assert not forced.base and forced.outputs[0] == "powertrain.x"
+    assert main(["time", "--example", "packaged_item"]) == 0
+    table = capsys.readouterr().out.split("unit\n", 1)[1].splitlines()
+    assert table[0].split()[0].startswith("mount.") and "dz" in table[0].split()[0]
+    listed = [row.split()[0] for row in table if not row.startswith("(")]
+    # the doubly symmetric item under a vertical input: lateral and rotational channels are zero
+    # by symmetry (an invariant, not a number from vibss), vertical ones are not
+    assert not {"item.x", "item.y", "item.rx", "item.ry", "item.rz", "item.x.acc"} & set(listed)
+    assert {"item.z", "item.z.acc"} <= set(listed)
+    assert table[-1].startswith("(23 outputs below 1e-9")

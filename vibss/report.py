@@ -47,7 +47,7 @@ from .modal.undamped import modes
 from .model.model import DOF_NAMES, GROUND, Model
 from .results import Table, number_text
 from .statics import StaticResult, static
-from .studies import frequency_band, steady_sweeps, time_window, transient_excitations
+from .studies import frequency_band, steady_sweeps, time_outputs, time_window, transient_excitations
 
 __all__ = ["Section", "Report", "study", "write_report", "render_report", "html_table", "slug", "default_folder",
            "progress_on_stderr", "STEPS", "MAX_MODE_PANELS"]
@@ -506,35 +506,20 @@ def _time_section(model: Model, figures: bool, results: dict[str, Any]) -> Secti
     from .time.api import simulate
 
     window = time_window(model, results.get("modes"))     # the window of ``vibss time``
-    base = all(e.target == GROUND and e.kind != "force" for e in transient)
-    deflections = [f"mount.{m.name}.{d}" for m in model.mounts for d in ("dx", "dy", "dz")]
-    accelerations = [f"{b}.{d}.acc" for b in model.body_names for d in "xyz"]
-    motions = [f"{b}.{d}" for b in model.body_names for d in DOF_NAMES]
-    forces = [f"mount.{m.name}.{d}" for m in model.mounts for d in ("fx", "fy", "fz")]
-    # base excitation: what the isolator strokes and what the item feels lead, absolute motion last
-    # (it follows the ground); force excitation: the motion and the forces into the mounts
-    outputs = deflections + accelerations + motions if base else motions + forces + accelerations + deflections
-    r = simulate(model, transient, outputs=outputs, t_end=window.end, dt=window.step,
+    chosen = time_outputs(model, transient)
+    r = simulate(model, transient, outputs=list(chosen.outputs), t_end=window.end, dt=window.step,
                  record_from=window.record_from, rtol=window.tolerance)
     results["time"] = r
-    pk = r.peaks()
-    largest: dict[str, float] = {}          # per unit, rotations with translations (rad ~ m on a 1 m body)
-    for u, v in zip(pk.units, pk.value):
-        largest[u.replace("rad", "m")] = max(largest.get(u.replace("rad", "m"), 0.0), abs(float(v)))
-    rows = [[n, f"{v:.5e}", f"{t:.5f}", f"{s:.5e}", u]
-            for n, u, v, t, s in zip(pk.outputs, pk.units, pk.value, pk.time, pk.rms)
-            if abs(v) > 1e-9 * largest[u.replace("rad", "m")]]  # channels the symmetry leaves at zero: dropped
-    dropped = len(pk.outputs) - len(rows)
-    table = Table(["output", "peak", "at [s]", "RMS", "unit"], rows,
+    summary = r.summary()
+    table = Table(summary.header, summary.rows,
                   title=f"Peaks of the response to {', '.join(e.name for e in transient)} "
                         "(body motions absolute; mount deflection = body side minus other side)"
-                        + (f"; {dropped} channels below 1e-9 of the largest of their unit not listed" if dropped else ""))
+                        + summary.title.removeprefix(f"method {r.method}"))
     figs: list[tuple[str, Any]] = []
     if figures:
         from .plotting import plot_time_groups
 
-        lead = ["mount deflection", "acceleration"] if base else ["body translation", "mount force"]
-        figs.append(("time.png", plot_time_groups(r, order=lead, show_inputs=True)))
+        figs.append(("time.png", plot_time_groups(r, order=list(chosen.lead), show_inputs=True)))
     head = "\n".join(r.report().split("\n")[:2])
     return Section("time", TITLES["time"], f"{head}\n\n{table}", (table,), tuple(figs),
                    note=f"0 to {window.end:g} s, step {window.step:g} s ({window.note}), method {r.method}")

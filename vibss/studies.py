@@ -20,6 +20,10 @@ Rules (each value of the file's ``[analysis]`` table wins over its rule):
   power of ten; coarser (rounded up to 1, 2 or 5 times a power of ten) where that would make more
   than :data:`MAX_DEFAULT_SAMPLES` samples. ``end`` is rounded up to two
   significant digits.
+- **Time outputs** (:func:`time_outputs`). Under base excitation (every transient excitation a
+  prescribed ground motion) the mount deflections (what the isolators stroke) and the bodies'
+  absolute accelerations (what the item feels) lead, absolute body motion last (it follows the
+  ground); under forces, body motion and mount forces lead.
 - **Frequency band** (:func:`frequency_band`). ``f1``, ``f2`` = the steady sweeps' band (lowest
   ``f1`` to highest ``f2``) when the model has steady sweeps, else a tenth of the lowest to twice the
   highest elastic natural frequency (the rule of :class:`vibss.FrequencyGrid`); 0.01 to 100 Hz
@@ -52,8 +56,8 @@ from .linear.assemble import assemble
 from .modal.undamped import Modes, modes as undamped_modes
 from .model.model import Model
 
-__all__ = ["TimeWindow", "FrequencyBand", "StudyDefaults", "is_steady_sweep", "steady_sweeps",
-           "transient_excitations", "time_window", "frequency_band", "study_defaults",
+__all__ = ["TimeWindow", "FrequencyBand", "StudyDefaults", "TimeOutputs", "is_steady_sweep", "steady_sweeps",
+           "transient_excitations", "time_window", "time_outputs", "frequency_band", "study_defaults",
            "MAX_DEFAULT_SAMPLES", "DECAY_PERIODS"]
 
 MAX_DEFAULT_SAMPLES = 100_000
@@ -159,6 +163,55 @@ def steady_sweeps(model: Model) -> tuple[Any, ...]:
 def transient_excitations(model: Model) -> tuple[Any, ...]:
     """The model's excitations with a time history (everything but steady sweeps), in file order."""
     return tuple(e for e in model.excitations if not is_steady_sweep(e))
+
+
+@dataclass(frozen=True)
+class TimeOutputs:
+    """The outputs of a time study, the ones that matter first.
+
+    Attributes
+    ----------
+    outputs : tuple of str
+        Signal names, leading ones first.
+    lead : tuple of str
+        The plot groups to draw first (``"mount deflection"``, ``"acceleration"`` ...; the groups of
+        :func:`vibss.plotting.plot_time_groups`).
+    base : bool
+        True when every excitation is a prescribed ground motion.
+    """
+
+    outputs: tuple[str, ...]
+    lead: tuple[str, ...]
+    base: bool
+
+
+def time_outputs(model: Model, excitations: Sequence[Any] | None = None) -> TimeOutputs:
+    """Default outputs of a time study, leading with what matters (see the module docstring).
+
+    Parameters
+    ----------
+    model : Model
+        The model.
+    excitations : sequence of Excitation or None
+        The excitations simulated (default: the model's transient ones).
+
+    Examples
+    --------
+    >>> from vibss import load_example
+    >>> t = time_outputs(load_example("packaged_item"))
+    >>> t.base, t.outputs[0], t.lead
+    (True, 'mount.lower.dx', ('mount deflection', 'acceleration'))
+    """
+    transient = list(transient_excitations(model) if excitations is None else excitations)
+    base = bool(transient) and all(e.target == "ground" and e.kind != "force" for e in transient)
+    deflections = [f"mount.{m.name}.{d}" for m in model.mounts for d in ("dx", "dy", "dz")]
+    accelerations = [f"{b}.{d}.acc" for b in model.body_names for d in "xyz"]
+    motions = [f"{b}.{d}" for b in model.body_names for d in ("x", "y", "z", "rx", "ry", "rz")]
+    forces = [f"mount.{m.name}.{d}" for m in model.mounts for d in ("fx", "fy", "fz")]
+    if base:
+        return TimeOutputs(tuple(deflections + accelerations + motions), ("mount deflection", "acceleration"), True)
+    return TimeOutputs(tuple(motions + forces + accelerations + deflections), ("body translation", "mount force"),
+                       False)
 
 
 def _settings(model: Model, key: str) -> dict[str, Any]:

@@ -388,7 +388,7 @@ def fitted_title(ax: Axes, text: str, fontsize: float = 10) -> None:
     name ran off both edges of a narrow figure)."""
     import textwrap
 
-    width_pt = ax.figure.get_figwidth() * 72.0
+    width_pt = ax.figure.bbox.width * 72.0 / ax.figure.dpi
     chars = max(20, int(width_pt / (0.55 * fontsize)))      # a DejaVu Sans character: ~0.55 em
     ax.set_title(textwrap.fill(text, chars), fontsize=fontsize)
 

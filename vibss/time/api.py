@@ -185,24 +185,43 @@ class TimeResponse(Result):
         return PeakTable(self.output_names, self.units, self.outputs[rows, i], self.time[i],
                          np.sqrt(np.mean(self.outputs**2, axis=1)))
 
+    def negligible(self, rel: float = 1e-9) -> tuple[str, ...]:
+        """Outputs whose peak is below ``rel`` times the largest peak of their unit (rad counted
+        with m, rad/s^2 with m/s^2: rotations of a body of about 1 m): channels the model's symmetry
+        leaves at zero, up to rounding (1e-17 m beside a 0.7 m stroke)."""
+        pk = self.peaks()
+        family = [u.replace("rad", "m") for u in pk.units]
+        largest: dict[str, float] = {}
+        for u, v in zip(family, pk.value):
+            largest[u] = max(largest.get(u, 0.0), abs(float(v)))
+        return tuple(n for n, u, v in zip(pk.outputs, family, pk.value) if not abs(v) > rel * largest[u])
+
     def report(self) -> str:
-        """Text table: peak value and its time, and RMS, per output."""
+        """Text table: peak value and its time, and RMS, per output (channels left at zero by the
+        model's symmetry, :meth:`negligible`, counted below the table rather than listed)."""
         pk = self.peaks()
         width = max([len(n) for n in self.output_names] + [6])
         lines = [f"Time response of {self.name}: {self.time.size} samples"
                  + (f", {self.time[0]:g} .. {self.time[-1]:g} s" if self.time.size else ""),
                  f"method: {self.method} ({self.note})", "",
                  f"{'output':<{width}}  {'peak':>13}  {'at [s]':>10}  {'RMS':>12}  unit"]
+        quiet = set(self.negligible())
         for n, u, v, t, r in zip(self.output_names, self.units, pk.value, pk.time, pk.rms):
-            lines.append(f"{n:<{width}}  {v:>13.5e}  {t:>10.5f}  {r:>12.5e}  {u}")
+            if n not in quiet:
+                lines.append(f"{n:<{width}}  {v:>13.5e}  {t:>10.5f}  {r:>12.5e}  {u}")
+        if quiet:
+            lines.append(f"({len(quiet)} output{'s' if len(quiet) > 1 else ''} below 1e-9 of the largest of "
+                         f"their unit not listed: {', '.join(n for n in self.output_names if n in quiet)})")
         return "\n".join(lines)
 
     def summary(self) -> Table:
-        """Peak value, its time and RMS of every output."""
+        """Peak value, its time and RMS of every output but the :meth:`negligible` ones."""
         pk = self.peaks()
+        quiet = set(self.negligible())
         rows = [[n, f"{v:.5e}", f"{t:.5f}", f"{r:.5e}", u]
-                for n, u, v, t, r in zip(self.output_names, self.units, pk.value, pk.time, pk.rms)]
-        return Table(["output", "peak", "at [s]", "RMS", "unit"], rows, title=f"method {self.method}")
+                for n, u, v, t, r in zip(self.output_names, self.units, pk.value, pk.time, pk.rms) if n not in quiet]
+        return Table(["output", "peak", "at [s]", "RMS", "unit"], rows, title=f"method {self.method}"
+                     + (f"; {len(quiet)} outputs below 1e-9 of the largest of their unit not listed" if quiet else ""))
 
     def to_dict(self) -> dict[str, Any]:
         """The spec's JSON: ``{"time": [...], "outputs": {name: [...]}}`` plus units and method."""
