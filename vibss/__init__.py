@@ -61,7 +61,7 @@ _LAZY: dict[str, str] = {
     "build_plant": ".linear.signals",
     "NamedStateSpace": ".linear.statespace", "statespace": ".linear.statespace",
     "StaticResult": ".statics", "static": ".statics",
-    "StudyDefaults": ".studies", "study_defaults": ".studies",
+    "StudyDefaults": ".studies", "study_defaults": ".studies", "causal_loss": ".studies",
     "TimeResponse": ".time.api", "simulate": ".time.api",
     "SweepEnvelope": ".time.sweep", "sweep_envelope": ".time.sweep",
     "study": ".design.study",
@@ -117,7 +117,7 @@ if TYPE_CHECKING:                          # what static checkers and IDEs see
     from .random import PSD, random_response
     from .shock import srs  # type: ignore[no-redef]  # the function, not the module vibss.shock.srs
     from .statics import StaticResult, static
-    from .studies import StudyDefaults, study_defaults
+    from .studies import StudyDefaults, causal_loss, study_defaults
     from .time.api import TimeResponse, simulate
     from .time.sweep import SweepEnvelope, sweep_envelope
 
@@ -130,5 +130,5 @@ __all__ = [
     "FrequencyGrid", "FrequencyResponse", "GROUND", "Load", "MissingDependencyError", "Model", "ModelError", "ModelFileError", "Modes", "Mount", "MountType", "NamedStateSpace",
     "Orientation", "PSD", "Plant", "Reduction", "Scope", "SignalError", "StaticResult", "StudyDefaults", "SweepEnvelope", "TimeResponse", "VibssError", "VibssWarning", "assemble", "build_plant", "damped_modes", "dump_model",
     "dumps_model", "example_names", "frequency_grid", "frequency_response", "load_example", "load_model", "loads_model", "modes", "orders", "random", "random_response", "reduce", "shock", "simulate", "srs", "static",
-    "statespace", "study", "study_defaults", "sweep_envelope", "sweep_response", "symmetric", "transmissibility",
+    "statespace", "study", "study_defaults", "causal_loss", "sweep_envelope", "sweep_response", "symmetric", "transmissibility",
 ]

@@ -46,7 +46,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -58,7 +58,7 @@ from .model.model import Model
 
 __all__ = ["TimeWindow", "FrequencyBand", "StudyDefaults", "TimeOutputs", "is_steady_sweep", "steady_sweeps",
            "transient_excitations", "time_window", "time_outputs", "frequency_band", "study_defaults",
-           "MAX_DEFAULT_SAMPLES", "DECAY_PERIODS"]
+           "CausalLoss", "causal_loss", "causal_loss_fit", "MAX_DEFAULT_SAMPLES", "DECAY_PERIODS"]
 
 MAX_DEFAULT_SAMPLES = 100_000
 """Most samples ``end / step + 1`` of a default time window (a coarser step beyond)."""
@@ -429,3 +429,121 @@ def study_defaults(model: Model, modes: Modes | None = None) -> StudyDefaults:
     m = _modes(model, modes) if needs else modes     # one eigen-solve for both
     return StudyDefaults(time_window(model, m), frequency_band(model, m), steady_sweeps(model),
                          transient_excitations(model))
+
+
+@dataclass(frozen=True)
+class CausalLoss:
+    """The result of :func:`causal_loss_fit`.
+
+    Attributes
+    ----------
+    model : Model
+        The model with its loss factors as causal ladders (the same object when it has none).
+    mounts : tuple of str
+        The mounts converted.
+    band : (float, float)
+        The band the ladders were fitted over [Hz].
+    storage_error, loss_error : float
+        Largest relative error over the band of the storage stiffness ``k'`` against ``k`` and of
+        the loss factor ``k'' / k'`` against ``eta`` (0 when nothing was converted).
+    """
+
+    model: Model
+    mounts: tuple[str, ...]
+    band: tuple[float, float]
+    storage_error: float
+    loss_error: float
+
+    @property
+    def note(self) -> str:
+        """The sentence for a result's ``note`` (``""`` when nothing was converted)."""
+        if not self.mounts:
+            return ""
+        return (f"loss factor of mount(s) {list(self.mounts)} as a causal Maxwell ladder fitted over "
+                f"{self.band[0]:.4g} to {self.band[1]:.4g} Hz: storage stiffness within "
+                f"{100 * self.storage_error:.2g} %, loss factor within {100 * self.loss_error:.2g} % of "
+                "k (1 + i eta) there")
+
+
+def causal_loss(model: Model, band: Sequence[float] | None = None) -> Model:
+    """``model`` with every constant loss factor replaced by its causal approximation over a band.
+
+    A constant loss factor ``k (1 + i eta)`` has no causal time-domain form, so the time response,
+    the damped modes and the python-control system leave it out (with a warning). This gives those
+    mounts a ``prony`` rheology: the Maxwell ladder (passive, causal; three relaxation times per
+    decade) nearest ``k (1 + i eta)`` over ``band``, storage and loss each to its own relative error
+    (:func:`~vibss.model.rheology.fit_ladder` with ``parts=True``), which every analysis then uses:
+    one mount, one answer. A causal stiffness with a loss cannot keep both flat (Kramers-Kronig:
+    the storage stiffness of a constant loss factor rises as ``f^(2 eta / pi)``), so the ladder is
+    off by a few per cent over the band; :func:`causal_loss_fit` says by how much.
+
+    Parameters
+    ----------
+    model : Model
+        The model; mounts with a loss factor and no rheology are converted, every other mount is kept.
+    band : (2,) sequence of float or None
+        [f1, f2] [Hz] the approximation holds over; default the model's frequency band
+        (:func:`frequency_band`: its steady sweeps, else a tenth of the lowest to twice the
+        highest natural frequency).
+
+    Returns
+    -------
+    Model
+        The same model when no mount has a loss factor.
+
+    Raises
+    ------
+    ModelError
+        A hysteretic mount type with a zero principal stiffness (its axis has no causal loss to fit),
+        or a band that is not ``0 < f1 < f2``.
+
+    Examples
+    --------
+    >>> from vibss import Body, Model, Mount, MountType
+    >>> t = MountType("rubber", [1e4, 1e4, 2e4], loss_factor=0.1)
+    >>> m = Model([Body("b", 10.0, [1, 1, 1])], [Mount("m", t, "b")])
+    >>> causal_loss(m, band=[1.0, 100.0]).mounts[0].type.rheology.kind
+    'prony'
+    >>> print(causal_loss_fit(m, band=[1.0, 100.0]).note)
+    loss factor of mount(s) ['m'] as a causal Maxwell ladder fitted over 1 to 100 Hz: storage stiffness within 15 %, loss factor within 17 % of k (1 + i eta) there
+    """
+    return causal_loss_fit(model, band).model
+
+
+def causal_loss_fit(model: Model, band: Sequence[float] | None = None) -> CausalLoss:
+    """:func:`causal_loss` with the mounts converted, the band and the errors (:class:`CausalLoss`)."""
+    from .model.mounts import MountType
+    from .model.rheology import fit_ladder
+
+    if band is None:
+        b = frequency_band(model)
+        f1, f2 = b.f1, b.f2
+    else:
+        f1, f2 = (float(x) for x in band)
+    if not (0 < f1 < f2 and math.isfinite(f2)):
+        raise ModelError(f"causal_loss: band: expected [f1, f2] with 0 < f1 < f2 [Hz], got {list(band or [])}")
+    converted: dict[str, Any] = {}
+    storage = loss = 0.0
+    w = 2 * np.pi * np.geomspace(f1, f2, 200)
+    for t in {m.type.name: m.type for m in model.mounts}.values():
+        eta = np.asarray(t.loss_factor, float)
+        if t.rheology is not None or not np.any(eta * t.stiffness):
+            continue
+        if np.any(t.stiffness <= 0):
+            raise ModelError(f"causal_loss: mount type {t.name!r}: stiffness {t.stiffness.tolist()} N/m has a "
+                             "zero axis; a causal loss is fitted to a positive stiffness on every axis")
+        target = t.stiffness * (1 + 1j * eta)
+        lad = fit_ladder(lambda w: np.broadcast_to(target, (np.size(w), 3)), [f1, f2], parts=True)
+        converted[t.name] = MountType(t.name, damping=t.damping,
+                                      rheology={"type": "prony", "k_0": lad.static, "k": lad.k, "tau": lad.tau},
+                                      rotational_stiffness=t.rotational_stiffness,
+                                      rotational_damping=t.rotational_damping)
+        kstar = lad.stiffness(w)
+        storage = max(storage, float(np.max(np.abs(kstar.real / t.stiffness - 1))))
+        lossy = eta > 0
+        loss = max(loss, float(np.max(np.abs(kstar.imag[:, lossy] / kstar.real[:, lossy] / eta[lossy] - 1))))
+    if not converted:
+        return CausalLoss(model, (), (f1, f2), 0.0, 0.0)
+    mounts = [replace(m, type=converted.get(m.type.name, m.type)) for m in model.mounts]
+    names = tuple(m.name for m in model.mounts if m.type.name in converted)
+    return CausalLoss(model.replace(mounts=mounts), names, (f1, f2), storage, loss)

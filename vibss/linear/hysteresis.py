@@ -86,8 +86,9 @@ def dropped_hysteresis(source: Any, where: str, stacklevel: int = 3) -> str:
     note = (f"loss factor of {what} left out (a constant loss factor has no causal time-domain form; "
             "it adds no damping here)")
     warnings.warn(f"{where}: {note}; it is used by frequency responses only. For the same damping in "
-                  "every analysis give those mounts a rheology instead (a 'table' with the loss factor "
-                  "over the band of interest is its causal approximation, with the fit error stated) or "
-                  "viscous damping (c = eta k / w at the frequency of interest)", VibssWarning,
+                  "every analysis use its causal approximation: vibss.causal_loss(model) (a Maxwell "
+                  "ladder fitted over the frequency band, the fit error stated; simulate(..., "
+                  "hysteresis='causal') does it for you), or give viscous damping (c = eta k / w at the "
+                  "frequency of interest)", VibssWarning,
                   stacklevel=stacklevel)
     return note

@@ -575,7 +575,7 @@ def parse_rheology(spec: Any, owner: str = "") -> Rheology:
 
 
 def fit_ladder(target: Any, band: npt.ArrayLike, static: np.ndarray | None = None,
-               per_decade: int = PER_DECADE) -> Ladder:
+               per_decade: int = PER_DECADE, parts: bool = False) -> Ladder:
     """Fit a passive Maxwell ladder to a complex stiffness over a band.
 
     Relaxation times are fixed, ``per_decade`` per decade from ``1 / w1`` down to half a decade
@@ -594,6 +594,10 @@ def fit_ladder(target: Any, band: npt.ArrayLike, static: np.ndarray | None = Non
         Static stiffness to keep (fractional Zener: exactly ``k_0``); None: fitted, >= 0.
     per_decade : int
         Relaxation times per decade.
+    parts : bool
+        Weight the storage and the loss part each by its own size (relative errors of ``k'`` and
+        of ``k''`` balanced) instead of both by ``1 / |k*|``, which lets a small loss part go: a
+        constant loss factor of 0.1 fitted by ``|k*|`` keeps only 0.04 of it mid-band.
 
     Returns
     -------
@@ -627,15 +631,18 @@ def fit_ladder(target: Any, band: npt.ArrayLike, static: np.ndarray | None = Non
     k0 = np.zeros(3)
     kb = np.zeros((3, nb))
     for j in range(3):
-        weight = 1.0 / np.maximum(np.abs(kt[:, j]), np.finfo(float).tiny)
+        size = np.maximum(np.abs(kt[:, j]), np.finfo(float).tiny)
+        weight_re = weight_im = 1.0 / size
+        if parts:       # each part relative to itself (a lossless axis: its loss held near zero)
+            weight_re = 1.0 / np.maximum(np.abs(kt[:, j].real), 1e-3 * size)
+            weight_im = 1.0 / np.maximum(np.abs(kt[:, j].imag), 1e-3 * size)
         if static is None:
             a = np.hstack([np.ones((w.size, 1)), basis])
             rhs = kt[:, j]
         else:
             a, rhs = basis, kt[:, j] - static[j]
-        a = a * weight[:, None]
-        rhs = rhs * weight
-        x, _ = nnls(np.vstack([a.real, a.imag]), np.concatenate([rhs.real, rhs.imag]), maxiter=50 * a.shape[1])
+        x, _ = nnls(np.vstack([a.real * weight_re[:, None], a.imag * weight_im[:, None]]),
+                    np.concatenate([rhs.real * weight_re, rhs.imag * weight_im]), maxiter=50 * a.shape[1])
         if static is None:
             k0[j], kb[j] = x[0], x[1:]
         else:

@@ -58,7 +58,7 @@ from ..linear.hysteresis import dropped_hysteresis
 from ..linear.plant import Plant
 from ..linear.signals import build_plant
 from ..linear.solve import without_hysteresis
-from ..studies import steady_sweeps, transient_excitations
+from ..studies import causal_loss_fit, steady_sweeps, transient_excitations
 from ..diagnostics import check_excitations, check_explicit_rk
 
 EXPLICIT_RK = ("RK23", "RK45", "DOP853")
@@ -337,7 +337,8 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
              inputs: Mapping[str, SignalInput] | None = None, outputs: Sequence[str] | None = None,
              t_end: float, dt: float, record_from: float = 0.0, initial: Any = None,
              method: str | Callable[[SimulationJob], tuple[np.ndarray, str]] = "auto",
-             rtol: float = 1e-6, atol: float | None = None, solver: str = "Radau") -> TimeResponse:
+             rtol: float = 1e-6, atol: float | None = None, solver: str = "Radau",
+             hysteresis: str = "drop") -> TimeResponse:
     """Simulate the time response from ``t = 0`` to ``t_end``.
 
     Parameters
@@ -375,6 +376,11 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
     solver : str
         ``solve_ivp`` method of ``ivp`` (``"Radau"``, ``"DOP853"``, ``"LSODA"``, ...).
 
+    hysteresis : {"drop", "causal"}
+        Mounts with a constant loss factor (a Model only): ``"drop"`` leaves the loss out, with a
+        warning naming the mounts (it has no causal time-domain form); ``"causal"`` simulates
+        :func:`vibss.studies.causal_loss` of the model instead: each loss as a passive Maxwell ladder
+        fitted over the model's frequency band, its fit error stated in ``note``.
     Returns
     -------
     TimeResponse
@@ -410,6 +416,12 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
     ns = int(samples)
     ts = dt * np.arange(ns)
     model = model_or_plant if isinstance(model_or_plant, Model) else None
+    hysteresis = choice(hysteresis, "hysteresis", ("drop", "causal"), who="simulate")
+    causal_note = ""
+    if hysteresis == "causal" and model is not None:
+        fit = causal_loss_fit(model)
+        causal_note, model = fit.note, fit.model
+        model_or_plant = model
     hidden = False
     skipped: tuple[Any, ...] = ()
     if excitations is None and model is not None and inputs is None:
@@ -517,6 +529,8 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
         note = "free vibration from the initial conditions; " + note
     if left_out:
         note = f"{left_out}; " + note
+    if causal_note:
+        note = f"{causal_note}; " + note
     if branch_note:
         note = f"{branch_note}; " + note
     if skipped:
