@@ -207,3 +207,26 @@ def test_time_studies_lead_with_what_matters(capsys):
     assert not {"item.x", "item.y", "item.rx", "item.ry", "item.rz", "item.x.acc"} & set(listed)
     assert {"item.z", "item.z.acc"} <= set(listed)
     assert table[-1].startswith("(23 outputs below 1e-9")
+
+
+def test_accelerations_in_g_on_request(capsys):
+    """Issue 16 item 4: absolute acceleration in g on request (--g, or a file in g)."""
+    import vibss
+    from vibss.cli import main
+    from vibss.plotting import plot_time_groups
+
+    model = vibss.load_example("packaged_item")
+    r = vibss.simulate(model, outputs=["item.z.acc", "mount.lower.dz"], t_end=0.05, dt=1e-4)
+    g = r.in_g()
+    assert g.units == ("g", "m")
+    np.testing.assert_array_equal(g.outputs[0], r.outputs[0] / 9.80665)    # standard gravity
+    np.testing.assert_array_equal(g.outputs[1], r.outputs[1])
+    fig = plot_time_groups(r, show_inputs=True, acceleration="g")
+    labels = [ax.get_ylabel() for ax in fig.axes]
+    assert "input\n[g]" in labels and "acceleration\n[g]" in labels
+    ins = next(ax for ax in fig.axes if ax.get_ylabel() == "input\n[g]")
+    assert max(ins.lines[0].get_ydata()) == pytest.approx(50.0, rel=1e-3)   # the file's 50 g pulse
+    assert main(["time", "--example", "packaged_item", "--g"]) == 0
+    row = next(x for x in capsys.readouterr().out.splitlines() if x.startswith("item.z.acc"))
+    assert row.split()[-1] == "g"
+    assert float(row.split()[1]) == pytest.approx(np.max(np.abs(r.outputs[0])) / 9.80665, rel=1e-5)

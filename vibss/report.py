@@ -510,7 +510,8 @@ def _time_section(model: Model, figures: bool, results: dict[str, Any]) -> Secti
     r = simulate(model, transient, outputs=list(chosen.outputs), t_end=window.end, dt=window.step,
                  record_from=window.record_from, rtol=window.tolerance)
     results["time"] = r
-    summary = r.summary()
+    in_g = (model.settings or {}).get("units", {}).get("acceleration") == "g"   # the file asks for g
+    summary = (r.in_g() if in_g else r).summary()
     table = Table(summary.header, summary.rows,
                   title=f"Peaks of the response to {', '.join(e.name for e in transient)} "
                         "(body motions absolute; mount deflection = body side minus other side)"
@@ -519,7 +520,8 @@ def _time_section(model: Model, figures: bool, results: dict[str, Any]) -> Secti
     if figures:
         from .plotting import plot_time_groups
 
-        figs.append(("time.png", plot_time_groups(r, order=list(chosen.lead), show_inputs=True)))
+        figs.append(("time.png", plot_time_groups(r, order=list(chosen.lead), show_inputs=True,
+                                                  acceleration="g" if in_g else "m/s^2")))
     head = "\n".join(r.report().split("\n")[:2])
     return Section("time", TITLES["time"], f"{head}\n\n{table}", (table,), tuple(figs),
                    note=f"0 to {window.end:g} s, step {window.step:g} s ({window.note}), method {r.method}")

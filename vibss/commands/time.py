@@ -35,6 +35,8 @@ def register(sub: argparse._SubParsersAction) -> None:
                         "accelerations first (absolute motion last), under forces body motion and "
                         "mount forces first")
     p.add_argument("--plot", metavar="PNG", help="also save a plot of the outputs to this file")
+    p.add_argument("--g", action="store_true", help="translational accelerations in g (9.80665 m/s^2) in the "
+                   "table and the plot (default: as the model file's units say, else m/s^2)")
     add_save_argument(p, "output time histories")
     p.set_defaults(func=run)
 
@@ -62,7 +64,8 @@ def run(args: argparse.Namespace) -> int:
     outputs = args.output or list(chosen.outputs)
     result = simulate(model, excitations, outputs=outputs, t_end=end, dt=step, record_from=record,
                       method=args.method, rtol=window.tolerance)
-    emit(result, args.format)
+    in_g = args.g or (model.settings or {}).get("units", {}).get("acceleration") == "g"
+    emit(result.in_g() if in_g and args.format == "text" else result, args.format)   # JSON stays SI
     save(result, args.save)
     if args.plot:
         import matplotlib
@@ -73,7 +76,8 @@ def run(args: argparse.Namespace) -> int:
         else:                   # the report's figure: what matters first, the input drawn on top
             from ..plotting import plot_time_groups
 
-            fig = plot_time_groups(result, order=list(chosen.lead), show_inputs=True)
+            fig = plot_time_groups(result, order=list(chosen.lead), show_inputs=True,
+                                   acceleration="g" if in_g else "m/s^2")
         fig.savefig(args.plot, dpi=120)
         print(f"plot written to {args.plot}", file=sys.stderr)
     return 0

@@ -41,7 +41,7 @@ def quantity_of(name: str, unit: str) -> str:
 
 
 def plot_time_groups(response: Any, max_lines: int = 6, order: Sequence[str] | None = None,
-                     show_inputs: bool = False) -> Figure:
+                     show_inputs: bool = False, acceleration: str = "m/s^2") -> Figure:
     """Plot a time response with one panel per quantity (translation, rotation, acceleration,
     mount deflection ...), each showing its ``max_lines`` outputs of largest peak, peaks marked.
 
@@ -55,11 +55,25 @@ def plot_time_groups(response: Any, max_lines: int = 6, order: Sequence[str] | N
         Panels first in this order (quantities as :func:`quantity_of` names them); the rest after.
     show_inputs : bool
         A first panel with the input signals (the excitation drawn).
+    acceleration : {"m/s^2", "g"}
+        Unit of the translational accelerations drawn, outputs and inputs (``"g"``: divided by
+        standard gravity, 9.80665 m/s^2).
 
     Returns
     -------
     Figure
     """
+    from ..model.units import STANDARD_GRAVITY
+
+    acceleration = choice(acceleration, "acceleration", ("m/s^2", "g"), who="plot")
+    scale = 1.0 / STANDARD_GRAVITY if acceleration == "g" else 1.0
+
+    def shown_unit(unit: str) -> str:
+        return "g" if unit == "m/s^2" and scale != 1.0 else unit
+
+    def shown_values(unit: str, y: np.ndarray) -> np.ndarray:
+        return y * scale if unit == "m/s^2" else y
+
     groups: dict[str, list[int]] = {}
     for i, (n, u) in enumerate(zip(response.output_names, response.units)):
         groups.setdefault(quantity_of(n, u), []).append(i)
@@ -76,8 +90,9 @@ def plot_time_groups(response: Any, max_lines: int = 6, order: Sequence[str] | N
 
         ax0, axes = axes[0], axes[1:]
         for j, name in enumerate(response.input_names):
-            ax0.plot(t, response.inputs[j], lw=1.1, color="0.25", ls=("-", "--", ":")[j % 3], label=name)
-        units = {input_unit(n, _kind_of(n)) for n in response.input_names}
+            ax0.plot(t, shown_values(input_unit(name, _kind_of(name)), response.inputs[j]), lw=1.1,
+                     color="0.25", ls=("-", "--", ":")[j % 3], label=name)
+        units = {shown_unit(input_unit(n, _kind_of(n))) for n in response.input_names}
         ax0.set_ylabel("input\n[" + (units.pop() if len(units) == 1 else "SI") + "]", fontsize=9)
         ax0.grid(True, lw=0.3, alpha=0.6)
         ax0.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.0, 1.0), frameon=False)
@@ -86,12 +101,12 @@ def plot_time_groups(response: Any, max_lines: int = 6, order: Sequence[str] | N
         peak = np.array([np.max(np.abs(response.outputs[i]), initial=0.0) for i in rows])
         shown = [rows[j] for j in np.argsort(peak)[::-1][:max_lines] if peak[j] > 1e-9 * peak.max()]
         for i in shown:
-            y = response.outputs[i]
+            y = shown_values(response.units[i], response.outputs[i])
             (line,) = ax.plot(t, y, lw=1.1, label=response.output_names[i])
             if y.size:
                 k = int(np.argmax(np.abs(y)))
                 ax.plot(t[k], y[k], "o", ms=4, color=line.get_color())
-        unit = response.units[rows[0]]
+        unit = shown_unit(response.units[rows[0]])
         ax.set_ylabel(f"{key}\n[{unit}]", fontsize=9)
         ax.grid(True, lw=0.3, alpha=0.6)
         hidden = len(rows) - len(shown)

@@ -40,7 +40,7 @@ Examples
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, cast
 
 import numpy as np
@@ -184,6 +184,17 @@ class TimeResponse(Result):
         rows = np.arange(len(i))
         return PeakTable(self.output_names, self.units, self.outputs[rows, i], self.time[i],
                          np.sqrt(np.mean(self.outputs**2, axis=1)))
+
+    def in_g(self) -> TimeResponse:
+        """The same response with translational accelerations (outputs in m/s^2) in g
+        (standard gravity, 9.80665 m/s^2): for tables and figures of shock studies."""
+        from ..model.units import STANDARD_GRAVITY
+
+        acc = np.array([u == "m/s^2" for u in self.units])
+        if not acc.any():
+            return self
+        outputs = np.where(acc[:, None], self.outputs / STANDARD_GRAVITY, self.outputs)
+        return replace(self, outputs=outputs, units=tuple("g" if a else u for a, u in zip(acc, self.units)))
 
     def negligible(self, rel: float = 1e-9) -> tuple[str, ...]:
         """Outputs whose peak is below ``rel`` times the largest peak of their unit (rad counted
