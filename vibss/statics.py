@@ -343,7 +343,7 @@ def _solved(a: Assembly, f: np.ndarray, prescribed: Mapping[str, float] | None, 
     """The static deflection under the generalised load ``f`` [N, N m] and prescribed displacements."""
     n = a.n
     q = np.zeros(n)
-    qg = np.zeros(6)
+    qg = np.zeros(a.nz)                   # supports are fixed ground in statics
     fixed = np.zeros(n, dtype=bool)
     if prescribed is not None and not isinstance(prescribed, Mapping):
         raise ModelError(f"prescribed: expected a mapping of DOF label to value, got {prescribed!r}")
@@ -375,7 +375,7 @@ def _solved(a: Assembly, f: np.ndarray, prescribed: Mapping[str, float] | None, 
         moment = np.einsum("pij,pj->pi", a.krp, rotation)
     method = ("minimum norm on the restrained subspace" if notes
               else "equilibrated sparse LU" if sp.issparse(kff) else "equilibrated Cholesky")
-    return StaticResult(model=a.model, q=q, ground=qg, load=f, mount_deflection=delta,
+    return StaticResult(model=a.model, q=q, ground=qg[:6], load=f, mount_deflection=delta,
                         mount_deflection_local=local, mount_force=force, free_motions=notes,
                         mount_rotation=rotation, mount_moment=moment,
                         case=case or "", method=method,
@@ -559,6 +559,7 @@ def _unconnected(a: Assembly, free: np.ndarray) -> bool:
     nb = len(a.model.bodies)
     if len(a.b_index) == 0:
         return True
-    g = sp.coo_matrix((np.ones(len(a.b_index)), (a.b_index, a.a_index)), shape=(nb + 1, nb + 1))
+    to = np.minimum(a.a_index, nb)        # every support is ground too
+    g = sp.coo_matrix((np.ones(len(a.b_index)), (a.b_index, to)), shape=(nb + 1, nb + 1))
     _, labels = csgraph.connected_components(g, directed=False)
     return bool(np.any(labels[:nb] != labels[nb]))

@@ -95,7 +95,7 @@ def batch_modes(model: Model, parameters: tuple[Parameter, ...], values: np.ndar
     krp = np.einsum("vpij,pj,vpkj->vpik", t, kr, t)                                # 6x6 mounts, turned too
     lb = point_transfer(a.r_b[None] + shift)                                      # (nv, nm, 3, 6)
     la = point_transfer(a.r_a[None] + shift)
-    K = np.zeros((nv, n + 6, n + 6))
+    K = np.zeros((nv, n + a.nz, n + a.nz))
     for q in range(nm):                                                           # mounts, not variants
         sb = slice(6 * a.b_index[q], 6 * a.b_index[q] + 6)
         kb = kp[:, q] @ lb[:, q]
@@ -108,7 +108,7 @@ def batch_modes(model: Model, parameters: tuple[Parameter, ...], values: np.ndar
             K[:, ra, ra] += krp[:, q]
             K[:, rb, ra] -= krp[:, q]
             K[:, ra, rb] -= krp[:, q]
-        if a.a_index[q] == nb:                   # to ground: the ground blocks are dropped below
+        if a.a_index[q] >= nb:                   # to ground: the ground blocks are dropped below
             continue
         sa = slice(6 * a.a_index[q], 6 * a.a_index[q] + 6)
         ka = kp[:, q] @ la[:, q]

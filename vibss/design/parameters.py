@@ -261,7 +261,6 @@ def stiffness_derivatives(a: Assembly, parameters: Sequence[Parameter],
     model = a.model
     index = {m.name: i for i, m in enumerate(model.mounts)}
     n = a.n
-    nb = len(model.bodies)
     out = np.zeros((len(parameters), n, n))
     lb, la = point_transfer(a.r_b), point_transfer(a.r_a)
     # rate ratios on a mount: a rate parameter on the denominator also moves the numerator
@@ -274,7 +273,7 @@ def stiffness_derivatives(a: Assembly, parameters: Sequence[Parameter],
     for ip, p in enumerate(parameters):
         for mount, kind, factor in p.targets:
             q = index[mount]
-            B = np.zeros((3, 6 * nb + 6))
+            B = np.zeros((3, n + a.nz))
             B[:, 6 * a.b_index[q]:6 * a.b_index[q] + 6] += lb[q]
             B[:, 6 * a.a_index[q]:6 * a.a_index[q] + 6] -= la[q]
             B = B[:, :n]
@@ -290,7 +289,7 @@ def stiffness_derivatives(a: Assembly, parameters: Sequence[Parameter],
                     bn = T[:, num] @ B                  # k_num = ratio * k_j moves with k_j
                     d = d + (k[num] / k[j]) * np.outer(bn, bn)
             elif kind in _SHIFT:
-                dl = np.zeros((3, 6 * nb + 6))
+                dl = np.zeros((3, n + a.nz))
                 s = -skew(np.eye(3)[_SHIFT.index(kind)])
                 dl[:, 6 * a.b_index[q] + 3:6 * a.b_index[q] + 6] += s
                 dl[:, 6 * a.a_index[q] + 3:6 * a.a_index[q] + 6] -= s

@@ -1,8 +1,8 @@
 """Model files (TOML or JSON) to and from :class:`~vibss.model.Model`, and the built-in examples.
 
 The format is specified in ``docs/model-file.md`` (tables ``[model]``, ``[[body]]``,
-``[[mount_type]]``, ``[[mount]]``, ``[[control_point]]``, ``[[load]]``, ``[[excitation]]`` and
-``[analysis]``). Numbers are converted to SI once, on load, from the units declared in
+``[[mount_type]]``, ``[[mount]]``, ``[[support]]``, ``[[control_point]]``, ``[[load]]``,
+``[[excitation]]`` and ``[analysis]``). Numbers are converted to SI once, on load, from the units declared in
 ``[model] units`` (default SI, except angles: degrees). Every problem is reported as a
 :class:`~vibss.errors.ModelFileError` whose message names the file, the entry (``mount[3]
 ('rear-left')`` is the third ``[[mount]]`` table, counting from 1), the key and what was expected;
@@ -41,7 +41,7 @@ from .environmentsfile import read_random, read_shock
 from ..model.geometry import Orientation
 from ..model.actuation import ACTUATOR_KINDS, SENSOR_KINDS, Actuator, Sensor
 from ..model.model import (DOF_NAMES, GROUND, SYMMETRIES, Body, ControlPoint, Load, Model, Mount,
-                    MountType, symmetric)
+                    MountType, Support, symmetric)
 from .tomlwriter import dumps_toml
 from ..model.rheology import QUANTITIES as RHEOLOGY_QUANTITIES
 from ..model.units import Units
@@ -55,7 +55,7 @@ MAX_MODEL_FILE_BYTES = 16 * 2**20
 EXAMPLES_DIR = Path(__file__).parent.parent / "examples"
 """Folder of the built-in example model files."""
 
-_TABLES = ("model", "body", "mount_type", "mount", "control_point", "load", "excitation", "analysis",
+_TABLES = ("model", "body", "mount_type", "mount", "support", "control_point", "load", "excitation", "analysis",
            "design", "study", "orders", "actuator", "sensor", "control", "shock", "random")
 
 
@@ -162,19 +162,33 @@ def _reference(e: Entry, key: str, names: Sequence[str], default: Any = MISSING,
     return value
 
 
-def _mounts(e: Entry, i: int, types: Mapping[str, MountType], bodies: Sequence[str]) -> tuple[Mount, ...]:
-    e.check_keys(("name", "type", "body", "to", "at", "frame", "orientation", "symmetry"),
+def _support(e: Entry, i: int) -> Support:
+    e.check_keys(("name", "description"), ("name",))
+    try:
+        return Support(e.string("name"), e.string("description", ""))
+    except ModelError as exc:
+        raise _wrap(e, exc) from None
+
+
+def _mounts(e: Entry, i: int, types: Mapping[str, MountType], bodies: Sequence[str],
+            supports: Sequence[str] = ()) -> tuple[Mount, ...]:
+    e.check_keys(("name", "type", "body", "to", "at", "frame", "orientation", "symmetry", "support"),
                  ("type", "body"))
     tname = e.string("type")
     if tname not in types:
         raise e.fail("type", f"unknown mount type {tname!r}; [[mount_type]] names are {list(types)}"
                      + did_you_mean(tname, types))
     symmetry = e.string("symmetry", "none", SYMMETRIES)
+    support = e.string("support", None)
+    if support is not None and support not in supports:
+        raise e.fail("support", f"unknown support {support!r}; "
+                     + (f"[[support]] names are {list(supports)}" if supports else "the file has no [[support]] table")
+                     + did_you_mean(support, supports))
     try:
         mount = Mount(e.string("name", f"mount{i}"), types[tname], _reference(e, "body", bodies),
                       e.array("at", [(3,)], "length", np.zeros(3)),
                       _reference(e, "to", bodies, GROUND, ground=True),
-                      e.orientation("orientation"), e.string("frame", "body", ("body", "global")))
+                      e.orientation("orientation"), e.string("frame", "body", ("body", "global")), support)
         return symmetric(mount, symmetry)
     except ModelError as exc:
         raise _wrap(e, exc) from None
@@ -341,8 +355,10 @@ def _build(data: Any, source: str, base: Path | None, default_name: str) -> Mode
         if t.name in types:
             raise e.fail("name", f"mount type {t.name!r} is defined twice")
         types[t.name] = t
+    supports = [_support(e, i) for i, e in enumerate(_entries(data, "support", source, units), 1)]
+    support_names = [s.name for s in supports]
     mounts = [m for i, e in enumerate(_entries(data, "mount", source, units), 1)
-              for m in _mounts(e, i, types, names)]
+              for m in _mounts(e, i, types, names, support_names)]
     points = [_control_point(e, i, names)
               for i, e in enumerate(_entries(data, "control_point", source, units), 1)]
     mount_names = [m.name for m in mounts]
@@ -350,7 +366,7 @@ def _build(data: Any, source: str, base: Path | None, default_name: str) -> Mode
     sensors = [_sensor(e, names, mount_names) for e in _entries(data, "sensor", source, units)]
     cases: dict[str, list[str]] = {}
     loads = [_load(e, i, names, cases) for i, e in enumerate(_entries(data, "load", source, units), 1)]
-    excitations = [_excitation(e, i, names, base)
+    excitations = [_excitation(e, i, names + support_names, base)
                    for i, e in enumerate(_entries(data, "excitation", source, units), 1)]
     seen: set[str] = set()
     for i, x in enumerate(excitations, 1):
@@ -374,7 +390,8 @@ def _build(data: Any, source: str, base: Path | None, default_name: str) -> Mode
         settings["load_cases"] = cases
     gravity, name = _gravity(m, units), m.string("name", default_name)
     try:
-        return Model(bodies, mounts, points, loads, gravity, name, excitations, settings, actuators, sensors)
+        return Model(bodies, mounts, points, loads, gravity, name, excitations, settings, actuators, sensors,
+                     supports)
     except ModelError as exc:
         raise ModelFileError(f"{source}: {exc}") from None
 
@@ -524,7 +541,12 @@ def model_to_dict(model: Model) -> dict[str, Any]:
              "frame": m.frame}
         if (o := _orientation_dict(m.orientation)) is not None:
             d["orientation"] = o
+        if m.support is not None:
+            d["support"] = m.support
         out["mount"].append(d)
+    if model.supports:
+        out["support"] = [{"name": s.name} | ({"description": s.description} if s.description else {})
+                          for s in model.supports]
     out["control_point"] = [{"name": c.name, "body": c.body, "at": c.at.tolist(), "frame": c.frame}
                             for c in model.control_points]
     for key, items in (("actuator", model.actuators), ("sensor", model.sensors)):

@@ -4,6 +4,9 @@ The system vector stacks the bodies' DOFs in definition order, ``q = [x1 y1 z1 r
 Ground is assembled as a seventh "body" whose six DOFs come last (its reference point is the global
 origin), so that prescribed ground motion and the rigid-motion invariant need no special case:
 ``K_full`` (size n + 6) annihilates any rigid motion of the whole system with ground released.
+Each named support (:class:`vibss.model.mounts.Support`) is one more such ground node after it,
+six DOFs about the global origin: the ground-side coordinates are ``nz = 6 (1 + n_supports)``, and a
+mount on a support couples to that node's block only (so a model without supports is unchanged).
 
 Per mount p joining point P of body b to the same point of a (a body or ground),
 ``delta_p = L(r_b) q_b - L(r_a) q_a = B_p q`` and ``K = sum_p B_p^T (T diag(k) T^T) B_p``, likewise
@@ -24,7 +27,7 @@ import scipy.sparse as sp
 from ..errors import ModelError
 from ..results import ReadOnly
 from ..model.geometry import point_transfer
-from ..model.model import DOF_NAMES, Model
+from ..model.model import DOF_NAMES, GROUND, Model
 
 __all__ = ["Assembly", "assemble", "SPARSE_THRESHOLD", "dof_labels"]
 
@@ -55,12 +58,13 @@ class Assembly(ReadOnly):
     M, K, C : (n, n) ndarray or scipy.sparse matrix
         Mass [kg, kg m^2], stiffness [N/m, N m/rad ...] and viscous damping matrices of the body DOFs
         with ground fixed.
-    Kg, Cg : (n, 6) ndarray
-        Coupling of the body DOFs to the six ground DOFs (x y z rx ry rz about the global origin):
-        ground motion ``z_g`` adds ``-Kg z_g - Cg dz_g/dt`` to the generalised forces.
+    Kg, Cg : (n, nz) ndarray
+        Coupling of the body DOFs to the ground-side DOFs: six of the rigid ground (x y z rx ry rz
+        about the global origin), then six per support: ground motion ``z_g`` adds
+        ``-Kg z_g - Cg dz_g/dt`` to the generalised forces.
     H : (n, n) ndarray or scipy.sparse matrix
         Hysteretic stiffness ``sum B^T T diag(eta k) T^T B`` (frequency domain: ``K + iH``).
-    Hg : (n, 6) ndarray
+    Hg : (n, nz) ndarray
         Hysteretic coupling to ground.
     kp, cp, hp : (n_mounts, 3, 3) ndarray
         Each mount's stiffness, damping and hysteretic matrices in global axes.
@@ -68,7 +72,8 @@ class Assembly(ReadOnly):
         Each mount's rotational stiffness [N m/rad] and damping [N m s/rad] in global axes (6x6
         mounts; zeros otherwise): the moment ``krp (theta_body - theta_to)``.
     b_index, a_index : (n_mounts,) int ndarray
-        Body index of each mount's ``body`` and ``to`` (``n_bodies`` for ground).
+        Body index of each mount's ``body`` and ``to`` (``n_bodies`` for the rigid ground,
+        ``n_bodies + 1 + s`` for support s).
     r_b, r_a : (n_mounts, 3) ndarray
         Attachment point relative to the COG of ``body`` and of ``to`` (global origin for ground) [m].
     sparse : bool
@@ -104,6 +109,17 @@ class Assembly(ReadOnly):
     def n(self) -> int:
         """Number of body DOFs."""
         return len(self.dofs)
+
+    @property
+    def nz(self) -> int:
+        """Number of ground-side DOFs: six of the rigid ground and six per support."""
+        return 6 * (1 + len(self.model.supports))
+
+    def ground_offset(self, target: str) -> int:
+        """Offset of a ground node's six DOFs (``"ground"`` or a support name) in ``[q; q_ground]``."""
+        if target == GROUND:
+            return self.n
+        return self.n + 6 * (1 + self.model.support_names.index(target))
 
     @property
     def has_damping(self) -> bool:
@@ -151,7 +167,7 @@ class Assembly(ReadOnly):
         return out
 
     def deflection_matrix(self) -> sp.csr_matrix:
-        """(3 n_mounts, n + 6) sparse map from ``[q; q_ground]`` to mount deflections (global axes).
+        """(3 n_mounts, n + nz) sparse map from ``[q; q_ground]`` to mount deflections (global axes).
 
         Rows ``3p .. 3p+2`` give ``delta_p = d_body - d_to`` of mount p.
         """
@@ -165,11 +181,11 @@ class Assembly(ReadOnly):
             cc = np.concatenate([np.broadcast_to(cb, rows.shape).ravel(),
                                  np.broadcast_to(ca, rows.shape).ravel()])
             vv = np.concatenate([lb.ravel(), -la.ravel()])
-            self._cache["B"] = sp.csr_matrix((vv, (rr, cc)), shape=(3 * nm, 6 * nb + 6))
+            self._cache["B"] = sp.csr_matrix((vv, (rr, cc)), shape=(3 * nm, 6 * nb + self.nz))
         return self._cache["B"]
 
     def rotation_matrix(self) -> sp.csr_matrix:
-        """(3 n_mounts, n + 6) sparse map from ``[q; q_ground]`` to each mount's relative rotation.
+        """(3 n_mounts, n + nz) sparse map from ``[q; q_ground]`` to each mount's relative rotation.
 
         Rows ``3p .. 3p+2`` give ``theta_p = theta_body - theta_to`` of mount p (global axes) [rad],
         which its rotational stiffness resists (6x6 mounts).
@@ -181,7 +197,7 @@ class Assembly(ReadOnly):
             ca = (6 * np.repeat(self.a_index, 3) + 3 + np.tile(np.arange(3), nm))
             self._cache["R"] = sp.csr_matrix((np.concatenate([np.ones(3 * nm), -np.ones(3 * nm)]),
                                               (np.concatenate([rows, rows]), np.concatenate([cb, ca]))),
-                                             shape=(3 * nm, 6 * nb + 6))
+                                             shape=(3 * nm, 6 * nb + self.nz))
         return self._cache["R"]
 
     def stiffness_factor(self) -> sp.csr_matrix:
@@ -282,10 +298,13 @@ def assemble(model: Model, sparse: bool | None = None) -> Assembly:
     if sparse is None:
         sparse = n > SPARSE_THRESHOLD
     names = {b.name: i for i, b in enumerate(model.bodies)}
-    cogs = np.vstack([np.array([b.cog for b in model.bodies]), np.zeros((1, 3))])  # ground last
+    ng = 1 + len(model.supports)                    # ground nodes: the rigid ground, then each support
+    nz = 6 * ng
+    cogs = np.vstack([np.array([b.cog for b in model.bodies]), np.zeros((ng, 3))])  # ground last
     nm = len(model.mounts)
     b_index = np.array([names[m.body] for m in model.mounts], dtype=int).reshape(nm)
-    a_index = np.array([names.get(m.to, nb) for m in model.mounts], dtype=int).reshape(nm)
+    a_index = np.array([names[m.to] if m.to in names else nb + model.ground_node(m)
+                        for m in model.mounts], dtype=int).reshape(nm)
     at = np.array([m.at for m in model.mounts]).reshape(nm, 3)
     body_frame = np.array([m.frame == "body" for m in model.mounts], dtype=bool)
     p = at + np.where(body_frame[:, None], cogs[b_index], 0.0)
@@ -325,7 +344,7 @@ def assemble(model: Model, sparse: bool | None = None) -> Assembly:
             bad = int(np.flatnonzero((~np.isfinite(vals.reshape(4, nm, 36))).any(axis=(0, 2)))[0])
             raise ModelError(f"mount {model.mounts[bad].name!r}: its stiffness or damping about the COG "
                              "overflows (an extreme value or position); check its point and type")
-        return sp.csr_matrix((vals, (rows, cols)), shape=(n + 6, n + 6))
+        return sp.csr_matrix((vals, (rows, cols)), shape=(n + nz, n + nz))
 
     mass = sp.block_diag([b.mass_matrix for b in model.bodies], format="csr")
     mats = {}
@@ -333,7 +352,7 @@ def assemble(model: Model, sparse: bool | None = None) -> Assembly:
     for key, pm, rm in (("K", kp, krp), ("C", cp, crp), ("H", hp, None)):
         if key != "K" and not np.any(pm) and not np.any(rm):   # no dampers / no hysteresis: skip the work
             mats[key] = sp.csr_matrix((n, n)) if sparse else np.zeros((n, n))
-            couplings[key] = np.zeros((n, 6))
+            couplings[key] = np.zeros((n, nz))
             continue
         f = full(pm, rm if rm is not None and np.any(rm) else None)
         body_part = f[:n, :n]

@@ -21,7 +21,7 @@ from ._common import GROUND, _frame, _freeze, _orientation, _signal_safe, _vec
 from .geometry import MIRRORS
 from .rheology import Ladder, Rheology, parse_rheology
 
-__all__ = ["MountType", "Mount", "symmetric", "SYMMETRIES"]
+__all__ = ["MountType", "Mount", "Support", "symmetric", "SYMMETRIES"]
 
 SYMMETRIES: dict[str, tuple[tuple[str, ...], ...]] = {
     "none": ((),),
@@ -180,6 +180,10 @@ class Mount:
         Local axes (columns) in global coordinates. Default: global axes.
     frame : {"body", "global"}
         How ``at`` is measured.
+    support : str or None
+        Name of the model's :class:`Support` the ``to`` end stands on (only with ``to="ground"``):
+        that support's prescribed motion (``<support>.z.acc`` ...) moves the end, independently of
+        the other supports and of the rigid ``ground``. None: the rigid ground.
     """
 
     name: str
@@ -189,6 +193,7 @@ class Mount:
     to: str = GROUND
     orientation: Any = None
     frame: str = "body"
+    support: str | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.name, str) or not self.name:
@@ -205,6 +210,12 @@ class Mount:
         if self.body == self.to:
             raise ModelError(f"{who}: joins body {self.body!r} to itself; a mount joins two "
                              "different bodies, or a body and ground")
+        if self.support is not None:
+            if not isinstance(self.support, str) or not self.support:
+                raise ModelError(f"{who}: support must be the name of a support, got {self.support!r}")
+            if self.to != GROUND:
+                raise ModelError(f"{who}: support {self.support!r} is only for a mount whose 'to' end is "
+                                 f"ground; this mount joins body {self.body!r} to body {self.to!r}")
         object.__setattr__(self, "at", _vec(self.at, 3, who, "at"))
         check_range(self.at, "length", who, "at", "m")
         object.__setattr__(self, "frame", _frame(self.frame, who))
@@ -225,6 +236,47 @@ class Mount:
             orient = orient.mirrored(plane)
             name = f"{name}.{plane}"
         return dataclasses.replace(self, name=name, at=at, orientation=orient)
+
+
+@dataclass(frozen=True, eq=False)
+class Support:
+    """A named ground point set whose motion is prescribed on its own (multi-support excitation).
+
+    A mount whose ``to`` end is ground stands on the rigid ``ground`` unless it names a support
+    (``Mount(..., support="left")``); each support has six rigid-motion DOFs about the global origin
+    of its own, driven by the inputs ``<support>.<x|y|z|rx|ry|rz>.disp|vel|acc`` (a vehicle's road
+    input per wheel, a floor moving differently under each foot), and the outputs
+    ``<support>.fx|fy|fz|mx|my|mz`` give the force and moment about the global origin its mounts put
+    into it. In statics a support is fixed ground.
+
+    Parameters
+    ----------
+    name : str
+        Unique name, distinct from every body, control point and ``ground``.
+    description : str
+        Free text for reports.
+
+    Examples
+    --------
+    >>> Support("left", "front wheel road input").name
+    'left'
+    """
+
+    name: str
+    description: str = ""
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.name, str) or not self.name.strip():
+            raise ModelError(f"support: name must be a non-empty string, got {self.name!r}")
+        who = f"support {self.name!r}"
+        if self.name in (GROUND, "mount", "sensor", "actuator"):
+            raise ModelError(f"{who}: the name {self.name!r} is reserved; name the support otherwise")
+        if "." in self.name:
+            raise ModelError(f"{who}: name contains '.', which separates the parts of signal names "
+                             f"('{self.name}.z.acc' would be ambiguous); use another character")
+        _signal_safe(self.name, who)
+        if not isinstance(self.description, str):
+            raise ModelError(f"{who}: description must be a string, got {self.description!r}")
 
 
 def symmetric(mount: Mount, symmetry: str = "double") -> tuple[Mount, ...]:
