@@ -343,6 +343,9 @@ def test_mounts_guide_runs_and_its_numbers_hold(capsys):
     assert "fit error 0.031 over 5 to 50 Hz" in out
     np.testing.assert_allclose(vibss.modes(scope["m6"]).frequency_hz[:3],
                                np.sqrt(np.array([200.0, 300.0, 500.0]) / [0.2, 0.3, 0.4]) / (2 * np.pi), rtol=1e-12)
+    # the supports' example: the lever rule at 0 Hz (bar on springs at x = -0.7 and 0.5)
+    np.testing.assert_allclose(scope["tr"].response[0, :, 0].real, [0.5 / 1.2, 0.7 / 1.2], rtol=1e-12)
+    assert "[0.4167 0.5833]" in out
     assert "[5.0329 5.0329 5.627 ]" in out
     assert scope["sim"].method == "forced_response" and scope["r"].method == "direct"
     k80 = _kstar(2j * np.pi * 80.0, damping=0.0)             # the rheology alone (no dashpot) ...

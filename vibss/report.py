@@ -181,12 +181,17 @@ def _model_section(model: Model, figures: bool) -> Section:
                   title="Mount types (k: static stiffness; rheology: frequency-dependent, its ladder's "
                         "fit error)")
     mounts = Table(["mount", "type", "joins", "x [m]", "y [m]", "z [m]", "orientation"],
-                   [[m.name, m.type.name, f"{m.body}->{m.to}"]
+                   [[m.name, m.type.name, f"{m.body}->{m.support or m.to}"]
                     + [f"{v:.4g}" for v in model.mount_point(m)] + [_describe(m.orientation)]
                     for m in model.mounts],
                    title="Mounts (attachment points in global coordinates; Euler angles in "
                          "scipy's spelling, upper case = intrinsic)")
     tables = [bodies, types, mounts] if model.mounts else [bodies]
+    if model.supports:
+        tables.append(Table(["support", "mounts", "description"],
+                            [[g.name, ", ".join(m.name for m in model.mounts if m.support == g.name), g.description]
+                             for g in model.supports],
+                            title="Supports (ground points moved on their own: inputs <support>.<dof>.disp|vel|acc)"))
     if model.control_points:
         pts = [[c.name, c.body] + [f"{v:.4g}" for v in model.body(c.body).cog + model.point(c.body, c.at, c.frame)]
                for c in model.control_points]
@@ -249,7 +254,7 @@ def _static_tables(r: StaticResult) -> tuple[Table, ...]:
     if r.model.mounts:
         out.append(Table(["mount", "joins", "dx [mm]", "dy [mm]", "dz [mm]", "d1 [mm]", "d2 [mm]", "d3 [mm]",
                           "Fx [N]", "Fy [N]", "Fz [N]"],
-                         [[m.name, f"{m.body}->{m.to}"] + [f"{1e3 * v:.4f}" for v in r.mount_deflection[p]]
+                         [[m.name, f"{m.body}->{m.support or m.to}"] + [f"{1e3 * v:.4f}" for v in r.mount_deflection[p]]
                           + [f"{1e3 * v:.4f}" for v in r.mount_deflection_local[p]]
                           + [f"{v:.2f}" for v in r.mount_force[p]] for p, m in enumerate(r.model.mounts)],
                          title="Mounts (deflection = body side minus other side; force into the other side)"))
@@ -461,15 +466,20 @@ def _frf_table(r: Any, title: str) -> Table:
 def _isolation_section(model: Model, figures: bool, results: dict[str, Any]) -> Section:
     """An isolator model without a sine sweep: motion transmissibility from ground (x, y, z) to each
     body's COG along the same axis, and force transmissibility from a force at each body's COG into
-    ground, over the report's band."""
+    ground, over the report's band; with supports, from and into each ground node that carries a
+    mount (the rigid ground and each support) on its own."""
     from .frequency.sweep import transmissibility
 
     band = frequency_band(model, results.get("modes"))
     grid = band.grid()
+    used = {m.support or GROUND for m in model.mounts if m.to == GROUND}
+    nodes = [g for g in (GROUND, *model.support_names) if g in used]
     motion, force = {}, {}
     for d in "xyz":
-        motion[d] = transmissibility(model, [f"ground.{d}"], [f"{b}.{d}" for b in model.body_names], frequencies=grid)
-        force[d] = transmissibility(model, [f"{b}.f{d}" for b in model.body_names], [f"ground.f{d}"], frequencies=grid)
+        motion[d] = transmissibility(model, [f"{g}.{d}" for g in nodes], [f"{b}.{d}" for b in model.body_names],
+                                     frequencies=grid)
+        force[d] = transmissibility(model, [f"{b}.f{d}" for b in model.body_names], [f"{g}.f{d}" for g in nodes],
+                                    frequencies=grid)
     results["transmissibility:motion"], results["transmissibility:force"] = motion, force
     rows, lines = [], []
     undamped = all(not np.any(m.type.damping) and not np.any(m.type.loss_factor) for m in model.mounts)
@@ -511,7 +521,7 @@ def _time_section(model: Model, figures: bool, results: dict[str, Any]) -> Secti
     from .time.api import simulate
 
     window = time_window(model, results.get("modes"))     # the window of ``vibss time``
-    base = all(e.target == GROUND and e.kind != "force" for e in transient)
+    base = all(e.target in (GROUND, *model.support_names) and e.kind != "force" for e in transient)
     deflections = [f"mount.{m.name}.{d}" for m in model.mounts for d in ("dx", "dy", "dz")]
     accelerations = [f"{b}.{d}.acc" for b in model.body_names for d in "xyz"]
     motions = [f"{b}.{d}" for b in model.body_names for d in DOF_NAMES]
