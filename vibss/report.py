@@ -187,6 +187,15 @@ def _model_section(model: Model, figures: bool) -> Section:
                    title="Mounts (attachment points in global coordinates; Euler angles in "
                          "scipy's spelling, upper case = intrinsic)")
     tables = [bodies, types, mounts] if model.mounts else [bodies]
+    full = [(t, key) for t in model.mount_types.values() if t.coupled
+            for key in ("stiffness", "damping") if getattr(t, f"{key}_matrix") is not None]
+    if full:
+        labels = ("d1", "d2", "d3", "r1", "r2", "r3")
+        tables.append(Table(["mount type", "matrix", "row"] + list(labels),
+                            [[t.name, key, labels[i]] + [f"{v:.4g}" for v in t.local_matrix(key)[i]]
+                             for t, key in full for i in range(6)],
+                            title="Full 6x6 mount matrices in local axes (on d1..d3 [m], r1..r3 [rad]: "
+                                  "N/m, N m/rad, coupling N/rad; damping N s/m, N m s/rad, N s/rad)"))
     if model.supports:
         tables.append(Table(["support", "mounts", "description"],
                             [[g.name, ", ".join(m.name for m in model.mounts if m.support == g.name), g.description]

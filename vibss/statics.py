@@ -370,9 +370,12 @@ def _solved(a: Assembly, f: np.ndarray, prescribed: Mapping[str, float] | None, 
     local = np.einsum("pji,pj->pi", t, delta)
     force = np.einsum("pij,pj->pi", a.kp, delta)
     rotation = moment = None
-    if np.any(a.krp):                     # 6x6 mounts: their relative rotations and moments
+    if np.any(a.krp) or a.has_coupling:   # 6x6 mounts: their relative rotations and moments
         rotation = (a.rotation_matrix() @ full).reshape(-1, 3)
         moment = np.einsum("pij,pj->pi", a.krp, rotation)
+        if a.has_coupling:                # a full 6x6 matrix: force kc theta, moment kc^T delta
+            force = force + np.einsum("pij,pj->pi", a.kcp, rotation)
+            moment = moment + np.einsum("pji,pj->pi", a.kcp, delta)
     method = ("minimum norm on the restrained subspace" if notes
               else "equilibrated sparse LU" if sp.issparse(kff) else "equilibrated Cholesky")
     return StaticResult(model=a.model, q=q, ground=qg[:6], load=f, mount_deflection=delta,

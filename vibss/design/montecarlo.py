@@ -30,7 +30,8 @@ from ..model.model import DOF_NAMES, Model
 from ..results import Result, Table, jsonable, require_pandas
 from ._common import body_name, frame_axes, frame_rotation, ke_fractions
 from .certificate import in_windows, windows_for
-from .parameters import _ANGLE, _RATE, _RATIO, _SHIFT, Parameter, current_values, parameters_of, ratio_axes
+from .parameters import (_ANGLE, _RATE, _RATIO, _SHIFT, Parameter, current_values, parameters_of, ratio_axes,
+                         refuse_coupled)
 
 __all__ = ["MonteCarlo", "monte_carlo", "batch_modes", "SAMPLINGS", "DISTRIBUTIONS"]
 
@@ -65,6 +66,7 @@ def batch_modes(model: Model, parameters: tuple[Parameter, ...], values: np.ndar
         KE fractions (modes x coordinates, full M) [-].
     """
     a = assemble(model, sparse=False)
+    refuse_coupled(model, "batch_modes")
     nv = values.shape[0]
     nm, nb, n = len(model.mounts), len(model.bodies), a.n
     index = {m.name: i for i, m in enumerate(model.mounts)}

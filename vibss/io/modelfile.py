@@ -116,9 +116,24 @@ def _body(e: Entry, i: int, initial: dict[str, Any]) -> Body:
         raise _wrap(e, exc) from None
 
 
+def _matrix6(e: Entry, key: str, kind: str) -> np.ndarray | None:
+    """A 6x6 ``stiffness_matrix`` (``kind="stiffness"``) or ``damping_matrix`` in SI: the translation
+    block in the file's stiffness (damping) unit, the rotation block in its rotational one, both
+    coupling blocks in force/angle (force time/angle)."""
+    if key not in e:
+        return None
+    raw = e.array(key, [(6, 6)], "dimensionless")
+    unit = {q: e.units.factor(f"{q}_{kind}") for q in ("rotational", "coupling")}
+    f = np.full((6, 6), unit["coupling"])
+    f[:3, :3] = e.units.factor(kind)
+    f[3:, 3:] = unit["rotational"]
+    return np.asarray(raw * f)
+
+
 def _mount_type(e: Entry) -> MountType:
     e.check_keys(("name", "stiffness", "damping", "loss_factor", "rheology", "rotational_stiffness",
-                  "rotational_damping"), ("name",) if "rheology" in e else ("name", "stiffness"))
+                  "rotational_damping", "stiffness_matrix", "damping_matrix"),
+                 ("name",) if "rheology" in e or "stiffness_matrix" in e else ("name", "stiffness"))
     try:
         return MountType(e.string("name"),
                          e.array("stiffness", [(3,)], "stiffness", None, nonnegative=True),
@@ -128,7 +143,8 @@ def _mount_type(e: Entry) -> MountType:
                          e.array("rotational_stiffness", [(3,)], "rotational_stiffness", np.zeros(3),
                                  nonnegative=True),
                          e.array("rotational_damping", [(3,)], "rotational_damping", np.zeros(3),
-                                 nonnegative=True))
+                                 nonnegative=True),
+                         _matrix6(e, "stiffness_matrix", "stiffness"), _matrix6(e, "damping_matrix", "damping"))
     except ModelError as exc:
         raise _wrap(e, exc) from None
 
@@ -534,6 +550,8 @@ def model_to_dict(model: Model) -> dict[str, Any]:
                          | ({} if t.rheology is None else {"rheology": t.rheology.to_dict()})
                          | ({} if not t.rotational else {"rotational_stiffness": t.rotational_stiffness.tolist(),
                                                          "rotational_damping": t.rotational_damping.tolist()})
+                         | {key: m.tolist() for key in ("stiffness_matrix", "damping_matrix")
+                            if (m := getattr(t, key)) is not None}
                          for t in model.mount_types.values()]
     out["mount"] = []
     for m in model.mounts:

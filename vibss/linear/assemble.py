@@ -10,7 +10,9 @@ mount on a support couples to that node's block only (so a model without support
 
 Per mount p joining point P of body b to the same point of a (a body or ground),
 ``delta_p = L(r_b) q_b - L(r_a) q_a = B_p q`` and ``K = sum_p B_p^T (T diag(k) T^T) B_p``, likewise
-for C; a 6x6 mount adds ``R_p^T (T diag(kr) T^T) R_p`` with ``theta_p = R_p q`` its relative rotation. The sum is vectorised over mounts (no Python loop per mount) and scattered as COO triplets,
+for C; a 6x6 mount adds ``R_p^T (T diag(kr) T^T) R_p`` with ``theta_p = R_p q`` its relative rotation,
+and a full 6x6 ``stiffness_matrix`` its blocks ``T K_tt T^T``, ``T K_rr T^T`` and the coupling
+``B_p^T (T K_tr T^T) R_p`` plus its transpose. The sum is vectorised over mounts (no Python loop per mount) and scattered as COO triplets,
 into a dense array for small models or a scipy.sparse CSR matrix for large ones.
 """
 
@@ -71,6 +73,10 @@ class Assembly(ReadOnly):
     krp, crp : (n_mounts, 3, 3) ndarray
         Each mount's rotational stiffness [N m/rad] and damping [N m s/rad] in global axes (6x6
         mounts; zeros otherwise): the moment ``krp (theta_body - theta_to)``.
+    kcp, ccp : (n_mounts, 3, 3) ndarray
+        Each mount's coupling stiffness [N/rad] and damping [N s/rad] in global axes (a full 6x6
+        matrix's off-diagonal block ``T K_tr T^T``; zeros otherwise): the force into the ``to`` side
+        is ``kp delta + kcp theta`` and the moment ``kcp^T delta + krp theta``.
     b_index, a_index : (n_mounts,) int ndarray
         Body index of each mount's ``body`` and ``to`` (``n_bodies`` for the rigid ground,
         ``n_bodies + 1 + s`` for support s).
@@ -99,6 +105,8 @@ class Assembly(ReadOnly):
     sparse: bool = False
     krp: np.ndarray = field(default_factory=lambda: np.zeros((0, 3, 3)))
     crp: np.ndarray = field(default_factory=lambda: np.zeros((0, 3, 3)))
+    kcp: np.ndarray = field(default_factory=lambda: np.zeros((0, 3, 3)))
+    ccp: np.ndarray = field(default_factory=lambda: np.zeros((0, 3, 3)))
     _cache: dict = field(default_factory=dict, repr=False)
 
     # the assembly owns its matrices and every later analysis shares them: frozen in place, so an
@@ -125,6 +133,11 @@ class Assembly(ReadOnly):
     def has_damping(self) -> bool:
         """Whether any mount has viscous damping (translational or rotational)."""
         return bool(np.any(self.cp) or np.any(self.crp))
+
+    @property
+    def has_coupling(self) -> bool:
+        """Whether any mount has a 6x6 matrix coupling its deflection and rotation."""
+        return bool(np.any(self.kcp) or np.any(self.ccp))
 
     @property
     def has_hysteresis(self) -> bool:
@@ -205,7 +218,9 @@ class Assembly(ReadOnly):
 
         One row per mount principal axis with nonzero stiffness: ``sqrt(k_j) t_j^T B_p`` (``t_j`` the
         mount's axis j in global axes, ``B_p`` its deflection rows, ground fixed), then one per
-        nonzero rotational rate: ``sqrt(kr_j) t_j^T R_p`` (``R_p`` its rotation rows). Unlike K it keeps
+        nonzero rotational rate: ``sqrt(kr_j) t_j^T R_p`` (``R_p`` its rotation rows); a mount with a
+        coupled 6x6 ``stiffness_matrix`` gives one row per positive eigenvalue of its (diagonally
+        scaled) matrix instead (:meth:`_matrix_factor`). Unlike K it keeps
         every mount's stiffness apart, so soft mounts are not lost beside stiff links when it is
         used by the eigen path (:func:`vibss.linear.eigen.undamped`) and by statics.
 
@@ -233,6 +248,12 @@ class Assembly(ReadOnly):
             keep = np.flatnonzero(np.sqrt(k).ravel() > 0)
             g = g[keep]
             kr = np.array([m.type.rotational_stiffness for m in self.model.mounts], dtype=float).reshape(nm, 3)
+            full6 = np.array([m.type.stiffness_matrix is not None and m.type.coupled for m in self.model.mounts],
+                             dtype=bool).reshape(nm)
+            if np.any(full6):                 # full 6x6 matrices: their own factor, the rest as before
+                g = g[np.flatnonzero(np.repeat(~full6, 3)[keep])]
+                kr = np.where(full6[:, None], 0.0, kr)
+                g = sp.vstack([g, self._matrix_factor(np.flatnonzero(full6), t)]).tocsr()
             if np.any(kr > 0):
                 br = np.sqrt(kr)[:, :, None] * t.transpose(0, 2, 1)
                 sr = sp.csr_matrix((br.ravel(), (r.ravel(), c.ravel())), shape=(3 * nm, 3 * nm))
@@ -242,6 +263,26 @@ class Assembly(ReadOnly):
             g.sort_indices()
             self._cache["G"] = g
         return self._cache["G"]
+
+    def _matrix_factor(self, mounts: np.ndarray, t: np.ndarray) -> sp.csr_matrix:
+        """Rows of G for mounts with a full 6x6 stiffness: ``K6 = V diag(lam) V^T`` in local axes,
+        one row ``sqrt(lam_j) v_j^T [T^T B_p; T^T R_p]`` per positive eigenvalue."""
+        rows = []
+        b, r = self.deflection_matrix()[:, :self.n], self.rotation_matrix()[:, :self.n]
+        for p in mounts:
+            mount = self.model.mounts[p]
+            k6 = mount.type.local_matrix("stiffness")
+            d = np.sqrt(np.where(np.diag(k6) > 0, np.diag(k6), 1.0))
+            lam, v = np.linalg.eigh(k6 / np.outer(d, d))   # scaled: translation and rotation units differ
+            if lam.min() < -1e-10 * max(1.0, lam.max()):
+                raise ModelError(f"mount {mount.name!r}: its stiffness_matrix is indefinite (scaled eigenvalues "
+                                 f"{np.round(lam, 6).tolist()}); K = G^T G needs it positive semi-definite")
+            keep = lam > 1e-14 * max(lam.max(), 0.0)
+            f = (np.sqrt(lam[keep])[:, None] * v[:, keep].T) * d[None, :]   # (k, 6): f^T f = K6 (local)
+            local = sp.vstack([sp.csr_matrix(t[p].T) @ b[3 * p:3 * p + 3],
+                               sp.csr_matrix(t[p].T) @ r[3 * p:3 * p + 3]])    # (6, n): [d_local; r_local]
+            rows.append(sp.csr_matrix(f) @ local)
+        return sp.vstack(rows).tocsr()
 
     def load_vector(self, include_gravity: bool = True, case: str | None = None,
                     include_loads: bool = True) -> np.ndarray:
@@ -319,6 +360,16 @@ def assemble(model: Model, sparse: bool | None = None) -> Assembly:
 
     kp, cp, hp = principal("stiffness"), principal("damping"), principal("stiffness", "loss_factor")
     krp, crp = principal("rotational_stiffness"), principal("rotational_damping")
+    kcp, ccp = np.zeros((nm, 3, 3)), np.zeros((nm, 3, 3))
+    for im, m in enumerate(model.mounts):    # full 6x6 matrices: their blocks turned into global axes
+        for which, (tt, rr, tr) in (("stiffness", (kp, krp, kcp)), ("damping", (cp, crp, ccp))):
+            if getattr(m.type, f"{which}_matrix") is None:
+                continue
+            k6 = m.type.local_matrix(which)
+            if not np.any(k6 - np.diag(np.diag(k6))):
+                continue                     # diagonal: the rates' own (bit-identical) path above
+            tm = t[im]
+            tt[im], rr[im], tr[im] = tm @ k6[:3, :3] @ tm.T, tm @ k6[3:, 3:] @ tm.T, tm @ k6[:3, 3:] @ tm.T
     lb, la = point_transfer(r_b), point_transfer(r_a)
     rot = np.zeros((nm, 3, 6))
     rot[:, :, 3:] = np.eye(3)                              # relative rotation: theta_body - theta_to
@@ -332,7 +383,8 @@ def assemble(model: Model, sparse: bool | None = None) -> Assembly:
 
     lbt, lat = lb.transpose(0, 2, 1), la.transpose(0, 2, 1)
 
-    def full(kmat: np.ndarray, rotational: np.ndarray | None = None) -> sp.csr_matrix:
+    def full(kmat: np.ndarray, rotational: np.ndarray | None = None,
+             coupling: np.ndarray | None = None) -> sp.csr_matrix:
         kb, ka = kmat @ lb, kmat @ la                       # (nm, 3, 6) each
         with np.errstate(over="ignore", invalid="ignore"):
             vals = np.concatenate([(lbt @ kb).ravel(), (lat @ ka).ravel(),
@@ -340,6 +392,13 @@ def assemble(model: Model, sparse: bool | None = None) -> Assembly:
             if rotational is not None:                  # 6x6 mounts: the same four blocks
                 rr = rot.transpose(0, 2, 1) @ rotational @ rot
                 vals = vals + np.concatenate([rr.ravel(), rr.ravel(), -rr.ravel(), -rr.ravel()])
+            if coupling is not None:                    # delta^T kc theta + theta^T kc^T delta
+                cr = coupling @ rot                     # (nm, 3, 6)
+                bb, aa = lbt @ cr, lat @ cr
+                ba = lambda x: x + x.transpose(0, 2, 1)  # noqa: E731
+                vals = vals + np.concatenate([ba(bb).ravel(), ba(aa).ravel(),
+                                              -(bb + aa.transpose(0, 2, 1)).ravel(),
+                                              -(aa + bb.transpose(0, 2, 1)).ravel()])
         if not np.all(np.isfinite(vals)):
             bad = int(np.flatnonzero((~np.isfinite(vals.reshape(4, nm, 36))).any(axis=(0, 2)))[0])
             raise ModelError(f"mount {model.mounts[bad].name!r}: its stiffness or damping about the COG "
@@ -349,12 +408,12 @@ def assemble(model: Model, sparse: bool | None = None) -> Assembly:
     mass = sp.block_diag([b.mass_matrix for b in model.bodies], format="csr")
     mats = {}
     couplings = {}
-    for key, pm, rm in (("K", kp, krp), ("C", cp, crp), ("H", hp, None)):
-        if key != "K" and not np.any(pm) and not np.any(rm):   # no dampers / no hysteresis: skip the work
+    for key, pm, rm, cm in (("K", kp, krp, kcp), ("C", cp, crp, ccp), ("H", hp, None, None)):
+        if key != "K" and not np.any(pm) and not np.any(rm) and not np.any(cm):   # no dampers / no hysteresis
             mats[key] = sp.csr_matrix((n, n)) if sparse else np.zeros((n, n))
             couplings[key] = np.zeros((n, nz))
             continue
-        f = full(pm, rm if rm is not None and np.any(rm) else None)
+        f = full(pm, rm if rm is not None and np.any(rm) else None, cm if cm is not None and np.any(cm) else None)
         body_part = f[:n, :n]
         body_part = 0.5 * (body_part + body_part.T)  # exact symmetry despite summation order
         mats[key] = body_part.tocsr() if sparse else body_part.toarray()
@@ -367,5 +426,5 @@ def assemble(model: Model, sparse: bool | None = None) -> Assembly:
         Kg=couplings["K"], Cg=couplings["C"], Hg=couplings["H"],
         kp=kp, cp=cp, hp=hp,
         b_index=b_index, a_index=a_index, r_b=r_b, r_a=r_a,
-        sparse=bool(sparse), krp=krp, crp=crp,
+        sparse=bool(sparse), krp=krp, crp=crp, kcp=kcp, ccp=ccp,
     )

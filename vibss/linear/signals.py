@@ -362,10 +362,15 @@ def _mount_wrench(asm: Assembly, target: str) -> dict[str, np.ndarray]:
         for key, mat in (("k", asm.kp), ("c", asm.cp), ("h", asm.hp)):
             rows[key] += lt @ mat[p] @ bp
         rows["f"][:, 3 * p:3 * p + 3] = lt
-        if np.any(asm.krp[p]) or np.any(asm.crp[p]):         # a 6x6 mount's own moment
+        coupled = asm.has_coupling and (np.any(asm.kcp[p]) or np.any(asm.ccp[p]))
+        if np.any(asm.krp[p]) or np.any(asm.crp[p]) or coupled:   # a 6x6 mount's own moment
             rp = asm.rotation_matrix()[3 * p:3 * p + 3].toarray()
             rows["k"][3:] += asm.krp[p] @ rp
             rows["c"][3:] += asm.crp[p] @ rp
+            if coupled:                 # force kc theta at the point, moment kc^T delta
+                for key, mat in (("k", asm.kcp), ("c", asm.ccp)):
+                    rows[key] += lt @ mat[p] @ rp
+                    rows[key][3:] += mat[p].T @ bp
     return rows
 
 
@@ -396,10 +401,17 @@ def output_row(asm: Assembly, name: Any, cache: dict) -> tuple[_Rows, str]:
             rp = asm.rotation_matrix()[3 * p:3 * p + 3].toarray()
             if what == "r":
                 return _Rows(axis @ rp, zero, zero, zero), "rad"
-            return _Rows(axis @ asm.krp[p] @ rp, axis @ asm.crp[p] @ rp, zero, zero), "N m"
+            mk, mc = axis @ asm.krp[p] @ rp, axis @ asm.crp[p] @ rp
+            if asm.has_coupling:        # a full 6x6 matrix: the moment kc^T delta too
+                mk, mc = mk + axis @ asm.kcp[p].T @ b, mc + axis @ asm.ccp[p].T @ b
+            return _Rows(mk, mc, zero, zero), "N m"
         f = np.zeros(3 * len(model.mounts))
         f[3 * p:3 * p + 3] = axis
-        return _Rows(axis @ asm.kp[p] @ b, axis @ asm.cp[p] @ b, zero, axis @ asm.hp[p] @ b, f), "N"
+        fk, fc = axis @ asm.kp[p] @ b, axis @ asm.cp[p] @ b
+        if asm.has_coupling:            # a full 6x6 matrix: the force kc theta too
+            rp = asm.rotation_matrix()[3 * p:3 * p + 3].toarray()
+            fk, fc = fk + axis @ asm.kcp[p] @ rp, fc + axis @ asm.ccp[p] @ rp
+        return _Rows(fk, fc, zero, axis @ asm.hp[p] @ b, f), "N"
     head, _, comp = name.rpartition(".")
     target = head[:-5] if head.endswith(".into") else (head if head in _grounds(model) else None)
     if head.endswith(".into") and comp not in _FORCE:
@@ -453,7 +465,11 @@ def _sensor_row(asm: Assembly, name: str) -> tuple[_Rows, str]:
         t = model.mounts[p].orientation.matrix
         d = t[:, s.axis - 1] if s.axis is not None else s.direction
         if s.kind == "mount_force":
-            return _Rows(d @ asm.kp[p] @ b, d @ asm.cp[p] @ b, zero, d @ asm.hp[p] @ b), s.unit
+            fk, fc = d @ asm.kp[p] @ b, d @ asm.cp[p] @ b
+            if asm.has_coupling:
+                rp = asm.rotation_matrix()[3 * p:3 * p + 3].toarray()
+                fk, fc = fk + d @ asm.kcp[p] @ rp, fc + d @ asm.ccp[p] @ rp
+            return _Rows(fk, fc, zero, d @ asm.hp[p] @ b), s.unit
         row = d @ b
     else:
         body, to, point, d = resolve(model, s)
@@ -655,18 +671,24 @@ def mount_form(asm: Assembly, free: np.ndarray, source: tuple, extra_c: Any = No
             return sp.csr_matrix((free.size, free.size))
         return sp.csr_matrix(br.T @ sp.block_diag(list(blocks[~apart])) @ br)
 
-    def rotational(blocks: np.ndarray) -> sp.csr_matrix:
-        """6x6 mounts' rotational parts, assembled with the rest (they sum no lever arms)."""
-        if not np.any(blocks):
-            return sp.csr_matrix((free.size, free.size))
+    def rotational(blocks: np.ndarray, coupling: np.ndarray | None = None) -> sp.csr_matrix:
+        """6x6 mounts' rotational parts (and full matrices' coupling), assembled with the rest."""
+        out = sp.csr_matrix((free.size, free.size))
+        if not np.any(blocks) and (coupling is None or not np.any(coupling)):
+            return out
         rr = sp.csr_matrix(asm.rotation_matrix()[:, :n_body][:, free])
-        return sp.csr_matrix(rr.T @ sp.block_diag(list(blocks)) @ rr)
+        if np.any(blocks):
+            out = sp.csr_matrix(rr.T @ sp.block_diag(list(blocks)) @ rr)
+        if coupling is not None and np.any(coupling):
+            x = sp.csr_matrix(b.T @ sp.block_diag(list(coupling)) @ rr)     # B^T kc R: both mounts' sides
+            out = sp.csr_matrix(out + x + x.T)
+        return out
 
-    c_rest = assembled(asm.cp) + rotational(asm.crp)
+    c_rest = assembled(asm.cp) + rotational(asm.crp, asm.ccp)
     if extra_c is not None:
         c_rest = sp.csr_matrix(c_rest + sp.csr_matrix(extra_c))
     return MountForm(B=b[idx], kp=asm.kp[apart], cp=asm.cp[apart], hp=asm.hp[apart],
-                     K=sp.csr_matrix(assembled(asm.kp) + rotational(asm.krp)), C=sp.csr_matrix(c_rest),
+                     K=sp.csr_matrix(assembled(asm.kp) + rotational(asm.krp, asm.kcp)), C=sp.csr_matrix(c_rest),
                      H=assembled(asm.hp), source=source,
                      stiffness_ratio=float(lam[apart].max() / lam[apart].min()))
 

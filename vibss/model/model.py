@@ -562,7 +562,8 @@ def _check_elements(items: Sequence[Any], what: str, bodies: set[str], mounts: s
 
 def _same_type(a: MountType, b: MountType) -> bool:
     rheology = [None if t.rheology is None else t.rheology.to_dict() for t in (a, b)]
-    return rheology[0] == rheology[1] and all(np.array_equal(getattr(a, k), getattr(b, k))
+    return rheology[0] == rheology[1] and all(np.array_equal(a.local_matrix(k), b.local_matrix(k))
+                                              for k in ("stiffness", "damping")) and all(np.array_equal(getattr(a, k), getattr(b, k))
                                               for k in ("stiffness", "damping", "loss_factor",
                                                         "rotational_stiffness", "rotational_damping"))
 
