@@ -312,3 +312,16 @@ def test_models_without_supports_are_unchanged():
     assert "support" not in vibss.model_to_dict(model) if hasattr(vibss, "model_to_dict") else True
     from vibss.io.modelfile import model_to_dict
     assert "support" not in model_to_dict(model)
+
+
+def test_the_model_file_guide_example_of_supports_loads():
+    import re
+    from pathlib import Path
+
+    text = (Path(__file__).parents[1] / "docs" / "model-file.md").read_text()
+    block = next(b for b in re.findall(r"```toml\n(.*?)```", text, re.S) if "[[support]]" in b)
+    model = vibss.loads_model('[model]\nunits = { length = "mm" }\n[[body]]\nname = "bar"\nmass = 40.0\n'
+                              'inertia = [2e6, 6e6, 6.5e6]\n[[mount_type]]\nname = "spring"\n'
+                              'stiffness = [10, 10, 30]\n' + block)
+    assert [m.support for m in model.mounts] == ["front", "rear"]
+    assert model.excitations[0].signal == "front.z.acc"
