@@ -325,3 +325,20 @@ def test_the_model_file_guide_example_of_supports_loads():
                               'stiffness = [10, 10, 30]\n' + block)
     assert [m.support for m in model.mounts] == ["front", "rear"]
     assert model.excitations[0].signal == "front.z.acc"
+
+
+def test_design_tools_see_supports_as_ground():
+    from vibss.design.montecarlo import batch_modes
+    from vibss.design.parameters import apply, current_values, parameters_of, stiffness_derivatives
+
+    rigid, split = _pair(False), _pair(True)
+    params = [parameters_of(m, ["fl.k3", "fr.rx", "rl.x"]) for m in (rigid, split)]
+    v0 = current_values(split, params[1])
+    vals = v0 + np.array([[2e3, 0.1, 0.01], [-1e3, -0.2, -0.02]])
+    fr, _, _ = batch_modes(rigid, params[0], vals)
+    fs, _, _ = batch_modes(split, params[1], vals)
+    np.testing.assert_allclose(fs, fr, rtol=1e-12)
+    np.testing.assert_allclose(stiffness_derivatives(vibss.assemble(split), params[1]),
+                               stiffness_derivatives(vibss.assemble(rigid), params[0]), rtol=1e-12, atol=1e-6)
+    moved = apply(split, params[1], vals[0])
+    assert [m.support for m in moved.mounts] == ["L", "L", "R", "R"] and moved.support_names == ["L", "R"]
