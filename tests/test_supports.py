@@ -342,3 +342,15 @@ def test_design_tools_see_supports_as_ground():
                                stiffness_derivatives(vibss.assemble(rigid), params[0]), rtol=1e-12, atol=1e-6)
     moved = apply(split, params[1], vals[0])
     assert [m.support for m in moved.mounts] == ["L", "L", "R", "R"] and moved.support_names == ["L", "R"]
+
+
+def test_time_plot_groups_support_reactions_with_ground():
+    pytest.importorskip("matplotlib")
+    from vibss.plotting.response import quantity_of
+
+    assert quantity_of("front.fz", "N") == "force into ground"
+    assert quantity_of("front.my", "N m") == "moment into ground"
+    r = vibss.simulate(_bar(), inputs={"A.z.acc": lambda t: np.sin(20 * t)}, outputs=["bar.z", "A.fz"],
+                       t_end=0.1, dt=1e-3)
+    fig = r.plot()
+    assert len(fig.axes) == 3                        # the input on top, then bar and A
