@@ -354,3 +354,16 @@ def test_time_plot_groups_support_reactions_with_ground():
                        t_end=0.1, dt=1e-3)
     fig = r.plot()
     assert len(fig.axes) == 3                        # the input on top, then bar and A
+
+
+def test_static_settlement_of_one_support_follows_the_lever_rule():
+    r = vibss.static(_bar(), prescribed={"A.z": -0.01})
+    # the bar on two springs turns about the other end: no spring deflects, no force
+    np.testing.assert_allclose(r.body("bar")[2], -0.01 * XB / (XB - XA), rtol=1e-12)
+    np.testing.assert_allclose(r.body("bar")[4], -0.01 / (XB - XA), rtol=1e-12)
+    assert np.abs(r.mount_force).max() <= 1e-9
+    split = vibss.static(_pair(True), prescribed={"L.z": 0.002, "R.z": 0.002})
+    rigid = vibss.static(_pair(False), prescribed={"ground.z": 0.002})
+    np.testing.assert_allclose(split.q, rigid.q, rtol=1e-12, atol=1e-17)
+    with pytest.raises(ModelError, match=r"unknown L DOF 'L.w'"):
+        vibss.static(_pair(True), prescribed={"L.w": 0.1})

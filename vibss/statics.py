@@ -289,7 +289,9 @@ def static(model: Model | Assembly, loads: np.ndarray | None = None, *,
         model has ``gravity`` and ``gravity=True``).
     prescribed : mapping of str to float, optional
         Prescribed displacements [m or rad] of body DOFs (``"engine.z"``) or ground DOFs
-        (``"ground.z"``: every ground attachment moves; ground rotations are about the origin).
+        (``"ground.z"``: every attachment to the rigid ground moves; ground rotations are about the
+        origin), or a support's (``"front.z"``: a settlement of that support alone). Supports not
+        named here are fixed.
     gravity : bool
         Include self-weight when the model defines gravity.
     case : str or None
@@ -343,7 +345,7 @@ def _solved(a: Assembly, f: np.ndarray, prescribed: Mapping[str, float] | None, 
     """The static deflection under the generalised load ``f`` [N, N m] and prescribed displacements."""
     n = a.n
     q = np.zeros(n)
-    qg = np.zeros(a.nz)                   # supports are fixed ground in statics
+    qg = np.zeros(a.nz)                   # supports are fixed ground unless prescribed
     fixed = np.zeros(n, dtype=bool)
     if prescribed is not None and not isinstance(prescribed, Mapping):
         raise ModelError(f"prescribed: expected a mapping of DOF label to value, got {prescribed!r}")
@@ -352,10 +354,10 @@ def _solved(a: Assembly, f: np.ndarray, prescribed: Mapping[str, float] | None, 
             raise ModelError(f"prescribed: keys are DOF labels like 'engine.z' or 'ground.z', got {label!r}")
         value = number(value, f"prescribed[{label!r}]", unit="m or rad")
         body, _, dof = label.partition(".")
-        if body == GROUND:
+        if body == GROUND or body in a.model.support_names:
             if dof not in DOF_NAMES:
-                raise ModelError(f"prescribed: unknown ground DOF {label!r}; use ground.x .. ground.rz")
-            qg[DOF_NAMES.index(dof)] = value
+                raise ModelError(f"prescribed: unknown {body} DOF {label!r}; use {body}.x .. {body}.rz")
+            qg[a.ground_offset(body) - n + DOF_NAMES.index(dof)] = value
         else:
             i = a.dof_index(label)
             q[i], fixed[i] = value, True
