@@ -344,6 +344,15 @@ def test_mounts_guide_runs_and_its_numbers_hold(capsys):
     assert "over 5 to 20 Hz: storage stiffness within 5 %, loss factor within 4 %" in out
     np.testing.assert_allclose(vibss.modes(scope["m6"]).frequency_hz[:3],
                                np.sqrt(np.array([200.0, 300.0, 500.0]) / [0.2, 0.3, 0.4]) / (2 * np.pi), rtol=1e-12)
+    # the supports' example: the lever rule at 0 Hz (bar on springs at x = -0.7 and 0.5)
+    np.testing.assert_allclose(scope["tr"].response[0, :, 0].real, [0.5 / 1.2, 0.7 / 1.2], rtol=1e-12)
+    assert "[0.4167 0.5833]" in out
+    # the coupled 6x6 example: x and ry from det([[kx - w^2 m, kc], [kc, kry - w^2 Iy]]) = 0
+    roots = np.sqrt(np.sort(np.roots([4.0 * 0.3, -(2e4 * 0.3 + 600.0 * 4.0), 2e4 * 600.0 - 1500.0**2]).real))
+    f = vibss.modes(scope["mc"]).frequency_hz
+    for r in roots / (2 * np.pi):
+        assert np.min(np.abs(f - r)) <= 1e-12 * f.max()
+    assert "6.1    7.609  8.422 11.836" in out
     assert "[5.0329 5.0329 5.627 ]" in out
     assert scope["sim"].method == "forced_response" and scope["r"].method == "direct"
     k80 = _kstar(2j * np.pi * 80.0, damping=0.0)             # the rheology alone (no dashpot) ...

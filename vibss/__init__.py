@@ -50,7 +50,8 @@ _LAZY: dict[str, str] = {
     "Modes": ".modal.undamped", "modes": ".modal.undamped",
     "DOF_NAMES": ".model.model", "GROUND": ".model.model", "Body": ".model.model",
     "ControlPoint": ".model.model", "Load": ".model.model", "Model": ".model.model",
-    "Mount": ".model.model", "MountType": ".model.model", "symmetric": ".model.model",
+    "Mount": ".model.model", "MountType": ".model.model", "Support": ".model.model",
+    "symmetric": ".model.model",
     "Actuator": ".model.actuation", "Sensor": ".model.actuation",
     "FrequencyGrid": ".frequency.api", "FrequencyResponse": ".frequency.api",
     "frequency_grid": ".frequency.api", "frequency_response": ".frequency.api",
@@ -111,7 +112,7 @@ if TYPE_CHECKING:                          # what static checkers and IDEs see
     from .model.timefunctions import (HalfSine, Haversine, Ramp, Rectangular, Sawtooth, Sine, SineSweep, Step,
                                       Sum, Table, TimeFunction, Triangle)
     from .model.geometry import Orientation
-    from .model.model import DOF_NAMES, GROUND, Body, ControlPoint, Load, Model, Mount, MountType, symmetric
+    from .model.model import DOF_NAMES, GROUND, Body, ControlPoint, Load, Model, Mount, MountType, Support, symmetric
     from .reduction.api import Reduction, reduce
     from .reduction.scope import Scope
     from .random import PSD, random_response
@@ -128,7 +129,7 @@ __all__ = [
     "TimeFunction", "Triangle", "Actuator", "Sensor", "ShockResponseSpectrum", "ControlDesignError", "control",
     "AnalysisError", "ArgumentError", "Assembly", "DefectiveModesError", "Body", "ControlPoint", "DOF_NAMES", "DampedModes", "Excitation",
     "FrequencyGrid", "FrequencyResponse", "GROUND", "Load", "MissingDependencyError", "Model", "ModelError", "ModelFileError", "Modes", "Mount", "MountType", "NamedStateSpace",
-    "Orientation", "PSD", "Plant", "Reduction", "Scope", "SignalError", "StaticResult", "StudyDefaults", "SweepEnvelope", "TimeResponse", "VibssError", "VibssWarning", "assemble", "build_plant", "damped_modes", "dump_model",
+    "Orientation", "PSD", "Plant", "Reduction", "Scope", "SignalError", "StaticResult", "StudyDefaults", "Support", "SweepEnvelope", "TimeResponse", "VibssError", "VibssWarning", "assemble", "build_plant", "damped_modes", "dump_model",
     "dumps_model", "example_names", "frequency_grid", "frequency_response", "load_example", "load_model", "loads_model", "modes", "orders", "random", "random_response", "reduce", "shock", "simulate", "srs", "static",
     "statespace", "study", "study_defaults", "causal_loss", "sweep_envelope", "sweep_response", "symmetric", "transmissibility",
 ]

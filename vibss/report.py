@@ -44,7 +44,7 @@ import numpy as np
 from .modal.damped import damped_modes
 from .errors import SignalError, VibssError, did_you_mean
 from .modal.undamped import modes
-from .model.model import DOF_NAMES, GROUND, Model
+from .model.model import GROUND, Model
 from .results import Table, number_text
 from .statics import StaticResult, static
 from .studies import frequency_band, steady_sweeps, time_outputs, time_window, transient_excitations
@@ -181,12 +181,26 @@ def _model_section(model: Model, figures: bool) -> Section:
                   title="Mount types (k: static stiffness; rheology: frequency-dependent, its ladder's "
                         "fit error)")
     mounts = Table(["mount", "type", "joins", "x [m]", "y [m]", "z [m]", "orientation"],
-                   [[m.name, m.type.name, f"{m.body}->{m.to}"]
+                   [[m.name, m.type.name, f"{m.body}->{m.support or m.to}"]
                     + [f"{v:.4g}" for v in model.mount_point(m)] + [_describe(m.orientation)]
                     for m in model.mounts],
                    title="Mounts (attachment points in global coordinates; Euler angles in "
                          "scipy's spelling, upper case = intrinsic)")
     tables = [bodies, types, mounts] if model.mounts else [bodies]
+    full = [(t, key) for t in model.mount_types.values() if t.coupled
+            for key in ("stiffness", "damping") if getattr(t, f"{key}_matrix") is not None]
+    if full:
+        labels = ("d1", "d2", "d3", "r1", "r2", "r3")
+        tables.append(Table(["mount type", "matrix", "row"] + list(labels),
+                            [[t.name, key, labels[i]] + [f"{v:.4g}" for v in t.local_matrix(key)[i]]
+                             for t, key in full for i in range(6)],
+                            title="Full 6x6 mount matrices in local axes (on d1..d3 [m], r1..r3 [rad]: "
+                                  "N/m, N m/rad, coupling N/rad; damping N s/m, N m s/rad, N s/rad)"))
+    if model.supports:
+        tables.append(Table(["support", "mounts", "description"],
+                            [[g.name, ", ".join(m.name for m in model.mounts if m.support == g.name), g.description]
+                             for g in model.supports],
+                            title="Supports (ground points moved on their own: inputs <support>.<dof>.disp|vel|acc)"))
     if model.control_points:
         pts = [[c.name, c.body] + [f"{v:.4g}" for v in model.body(c.body).cog + model.point(c.body, c.at, c.frame)]
                for c in model.control_points]
@@ -249,7 +263,7 @@ def _static_tables(r: StaticResult) -> tuple[Table, ...]:
     if r.model.mounts:
         out.append(Table(["mount", "joins", "dx [mm]", "dy [mm]", "dz [mm]", "d1 [mm]", "d2 [mm]", "d3 [mm]",
                           "Fx [N]", "Fy [N]", "Fz [N]"],
-                         [[m.name, f"{m.body}->{m.to}"] + [f"{1e3 * v:.4f}" for v in r.mount_deflection[p]]
+                         [[m.name, f"{m.body}->{m.support or m.to}"] + [f"{1e3 * v:.4f}" for v in r.mount_deflection[p]]
                           + [f"{1e3 * v:.4f}" for v in r.mount_deflection_local[p]]
                           + [f"{v:.2f}" for v in r.mount_force[p]] for p, m in enumerate(r.model.mounts)],
                          title="Mounts (deflection = body side minus other side; force into the other side)"))
@@ -456,15 +470,20 @@ def _frf_table(r: Any, title: str) -> Table:
 def _isolation_section(model: Model, figures: bool, results: dict[str, Any]) -> Section:
     """An isolator model without a sine sweep: motion transmissibility from ground (x, y, z) to each
     body's COG along the same axis, and force transmissibility from a force at each body's COG into
-    ground, over the report's band."""
+    ground, over the report's band; with supports, from and into each ground node that carries a
+    mount (the rigid ground and each support) on its own."""
     from .frequency.sweep import transmissibility
 
     band = frequency_band(model, results.get("modes"))
     grid = band.grid()
+    used = {m.support or GROUND for m in model.mounts if m.to == GROUND}
+    nodes = [g for g in (GROUND, *model.support_names) if g in used]
     motion, force = {}, {}
     for d in "xyz":
-        motion[d] = transmissibility(model, [f"ground.{d}"], [f"{b}.{d}" for b in model.body_names], frequencies=grid)
-        force[d] = transmissibility(model, [f"{b}.f{d}" for b in model.body_names], [f"ground.f{d}"], frequencies=grid)
+        motion[d] = transmissibility(model, [f"{g}.{d}" for g in nodes], [f"{b}.{d}" for b in model.body_names],
+                                     frequencies=grid)
+        force[d] = transmissibility(model, [f"{b}.f{d}" for b in model.body_names], [f"{g}.f{d}" for g in nodes],
+                                    frequencies=grid)
     results["transmissibility:motion"], results["transmissibility:force"] = motion, force
     rows, lines = [], []
     undamped = all(not np.any(m.type.damping) and not np.any(m.type.loss_factor) for m in model.mounts)

@@ -291,7 +291,9 @@ def static(model: Model | Assembly, loads: np.ndarray | None = None, *,
         model has ``gravity`` and ``gravity=True``).
     prescribed : mapping of str to float, optional
         Prescribed displacements [m or rad] of body DOFs (``"engine.z"``) or ground DOFs
-        (``"ground.z"``: every ground attachment moves; ground rotations are about the origin).
+        (``"ground.z"``: every attachment to the rigid ground moves; ground rotations are about the
+        origin), or a support's (``"front.z"``: a settlement of that support alone). Supports not
+        named here are fixed.
     gravity : bool
         Include self-weight when the model defines gravity.
     case : str or None
@@ -349,7 +351,7 @@ def _solved(a: Assembly, f: np.ndarray, prescribed: Mapping[str, float] | None, 
     """The static deflection under the generalised load ``f`` [N, N m] and prescribed displacements."""
     n = a.n
     q = np.zeros(n)
-    qg = np.zeros(6)
+    qg = np.zeros(a.nz)                   # supports are fixed ground unless prescribed
     fixed = np.zeros(n, dtype=bool)
     if prescribed is not None and not isinstance(prescribed, Mapping):
         raise ModelError(f"prescribed: expected a mapping of DOF label to value, got {prescribed!r}")
@@ -358,10 +360,10 @@ def _solved(a: Assembly, f: np.ndarray, prescribed: Mapping[str, float] | None, 
             raise ModelError(f"prescribed: keys are DOF labels like 'engine.z' or 'ground.z', got {label!r}")
         value = number(value, f"prescribed[{label!r}]", unit="m or rad")
         body, _, dof = label.partition(".")
-        if body == GROUND:
+        if body == GROUND or body in a.model.support_names:
             if dof not in DOF_NAMES:
-                raise ModelError(f"prescribed: unknown ground DOF {label!r}; use ground.x .. ground.rz")
-            qg[DOF_NAMES.index(dof)] = value
+                raise ModelError(f"prescribed: unknown {body} DOF {label!r}; use {body}.x .. {body}.rz")
+            qg[a.ground_offset(body) - n + DOF_NAMES.index(dof)] = value
         else:
             i = a.dof_index(label)
             q[i], fixed[i] = value, True
@@ -376,12 +378,15 @@ def _solved(a: Assembly, f: np.ndarray, prescribed: Mapping[str, float] | None, 
     local = np.einsum("pji,pj->pi", t, delta)
     force = np.einsum("pij,pj->pi", a.kp, delta)
     rotation = moment = None
-    if np.any(a.krp):                     # 6x6 mounts: their relative rotations and moments
+    if np.any(a.krp) or a.has_coupling:   # 6x6 mounts: their relative rotations and moments
         rotation = (a.rotation_matrix() @ full).reshape(-1, 3)
         moment = np.einsum("pij,pj->pi", a.krp, rotation)
+        if a.has_coupling:                # a full 6x6 matrix: force kc theta, moment kc^T delta
+            force = force + np.einsum("pij,pj->pi", a.kcp, rotation)
+            moment = moment + np.einsum("pji,pj->pi", a.kcp, delta)
     method = ("minimum norm on the restrained subspace" if notes
               else "equilibrated sparse LU" if sp.issparse(kff) else "equilibrated Cholesky")
-    return StaticResult(model=a.model, q=q, ground=qg, load=f, mount_deflection=delta,
+    return StaticResult(model=a.model, q=q, ground=qg[:6], load=f, mount_deflection=delta,
                         mount_deflection_local=local, mount_force=force, free_motions=notes,
                         mount_rotation=rotation, mount_moment=moment,
                         case=case or "", method=method,
@@ -565,6 +570,7 @@ def _unconnected(a: Assembly, free: np.ndarray) -> bool:
     nb = len(a.model.bodies)
     if len(a.b_index) == 0:
         return True
-    g = sp.coo_matrix((np.ones(len(a.b_index)), (a.b_index, a.a_index)), shape=(nb + 1, nb + 1))
+    to = np.minimum(a.a_index, nb)        # every support is ground too
+    g = sp.coo_matrix((np.ones(len(a.b_index)), (a.b_index, to)), shape=(nb + 1, nb + 1))
     _, labels = csgraph.connected_components(g, directed=False)
     return bool(np.any(labels[:nb] != labels[nb]))

@@ -203,7 +203,8 @@ def time_outputs(model: Model, excitations: Sequence[Any] | None = None) -> Time
     (True, 'mount.lower.dx', ('mount deflection', 'acceleration'))
     """
     transient = list(transient_excitations(model) if excitations is None else excitations)
-    base = bool(transient) and all(e.target == "ground" and e.kind != "force" for e in transient)
+    grounds = ("ground", *model.support_names)     # the rigid ground and every named support
+    base = bool(transient) and all(e.target in grounds and e.kind != "force" for e in transient)
     deflections = [f"mount.{m.name}.{d}" for m in model.mounts for d in ("dx", "dy", "dz")]
     accelerations = [f"{b}.{d}.acc" for b in model.body_names for d in "xyz"]
     motions = [f"{b}.{d}" for b in model.body_names for d in ("x", "y", "z", "rx", "ry", "rz")]

@@ -3,7 +3,8 @@
 The plant is the one state-space realization of :mod:`vibss.linear.statespace` (modal, well scaled)
 with four named groups:
 
-- ``w`` disturbances: ground motion (``ground.z.acc``, ``ground.x.vel``, ``ground.z.disp``),
+- ``w`` disturbances: ground motion (``ground.z.acc``, ``ground.x.vel``, ``ground.z.disp``) or a
+  support's (``<support>.z.acc`` ...),
   forces on bodies (``table.fz``), and optionally measurement noise ``<measurement>.noise``;
 - ``u`` actuator commands ``actuator.<name>.u`` (through each actuator's bandwidth, if any);
 - ``z`` performance outputs: any output signal, plus an actuator command (``actuator.<name>.u``:
@@ -18,7 +19,11 @@ plant is written instead in the motion relative to ground, ``q = T z + r`` (``T`
 DOF rigidly with ground, so ``K T + Kz = 0`` and ``C T + Cz = 0``): an acceleration ``a`` enters as
 the inertia force ``-M T a`` and a velocity ``v`` as the displacement-like input of
 ``M r'' + C r' + K r = -M T v'`` (the states are then the relative displacement and the absolute
-velocity ``r' + T v``), each with ``2 n`` states. Outputs that need the
+velocity ``r' + T v``), each with ``2 n`` states. For a support's motion ``T`` is its quasi-static
+influence ``T = -K^-1 Kz`` (the free DOFs' static displacement under a unit motion of that support
+alone; the rigid motion for the whole ground), so ``K T + Kz = 0`` again; ``C T + Cz = 0`` then holds
+when the mounts' damping is proportional to their stiffness, and otherwise the support's velocity or
+acceleration is refused with the advice to give it as a displacement. Outputs that need the
 integral of the disturbance (absolute displacement under a velocity input; absolute displacement or
 velocity under an acceleration input) are refused with the input kind that gives them.
 
@@ -48,6 +53,7 @@ from ..errors import ControlDesignError, ModelError
 from ..linear.assemble import Assembly, assemble
 from ..linear.plant import Plant
 from ..linear.signals import build_plant, control_name
+from ..linear.solve import SingularMatrixError, lu_solver
 from ..linear.statespace import NamedStateSpace, statespace
 from ..model.geometry import point_transfer
 from ..model.model import DOF_NAMES, GROUND, Model
@@ -161,6 +167,19 @@ def _rigid_map(model: Model, dofs: Sequence[str], name: str) -> np.ndarray:
     return out
 
 
+def _support_map(mech: Plant, j: int, name: str) -> np.ndarray:
+    """(n,) quasi-static motion of the free DOFs under a unit motion of one support: ``-K^-1 Kz``."""
+    try:
+        t = np.asarray(lu_solver(mech.K)(-np.asarray(mech.Kz[:, j], dtype=float)))
+    except SingularMatrixError:
+        t = np.full(mech.K.shape[0], np.nan)
+    if not np.all(np.isfinite(t)):
+        raise ControlDesignError(f"disturbances: {name!r}: the stiffness is singular (a free motion), so "
+                                 "the quasi-static motion under the support is not defined; give the support "
+                                 f"motion as a displacement ('{name.rsplit('.', 1)[0]}.disp') instead")
+    return t
+
+
 def relative_plant(mech: Plant, model: Model) -> Plant:
     """The plant with its ground velocity/acceleration inputs written relative to ground (see the
     module docstring): no integrator states in its realization.
@@ -193,16 +212,23 @@ def relative_plant(mech: Plant, model: Model) -> Plant:
     for j, (u, kind) in enumerate(zip(mech.inputs, mech.kinds)):
         if kind == "force" or kind == "displacement":
             continue
-        if not u.startswith(GROUND + "."):
+        head = u.split(".", 1)[0]
+        if head != GROUND and head not in model.support_names:
             raise ControlDesignError(f"disturbances: {u!r} prescribes a body DOF; a control plant takes "
-                                     "ground motion (ground.<dof>.acc|vel|disp) and forces as disturbances")
+                                     "ground motion (ground.<dof>.acc|vel|disp), a support's motion "
+                                     "(<support>.<dof>.acc|vel|disp) and forces as disturbances")
         if getattr(mech, "branches", None) is not None:
             raise ControlDesignError(f"disturbances: {u!r}: the model has frequency-dependent mounts (rheology), "
                                      "whose internal states the relative-motion realization does not carry; "
                                      "give the ground motion as a displacement ('.disp') instead")
-        t = _rigid_map(model, mech.dofs, u)
+        t = _rigid_map(model, mech.dofs, u) if head == GROUND else _support_map(mech, j, u)
         bad_k = np.abs(mech.K @ t + mech.Kz[:, j]).max(initial=0.0) > 1e-9 * scale_k * max(1.0, np.abs(t).max())
         bad_c = np.abs(mech.C @ t + mech.Cz[:, j]).max(initial=0.0) > 1e-9 * scale_c * max(1.0, np.abs(t).max())
+        if (bad_k or bad_c or np.any(mech.Mz[:, j])) and head != GROUND:
+            raise ControlDesignError(f"disturbances: {u!r}: the dampers do not follow the quasi-static motion "
+                                     f"under support {head!r} (damping not proportional to stiffness: "
+                                     "C T + Cz != 0), so its relative-motion realization is not exact; "
+                                     f"give the support motion as a displacement ('{u.rsplit('.', 1)[0]}.disp') instead")
         if bad_k or bad_c or np.any(mech.Mz[:, j]):
             raise ControlDesignError(f"disturbances: {u!r}: the free DOFs do not follow a rigid motion of ground "
                                      "without deflecting a mount (DOFs restricted away that couple to it?); "

@@ -30,7 +30,8 @@ from ..model.model import DOF_NAMES, Model
 from ..results import Result, Table, jsonable, require_pandas
 from ._common import body_name, frame_axes, frame_rotation, ke_fractions
 from .certificate import in_windows, windows_for
-from .parameters import _ANGLE, _RATE, _RATIO, _SHIFT, Parameter, current_values, parameters_of, ratio_axes
+from .parameters import (_ANGLE, _RATE, _RATIO, _SHIFT, Parameter, current_values, parameters_of, ratio_axes,
+                         refuse_coupled)
 
 __all__ = ["MonteCarlo", "monte_carlo", "batch_modes", "SAMPLINGS", "DISTRIBUTIONS"]
 
@@ -65,6 +66,7 @@ def batch_modes(model: Model, parameters: tuple[Parameter, ...], values: np.ndar
         KE fractions (modes x coordinates, full M) [-].
     """
     a = assemble(model, sparse=False)
+    refuse_coupled(model, "batch_modes")
     nv = values.shape[0]
     nm, nb, n = len(model.mounts), len(model.bodies), a.n
     index = {m.name: i for i, m in enumerate(model.mounts)}
@@ -95,7 +97,7 @@ def batch_modes(model: Model, parameters: tuple[Parameter, ...], values: np.ndar
     krp = np.einsum("vpij,pj,vpkj->vpik", t, kr, t)                                # 6x6 mounts, turned too
     lb = point_transfer(a.r_b[None] + shift)                                      # (nv, nm, 3, 6)
     la = point_transfer(a.r_a[None] + shift)
-    K = np.zeros((nv, n + 6, n + 6))
+    K = np.zeros((nv, n + a.nz, n + a.nz))
     for q in range(nm):                                                           # mounts, not variants
         sb = slice(6 * a.b_index[q], 6 * a.b_index[q] + 6)
         kb = kp[:, q] @ lb[:, q]
@@ -108,7 +110,7 @@ def batch_modes(model: Model, parameters: tuple[Parameter, ...], values: np.ndar
             K[:, ra, ra] += krp[:, q]
             K[:, rb, ra] -= krp[:, q]
             K[:, ra, rb] -= krp[:, q]
-        if a.a_index[q] == nb:                   # to ground: the ground blocks are dropped below
+        if a.a_index[q] >= nb:                   # to ground: the ground blocks are dropped below
             continue
         sa = slice(6 * a.a_index[q], 6 * a.a_index[q] + 6)
         ka = kp[:, q] @ la[:, q]

@@ -33,7 +33,7 @@ from typing import Any
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from ..errors import ArgumentError, did_you_mean
+from ..errors import ArgumentError, ModelError, did_you_mean
 from ..linear.assemble import Assembly
 from ..model.geometry import Orientation, point_transfer, skew
 from ..model.model import Model, MountType
@@ -220,7 +220,7 @@ def apply(model: Model, parameters: Sequence[Parameter], values: Any) -> Model:
         if np.array_equal(r, m.type.stiffness):
             mtype = m.type
         elif len(groups[m.type.name]) == 1:         # every mount of the type gets these rates
-            mtype = types.setdefault((m.type.name, r.tobytes()), dataclasses.replace(m.type, stiffness=r))
+            mtype = types.setdefault((m.type.name, r.tobytes()), _with_rates(m.type, r))
         else:
             mtype = _own(m, r, types)
         change: dict[str, Any] = {"type": mtype}
@@ -236,7 +236,26 @@ def apply(model: Model, parameters: Sequence[Parameter], values: Any) -> Model:
 def _own(m: Any, r: np.ndarray, types: dict[tuple[str, bytes], MountType]) -> MountType:
     """A mount type of the mount's own (named after it)."""
     name = f"{m.type.name}.{m.name}"
-    return types.setdefault((name, r.tobytes()), dataclasses.replace(m.type, name=name, stiffness=r))
+    return types.setdefault((name, r.tobytes()), _with_rates(m.type, r, name))
+
+
+def _with_rates(t: MountType, r: np.ndarray, name: str | None = None) -> MountType:
+    """The type with principal stiffnesses ``r``; a diagonal 6x6 matrix becomes the rates it is
+    (a coupled one is refused before: the design tools vary principal rates only)."""
+    if t.coupled:
+        raise ModelError(f"design: mount type {t.name!r} has a 6x6 matrix with coupling terms; the design "
+                         "tools vary principal rates only and do not take it yet")
+    return dataclasses.replace(t, name=name or t.name, stiffness=r, stiffness_matrix=None, damping_matrix=None)
+
+
+def refuse_coupled(model: Any, where: str) -> None:
+    """A ModelError naming the first mount whose type has a coupled 6x6 matrix: the design tools
+    vary the principal rates, which do not describe such a mount."""
+    for m in model.mounts:
+        if m.type.coupled:
+            raise ModelError(f"{where}: mount {m.name!r} (type {m.type.name!r}) has a 6x6 stiffness_matrix "
+                             "or damping_matrix with coupling terms; the design tools vary principal rates "
+                             "only and do not take it yet")
 
 
 def stiffness_derivatives(a: Assembly, parameters: Sequence[Parameter],
@@ -259,9 +278,9 @@ def stiffness_derivatives(a: Assembly, parameters: Sequence[Parameter],
         Derivatives [N/m per unit of each parameter].
     """
     model = a.model
+    refuse_coupled(model, "stiffness_derivatives")
     index = {m.name: i for i, m in enumerate(model.mounts)}
     n = a.n
-    nb = len(model.bodies)
     out = np.zeros((len(parameters), n, n))
     lb, la = point_transfer(a.r_b), point_transfer(a.r_a)
     # rate ratios on a mount: a rate parameter on the denominator also moves the numerator
@@ -274,7 +293,7 @@ def stiffness_derivatives(a: Assembly, parameters: Sequence[Parameter],
     for ip, p in enumerate(parameters):
         for mount, kind, factor in p.targets:
             q = index[mount]
-            B = np.zeros((3, 6 * nb + 6))
+            B = np.zeros((3, n + a.nz))
             B[:, 6 * a.b_index[q]:6 * a.b_index[q] + 6] += lb[q]
             B[:, 6 * a.a_index[q]:6 * a.a_index[q] + 6] -= la[q]
             B = B[:, :n]
@@ -290,7 +309,7 @@ def stiffness_derivatives(a: Assembly, parameters: Sequence[Parameter],
                     bn = T[:, num] @ B                  # k_num = ratio * k_j moves with k_j
                     d = d + (k[num] / k[j]) * np.outer(bn, bn)
             elif kind in _SHIFT:
-                dl = np.zeros((3, 6 * nb + 6))
+                dl = np.zeros((3, n + a.nz))
                 s = -skew(np.eye(3)[_SHIFT.index(kind)])
                 dl[:, 6 * a.b_index[q] + 3:6 * a.b_index[q] + 6] += s
                 dl[:, 6 * a.a_index[q] + 3:6 * a.a_index[q] + 6] -= s

@@ -21,10 +21,12 @@ def transmissibility(system: Any, inputs: Sequence[str], outputs: Sequence[str] 
     """Motion or force transmissibility (dimensionless), safe at 0 Hz; of a model or of any named
     python-control system (a closed loop).
 
-    Motion: prescribed motion inputs (``'ground.z'`` or ``'ground.z.disp'``; velocity and
+    Motion: prescribed motion inputs (``'ground.z'`` or ``'ground.z.disp'``, or a support's,
+    ``'<support>.z'``: the transmissibility from that support alone; velocity and
     acceleration inputs are read as the same motion) to motion outputs of the same kind
     (default: every body DOF): ``|T| = |y| / |z|``. Force: force inputs (``'<body>.fz'``) to force
-    outputs (default: the total force and moment into ground, and each ground mount's force).
+    outputs (default: the total force and moment into ground and into each support, and each ground
+    mount's force).
 
     A python-control ``StateSpace`` (e.g. a closed loop from :func:`vibss.control.close`, or its
     :class:`~vibss.control.ClosedLoop`) is evaluated directly (balanced realization, one solve per
@@ -62,7 +64,8 @@ def transmissibility(system: Any, inputs: Sequence[str], outputs: Sequence[str] 
         return _system_transmissibility(getattr(system, "system", system), inputs, outputs, frequencies)
     model = system.model if isinstance(system, Assembly) else system
     names = [u if isinstance(u, str) else u.signal for u in inputs]
-    motion = [u.rsplit(".", 1)[-1] in ("disp", "vel", "acc") or u.startswith("ground.") for u in names]
+    grounds = {"ground", *model.support_names}
+    motion = [u.rsplit(".", 1)[-1] in ("disp", "vel", "acc") or u.split(".", 1)[0] in grounds for u in names]
     if any(motion) and not all(motion):
         raise ModelError(f"inputs: mix of motion and force inputs {names}; transmissibility takes one kind")
     if all(motion):
@@ -79,7 +82,7 @@ def transmissibility(system: Any, inputs: Sequence[str], outputs: Sequence[str] 
                              f"(units {[u for u in plant.units if u not in ('m', 'rad')]})")
     else:
         if outputs is None:
-            outputs = [f"ground.{c}" for c in ("fx", "fy", "fz", "mx", "my", "mz")]
+            outputs = [f"{g}.{c}" for g in ("ground", *model.support_names) for c in ("fx", "fy", "fz", "mx", "my", "mz")]
             outputs += [f"mount.{m.name}.{c}" for m in model.mounts if m.to == "ground" for c in ("fx", "fy", "fz")]
         plant = build_plant(system, names, outputs)
         if any(u not in ("N", "N m") for u in plant.units):

@@ -1,8 +1,8 @@
 """Model files (TOML or JSON) to and from :class:`~vibss.model.Model`, and the built-in examples.
 
 The format is specified in ``docs/model-file.md`` (tables ``[model]``, ``[[body]]``,
-``[[mount_type]]``, ``[[mount]]``, ``[[control_point]]``, ``[[load]]``, ``[[excitation]]`` and
-``[analysis]``). Numbers are converted to SI once, on load, from the units declared in
+``[[mount_type]]``, ``[[mount]]``, ``[[support]]``, ``[[control_point]]``, ``[[load]]``,
+``[[excitation]]`` and ``[analysis]``). Numbers are converted to SI once, on load, from the units declared in
 ``[model] units`` (default SI, except angles: degrees). Every problem is reported as a
 :class:`~vibss.errors.ModelFileError` whose message names the file, the entry (``mount[3]
 ('rear-left')`` is the third ``[[mount]]`` table, counting from 1), the key and what was expected;
@@ -42,7 +42,7 @@ from .environmentsfile import read_random, read_shock
 from ..model.geometry import Orientation
 from ..model.actuation import ACTUATOR_KINDS, SENSOR_KINDS, Actuator, Sensor
 from ..model.model import (DOF_NAMES, GROUND, SYMMETRIES, Body, ControlPoint, Load, Model, Mount,
-                    MountType, symmetric)
+                    MountType, Support, symmetric)
 from .tomlwriter import dumps_toml
 from ..model.rheology import QUANTITIES as RHEOLOGY_QUANTITIES
 from ..model.units import Units
@@ -56,7 +56,7 @@ MAX_MODEL_FILE_BYTES = 16 * 2**20
 EXAMPLES_DIR = Path(__file__).parent.parent / "examples"
 """Folder of the built-in example model files."""
 
-_TABLES = ("model", "body", "mount_type", "mount", "control_point", "load", "excitation", "analysis",
+_TABLES = ("model", "body", "mount_type", "mount", "support", "control_point", "load", "excitation", "analysis",
            "design", "study", "orders", "actuator", "sensor", "control", "shock", "random")
 
 
@@ -117,9 +117,24 @@ def _body(e: Entry, i: int, initial: dict[str, Any]) -> Body:
         raise _wrap(e, exc) from None
 
 
+def _matrix6(e: Entry, key: str, kind: str) -> np.ndarray | None:
+    """A 6x6 ``stiffness_matrix`` (``kind="stiffness"``) or ``damping_matrix`` in SI: the translation
+    block in the file's stiffness (damping) unit, the rotation block in its rotational one, both
+    coupling blocks in force/angle (force time/angle)."""
+    if key not in e:
+        return None
+    raw = e.array(key, [(6, 6)], "dimensionless")
+    unit = {q: e.units.factor(f"{q}_{kind}") for q in ("rotational", "coupling")}
+    f = np.full((6, 6), unit["coupling"])
+    f[:3, :3] = e.units.factor(kind)
+    f[3:, 3:] = unit["rotational"]
+    return np.asarray(raw * f)
+
+
 def _mount_type(e: Entry) -> MountType:
     e.check_keys(("name", "stiffness", "damping", "loss_factor", "rheology", "rotational_stiffness",
-                  "rotational_damping"), ("name",) if "rheology" in e else ("name", "stiffness"))
+                  "rotational_damping", "stiffness_matrix", "damping_matrix"),
+                 ("name",) if "rheology" in e or "stiffness_matrix" in e else ("name", "stiffness"))
     try:
         return MountType(e.string("name"),
                          e.array("stiffness", [(3,)], "stiffness", None, nonnegative=True),
@@ -129,7 +144,8 @@ def _mount_type(e: Entry) -> MountType:
                          e.array("rotational_stiffness", [(3,)], "rotational_stiffness", np.zeros(3),
                                  nonnegative=True),
                          e.array("rotational_damping", [(3,)], "rotational_damping", np.zeros(3),
-                                 nonnegative=True))
+                                 nonnegative=True),
+                         _matrix6(e, "stiffness_matrix", "stiffness"), _matrix6(e, "damping_matrix", "damping"))
     except ModelError as exc:
         raise _wrap(e, exc) from None
 
@@ -163,19 +179,33 @@ def _reference(e: Entry, key: str, names: Sequence[str], default: Any = MISSING,
     return value
 
 
-def _mounts(e: Entry, i: int, types: Mapping[str, MountType], bodies: Sequence[str]) -> tuple[Mount, ...]:
-    e.check_keys(("name", "type", "body", "to", "at", "frame", "orientation", "symmetry"),
+def _support(e: Entry, i: int) -> Support:
+    e.check_keys(("name", "description"), ("name",))
+    try:
+        return Support(e.string("name"), e.string("description", ""))
+    except ModelError as exc:
+        raise _wrap(e, exc) from None
+
+
+def _mounts(e: Entry, i: int, types: Mapping[str, MountType], bodies: Sequence[str],
+            supports: Sequence[str] = ()) -> tuple[Mount, ...]:
+    e.check_keys(("name", "type", "body", "to", "at", "frame", "orientation", "symmetry", "support"),
                  ("type", "body"))
     tname = e.string("type")
     if tname not in types:
         raise e.fail("type", f"unknown mount type {tname!r}; [[mount_type]] names are {list(types)}"
                      + did_you_mean(tname, types))
     symmetry = e.string("symmetry", "none", SYMMETRIES)
+    support = e.string("support", None)
+    if support is not None and support not in supports:
+        raise e.fail("support", f"unknown support {support!r}; "
+                     + (f"[[support]] names are {list(supports)}" if supports else "the file has no [[support]] table")
+                     + did_you_mean(support, supports))
     try:
         mount = Mount(e.string("name", f"mount{i}"), types[tname], _reference(e, "body", bodies),
                       e.array("at", [(3,)], "length", np.zeros(3)),
                       _reference(e, "to", bodies, GROUND, ground=True),
-                      e.orientation("orientation"), e.string("frame", "body", ("body", "global")))
+                      e.orientation("orientation"), e.string("frame", "body", ("body", "global")), support)
         return symmetric(mount, symmetry)
     except ModelError as exc:
         raise _wrap(e, exc) from None
@@ -346,8 +376,10 @@ def _build(data: Any, source: str, base: Path | None, default_name: str,
         if t.name in types:
             raise e.fail("name", f"mount type {t.name!r} is defined twice")
         types[t.name] = t
+    supports = [_support(e, i) for i, e in enumerate(_entries(data, "support", source, units), 1)]
+    support_names = [s.name for s in supports]
     mounts = [m for i, e in enumerate(_entries(data, "mount", source, units), 1)
-              for m in _mounts(e, i, types, names)]
+              for m in _mounts(e, i, types, names, support_names)]
     points = [_control_point(e, i, names)
               for i, e in enumerate(_entries(data, "control_point", source, units), 1)]
     mount_names = [m.name for m in mounts]
@@ -355,7 +387,7 @@ def _build(data: Any, source: str, base: Path | None, default_name: str,
     sensors = [_sensor(e, names, mount_names) for e in _entries(data, "sensor", source, units)]
     cases: dict[str, list[str]] = {}
     loads = [_load(e, i, names, cases) for i, e in enumerate(_entries(data, "load", source, units), 1)]
-    excitations = [_excitation(e, i, names, base)
+    excitations = [_excitation(e, i, names + support_names, base)
                    for i, e in enumerate(_entries(data, "excitation", source, units), 1)]
     seen: set[str] = set()
     for i, x in enumerate(excitations, 1):
@@ -380,7 +412,8 @@ def _build(data: Any, source: str, base: Path | None, default_name: str,
     settings["units"] = {k: v for k, v in vars(file_units).items() if v is not None}
     gravity, name = _gravity(m, units), m.string("name", default_name)
     try:
-        return Model(bodies, mounts, points, loads, gravity, name, excitations, settings, actuators, sensors)
+        return Model(bodies, mounts, points, loads, gravity, name, excitations, settings, actuators, sensors,
+                     supports)
     except ModelError as exc:
         raise ModelFileError(f"{source}: {exc}") from None
 
@@ -588,6 +621,8 @@ def _si_dict(model: Model) -> dict[str, Any]:
                          | ({} if t.rheology is None else {"rheology": t.rheology.to_dict()})
                          | ({} if not t.rotational else {"rotational_stiffness": t.rotational_stiffness.tolist(),
                                                          "rotational_damping": t.rotational_damping.tolist()})
+                         | {key: m.tolist() for key in ("stiffness_matrix", "damping_matrix")
+                            if (m := getattr(t, key)) is not None}
                          for t in model.mount_types.values()]
     out["mount"] = []
     for m in model.mounts:
@@ -595,7 +630,12 @@ def _si_dict(model: Model) -> dict[str, Any]:
              "frame": m.frame}
         if (o := _orientation_dict(m.orientation)) is not None:
             d["orientation"] = o
+        if m.support is not None:
+            d["support"] = m.support
         out["mount"].append(d)
+    if model.supports:
+        out["support"] = [{"name": s.name} | ({"description": s.description} if s.description else {})
+                          for s in model.supports]
     out["control_point"] = [{"name": c.name, "body": c.body, "at": c.at.tolist(), "frame": c.frame}
                             for c in model.control_points]
     for key, items in (("actuator", model.actuators), ("sensor", model.sensors)):

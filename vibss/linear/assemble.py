@@ -4,10 +4,15 @@ The system vector stacks the bodies' DOFs in definition order, ``q = [x1 y1 z1 r
 Ground is assembled as a seventh "body" whose six DOFs come last (its reference point is the global
 origin), so that prescribed ground motion and the rigid-motion invariant need no special case:
 ``K_full`` (size n + 6) annihilates any rigid motion of the whole system with ground released.
+Each named support (:class:`vibss.model.mounts.Support`) is one more such ground node after it,
+six DOFs about the global origin: the ground-side coordinates are ``nz = 6 (1 + n_supports)``, and a
+mount on a support couples to that node's block only (so a model without supports is unchanged).
 
 Per mount p joining point P of body b to the same point of a (a body or ground),
 ``delta_p = L(r_b) q_b - L(r_a) q_a = B_p q`` and ``K = sum_p B_p^T (T diag(k) T^T) B_p``, likewise
-for C; a 6x6 mount adds ``R_p^T (T diag(kr) T^T) R_p`` with ``theta_p = R_p q`` its relative rotation. The sum is vectorised over mounts (no Python loop per mount) and scattered as COO triplets,
+for C; a 6x6 mount adds ``R_p^T (T diag(kr) T^T) R_p`` with ``theta_p = R_p q`` its relative rotation,
+and a full 6x6 ``stiffness_matrix`` its blocks ``T K_tt T^T``, ``T K_rr T^T`` and the coupling
+``B_p^T (T K_tr T^T) R_p`` plus its transpose. The sum is vectorised over mounts (no Python loop per mount) and scattered as COO triplets,
 into a dense array for small models or a scipy.sparse CSR matrix for large ones.
 """
 
@@ -24,7 +29,7 @@ import scipy.sparse as sp
 from ..errors import ModelError
 from ..results import ReadOnly
 from ..model.geometry import point_transfer
-from ..model.model import DOF_NAMES, Model
+from ..model.model import DOF_NAMES, GROUND, Model
 
 __all__ = ["Assembly", "assemble", "SPARSE_THRESHOLD", "dof_labels"]
 
@@ -55,20 +60,26 @@ class Assembly(ReadOnly):
     M, K, C : (n, n) ndarray or scipy.sparse matrix
         Mass [kg, kg m^2], stiffness [N/m, N m/rad ...] and viscous damping matrices of the body DOFs
         with ground fixed.
-    Kg, Cg : (n, 6) ndarray
-        Coupling of the body DOFs to the six ground DOFs (x y z rx ry rz about the global origin):
-        ground motion ``z_g`` adds ``-Kg z_g - Cg dz_g/dt`` to the generalised forces.
+    Kg, Cg : (n, nz) ndarray
+        Coupling of the body DOFs to the ground-side DOFs: six of the rigid ground (x y z rx ry rz
+        about the global origin), then six per support: ground motion ``z_g`` adds
+        ``-Kg z_g - Cg dz_g/dt`` to the generalised forces.
     H : (n, n) ndarray or scipy.sparse matrix
         Hysteretic stiffness ``sum B^T T diag(eta k) T^T B`` (frequency domain: ``K + iH``).
-    Hg : (n, 6) ndarray
+    Hg : (n, nz) ndarray
         Hysteretic coupling to ground.
     kp, cp, hp : (n_mounts, 3, 3) ndarray
         Each mount's stiffness, damping and hysteretic matrices in global axes.
     krp, crp : (n_mounts, 3, 3) ndarray
         Each mount's rotational stiffness [N m/rad] and damping [N m s/rad] in global axes (6x6
         mounts; zeros otherwise): the moment ``krp (theta_body - theta_to)``.
+    kcp, ccp : (n_mounts, 3, 3) ndarray
+        Each mount's coupling stiffness [N/rad] and damping [N s/rad] in global axes (a full 6x6
+        matrix's off-diagonal block ``T K_tr T^T``; zeros otherwise): the force into the ``to`` side
+        is ``kp delta + kcp theta`` and the moment ``kcp^T delta + krp theta``.
     b_index, a_index : (n_mounts,) int ndarray
-        Body index of each mount's ``body`` and ``to`` (``n_bodies`` for ground).
+        Body index of each mount's ``body`` and ``to`` (``n_bodies`` for the rigid ground,
+        ``n_bodies + 1 + s`` for support s).
     r_b, r_a : (n_mounts, 3) ndarray
         Attachment point relative to the COG of ``body`` and of ``to`` (global origin for ground) [m].
     sparse : bool
@@ -94,6 +105,8 @@ class Assembly(ReadOnly):
     sparse: bool = False
     krp: np.ndarray = field(default_factory=lambda: np.zeros((0, 3, 3)))
     crp: np.ndarray = field(default_factory=lambda: np.zeros((0, 3, 3)))
+    kcp: np.ndarray = field(default_factory=lambda: np.zeros((0, 3, 3)))
+    ccp: np.ndarray = field(default_factory=lambda: np.zeros((0, 3, 3)))
     _cache: dict = field(default_factory=dict, repr=False)
 
     # the assembly owns its matrices and every later analysis shares them: frozen in place, so an
@@ -106,9 +119,25 @@ class Assembly(ReadOnly):
         return len(self.dofs)
 
     @property
+    def nz(self) -> int:
+        """Number of ground-side DOFs: six of the rigid ground and six per support."""
+        return 6 * (1 + len(self.model.supports))
+
+    def ground_offset(self, target: str) -> int:
+        """Offset of a ground node's six DOFs (``"ground"`` or a support name) in ``[q; q_ground]``."""
+        if target == GROUND:
+            return self.n
+        return self.n + 6 * (1 + self.model.support_names.index(target))
+
+    @property
     def has_damping(self) -> bool:
         """Whether any mount has viscous damping (translational or rotational)."""
         return bool(np.any(self.cp) or np.any(self.crp))
+
+    @property
+    def has_coupling(self) -> bool:
+        """Whether any mount has a 6x6 matrix coupling its deflection and rotation."""
+        return bool(np.any(self.kcp) or np.any(self.ccp))
 
     @property
     def has_hysteresis(self) -> bool:
@@ -151,7 +180,7 @@ class Assembly(ReadOnly):
         return out
 
     def deflection_matrix(self) -> sp.csr_matrix:
-        """(3 n_mounts, n + 6) sparse map from ``[q; q_ground]`` to mount deflections (global axes).
+        """(3 n_mounts, n + nz) sparse map from ``[q; q_ground]`` to mount deflections (global axes).
 
         Rows ``3p .. 3p+2`` give ``delta_p = d_body - d_to`` of mount p.
         """
@@ -165,11 +194,11 @@ class Assembly(ReadOnly):
             cc = np.concatenate([np.broadcast_to(cb, rows.shape).ravel(),
                                  np.broadcast_to(ca, rows.shape).ravel()])
             vv = np.concatenate([lb.ravel(), -la.ravel()])
-            self._cache["B"] = sp.csr_matrix((vv, (rr, cc)), shape=(3 * nm, 6 * nb + 6))
+            self._cache["B"] = sp.csr_matrix((vv, (rr, cc)), shape=(3 * nm, 6 * nb + self.nz))
         return self._cache["B"]
 
     def rotation_matrix(self) -> sp.csr_matrix:
-        """(3 n_mounts, n + 6) sparse map from ``[q; q_ground]`` to each mount's relative rotation.
+        """(3 n_mounts, n + nz) sparse map from ``[q; q_ground]`` to each mount's relative rotation.
 
         Rows ``3p .. 3p+2`` give ``theta_p = theta_body - theta_to`` of mount p (global axes) [rad],
         which its rotational stiffness resists (6x6 mounts).
@@ -181,7 +210,7 @@ class Assembly(ReadOnly):
             ca = (6 * np.repeat(self.a_index, 3) + 3 + np.tile(np.arange(3), nm))
             self._cache["R"] = sp.csr_matrix((np.concatenate([np.ones(3 * nm), -np.ones(3 * nm)]),
                                               (np.concatenate([rows, rows]), np.concatenate([cb, ca]))),
-                                             shape=(3 * nm, 6 * nb + 6))
+                                             shape=(3 * nm, 6 * nb + self.nz))
         return self._cache["R"]
 
     def stiffness_factor(self) -> sp.csr_matrix:
@@ -189,7 +218,9 @@ class Assembly(ReadOnly):
 
         One row per mount principal axis with nonzero stiffness: ``sqrt(k_j) t_j^T B_p`` (``t_j`` the
         mount's axis j in global axes, ``B_p`` its deflection rows, ground fixed), then one per
-        nonzero rotational rate: ``sqrt(kr_j) t_j^T R_p`` (``R_p`` its rotation rows). Unlike K it keeps
+        nonzero rotational rate: ``sqrt(kr_j) t_j^T R_p`` (``R_p`` its rotation rows); a mount with a
+        coupled 6x6 ``stiffness_matrix`` gives one row per positive eigenvalue of its (diagonally
+        scaled) matrix instead (:meth:`_matrix_factor`). Unlike K it keeps
         every mount's stiffness apart, so soft mounts are not lost beside stiff links when it is
         used by the eigen path (:func:`vibss.linear.eigen.undamped`) and by statics.
 
@@ -217,6 +248,12 @@ class Assembly(ReadOnly):
             keep = np.flatnonzero(np.sqrt(k).ravel() > 0)
             g = g[keep]
             kr = np.array([m.type.rotational_stiffness for m in self.model.mounts], dtype=float).reshape(nm, 3)
+            full6 = np.array([m.type.stiffness_matrix is not None and m.type.coupled for m in self.model.mounts],
+                             dtype=bool).reshape(nm)
+            if np.any(full6):                 # full 6x6 matrices: their own factor, the rest as before
+                g = g[np.flatnonzero(np.repeat(~full6, 3)[keep])]
+                kr = np.where(full6[:, None], 0.0, kr)
+                g = sp.vstack([g, self._matrix_factor(np.flatnonzero(full6), t)]).tocsr()
             if np.any(kr > 0):
                 br = np.sqrt(kr)[:, :, None] * t.transpose(0, 2, 1)
                 sr = sp.csr_matrix((br.ravel(), (r.ravel(), c.ravel())), shape=(3 * nm, 3 * nm))
@@ -226,6 +263,26 @@ class Assembly(ReadOnly):
             g.sort_indices()
             self._cache["G"] = g
         return self._cache["G"]
+
+    def _matrix_factor(self, mounts: np.ndarray, t: np.ndarray) -> sp.csr_matrix:
+        """Rows of G for mounts with a full 6x6 stiffness: ``K6 = V diag(lam) V^T`` in local axes,
+        one row ``sqrt(lam_j) v_j^T [T^T B_p; T^T R_p]`` per positive eigenvalue."""
+        rows = []
+        b, r = self.deflection_matrix()[:, :self.n], self.rotation_matrix()[:, :self.n]
+        for p in mounts:
+            mount = self.model.mounts[p]
+            k6 = mount.type.local_matrix("stiffness")
+            d = np.sqrt(np.where(np.diag(k6) > 0, np.diag(k6), 1.0))
+            lam, v = np.linalg.eigh(k6 / np.outer(d, d))   # scaled: translation and rotation units differ
+            if lam.min() < -1e-10 * max(1.0, lam.max()):
+                raise ModelError(f"mount {mount.name!r}: its stiffness_matrix is indefinite (scaled eigenvalues "
+                                 f"{np.round(lam, 6).tolist()}); K = G^T G needs it positive semi-definite")
+            keep = lam > 1e-14 * max(lam.max(), 0.0)
+            f = (np.sqrt(lam[keep])[:, None] * v[:, keep].T) * d[None, :]   # (k, 6): f^T f = K6 (local)
+            local = sp.vstack([sp.csr_matrix(t[p].T) @ b[3 * p:3 * p + 3],
+                               sp.csr_matrix(t[p].T) @ r[3 * p:3 * p + 3]])    # (6, n): [d_local; r_local]
+            rows.append(sp.csr_matrix(f) @ local)
+        return sp.vstack(rows).tocsr()
 
     def load_vector(self, include_gravity: bool = True, case: str | None = None,
                     include_loads: bool = True) -> np.ndarray:
@@ -282,10 +339,13 @@ def assemble(model: Model, sparse: bool | None = None) -> Assembly:
     if sparse is None:
         sparse = n > SPARSE_THRESHOLD
     names = {b.name: i for i, b in enumerate(model.bodies)}
-    cogs = np.vstack([np.array([b.cog for b in model.bodies]), np.zeros((1, 3))])  # ground last
+    ng = 1 + len(model.supports)                    # ground nodes: the rigid ground, then each support
+    nz = 6 * ng
+    cogs = np.vstack([np.array([b.cog for b in model.bodies]), np.zeros((ng, 3))])  # ground last
     nm = len(model.mounts)
     b_index = np.array([names[m.body] for m in model.mounts], dtype=int).reshape(nm)
-    a_index = np.array([names.get(m.to, nb) for m in model.mounts], dtype=int).reshape(nm)
+    a_index = np.array([names[m.to] if m.to in names else nb + model.ground_node(m)
+                        for m in model.mounts], dtype=int).reshape(nm)
     at = np.array([m.at for m in model.mounts]).reshape(nm, 3)
     body_frame = np.array([m.frame == "body" for m in model.mounts], dtype=bool)
     p = at + np.where(body_frame[:, None], cogs[b_index], 0.0)
@@ -300,6 +360,16 @@ def assemble(model: Model, sparse: bool | None = None) -> Assembly:
 
     kp, cp, hp = principal("stiffness"), principal("damping"), principal("stiffness", "loss_factor")
     krp, crp = principal("rotational_stiffness"), principal("rotational_damping")
+    kcp, ccp = np.zeros((nm, 3, 3)), np.zeros((nm, 3, 3))
+    for im, m in enumerate(model.mounts):    # full 6x6 matrices: their blocks turned into global axes
+        for which, (tt, rr, tr) in (("stiffness", (kp, krp, kcp)), ("damping", (cp, crp, ccp))):
+            if getattr(m.type, f"{which}_matrix") is None:
+                continue
+            k6 = m.type.local_matrix(which)
+            if not np.any(k6 - np.diag(np.diag(k6))):
+                continue                     # diagonal: the rates' own (bit-identical) path above
+            tm = t[im]
+            tt[im], rr[im], tr[im] = tm @ k6[:3, :3] @ tm.T, tm @ k6[3:, 3:] @ tm.T, tm @ k6[:3, 3:] @ tm.T
     lb, la = point_transfer(r_b), point_transfer(r_a)
     rot = np.zeros((nm, 3, 6))
     rot[:, :, 3:] = np.eye(3)                              # relative rotation: theta_body - theta_to
@@ -313,7 +383,8 @@ def assemble(model: Model, sparse: bool | None = None) -> Assembly:
 
     lbt, lat = lb.transpose(0, 2, 1), la.transpose(0, 2, 1)
 
-    def full(kmat: np.ndarray, rotational: np.ndarray | None = None) -> sp.csr_matrix:
+    def full(kmat: np.ndarray, rotational: np.ndarray | None = None,
+             coupling: np.ndarray | None = None) -> sp.csr_matrix:
         kb, ka = kmat @ lb, kmat @ la                       # (nm, 3, 6) each
         with np.errstate(over="ignore", invalid="ignore"):
             vals = np.concatenate([(lbt @ kb).ravel(), (lat @ ka).ravel(),
@@ -321,21 +392,28 @@ def assemble(model: Model, sparse: bool | None = None) -> Assembly:
             if rotational is not None:                  # 6x6 mounts: the same four blocks
                 rr = rot.transpose(0, 2, 1) @ rotational @ rot
                 vals = vals + np.concatenate([rr.ravel(), rr.ravel(), -rr.ravel(), -rr.ravel()])
+            if coupling is not None:                    # delta^T kc theta + theta^T kc^T delta
+                cr = coupling @ rot                     # (nm, 3, 6)
+                bb, aa = lbt @ cr, lat @ cr
+                ba = lambda x: x + x.transpose(0, 2, 1)  # noqa: E731
+                vals = vals + np.concatenate([ba(bb).ravel(), ba(aa).ravel(),
+                                              -(bb + aa.transpose(0, 2, 1)).ravel(),
+                                              -(aa + bb.transpose(0, 2, 1)).ravel()])
         if not np.all(np.isfinite(vals)):
             bad = int(np.flatnonzero((~np.isfinite(vals.reshape(4, nm, 36))).any(axis=(0, 2)))[0])
             raise ModelError(f"mount {model.mounts[bad].name!r}: its stiffness or damping about the COG "
                              "overflows (an extreme value or position); check its point and type")
-        return sp.csr_matrix((vals, (rows, cols)), shape=(n + 6, n + 6))
+        return sp.csr_matrix((vals, (rows, cols)), shape=(n + nz, n + nz))
 
     mass = sp.block_diag([b.mass_matrix for b in model.bodies], format="csr")
     mats = {}
     couplings = {}
-    for key, pm, rm in (("K", kp, krp), ("C", cp, crp), ("H", hp, None)):
-        if key != "K" and not np.any(pm) and not np.any(rm):   # no dampers / no hysteresis: skip the work
+    for key, pm, rm, cm in (("K", kp, krp, kcp), ("C", cp, crp, ccp), ("H", hp, None, None)):
+        if key != "K" and not np.any(pm) and not np.any(rm) and not np.any(cm):   # no dampers / no hysteresis
             mats[key] = sp.csr_matrix((n, n)) if sparse else np.zeros((n, n))
-            couplings[key] = np.zeros((n, 6))
+            couplings[key] = np.zeros((n, nz))
             continue
-        f = full(pm, rm if rm is not None and np.any(rm) else None)
+        f = full(pm, rm if rm is not None and np.any(rm) else None, cm if cm is not None and np.any(cm) else None)
         body_part = f[:n, :n]
         body_part = 0.5 * (body_part + body_part.T)  # exact symmetry despite summation order
         mats[key] = body_part.tocsr() if sparse else body_part.toarray()
@@ -348,5 +426,5 @@ def assemble(model: Model, sparse: bool | None = None) -> Assembly:
         Kg=couplings["K"], Cg=couplings["C"], Hg=couplings["H"],
         kp=kp, cp=cp, hp=hp,
         b_index=b_index, a_index=a_index, r_b=r_b, r_a=r_a,
-        sparse=bool(sparse), krp=krp, crp=crp,
+        sparse=bool(sparse), krp=krp, crp=crp, kcp=kcp, ccp=ccp,
     )

@@ -136,11 +136,11 @@ def build_branches(model: Any, deflection: Any, free: np.ndarray, motion: np.nda
     ----------
     model : Model
         Its mount types' ladders (:attr:`vibss.MountType.ladder`) give ``k`` and ``tau``.
-    deflection : (3 n_mounts, n + 6) sparse matrix
+    deflection : (3 n_mounts, n + nz) sparse matrix
         :meth:`vibss.linear.assemble.Assembly.deflection_matrix` (global axes, ground last).
     free : (n_free,) int ndarray
         Free body DOFs.
-    motion : (n + 6, m) ndarray
+    motion : (n + nz, m) ndarray
         Prescribed coordinates per input (:func:`vibss.linear.signals.input_maps`).
     force_rows : (p, 3 n_mounts) ndarray
         Each output per unit force of each mount into its ``to`` side (global axes).
@@ -174,7 +174,7 @@ def build_branches(model: Any, deflection: Any, free: np.ndarray, motion: np.nda
     if not labels:
         return None
     d = sp.csr_matrix(deflection)
-    full = np.array([axis @ d[3 * p:3 * p + 3].toarray() for p, axis in rows])       # (r, n + 6)
+    full = np.array([axis @ d[3 * p:3 * p + 3].toarray() for p, axis in rows])       # (r, n + nz)
     o = np.column_stack([force_rows[:, 3 * p:3 * p + 3] @ axis for p, axis in rows]) if len(force_rows) \
         else np.zeros((0, len(rows)))
     return Branches(labels=tuple(labels), mounts=tuple(names), k=np.array(k), tau=np.array(tau),

@@ -8,16 +8,18 @@ Inputs (``u``):
 ``<body>.fx`` ``.fy`` ``.fz``             force at the body's COG, global axes [N]
 ``<body>.mx`` ``.my`` ``.mz``             moment on the body, global axes [N m]
 ``<point>.fx`` ``.fy`` ``.fz``            force at a control point [N]
-``<body|ground>.<dof>.disp``              prescribed displacement of a DOF [m, rad]
-``<body|ground>.<dof>.vel``               prescribed velocity [m/s, rad/s]
-``<body|ground>.<dof>.acc``               prescribed acceleration [m/s^2, rad/s^2]
+``<body|ground|support>.<dof>.disp``      prescribed displacement of a DOF [m, rad]
+``<body|ground|support>.<dof>.vel``       prescribed velocity [m/s, rad/s]
+``<body|ground|support>.<dof>.acc``       prescribed acceleration [m/s^2, rad/s^2]
 ``actuator.<name>.f`` / ``.m``            force [N] (moment [N m]) of an actuator: ``+f d`` on
                                           its body, ``-f d`` on its ``to`` side
 ========================================  =====================================================
 
 ``<dof>`` is one of ``x y z rx ry rz``. Ground DOFs are the rigid motion of ground about the global
 origin (``ground.z.disp`` moves every ground attachment point in z; ``ground.rx.disp`` rotates
-ground about the global X axis). A prescribed body DOF leaves the unknowns: the plant's free DOFs
+ground about the global X axis). A named support (:class:`vibss.model.mounts.Support`) is a ground
+of its own: ``<support>.z.acc`` moves the ``to`` ends of the mounts with ``support=<support>`` and
+nothing else (``ground.*`` moves the mounts on the rigid ground only). A prescribed body DOF leaves the unknowns: the plant's free DOFs
 exclude it, and its motion drives the others through the coupling stiffness, damping and mass (the
 handbook program's flags 2-4). An :class:`vibss.model.excitation.Excitation` is accepted as an input too
 (named by its ``signal``); one with a ``direction`` gives one force column along that unit vector
@@ -37,7 +39,9 @@ Outputs (``y``):
 ``mount.<name>.mx|my|mz`` / ``.m1|m2|m3`` moment a 6x6 mount transmits into its ``to`` side,
                                           Kr theta + Cr theta' [N m]
 ``ground.fx|fy|fz|mx|my|mz``              total force [N] and moment about the global origin
-                                          [N m] transmitted into ground by the mounts
+                                          [N m] transmitted into ground by the mounts (those
+                                          on the rigid ground, not on a support)
+``<support>.fx|fy|fz|mx|my|mz``           the same into a support by its mounts
 ``<body>.into.fx|fy|fz|mx|my|mz``         total force [N] and moment about the body's COG
                                           [N m] transmitted into the body by the mounts whose
                                           ``to`` side it is (what rests on it); ``ground.into.*``
@@ -83,13 +87,13 @@ from .plant import INPUT_KINDS, MountForm, Plant
 __all__ = ["build_plant", "control_name", "default_outputs", "INPUT_FORMS", "OUTPUT_FORMS"]
 
 INPUT_FORMS = ("<body>.fx|fy|fz", "<body>.mx|my|mz", "<point>.fx|fy|fz",
-               "<body|ground>.<x|y|z|rx|ry|rz>.disp|vel|acc", "actuator.<name>.f|m")
+               "<body|ground|support>.<x|y|z|rx|ry|rz>.disp|vel|acc", "actuator.<name>.f|m")
 """Valid input name forms (for messages)."""
 
 OUTPUT_FORMS = ("<body>.<x|y|z|rx|ry|rz>[.vel|.acc]", "<point>.x|y|z[.vel|.acc]",
                 "mount.<name>.dx|dy|dz|d1|d2|d3", "mount.<name>.fx|fy|fz|f1|f2|f3",
                 "mount.<name>.rx|ry|rz|r1|r2|r3", "mount.<name>.mx|my|mz|m1|m2|m3",
-                "ground.fx|fy|fz|mx|my|mz", "<body>.into.fx|fy|fz|mx|my|mz", "sensor.<name>")
+                "<ground|support>.fx|fy|fz|mx|my|mz", "<body>.into.fx|fy|fz|mx|my|mz", "sensor.<name>")
 """Valid output name forms (for messages)."""
 
 _MOTION = {"disp": "displacement", "vel": "velocity", "acc": "acceleration"}
@@ -126,13 +130,14 @@ class _Input:
     name: str
     kind: str
     force: np.ndarray | None = None      # (n,) generalised force, force inputs
-    motion: np.ndarray | None = None     # (n + 6,) prescribed-coordinate direction, motion inputs
+    motion: np.ndarray | None = None     # (n + nz,) prescribed-coordinate direction, motion inputs
 
 
 def _input_names(model: Model) -> list[str]:
     names = [f"{b}.{c}" for b in model.body_names for c in _FORCE]
     names += [f"{p.name}.{c}" for p in model.control_points for c in ("fx", "fy", "fz")]
-    names += [f"{t}.{d}.{k}" for t in [*model.body_names, GROUND] for d in DOF_NAMES for k in _MOTION]
+    names += [f"{t}.{d}.{k}" for t in [*model.body_names, GROUND, *model.support_names]
+              for d in DOF_NAMES for k in _MOTION]
     names += [a.signal for a in model.actuators]
     return names
 
@@ -141,7 +146,7 @@ def _output_names(model: Model) -> list[str]:
     names = [f"{b}.{d}{s}" for b in model.body_names for d in DOF_NAMES for s in ("", ".vel", ".acc")]
     names += [f"{p.name}.{d}{s}" for p in model.control_points for d in "xyz" for s in ("", ".vel", ".acc")]
     names += [f"mount.{m.name}.{c}" for m in model.mounts for c in _MOUNT]
-    names += [f"ground.{c}" for c in _FORCE]
+    names += [f"{g}.{c}" for g in [GROUND, *model.support_names] for c in _FORCE]
     names += [f"{m}.into.{c}" for m in sorted({m.to for m in model.mounts}) for c in _FORCE]
     names += [s.signal for s in model.sensors]
     return names
@@ -166,9 +171,25 @@ def _point_force(asm: Assembly, body: str, r: np.ndarray, direction: np.ndarray)
     return f
 
 
+def _grounds(model: Model) -> set[str]:
+    """The ground nodes' names: ``ground`` and every support."""
+    return {GROUND, *model.support_names}
+
+
+def _node_index(model: Model, target: str) -> int:
+    """Index of a body, the rigid ground (``n_bodies``) or a support (``n_bodies + 1 + s``) in the
+    assembly's ``b_index``/``a_index`` numbering."""
+    nb = len(model.bodies)
+    if target == GROUND:
+        return nb
+    if target in model.support_names:
+        return nb + 1 + model.support_names.index(target)
+    return model.body_index(target)
+
+
 def _motion_vector(asm: Assembly, target: str, dof_index: int) -> np.ndarray:
-    v = np.zeros(asm.n + 6)
-    base = asm.n if target == GROUND else 6 * asm.model.body_index(target)
+    v = np.zeros(asm.n + asm.nz)
+    base = asm.ground_offset(target) if target in _grounds(asm.model) else 6 * asm.model.body_index(target)
     v[base + dof_index] = 1.0
     return v
 
@@ -185,8 +206,8 @@ def parse_input(asm: Assembly, item: Any) -> _Input:
         target, _, dof = head.rpartition(".")
         if dof not in DOF_NAMES:
             raise _bad_input(model, item, f" (DOF {dof!r} is not one of {list(DOF_NAMES)})")
-        if target != GROUND and target not in bodies:
-            raise _bad_input(model, item, f" ({target!r} is neither a body nor 'ground')")
+        if target not in bodies and target not in _grounds(model):
+            raise _bad_input(model, item, f" ({target!r} is neither a body nor 'ground' nor a support)")
         return _Input(item, _MOTION[last], motion=_motion_vector(asm, target, DOF_NAMES.index(dof)))
     if last in _FORCE:
         k = _FORCE[last]
@@ -198,9 +219,9 @@ def parse_input(asm: Assembly, item: Any) -> _Input:
             p = points[head]
             return _Input(item, "force", force=_point_force(
                 asm, p.body, model.point(p.body, p.at, p.frame), np.eye(3)[k]))
-        if head == GROUND:
-            raise _bad_input(model, item, " (a force on ground does nothing; prescribe ground "
-                                          "motion, e.g. 'ground.z.disp')")
+        if head in _grounds(model):
+            raise _bad_input(model, item, f" (a force on {head!r} does nothing; prescribe its "
+                                          f"motion, e.g. '{head}.z.disp')")
     raise _bad_input(model, item)
 
 
@@ -272,15 +293,18 @@ def _parse_excitation(asm: Assembly, exc: Any) -> _Input:
         raise ModelError(f"inputs: expected a signal name or an Excitation, got {exc!r}") from None
     if kind not in INPUT_KINDS:
         raise ModelError(f"inputs: excitation {name!r}: kind {kind!r} is not one of {list(INPUT_KINDS)}")
-    if target != GROUND and target not in model.body_names:
+    if target not in model.body_names and target not in _grounds(model):
+        options = [*model.body_names, *model.support_names]
         raise ModelError(f"inputs: excitation {name!r}: unknown target {target!r}; bodies are "
-                         f"{model.body_names} or 'ground'" + did_you_mean(target, model.body_names))
+                         f"{model.body_names}, or 'ground'"
+                         + (f", or a support {model.support_names}" if model.supports else "")
+                         + did_you_mean(target, options))
     if direction is not None:
         d = np.asarray(direction, dtype=float)
         d = d / np.linalg.norm(d)
     if kind == "force":
-        if target == GROUND:
-            raise ModelError(f"inputs: excitation {name!r}: a force on ground does nothing")
+        if target in _grounds(model):
+            raise ModelError(f"inputs: excitation {name!r}: a force on {target!r} does nothing")
         at = getattr(exc, "at", None)
         r = np.zeros(3) if at is None else model.point(target, at, getattr(exc, "frame", "body"))
         if dof is not None:
@@ -294,9 +318,10 @@ def _parse_excitation(asm: Assembly, exc: Any) -> _Input:
     if dof is not None:
         return _Input(name, kind, motion=_motion_vector(asm, target, DOF_NAMES.index(dof)))
     axis = np.flatnonzero(np.abs(d) > 1e-12)
-    if target == GROUND:
-        v = np.zeros(asm.n + 6)
-        v[asm.n:asm.n + 3] = d
+    if target in _grounds(model):
+        v = np.zeros(asm.n + asm.nz)
+        o = asm.ground_offset(target)
+        v[o:o + 3] = d
         return _Input(name, kind, motion=v)
     if axis.size == 1:
         return _Input(name, kind, motion=_motion_vector(asm, target, int(axis[0])) * np.sign(d[axis[0]]))
@@ -307,7 +332,7 @@ def _parse_excitation(asm: Assembly, exc: Any) -> _Input:
 
 @dataclass
 class _Rows:
-    """Output rows over the full coordinate vector ``[q (n); q_ground (6)]``."""
+    """Output rows over the full coordinate vector ``[q (n); q_ground (nz)]``."""
 
     d: np.ndarray   # displacement part
     v: np.ndarray   # velocity part
@@ -317,7 +342,8 @@ class _Rows:
 
 
 def _mount_wrench(asm: Assembly, target: str) -> dict[str, np.ndarray]:
-    """(6, n + 6) rows of the force and moment transmitted into ``target`` (a body or ground) by the
+    """(6, n + nz) rows of the force and moment transmitted into ``target`` (a body, ground or a
+    support) by the
     mounts whose ``to`` side it is.
 
     A mount's force into its ``to`` side is ``K delta + C delta' (+ i H delta)``, and a 6x6 mount's
@@ -326,9 +352,9 @@ def _mount_wrench(asm: Assembly, target: str) -> dict[str, np.ndarray]:
     ``"h"``: the displacement, velocity and hysteretic parts.
     """
     model = asm.model
-    i = len(model.bodies) if target == GROUND else model.body_index(target)
+    i = _node_index(model, target)
     b = asm.deflection_matrix()
-    rows = {key: np.zeros((6, asm.n + 6)) for key in ("k", "c", "h")}
+    rows = {key: np.zeros((6, asm.n + asm.nz)) for key in ("k", "c", "h")}
     rows["f"] = np.zeros((6, 3 * len(model.mounts)))
     for p in np.flatnonzero(asm.a_index == i):
         lt = point_transfer(asm.r_a[p]).T                 # (6, 3): force at the point -> wrench
@@ -336,10 +362,15 @@ def _mount_wrench(asm: Assembly, target: str) -> dict[str, np.ndarray]:
         for key, mat in (("k", asm.kp), ("c", asm.cp), ("h", asm.hp)):
             rows[key] += lt @ mat[p] @ bp
         rows["f"][:, 3 * p:3 * p + 3] = lt
-        if np.any(asm.krp[p]) or np.any(asm.crp[p]):         # a 6x6 mount's own moment
+        coupled = asm.has_coupling and (np.any(asm.kcp[p]) or np.any(asm.ccp[p]))
+        if np.any(asm.krp[p]) or np.any(asm.crp[p]) or coupled:   # a 6x6 mount's own moment
             rp = asm.rotation_matrix()[3 * p:3 * p + 3].toarray()
             rows["k"][3:] += asm.krp[p] @ rp
             rows["c"][3:] += asm.crp[p] @ rp
+            if coupled:                 # force kc theta at the point, moment kc^T delta
+                for key, mat in (("k", asm.kcp), ("c", asm.ccp)):
+                    rows[key] += lt @ mat[p] @ rp
+                    rows[key][3:] += mat[p].T @ bp
     return rows
 
 
@@ -347,7 +378,7 @@ def output_row(asm: Assembly, name: Any, cache: dict) -> tuple[_Rows, str]:
     model = asm.model
     if not isinstance(name, str):
         raise ModelError(f"outputs: expected a signal name (str), got {name!r}")
-    nf = asm.n + 6
+    nf = asm.n + asm.nz
     zero = np.zeros(nf)
     bodies, points = set(model.body_names), {p.name: p for p in model.control_points}
     if name.startswith("sensor.") and (model.sensors or "sensor" not in points.keys() | bodies):
@@ -370,19 +401,26 @@ def output_row(asm: Assembly, name: Any, cache: dict) -> tuple[_Rows, str]:
             rp = asm.rotation_matrix()[3 * p:3 * p + 3].toarray()
             if what == "r":
                 return _Rows(axis @ rp, zero, zero, zero), "rad"
-            return _Rows(axis @ asm.krp[p] @ rp, axis @ asm.crp[p] @ rp, zero, zero), "N m"
+            mk, mc = axis @ asm.krp[p] @ rp, axis @ asm.crp[p] @ rp
+            if asm.has_coupling:        # a full 6x6 matrix: the moment kc^T delta too
+                mk, mc = mk + axis @ asm.kcp[p].T @ b, mc + axis @ asm.ccp[p].T @ b
+            return _Rows(mk, mc, zero, zero), "N m"
         f = np.zeros(3 * len(model.mounts))
         f[3 * p:3 * p + 3] = axis
-        return _Rows(axis @ asm.kp[p] @ b, axis @ asm.cp[p] @ b, zero, axis @ asm.hp[p] @ b, f), "N"
+        fk, fc = axis @ asm.kp[p] @ b, axis @ asm.cp[p] @ b
+        if asm.has_coupling:            # a full 6x6 matrix: the force kc theta too
+            rp = asm.rotation_matrix()[3 * p:3 * p + 3].toarray()
+            fk, fc = fk + axis @ asm.kcp[p] @ rp, fc + axis @ asm.ccp[p] @ rp
+        return _Rows(fk, fc, zero, axis @ asm.hp[p] @ b, f), "N"
     head, _, comp = name.rpartition(".")
-    target = head[:-5] if head.endswith(".into") else (GROUND if head == GROUND else None)
+    target = head[:-5] if head.endswith(".into") else (head if head in _grounds(model) else None)
     if head.endswith(".into") and comp not in _FORCE:
         raise _bad_output(model, name, f" (component {comp!r} is not one of {list(_FORCE)})")
     if target is not None and comp in _FORCE:
-        if target != GROUND and target not in bodies:
+        if target not in _grounds(model) and target not in bodies:
             what = "a control point, not a body" if target in points else "not a body"
             raise _bad_output(model, name, f" ({target!r} is {what})")
-        if target != GROUND and not any(m.to == target for m in model.mounts):
+        if target not in _grounds(model) and not any(m.to == target for m in model.mounts):
             raise _bad_output(model, name, f" (no mount has {target!r} as its 'to' side: nothing "
                                            f"rests on it; see mount.<name>.f* for its own mounts)")
         k = _FORCE[comp]
@@ -419,7 +457,7 @@ def _sensor_row(asm: Assembly, name: str) -> tuple[_Rows, str]:
     s = found.get(name[len("sensor."):])
     if s is None:
         raise _bad_output(model, name, f" (no sensor named {name[7:]!r}; sensors are {sorted(found)})")
-    nf = asm.n + 6
+    nf = asm.n + asm.nz
     zero = np.zeros(nf)
     if s.mount is not None:
         p = [m.name for m in model.mounts].index(s.mount)
@@ -427,7 +465,11 @@ def _sensor_row(asm: Assembly, name: str) -> tuple[_Rows, str]:
         t = model.mounts[p].orientation.matrix
         d = t[:, s.axis - 1] if s.axis is not None else s.direction
         if s.kind == "mount_force":
-            return _Rows(d @ asm.kp[p] @ b, d @ asm.cp[p] @ b, zero, d @ asm.hp[p] @ b), s.unit
+            fk, fc = d @ asm.kp[p] @ b, d @ asm.cp[p] @ b
+            if asm.has_coupling:
+                rp = asm.rotation_matrix()[3 * p:3 * p + 3].toarray()
+                fk, fc = fk + d @ asm.kcp[p] @ rp, fc + d @ asm.ccp[p] @ rp
+            return _Rows(fk, fc, zero, d @ asm.hp[p] @ b), s.unit
         row = d @ b
     else:
         body, to, point, d = resolve(model, s)
@@ -435,7 +477,7 @@ def _sensor_row(asm: Assembly, name: str) -> tuple[_Rows, str]:
         row[:asm.n] = d @ asm.point_matrix(body, point - model.body(body).cog)
         if s.kind.startswith("relative"):
             if to == GROUND:
-                row[asm.n:] -= d @ point_transfer(point)
+                row[asm.n:asm.n + 6] -= d @ point_transfer(point)
             else:
                 row[:asm.n] -= d @ asm.point_matrix(to, point - model.body(to).cog)
     parts = [zero, zero, zero]
@@ -451,19 +493,19 @@ def input_maps(asm: Assembly, parsed: Sequence[Any]) -> tuple[np.ndarray, np.nda
     asm : Assembly
         The assembled model.
     parsed : sequence
-        Inputs parsed by :func:`parse_input` (each has ``force`` (n,) or ``motion`` (n + 6,)).
+        Inputs parsed by :func:`parse_input` (each has ``force`` (n,) or ``motion`` (n + nz,)).
 
     Returns
     -------
     force : (n, m) ndarray
         Generalised force per unit force input.
-    motion : (n + 6, m) ndarray
-        Prescribed motion (body and ground DOFs) per unit motion input.
+    motion : (n + nz, m) ndarray
+        Prescribed motion (body, ground and support DOFs) per unit motion input.
     free : (k,) int ndarray
         DOFs that are not prescribed (the unknowns).
     """
     n, m = asm.n, len(parsed)
-    motion, force = np.zeros((n + 6, m)), np.zeros((n, m))
+    motion, force = np.zeros((n + asm.nz, m)), np.zeros((n, m))
     for j, p in enumerate(parsed):
         if p.force is not None:
             force[:, j] = p.force
@@ -557,7 +599,7 @@ def build_plant(model_or_assembly: Model | Assembly, inputs: Sequence[Any],
         C = C + _modal_damping(ff(mats["M"]), ff(mats["K"]), modal_damping, _columns(asm.stiffness_factor(), free))
     cache: dict = {}
     rows, units = zip(*(output_row(asm, name, cache) for name in outputs)) if outputs else ((), ())
-    full = {key: np.array([getattr(r, key) for r in rows]).reshape(len(outputs), n + 6)
+    full = {key: np.array([getattr(r, key) for r in rows]).reshape(len(outputs), n + asm.nz)
             for key in ("d", "v", "a", "h")}
     o = {key: full[key][:, free] for key in full}
     pz = {key: full[key] @ motion for key in full}
@@ -629,18 +671,24 @@ def mount_form(asm: Assembly, free: np.ndarray, source: tuple, extra_c: Any = No
             return sp.csr_matrix((free.size, free.size))
         return sp.csr_matrix(br.T @ sp.block_diag(list(blocks[~apart])) @ br)
 
-    def rotational(blocks: np.ndarray) -> sp.csr_matrix:
-        """6x6 mounts' rotational parts, assembled with the rest (they sum no lever arms)."""
-        if not np.any(blocks):
-            return sp.csr_matrix((free.size, free.size))
+    def rotational(blocks: np.ndarray, coupling: np.ndarray | None = None) -> sp.csr_matrix:
+        """6x6 mounts' rotational parts (and full matrices' coupling), assembled with the rest."""
+        out = sp.csr_matrix((free.size, free.size))
+        if not np.any(blocks) and (coupling is None or not np.any(coupling)):
+            return out
         rr = sp.csr_matrix(asm.rotation_matrix()[:, :n_body][:, free])
-        return sp.csr_matrix(rr.T @ sp.block_diag(list(blocks)) @ rr)
+        if np.any(blocks):
+            out = sp.csr_matrix(rr.T @ sp.block_diag(list(blocks)) @ rr)
+        if coupling is not None and np.any(coupling):
+            x = sp.csr_matrix(b.T @ sp.block_diag(list(coupling)) @ rr)     # B^T kc R: both mounts' sides
+            out = sp.csr_matrix(out + x + x.T)
+        return out
 
-    c_rest = assembled(asm.cp) + rotational(asm.crp)
+    c_rest = assembled(asm.cp) + rotational(asm.crp, asm.ccp)
     if extra_c is not None:
         c_rest = sp.csr_matrix(c_rest + sp.csr_matrix(extra_c))
     return MountForm(B=b[idx], kp=asm.kp[apart], cp=asm.cp[apart], hp=asm.hp[apart],
-                     K=sp.csr_matrix(assembled(asm.kp) + rotational(asm.krp)), C=sp.csr_matrix(c_rest),
+                     K=sp.csr_matrix(assembled(asm.kp) + rotational(asm.krp, asm.kcp)), C=sp.csr_matrix(c_rest),
                      H=assembled(asm.hp), source=source,
                      stiffness_ratio=float(lam[apart].max() / lam[apart].min()))
 

@@ -34,7 +34,7 @@ from ._common import (DOF_NAMES, GROUND, _frame, _freeze, _name, _orientation, _
                       _signal_safe, _vec)
 from .geometry import Orientation
 from .actuation import Actuator, Sensor
-from .mounts import SYMMETRIES, Mount, MountType, symmetric  # re-exported: vibss.model.model keeps every name
+from .mounts import SYMMETRIES, Mount, MountType, Support, symmetric  # re-exported: vibss.model.model keeps every name
 
 __all__ = [
     "GROUND",
@@ -42,6 +42,7 @@ __all__ = [
     "Body",
     "MountType",
     "Mount",
+    "Support",
     "ControlPoint",
     "Load",
     "Model",
@@ -339,6 +340,9 @@ class Model:
         Force or moment pairs (input signals ``actuator.<name>.f``; :mod:`vibss.model.actuation`).
     sensors : sequence of Sensor
         Named measurements (output signals ``sensor.<name>``).
+    supports : sequence of Support
+        Named ground points moved on their own (multi-support excitation): a mount with
+        ``support=<name>`` stands on it instead of the rigid ``ground``.
     """
 
     bodies: Sequence[Body]
@@ -351,11 +355,12 @@ class Model:
     settings: Any = None
     actuators: Sequence[Actuator] = ()
     sensors: Sequence[Sensor] = ()
+    supports: Sequence[Support] = ()
 
     def __post_init__(self) -> None:
         for key, cls in (("bodies", Body), ("mounts", Mount),
                          ("control_points", ControlPoint), ("loads", Load),
-                         ("actuators", Actuator), ("sensors", Sensor)):
+                         ("actuators", Actuator), ("sensors", Sensor), ("supports", Support)):
             value = getattr(self, key)
             if isinstance(value, (str, bytes, cls)) or not isinstance(value, Iterable):
                 raise ModelError(f"model: {key}: expected a sequence of {cls.__name__}, got {value!r}")
@@ -378,7 +383,19 @@ class Model:
                 raise ModelError(f"control point {c.name!r}: the name is taken by a body (or reserved: "
                                  f"'ground', 'mount'); signals like '{c.name}.x' would be ambiguous")
         names = {b.name for b in self.bodies}
+        _unique([s.name for s in self.supports], "support")
+        taken = names | {c.name for c in self.control_points}
+        supports = {s.name for s in self.supports}
+        for s in self.supports:
+            if s.name in taken:
+                raise ModelError(f"support {s.name!r}: the name is taken by a body or control point; "
+                                 f"signals like '{s.name}.z.acc' would be ambiguous")
         for m in self.mounts:
+            if m.support is not None and m.support not in supports:
+                raise ModelError(f"mount {m.name!r}: support: unknown support {m.support!r}; "
+                                 + (f"supports are {sorted(supports)}" if supports else
+                                    "the model has no supports (add Support(...) to Model(supports=...))")
+                                 + did_you_mean(m.support, supports))
             for key in ("body", "to"):
                 target = getattr(m, key)
                 if target != GROUND and target not in names:
@@ -418,6 +435,18 @@ class Model:
     def body_names(self) -> list[str]:
         """Body names in DOF order."""
         return [b.name for b in self.bodies]
+
+    @property
+    def support_names(self) -> list[str]:
+        """Support names in order (their six ground DOFs follow the rigid ground's)."""
+        return [s.name for s in self.supports]
+
+    def ground_node(self, mount: Mount) -> int:
+        """Which ground node a mount's ``to`` end is on: 0 the rigid ground, 1 + s support s,
+        -1 a body."""
+        if mount.to != GROUND:
+            return -1
+        return 0 if mount.support is None else 1 + self.support_names.index(mount.support)
 
     @property
     def mount_types(self) -> dict[str, MountType]:
@@ -533,7 +562,8 @@ def _check_elements(items: Sequence[Any], what: str, bodies: set[str], mounts: s
 
 def _same_type(a: MountType, b: MountType) -> bool:
     rheology = [None if t.rheology is None else t.rheology.to_dict() for t in (a, b)]
-    return rheology[0] == rheology[1] and all(np.array_equal(getattr(a, k), getattr(b, k))
+    return rheology[0] == rheology[1] and all(np.array_equal(a.local_matrix(k), b.local_matrix(k))
+                                              for k in ("stiffness", "damping")) and all(np.array_equal(getattr(a, k), getattr(b, k))
                                               for k in ("stiffness", "damping", "loss_factor",
                                                         "rotational_stiffness", "rotational_damping"))
 

@@ -21,7 +21,7 @@ from ._common import GROUND, _frame, _freeze, _orientation, _signal_safe, _vec
 from .geometry import MIRRORS
 from .rheology import Ladder, Rheology, parse_rheology
 
-__all__ = ["MountType", "Mount", "symmetric", "SYMMETRIES"]
+__all__ = ["MountType", "Mount", "Support", "symmetric", "SYMMETRIES"]
 
 SYMMETRIES: dict[str, tuple[tuple[str, ...], ...]] = {
     "none": ((),),
@@ -60,6 +60,16 @@ class MountType:
         (a 6x6 mount). Default zero. Constant (no loss factor, no rheology).
     rotational_damping : (3,) array_like
         Viscous rotational dampings (cr1, cr2, cr3) about the local axes [N m s/rad]. Default zero.
+    stiffness_matrix : (6, 6) array_like or None
+        A full symmetric positive semi-definite stiffness in the mount's local axes, acting on
+        ``(d1, d2, d3, r1, r2, r3)`` (relative deflection [m] and rotation [rad], body side minus
+        ``to`` side) and giving ``(f1, f2, f3, m1, m2, m3)``: blocks [N/m] (translation), [N m/rad]
+        (rotation) and [N/rad] = [N m/m] (coupling). Its diagonal is ``stiffness`` and
+        ``rotational_stiffness`` (which may be omitted, or must equal it). Not with ``rheology``;
+        with ``loss_factor`` only when the matrix is diagonal.
+    damping_matrix : (6, 6) array_like or None
+        The same for viscous damping [N s/m, N m s/rad, N s/rad]; its diagonal is ``damping`` and
+        ``rotational_damping``.
 
     Examples
     --------
@@ -77,6 +87,8 @@ class MountType:
     rheology: Any = None
     rotational_stiffness: Any = (0.0, 0.0, 0.0)
     rotational_damping: Any = (0.0, 0.0, 0.0)
+    stiffness_matrix: Any = None
+    damping_matrix: Any = None
     _ladder: Any = field(default=None, init=False, repr=False)
 
     def __post_init__(self) -> None:
@@ -90,8 +102,18 @@ class MountType:
             ladder = rh.ladder()
             if self.stiffness is None:
                 object.__setattr__(self, "stiffness", ladder.static.copy())
-        elif self.stiffness is None:
-            raise ModelError(f"{who}: stiffness: give the 3 principal stiffnesses [N/m] (or a rheology)")
+        for key, diag in (("stiffness_matrix", ("stiffness", "rotational_stiffness")),
+                          ("damping_matrix", ("damping", "rotational_damping"))):
+            if getattr(self, key) is not None:
+                if self.rheology is not None:
+                    raise ModelError(f"{who}: {key} and rheology: a frequency-dependent type has no 6x6 matrix; "
+                                     "give one or the other")
+                mat = _symmetric_psd(getattr(self, key), who, key)
+                object.__setattr__(self, key, mat)
+                _fill_diagonal(self, mat, diag, who, key)
+        if self.stiffness is None:
+            raise ModelError(f"{who}: stiffness: give the 3 principal stiffnesses [N/m] (or a rheology "
+                             "or a stiffness_matrix)")
         for key, unit in (("stiffness", "N/m"), ("damping", "N s/m"), ("rotational_stiffness", "N m/rad"),
                           ("rotational_damping", "N m s/rad")):
             v = _vec(getattr(self, key), 3, who, key)
@@ -107,6 +129,10 @@ class MountType:
         if not np.all(np.isfinite(eta)) or np.any(eta < 0):
             raise ModelError(f"{who}: loss_factor must be finite and not negative, got {eta.tolist()}")
         object.__setattr__(self, "loss_factor", _freeze(eta))
+        if np.any(eta) and self.coupled:
+            raise ModelError(f"{who}: loss_factor and a stiffness_matrix with off-diagonal terms: the loss "
+                             "factor acts on the principal stiffnesses only; give the damping as a "
+                             "damping_matrix instead")
         if ladder is not None:
             if np.any(eta):
                 raise ModelError(f"{who}: loss_factor and rheology: give the loss in the rheology (a "
@@ -134,7 +160,40 @@ class MountType:
     @property
     def rotational(self) -> bool:
         """Whether the type has rotational stiffness or damping (a 6x6 mount)."""
-        return bool(np.any(self.rotational_stiffness) or np.any(self.rotational_damping))
+        return bool(np.any(self.rotational_stiffness) or np.any(self.rotational_damping) or self.coupled)
+
+    @property
+    def coupled(self) -> bool:
+        """Whether its ``stiffness_matrix`` or ``damping_matrix`` has off-diagonal terms."""
+        return any(m is not None and np.any(m - np.diag(np.diag(m)))
+                   for m in (self.stiffness_matrix, self.damping_matrix))
+
+    def mirrored(self, plane: str) -> MountType:
+        """The mirror image of a coupled type in a global plane (named ``name.plane``); other types
+        are their own mirror image and are returned as they are.
+
+        A mount mirrored by ``S`` (its axes turned to ``T' = S T S``, :meth:`Orientation.mirrored`)
+        moves deflections as vectors and rotations as pseudo-vectors (``-S theta``), so its local
+        matrix becomes ``Q K6 Q`` with ``Q = diag(S, -S)``: the coupling blocks change sign where
+        the translation ones do not.
+        """
+        if not self.coupled:
+            return self
+        s = np.diag(MIRRORS[plane])
+        q = np.diag(np.concatenate([s, -s]))
+        return dataclasses.replace(self, name=f"{self.name}.{plane}", **{
+            key: None if getattr(self, key) is None else q @ getattr(self, key) @ q
+            for key in ("stiffness_matrix", "damping_matrix")})
+
+    def local_matrix(self, which: str = "stiffness") -> np.ndarray:
+        """(6, 6) stiffness [N/m, N/rad, N m/rad] (``"stiffness"``) or damping (``"damping"``) in the
+        local axes, on ``(d1, d2, d3, r1, r2, r3)``: the full matrix, or the diagonal of the rates."""
+        full = self.stiffness_matrix if which == "stiffness" else self.damping_matrix
+        if full is not None:
+            return np.array(full)
+        tr, rot = ((self.stiffness, self.rotational_stiffness) if which == "stiffness"
+                   else (self.damping, self.rotational_damping))
+        return np.diag(np.concatenate([tr, rot]))
 
     @property
     def has_branches(self) -> bool:
@@ -159,6 +218,46 @@ class MountType:
         return self.stiffness[None] * (1 + 1j * self.loss_factor[None]) + 1j * w[:, None] * self.damping[None]
 
 
+def _symmetric_psd(value: Any, who: str, key: str) -> np.ndarray:
+    """A (6, 6) symmetric positive semi-definite matrix, frozen; else a ModelError naming ``key``."""
+    a = np.array(value, dtype=float) if is_numeric(value) else None
+    if a is None or a.shape != (6, 6):
+        raise ModelError(f"{who}: {key}: expected a 6x6 matrix (6 rows of 6 numbers) on "
+                         f"(d1, d2, d3, r1, r2, r3), got {value!r}", argument=key, received=value,
+                         expected="(6, 6)")
+    if not np.all(np.isfinite(a)):
+        raise ModelError(f"{who}: {key} must be finite, got {a.tolist()}")
+    scale = float(np.abs(a).max())
+    asym = float(np.abs(a - a.T).max())
+    if asym > 1e-12 * scale:
+        i, j = np.unravel_index(int(np.argmax(np.abs(a - a.T))), a.shape)
+        raise ModelError(f"{who}: {key} must be symmetric: entry [{i}][{j}] = {a[i, j]:.6g} but "
+                         f"[{j}][{i}] = {a[j, i]:.6g}", argument=key, received=a.tolist(), expected="symmetric")
+    a = 0.5 * (a + a.T)
+    # PSD in the scaled matrix D^-1/2 A D^-1/2 (units differ between the blocks)
+    d = np.sqrt(np.where(np.diag(a) > 0, np.diag(a), 1.0))
+    lam = np.linalg.eigvalsh(a / np.outer(d, d)) if scale > 0 else np.zeros(6)
+    if np.any(np.diag(a) < 0) or lam.min() < -1e-10 * max(1.0, lam.max()):
+        raise ModelError(f"{who}: {key} is not positive semi-definite (eigenvalues of the diagonally "
+                         f"scaled matrix {np.round(lam, 6).tolist()}): a passive mount stores no negative "
+                         "energy", argument=key, received=a.tolist(), expected="positive semi-definite")
+    return _freeze(a)
+
+
+def _fill_diagonal(t: MountType, mat: np.ndarray, keys: tuple[str, str], who: str, key: str) -> None:
+    """``stiffness``/``rotational_stiffness`` (or the dampings) from a 6x6 matrix's diagonal: taken
+    when omitted (None, or all zero), else they must equal it."""
+    for part, value in zip(keys, (np.diag(mat)[:3], np.diag(mat)[3:])):
+        given = getattr(t, part)
+        if given is None or (is_numeric(given) and not np.any(np.asarray(given, dtype=float))):
+            object.__setattr__(t, part, value.copy())
+            continue
+        g = np.asarray(given, dtype=float) if is_numeric(given) else None
+        if g is None or g.shape != (3,) or not np.allclose(g, value, rtol=1e-12, atol=0.0):
+            raise ModelError(f"{who}: {part} {given!r} differs from the diagonal of {key} {value.tolist()}; "
+                             f"omit it or give the same", argument=part, received=given, expected=value.tolist())
+
+
 @dataclass(frozen=True, eq=False)
 class Mount:
     """A zero-length mount joining a point of ``body`` to the same point of ``to``.
@@ -180,6 +279,10 @@ class Mount:
         Local axes (columns) in global coordinates. Default: global axes.
     frame : {"body", "global"}
         How ``at`` is measured.
+    support : str or None
+        Name of the model's :class:`Support` the ``to`` end stands on (only with ``to="ground"``):
+        that support's prescribed motion (``<support>.z.acc`` ...) moves the end, independently of
+        the other supports and of the rigid ``ground``. None: the rigid ground.
     """
 
     name: str
@@ -189,6 +292,7 @@ class Mount:
     to: str = GROUND
     orientation: Any = None
     frame: str = "body"
+    support: str | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.name, str) or not self.name:
@@ -205,6 +309,12 @@ class Mount:
         if self.body == self.to:
             raise ModelError(f"{who}: joins body {self.body!r} to itself; a mount joins two "
                              "different bodies, or a body and ground")
+        if self.support is not None:
+            if not isinstance(self.support, str) or not self.support:
+                raise ModelError(f"{who}: support must be the name of a support, got {self.support!r}")
+            if self.to != GROUND:
+                raise ModelError(f"{who}: support {self.support!r} is only for a mount whose 'to' end is "
+                                 f"ground; this mount joins body {self.body!r} to body {self.to!r}")
         object.__setattr__(self, "at", _vec(self.at, 3, who, "at"))
         check_range(self.at, "length", who, "at", "m")
         object.__setattr__(self, "frame", _frame(self.frame, who))
@@ -214,9 +324,10 @@ class Mount:
         """Copy mirrored in the given planes (``"xz"``, ``"yz"``, ``"xy"``), named ``name.plane...``.
 
         The point is mirrored in the body's planes through its COG (``frame="body"``) or in the
-        global planes (``frame="global"``); so is the orientation (kept right-handed).
+        global planes (``frame="global"``); so is the orientation (kept right-handed), and a type
+        with a coupled 6x6 matrix becomes its mirror image (:meth:`MountType.mirrored`).
         """
-        at, orient, name = self.at, self.orientation, self.name
+        at, orient, name, mtype = self.at, self.orientation, self.name, self.type
         for plane in planes:
             if plane not in MIRRORS:
                 raise ModelError(f"mount {self.name!r}: unknown mirror plane {plane!r}; "
@@ -224,7 +335,49 @@ class Mount:
             at = MIRRORS[plane] @ at
             orient = orient.mirrored(plane)
             name = f"{name}.{plane}"
-        return dataclasses.replace(self, name=name, at=at, orientation=orient)
+            mtype = mtype.mirrored(plane)        # a coupled 6x6 type: its mirror image
+        return dataclasses.replace(self, name=name, at=at, orientation=orient, type=mtype)
+
+
+@dataclass(frozen=True, eq=False)
+class Support:
+    """A named ground point set whose motion is prescribed on its own (multi-support excitation).
+
+    A mount whose ``to`` end is ground stands on the rigid ``ground`` unless it names a support
+    (``Mount(..., support="left")``); each support has six rigid-motion DOFs about the global origin
+    of its own, driven by the inputs ``<support>.<x|y|z|rx|ry|rz>.disp|vel|acc`` (a vehicle's road
+    input per wheel, a floor moving differently under each foot), and the outputs
+    ``<support>.fx|fy|fz|mx|my|mz`` give the force and moment about the global origin its mounts put
+    into it. In statics a support is fixed ground.
+
+    Parameters
+    ----------
+    name : str
+        Unique name, distinct from every body, control point and ``ground``.
+    description : str
+        Free text for reports.
+
+    Examples
+    --------
+    >>> Support("left", "front wheel road input").name
+    'left'
+    """
+
+    name: str
+    description: str = ""
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.name, str) or not self.name.strip():
+            raise ModelError(f"support: name must be a non-empty string, got {self.name!r}")
+        who = f"support {self.name!r}"
+        if self.name in (GROUND, "mount", "sensor", "actuator"):
+            raise ModelError(f"{who}: the name {self.name!r} is reserved; name the support otherwise")
+        if "." in self.name:
+            raise ModelError(f"{who}: name contains '.', which separates the parts of signal names "
+                             f"('{self.name}.z.acc' would be ambiguous); use another character")
+        _signal_safe(self.name, who)
+        if not isinstance(self.description, str):
+            raise ModelError(f"{who}: description must be a string, got {self.description!r}")
 
 
 def symmetric(mount: Mount, symmetry: str = "double") -> tuple[Mount, ...]:

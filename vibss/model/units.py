@@ -53,6 +53,8 @@ QUANTITIES: dict[str, dict[str, int]] = {
     "moment": {"force": 1, "length": 1},
     "rotational_stiffness": {"force": 1, "length": 1, "angle": -1},
     "rotational_damping": {"force": 1, "length": 1, "time": 1, "angle": -1},
+    "coupling_stiffness": {"force": 1, "angle": -1},
+    "coupling_damping": {"force": 1, "time": 1, "angle": -1},
     "velocity": {"length": 1, "time": -1},
     "acceleration": {"length": 1, "time": -2},
     "angular_velocity": {"angle": 1, "time": -1},

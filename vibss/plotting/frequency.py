@@ -231,7 +231,8 @@ def plot_transmissibility_set(motion: Any, force: Any, bodies: Any) -> Any:
     Parameters
     ----------
     motion, force : mapping of {"x", "y", "z"} to FrequencyResponse
-        From :func:`vibss.transmissibility` (motion: ground.<d> -> <body>.<d>; force: <body>.f<d> -> ground.f<d>).
+        From :func:`vibss.transmissibility` (motion: ground.<d> -> <body>.<d>; force: <body>.f<d> -> ground.f<d>;
+        with supports, the first ground node's).
     bodies : sequence of str
         Body names (line styles).
 
@@ -250,7 +251,8 @@ def plot_transmissibility_set(motion: Any, force: Any, bodies: Any) -> Any:
             pos = f > 0
             for k, b in enumerate(bodies):
                 i, j = (k, 0) if what.startswith("motion") else (0, k)
-                label = (f"{b}.{d} / ground.{d}" if what.startswith("motion") else f"ground.f{d} / {b}.f{d}")
+                label = (f"{b}.{d} / {r.inputs[0].removesuffix('.disp')}" if what.startswith("motion")
+                         else f"{r.outputs[0]} / {b}.f{d}")
                 ax.loglog(f[pos], np.abs(r.response[i, j, pos]), color=colours[d], ls=styles[k % 4], label=label)
         ax.axhline(1.0, color="0.5", lw=0.8)
         ax.set_ylabel("|T| [-]")

@@ -30,8 +30,10 @@ def quantity_of(name: str, unit: str) -> str:
     """
     if name.startswith("mount."):
         return "mount force" if unit in ("N", "N m") else "mount deflection"
-    if name.startswith("ground.") or ".into." in name:
-        where = "ground" if name.startswith("ground.") else "bodies"
+    head, _, comp = name.partition(".")
+    reaction = unit in ("N", "N m") and comp in ("fx", "fy", "fz", "mx", "my", "mz")   # ground or a support
+    if name.startswith("ground.") or reaction or ".into." in name:
+        where = "ground" if name.startswith("ground.") or reaction else "bodies"
         return f"{'moment' if unit == 'N m' else 'force'} into {where}"
     if name.endswith(".acc"):
         return "angular acceleration" if unit.startswith("rad") else "acceleration"
@@ -139,8 +141,9 @@ def plot_time_response(response: Any, outputs: Sequence[str] | None = None, by: 
     ax : Axes, sequence of Axes or None
         Axes to draw in, one per group (the input's first when drawn); default: a new figure.
     inputs : bool or None
-        Draw the inputs in a panel of their own on top; default: when a ground motion is prescribed
-        (base excitation: the pulse the response answers) and no ``ax`` is given.
+        Draw the inputs in a panel of their own on top; default: when a motion (of ground, a support
+        or a body) is prescribed (base excitation: the pulse the response answers) and no ``ax``
+        is given.
 
     Returns
     -------
@@ -158,7 +161,8 @@ def plot_time_response(response: Any, outputs: Sequence[str] | None = None, by: 
     given = list(getattr(r, "input_names", ()) or ())
     history = np.asarray(getattr(r, "inputs", np.zeros((0, 0))))
     if inputs is None:
-        inputs = ax is None and any(u.startswith("ground.") for u in given)
+        # base motion (of ground or a support) drives the response: show it
+        inputs = ax is None and any(u.startswith("ground.") or u.endswith((".disp", ".vel", ".acc")) for u in given)
     inputs = bool(inputs) and bool(given) and history.shape[0] == len(given)
     panels = len(groups) + int(inputs)
     if ax is None:
