@@ -392,7 +392,8 @@ def _scalar_modes(w: np.ndarray, c: np.ndarray, phi: np.ndarray, eta0: np.ndarra
                      x0=np.concatenate(z0)[:, None], Y=Y[:, :, None])
 
 
-def _modal_sets(prep: Prepared, q0: np.ndarray, v0: np.ndarray) -> tuple[list[_ModalSet], str]:
+def _modal_sets(prep: Prepared, q0: np.ndarray, v0: np.ndarray,
+                horizon: float = np.inf) -> tuple[list[_ModalSet], str]:
     plant = prep.plant
     M = np.asarray(plant.M, float)
     mb = modal_basis(plant)
@@ -433,7 +434,7 @@ def _modal_sets(prep: Prepared, q0: np.ndarray, v0: np.ndarray) -> tuple[list[_M
         e = coupled
         ne = int(e.sum())
         se = s[e]
-        cm = complex_modes(se, np.arange(ne), w2[e], chat[np.ix_(e, e)])
+        cm = complex_modes(se, np.arange(ne), w2[e], chat[np.ix_(e, e)], horizon=horizon)
         lam, V = cm.lam, cm.vectors
         keep = lam.imag >= 0
         sol = np.column_stack([cm.solve(np.concatenate([se * eta0[e], deta0[e]])[:, None]),
@@ -469,7 +470,7 @@ def run_modal(prep: Prepared, grid: Grid, kin: Kinematics, rows: np.ndarray,
     """
     plant = prep.plant
     degree = max([DEGREE[k] for k in prep.kinds] + [1])
-    sets, how = _modal_sets(prep, q0, v0)
+    sets, how = _modal_sets(prep, q0, v0, float(grid.t[-1]))
     # generalized forcing per input "channel": [F (force), -Kt (z), -Ct (z')]
     Wg = np.hstack([plant.F * prep.force, -prep.Kt, -prep.Ct])  # (n, 3m)
     m = len(prep.kinds)

@@ -191,12 +191,21 @@ def foh_blocks(A: np.ndarray, steps: np.ndarray, degree: int) -> tuple[np.ndarra
     return E, gam
 
 
+SMALL_ANGLE = 0.05
+"""Below this ``omega h`` the sine response is not taken as ``(r(w) - r(-w)) / 2i`` (which loses
+``eps / (omega h)``) but from a series or a form without cancellation (see :func:`cs_blocks`)."""
+
+
 def cs_blocks(A: np.ndarray, steps: np.ndarray, omega: float) -> np.ndarray:
     """Exact response of ``x' = A x + b g(tau)`` over each step to ``g = cos(omega tau)`` and
     ``g = sin(omega tau)`` from rest, closed form: (nh, 2, nb, b).
 
-    From ``r(w) = h exp(i w h) phi_1((A - i w) h) b``, the response to ``exp(i w tau)``:
-    ``cos`` gives ``(r(w) + r(-w)) / 2`` and ``sin`` gives ``(r(w) - r(-w)) / 2i``.
+    With ``r(w) = h exp(i w h) phi_1((A - i w) h) b``, the response to ``exp(i w tau)``, ``cos`` gives
+    ``(r(w) + r(-w)) / 2``. For ``sin`` and ``theta = omega h`` below :data:`SMALL_ANGLE` (a slow sine on
+    a short step), a scalar mode ``z = lam h`` uses the series ``h sum_k (-1)^k theta^(2k+1)
+    phi_(2k+2)(z)`` for ``|z| < 1`` and ``h theta (z^2 phi_2(z) + theta^2 c2 + z theta^2 s3) / (z^2 +
+    theta^2)`` (``c2 = (1 - cos theta) / theta^2``, ``s3 = (1 - sin theta / theta) / theta^2``) beyond;
+    a real 2x2 block takes ``expm`` there (only rigid and nearly critical modes are 2x2 blocks).
 
     Parameters
     ----------
@@ -209,22 +218,38 @@ def cs_blocks(A: np.ndarray, steps: np.ndarray, omega: float) -> np.ndarray:
     """
     nb, b = A.shape[:2]
     out = np.empty((len(steps), 2, nb, b), dtype=A.dtype)
-    bad = np.zeros(nb, bool)
     for i, h in enumerate(steps):
-        r = []
-        for w in (omega, -omega):
-            s = 1j * w * h
-            if b == 1:
-                r.append((h * np.exp(s) * phi_scalar(A[:, 0, 0] * h - s, 1)[1])[:, None])
+        theta = omega * h
+        if b == 2:
+            if theta < SMALL_ANGLE:
+                out[i] = cs_expm(A, np.array([h]), omega)[0]
                 continue
             tr, det, disc = _invariants(A)
-            al, be, ok = phi_pair(tr * h, det * h * h, disc * h * h, 1, shift=s)
-            bad |= ~ok
-            r.append(h * np.exp(s) * np.stack([be[1] * A[:, 0, 1] * h, al[1] + be[1] * A[:, 1, 1] * h], axis=-1))
-        c, sn = (r[0] + r[1]) / 2, (r[0] - r[1]) / 2j
-        out[i, 0], out[i, 1] = (c, sn) if np.iscomplexobj(A) else (c.real, sn.real)
-    if bad.any():
-        out[:, :, bad] = cs_expm(A[bad], steps, omega)
+            al, be, ok = phi_pair(tr * h, det * h * h, disc * h * h, 1, shift=1j * theta)
+            r = h * np.exp(1j * theta) * np.stack([be[1] * A[:, 0, 1] * h, al[1] + be[1] * A[:, 1, 1] * h], axis=-1)
+            out[i, 0], out[i, 1] = r.real, r.imag          # A real: cos and sin are Re and Im of r(w)
+            if not ok.all():
+                out[i][:, ~ok] = cs_expm(A[~ok], np.array([h]), omega)[0]
+            continue
+        z = A[:, 0, 0] * h
+        rp = h * np.exp(1j * theta) * phi_scalar(z - 1j * theta, 1)[1]
+        rm = h * np.exp(-1j * theta) * phi_scalar(z + 1j * theta, 1)[1]
+        out[i, 0, :, 0] = (rp + rm) / 2
+        if theta >= SMALL_ANGLE:
+            out[i, 1, :, 0] = (rp - rm) / 2j
+            continue
+        sn = np.empty(nb, complex)
+        small = np.abs(z) < 1.0
+        if small.any():
+            ph = phi_scalar(z[small], 16)
+            sn[small] = h * sum((-1) ** k * theta ** (2 * k + 1) * ph[2 * k + 2] for k in range(8))
+        if (~small).any():
+            zb = z[~small]
+            t2 = theta * theta
+            c2 = 0.5 * (np.sin(theta / 2) / (theta / 2)) ** 2 if theta > 0 else 0.5
+            s3 = 1 / 6 - t2 / 120 + t2**2 / 5040 - t2**3 / 362880 + t2**4 / 39916800
+            sn[~small] = h * theta * (zb * zb * phi_scalar(zb, 2)[2] + t2 * c2 + zb * t2 * s3) / (zb * zb + t2)
+        out[i, 1, :, 0] = sn
     return out
 
 
