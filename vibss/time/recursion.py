@@ -4,12 +4,13 @@ Modes are independent blocks (``b = 1`` complex modes, ``b = 2`` real 2x2 blocks
 ``steps x modes`` and what costs is Python: a loop over steps runs 10,000 times. :func:`scan` cuts
 the steps into ``B`` blocks of ``L`` (``L ~ sqrt(steps)``) and runs three short loops instead:
 
-1. every block from a zero state at once (``L`` iterations over arrays of ``B x modes``);
+1. every block from a zero state at once (``L`` iterations over arrays of ``B x modes``), its
+   outputs ``Y x`` taken as it goes (a small GEMM per iteration, so the states are never stored);
 2. the state at each block's start, block after block (``B`` iterations over the modes), with the
    block's transition ``E^L`` (a product of the step matrices where a block holds other steps);
-3. the outputs: ``y = Y x`` of the zero-state part (one GEMM) plus the start state carried into
-   the block, ``Y E^(j+1) x_start`` (one GEMM against the ``L`` powers ``Y E^(j+1)``); blocks with
-   other steps (inserted breakpoints) carry their start state step by step instead.
+3. the start state carried into the block, ``Y E^(j+1) x_start``, added to the outputs by one GEMM
+   against the ``L`` powers ``Y E^(j+1)``; blocks with other steps (inserted breakpoints) carry
+   their start state step by step instead.
 
 The arithmetic is the recursion's own (products of the same ``E``), regrouped: the round-off is of
 the order of ``L eps`` per block, the same as the step-by-step loop over ``L`` steps.
