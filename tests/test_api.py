@@ -20,7 +20,7 @@ LAYERS = [
     {"io", "examples", "linear.assemble", "linear.directions", "linear.eigen", "linear.eigen_checks",
      "linear.hysteresis"},
     {"linear.complex_modes", "linear.banded", "linear.signals", "linear.solve", "linear.backends",
-     "linear.projection", "statics", "time.integrators", "diagnostics"},
+     "linear.projection", "statics", "time.integrators", "time.phi", "time.recursion", "diagnostics"},
     {"linear", "modal"},
     {"frequency.kernels", "time.kernels", "studies"},
     {"frequency", "time", "reduction", "design", "shock", "orders", "random", "control"},

@@ -41,6 +41,8 @@ from ..linear.eigen import damping_coupling, modal_basis, symmetric_eigen
 from ..linear.branches import mechanical, require_none
 from ..linear.plant import Plant
 from ..linear.projection import projected_damping
+from .phi import cs_blocks, foh_blocks
+from .recursion import scan
 
 __all__ = ["Prepared", "Grid", "Kinematics", "prepare", "make_grid", "nudge", "kinematics",
            "run_modal", "run_forced_response", "run_ivp", "realization"]
@@ -48,8 +50,8 @@ __all__ = ["Prepared", "Grid", "Kinematics", "prepare", "make_grid", "nudge", "k
 DEGREE = {"force": 1, "displacement": 1, "velocity": 2, "acceleration": 3}
 """Polynomial degree (per interval) of the prescribed coordinate (or force) for a PWL input."""
 
-BLOCK = 512
-"""Time steps per block of the modal recursion (states of one block are kept, then mapped)."""
+CHUNK = 1024
+"""Time steps per chunk of the modal recursion (the states of one chunk are kept, then mapped)."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -338,60 +340,6 @@ def direct_terms(prep: Prepared, kin: Kinematics, rows: np.ndarray) -> np.ndarra
 # modal method
 # --------------------------------------------------------------------------------------------
 
-def _foh_blocks(A: np.ndarray, steps: np.ndarray, degree: int) -> tuple[np.ndarray, np.ndarray]:
-    """Exact discretisation of ``x' = A x + b g(tau)`` for polynomial ``g`` of ``degree``.
-
-    Parameters
-    ----------
-    A : (nb, b, b) ndarray
-        Per-mode blocks (b = 1 complex, or 2 real with forcing into the second row).
-    steps : (nh,) ndarray
-        Step lengths [s].
-    degree : int
-
-    Returns
-    -------
-    E : (nh, nb, b, b) ndarray
-        Transition matrices ``expm(A h)``.
-    gamma : (nh, degree + 1, nb, b) ndarray
-        ``gamma[:, k]`` = response at ``h`` to the forcing ``tau^k / k!`` (zero initial state).
-    """
-    nb, b, _ = A.shape
-    size = b + degree + 1
-    E = np.empty((len(steps), nb, b, b), dtype=A.dtype)
-    gam = np.empty((len(steps), degree + 1, nb, b), dtype=A.dtype)
-    for i, h in enumerate(steps):
-        aug = np.zeros((nb, size, size), dtype=A.dtype)
-        aug[:, :b, :b] = A * h
-        aug[:, b - 1, b] = 1.0
-        for k in range(degree):
-            aug[:, b + k, b + k + 1] = 1.0
-        ex = sl.expm(aug)
-        E[i] = ex[:, :b, :b]
-        for k in range(degree + 1):
-            gam[i, k] = ex[:, :b, b + k] * h ** (k + 1)
-    return E, gam
-
-
-def _cs_blocks(A: np.ndarray, steps: np.ndarray, omega: float) -> np.ndarray:
-    """Exact response of ``x' = A x + b g(tau)`` over each step to ``g = cos(omega tau)`` and
-    ``g = sin(omega tau)`` from rest: (nh, 2, nb, b), by the matrix exponential of the block system
-    augmented with the harmonic oscillator ``c' = -omega s``, ``s' = omega c`` (which is ``cos`` from
-    ``(c, s) = (1, 0)`` and ``-sin`` from ``(0, 1)``)."""
-    nb, b, _ = A.shape
-    out = np.empty((len(steps), 2, nb, b), dtype=A.dtype)
-    for i, h in enumerate(steps):
-        aug = np.zeros((nb, b + 2, b + 2), dtype=A.dtype)
-        aug[:, :b, :b] = A * h
-        aug[:, b - 1, b] = h
-        aug[:, b, b + 1] = -omega * h
-        aug[:, b + 1, b] = omega * h
-        ex = sl.expm(aug)
-        out[i, 0] = ex[:, :b, b]
-        out[i, 1] = -ex[:, :b, b + 1]
-    return out
-
-
 @dataclass(frozen=True, eq=False)
 class _ModalSet:
     """A set of decoupled modal blocks with their input and output maps."""
@@ -402,7 +350,50 @@ class _ModalSet:
     Y: np.ndarray       # (p, nb, b) output per state component (conjugate pairs weighted 2)
 
 
-def _modal_sets(prep: Prepared, q0: np.ndarray, v0: np.ndarray) -> tuple[list[_ModalSet], str]:
+SEPARATION = 1e-2
+"""Smallest ``|lam1 - lam2| / |lam|`` of a decoupled mode's two eigenvalues for which it is simulated
+as a complex (scalar) mode; closer (critically damped within about 5e-5) and rigid modes keep the
+real 2x2 block, which is exact for a Jordan block."""
+
+
+def _diagonalisable(w: np.ndarray, c: np.ndarray, rigid: np.ndarray) -> np.ndarray:
+    """(n,) bool: elastic modes whose 2x2 block has well-separated eigenvalues (``w`` [rad/s],
+    ``c = 2 zeta w`` [1/s])."""
+    root = np.sqrt(np.abs((c / 2 - w) * (c / 2 + w)))
+    return ~rigid & (w > 0) & (2 * root >= SEPARATION * np.maximum(w, c))
+
+
+def _scalar_modes(w: np.ndarray, c: np.ndarray, phi: np.ndarray, eta0: np.ndarray, deta0: np.ndarray,
+                  Ceta: np.ndarray, Cdeta: np.ndarray) -> _ModalSet:
+    """Decoupled elastic modes ``eta'' + c eta' + w^2 eta = phi^T f`` as scalar complex modes.
+
+    The block ``A = [[0, w], [-w, -c]]`` on ``x = [w eta; eta']`` has eigenvectors ``(w, lam)``:
+    ``x = T z``, ``T = [[w, w], [lam1, lam2]]``, so ``z_k`` is driven by ``+-1 / (lam1 - lam2)``. An
+    underdamped mode keeps ``lam1`` (``Im > 0``) with weight 2 (``x = 2 Re(t1 z1)``); an overdamped
+    one keeps both real roots with weight 1.
+    """
+    disc = (c / 2 - w) * (c / 2 + w)
+    root = np.sqrt(disc.astype(complex))
+    root = np.where(root.imag < 0, -root, root)
+    l1, l2 = -c / 2 + root, -c / 2 - root
+    over = disc > 0
+    lam, force, z0, wt, src = [], [], [], [], []
+    for la, lb, sel in ((l1, l2, np.ones(w.size, bool)), (l2, l1, over)):
+        dl = la - lb
+        lam.append(la[sel])
+        force.append(1.0 / dl[sel])
+        z0.append(((deta0 - lb * eta0) / dl)[sel])          # the row of T^-1 applied to x0
+        wt.append(np.where(over[sel], 1.0, 2.0))
+        src.append(np.flatnonzero(sel))
+    idx = np.concatenate(src)
+    lam_ = np.concatenate(lam)
+    Y = (Ceta[:, idx] + Cdeta[:, idx] * lam_) * np.concatenate(wt)      # Y T: x_a = w z, x_b = lam z
+    return _ModalSet(A=lam_.reshape(-1, 1, 1), P=np.concatenate(force)[:, None] * phi[:, idx].T,
+                     x0=np.concatenate(z0)[:, None], Y=Y[:, :, None])
+
+
+def _modal_sets(prep: Prepared, q0: np.ndarray, v0: np.ndarray,
+                horizon: float = np.inf) -> tuple[list[_ModalSet], str]:
     plant = prep.plant
     M = np.asarray(plant.M, float)
     mb = modal_basis(plant)
@@ -422,23 +413,28 @@ def _modal_sets(prep: Prepared, q0: np.ndarray, v0: np.ndarray) -> tuple[list[_M
     eta0, deta0 = phi.T @ (M @ q0), phi.T @ (M @ v0)
     s = np.where(w > 0, w, 1.0)
     Ceta, Cdeta = prep.Cp @ phi, prep.Cv @ phi
-    sets = []
+    sets: list[_ModalSet] = []
+    scalar: list[_ModalSet] = []
     d = ~coupled
-    if d.any():
-        nd = int(d.sum())
-        A = np.zeros((nd, 2, 2))
-        A[:, 0, 1] = s[d]
-        A[:, 1, 0] = -w2[d] / s[d]
-        A[:, 1, 1] = -np.diag(chat)[d]
-        Y = np.stack([Ceta[:, d] / s[d], Cdeta[:, d]], axis=-1)
-        sets.append(_ModalSet(A=A, P=phi[:, d].T, x0=np.column_stack([s[d] * eta0[d], deta0[d]]),
-                              Y=Y))
+    diag = _diagonalisable(w, np.diag(chat), rigid) & d
+    block = d & ~diag
+    if block.any():        # rigid and nearly critically damped modes: exact real 2x2 blocks
+        A = np.zeros((int(block.sum()), 2, 2))
+        A[:, 0, 1] = s[block]
+        A[:, 1, 0] = -w2[block] / s[block]
+        A[:, 1, 1] = -np.diag(chat)[block]
+        Y = np.stack([Ceta[:, block] / s[block], Cdeta[:, block]], axis=-1)
+        sets.append(_ModalSet(A=A, P=phi[:, block].T,
+                              x0=np.column_stack([s[block] * eta0[block], deta0[block]]), Y=Y))
+    if diag.any():
+        scalar.append(_scalar_modes(w[diag], np.diag(chat)[diag], phi[:, diag], eta0[diag], deta0[diag],
+                                    Ceta[:, diag], Cdeta[:, diag]))
     how = "classical damping: real undamped modes"
     if coupled.any():
         e = coupled
         ne = int(e.sum())
         se = s[e]
-        cm = complex_modes(se, np.arange(ne), w2[e], chat[np.ix_(e, e)])
+        cm = complex_modes(se, np.arange(ne), w2[e], chat[np.ix_(e, e)], horizon=horizon)
         lam, V = cm.lam, cm.vectors
         keep = lam.imag >= 0
         sol = np.column_stack([cm.solve(np.concatenate([se * eta0[e], deta0[e]])[:, None]),
@@ -446,11 +442,19 @@ def _modal_sets(prep: Prepared, q0: np.ndarray, v0: np.ndarray) -> tuple[list[_M
         Vk = V[:, keep]
         Yw = Ceta[:, e] @ (Vk[:ne] / se[:, None]) + Cdeta[:, e] @ Vk[ne:]
         weight = np.where(lam[keep].imag > 0, 2.0, 1.0)
-        sets.append(_ModalSet(A=lam[keep].reshape(-1, 1, 1), P=(sol[keep, 1:] @ phi[:, e].T),
-                              x0=sol[keep, :1], Y=Yw[:, :, None] * weight[None, :, None]))
+        scalar.append(_ModalSet(A=lam[keep].reshape(-1, 1, 1), P=(sol[keep, 1:] @ phi[:, e].T),
+                                x0=sol[keep, :1], Y=Yw[:, :, None] * weight[None, :, None]))
         how = (f"non-proportional damping: {ne} coupled modes as complex modes (eig of the scaled "
                f"modal first-order form), {len(w) - ne} decoupled real modes")
+    if scalar:
+        sets.append(_ModalSet(A=np.concatenate([x.A for x in scalar]), P=np.concatenate([x.P for x in scalar]),
+                              x0=np.concatenate([x.x0 for x in scalar]), Y=np.concatenate([x.Y for x in scalar], axis=1)))
     return sets, how
+
+
+def _real_view(a: np.ndarray) -> np.ndarray:
+    """A complex array's last axis as interleaved real and imaginary parts (real arrays as they are)."""
+    return np.ascontiguousarray(a).view(float) if np.iscomplexobj(a) else a
 
 
 def run_modal(prep: Prepared, grid: Grid, kin: Kinematics, rows: np.ndarray,
@@ -466,7 +470,7 @@ def run_modal(prep: Prepared, grid: Grid, kin: Kinematics, rows: np.ndarray,
     """
     plant = prep.plant
     degree = max([DEGREE[k] for k in prep.kinds] + [1])
-    sets, how = _modal_sets(prep, q0, v0)
+    sets, how = _modal_sets(prep, q0, v0, float(grid.t[-1]))
     # generalized forcing per input "channel": [F (force), -Kt (z), -Ct (z')]
     Wg = np.hstack([plant.F * prep.force, -prep.Kt, -prep.Ct])  # (n, 3m)
     m = len(prep.kinds)
@@ -485,35 +489,39 @@ def run_modal(prep: Prepared, grid: Grid, kin: Kinematics, rows: np.ndarray,
     osc = [(w, np.concatenate([amp, amp, np.stack([w * amp[:, 1], -w * amp[:, 0]], axis=1)], axis=2))
            for w, amp in kin.osc]
     jumps = np.flatnonzero(np.any(kin.jump != 0, axis=1))
+    nh = len(grid.steps)
     with threadpool_limits(1):
         for ms in sets:
-            E, gam = _foh_blocks(ms.A, grid.steps, degree)
+            E, gam = foh_blocks(ms.A, grid.steps, degree)
             nb, b = ms.A.shape[0], ms.A.shape[1]
             PW = ms.P @ Wg  # (nb, 3m)
             active = np.flatnonzero(np.any(PW != 0, axis=0))
             Va = V.reshape(ni, degree + 1, 3 * m)[:, :, active].reshape(ni, -1)
-            # per step length: drive = Va[i] @ fold[h]  (the FOH coefficients folded into the map)
-            fold = np.einsum("mc,hkmb->hkcmb", PW[:, active], gam).reshape(len(grid.steps), -1, nb * b)
-            jfold = np.einsum("mc,hmb->hcmb", PW, E[:, :, :, b - 1]).reshape(len(grid.steps), 3 * m, nb * b)
+            # per step length: drive = Va[i] @ fold[h] (the FOH coefficients folded into the map),
+            # columns component-major (b, nb) as the recursion takes them
+            # complex maps as interleaved real ones: Va is real, so one real GEMM makes re and im
+            fold = _real_view(np.einsum("mc,hkmb->hkcbm", PW[:, active], gam).reshape(nh, -1, b * nb))
+            jfold = _real_view(np.einsum("mc,hmb->hcbm", PW, E[:, :, :, b - 1]).reshape(nh, 3 * m, b * nb))
             cs = []
             for w, Vo in osc:
-                g2 = _cs_blocks(ms.A, grid.steps, w)                          # (nh, 2, nb, b)
-                fo = np.einsum("mc,hpmb->hpcmb", PW[:, active], g2).reshape(len(grid.steps), -1, nb * b)
-                cs.append((Vo[:, :, active].reshape(ni, -1), fo))
-            x = ms.x0.copy()
+                g2 = cs_blocks(ms.A, grid.steps, w)                           # (nh, 2, nb, b)
+                fo = np.einsum("mc,hpmb->hpcbm", PW[:, active], g2).reshape(nh, -1, b * nb)
+                cs.append((Vo[:, :, active].reshape(ni, -1), _real_view(fo)))
+            x = np.ascontiguousarray(ms.x0.T)
             if want[0]:
-                y[0] += np.real(np.einsum("pnb,nb->p", ms.Y, x))
-            Yflat = ms.Y.reshape(ms.Y.shape[0], -1)
-            for start in range(0, ni, BLOCK):
-                stop = min(start + BLOCK, ni)
+                y[0] += np.real(np.einsum("pnb,nb->p", ms.Y, ms.x0))
+            Yt = np.ascontiguousarray(np.moveaxis(ms.Y, 2, 1))               # (p, b, nb)
+            cplx = np.iscomplexobj(E)
+            for start in range(0, ni, CHUNK):
+                stop = min(start + CHUNK, ni)
                 hk = grid.hkey[start:stop]
                 keys = np.unique(hk)
                 if len(keys) == 1:
                     drive = Va[start:stop] @ fold[keys[0]]
                     for Vo, fo in cs:
-                        drive = drive + Vo[start:stop] @ fo[keys[0]]
+                        drive += Vo[start:stop] @ fo[keys[0]]
                 else:
-                    drive = np.empty((stop - start, nb * b), dtype=fold.dtype)
+                    drive = np.empty((stop - start, fold.shape[2]))
                     for key in keys:
                         idx = np.flatnonzero(hk == key)
                         drive[idx] = Va[start + idx] @ fold[key]
@@ -521,36 +529,14 @@ def run_modal(prep: Prepared, grid: Grid, kin: Kinematics, rows: np.ndarray,
                             drive[idx] += Vo[start + idx] @ fo[key]
                 for i in jumps[(jumps >= start) & (jumps < stop)]:
                     drive[i - start] += J[i] @ jfold[grid.hkey[i]]
-                X = _recur(E, hk, x, drive.reshape(stop - start, nb, b))
-                x = X[-1]
+                if cplx:
+                    drive = drive.view(complex)
+                ys, x = scan(E, hk, x, drive.reshape(stop - start, b, nb), Yt)
                 sel = want[start + 1:stop + 1]
                 if sel.any():
-                    Xs = X[sel].reshape(int(sel.sum()), -1)
-                    y[out_pos[start + 1:stop + 1][sel]] += np.real(Xs @ Yflat.T)
+                    y[out_pos[start + 1:stop + 1][sel]] += ys[sel]
     y += direct_terms(prep, kin, rows)
     return y, how
-
-
-def _recur(E: np.ndarray, hk: np.ndarray, x: np.ndarray, drive: np.ndarray) -> np.ndarray:
-    """States after each step of ``x <- E[hk[i]] x + drive[i]`` (vectorised over modes)."""
-    L = len(hk)
-    X = np.empty((L,) + x.shape, dtype=drive.dtype)
-    b = x.shape[1]
-    if b == 1:
-        e = E[:, :, 0, 0]
-        xs = x[:, 0].copy()
-        for i in range(L):
-            xs = e[hk[i]] * xs + drive[i, :, 0]
-            X[i, :, 0] = xs
-        return X
-    e00, e01, e10, e11 = (E[:, :, i, j] for i in (0, 1) for j in (0, 1))
-    x0, x1 = x[:, 0].copy(), x[:, 1].copy()
-    for i in range(L):
-        k = hk[i]
-        x0, x1 = e00[k] * x0 + e01[k] * x1 + drive[i, :, 0], e10[k] * x0 + e11[k] * x1 + drive[i, :, 1]
-        X[i, :, 0] = x0
-        X[i, :, 1] = x1
-    return X
 
 
 # --------------------------------------------------------------------------------------------
