@@ -80,6 +80,11 @@ def _weighted(w: tuple[np.ndarray, np.ndarray], left: np.ndarray, right: np.ndar
     return out.reshape(w[0].shape[0], a, b)
 
 
+def _times(a: np.ndarray, z: np.ndarray) -> np.ndarray:
+    """``a[f] @ z`` for a stack ``a`` (nf, i, r) and one symmetric ``z`` (r, r), as one GEMM."""
+    return (a.reshape(-1, a.shape[-1]) @ z).reshape(a.shape[:-1] + (z.shape[1],))
+
+
 def _weighted_gram(w: tuple[np.ndarray, np.ndarray], u: np.ndarray) -> np.ndarray:
     """``U^T diag(w[f]) U`` for every f (nf, r, r), symmetric: the upper triangle by GEMMs."""
     r = u.shape[1]
@@ -132,10 +137,9 @@ def woodbury(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) -> np
     w_split = (np.ascontiguousarray(w.real), np.ascontiguousarray(w.imag))
     yfull = _uncoupled(plant, s, basis, near, w, w_split, left, right, outs, rhs)
     if r:
-        g1 = _weighted(w_split, left, u)                                 # L_F D_F^-1 U_F
         g2 = _weighted(w_split, u.T, right)                              # U_F^T D_F^-1 P_F
         g3 = _weighted_gram(w_split, u)                                  # U_F^T D_F^-1 U_F
-        g3z = s[:, None, None] * (g3 @ zc) + (1j * (g3 @ zh) if hyst else 0.0)
+        g3z = s[:, None, None] * _times(g3, zc) + (1j * _times(g3, zh) if hyst else 0.0)
         eye = np.eye(r)
         for run in np.array_split(np.arange(nf), max(1, nf // CHUNK)):
             # one batched LU per chunk of frequencies, its near sets padded to the longest
@@ -147,7 +151,7 @@ def woodbury(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) -> np
             un = np.where(slot[:, :, None], u[nn], 0.0)                  # (nr, q, r)
             big = np.zeros((run.size, q + r, q + r), complex)
             big[:, np.arange(q), np.arange(q)] = np.where(slot, np.take_along_axis(d[run], nn, axis=1), 1.0)
-            big[:, :q, q:] = s[run, None, None] * (un @ zc) + (1j * (un @ zh) if hyst else 0.0)
+            big[:, :q, q:] = s[run, None, None] * _times(un, zc) + (1j * _times(un, zh) if hyst else 0.0)
             big[:, q:, :q] = -un.transpose(0, 2, 1)
             big[:, q:, q:] = eye + g3z[run]
             rb = np.zeros((run.size, q + r, mm), complex)
@@ -159,8 +163,11 @@ def woodbury(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) -> np
                 bad[run] = True
                 continue
             y = sol[:, q:]
-            zy = s[run, None, None] * (zc @ y) + (1j * (zh @ y) if hyst else 0.0)
-            yfull[run] -= g1[run] @ zy
+            yt = np.ascontiguousarray(y.transpose(0, 2, 1))                  # (nr, M, r): Z y = (y^T Z)^T
+            zy = (s[run, None, None] * _times(yt, zc) + (1j * _times(yt, zh) if hyst else 0.0)).transpose(0, 2, 1)
+            # - L_F D_F^-1 U_F Z y, through the chunk's (k, nr M) modal forces (no (nf, P, r) sums)
+            uz = (u @ zy.transpose(1, 0, 2).reshape(r, -1)).reshape(k, run.size, mm) * w[run].T[:, :, None]
+            yfull[run] -= (left @ uz.reshape(k, -1)).reshape(-1, run.size, mm).transpose(1, 0, 2)
             if q:
                 ln = np.where(slot[:, None, :], left[:, nn].transpose(1, 0, 2), 0.0)   # (nr, P, q)
                 yfull[run] += ln @ sol[:, :q]
@@ -197,14 +204,16 @@ def _uncoupled(plant: Plant, s: np.ndarray, basis: ModalBasis, near: np.ndarray,
     scale = np.linalg.norm(left, axis=0) * np.linalg.norm(right, axis=1)
     cost = np.abs(w) @ scale
     forms = []                  # (constant (P, M), its factor per frequency, weights)
-    if not basis.rigid.any():
-        try:
-            st = np.hstack([elastic_static(plant, rb) for _, rb, _ in rhs])
-            inv2 = 1.0 / basis.omega2
-            forms.append((np.vstack([oa @ st for _, oa in outs]), np.ones(s.size),
-                          np.where(near, -inv2[None, :], -(s**2)[:, None] * w * inv2[None, :])))
-        except (np.linalg.LinAlgError, ValueError, RuntimeError):
-            pass
+    rigid = bool(basis.rigid.any())
+    try:                        # no static part with rigid modes (K singular)
+        if rigid:
+            raise ValueError("rigid modes")
+        st = np.hstack([elastic_static(plant, rb) for _, rb, _ in rhs])
+        inv2 = 1.0 / basis.omega2
+        forms.append((np.vstack([oa @ st for _, oa in outs]), np.ones(s.size),
+                      np.where(near, -inv2[None, :], -(s**2)[:, None] * w * inv2[None, :])))
+    except (np.linalg.LinAlgError, ValueError, RuntimeError):
+        pass
     try:
         ms = np.hstack([mass_solve(plant, rb) for _, rb, _ in rhs])
         inv_s2 = 1.0 / s**2
@@ -213,6 +222,9 @@ def _uncoupled(plant: Plant, s: np.ndarray, basis: ModalBasis, near: np.ndarray,
     except (np.linalg.LinAlgError, ValueError, RuntimeError):
         pass
     costs = [cost] + [np.abs(wf) @ scale + np.abs(fac) * np.linalg.norm(c0) for c0, fac, wf in forms]
+    if rigid and forms:         # the mass form not below the elastic modes: there the rigid modes' 1 / s^2
+        low = basis.omega[~basis.rigid].min(initial=np.inf)      # cancel in it (hanging chain: 1.9e-8
+        costs[-1] = np.where(np.abs(s) > low, costs[-1], np.inf)  # at 0.3 omega_1, chosen by the cost)
     pick = np.argmin(np.stack(costs), axis=0)
     for which, (c0, fac, wf) in enumerate(forms, start=1):
         rows = pick == which
