@@ -205,15 +205,14 @@ def _uncoupled(plant: Plant, s: np.ndarray, basis: ModalBasis, near: np.ndarray,
     cost = np.abs(w) @ scale
     forms = []                  # (constant (P, M), its factor per frequency, weights)
     rigid = bool(basis.rigid.any())
-    try:                        # no static part with rigid modes (K singular)
-        if rigid:
-            raise ValueError("rigid modes")
-        st = np.hstack([elastic_static(plant, rb) for _, rb, _ in rhs])
-        inv2 = 1.0 / basis.omega2
-        forms.append((np.vstack([oa @ st for _, oa in outs]), np.ones(s.size),
-                      np.where(near, -inv2[None, :], -(s**2)[:, None] * w * inv2[None, :])))
-    except (np.linalg.LinAlgError, ValueError, RuntimeError):
-        pass
+    if not rigid:               # no static part with rigid modes (K singular)
+        try:
+            st = np.hstack([elastic_static(plant, rb) for _, rb, _ in rhs])
+            inv2 = 1.0 / basis.omega2
+            forms.append((np.vstack([oa @ st for _, oa in outs]), np.ones(s.size),
+                          np.where(near, -inv2[None, :], -(s**2)[:, None] * w * inv2[None, :])))
+        except (np.linalg.LinAlgError, ValueError, RuntimeError):
+            pass
     try:
         ms = np.hstack([mass_solve(plant, rb) for _, rb, _ in rhs])
         inv_s2 = 1.0 / s**2
