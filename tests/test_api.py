@@ -22,7 +22,7 @@ LAYERS = [
     {"linear.complex_modes", "linear.banded", "linear.signals", "linear.solve", "linear.backends",
      "linear.projection", "statics", "time.integrators", "time.phi", "time.recursion", "diagnostics"},
     {"linear", "modal"},
-    {"frequency.kernels", "time.kernels", "studies"},
+    {"frequency.kernels", "frequency.lowrank", "frequency.terms", "time.kernels", "studies"},
     {"frequency", "time", "reduction", "design", "shock", "orders", "random", "control"},
     {"plotting", "report"},
     {"commands", "cli", "__main__"},

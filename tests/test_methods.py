@@ -77,7 +77,7 @@ def test_every_frequency_method_matches_direct(plant, reference, name) -> None:
 
 def test_frequency_registry_facts_are_consistent() -> None:
     assert {n for n, m in FREQ.items() if m.exact} == {"direct", "sparse"}
-    assert {n for n, m in FREQ.items() if m.needs_basis} == {"modal", "complex_modal"}
+    assert {n for n, m in FREQ.items() if m.needs_basis} == {"modal", "complex_modal", "woodbury"}
     for m in FREQ.values():
         assert m.fallback is None or FREQ[m.fallback].exact
 

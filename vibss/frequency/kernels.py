@@ -14,6 +14,10 @@ with ``O(s) = Oq + i Oh + s Ov + s^2 Oa``, ``P(s) = Pz + i Ph + s Pv + s^2 Pa`` 
   ``Phi^T H Phi`` diagonal). Rigid-body modes are exact (omega = 0 double integrators).
 - ``complex_modal``: eigen-decomposition of the well-scaled first-order modal form
   ``[[0, S], [-(Omega^2 + i Phi^T H Phi) S^-1, -Phi^T C Phi]]`` (general viscous damping).
+- ``woodbury``: undamped modes with the damping as a low-rank update ``U Z(s) U^T`` (U the modes'
+  deflections at the damped mounts), a bordered solve of the dampers and the near-resonant modes per
+  frequency (:mod:`vibss.frequency.lowrank`); any damping, no damped eigenproblem, cheap when few
+  mounts carry damping.
 - ``sparse``: the direct solve on the sparse structure, per frequency: a banded LU after a reverse
   Cuthill-McKee ordering (chains and other locally connected layouts), else SuperLU
   (:mod:`vibss.banded`). Exact like ``direct``; any damping.
@@ -37,12 +41,14 @@ import numpy as np
 from ..linear.complex_modes import complex_modes
 from ..errors import AnalysisError
 from ..linear.plant import Plant
-from ..linear.eigen import ModalBasis, damping_coupling, modal_basis, stiffness_solver, symmetric_eigen
+from ..linear.eigen import ModalBasis, damping_coupling, modal_basis, symmetric_eigen
 from ..linear.projection import projected_damping
-from ..linear.solve import MOUNTS_RATIO, response, states, zero_frequency_limit, zfactor
+from ..linear.solve import response, zero_frequency_limit, zfactor
 from ..methods import Method, callable_name
+from .lowrank import woodbury
+from .terms import feedthrough as _feedthrough, mass_solve as _mass_solve, static as _static, terms as _terms
 
-__all__ = ["METHODS", "FrequencyMethod", "custom_method", "direct", "modal", "complex_modal", "sparse", "via_statespace", "classical_damping",
+__all__ = ["METHODS", "FrequencyMethod", "custom_method", "direct", "modal", "complex_modal", "woodbury", "sparse", "via_statespace", "classical_damping",
            "complex_mode_risk", "project_damping", "COMPLEX_MODE_RISK",
            "zero_frequency_limit"]
 
@@ -53,28 +59,6 @@ _Factors = tuple[np.ndarray, ...]
 """A matrix given as the product of its factors, ``(A, B, ...)`` for ``A @ B @ ...``."""
 _RightFactors = tuple[np.ndarray | Callable[[np.ndarray], np.ndarray], ...]
 """The same for right factors, where a callable ``f`` stands for the linear map ``x -> f(x)``."""
-
-
-def _terms(plant: Plant) -> tuple[list, list, np.ndarray]:
-    """Output terms [(power of s, (p, n))] and right-hand-side terms [(power, (n, m), scaled by Z)]."""
-    oh = plant.Oh if plant.Oh is not None else 0.0
-    out = [(0, plant.Oq + 1j * oh if np.any(oh) else plant.Oq), (1, plant.Ov), (2, plant.Oa)]
-    hz = plant.Hz
-    rhs = [(0, plant.F, False), (0, -(plant.Kz + 1j * hz) if np.any(hz) else -plant.Kz, True),
-           (1, -plant.Cz, True), (2, -plant.Mz, True)]
-    out = [(k, a) for k, a in out if np.any(a)]
-    rhs = [(k, a, z) for k, a, z in rhs if np.any(a)]
-    return out, rhs, plant.order
-
-
-def _feedthrough(plant: Plant, s: np.ndarray, zf: np.ndarray) -> np.ndarray:
-    """(nf, p, m) ``P(s) Z(s) + Pf``."""
-    ph = plant.Ph if plant.Ph is not None else 0.0
-    if not (np.any(plant.Pz) or np.any(ph) or np.any(plant.Pv) or np.any(plant.Pa) or np.any(plant.Pf)):
-        return np.zeros((s.size, len(plant.outputs), len(plant.inputs)))   # force inputs, motion outputs
-    p0 = plant.Pz + 1j * ph
-    y = (p0[None] + s[:, None, None] * plant.Pv[None] + (s**2)[:, None, None] * plant.Pa[None])
-    return y * zf[:, None, :] + plant.Pf[None]
 
 
 def direct(plant: Plant, s: np.ndarray) -> np.ndarray:
@@ -103,32 +87,6 @@ def _times_right(blocks: list[_RightFactors], r: np.ndarray) -> np.ndarray:
     """``[R1; R2; ...] @ r`` with each block a tuple of factors, multiplied from the right."""
     parts = [reduce(lambda acc, f: f(acc) if callable(f) else f @ acc, block[::-1], r) for block in blocks]
     return parts[0] if len(parts) == 1 else np.vstack(parts)
-
-
-def _static(plant: Plant, rb: np.ndarray) -> np.ndarray:
-    """``(K + iH)^-1 rb``: the static part of the mode-acceleration form.
-
-    Solved in the mounts' forces (:func:`vibss.linear.solve.states` at ``s = 0``) when the plant's
-    stiffness ratio exceeds :data:`~vibss.linear.solve.MOUNTS_RATIO`: the assembled ``K`` carries
-    round-off of its stiffest mounts, which a Cholesky of it hands on to the soft modes (graded
-    chain: 5.5e-5 relative error by the Cholesky of ``K``, 1.4e-14 in the mounts' forces). Else the
-    plant's cached Cholesky of ``K``.
-    """
-    form = plant.mounts
-    if form is not None and form.stiffness_ratio > MOUNTS_RATIO and form.matches(plant):
-        x, bad = states(plant, np.zeros(1, complex), rhs=np.asarray(rb), form="mounts")
-        if bad[0]:
-            raise np.linalg.LinAlgError("K is singular")
-        return x[0] if np.any(plant.H) else x[0].real
-    if np.any(plant.H):
-        return stiffness_solver(plant.K + 1j * plant.H)(rb)
-    return plant.cached("solve K", lambda: stiffness_solver(plant.K))(rb)
-
-
-def _mass_solve(plant: Plant, rb: np.ndarray) -> np.ndarray:
-    """``M^-1 rb``: the high-frequency part of the mass-residual form (``sum_k phi_k phi_k^T = M^-1``)."""
-    mass = plant.M.toarray() if hasattr(plant.M, "toarray") else np.asarray(plant.M)
-    return plant.cached("solve M", lambda: stiffness_solver(mass))(rb)
 
 
 def _superpose(plant: Plant, s: np.ndarray, left: list[_Factors],
@@ -455,6 +413,8 @@ METHODS: dict[str, FrequencyMethod] = {m.name: m for m in (
                     summary="undamped modal superposition (classical damping only)"),
     FrequencyMethod("complex_modal", complex_modal, needs_basis=True, fallback="sparse",
                     summary="complex modes of the scaled modal first-order form (any damping)"),
+    FrequencyMethod("woodbury", woodbury, needs_basis=True,
+                    summary="undamped modes + the dampers as a low-rank update, bordered solve per frequency (any damping)"),
     FrequencyMethod("sparse", _sparse, exact=True, sparse_ok=True, internal_states=True,
                     summary="banded or SuperLU complex solve per frequency"),
     FrequencyMethod("statespace", _statespace, internal_states=True,

@@ -13,14 +13,15 @@ from typing import Any
 
 import numpy as np
 
-from ..linear.banded import structure
+from ..linear.banded import seconds_floor, structure
 from ..linear.eigen import ModalBasis
 from ..linear.plant import Plant
+from ..linear.projection import damping_factors
 from ..methods import resolve
 from .kernels import (COMPLEX_MODE_RISK, METHODS, FrequencyMethod, classical_damping, complex_mode_risk,
                       custom_method, project_damping)
 
-__all__ = ["METHODS", "FrequencyMethod", "resolve_method", "choose"]
+__all__ = ["METHODS", "FrequencyMethod", "resolve_method", "choose", "estimates"]
 
 
 def resolve_method(method: Any, where: str = "frequency_response") -> FrequencyMethod | None:
@@ -49,16 +50,59 @@ def resolve_method(method: Any, where: str = "frequency_response") -> FrequencyM
 
 _K_EIG = 4.6e-10     # [s] per N^3 of the complex-mode eig (N = 2n states)
 _K_SUPERPOSE = 4e-10  # [s] per frequency x mode x channel of the superposition
+_K_GEMM = 4e-10       # [s] per frequency x mode x column of woodbury's weighted sums
+_K_BORDER = 2e-9      # [s] per frequency x (r + 2)^3 of woodbury's bordered LU
+_NEAR_GUESS = 2       # near-resonant modes solved with the dampers per frequency, for the estimate
+
+
+def estimates(plant: Plant, nf: int, basis: ModalBasis, rank: int, risky: bool) -> dict[str, float]:
+    """``auto``'s cost model: estimated seconds of each modal method for a non-classical plant.
+
+    Counts the inputs ``m``, outputs ``p``, frequencies ``nf``, modes ``n`` and the damper rank ``r``
+    (:func:`vibss.linear.projection.damping_factors`):
+
+    - ``woodbury``: ``nf n (p m + r (p + m) + r^2 / 2)`` weighted-sum GEMM work plus ``nf (r + 2)^3``
+      for the bordered LUs;
+    - ``complex_modal``: ``(2n)^3`` for the ``eig`` plus ``nf 2n p m`` for the superposition (left out
+      when ``risky``: its pole errors are not damped, :func:`complex_mode_risk`).
+
+    The sparse solve's cost (its band, :func:`vibss.linear.banded.structure`) is added by
+    :func:`choose` only when it could win. Constants measured by benchmarks/bench_frf.py.
+
+    Parameters
+    ----------
+    plant : Plant
+    nf : int
+        Number of frequencies.
+    basis : ModalBasis
+        Undamped modes.
+    rank : int
+        Columns of the damping factor ``U`` (3 per damped mount plus the rest's DOFs).
+    risky : bool
+        Complex modes could lose accuracy (left out).
+
+    Returns
+    -------
+    dict of str to float
+        Estimated seconds by method name.
+    """
+    n, p, m, r = basis.phi.shape[1], len(plant.outputs), len(plant.inputs), rank
+    out = {"woodbury": _K_GEMM * nf * n * (p * m + r * (p + m) + r * r / 2)
+           + _K_BORDER * nf * (r + _NEAR_GUESS) ** 3}
+    if not risky:
+        out["complex_modal"] = _K_EIG * (2 * n) ** 3 + _K_SUPERPOSE * nf * 2 * n * p * m
+    return out
 
 
 def choose(plant: Plant, nf: int, basis: ModalBasis | None) -> tuple[str, str]:
-    """``auto``'s choice of a :data:`METHODS` name, and why; the cost estimates use constants
-    measured by benchmarks/bench_frf.py.
+    """``auto``'s choice of a :data:`METHODS` name, and why.
 
-    The undamped modes are computed anyway (grid, natural frequencies), so classical damping
-    takes the modal superposition. General damping takes the cheaper of the complex modes (one
-    ``eig`` of the 2n-state matrix) and the sparse direct solve (one banded or sparse LU per
-    frequency).
+    One obvious method is taken without a cost model: the sparse solve for a sparse plant or an
+    undamped one, the exact solve with internal states for frequency-dependent mounts, the dense
+    solve for a small model, the modal superposition for classical damping. General damping is
+    costed (:func:`estimates`): the low-rank update of the undamped modes (``woodbury``), the
+    complex modes (one ``eig`` of the 2n-state matrix) and, only where it could win, the sparse
+    direct solve (one banded or sparse LU per frequency, by the model's band width).
 
     Parameters
     ----------
@@ -88,18 +132,23 @@ def choose(plant: Plant, nf: int, basis: ModalBasis | None) -> tuple[str, str]:
     ok, why = classical_damping(plant, basis, projected)
     if ok:
         return "modal", f"{why}: modal superposition is the fastest"
-    st = plant.cached("band structure", lambda: structure(plant))
     risk = complex_mode_risk(basis, projected)
-    if risk > COMPLEX_MODE_RISK:
-        what = ("a mode has no damping, so eig's pole error is not damped at its resonance"
-                if np.isinf(risk) else f"eig's pole error relative to the slowest decay rate ~{risk:.1g}")
-        return "sparse", f"{why}: sparse direct solve; complex modes could lose accuracy ({what})"
-    t_sparse = nf * st.seconds_per_frequency
-    n2 = 2 * plant.n
-    t_complex = _K_EIG * n2**3 + _K_SUPERPOSE * nf * n2 * len(plant.inputs) * len(plant.outputs)
-    how = f"banded LU, half-bandwidth {st.band}" if st.banded else "SuperLU"
-    if t_sparse <= t_complex:
-        return "sparse", (f"{why}: sparse direct solve per frequency ({how}), estimated {t_sparse:.2g} s "
-                          f"against {t_complex:.2g} s for complex modes")
-    return "complex_modal", (f"{why}: complex-mode superposition, estimated {t_complex:.2g} s against "
-                             f"{t_sparse:.2g} s for the sparse direct solve ({how})")
+    risky = risk > COMPLEX_MODE_RISK
+    rank = damping_factors(plant, basis)[0].shape[1]
+    cost = estimates(plant, nf, basis, rank, risky)
+    best = min(cost, key=cost.__getitem__)
+    how = ""
+    if cost[best] > nf * seconds_floor(plant.n):        # the sparse solve could win: cost its band
+        st = plant.cached("band structure", lambda: structure(plant))
+        cost["sparse"] = nf * st.seconds_per_frequency
+        how = f" ({'banded LU, half-bandwidth ' + str(st.band) if st.banded else 'SuperLU'})"
+        best = min(cost, key=cost.__getitem__)
+    others = ", ".join(f"{k}{how if k == 'sparse' else ''} {v:.2g} s" for k, v in cost.items() if k != best)
+    note = ""
+    if risky:
+        note = ("; complex modes left out, they could lose accuracy (" + ("a mode has no damping, so eig's pole error is not damped at its "
+                "resonance" if np.isinf(risk) else f"eig's pole error relative to the slowest decay rate ~{risk:.1g}") + ")")
+    what = {"woodbury": f"undamped modes + damper rank {rank} as a low-rank update",
+            "complex_modal": "complex-mode superposition",
+            "sparse": f"sparse direct solve per frequency{how}"}[best]
+    return best, f"{why}: {best} ({what}), estimated {cost[best]:.2g} s against {others or 'nothing else'}{note}"

@@ -24,7 +24,7 @@ from scipy.sparse.csgraph import reverse_cuthill_mckee
 from .branches import groups
 from .plant import Plant
 
-__all__ = ["Structure", "structure", "BAND_MAX"]
+__all__ = ["Structure", "structure", "BAND_MAX", "seconds_floor"]
 
 BAND_MAX = 48
 """Largest half-bandwidth solved as a band; wider patterns go to SuperLU."""
@@ -80,6 +80,13 @@ def _gb_layout(a: sp.spmatrix, perm: np.ndarray, band: int) -> np.ndarray:
     out = np.zeros((2 * band + 1, a.shape[0]))
     out[band + q.row - q.col, q.col] = q.data
     return out
+
+
+def seconds_floor(n: int) -> float:
+    """The least one sparse solve of ``n`` DOFs can cost [s] (a half-bandwidth of 1), by the same
+    constants as :attr:`Structure.seconds_per_frequency`: a method cheaper than ``nf`` times this
+    needs no :func:`structure` to be chosen over the sparse solve."""
+    return _T_FREQ + _K_BAND * n
 
 
 def structure(plant: Plant) -> Structure:

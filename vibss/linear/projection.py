@@ -10,13 +10,16 @@ projection of the same plant's damping on the same :class:`~vibss.linear.eigen.M
 from __future__ import annotations
 
 from functools import partial
+from typing import Any
 
 import numpy as np
+import scipy.linalg as sl
+import scipy.sparse as sp
 
 from .eigen import ModalBasis, fast_matrix
 from .plant import Plant
 
-__all__ = ["projected_damping"]
+__all__ = ["projected_damping", "damping_factors"]
 
 
 def projected_damping(plant: Plant, basis: ModalBasis) -> tuple[np.ndarray, np.ndarray]:
@@ -65,3 +68,93 @@ def _project(plant: Plant, basis: ModalBasis) -> tuple[ModalBasis, tuple[np.ndar
         g.setflags(write=False)
         out.append(g)
     return basis, (out[0], out[1])
+
+
+def damping_factors(plant: Plant, basis: ModalBasis) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The damping as a low-rank product on the modes: ``Phi^T (C + i H / s) Phi = U (Zc + Zh / s) U^T``.
+
+    Dampers live in mounts: with the plant's :class:`~vibss.linear.plant.MountForm`, every mount
+    with a viscous or hysteretic part contributes the three columns ``Phi^T B_p^T`` of its
+    deflection map and its (3, 3) damping blocks, and the rest of ``C`` and ``H`` (mounts with a
+    zero stiffness axis, rotational parts, added damping) the rows of the DOFs it touches, with its
+    own block. Without a mount form the DOFs that ``C`` or ``H`` touch are used directly. No
+    factorisation is made (no rank is guessed): the product is exact.
+
+    Parameters
+    ----------
+    plant : Plant
+        Its ``C`` and ``H`` (dense or scipy.sparse), and ``mounts`` when it matches the plant.
+    basis : ModalBasis
+        Undamped modes of the plant (columns ``phi``, n x k).
+
+    Returns
+    -------
+    U : (k, r) ndarray
+        The modes' deflections at the dampers [m, rad per unit modal coordinate].
+    Zc : (r, r) ndarray
+        Viscous damping of those deflections [N s/m] (block diagonal, symmetric).
+    Zh : (r, r) ndarray
+        Hysteretic stiffness [N/m] (block diagonal, symmetric; zeros when absent).
+
+    Examples
+    --------
+    >>> from vibss import Body, Model, Mount, MountType
+    >>> from vibss.linear.eigen import modal_basis
+    >>> from vibss.linear.signals import build_plant
+    >>> t = MountType("t", [1e3] * 3, [8.0] * 3)
+    >>> m = Model([Body("b", 4.0, [1, 1, 1])], [Mount("m", t, "b"), Mount("n", MountType("u", [1e3] * 3), "b", at=[1, 0, 0])])
+    >>> p = build_plant(m, ["b.fz"], ["b.z"])
+    >>> u, zc, zh = damping_factors(p, modal_basis(p))
+    >>> u.shape, bool(np.allclose(u @ zc @ u.T, projected_damping(p, modal_basis(p))[0]))   # one damped mount
+    ((6, 3), True)
+    """
+    return plant.cached(f"damping factors {id(basis)}", partial(_factors, plant, basis))[1]
+
+
+def _dense(mat: Any) -> np.ndarray:
+    return mat.toarray() if sp.issparse(mat) else np.asarray(mat, dtype=float)
+
+
+def _touched(mats: list[Any], n: int) -> np.ndarray:
+    """Indices of the DOFs (rows) that any of ``mats`` touches."""
+    hit = np.zeros(n, bool)
+    for mat in mats:
+        if sp.issparse(mat):
+            coo = sp.coo_matrix(mat)
+            hit[coo.row[coo.data != 0]] = True
+        else:
+            hit |= np.any(np.asarray(mat) != 0, axis=1)
+    return np.flatnonzero(hit)
+
+
+def _factors(plant: Plant, basis: ModalBasis) -> tuple[ModalBasis, tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    phi = basis.phi
+    n = phi.shape[0]
+    form = plant.mounts
+    cols: list[np.ndarray] = []          # (k, r_i) blocks of U
+    zc: list[np.ndarray] = []
+    zh: list[np.ndarray] = []
+    if form is not None and form.matches(plant):
+        damped = np.flatnonzero(np.any(form.cp != 0, axis=(1, 2)) | np.any(form.hp != 0, axis=(1, 2)))
+        if damped.size:
+            rows = (3 * damped[:, None] + np.arange(3)).ravel()
+            cols.append(np.asarray(form.B[rows] @ phi).T)
+            zc.append(sl.block_diag(*form.cp[damped]))
+            zh.append(sl.block_diag(*form.hp[damped]))
+        rest = [form.C, form.H]
+    else:
+        rest = [plant.C, plant.H]
+    idx = _touched(rest, n)
+    if idx.size:
+        cols.append(phi[idx].T)
+        zc.append(_dense(rest[0])[np.ix_(idx, idx)])
+        zh.append(_dense(rest[1])[np.ix_(idx, idx)])
+    if not cols:
+        k = phi.shape[1]
+        out = (np.zeros((k, 0)), np.zeros((0, 0)), np.zeros((0, 0)))
+    else:
+        c, h = sl.block_diag(*zc), sl.block_diag(*zh)
+        out = (np.hstack(cols), 0.5 * (c + c.T), 0.5 * (h + h.T))
+    for a in out:
+        a.setflags(write=False)
+    return basis, out
