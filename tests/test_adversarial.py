@@ -362,6 +362,27 @@ def test_a_stiff_link_beside_a_single_axis_mount_is_solved_in_the_mounts_form() 
         assert np.abs(h - ref).max() <= 1e-8 * np.abs(ref).max(), method
 
 
+def test_a_nearly_free_rotation_at_0_hz_keeps_the_statics_digits() -> None:
+    """The mechanism of the long run's "static = FRF at 0 Hz" failure (3.8e-8 of a 1.45e6 m
+    deflection): three mounts nearly in line (lever arms of 1e-5 m beside 0.5 m), the model turned
+    so that the weak rotation is no coordinate axis. Its stiffness cancels in the assembled K's entries
+    (FRF at 0 Hz 1e-7 off 60 digits); statics, from the stiffness factor, keeps 1e-11."""
+    d = 1e-5
+    mounts = tuple((0, -1, at, (0.0, 0.0, 0.0), (1e5, 2e5, 3e5), (0.0, 0.0, 0.0), 0.0)
+                   for at in ((-0.5, 0.0, 0.0), (0.5, d, 0.0), (0.1, 0.0, d)))
+    spec = fuzzing.Spec(masses=(2.0,), spreads=((0.05, 0.1, 0.15),), axes=((0.3, 0.2, 0.1),), cogs=((0.0, 0.0, 0.0),),
+                        mounts=mounts)
+    model = fuzzing.build(spec, fuzzing.rotation(3), np.array([0.3, -0.7, 1.1]))
+    load = vibss.assemble(model).load_vector(include_gravity=True)
+    ref = fuzzing.mp_static(model, load)
+    scale = float(np.abs(ref).max())
+    assert np.abs(vibss.static(model).q - ref).max() <= 1e-8 * scale
+    inputs, outputs = _forces(model)
+    for method in ("direct", "sparse"):
+        h0 = vibss.frequency_response(model, inputs, outputs, frequencies=[0.0], method=method).response[:, :, 0]
+        assert np.abs(h0 @ load - ref).max() <= 1e-10 * scale, method
+
+
 def test_a_rotation_touching_the_mounts_at_round_off_is_flagged_rigid() -> None:
     """Found by the long run: the model of the test above has a rotation about an axis through both
     mounts up to 1e-15 m (the 60-digit w^2 is 1.5e-54 of 1.5e7); both norms of the per-mode rigid test
