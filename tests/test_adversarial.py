@@ -196,6 +196,7 @@ def run_cli(argv: list[str], seconds: int = 30) -> tuple[int, str]:
     return status, err.getvalue()
 
 
+@pytest.mark.filterwarnings("error::RuntimeWarning")     # an overflow warning is a second line: a bug
 def test_mutated_model_files_exit_0_2_or_3_in_one_line(tmp_path: Path) -> None:
     texts = {name: example_path(name).read_text() for name in vibss.example_names()}
     counts = {0: 0, 2: 0, 3: 0}
@@ -213,6 +214,18 @@ def test_mutated_model_files_exit_0_2_or_3_in_one_line(tmp_path: Path) -> None:
     print(f"\nfuzzed {sum(counts.values())} mutated files: exit 0: {counts[0]}, exit 2: {counts[2]}, "
           f"exit 3: {counts[3]}; no traceback, no hang, no other status, no input changed")
     assert counts[2] > 0 and counts[0] > 0                 # the mutations reach both outcomes
+
+
+@pytest.mark.filterwarnings("error::RuntimeWarning")
+def test_a_huge_direction_is_normalised_not_overflowed() -> None:
+    """Found by the long run (platform example, sensor ``direction = [1e308, 1, 0]``): the norm
+    overflowed to inf with a RuntimeWarning and the direction became ``[0, 0, 0]``."""
+    from vibss.model.actuation import Sensor
+
+    s = Sensor("v", "velocity", body="b", direction=[1e308, 1.0, 0.0])
+    assert s.direction.tolist() == [1.0, 1e-308, 0.0]
+    e = vibss.Excitation("e", "force", "b", vibss.Step(1.0), direction=[3e-300, 0.0, -4e-300])
+    np.testing.assert_allclose(e.direction, [0.6, 0.0, -0.8], rtol=1e-15)
 
 
 # -- threads and pickling ------------------------------------------------------------------------------
