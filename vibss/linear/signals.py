@@ -642,29 +642,7 @@ def mount_form(asm: Assembly, free: np.ndarray, source: tuple, extra_c: Any = No
     return MountForm(B=b[idx], kp=asm.kp[apart], cp=asm.cp[apart], hp=asm.hp[apart],
                      K=sp.csr_matrix(assembled(asm.kp) + rotational(asm.krp)), C=sp.csr_matrix(c_rest),
                      H=assembled(asm.hp), source=source,
-                     stiffness_ratio=np.inf if _free_motion(asm, free) else
-                     float(lam[apart].max() / _softest(lam[rows > 0])))
-
-
-FREE_MOTION_CHECK_MAX = 150
-"""Plants up to this many free DOFs are checked for free motions when their mounts' form is built."""
-
-
-def _free_motion(asm: Assembly, free: np.ndarray) -> bool:
-    """Whether the mounts leave a motion unrestrained (the stiffness factor rank deficient), checked
-    up to :data:`FREE_MOTION_CHECK_MAX` free DOFs.
-
-    Then nothing but inertia (``m w^2``) holds that motion, and the assembled K's round-off of its
-    stiffest mounts swamps it at low frequencies: a 13 g body with no stiffness to ground, linked by
-    8e13 N/m to a free 4.6 t body, lost 1.6e-3 of its FRF at 1.9 Hz in the assembled form (issue 18's
-    long run); the mounts' form keeps it. A model with a free motion is solved in the mounts' form."""
-    if free.size == 0 or free.size > FREE_MOTION_CHECK_MAX:
-        return False
-    g = asm.stiffness_factor()[:, free].toarray()
-    if g.shape[0] < g.shape[1]:
-        return True
-    sv = np.linalg.svd(g, compute_uv=False)
-    return bool(sv[-1] <= g.shape[0] * np.finfo(float).eps * sv[0])
+                     stiffness_ratio=float(lam[apart].max() / _softest(lam[rows > 0])))
 
 
 def _softest(lam: np.ndarray) -> float:
