@@ -12,8 +12,9 @@ damping, rigid modes); the reference is ``tests/mp_reference.py`` (60 digits) an
 Stated tolerances (the figures the long run is held to):
 
 - assembly: every entry of M, K, C, H within 1e-13 of the largest entry of the reference;
-- modes: elastic w^2 within 1e-8 (relative) of the 60-digit values; a reference rigid mode
-  (|w^2| < 1e-30 of the largest) within 1e-10 of the largest in vibss;
+- modes: elastic w^2 within 1e-8 (relative) of the 60-digit values; every reference rigid mode
+  (|w^2| < 1e-30 of the largest) flagged rigid (w^2 exactly 0), nothing flagged rigid whose
+  reference w^2 exceeds 1e-24 of the largest;
 - frame invariance (the model rotated and moved as a whole): the same within 1e-7 (relative);
 - time: ``simulate`` by modal superposition and by ``forced_response`` within 1e-8 of the largest output;
 - statics and FRF: within 1e-8 of the largest reference value (60 digits); reciprocity within 1e-8 (the
@@ -53,6 +54,12 @@ SETTINGS = settings(max_examples=fuzzing.MODELS, derandomize=True, deadline=None
 RIGID = 1e-30
 """A reference eigenvalue below this fraction of the largest is a rigid-body mode."""
 
+RIGID_FLAGGED = 1e-24
+"""vibss may call a mode rigid when its 60-digit w^2 is below this fraction of the largest (a
+frequency 1e-12 of the top: the round-off of lever arms computed from positions,
+``vibss.linear.eigen_checks.ROUNDOFF_LEVERS``); between this and :data:`RIGID` either answer is
+right."""
+
 
 def _split(w2: np.ndarray) -> tuple[np.ndarray, float]:
     top = max(float(np.abs(w2).max()), 1e-300)
@@ -86,9 +93,10 @@ def test_modes_match_60_digits(spec: fuzzing.Spec) -> None:
     ref = mp_reference.omega2(model)
     rigid, top = _split(ref)
     mine = md.omega ** 2
-    assert np.all(np.abs(mine[rigid]) <= 1e-10 * top)
-    assert np.all(np.abs(mine[~rigid] - ref[~rigid]) <= 1e-8 * ref[~rigid])
-    assert np.all(md.rigid <= rigid)                      # vibss calls nothing rigid that is not
+    assert np.all(md.rigid[rigid])                        # every rigid mode is flagged rigid ...
+    assert np.all(np.abs(ref[md.rigid]) <= RIGID_FLAGGED * top)    # ... and nothing elastic is
+    assert np.all(mine[md.rigid] == 0)
+    assert np.all(np.abs(mine[~md.rigid] - ref[~md.rigid]) <= 1e-8 * ref[~md.rigid])
     phi = md.shapes                                       # and its shapes are M-orthonormal
     M = fuzzing.reference_matrices(model)[0]
     np.testing.assert_allclose(phi.T @ M @ phi, np.eye(len(mine)), atol=1e-9)
@@ -189,6 +197,7 @@ def run_cli(argv: list[str], seconds: int = 30) -> tuple[int, str]:
     return status, err.getvalue()
 
 
+@pytest.mark.filterwarnings("error::RuntimeWarning")     # an overflow warning is a second line: a bug
 def test_mutated_model_files_exit_0_2_or_3_in_one_line(tmp_path: Path) -> None:
     texts = {name: example_path(name).read_text() for name in vibss.example_names()}
     counts = {0: 0, 2: 0, 3: 0}
@@ -206,6 +215,18 @@ def test_mutated_model_files_exit_0_2_or_3_in_one_line(tmp_path: Path) -> None:
     print(f"\nfuzzed {sum(counts.values())} mutated files: exit 0: {counts[0]}, exit 2: {counts[2]}, "
           f"exit 3: {counts[3]}; no traceback, no hang, no other status, no input changed")
     assert counts[2] > 0 and counts[0] > 0                 # the mutations reach both outcomes
+
+
+@pytest.mark.filterwarnings("error::RuntimeWarning")
+def test_a_huge_direction_is_normalised_not_overflowed() -> None:
+    """Found by the long run (platform example, sensor ``direction = [1e308, 1, 0]``): the norm
+    overflowed to inf with a RuntimeWarning and the direction became ``[0, 0, 0]``."""
+    from vibss.model.actuation import Sensor
+
+    s = Sensor("v", "velocity", body="b", direction=[1e308, 1.0, 0.0])
+    assert s.direction.tolist() == [1.0, 1e-308, 0.0]
+    e = vibss.Excitation("e", "force", "b", vibss.Step(1.0), direction=[3e-300, 0.0, -4e-300])
+    np.testing.assert_allclose(e.direction, [0.6, 0.0, -0.8], rtol=1e-15)
 
 
 # -- threads and pickling ------------------------------------------------------------------------------
@@ -246,6 +267,38 @@ def test_eight_threads_give_the_main_threads_answers(name: str) -> None:
             np.testing.assert_array_equal(g, ref)
 
 
+def test_time_runs_from_several_threads_leave_the_blas_threads_as_they_were() -> None:
+    """Found checking issue 18's ivp remark: the modal recursion and ``forced_response`` each
+    limited BLAS to one thread with ``threadpool_limits``, a process-wide setting restored to what
+    each call saw on entry. Two runs overlapping as A enters, B enters, A leaves, B leaves left the
+    process on one BLAS thread for good (seen after 8 threads of ``simulate``). That order, forced."""
+    from threadpoolctl import threadpool_info
+
+    from vibss.time.kernels import one_blas_thread
+
+    step = [threading.Event() for _ in range(3)]
+
+    def a() -> None:
+        with one_blas_thread():
+            step[0].set()
+            step[1].wait(10)
+        step[2].set()
+
+    def b() -> None:
+        step[0].wait(10)
+        with one_blas_thread():
+            step[1].set()
+            step[2].wait(10)
+
+    before = [i["num_threads"] for i in threadpool_info()]    # the environment's (2 cores: 2)
+    threads = [threading.Thread(target=a), threading.Thread(target=b)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join(30)
+    assert [i["num_threads"] for i in threadpool_info()] == before
+
+
 @SETTINGS
 @given(fuzzing.model_specs())
 def test_pickled_models_give_the_same_answers(spec: fuzzing.Spec) -> None:
@@ -283,16 +336,239 @@ def test_an_unflagged_zero_frequency_does_not_divide_by_zero() -> None:
     norms of the rigid test ~1e-13) came out of the Jacobi solver with w^2 = 0 but not flagged
     rigid, and the modal realization divided by its zero scale (forced_response: RuntimeWarning,
     inf). Mount 0's damping of 2.4e-302 N s/m is as hypothesis drew it."""
+    test_time_methods_agree.hypothesis.inner_test(_ROUND_OFF_ROTATION)      # type: ignore[attr-defined]
+
+
+_ROUND_OFF_ROTATION = fuzzing.Spec(
+    masses=(0.3241830965265331,), spreads=((0.9998594712341624, 0.01, 0.002560790487202888),),
+    axes=((-1.0742533474085465, -1.9451184006994062, 0.6180339887498949),),
+    cogs=((0.4122731339886847, 0.10337233851257799, -0.4039931497140613),),
+    mounts=((0, -1, (0.4122731339886857, 0.10337233851257799, -0.530919300878596), (0.5, -0.5, -0.28318975039989297),
+             (2152760.727902773, 2152760.727902773, 0.0), (2.395025809638697e-302, 3782.730464452283, 0.0), 0.0),
+            (0, -1, (0.4122731339886847, 0.10337233851257799, -0.4039931497140613), (1.0, 1.73, -5.07660693271757e-45),
+             (359.03901107354903, 2152760.727902773, 51912.202541547296),
+             (3.5903901107354904e-06, 2.7973662269365573e-224, 5.19122025415473e-11), 0.0)))
+
+
+@pytest.mark.parametrize("ground", [
+    (457652.3420089377, 0.0, 0.0),
+    pytest.param((0.0, 0.0, 0.0), marks=pytest.mark.xfail(strict=True, reason=(
+        "open (docs/robustness.md): with no stiffness to ground only inertia holds the 13 g body and "
+        "the assembled form loses 1.6e-3; the mounts' form keeps it (1.6e-16), but choosing it for "
+        "every model with a free motion lost the exact-singularity detection of undamped resonances "
+        "(tests/test_frequency.py::test_undamped_exactly_at_resonance_is_infinite_not_an_error)")))])
+def test_a_stiff_link_beside_a_single_axis_mount_is_solved_in_the_mounts_form(ground: tuple) -> None:
+    """Found by the long run: a 13 g body held by one single-axis 4.6e5 N/m mount, linked by
+    2e13 ... 8e13 N/m to a free 4.6 t body. The mount with zero axes is assembled with the rest, so the
+    stiffness ratio that chooses the mounts' form saw the link alone (3.7) and the assembled form
+    lost 4.7e-3 of the FRF (``direct``; 4.1e-3 ``sparse``) against 60 digits. With no stiffness to
+    ground at all (only inertia holds the 13 g body): 1.6e-3, still open."""
     spec = fuzzing.Spec(
-        masses=(0.3241830965265331,), spreads=((0.9998594712341624, 0.01, 0.002560790487202888),),
-        axes=((-1.0742533474085465, -1.9451184006994062, 0.6180339887498949),),
-        cogs=((0.4122731339886847, 0.10337233851257799, -0.4039931497140613),),
-        mounts=((0, -1, (0.4122731339886857, 0.10337233851257799, -0.530919300878596), (0.5, -0.5, -0.28318975039989297),
-                 (2152760.727902773, 2152760.727902773, 0.0), (2.395025809638697e-302, 3782.730464452283, 0.0), 0.0),
-                (0, -1, (0.4122731339886847, 0.10337233851257799, -0.4039931497140613), (1.0, 1.73, -5.07660693271757e-45),
-                 (359.03901107354903, 2152760.727902773, 51912.202541547296),
-                 (3.5903901107354904e-06, 2.7973662269365573e-224, 5.19122025415473e-11), 0.0)))
-    test_time_methods_agree.hypothesis.inner_test(spec)      # type: ignore[attr-defined]
+        masses=(0.01326724803150852, 4576.753184177788),
+        spreads=((0.9999999999999994, 0.005246995596342535, 0.03311344134944793), (0.02293242204900574, 0.2107556164974517, 0.1)),
+        axes=((-2.568673140654491, 0.8952350919654499, -1.1125369292536007e-308),
+              (-8.09449804378436e-211, -0.021832797059942344, -2.2250738585e-313)),
+        cogs=((0.42994173513624356, 0.3533068768252312, -0.9094202388947035),
+              (-7.435378542279869e-184, -2.152828192866674e-57, 0.17391179141299706)),
+        mounts=((0, -1, (0.43012427486401206, 0.6363400278296703, -0.9094202388947035),
+                 (-1.692192518845633, -1.8734109338444936e-76, -2.9246569313511417),
+                 ground, (0.0, 0.0, 0.0), 0.0),
+                (1, 0, (-1.9256192622707014e-75, 5.960464477539063e-08, 0.17391179141299706),
+                 (-0.3244883538096053, -1.8635406444868896, -2.731229785180112),
+                 (22548026857379.746, 63602496805000.164, 84137367843376.64), (0.0, 0.0, 0.0), 0.0)))
+    model = fuzzing.build(spec)
+    inputs, outputs = _forces(model)
+    ref = fuzzing.mp_frf(model, 1.9, [0])
+    for method in ("direct", "sparse"):
+        h = vibss.frequency_response(model, inputs[:1], outputs, frequencies=[1.9], method=method).response[:, :, 0]
+        assert np.abs(h - ref).max() <= 1e-8 * np.abs(ref).max(), method
+
+
+def test_a_nearly_free_rotation_at_0_hz_keeps_the_statics_digits() -> None:
+    """The mechanism of the long run's "static = FRF at 0 Hz" failure (3.8e-8 of a 1.45e6 m
+    deflection): three mounts nearly in line (lever arms of 1e-5 m beside 0.5 m), the model turned
+    so that the weak rotation is no coordinate axis. Its stiffness cancels in the assembled K's entries
+    (FRF at 0 Hz 1e-7 off 60 digits); statics, from the stiffness factor, keeps 1e-11."""
+    d = 1e-5
+    mounts = tuple((0, -1, at, (0.0, 0.0, 0.0), (1e5, 2e5, 3e5), (0.0, 0.0, 0.0), 0.0)
+                   for at in ((-0.5, 0.0, 0.0), (0.5, d, 0.0), (0.1, 0.0, d)))
+    spec = fuzzing.Spec(masses=(2.0,), spreads=((0.05, 0.1, 0.15),), axes=((0.3, 0.2, 0.1),), cogs=((0.0, 0.0, 0.0),),
+                        mounts=mounts)
+    model = fuzzing.build(spec, fuzzing.rotation(3), np.array([0.3, -0.7, 1.1]))
+    load = vibss.assemble(model).load_vector(include_gravity=True)
+    ref = fuzzing.mp_static(model, load)
+    scale = float(np.abs(ref).max())
+    assert np.abs(vibss.static(model).q - ref).max() <= 1e-8 * scale
+    inputs, outputs = _forces(model)
+    for method in ("direct", "sparse"):
+        h0 = vibss.frequency_response(model, inputs, outputs, frequencies=[0.0], method=method).response[:, :, 0]
+        assert np.abs(h0 @ load - ref).max() <= 1e-10 * scale, method
+
+
+def test_a_rotation_touching_the_mounts_at_round_off_is_flagged_rigid() -> None:
+    """Found by the long run: the model of the test above has a rotation about an axis through both
+    mounts up to 1e-15 m (the 60-digit w^2 is 1.5e-54 of 1.5e7); both norms of the per-mode rigid test
+    were round-off (1.3e-13 / 5.4e-12), so ``modes`` printed it as a 0 Hz elastic mode."""
+    model = fuzzing.build(_ROUND_OFF_ROTATION)
+    rigid, _ = _split(mp_reference.omega2(model))
+    assert rigid.tolist() == [True] + [False] * 5
+    md = vibss.modes(model)
+    assert md.rigid.tolist() == rigid.tolist()
+    assert "(rigid)" in str(md)                      # what `vibss modes` prints
+    test_modes_match_60_digits.hypothesis.inner_test(_ROUND_OFF_ROTATION)   # type: ignore[attr-defined]
+
+
+@pytest.mark.xfail(strict=True, reason="open (docs/robustness.md): a rigid mode whose computed shape touches "
+                   "the mounts only through round-off leakage is not flagged rigid")
+def test_every_rigid_mode_of_a_six_body_model_is_flagged() -> None:
+    """Found by the fourth long run: ten rigid modes in 60 digits (w^2 <= 8e-63 of the top; counted
+    once by ``mp_reference.omega2``, 30 s, too slow for every run); vibss flags nine."""
+    assert int(vibss.modes(fuzzing.build(_LEAKY_RIGID)).rigid.sum()) == 10
+
+
+_LEAKY_RIGID = fuzzing.Spec(masses=(1052.3841987328603,
+      1.0,
+      0.0025825456638842166,
+      1.0,
+      10000.0,
+      8.607543149099852),
+     spreads=((0.0012566852412061625,
+       0.10710676363028833,
+       0.009999769744141627),
+      (0.999997697417558, 0.1, 0.31622776601683794),
+      (0.0026933133913627115, 0.136466006032681, 0.0019404816858245059),
+      (0.11414950755026625, 0.03162277660168379, 0.7447145782842644),
+      (0.009699398579104719, 0.999997697417558, 1.0),
+      (0.0011404221202631411, 0.0019350488502505785, 0.0011207369369343875)),
+     axes=((-1.7213462273695335, 2.698910393349415, -5.960464477539063e-08),
+      (-1.1271622002034345, -1.9115648283953843, 1.332568730475625),
+      (-5.815859415049078e-149, -2.7958732597555804, -2.00001),
+      (1.8495005532014392, 1.6705640808809514, 0.0021084020653754365),
+      (3.0231541631102193e-259, 2.3960818440767824, -0.99999),
+      (-2.198944866028942, -1.426727235182307, -2.872686395495781)),
+     cogs=((0.99125865965599, -0.7046494126455252, -0.6477800135718694),
+      (2.5e-09, -0.30917962965246903, 1.1754943508222875e-38),
+      (5.8639411406472266e-74, -0.3006316890374253, -0.15022801521332263),
+      (-0.99999, 0.04167007060402228, 4.803643756496837e-265),
+      (0.024631229221059092, 1.0, -3.6225531982739525e-79),
+      (0.8068334087224058, 3.3725169011788884e-135, -0.6496081542925642)),
+     mounts=((0,
+       -1,
+       (float(0.99125865965599),
+        float(-0.7908504299636848),
+        float(-0.4110509180977898)),
+       (-2.3736741972259203, 0.7877585532407787, -0.8751074113038184),
+       (28068.65582379462, 137011.58865188077, 3930474.277104989),
+       (183.88670581359068, 1.9199412877258405e-40, 389.6678135316769),
+       0.05),
+      (0,
+       -1,
+       (float(0.99125865965599),
+        float(-1.0166051398407474),
+        float(-0.14778001357186943)),
+       (-0.9301072452586787, 3.7232142583389084e-73, 4.3677596820332945e-94),
+       (1284167.396108047, 26440.25633204104, 8958.865662106276),
+       (1.506973442932459e-290, 98.87238138651195, 15.293455328689586),
+       0.0),
+      (0,
+       -1,
+       (float(0.7641240673385066),
+        float(-0.942135082079439),
+        float(-0.4726003059364686)),
+       (2.4207446240971233, 1.3375996640490886, 2.546804096917585),
+       (313434.02658324095, 100.0, 407.5275299380837),
+       (1346.0955564345143, 0.5703898665472885, 3.249106448502269),
+       0.0),
+      (0,
+       -1,
+       (float(0.99125865965599),
+        float(-0.7046494126455252),
+        float(-0.17342025750857748)),
+       (-2.0, -1.638748137143467, -1.2079739404041153e-302),
+       (507105.13315669075, 0.0, 5350.157654427723),
+       (4789.388956081352, 0.0, 30.664461124787202),
+       0.0),
+      (1,
+       -1,
+       (float(0.34311423619997417),
+        float(-0.5463374227444866),
+        float(1.1754943508222875e-38)),
+       (2.297437904112, 1.1095970674638815, 2.5959722069454525),
+       (28068.65582379462, 993406.5616843296, 13590.090186223137),
+       (1.3868e-319, 0.11842329050236752, 52.76143739455885),
+       0.05),
+      (1,
+       -1,
+       (float(0.07715508871669176),
+        float(-0.03750363674144419),
+        float(0.5)),
+       (2.5e-09, 2.082052231972856, -2.2506758448651656),
+       (2548473.361139328, 1023278.9928157487, 2420.65983624291),
+       (5.67054145501025e-307, 9804.886304590183, 16.106148658145568),
+       0.05),
+      (1,
+       -1,
+       (float(0.5000000025),
+        float(-0.30917962965246903),
+        float(0.4464772568205615)),
+       (-1.401298464324817e-45, -1e-06, -0.3902360363623769),
+       (0.0, 100.0, 10.0 ** 2.00001),
+       (0.0, 1.192092896e-05, 0.7696569222808258),
+       0.0),
+      (1,
+       0,
+       (float(-0.2931202849937084),
+        float(-0.41900252446583175),
+        float(1.1754943508222875e-38)),
+       (1e-12, -1.8377511515170744, 2e-09),
+       (35426684200872.39, 1518152791304978.8, 28439657122719.58),
+       (0.0, 0.0, 0.0),
+       0.0),
+      (2,
+       -1,
+       (float(5.8639411406472266e-74),
+        float(-0.15694052701221617),
+        float(-0.15022801521332263)),
+       (0.545179800497106, -2.8994049213889834, 1.0),
+       (768.9582779248358, 3077614.1979879723, 1024.5488041237977),
+       (1.9223956948120893e-06, 12372.162499877302, 5.064e-321),
+       0.05),
+      (2,
+       0,
+       (float(5.8639411406472266e-74),
+        float(-0.3006316890374253),
+        float(-0.15022801521332263)),
+       (-0.17480562641481406, 0.4117660198344695, -0.19398713362886005),
+       (755888.7316845161, 755888.7316845161, 755888.7316845161),
+       (0.0, 0.0, 0.0),
+       0.0),
+      (3,
+       0,
+       (float(-0.99999),
+        float(0.04167007060402228),
+        float(4.803643756496837e-265)),
+       (0.009117579544226387, 6.103515625e-05, -0.2867610923317469),
+       (100.0, 0.552164209762593, 100.0),
+       (0.0, 0.0, 0.0),
+       0.0),
+      (4,
+       0,
+       (float(0.024631229221059092),
+        float(1.0),
+        float(-3.6225531982739525e-79)),
+       (2.0918851941080425, 0.001667101647519709, 1.6968993663939536e-104),
+       (100.0, 100.0, 100.0),
+       (0.0, 0.0, 0.0),
+       0.0),
+      (5,
+       0,
+       (float(0.8068334087224058),
+        float(3.3725169011788884e-135),
+        float(-0.6496081542925642)),
+       (0.0728270961941451, 2.9999999999999996, 5e-324),
+       (99.9650012683731, 100.0, 100.0),
+       (0.0, 0.0, 0.0),
+       0.0)))
 
 
 def test_a_denormal_stiffness_is_a_free_motion_not_a_1e164_m_answer():

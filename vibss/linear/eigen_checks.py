@@ -19,12 +19,21 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spl
 from scipy.sparse.csgraph import connected_components
 
-__all__ = ["rigid_mask", "error_estimate", "RIGID_RTOL", "fast_matrix", "stiffness_solver"]
+__all__ = ["rigid_mask", "error_estimate", "RIGID_RTOL", "ROUNDOFF_LEVERS", "fast_matrix", "stiffness_solver"]
 
 RIGID_RTOL = 1e-10
 """A mode is rigid when its stiffness cancels to round-off (see :func:`rigid_mask`):
 ``|G phi| <= RIGID_RTOL |G| |phi|`` with the stiffness factor G (``K = G^T G``), or
 ``phi^T K phi <= RIGID_RTOL^2 phi^T |K| phi``-like on K alone (the energy ratio is the square)."""
+
+ROUNDOFF_LEVERS = 10.0
+"""A mode whose ``||G phi||`` is below this many eps of :func:`_reach` (its motion times the
+largest lever arms of the mounts it touches) is rigid, whatever the per-mode ratio says: the lever
+arms are differences of positions and carry their round-off (eps |position|), so such a mode's
+stiffness is round-off of the model's own data. Found by issue 18's fuzzer: a rotation about an axis
+through every mount up to 1e-15 m (both norms of the ratio test ~1e-13) was printed as a 0 Hz elastic
+mode; the 60-digit reference has w^2 = 1.5e-54 there. An elastic mode has ``||G phi||`` above this
+unless its lever arms are below ~1e-14 of the mounts' own."""
 
 _BLOCK_MAX = 12
 """Largest diagonal block of M that :func:`generalized_eigh` factorises on its own."""
@@ -85,7 +94,7 @@ def rigid_mask(shapes: np.ndarray, K: Any = None, factor: Any = None, floor: flo
     """Which computed modes are rigid-body (zero-frequency) modes: the one test.
 
     A mode is rigid when its stiffness cancels to round-off: ``||X phi|| <= RIGID_RTOL ||X| |phi||
-    + floor`` with X the stiffness factor G (``K = G^T G``; preferred) or K itself. For a true null
+    + ROUNDOFF_LEVERS eps reach(X, phi) + floor`` (:func:`_reach`, :data:`ROUNDOFF_LEVERS`) with X the stiffness factor G (``K = G^T G``; preferred) or K itself. For a true null
     vector the left side is round-off (~1e-16 of the right); an elastic mode stores stiffness energy
     (a 0.005 Hz suspension mode beside 1e6 N/m links: ~1e-5; six isolation modes beside 1e16 N/m
     links, on the factor: ~1e-6). The test looks at each mode alone, so it does not depend on how
@@ -110,11 +119,30 @@ def rigid_mask(shapes: np.ndarray, K: Any = None, factor: Any = None, floor: flo
     """
     if factor is not None:
         _, num, den = _factor_norms(factor, shapes) if norms is None else norms
+        x: Any = _as_factor(factor)
     else:
-        k = sp.csr_matrix(K) if sp.issparse(K) else np.asarray(K, float)
-        num = np.linalg.norm(np.asarray(k @ shapes), axis=0)
-        den = np.linalg.norm(np.asarray(abs(k) @ np.abs(shapes)), axis=0)
-    return num <= RIGID_RTOL * den + floor
+        x = sp.csr_matrix(K) if sp.issparse(K) else np.asarray(K, float)
+        num = np.linalg.norm(np.asarray(x @ shapes), axis=0)
+        den = np.linalg.norm(np.asarray(abs(x) @ np.abs(shapes)), axis=0)
+    return num <= RIGID_RTOL * den + ROUNDOFF_LEVERS * np.finfo(float).eps * _reach(x, shapes) + floor
+
+
+def _reach(x: Any, shapes: np.ndarray) -> np.ndarray:
+    """Per mode, ``||rho||`` with ``rho_q = (sum_i |X_qi|) ||phi_(supp q)||``: what each row of X
+    (a mount axis) would see if the mode's largest motion among the DOFs that row touches went
+    through its largest lever arm. The scale of the round-off of ``X phi`` that lever arms computed
+    from positions leave (:data:`ROUNDOFF_LEVERS`)."""
+    if sp.issparse(x):
+        a = abs(sp.csr_matrix(x))
+        pattern = a.copy()
+        pattern.data[:] = 1.0
+        rows = np.asarray(a.sum(axis=1)).ravel()
+    else:
+        a = np.abs(np.asarray(x, float))
+        pattern = (a > 0).astype(float)
+        rows = a.sum(axis=1)
+    local = np.sqrt(np.asarray(pattern @ (shapes * shapes)))           # (r, k)
+    return np.linalg.norm(rows[:, None] * local, axis=0)
 
 
 def _trace_norm(M: Any, K: Any = None, factor: Any = None) -> float:

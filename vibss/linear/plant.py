@@ -88,7 +88,8 @@ class MountForm(ReadOnly):
         for a plant holding these very arrays (a plant derived with ``dataclasses.replace`` and
         new matrices falls back to them).
     stiffness_ratio : float
-        Largest over smallest principal stiffness of the mounts kept apart.
+        Largest principal stiffness of the mounts kept apart over the smallest nonzero principal
+        stiffness of any mount touching a free DOF (kept apart or assembled with the rest).
     """
 
     B: Any

@@ -24,6 +24,19 @@ DOF_NAMES = ("x", "y", "z", "rx", "ry", "rz")
 
 
 
+def unit_direction(d: np.ndarray) -> np.ndarray | None:
+    """``d / |d|`` (read-only), or None for a zero vector; scaled by its largest entry first, so a
+    direction of ``[1e308, 1, 0]`` is ``[1, 1e-308, 0]``, not an overflow to ``[0, 0, 0]`` (issue 18's
+    fuzzer: a sensor direction became the zero vector with an overflow warning)."""
+    big = float(np.abs(d).max()) if d.size else 0.0
+    if not big > 0:
+        return None
+    d = np.asarray(d, float) / big
+    out = d / float(np.linalg.norm(d))
+    out.setflags(write=False)
+    return out
+
+
 def _freeze(a: np.ndarray) -> np.ndarray:
     a.setflags(write=False)
     return a

@@ -32,7 +32,7 @@ import numpy as np
 
 from .._validate import is_numeric
 from ..errors import ModelError
-from ._common import GROUND, _frame, _signal_safe, _vec
+from ._common import GROUND, _frame, _signal_safe, _vec, unit_direction
 
 __all__ = ["Actuator", "Sensor", "SENSOR_KINDS", "ACTUATOR_KINDS"]
 
@@ -64,11 +64,9 @@ def _direction(value: Any, who: str) -> np.ndarray | None:
     if value is None:
         return None
     d = _vec(value, 3, who, "direction")
-    norm = float(np.linalg.norm(d))
-    if not norm > 0:
+    out = unit_direction(d)
+    if out is None:
         raise ModelError(f"{who}: direction must be a nonzero vector, got {d.tolist()}")
-    out = d / norm
-    out.setflags(write=False)
     return out
 
 

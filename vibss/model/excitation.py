@@ -31,6 +31,7 @@ import numpy.typing as npt
 
 from .._validate import choice, read_regular_file, regular_file, vector
 from ..errors import ModelError, did_you_mean
+from ._common import unit_direction
 from .model import DOF_NAMES, GROUND
 from ..linear.plant import INPUT_KINDS
 from .timefunctions import (FUNCTIONS, HalfSine, Haversine, Ramp, Rectangular, Sawtooth, Sine,
@@ -368,12 +369,9 @@ class Excitation:
         if self.dof is not None:
             choice(self.dof, "dof", DOF_NAMES, who=who, expected=f"one of {list(DOF_NAMES)}")
         if self.direction is not None:
-            d = _vector3(self.direction, who, "direction")
-            norm = float(np.linalg.norm(d))
-            if norm == 0.0:
+            d = unit_direction(_vector3(self.direction, who, "direction"))
+            if d is None:
                 raise ModelError(f"{who}: direction: must not be the zero vector")
-            d = d / norm
-            d.setflags(write=False)
             object.__setattr__(self, "direction", d)
         if self.frame not in ("body", "global"):
             raise ModelError(f"{who}: frame: expected 'body' or 'global', got {self.frame!r}")

@@ -27,7 +27,10 @@ left-hand limit at the last sample).
 from __future__ import annotations
 
 from collections.abc import Callable
+import contextlib
 import dataclasses
+import threading
+from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Any, cast
 
@@ -52,6 +55,35 @@ DEGREE = {"force": 1, "displacement": 1, "velocity": 2, "acceleration": 3}
 
 CHUNK = 1024
 """Time steps per chunk of the modal recursion (the states of one chunk are kept, then mapped)."""
+
+_BLAS_LOCK = threading.Lock()
+_blas_users = 0
+_blas_limiter: Any = None
+
+
+@contextlib.contextmanager
+def one_blas_thread() -> Iterator[None]:
+    """BLAS on one thread for the many small products of a time run, safe from several threads.
+
+    ``threadpoolctl.threadpool_limits`` changes a process-wide setting and restores what it saw on
+    entry: two threads entering and leaving in turn left the process on one BLAS thread for good
+    (issue 18: 8 threads of ``simulate`` once, and every later analysis in the process ran
+    single-threaded). Here the first user sets the limit and the last one restores it. While any
+    time run holds it, BLAS runs on one thread in every thread of the process.
+    """
+    global _blas_users, _blas_limiter
+    with _BLAS_LOCK:
+        if _blas_users == 0:
+            _blas_limiter = threadpool_limits(1)
+        _blas_users += 1
+    try:
+        yield
+    finally:
+        with _BLAS_LOCK:
+            _blas_users -= 1
+            if _blas_users == 0:
+                _blas_limiter.restore_original_limits()
+                _blas_limiter = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -490,7 +522,7 @@ def run_modal(prep: Prepared, grid: Grid, kin: Kinematics, rows: np.ndarray,
            for w, amp in kin.osc]
     jumps = np.flatnonzero(np.any(kin.jump != 0, axis=1))
     nh = len(grid.steps)
-    with threadpool_limits(1):
+    with one_blas_thread():
         for ms in sets:
             E, gam = foh_blocks(ms.A, grid.steps, degree)
             nb, b = ms.A.shape[0], ms.A.shape[1]
@@ -661,7 +693,7 @@ def run_forced_response(prep: Prepared, t: np.ndarray, u: np.ndarray, kin: Kinem
             x0[2 * n:2 * n + plant.branches.r] = plant.branches.B @ q0   # fluid-track rates (last) at rest
         post = 0.0
         note = "python-control forced_response of vibss.statespace (modal realization), FOH of the samples"
-    with threadpool_limits(1):
+    with one_blas_thread():
         res = control.forced_response(sys, timepts=t, inputs=u.T, initial_state=x0)
     y = np.asarray(res.outputs).reshape(len(plant.outputs), -1).T
     return y + post, note
