@@ -375,10 +375,13 @@ def soft_z_model(eps: float) -> Model:
     """One body on four mounts 0.2 m below its COG; every mount's vertical stiffness times ``eps``.
 
     Then z and the rocking about the mounts' plane (x with ry, y with rx) are nearly free, while
-    every diagonal entry of K stays large: equilibration cannot remove the ill-conditioning.
+    every diagonal entry of K stays large: equilibration cannot remove the ill-conditioning. The
+    rates are 1e11 N/m and up so that the softest, 2e11 eps at eps = 1e-14, stays inside the
+    plausible range vibss accepts (1e-6 N/m and up); static errors are relative, so the scale does
+    not change them.
     """
     body = Body("b", 50.0, [2.0, 3.0, 4.0])
-    mounts = [Mount(f"m{i}", MountType(f"t{i}", [1e5, 1.2e5, 2e5 * eps]), "b", at=p)
+    mounts = [Mount(f"m{i}", MountType(f"t{i}", [1e11, 1.2e11, 2e11 * eps]), "b", at=p)
               for i, p in enumerate([[0.4, 0.3, -0.2], [-0.4, 0.3, -0.2], [0.4, -0.3, -0.2], [-0.4, -0.3, -0.2]])]
     return Model([body], mounts)
 
