@@ -30,6 +30,7 @@ from ..errors import ModelError
 from ..results import ReadOnly
 from ..model.geometry import point_transfer
 from ..model.model import DOF_NAMES, GROUND, Model
+from .eigen import symmetric_eigen
 
 __all__ = ["Assembly", "assemble", "SPARSE_THRESHOLD", "dof_labels"]
 
@@ -273,7 +274,7 @@ class Assembly(ReadOnly):
             mount = self.model.mounts[p]
             k6 = mount.type.local_matrix("stiffness")
             d = np.sqrt(np.where(np.diag(k6) > 0, np.diag(k6), 1.0))
-            lam, v = np.linalg.eigh(k6 / np.outer(d, d))   # scaled: translation and rotation units differ
+            lam, v = symmetric_eigen(k6 / np.outer(d, d))   # scaled: translation and rotation units differ
             if lam.min() < -1e-10 * max(1.0, lam.max()):
                 raise ModelError(f"mount {mount.name!r}: its stiffness_matrix is indefinite (scaled eigenvalues "
                                  f"{np.round(lam, 6).tolist()}); K = G^T G needs it positive semi-definite")
