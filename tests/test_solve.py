@@ -270,3 +270,31 @@ def test_every_frf_method_meets_the_reference(method: str, name: str) -> None:
     except AnalysisError as exc:           # a method that refuses says why; refusing is not exact
         pytest.fail(f"{method} refused {name}: {exc}")
     assert _error(h, refs) <= TOL
+
+
+def test_an_undamped_banded_solve_runs_in_real_arithmetic(monkeypatch):
+    """Issue 17 item 4: K - w^2 M of an undamped model under forces is real, so the banded LU
+    runs as dgbsv (a quarter of zgbsv's flops; 12,000 DOF, 200 frequencies: 6.5 s -> 3.1 s). Its
+    answer against the dense direct solve (an independent LU), on a chain whose band is narrow."""
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    from models import chain_model
+
+    import vibss
+
+    calls = []
+    real = backends._banded_real
+    monkeypatch.setattr(backends, "_banded_real", lambda *a: calls.append(1) or real(*a))
+    model = chain_model(30, damping="none", seed=3)
+    f = np.linspace(1.0, 50.0, 40)
+    io = (["b0.fz", "b7.mx"], ["b0.z", "b1.z", "b2.rx"])
+    a = vibss.frequency_response(model, *io, frequencies=f, method="sparse").response
+    assert calls, "the real banded path was not taken"
+    b = vibss.frequency_response(model, *io, frequencies=f, method="direct").response
+    assert np.abs(a - b).max() <= 1e-10 * np.abs(b).max()
+    damped = chain_model(30, damping="general", seed=3)    # a damper: the complex path, as before
+    calls.clear()
+    vibss.frequency_response(damped, *io, frequencies=f, method="sparse")
+    assert not calls

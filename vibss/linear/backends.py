@@ -24,7 +24,7 @@ import numpy as np
 import scipy.linalg as sl
 import scipy.sparse as sp
 import scipy.sparse.linalg as spl
-from scipy.linalg.lapack import zgbsv
+from scipy.linalg.lapack import dgbsv, zgbsv
 
 from .banded import structure
 from .branches import groups
@@ -80,6 +80,9 @@ def _banded(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray]) -> 
     x = np.zeros(r_all.shape, dtype=complex)
     bad = np.zeros(s.size, dtype=bool)
     shape = (3 * band + 1, plant.n)
+    if (not relax and "C" not in parts and "H" not in parts and not np.any(s.real)
+            and not np.any(r_all.imag if np.iscomplexobj(r_all) else 0.0)):
+        return _banded_real(parts["K"], parts["M"], band, perm, inv, shape, s, r_all, fixed)
     for i, sk in enumerate(s):
         s2 = sk * sk
         ab = np.empty(shape, dtype=complex, order="F")
@@ -100,6 +103,29 @@ def _banded(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray]) -> 
             im += gk.imag * parts[key]
         b = fixed.copy(order="F") if fixed is not None else np.asfortranarray(r_all[i][perm])
         _, _, xi, info = zgbsv(band, band, ab, b, overwrite_ab=1, overwrite_b=1)
+        if info > 0:
+            bad[i] = True
+        else:
+            x[i] = xi[inv]
+    return x, bad
+
+
+def _banded_real(k: np.ndarray, m: np.ndarray, band: int, perm: np.ndarray, inv: np.ndarray,
+                 shape: tuple[int, int], s: np.ndarray, r_all: np.ndarray,
+                 fixed: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
+    """The same banded LU in real arithmetic (``dgbsv``): an undamped model on the imaginary axis
+    has the real matrix ``K - w^2 M`` and, under forces, a real right-hand side. The same pivots and
+    digits as ``zgbsv`` on it, at a quarter of the flops."""
+    x = np.zeros(r_all.shape, dtype=complex)
+    bad = np.zeros(s.size, dtype=bool)
+    fixed_re = None if fixed is None else np.asfortranarray(fixed.real)
+    for i, sk in enumerate(s):
+        ab = np.empty(shape, dtype=float, order="F")
+        ab[:band] = 0.0                                 # LAPACK's room for the pivoting fill
+        np.multiply(m, (sk * sk).real, out=ab[band:])
+        ab[band:] += k
+        b = fixed_re.copy(order="F") if fixed_re is not None else np.asfortranarray(r_all[i][perm].real)
+        _, _, xi, info = dgbsv(band, band, ab, b, overwrite_ab=1, overwrite_b=1)
         if info > 0:
             bad[i] = True
         else:
