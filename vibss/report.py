@@ -249,24 +249,25 @@ def _describe(o: Any) -> str:
 
 
 def _static_tables(r: StaticResult) -> tuple[Table, ...]:
+    under = f" under load case {r.case!r}" if r.case else (" under the unnamed loads" if r.model.load_cases else "")
     rows = []
     for b in r.model.bodies:
         d, c = r.body(b.name), r.centre_of_rotation(b.name)
         rows.append([b.name] + [f"{1e3 * v:.4f}" for v in d]
                     + ["pure translation" if c is None else "(" + ", ".join(number_text(v) for v in c) + ")"])
     out = [Table(["body", "x [mm]", "y [mm]", "z [mm]", "rx [mrad]", "ry [mrad]", "rz [mrad]",
-                  "centre of rotation [m]"], rows, title="Bodies (COG)")]
+                  "centre of rotation [m]"], rows, title="Bodies (COG)" + under)]
     if r.model.control_points:
         out.append(Table(["point", "x [mm]", "y [mm]", "z [mm]"],
                          [[k] + [f"{1e3 * v:.4f}" for v in x] for k, x in r.control_points.items()],
-                         title="Control points"))
+                         title="Control points" + under))
     if r.model.mounts:
         out.append(Table(["mount", "joins", "dx [mm]", "dy [mm]", "dz [mm]", "d1 [mm]", "d2 [mm]", "d3 [mm]",
                           "Fx [N]", "Fy [N]", "Fz [N]"],
                          [[m.name, f"{m.body}->{m.support or m.to}"] + [f"{1e3 * v:.4f}" for v in r.mount_deflection[p]]
                           + [f"{1e3 * v:.4f}" for v in r.mount_deflection_local[p]]
                           + [f"{v:.2f}" for v in r.mount_force[p]] for p, m in enumerate(r.model.mounts)],
-                         title="Mounts (deflection = body side minus other side; force into the other side)"))
+                         title="Mounts" + under + " (deflection = body side minus other side; force into the other side)"))
         if r.mount_moment is not None:
             out.append(r.moment_table())
     return tuple(out)
