@@ -367,3 +367,22 @@ def test_static_settlement_of_one_support_follows_the_lever_rule():
     np.testing.assert_allclose(split.q, rigid.q, rtol=1e-12, atol=1e-17)
     with pytest.raises(ModelError, match=r"unknown L DOF 'L.w'"):
         vibss.static(_pair(True), prescribed={"L.w": 0.1})
+
+
+def test_static_reaction_splits_per_support_by_the_lever_rule():
+    """Under gravity each end of the bar carries its lever-rule share of the weight (the pitch
+    stiffness of the mounts is zero, so the two vertical springs are statically determinate)."""
+    w = M_BAR * 9.81
+    r = vibss.static(_bar().replace(gravity=[0.0, 0.0, -9.81]))
+    reactions = r.reactions
+    assert list(reactions) == ["ground", "A", "B"]
+    np.testing.assert_allclose(reactions["A"][2], -w * XB / (XB - XA), rtol=1e-12)
+    np.testing.assert_allclose(reactions["B"][2], w * XA / (XB - XA), rtol=1e-12)
+    np.testing.assert_allclose(reactions["ground"], 0.0, atol=0.0)
+    # each support's moment about the origin is its force times its arm
+    np.testing.assert_allclose(reactions["A"][4], -XA * reactions["A"][2], rtol=1e-12)
+    np.testing.assert_allclose(r.reaction, sum(reactions.values()), rtol=0, atol=1e-12 * w)
+    np.testing.assert_allclose(r.reaction[:3], [0.0, 0.0, -w], atol=1e-9 * w)
+    assert "Reaction per support" in r.report()
+    assert set(r.to_dict()["reactions"]) == {"ground", "A", "B"}
+    assert "reactions" not in vibss.static(_pair(False)).to_dict()

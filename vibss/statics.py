@@ -171,15 +171,24 @@ class StaticResult(Result):
 
     @property
     def reaction(self) -> np.ndarray:
-        """(6,) total force [N] and moment about the global origin [N m] into ground."""
-        out = np.zeros(6)
+        """(6,) total force [N] and moment about the global origin [N m] into ground, every support
+        included (in statics a support is fixed ground); :attr:`reactions` splits it per support."""
+        return np.sum(list(self.reactions.values()), axis=0) if self.model.mounts else np.zeros(6)
+
+    @property
+    def reactions(self) -> dict[str, np.ndarray]:
+        """(6,) force [N] and moment about the global origin [N m] into the rigid ``"ground"`` and
+        into each named support, keyed by name (``"ground"`` first, then the supports in model
+        order); a support no mount stands on gets zeros."""
+        out = {GROUND: np.zeros(6)} | {s: np.zeros(6) for s in self.model.support_names}
         for p, m in enumerate(self.model.mounts):
             if m.to == GROUND:
                 f = self.mount_force[p]
-                out[:3] += f
-                out[3:] += np.cross(self.model.mount_point(m), f)
+                r = out[m.support or GROUND]
+                r[:3] += f
+                r[3:] += np.cross(self.model.mount_point(m), f)
                 if self.mount_moment is not None:
-                    out[3:] += self.mount_moment[p]
+                    r[3:] += self.mount_moment[p]
         return out
 
     def to_dict(self) -> dict[str, Any]:
@@ -201,6 +210,7 @@ class StaticResult(Result):
                   for p, m in enumerate(self.model.mounts)]
         return jsonable({"model": self.model.name, "case": self.case, "bodies": bodies, "mounts": mounts,
                          "control_points": self.control_points, "reaction": self.reaction,
+                         **({"reactions": self.reactions} if self.model.support_names else {}),
                          "free_motions": self.free_motions, "method": self.method, "note": self.note})
 
     def summary(self) -> Table:
@@ -240,7 +250,7 @@ class StaticResult(Result):
         if self.model.mounts:
             rows = []
             for p, m in enumerate(self.model.mounts):
-                rows.append([m.name, f"{m.body}->{m.to}"]
+                rows.append([m.name, f"{m.body}->{m.support or m.to}"]
                             + [f"{1e3 * v:.4f}" for v in self.mount_deflection[p]]
                             + [f"{1e3 * v:.4f}" for v in self.mount_deflection_local[p]]
                             + [f"{v:.2f}" for v in self.mount_force[p]])
@@ -253,6 +263,10 @@ class StaticResult(Result):
         r = self.reaction
         parts.append("Total reaction into ground: F = (" + ", ".join(number_text(v, ".2f") for v in r[:3])
                      + ") N, M about origin = (" + ", ".join(number_text(v, ".2f") for v in r[3:]) + ") N m")
+        if self.model.support_names:
+            rows = [[k] + [number_text(v, ".2f") for v in x] for k, x in self.reactions.items()]
+            parts.append(Table(["into", "Fx [N]", "Fy [N]", "Fz [N]", "Mx [N m]", "My [N m]", "Mz [N m]"], rows,
+                               title="Reaction per support (moments about the global origin)").render())
         if self.free_motions:
             parts.append("Unrestrained (not loaded, deflection set to zero): " + "; ".join(self.free_motions))
         if "not applied" in self.note:
@@ -261,7 +275,7 @@ class StaticResult(Result):
 
     def moment_table(self) -> Table:
         """Relative rotations [mrad] and moments [N m] of the 6x6 mounts (global axes)."""
-        rows = [[m.name, f"{m.body}->{m.to}"] + [f"{1e3 * v:.4f}" for v in self.mount_rotation[p]]
+        rows = [[m.name, f"{m.body}->{m.support or m.to}"] + [f"{1e3 * v:.4f}" for v in self.mount_rotation[p]]
                 + [f"{v:.3f}" for v in self.mount_moment[p]]
                 for p, m in enumerate(self.model.mounts) if m.type.rotational] \
             if self.mount_moment is not None and self.mount_rotation is not None else []
