@@ -181,10 +181,13 @@ class Drawing:
         axes limits are final.
     ground : bool or None
         Draw the ground symbols; default: with the undeformed state only.
+    outline : str or None
+        One colour for every body's outline and centre of gravity (the model drawing, where red,
+        green and blue mean a mount's local axes); default: each body's own colour.
     """
 
     def __init__(self, ax: Axes, view: str, scene: Scene, moved: Moved, deformed: bool,
-                 labels: bool = False, ground: bool | None = None) -> None:
+                 labels: bool = False, ground: bool | None = None, outline: str | None = None) -> None:
         self.p = _Painter(ax, view)
         self.view = view
         self.scene = scene
@@ -194,7 +197,7 @@ class Drawing:
         self.boxes: list[Any] = []
         self.cogs: list[Any] = []
         for i, c in enumerate(moved.corners):
-            style = ({"color": body_colour(i), "lw": 1.6} if deformed else UNDEFORMED)
+            style = ({"color": outline or body_colour(i), "lw": 1.6} if deformed else UNDEFORMED)
             self.boxes.append(self.p.line(self._edges(c), **style))
             self.cogs.append(self.p.line(moved.cogs[i], marker="o", ms=4 if deformed else 3, ls="none",
                                          color=style["color"]))

@@ -17,6 +17,9 @@ __all__ = ["plot_model", "AXIS_COLOURS"]
 AXIS_COLOURS = ("tab:red", "tab:green", "tab:blue")
 """Colours of a mount's local axes 1, 2, 3."""
 
+OUTLINE = "0.15"
+"""Colour of the body outlines in the model drawing: no body colour may read as a mount axis."""
+
 
 def _axes_arrows(ax: Axes, view: str, scene: Scene, length: float) -> None:
     """Short arrows along each mount's local axes 1, 2, 3."""
@@ -80,7 +83,8 @@ def plot_model(model: Model, view: str = "iso", labels: bool = True,
     drawings: list[Drawing] = []
     for j, v in enumerate(views):
         ax = add_view_axes(fig, grid[0, j], v)
-        drawings.append(Drawing(ax, v, scene, rest, deformed=True, labels=labels, ground=True))
+        drawings.append(Drawing(ax, v, scene, rest, deformed=True, labels=labels, ground=True,
+                                outline=OUTLINE))
         _axes_arrows(ax, v, scene, length)
         tips = [scene.mount_points[k] + length * m.orientation.matrix.T
                 for k, m in enumerate(model.mounts)]
@@ -89,7 +93,7 @@ def plot_model(model: Model, view: str = "iso", labels: bool = True,
     fig.suptitle(f"Model {model.name!r}: {len(model.bodies)} bod{'y' if len(model.bodies) == 1 else 'ies'}, "
                  f"{len(model.mounts)} mounts", fontsize=11)
     handles = legend_handles(deformed=False, control_points=bool(model.control_points))[1:]
-    handles = [Line2D([], [], color="C0", lw=1.6, label="body outline")] + handles
+    handles = [Line2D([], [], color=OUTLINE, lw=1.6, label="body outline")] + handles
     handles += [Line2D([], [], color=c, lw=1.5, label=f"mount axis {j + 1}") for j, c in enumerate(AXIS_COLOURS)]
     # a single panel is half as wide: two legend rows instead of one clipped row
     fig.legend(handles=handles, loc="outside lower center", ncols=min(len(handles), 7 if len(views) > 1 else 4),
