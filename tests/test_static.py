@@ -108,7 +108,9 @@ def test_load_cases_are_alternatives_not_a_sum(prism):
     plain = static(m)       # no case asked for: the unnamed loads alone, the cases named in the note
     np.testing.assert_allclose(plain.body("prism")[:3], [0.0, 0.0, -1000.0 / 12e4], atol=1e-15)
     assert "'idle', 'full' not applied" in plain.note and "'full' not applied" in plain.report()
+    assert plain.cases_left_out == ("idle", "full")
     r = static(m, case="full")
+    assert r.cases_left_out == () and "not applied" not in r.report()
     # closed form per direction: 4 mounts, kx = 1e4, ky = 2e4, kz = 3e4 N/m
     np.testing.assert_allclose(r.body("prism")[:3], [0.0, 400.0 / 8e4, -1000.0 / 12e4], atol=1e-15)
     assert r.case == "full" and r.to_dict()["case"] == "full"

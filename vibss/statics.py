@@ -114,7 +114,9 @@ class StaticResult(Result):
     method : str
         How K q = F was solved.
     note : str
-        Why (and what was left out: unrestrained motions).
+        Why (and what was left out: unrestrained motions, named load cases not applied).
+    cases_left_out : tuple of str
+        The model's named load cases this solve did not apply (named cases are opt-in).
     """
 
     signal_kind: ClassVar[str] = "DOF"
@@ -132,6 +134,7 @@ class StaticResult(Result):
     case: str = ""
     method: str = "direct"
     note: str = ""
+    cases_left_out: tuple[str, ...] = field(default=())
 
     @property
     def output_labels(self) -> tuple[str, ...]:
@@ -269,8 +272,8 @@ class StaticResult(Result):
                                title="Reaction per support (moments about the global origin)").render())
         if self.free_motions:
             parts.append("Unrestrained (not loaded, deflection set to zero): " + "; ".join(self.free_motions))
-        if "not applied" in self.note:
-            parts.append("Note: " + self.note.rsplit("; ", 1)[-1])
+        if self.cases_left_out:
+            parts.append("Note: " + _left_out_text(self.cases_left_out))
         return "\n\n".join(parts)
 
     def moment_table(self) -> Table:
@@ -351,10 +354,15 @@ def static(model: Model | Assembly, loads: np.ndarray | None = None, *,
         return _solved(a, _vector(loads, n, "loads"), prescribed, case)
     r = _solved(a, a.load_vector(include_gravity=gravity, case="" if case is None else case), prescribed, case)
     if case is None and cases:          # named cases are opt-in: say which were left out
-        left = (f"load case{'s' if len(cases) > 1 else ''} {', '.join(map(repr, cases))} not applied "
-                "(named cases are opt-in: static(..., case=NAME), --case NAME)")
-        r = replace(r, note="; ".join(x for x in (r.note, left) if x))
+        r = replace(r, note="; ".join(x for x in (r.note, _left_out_text(tuple(cases))) if x),
+                    cases_left_out=tuple(cases))
     return r
+
+
+def _left_out_text(cases: tuple[str, ...]) -> str:
+    """The sentence naming the load cases a solve did not apply."""
+    return (f"load case{'s' if len(cases) > 1 else ''} {', '.join(map(repr, cases))} not applied "
+            "(named cases are opt-in: static(..., case=NAME), --case NAME)")
 
 
 SELF_WEIGHT = "self-weight"
