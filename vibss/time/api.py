@@ -200,12 +200,7 @@ class TimeResponse(Result):
         """Outputs whose peak is below ``rel`` times the largest peak of their unit (rad counted
         with m, rad/s^2 with m/s^2: rotations of a body of about 1 m): channels the model's symmetry
         leaves at zero, up to rounding (1e-17 m beside a 0.7 m stroke)."""
-        pk = self.peaks()
-        family = [u.replace("rad", "m") for u in pk.units]
-        largest: dict[str, float] = {}
-        for u, v in zip(family, pk.value):
-            largest[u] = max(largest.get(u, 0.0), abs(float(v)))
-        return tuple(n for n, u, v in zip(pk.outputs, family, pk.value) if not abs(v) > rel * largest[u])
+        return _negligible(self.peaks(), rel)
 
     def report(self) -> str:
         """Text table: peak value and its time, and RMS, per output (channels left at zero by the
@@ -216,7 +211,7 @@ class TimeResponse(Result):
                  + (f", {self.time[0]:g} .. {self.time[-1]:g} s" if self.time.size else ""),
                  f"method: {self.method} ({self.note})", "",
                  f"{'output':<{width}}  {'peak':>13}  {'at [s]':>10}  {'RMS':>12}  unit"]
-        quiet = set(self.negligible())
+        quiet = set(_negligible(pk))
         for n, u, v, t, r in zip(self.output_names, self.units, pk.value, pk.time, pk.rms):
             if n not in quiet:
                 lines.append(f"{n:<{width}}  {v:>13.5e}  {t:>10.5f}  {r:>12.5e}  {u}")
@@ -228,7 +223,7 @@ class TimeResponse(Result):
     def summary(self) -> Table:
         """Peak value, its time and RMS of every output but the :meth:`negligible` ones."""
         pk = self.peaks()
-        quiet = set(self.negligible())
+        quiet = set(_negligible(pk))
         rows = [[n, f"{v:.5e}", f"{t:.5f}", f"{r:.5e}", u]
                 for n, u, v, t, r in zip(self.output_names, self.units, pk.value, pk.time, pk.rms) if n not in quiet]
         return Table(["output", "peak", "at [s]", "RMS", "unit"], rows, title=f"method {self.method}"
@@ -616,3 +611,12 @@ def _select_outputs(plant: Plant, outputs: Sequence[str]) -> Plant:
             raise ModelError(f"simulate: outputs: {o!r} is not an output of the plant; outputs are "
                              f"{list(plant.outputs)}")
     return plant.select(outputs=list(outputs))
+
+
+def _negligible(pk: PeakTable, rel: float = 1e-9) -> tuple[str, ...]:
+    """:meth:`TimeResponse.negligible` from a peak table already computed."""
+    family = [u.replace("rad", "m") for u in pk.units]
+    largest: dict[str, float] = {}
+    for u, v in zip(family, pk.value):
+        largest[u] = max(largest.get(u, 0.0), abs(float(v)))
+    return tuple(n for n, u, v in zip(pk.outputs, family, pk.value) if not abs(v) > rel * largest[u])
