@@ -13,6 +13,13 @@ path, best of two calls), ``frequency_response(method="auto")`` through the publ
 fresh plant each call, so its choice, the modal basis and every cache count) and each candidate
 kernel once on a fresh plant (``modal``, ``complex_modal``, ``woodbury``, ``sparse``). Error: max
 over frequencies of ||H - H_ref||_F / ||H_ref||_F against ``direct``. The worst topology is named.
+
+With general damping two *floors* are timed as well, in the same run: what any exact method of each
+family must pay at the least, whatever its implementation: ``scipy.linalg.eig`` (right vectors only)
+of the dense 2n-state matrix, for complex-mode superposition; and a bare ``scipy.sparse.linalg.splu``
+loop of K - w^2 M + i w C with the 6 input columns, for a sparse solve per frequency (no output
+product counted). ``best_possible`` = control's time over the smaller floor: the largest speed-up
+either family can reach on that model.
 Written to ``benchmarks/results/frf_topology.json``. Run:
 ``python benchmarks/bench_frf_topology.py [--quick] [classical] [general] [dampers]`` (quick: 200
 frequencies, no repeats; the dampings named, default all).
@@ -27,6 +34,9 @@ from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
+import scipy.linalg as sl
+import scipy.sparse as sp
+import scipy.sparse.linalg as spl
 from threadpoolctl import threadpool_limits
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
@@ -84,7 +94,29 @@ def case(kind: str, damping: str, n_bodies: int, n_freq: int, repeat: int) -> di
             res[f"{name}_s"] = time.perf_counter() - t
             res[f"{name}_error"] = _err(h, href)
             res[f"{name}_speedup"] = res["control_s"] / res[f"{name}_s"]
+        if damping == "general":
+            res.update(floors(plant, omega))
+            res["best_possible"] = res["control_s"] / min(res["eig_floor_s"], res["splu_floor_s"])
     return res
+
+
+def floors(plant, omega: np.ndarray) -> dict:
+    """Seconds of the two floors (module docstring): dense eig of the state matrix, splu loop."""
+    n = plant.n
+    M, C, K = (np.asarray(x.toarray() if sp.issparse(x) else x, dtype=float) for x in (plant.M, plant.C, plant.K))
+    a = np.zeros((2 * n, 2 * n))
+    a[:n, n:] = np.eye(n)
+    a[n:, :n] = -np.linalg.solve(M, K)
+    a[n:, n:] = -np.linalg.solve(M, C)
+    t = time.perf_counter()
+    sl.eig(a, right=True, left=False, check_finite=False, overwrite_a=True)
+    t_eig = time.perf_counter() - t
+    Ms, Cs, Ks = (sp.csc_matrix(x) for x in (M, C, K))
+    rhs = np.asarray(plant.F, dtype=complex)
+    t = time.perf_counter()
+    for w in omega:
+        spl.splu((Ks - w * w * Ms + 1j * w * Cs).tocsc()).solve(rhs)
+    return {"eig_floor_s": t_eig, "splu_floor_s": time.perf_counter() - t}
 
 
 def run(n_bodies: int = 100, n_freq: int = 1000, repeat: int = 2,
@@ -102,6 +134,10 @@ def run(n_bodies: int = 100, n_freq: int = 1000, repeat: int = 2,
             print(f"{damping:9s} {kind:5s} n={res['n_dof']} r={res['damper_rank']}: control {res['control_s']:.2f} s "
                   f"(err {res['control_error']:.1e}); auto -> {res['auto_method']} {res['auto_s']:.3f} s "
                   f"= {res['auto_speedup']:.1f}x (err {res['auto_error']:.1e}); {fast}", flush=True)
+            if "best_possible" in res:
+                print(f"          floors: eig of the {2 * res['n_dof']}-state matrix {res['eig_floor_s']:.2f} s, "
+                      f"splu loop {res['splu_floor_s']:.2f} s: at most {res['best_possible']:.1f}x control "
+                      f"for either family", flush=True)
         worst = min(rows, key=lambda x: x["auto_speedup"])
         print(f"  {damping}: auto at least {worst['auto_speedup']:.1f}x control on every topology "
               f"(worst: {worst['kind']}), worst error {max(x['auto_error'] for x in rows):.1e}", flush=True)
