@@ -1,4 +1,4 @@
-"""The ``woodbury`` frequency kernel: undamped modes plus the dampers as a low-rank update.
+"""The ``woodbury`` frequency kernel: undamped modes plus the dampers and mount branches as a low-rank update.
 
 In the undamped modes (``Phi^T M Phi = I``, ``Phi^T K Phi = Omega^2``) the dynamic stiffness is
 
@@ -6,8 +6,12 @@ In the undamped modes (``Phi^T M Phi = I``, ``Phi^T K Phi = Omega^2``) the dynam
 
 where ``U`` (k x r) holds the modes' deflections at the dampers and ``Zc``, ``Zh`` their viscous and
 hysteretic blocks (:func:`vibss.linear.projection.damping_factors`): the damping of any model,
-classical or not, has rank ``r <= 3 x`` (damped mounts). With ``y = U^T x`` the damper
-deflections, ``A x = P`` is the bordered system
+classical or not, has rank ``r <= 3 x`` (damped mounts). Classical damping (``Phi^T C Phi`` and
+``Phi^T H Phi`` diagonal) stays in ``D(s) = Omega^2 + s Gamma + i Eta + s^2`` instead. The Maxwell
+branches of frequency-dependent mounts (:mod:`vibss.linear.branches`) join ``U`` with their
+deflections ``Phi^T B_i^T`` and ``Z_ii(s) = k_i g_i(s)``, ``g_i = P_i / (1 + P_i)``,
+``P_i = mu_i s^2 + tau_i s``; their terms in the inputs and outputs carry ``g(s)`` too. With
+``y = U^T x`` the update's deflections, ``A x = P`` is the bordered system
 
     D x + U Z y = P,    U^T x - y = 0.
 
@@ -50,7 +54,7 @@ CHUNK = 64
 """Frequencies per batched LU of the bordered systems (each padded to its chunk's most near modes)."""
 
 NEAR = 10.0
-"""A mode is kept as an unknown (near) at ``s`` when ``|omega_k^2 + s^2| <= NEAR |s gamma_kk + i eta_kk|``."""
+"""A mode is kept as an unknown (near) at ``s`` when ``|D_k(s)| <= NEAR |(U Z(s) U^T)_kk|``."""
 
 
 def near_modes(omega2: np.ndarray, diag: np.ndarray, zdiag: np.ndarray) -> np.ndarray:

@@ -98,8 +98,10 @@ def choose(plant: Plant, nf: int, basis: ModalBasis | None) -> tuple[str, str]:
     """``auto``'s choice of a :data:`METHODS` name, and why.
 
     One obvious method is taken without a cost model: the sparse solve for a sparse plant or an
-    undamped one, the exact solve with internal states for frequency-dependent mounts, the dense
-    solve for a small model, the modal superposition for classical damping. General damping is
+    undamped one, the dense solve for a small model, the modal superposition for classical damping.
+    Frequency-dependent mounts are costed (:func:`_choose_branches`): the low-rank update of the
+    undamped modes by their branches (``woodbury``, cheap for a few such mounts) against the banded
+    exact solve with the branches in its band. General damping is
     costed (:func:`estimates`): the low-rank update of the undamped modes (``woodbury``), the
     complex modes (one ``eig`` of the 2n-state matrix) and, only where it could win, the sparse
     direct solve (one banded or sparse LU per frequency, by the model's band width).
