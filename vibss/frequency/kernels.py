@@ -413,8 +413,9 @@ METHODS: dict[str, FrequencyMethod] = {m.name: m for m in (
                     summary="undamped modal superposition (classical damping only)"),
     FrequencyMethod("complex_modal", complex_modal, needs_basis=True, fallback="sparse",
                     summary="complex modes of the scaled modal first-order form (any damping)"),
-    FrequencyMethod("woodbury", woodbury, needs_basis=True,
-                    summary="undamped modes + the dampers as a low-rank update, bordered solve per frequency (any damping)"),
+    FrequencyMethod("woodbury", woodbury, needs_basis=True, internal_states=True,
+                    summary="undamped modes + the dampers and frequency-dependent mounts as a low-rank update, "
+                            "bordered solve per frequency (any damping)"),
     FrequencyMethod("sparse", _sparse, exact=True, sparse_ok=True, internal_states=True,
                     summary="banded or SuperLU complex solve per frequency"),
     FrequencyMethod("statespace", _statespace, internal_states=True,

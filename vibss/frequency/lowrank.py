@@ -1,4 +1,4 @@
-"""The ``woodbury`` frequency kernel: undamped modes plus the dampers as a low-rank update.
+"""The ``woodbury`` frequency kernel: undamped modes plus the dampers and mount branches as a low-rank update.
 
 In the undamped modes (``Phi^T M Phi = I``, ``Phi^T K Phi = Omega^2``) the dynamic stiffness is
 
@@ -6,8 +6,12 @@ In the undamped modes (``Phi^T M Phi = I``, ``Phi^T K Phi = Omega^2``) the dynam
 
 where ``U`` (k x r) holds the modes' deflections at the dampers and ``Zc``, ``Zh`` their viscous and
 hysteretic blocks (:func:`vibss.linear.projection.damping_factors`): the damping of any model,
-classical or not, has rank ``r <= 3 x`` (damped mounts). With ``y = U^T x`` the damper
-deflections, ``A x = P`` is the bordered system
+classical or not, has rank ``r <= 3 x`` (damped mounts). Classical damping (``Phi^T C Phi`` and
+``Phi^T H Phi`` diagonal) stays in ``D(s) = Omega^2 + s Gamma + i Eta + s^2`` instead. The Maxwell
+branches of frequency-dependent mounts (:mod:`vibss.linear.branches`) join ``U`` with their
+deflections ``Phi^T B_i^T`` and ``Z_ii(s) = k_i g_i(s)``, ``g_i = P_i / (1 + P_i)``,
+``P_i = mu_i s^2 + tau_i s``; their terms in the inputs and outputs carry ``g(s)`` too. With
+``y = U^T x`` the update's deflections, ``A x = P`` is the bordered system
 
     D x + U Z y = P,    U^T x - y = 0.
 
@@ -33,11 +37,14 @@ eigenvalues of the damped system, no truncation; a frequency where the bordered 
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
-from ..linear.eigen import ModalBasis, modal_basis
+from ..linear.branches import groups
+from ..linear.eigen import ModalBasis, damping_coupling, modal_basis
 from ..linear.plant import Plant
-from ..linear.projection import damping_factors
+from ..linear.projection import damping_factors, projected_damping
 from ..linear.solve import response, zfactor
 from .terms import elastic_static, feedthrough, mass_solve, terms
 
@@ -47,28 +54,26 @@ CHUNK = 64
 """Frequencies per batched LU of the bordered systems (each padded to its chunk's most near modes)."""
 
 NEAR = 10.0
-"""A mode is kept as an unknown (near) at ``s`` when ``|omega_k^2 + s^2| <= NEAR |s gamma_kk + i eta_kk|``."""
+"""A mode is kept as an unknown (near) at ``s`` when ``|D_k(s)| <= NEAR |(U Z(s) U^T)_kk|``."""
 
 
-def near_modes(basis: ModalBasis, diag_c: np.ndarray, diag_h: np.ndarray, s: np.ndarray) -> np.ndarray:
-    """(nf, k) mask of the modes solved with the dampers at each ``s`` (see :data:`NEAR`).
+def near_modes(omega2: np.ndarray, diag: np.ndarray, zdiag: np.ndarray) -> np.ndarray:
+    """(nf, k) mask of the modes solved with the update at each ``s`` (see :data:`NEAR`).
 
     Parameters
     ----------
-    basis : ModalBasis
-        Undamped modes.
-    diag_c, diag_h : (k,) ndarray
-        Diagonals of ``Phi^T C Phi`` [1/s] and ``Phi^T H Phi`` [1/s^2].
-    s : (nf,) complex ndarray
-        Laplace points [rad/s].
+    omega2 : (k,) ndarray
+        Squared natural frequencies [rad^2/s^2].
+    diag : (nf, k) complex ndarray
+        The diagonal part ``D(s)`` of the modal dynamic stiffness [rad^2/s^2].
+    zdiag : (nf, k) ndarray
+        ``|diag(U Z(s) U^T)|``: what the low-rank part adds to each mode [rad^2/s^2].
 
     Returns
     -------
     (nf, k) bool ndarray
     """
-    d = np.abs(basis.omega2[None, :] + (s**2)[:, None])
-    z = np.abs(s[:, None] * diag_c[None, :] + 1j * diag_h[None, :])
-    return d <= NEAR * z
+    return np.abs(diag) <= NEAR * zdiag
 
 
 def _weighted(w: tuple[np.ndarray, np.ndarray], left: np.ndarray, right: np.ndarray) -> np.ndarray:
@@ -78,11 +83,6 @@ def _weighted(w: tuple[np.ndarray, np.ndarray], left: np.ndarray, right: np.ndar
     pair = (left.T[:, :, None] * right[:, None, :]).reshape(left.shape[1], a * b)
     out = w[0] @ pair + 1j * (w[1] @ pair)
     return out.reshape(w[0].shape[0], a, b)
-
-
-def _times(a: np.ndarray, z: np.ndarray) -> np.ndarray:
-    """``a[f] @ z`` for a stack ``a`` (nf, i, r) and one symmetric ``z`` (r, r), as one GEMM."""
-    return (a.reshape(-1, a.shape[-1]) @ z).reshape(a.shape[:-1] + (z.shape[1],))
 
 
 def _weighted_gram(w: tuple[np.ndarray, np.ndarray], u: np.ndarray) -> np.ndarray:
@@ -97,15 +97,81 @@ def _weighted_gram(w: tuple[np.ndarray, np.ndarray], u: np.ndarray) -> np.ndarra
     return out
 
 
-def woodbury(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) -> np.ndarray:
-    """Undamped modes with the dampers as a low-rank update, bordered solve per frequency; (p, m, nf).
+def _update(plant: Plant, basis: ModalBasis, s: np.ndarray) -> tuple[np.ndarray, np.ndarray, Any, np.ndarray]:
+    """The modal dynamic stiffness as ``D(s) + U Z(s) U^T`` (module docstring).
 
-    Any viscous and hysteretic damping (classical or not); exact (see the module docstring).
+    Returns ``D`` (nf, k), ``U`` (k, r), ``Z`` as a function of frequency indices -> (len, r, r), and
+    ``|diag(U Z(s) U^T)|`` (nf, k). Classical damping (``Phi^T C Phi`` and ``Phi^T H Phi`` diagonal)
+    stays in ``D``; other damping joins ``U`` as its mounts' deflections
+    (:func:`vibss.linear.projection.damping_factors`); every Maxwell branch of a frequency-dependent
+    mount adds its deflection ``Phi^T B_i^T`` with ``k_i g_i(s)`` (:meth:`Branches.dynamic`).
+    """
+    omega2 = basis.omega2
+    k = omega2.size
+    projected = projected_damping(plant, basis)
+    classical = not any(np.any(damping_coupling(g) > 0) for g in projected if np.any(g))
+    d = omega2[None, :] + (s**2)[:, None]
+    if classical:
+        d = d + s[:, None] * np.diag(projected[0])[None, :]
+        if np.any(projected[1]):
+            d = d + 1j * np.diag(projected[1])[None, :]
+        ud, zc, zh = np.zeros((k, 0)), np.zeros((0, 0)), np.zeros((0, 0))
+    else:
+        ud, zc, zh = damping_factors(plant, basis)
+    rd = ud.shape[1]
+    hyst = bool(np.any(zh))
+    zdiag = np.zeros(d.shape)
+    if rd:
+        diag_c = np.einsum("kr,rs,ks->k", ud, zc, ud)
+        diag_h = np.einsum("kr,rs,ks->k", ud, zh, ud) if hyst else np.zeros(k)
+        zdiag = s[:, None] * diag_c[None, :] + 1j * diag_h[None, :]
+    br = plant.branches
+    if br is None:
+        ub, kg = np.zeros((k, 0)), np.zeros((s.size, 0))
+    else:
+        ub = basis.phi.T @ br.B.T                                       # (k, r_b)
+        kg = br.dynamic(s)                                              # (nf, r_b) k_i g_i(s)
+        zdiag = zdiag + kg @ (ub * ub).T
+    u = np.hstack([ud, ub])
+    r = u.shape[1]
+
+    def zmat(idx: np.ndarray) -> np.ndarray:
+        z = np.zeros((idx.size, r, r), complex)
+        if rd:
+            z[:, :rd, :rd] = s[idx, None, None] * zc[None] + (1j * zh[None] if hyst else 0.0)
+        j = np.arange(rd, r)
+        z[:, j, j] = kg[idx]
+        return z
+
+    return d, u, zmat, np.abs(zdiag)
+
+
+def _factors(plant: Plant, s: np.ndarray) -> tuple[list, list, np.ndarray]:
+    """The output and right-hand-side terms with their factors per frequency: [((nf,), (P, n))] and
+    [((nf,), (n, M), scaled by Z)], the plant's powers of ``s`` and its branch groups' ``g(s)``."""
+    outs, rhs, order = terms(plant)
+    fo = [(s**a, oa) for a, oa in outs]
+    fr = [(s**b, rb, scaled) for b, rb, scaled in rhs]
+    for g in groups(plant):
+        gs = g.factor(s)
+        if np.any(g.Oq):
+            fo.append((gs, g.Oq))
+        if np.any(g.Kz):
+            fr.append((-gs, g.Kz, True))
+    return fo, fr, order
+
+
+def woodbury(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) -> np.ndarray:
+    """Undamped modes with the dampers and branches as a low-rank update, bordered solve per
+    frequency; (p, m, nf).
+
+    Any viscous and hysteretic damping (classical or not) and frequency-dependent mounts; exact
+    (see the module docstring).
 
     Parameters
     ----------
     plant : Plant
-        Dense plant without frequency-dependent mounts.
+        Dense plant.
     s : (nf,) complex array_like
         Laplace points ``i w`` [rad/s], ``w > 0``.
     basis : ModalBasis or None
@@ -118,31 +184,27 @@ def woodbury(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) -> np
     s = np.asarray(s, dtype=complex)
     basis = basis or modal_basis(plant)
     phi = basis.phi
-    u, zc, zh = damping_factors(plant, basis)
+    d, u, zmat, zdiag = _update(plant, basis, s)
     k, r = u.shape
-    outs, rhs, order = terms(plant)
+    outs, rhs, order = _factors(plant, s)
     p, m, nf = len(plant.outputs), len(plant.inputs), s.size
     zf = zfactor(s, order)
     left = np.vstack([oa @ phi for _, oa in outs]) if outs else np.zeros((0, k))          # (P, k)
     right = np.hstack([phi.T @ rb for _, rb, _ in rhs]) if rhs else np.zeros((k, 0))     # (k, M)
     mm = right.shape[1]
-    hyst = bool(np.any(zh))
-    diag_c = np.einsum("kr,rs,ks->k", u, zc, u) if r else np.zeros(k)
-    diag_h = np.einsum("kr,rs,ks->k", u, zh, u) if r and hyst else np.zeros(k)
-    near = near_modes(basis, diag_c, diag_h, s) if r else np.zeros((nf, k), bool)
-    d = basis.omega2[None, :] + (s**2)[:, None]
+    near = near_modes(basis.omega2, d, zdiag) if r else np.zeros((nf, k), bool)
     with np.errstate(divide="ignore", invalid="ignore"):
         w = np.where(near, 0.0, 1.0 / np.where(near, 1.0, d))
     bad = ~np.all(np.isfinite(w), axis=1)
     w_split = (np.ascontiguousarray(w.real), np.ascontiguousarray(w.imag))
-    yfull = _uncoupled(plant, s, basis, near, w, w_split, left, right, outs, rhs)
+    yfull = _uncoupled(plant, s, basis, near, d, w, w_split, left, right, outs, rhs)
     if r:
         g2 = _weighted(w_split, u.T, right)                              # U_F^T D_F^-1 P_F
         g3 = _weighted_gram(w_split, u)                                  # U_F^T D_F^-1 U_F
-        g3z = s[:, None, None] * _times(g3, zc) + (1j * _times(g3, zh) if hyst else 0.0)
         eye = np.eye(r)
         for run in np.array_split(np.arange(nf), max(1, nf // CHUNK)):
             # one batched LU per chunk of frequencies, its near sets padded to the longest
+            z = zmat(run)                                                # (nr, r, r)
             count = near[run].sum(axis=1)
             q = int(count.max())
             slot = np.arange(q)[None, :] < count[:, None]                # (nr, q) real slots
@@ -151,9 +213,9 @@ def woodbury(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) -> np
             un = np.where(slot[:, :, None], u[nn], 0.0)                  # (nr, q, r)
             big = np.zeros((run.size, q + r, q + r), complex)
             big[:, np.arange(q), np.arange(q)] = np.where(slot, np.take_along_axis(d[run], nn, axis=1), 1.0)
-            big[:, :q, q:] = s[run, None, None] * _times(un, zc) + (1j * _times(un, zh) if hyst else 0.0)
+            big[:, :q, q:] = un @ z
             big[:, q:, :q] = -un.transpose(0, 2, 1)
-            big[:, q:, q:] = eye + g3z[run]
+            big[:, q:, q:] = eye + g3[run] @ z
             rb = np.zeros((run.size, q + r, mm), complex)
             rb[:, :q] = np.where(slot[:, :, None], right[nn], 0.0)
             rb[:, q:] = g2[run]
@@ -162,9 +224,7 @@ def woodbury(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) -> np
             except np.linalg.LinAlgError:
                 bad[run] = True
                 continue
-            y = sol[:, q:]
-            yt = np.ascontiguousarray(y.transpose(0, 2, 1))                  # (nr, M, r): Z y = (y^T Z)^T
-            zy = (s[run, None, None] * _times(yt, zc) + (1j * _times(yt, zh) if hyst else 0.0)).transpose(0, 2, 1)
+            zy = z @ sol[:, q:]                                           # (nr, r, M)
             # - L_F D_F^-1 U_F Z y, through the chunk's (k, nr M) modal forces (no (nf, P, r) sums)
             uz = (u @ zy.transpose(1, 0, 2).reshape(r, -1)).reshape(k, run.size, mm) * w[run].T[:, :, None]
             yfull[run] -= (left @ uz.reshape(k, -1)).reshape(-1, run.size, mm).transpose(1, 0, 2)
@@ -172,28 +232,31 @@ def woodbury(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) -> np
                 ln = np.where(slot[:, None, :], left[:, nn].transpose(1, 0, 2), 0.0)   # (nr, P, q)
                 yfull[run] += ln @ sol[:, :q]
     bad |= ~np.all(np.isfinite(yfull), axis=(1, 2))
-    # assemble Y = sum_ab s^(a+b) (O_a ...) (... R_b) Z(s)
+    # assemble Y = sum_ab f_a(s) f_b(s) (O_a ...) (... R_b) Z(s)
     out = np.zeros((nf, p, m), complex)
     i = 0
-    for a, _ in outs:
+    for fa, _ in outs:
         j = 0
-        for b_, _, scaled in rhs:
-            fac = s[:, None] ** (a + b_) * (zf if scaled else np.ones((1, m)))
+        for fb, _, scaled in rhs:
+            fac = (fa * fb)[:, None] * (zf if scaled else np.ones((1, m)))
             out += yfull[:, i:i + p, j:j + m] * fac[:, None, :]
             j += m
         i += p
     out += feedthrough(plant, s, zf)
+    for g in groups(plant):                                              # branch forces seen directly
+        if np.any(g.Pz):
+            out += g.factor(s)[:, None, None] * g.Pz[None] * zf[:, None, :]
     if bad.any():                                                        # singular: the exact solve
         out[bad] = np.moveaxis(response(plant, s[bad]), -1, 0)
     return np.moveaxis(out, 0, -1)
 
 
-def _uncoupled(plant: Plant, s: np.ndarray, basis: ModalBasis, near: np.ndarray, w: np.ndarray,
+def _uncoupled(plant: Plant, s: np.ndarray, basis: ModalBasis, near: np.ndarray, d: np.ndarray, w: np.ndarray,
                w_split: tuple[np.ndarray, np.ndarray], left: np.ndarray, right: np.ndarray,
                outs: list, rhs: list) -> np.ndarray:
-    """(nf, P, M) the part of ``L x`` that does not pass through the dampers, ``L_F D_F^-1 P_F``, or
-    the same sum in the mode-acceleration form ``O K^-1 R - L_F (s^2 / omega^2) D_F^-1 P_F - L_N Omega_N^-2 P_N``
-    or the mass-residual form ``O M^-1 R / s^2 - L_F (omega^2 / s^2) D_F^-1 P_F - L_N P_N / s^2``
+    """(nf, P, M) the part of ``L x`` that does not pass through the update, ``L_F D_F^-1 P_F``, or
+    the same sum in the mode-acceleration form ``O K^-1 R - L_F ((D - Omega^2) / Omega^2) D_F^-1 P_F - L_N Omega_N^-2 P_N``
+    or the mass-residual form ``O M^-1 R / s^2 - L_F ((D - s^2) / s^2) D_F^-1 P_F - L_N P_N / s^2``
     (the near modes' ``x_N`` and the coupling ``-L_F D_F^-1 U_F Z y`` are common to all three), per
     frequency whichever sums the smallest terms. The plain sum loses digits below the modes, where
     the high modes' static terms cancel, and far above them; the static part is exact
@@ -210,14 +273,14 @@ def _uncoupled(plant: Plant, s: np.ndarray, basis: ModalBasis, near: np.ndarray,
             st = np.hstack([elastic_static(plant, rb) for _, rb, _ in rhs])
             inv2 = 1.0 / basis.omega2
             forms.append((np.vstack([oa @ st for _, oa in outs]), np.ones(s.size),
-                          np.where(near, -inv2[None, :], -(s**2)[:, None] * w * inv2[None, :])))
+                          np.where(near, -inv2[None, :], -(d - basis.omega2[None, :]) * w * inv2[None, :])))
         except (np.linalg.LinAlgError, ValueError, RuntimeError):
             pass
     try:
         ms = np.hstack([mass_solve(plant, rb) for _, rb, _ in rhs])
         inv_s2 = 1.0 / s**2
         forms.append((np.vstack([oa @ ms for _, oa in outs]), inv_s2,
-                      np.where(near, -inv_s2[:, None], -basis.omega2[None, :] * w * inv_s2[:, None])))
+                      np.where(near, -inv_s2[:, None], -(d - (s**2)[:, None]) * w * inv_s2[:, None])))
     except (np.linalg.LinAlgError, ValueError, RuntimeError):
         pass
     costs = [cost] + [np.abs(wf) @ scale + np.abs(fac) * np.linalg.norm(c0) for c0, fac, wf in forms]

@@ -98,8 +98,10 @@ def choose(plant: Plant, nf: int, basis: ModalBasis | None) -> tuple[str, str]:
     """``auto``'s choice of a :data:`METHODS` name, and why.
 
     One obvious method is taken without a cost model: the sparse solve for a sparse plant or an
-    undamped one, the exact solve with internal states for frequency-dependent mounts, the dense
-    solve for a small model, the modal superposition for classical damping. General damping is
+    undamped one, the dense solve for a small model, the modal superposition for classical damping.
+    Frequency-dependent mounts are costed (:func:`_choose_branches`): the low-rank update of the
+    undamped modes by their branches (``woodbury``, cheap for a few such mounts) against the banded
+    exact solve with the branches in its band. General damping is
     costed (:func:`estimates`): the low-rank update of the undamped modes (``woodbury``), the
     complex modes (one ``eig`` of the 2n-state matrix) and, only where it could win, the sparse
     direct solve (one banded or sparse LU per frequency, by the model's band width).
@@ -121,8 +123,7 @@ def choose(plant: Plant, nf: int, basis: ModalBasis | None) -> tuple[str, str]:
     if basis is None:
         return "sparse", "sparse plant: sparse direct solve per frequency"
     if plant.branches is not None:
-        name = "direct" if plant.n + plant.branches.r <= 12 else "sparse"
-        return name, f"{plant.branches.note()}: exact solve with them as DOFs"
+        return _choose_branches(plant, nf, basis)
     if plant.n <= 12:
         return "direct", f"small model ({plant.n} DOF): direct solve is exact and cheap"
     if not np.any(plant.C) and not np.any(plant.H):
@@ -152,3 +153,28 @@ def choose(plant: Plant, nf: int, basis: ModalBasis | None) -> tuple[str, str]:
             "complex_modal": "complex-mode superposition",
             "sparse": f"sparse direct solve per frequency{how}"}[best]
     return best, f"{why}: {best} ({what}), estimated {cost[best]:.2g} s against {others or 'nothing else'}{note}"
+
+
+def _choose_branches(plant: Plant, nf: int, basis: ModalBasis) -> tuple[str, str]:
+    """``auto`` for frequency-dependent mounts: the exact sparse solve with the branches in the
+    dynamic stiffness, or the undamped modes with the branches (and non-classical dampers) as a
+    low-rank update (``woodbury``), by their estimated costs."""
+    br = plant.branches
+    assert br is not None
+    note = br.note()
+    if plant.n + br.r <= 12:
+        return "direct", f"{note}: small model, exact solve with them as DOFs"
+    projected = project_damping(plant, basis)
+    classical, _ = classical_damping(plant, basis, projected)
+    rank = br.r + (0 if classical else damping_factors(plant, basis)[0].shape[1])
+    cost = {"woodbury": estimates(plant, nf, basis, rank, True)["woodbury"]}
+    st = plant.cached("band structure", lambda: structure(plant))
+    cost["sparse"] = nf * st.seconds_per_frequency
+    best = min(cost, key=cost.__getitem__)
+    what = {"woodbury": f"undamped modes + {br.r} branches{'' if classical else ' and the dampers'} as a "
+                        f"rank-{rank} update",
+            "sparse": "sparse exact solve with the branches in the dynamic stiffness "
+                      f"({'banded LU, half-bandwidth ' + str(st.band) if st.banded else 'SuperLU'})"}
+    other = next(k for k in cost if k != best)
+    return best, (f"{note}: {best} ({what[best]}), estimated {cost[best]:.2g} s against "
+                  f"{other} {cost[other]:.2g} s")

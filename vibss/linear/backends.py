@@ -69,7 +69,8 @@ def _dense(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray]) -> t
 
 
 def _banded(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
-    """RCM-ordered banded LU (``zgbsv``), ``K + iH + sC + s^2 M`` built in place per frequency."""
+    """RCM-ordered banded LU (``zgbsv``), ``K + iH + sC + s^2 M (+ g(s) K_tau)`` built per frequency
+    by one GEMV of its coefficients against the stacked band parts."""
     st = plant.cached("band structure", lambda: structure(plant))
     parts, band, perm = st.parts, st.band, st.perm
     relax = [(f"G{j}", g) for j, g in enumerate(groups(plant))]
@@ -83,26 +84,28 @@ def _banded(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray]) -> 
     if (not relax and "C" not in parts and "H" not in parts and not np.any(s.real)
             and not np.any(r_all.imag if np.iscomplexobj(r_all) else 0.0)):
         return _banded_real(parts["K"], parts["M"], band, perm, inv, shape, s, r_all, fixed)
-    for i, sk in enumerate(s):
-        s2 = sk * sk
-        ab = np.empty(shape, dtype=complex, order="F")
-        ab[:band] = 0.0                                 # LAPACK's room for the pivoting fill
-        re, im = ab.real[band:], ab.imag[band:]
-        np.multiply(parts["M"], s2.real, out=re)
-        re += parts["K"]
-        np.multiply(parts["M"], s2.imag, out=im)
-        if "C" in parts:
-            if sk.real:
-                re += sk.real * parts["C"]
-            im += sk.imag * parts["C"]
-        if "H" in parts:
-            im += parts["H"]
-        for key, g in relax:
-            gk = complex(g.factor(np.array(sk)))
-            re += gk.real * parts[key]
-            im += gk.imag * parts[key]
+    # each frequency's band by one real GEMM of its coefficients' real and imaginary parts against the
+    # stacked band parts, written below LAPACK's fill rows; the band is stored transposed (n, 3b+1),
+    # so its transpose is the Fortran band (3b+1, n) that zgbsv takes
+    keys = [key for key in ("K", "M", "C", "H") if key in parts] + [key for key, _ in relax]
+    stack = np.stack([np.ascontiguousarray(parts[key].T) for key in keys]).reshape(len(keys), -1)
+    coef = np.empty((s.size, len(keys)), complex)
+    for j, key in enumerate(keys):
+        coef[:, j] = {"K": 1.0, "M": s * s, "C": s, "H": 1j}.get(key, 0.0)
+    for j, (_, g) in enumerate(relax):
+        coef[:, len(keys) - len(relax) + j] = g.factor(s)
+    c2 = np.ascontiguousarray(np.stack([coef.real, coef.imag], axis=1))      # (nf, 2, parts)
+    n, width = plant.n, shape[0]
+    two = np.empty((2, stack.shape[1]))
+    ab = np.empty((n, width), dtype=complex)
+    abv = ab.view(float).reshape(n, width, 2)
+    for i in range(s.size):
+        np.dot(c2[i], stack, out=two)
+        ab[:, :band] = 0.0                              # LAPACK's room for the pivoting fill
+        abv[:, band:, 0] = two[0].reshape(n, width - band)
+        abv[:, band:, 1] = two[1].reshape(n, width - band)
         b = fixed.copy(order="F") if fixed is not None else np.asfortranarray(r_all[i][perm])
-        _, _, xi, info = zgbsv(band, band, ab, b, overwrite_ab=1, overwrite_b=1)
+        _, _, xi, info = zgbsv(band, band, ab.T, b, overwrite_ab=1, overwrite_b=1)
         if info > 0:
             bad[i] = True
         else:
