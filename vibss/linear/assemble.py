@@ -31,6 +31,7 @@ from ..results import ReadOnly
 from ..model.geometry import point_transfer
 from ..model.model import DOF_NAMES, GROUND, Model
 from .eigen import symmetric_eigen
+from .memo import remembered
 
 __all__ = ["Assembly", "assemble", "SPARSE_THRESHOLD", "dof_labels"]
 
@@ -334,11 +335,19 @@ def assemble(model: Model, sparse: bool | None = None) -> Assembly:
     >>> m = Model([Body("b", 10.0, [1, 1, 1])], [Mount("m", t, "b")])
     >>> float(assemble(m).K[2, 2])
     20000.0
+
+    A small model's assembly is remembered (:mod:`vibss.linear.memo`): asked again for the same
+    model, ``assemble`` returns the same read-only Assembly (and what is cached on it).
     """
+    if sparse is None:
+        sparse = 6 * len(model.bodies) > SPARSE_THRESHOLD
+    sparse = bool(sparse)
+    return remembered(model, ("assembly", sparse), lambda: _assemble(model, sparse))
+
+
+def _assemble(model: Model, sparse: bool) -> Assembly:
     nb = len(model.bodies)
     n = 6 * nb
-    if sparse is None:
-        sparse = n > SPARSE_THRESHOLD
     names = {b.name: i for i, b in enumerate(model.bodies)}
     ng = 1 + len(model.supports)                    # ground nodes: the rigid ground, then each support
     nz = 6 * ng

@@ -36,7 +36,7 @@ from typing import Any, cast
 
 import numpy as np
 import scipy.linalg as sl
-from threadpoolctl import threadpool_limits
+from threadpoolctl import ThreadpoolController
 
 from ..linear.complex_modes import complex_modes
 from ..errors import AnalysisError
@@ -59,6 +59,16 @@ CHUNK = 1024
 _BLAS_LOCK = threading.Lock()
 _blas_users = 0
 _blas_limiter: Any = None
+_blas_controller: Any = None
+
+
+def _controller() -> Any:
+    """The process's BLAS thread pools, found once: ``threadpool_limits`` scans the loaded libraries
+    on every call (about 2 ms, most of a 1,000-step run of a small model)."""
+    global _blas_controller
+    if _blas_controller is None:
+        _blas_controller = ThreadpoolController()
+    return _blas_controller
 
 
 @contextlib.contextmanager
@@ -74,7 +84,7 @@ def one_blas_thread() -> Iterator[None]:
     global _blas_users, _blas_limiter
     with _BLAS_LOCK:
         if _blas_users == 0:
-            _blas_limiter = threadpool_limits(1)
+            _blas_limiter = _controller().limit(limits=1)
         _blas_users += 1
     try:
         yield
