@@ -39,6 +39,10 @@ _BLOCK_MAX = 12
 """Largest diagonal block of M that :func:`generalized_eigh` factorises on its own."""
 
 
+_DENSE_PATTERN = 150
+"""A dense mass matrix up to this size is read by NumPy indexing in :func:`_inverse_cholesky`."""
+
+
 def _inverse_cholesky(M: Any) -> Any:
     """Sparse ``L^-1`` with ``M = L L^T``, block by block (M block-diagonal), or None.
 
@@ -46,9 +50,12 @@ def _inverse_cholesky(M: Any) -> Any:
     diagonal blocks (the connected components of its pattern); each is factorised on its own.
     None when a block is larger than :data:`_BLOCK_MAX` or not positive definite.
     """
-    Ms = sp.csr_matrix(M)
+    dense = not sp.issparse(M) and np.shape(M)[0] <= _DENSE_PATTERN
+    Ms = np.asarray(M, float) if dense else sp.csr_matrix(M)
     n = Ms.shape[0]
-    count, labels = connected_components(Ms != 0, directed=False)
+    # a small dense M: the same components from its dense pattern, the blocks read by NumPy indexing
+    # (the same numbers, without scipy.sparse's bookkeeping on a 6 x 6 problem)
+    count, labels = connected_components(sp.csr_matrix(Ms != 0) if dense else Ms != 0, directed=False)
     if n == 0 or np.bincount(labels).max() > _BLOCK_MAX:
         return None
     rows, cols, vals = [], [], []
@@ -60,7 +67,7 @@ def _inverse_cholesky(M: Any) -> Any:
         idx = order[first[:, None] + np.arange(size)[None, :]]            # (blocks, size)
         r = np.broadcast_to(idx[:, :, None], idx.shape + (size,))
         c = np.broadcast_to(idx[:, None, :], idx.shape + (size,))
-        blocks = np.asarray(Ms[r.ravel(), c.ravel()]).reshape(r.shape)
+        blocks = (Ms[r, c] if dense else np.asarray(Ms[r.ravel(), c.ravel()]).reshape(r.shape)).astype(float)
         try:
             inv = np.linalg.inv(np.linalg.cholesky(blocks))
         except np.linalg.LinAlgError:
