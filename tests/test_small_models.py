@@ -154,3 +154,18 @@ def test_answers_asked_again_are_the_fresh_answers() -> None:
     assert not np.array_equal(first[3], first[4])    # the initial displacement is not forgotten
     # a shorter run is the start of the longer (its own horizon: to round-off, the scan's blocks differ)
     np.testing.assert_allclose(first[5], first[3][:201], rtol=0, atol=1e-12 * np.abs(first[3]).max())
+
+
+def test_components_of_a_dense_pattern_are_csgraphs() -> None:
+    """The mass blocks of a small dense M are found without scipy.sparse: the same labels as
+    ``scipy.sparse.csgraph.connected_components`` on random symmetric patterns."""
+    from scipy.sparse.csgraph import connected_components
+
+    from vibss.linear.eigen_checks import _components
+
+    rng = np.random.default_rng(1)
+    for _ in range(200):
+        n = int(rng.integers(1, 30))
+        p = rng.random((n, n)) < 0.08
+        p = p | p.T | np.eye(n, dtype=bool)
+        np.testing.assert_array_equal(_components(p), connected_components(sp.csr_matrix(p), directed=False)[1])

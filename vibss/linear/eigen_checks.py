@@ -55,7 +55,7 @@ def _inverse_cholesky(M: Any) -> Any:
     n = Ms.shape[0]
     # a small dense M: the same components from its dense pattern, the blocks read by NumPy indexing
     # (the same numbers, without scipy.sparse's bookkeeping on a 6 x 6 problem)
-    count, labels = connected_components(sp.csr_matrix(Ms != 0) if dense else Ms != 0, directed=False)
+    labels = _components(Ms != 0) if dense else connected_components(Ms != 0, directed=False)[1]
     if n == 0 or np.bincount(labels).max() > _BLOCK_MAX:
         return None
     rows, cols, vals = [], [], []
@@ -76,6 +76,20 @@ def _inverse_cholesky(M: Any) -> Any:
         cols.append(c.ravel())
         vals.append(inv.ravel())
     return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n, n))
+
+
+def _components(pattern: np.ndarray) -> np.ndarray:
+    """Connected components of a small symmetric dense pattern: each DOF's label is the smallest
+    index it connects to, numbered 0, 1, ... in that order (the blocks, and their DOFs in ascending
+    order, are those of ``scipy.sparse.csgraph.connected_components``)."""
+    n = pattern.shape[0]
+    linked = pattern | pattern.T
+    labels = np.arange(n)
+    while True:
+        new = np.minimum(labels, np.where(linked, labels[None, :], n).min(axis=1, initial=n))
+        if np.array_equal(new, labels):
+            return np.unique(labels, return_inverse=True)[1].reshape(n)     # numbered 0, 1, ...
+        labels = new
 
 
 def _as_factor(factor: Any) -> Any:
