@@ -15,7 +15,8 @@ PACKAGE = Path(vibss.__file__).parent
 
 # Layers, lowest first: a module may import only from its own layer or below.
 LAYERS = [
-    {"errors", "_validate", "results", "methods", "model.units", "model.geometry", "model.limits", "io.tomlwriter"},
+    {"errors", "_validate", "results", "methods", "model.units", "model.geometry", "model.limits", "io.tomlwriter",
+     "linear.memo"},
     {"model", "linear.plant", "linear.branches", "io.filetable"},
     {"io", "examples", "linear.assemble", "linear.directions", "linear.eigen", "linear.eigen_checks",
      "linear.hysteresis"},

@@ -630,7 +630,13 @@ def _resonances(plant: Plant, basis: ModalBasis | None, lo: float,
     keep = ~basis.rigid & (fr >= lo) & (fr <= hi)
     if not keep.any():
         return np.zeros(0), (), ()
-    labels = dof_labels(energy_fractions(basis.phi[:, keep], plant.M), plant.dofs)
+    phi = basis.phi
+    own = plant._cache.get("modal basis") is basis
+    if own:                                           # the plant's own modes: labelled once per plant
+        every = plant.cached("mode labels", lambda: tuple(dof_labels(energy_fractions(phi, plant.M), plant.dofs)))
+        labels = [every[k] for k in np.flatnonzero(keep)]
+    else:
+        labels = dof_labels(energy_fractions(phi[:, keep], plant.M), plant.dofs)
     if not all(labels):
         return fr[keep], (), ()
     return fr[keep], tuple(int(k) + 1 for k in np.flatnonzero(keep)), tuple(labels)

@@ -31,6 +31,7 @@ from ..results import ReadOnly
 from ..model.geometry import point_transfer
 from ..model.model import DOF_NAMES, GROUND, Model
 from .eigen import symmetric_eigen
+from .memo import remembered
 
 __all__ = ["Assembly", "assemble", "SPARSE_THRESHOLD", "dof_labels"]
 
@@ -242,6 +243,9 @@ class Assembly(ReadOnly):
             t = np.array([m.orientation.matrix for m in self.model.mounts]).reshape(nm, 3, 3)
             # block-diagonal diag(sqrt k) T^T, one 3x3 block per mount, times the deflection rows
             blocks = np.sqrt(k)[:, :, None] * t.transpose(0, 2, 1)          # (nm, 3, 3)
+            if not self.sparse and self._plain_factor(k):
+                self._cache["G"] = self._dense_factor(blocks, k)
+                return self._cache["G"]
             r = np.repeat(3 * np.arange(nm), 9).reshape(nm, 3, 3) + np.arange(3)[None, :, None]
             c = np.repeat(3 * np.arange(nm), 9).reshape(nm, 3, 3) + np.arange(3)[None, None, :]
             st = sp.csr_matrix((blocks.ravel(), (r.ravel(), c.ravel())), shape=(3 * nm, 3 * nm))
@@ -264,6 +268,33 @@ class Assembly(ReadOnly):
             g.sort_indices()
             self._cache["G"] = g
         return self._cache["G"]
+
+    def _plain_factor(self, k: np.ndarray) -> bool:
+        """Whether G has translational rows only (no rotational rates, no full 6x6 matrix)."""
+        kr = np.array([m.type.rotational_stiffness for m in self.model.mounts], dtype=float)
+        return not np.any(kr > 0) and not np.any(self.b_index == self.a_index) and not any(m.type.stiffness_matrix is not None and m.type.coupled
+                                              for m in self.model.mounts)
+
+    def _dense_factor(self, blocks: np.ndarray, k: np.ndarray) -> sp.csr_matrix:
+        """:meth:`stiffness_factor` of a small model without sparse products: the same sums in the
+        same order. scipy's ``st @ B`` adds, per entry, ``st[r, 3p + i] B[3p + i, c]`` over
+        ``i = 0, 1, 2`` from zero, left to right (products of structural zeros left out, which adds
+        nothing); elementwise NumPy does exactly those roundings (no fused multiply-add), so G is bit
+        for bit the sparse path's, which the eigen path's accuracy on graded models depends on."""
+        nm, n = len(self.b_index), self.n
+        g = np.zeros((3 * nm, n))
+        rows = 3 * np.arange(nm)[:, None] + np.arange(3)                      # (nm, 3)
+        for index, lever in ((self.b_index, point_transfer(self.r_b)), (self.a_index, -point_transfer(self.r_a))):
+            acc = np.zeros((nm, 3, 6))
+            for i in range(3):                                                # the product's order
+                acc = acc + blocks[:, :, i, None] * lever[:, None, i, :]
+            on = index < len(self.model.bodies)                               # ground columns: not DOFs
+            cols = 6 * index[on, None] + np.arange(6)                          # (nb, 6)
+            g[rows[on][:, :, None], cols[:, None, :]] = acc[on]
+        keep = np.flatnonzero(np.sqrt(k).ravel() > 0)
+        out = sp.csr_matrix(g[keep])          # zeros dropped and indices sorted, as the sparse path's
+        out.sort_indices()
+        return out
 
     def _matrix_factor(self, mounts: np.ndarray, t: np.ndarray) -> sp.csr_matrix:
         """Rows of G for mounts with a full 6x6 stiffness: ``K6 = V diag(lam) V^T`` in local axes,
@@ -334,11 +365,19 @@ def assemble(model: Model, sparse: bool | None = None) -> Assembly:
     >>> m = Model([Body("b", 10.0, [1, 1, 1])], [Mount("m", t, "b")])
     >>> float(assemble(m).K[2, 2])
     20000.0
+
+    A small model's assembly is remembered (:mod:`vibss.linear.memo`): asked again for the same
+    model, ``assemble`` returns the same read-only Assembly (and what is cached on it).
     """
+    if sparse is None:
+        sparse = 6 * len(model.bodies) > SPARSE_THRESHOLD
+    sparse = bool(sparse)
+    return remembered(model, ("assembly", sparse), lambda: _assemble(model, sparse))
+
+
+def _assemble(model: Model, sparse: bool) -> Assembly:
     nb = len(model.bodies)
     n = 6 * nb
-    if sparse is None:
-        sparse = n > SPARSE_THRESHOLD
     names = {b.name: i for i, b in enumerate(model.bodies)}
     ng = 1 + len(model.supports)                    # ground nodes: the rigid ground, then each support
     nz = 6 * ng
@@ -406,7 +445,12 @@ def assemble(model: Model, sparse: bool | None = None) -> Assembly:
                              "overflows (an extreme value or position); check its point and type")
         return sp.csr_matrix((vals, (rows, cols)), shape=(n + nz, n + nz))
 
-    mass = sp.block_diag([b.mass_matrix for b in model.bodies], format="csr")
+    if sparse:
+        mass: np.ndarray | sp.csr_matrix = sp.block_diag([b.mass_matrix for b in model.bodies], format="csr")
+    else:                                           # the same numbers, no sparse bookkeeping
+        mass = np.zeros((n, n))
+        for i, b in enumerate(model.bodies):
+            mass[6 * i:6 * i + 6, 6 * i:6 * i + 6] = b.mass_matrix
     mats = {}
     couplings = {}
     for key, pm, rm, cm in (("K", kp, krp, kcp), ("C", cp, crp, ccp), ("H", hp, None, None)):
@@ -414,15 +458,24 @@ def assemble(model: Model, sparse: bool | None = None) -> Assembly:
             mats[key] = sp.csr_matrix((n, n)) if sparse else np.zeros((n, n))
             couplings[key] = np.zeros((n, nz))
             continue
+        # the COO triplets summed by scipy (its order of summation is part of the answer)
         f = full(pm, rm if rm is not None and np.any(rm) else None, cm if cm is not None and np.any(cm) else None)
-        body_part = f[:n, :n]
-        body_part = 0.5 * (body_part + body_part.T)  # exact symmetry despite summation order
-        mats[key] = body_part.tocsr() if sparse else body_part.toarray()
-        couplings[key] = f[:n, n:].toarray()
+        if sparse:
+            body_part = f[:n, :n]
+            body_part = 0.5 * (body_part + body_part.T)  # exact symmetry despite summation order
+            mats[key] = body_part.tocsr()
+            couplings[key] = f[:n, n:].toarray()
+        else:
+            # the same arithmetic on the dense array (one sum per entry, zeros as the sparse path
+            # leaves them): bit for bit the sparse path's matrix, without its slicing and adding
+            fd = f.toarray()
+            body = fd[:n, :n]
+            mats[key] = 0.5 * (body + body.T) + 0.0
+            couplings[key] = fd[:n, n:].copy()
     return Assembly(
         model=model,
         dofs=dof_labels(model.body_names),
-        M=mass if sparse else mass.toarray(),
+        M=mass,
         K=mats["K"], C=mats["C"], H=mats["H"],
         Kg=couplings["K"], Cg=couplings["C"], Hg=couplings["H"],
         kp=kp, cp=cp, hp=hp,

@@ -39,6 +39,10 @@ _BLOCK_MAX = 12
 """Largest diagonal block of M that :func:`generalized_eigh` factorises on its own."""
 
 
+_DENSE_PATTERN = 150
+"""A dense mass matrix up to this size is read by NumPy indexing in :func:`_inverse_cholesky`."""
+
+
 def _inverse_cholesky(M: Any) -> Any:
     """Sparse ``L^-1`` with ``M = L L^T``, block by block (M block-diagonal), or None.
 
@@ -46,9 +50,12 @@ def _inverse_cholesky(M: Any) -> Any:
     diagonal blocks (the connected components of its pattern); each is factorised on its own.
     None when a block is larger than :data:`_BLOCK_MAX` or not positive definite.
     """
-    Ms = sp.csr_matrix(M)
+    dense = not sp.issparse(M) and np.shape(M)[0] <= _DENSE_PATTERN
+    Ms = np.asarray(M, float) if dense else sp.csr_matrix(M)
     n = Ms.shape[0]
-    count, labels = connected_components(Ms != 0, directed=False)
+    # a small dense M: the same components from its dense pattern, the blocks read by NumPy indexing
+    # (the same numbers, without scipy.sparse's bookkeeping on a 6 x 6 problem)
+    labels = _components(Ms != 0) if dense else connected_components(Ms != 0, directed=False)[1]
     if n == 0 or np.bincount(labels).max() > _BLOCK_MAX:
         return None
     rows, cols, vals = [], [], []
@@ -60,7 +67,7 @@ def _inverse_cholesky(M: Any) -> Any:
         idx = order[first[:, None] + np.arange(size)[None, :]]            # (blocks, size)
         r = np.broadcast_to(idx[:, :, None], idx.shape + (size,))
         c = np.broadcast_to(idx[:, None, :], idx.shape + (size,))
-        blocks = np.asarray(Ms[r.ravel(), c.ravel()]).reshape(r.shape)
+        blocks = (Ms[r, c] if dense else np.asarray(Ms[r.ravel(), c.ravel()]).reshape(r.shape)).astype(float)
         try:
             inv = np.linalg.inv(np.linalg.cholesky(blocks))
         except np.linalg.LinAlgError:
@@ -69,6 +76,20 @@ def _inverse_cholesky(M: Any) -> Any:
         cols.append(c.ravel())
         vals.append(inv.ravel())
     return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n, n))
+
+
+def _components(pattern: np.ndarray) -> np.ndarray:
+    """Connected components of a small symmetric dense pattern: each DOF's label is the smallest
+    index it connects to, numbered 0, 1, ... in that order (the blocks, and their DOFs in ascending
+    order, are those of ``scipy.sparse.csgraph.connected_components``)."""
+    n = pattern.shape[0]
+    linked = pattern | pattern.T
+    labels = np.arange(n)
+    while True:
+        new = np.minimum(labels, np.where(linked, labels[None, :], n).min(axis=1, initial=n))
+        if np.array_equal(new, labels):
+            return np.unique(labels, return_inverse=True)[1].reshape(n)     # numbered 0, 1, ...
+        labels = new
 
 
 def _as_factor(factor: Any) -> Any:

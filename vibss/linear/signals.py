@@ -83,6 +83,7 @@ from ..model.actuation import resolve
 from ..model.model import DOF_NAMES, GROUND, Model
 from .branches import build_branches
 from .plant import INPUT_KINDS, MountForm, Plant
+from .memo import remembered
 
 __all__ = ["build_plant", "control_name", "default_outputs", "INPUT_FORMS", "OUTPUT_FORMS"]
 
@@ -559,7 +560,32 @@ def build_plant(model_or_assembly: Model | Assembly, inputs: Sequence[Any],
     >>> p = build_plant(m, ["ground.z.disp"], ["b.z"])
     >>> p.dofs[:3], p.kinds, float(p.Kz[2, 0])
     (('b.x', 'b.y', 'b.z'), ('displacement',), -10000.0)
+
+    The plant of a small Model and signals named by strings is remembered
+    (:mod:`vibss.linear.memo`): the same model and signals give the same read-only Plant, with the
+    modal basis and factorisations already cached on it.
     """
+    if isinstance(model_or_assembly, Model) and modal_damping is None:
+        key = _plant_key(inputs, outputs, sparse)
+        if key is not None:
+            return remembered(model_or_assembly, key,
+                              lambda: _build_plant(model_or_assembly, inputs, outputs, None, sparse))
+    return _build_plant(model_or_assembly, inputs, outputs, modal_damping, sparse)
+
+
+def _plant_key(inputs: Any, outputs: Any, sparse: bool) -> tuple | None:
+    """The memo key of a plant whose signals are all named by strings (None otherwise)."""
+    names = [inputs] if isinstance(inputs, str) else inputs
+    outs = [outputs] if isinstance(outputs, str) else outputs
+    if not isinstance(names, (list, tuple)) or not all(isinstance(x, str) for x in names):
+        return None
+    if outs is not None and (not isinstance(outs, (list, tuple)) or not all(isinstance(x, str) for x in outs)):
+        return None
+    return ("plant", tuple(names), None if outs is None else tuple(outs), bool(sparse))
+
+
+def _build_plant(model_or_assembly: Model | Assembly, inputs: Sequence[Any], outputs: Sequence[str] | None,
+                 modal_damping: float | Sequence[float] | None, sparse: bool) -> Plant:
     asm = (model_or_assembly if isinstance(model_or_assembly, Assembly)
            else assemble(model_or_assembly, sparse=True if sparse else None))
     model = asm.model

@@ -333,7 +333,7 @@ def modes(model: Model | Assembly, n_modes: int | None = None,
                                 argument="n_modes", received=n_modes, expected="a positive integer")
         n_modes = min(integer(n_modes, "n_modes", who="modes"), n)
     try:
-        spec = undamped(a.K, a.M, a.stiffness_factor(), n_modes, method)
+        spec = _spectrum(a, n_modes, method)
     except (np.linalg.LinAlgError, ValueError) as exc:
         if isinstance(exc, ModelError):
             raise
@@ -360,6 +360,17 @@ def modes(model: Model | Assembly, n_modes: int | None = None,
     return Modes(model=a.model, dofs=a.dofs, omega=omega, shapes=phi, energy=energy,
                  effective_mass=gamma ** 2, rigid=rigid, method=name, note=_why(method, name),
                  error_estimate=spec.error)
+
+
+def _spectrum(a: Assembly, n_modes: int | None, method: str | Solver) -> Any:
+    """The assembly's undamped spectrum, solved once per ``(n_modes, method)`` (a named method: a
+    callable is the caller's and is run each time); the Spectrum is read-only."""
+    if callable(method):
+        return undamped(a.K, a.M, a.stiffness_factor(), n_modes, method)
+    key = ("spectrum", n_modes, method)
+    if key not in a._cache:
+        a._cache[key] = undamped(a.K, a.M, a.stiffness_factor(), n_modes, method)
+    return a._cache[key]
 
 
 def _why(method: Any, name: str) -> str:

@@ -31,12 +31,12 @@ import contextlib
 import dataclasses
 import threading
 from collections.abc import Iterator
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from typing import Any, cast
 
 import numpy as np
 import scipy.linalg as sl
-from threadpoolctl import threadpool_limits
+from threadpoolctl import ThreadpoolController
 
 from ..linear.complex_modes import complex_modes
 from ..errors import AnalysisError
@@ -59,6 +59,16 @@ CHUNK = 1024
 _BLAS_LOCK = threading.Lock()
 _blas_users = 0
 _blas_limiter: Any = None
+_blas_controller: Any = None
+
+
+def _controller() -> Any:
+    """The process's BLAS thread pools, found once: ``threadpool_limits`` scans the loaded libraries
+    on every call (about 2 ms, most of a 1,000-step run of a small model)."""
+    global _blas_controller
+    if _blas_controller is None:
+        _blas_controller = ThreadpoolController()
+    return _blas_controller
 
 
 @contextlib.contextmanager
@@ -74,7 +84,7 @@ def one_blas_thread() -> Iterator[None]:
     global _blas_users, _blas_limiter
     with _BLAS_LOCK:
         if _blas_users == 0:
-            _blas_limiter = threadpool_limits(1)
+            _blas_limiter = _controller().limit(limits=1)
         _blas_users += 1
     try:
         yield
@@ -105,7 +115,12 @@ class Prepared:
 
 
 def prepare(plant: Plant) -> Prepared:
-    """Substituted matrices of ``plant`` (see the module docstring)."""
+    """Substituted matrices of ``plant`` (see the module docstring); computed once per plant (the
+    plant is frozen), its arrays read-only."""
+    return cast(Prepared, plant.cached("prepared", lambda: _prepare(plant)))
+
+
+def _prepare(plant: Plant) -> Prepared:
     M = np.asarray(plant.M, float)
     cho = sl.cho_factor(M)
     inv = lambda X: sl.cho_solve(cho, np.asarray(X, float))  # noqa: E731
@@ -119,13 +134,18 @@ def prepare(plant: Plant) -> Prepared:
     OaMi = inv(Oa.T).T if has_oa else np.zeros_like(Oa)
     Cp = plant.Oq - OaMi @ K
     Cv = plant.Ov - OaMi @ C
-    return Prepared(
+    out = Prepared(
         plant=plant, G=G, Kt=Kt, Ct=Ct, Cp=Cp, Cv=Cv,
         D0=plant.Pz - Cp @ G - OaMi @ plant.Kz,
         D1=plant.Pv - Cv @ G - OaMi @ plant.Cz,
         D2=plant.Pa - OaMi @ plant.Mz,
         Df=plant.Pf + OaMi @ plant.F,
         force=~motion, kinds=tuple(plant.kinds))
+    for f in fields(out):
+        value = getattr(out, f.name)
+        if isinstance(value, np.ndarray):
+            value.flags.writeable = False
+    return out
 
 
 @dataclass(frozen=True, eq=False)
@@ -484,6 +504,24 @@ def _modal_sets(prep: Prepared, q0: np.ndarray, v0: np.ndarray,
     return sets, how
 
 
+def _remembered_modal_sets(prep: Prepared, q0: np.ndarray, v0: np.ndarray,
+                           horizon: float) -> tuple[list[_ModalSet], str]:
+    """:func:`_modal_sets`, kept on the plant for the next run with the same initial state and
+    horizon (one slot: a loop simulating one plant again and again, e.g. a controller design, skips
+    the complex-mode ``eig`` and the modal maps). The sets depend only on the plant (frozen), the
+    initial state and the horizon; their arrays are made read-only."""
+    key = (float(horizon), np.asarray(q0, float).tobytes(), np.asarray(v0, float).tobytes())
+    slot = prep.plant._cache.get("modal sets")
+    if slot is not None and slot[0] == key:
+        return slot[1]
+    sets, how = _modal_sets(prep, q0, v0, horizon)
+    for ms in sets:
+        for a in (ms.A, ms.P, ms.x0, ms.Y):
+            a.flags.writeable = False
+    prep.plant._cache["modal sets"] = (key, (sets, how))
+    return sets, how
+
+
 def _real_view(a: np.ndarray) -> np.ndarray:
     """A complex array's last axis as interleaved real and imaginary parts (real arrays as they are)."""
     return np.ascontiguousarray(a).view(float) if np.iscomplexobj(a) else a
@@ -502,7 +540,7 @@ def run_modal(prep: Prepared, grid: Grid, kin: Kinematics, rows: np.ndarray,
     """
     plant = prep.plant
     degree = max([DEGREE[k] for k in prep.kinds] + [1])
-    sets, how = _modal_sets(prep, q0, v0, float(grid.t[-1]))
+    sets, how = _remembered_modal_sets(prep, q0, v0, float(grid.t[-1]))
     # generalized forcing per input "channel": [F (force), -Kt (z), -Ct (z')]
     Wg = np.hstack([plant.F * prep.force, -prep.Kt, -prep.Ct])  # (n, 3m)
     m = len(prep.kinds)

@@ -1,0 +1,171 @@
+"""Issue 17 item 5: small models without overhead, and without a changed answer.
+
+Two things are tested. The dense small-model path (the assembly, the stiffness factor G and the
+Jacobi eigen path's products done in NumPy) gives *bit for bit* the digits of the scipy.sparse path
+it replaces -- the reference is scipy.sparse itself, on the badly scaled family where the order of
+summation is part of the answer. And the memo (:mod:`vibss.linear.memo`) that hands a model's
+assembly, plants and spectra out again is keyed right: the same model gives what a fresh solve
+gives, another model (even an equal one) is solved anew, a large one is not kept, and what is kept
+stays read-only.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+from cases import asymmetric_model, prism_model, two_mass_model
+from scaled_cases import graded_chain, hanging_chain, instrument, stiff_links
+
+import vibss
+from vibss import Body, Model, Mount, MountType
+from vibss.linear import memo
+from vibss.linear.assemble import _assemble, assemble
+from vibss.linear.eigen import _sparse_order_product
+from vibss.linear.eigen_checks import _inverse_cholesky
+from vibss.linear.signals import build_plant
+
+MODELS = {
+    "prism": prism_model, "two_mass": two_mass_model, "asymmetric": asymmetric_model,
+    "graded_chain": lambda: graded_chain(True), "hanging_chain": hanging_chain,
+    "instrument": instrument, "stiff_links": lambda: stiff_links(1e14, True),
+    "powertrain": lambda: vibss.load_example("powertrain"),
+}
+
+
+def bits(a: np.ndarray) -> bytes:
+    return np.ascontiguousarray(a).tobytes()
+
+
+@pytest.fixture(autouse=True)
+def empty_memo():
+    memo.forget()
+    yield
+    memo.forget()
+
+
+@pytest.mark.parametrize("name", sorted(MODELS))
+def test_dense_assembly_and_factor_are_the_sparse_path_bit_for_bit(name: str) -> None:
+    """K, C, H, their ground couplings, M and the stiffness factor G of the dense path against the
+    scipy.sparse assembly of the same model (COO sums, sparse slicing and adding, ``st @ B``)."""
+    model = MODELS[name]()
+    dense, sparse = _assemble(model, False), _assemble(model, True)
+    assert not sp.issparse(dense.K) and sp.issparse(sparse.K)
+    for key in ("M", "K", "C", "H"):
+        assert bits(dense.dense(key)) == bits(sparse.dense(key)), key
+    for key in ("Kg", "Cg", "Hg"):
+        assert bits(getattr(dense, key)) == bits(getattr(sparse, key)), key
+    gd, gs = dense.stiffness_factor(), sparse.stiffness_factor()
+    assert gd.shape == gs.shape
+    for part in ("data", "indices", "indptr"):
+        assert bits(getattr(gd, part)) == bits(getattr(gs, part)), part
+
+
+@pytest.mark.parametrize("name", sorted(MODELS))
+def test_jacobi_products_are_scipys_bit_for_bit(name: str) -> None:
+    """The two products of the Jacobi path, ``G L^-T`` and ``L^-T V``, against scipy.sparse's."""
+    a = _assemble(model := MODELS[name](), True)
+    g, li = a.stiffness_factor(), _inverse_cholesky(a.M)
+    assert li is not None
+    ref = (sp.csr_matrix(g) @ sp.csr_matrix(li).T).toarray()
+    assert bits(_sparse_order_product(g.toarray(), li.toarray())) == bits(ref)
+    v = np.random.default_rng(len(model.bodies)).standard_normal((a.n, a.n))
+    assert bits(_sparse_order_product(li.toarray().T, v.T)) == bits(np.asarray(li.T @ v))
+    # the dense mass matrix gives the same blocks of L^-1 as the sparse one
+    ld = _inverse_cholesky(_assemble(model, False).M)
+    for part in ("data", "indices", "indptr"):
+        assert bits(getattr(ld, part)) == bits(getattr(li, part)), part
+
+
+@pytest.mark.parametrize("name", ["graded_chain", "hanging_chain", "stiff_links"])
+def test_modes_of_the_dense_path_are_the_sparse_paths(name: str) -> None:
+    """The whole eigen path on the badly scaled family: frequencies and shapes bit for bit (the error
+    bound multiplies by M in its own form, 6x6 blocks or sparse, as it did before: close, not equal)."""
+    model = MODELS[name]()
+    d, s = vibss.modes(_assemble(model, False)), vibss.modes(_assemble(model, True))
+    for key in ("omega", "shapes"):
+        assert bits(getattr(d, key)) == bits(getattr(s, key)), key
+    np.testing.assert_allclose(d.error_estimate, s.error_estimate, rtol=1e-6)
+
+
+def box() -> Model:
+    t = MountType("t", [1e4, 1.2e4, 2e4], [20.0, 30.0, 15.0])
+    return Model([Body("b", 10.0, [1.0, 1.2, 1.5], cog=[0.0, 0.0, 0.1])],
+                 [Mount(f"m{i}", t, "b", at=[x, y, 0.0]) for i, (x, y) in
+                  enumerate([(0.3, 0.2), (-0.3, 0.2), (0.3, -0.2), (-0.25, -0.2)])], name="box")
+
+
+def test_the_same_model_is_remembered_and_another_is_not() -> None:
+    m = box()
+    assert assemble(m) is assemble(m)
+    assert assemble(m, sparse=True) is not assemble(m)
+    assert assemble(box()) is not assemble(m)            # equal, but another model
+    p = build_plant(m, ["b.fz"], ["b.z"])
+    assert build_plant(m, ["b.fz"], ["b.z"]) is p
+    assert build_plant(m, ["b.fx"], ["b.z"]) is not p
+    assert build_plant(m, ["b.fz"], ["b.z"], modal_damping=0.02) is not build_plant(m, ["b.fz"], ["b.z"],
+                                                                                     modal_damping=0.02)
+    # what is kept is read-only
+    with pytest.raises(ValueError, match="read-only"):
+        assemble(m).K[0, 0] = 1.0
+    with pytest.raises(ValueError, match="read-only"):
+        p.K[0, 0] = 1.0
+
+
+def test_the_memo_is_bounded_and_holds_no_large_model() -> None:
+    models = [box() for _ in range(memo.MODELS + 3)]
+    first = assemble(models[0])
+    for m in models[1:]:
+        assemble(m)
+    assert len(memo._MEMO) == memo.MODELS
+    assert assemble(models[0]) is not first                 # dropped, least recently used
+    t = MountType("t", [1e4] * 3)
+    n = memo.SMALL_DOFS // 6 + 1
+    big = Model([Body(f"b{i}", 1.0, [1, 1, 1], cog=[i, 0, 0]) for i in range(n)],
+                [Mount(f"m{i}", t, f"b{i}") for i in range(n)])
+    memo.forget()
+    assert assemble(big) is not assemble(big)
+    assert len(memo._MEMO) == 0
+
+
+def requests(m: Model) -> list[np.ndarray]:
+    f = np.linspace(1.0, 60.0, 40)
+    u = {"b.fz": lambda t: np.sin(30 * t)}
+    return [vibss.modes(m).omega, vibss.modes(m, n_modes=3).omega,
+            vibss.frequency_response(m, ["b.fz"], ["b.z"], frequencies=f).response,
+            vibss.simulate(m, inputs=u, outputs=["b.z"], t_end=0.3, dt=1e-3)["b.z"],
+            vibss.simulate(m, inputs=u, outputs=["b.z"], t_end=0.3, dt=1e-3,
+                           initial={"b": {"displacement": [0, 0, 1e-3, 0, 0, 0]}})["b.z"],
+            vibss.simulate(m, inputs=u, outputs=["b.z"], t_end=0.2, dt=1e-3)["b.z"]]
+
+
+def test_answers_asked_again_are_the_fresh_answers() -> None:
+    """modes, frequency_response and simulate on a remembered model against a fresh solve of a new,
+    equal model (nothing remembered): identical numbers, and no answer of one request (other
+    n_modes, initial state or horizon) handed to another."""
+    m = box()
+    first, again = requests(m), requests(m)
+    memo.forget()
+    fresh = requests(box())
+    assert first[1].shape == (3,) and first[4][0] == pytest.approx(1e-3) and first[5].shape == (201,)
+    for a, b, c in zip(first, again, fresh):
+        np.testing.assert_array_equal(a, b)
+        np.testing.assert_array_equal(a, c)
+    assert not np.array_equal(first[3], first[4])    # the initial displacement is not forgotten
+    # a shorter run is the start of the longer (its own horizon: to round-off, the scan's blocks differ)
+    np.testing.assert_allclose(first[5], first[3][:201], rtol=0, atol=1e-12 * np.abs(first[3]).max())
+
+
+def test_components_of_a_dense_pattern_are_csgraphs() -> None:
+    """The mass blocks of a small dense M are found without scipy.sparse: the same labels as
+    ``scipy.sparse.csgraph.connected_components`` on random symmetric patterns."""
+    from scipy.sparse.csgraph import connected_components
+
+    from vibss.linear.eigen_checks import _components
+
+    rng = np.random.default_rng(1)
+    for _ in range(200):
+        n = int(rng.integers(1, 30))
+        p = rng.random((n, n)) < 0.08
+        p = p | p.T | np.eye(n, dtype=bool)
+        np.testing.assert_array_equal(_components(p), connected_components(sp.csr_matrix(p), directed=False)[1])
