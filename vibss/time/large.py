@@ -52,7 +52,7 @@ __all__ = ["CUTOFF_FACTOR", "MAX_MODES", "FIRST_MODES", "SPECTRUM_TAIL", "RATIO_
 CUTOFF_FACTOR = 8.0
 """Kept modes reach this multiple of the inputs' significant frequency ``f_in``."""
 
-MAX_MODES = 1000
+MAX_MODES = 400
 """Most modes computed by shift-invert (memory: about 2 n MAX_MODES doubles in ARPACK's basis)."""
 
 FIRST_MODES = 40
