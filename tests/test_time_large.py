@@ -74,6 +74,21 @@ def test_initial_conditions_and_free_vibration_are_refused_on_the_large_path(mon
                  initial={"b1": {"displacement": [0.001, 0, 0, 0, 0, 0]}})
 
 
+def test_too_many_modes_below_the_cut_off_is_refused_not_truncated(monkeypatch) -> None:
+    """A 100-body chain's modes are dense from 2.3 Hz (about 160 below 16 Hz): with at most 20
+    modes allowed a 0.5 s pulse's cut-off is out of reach, and simulate says so instead of
+    answering with modes that may not be the ones the outputs see."""
+    import vibss.time.large as large
+
+    monkeypatch.setattr(time_api, "LARGE_DOFS", 100)
+    monkeypatch.setattr(large, "MAX_MODES", 20)
+    monkeypatch.setattr(large, "FIRST_MODES", 10)
+    model = chain_model(100, damping="none", seed=3)
+    shock = Excitation("shock", "force", "b0", HalfSine(100.0, duration=0.5), dof="z")
+    with pytest.raises(AnalysisError, match="modes reach only .* of the cut-off 16 Hz.*method='modal'.*krylov"):
+        simulate(model, [shock], outputs=["b0.z"], t_end=1.0, dt=1e-3)
+
+
 def test_input_frequency_from_the_pulse_and_from_the_spectrum() -> None:
     """A pulse states its content (1 / duration); a step does not, and the sampled spectrum's
     L1 tail sets it, capped by the Nyquist frequency."""

@@ -10,9 +10,11 @@ computing every mode densely is O(n^3) (196 s at 6,000 DOF, 26.8 GiB of memory a
    :data:`SPECTRUM_TAIL` of its L1 mass), and the cut-off ``f_c = CUTOFF_FACTOR f_in``.
 2. **Kept modes.** Every undamped mode up to ``f_c`` by shift-invert ``eigsh`` (the one eigen path,
    :func:`vibss.linear.eigen.undamped`), the count grown (at least doubled, more where the modes found
-   are far below ``f_c``, counted as growing like ``w^2``) until the highest one lies above ``f_c``
-   or :data:`MAX_MODES` is reached (then the true cut-off is the highest mode computed, and the note
-   says so).
+   are far below ``f_c``, counted as growing like ``w^2``) until the highest one lies above ``f_c``.
+   When that needs more than :data:`MAX_MODES` (or the count predicted from the modes found exceeds
+   twice it) an :class:`~vibss.errors.AnalysisError` says so and names the other routes: modes
+   missing below the cut-off may be the very ones the inputs and outputs see (on a long chain the
+   lowest modes lie far from them), so no estimate from the kept ones could be trusted.
 3. **Residual vectors** (mode-acceleration / static correction): the static response
    ``K^-1 [F, Kz, Cz, Mz]`` of every forcing term, made M-orthogonal to the kept modes, is appended
    to the basis and the plant projected on it (Galerkin). The kept modes stay exact eigenpairs of the
@@ -41,6 +43,7 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
+from ..errors import AnalysisError
 from ..linear.eigen import symmetric_eigen, undamped
 from ..linear.plant import Plant
 from ..linear.solve import SingularMatrixError, lu_solver
@@ -96,7 +99,7 @@ class Truncated:
     cutoff_hz : float
         Asked cut-off ``CUTOFF_FACTOR f_in`` [Hz].
     top_hz : float
-        Highest kept mode [Hz] (below ``cutoff_hz`` only when :data:`MAX_MODES` stopped the search).
+        Highest kept mode [Hz] (above ``cutoff_hz`` unless every mode is kept).
     """
 
     plant: Plant
@@ -111,11 +114,9 @@ class Truncated:
 
     def describe(self) -> str:
         """What was kept, in words (for a result's note)."""
-        capped = (f"; only {self.n_modes} modes ({MAX_MODES} at most) reach {self.top_hz:.4g} Hz, below the "
-                  f"cut-off" if self.top_hz < self.cutoff_hz else "")
         return (f"{self.full.n} DOFs above the large-model threshold: kept sparse; the {self.n_modes} "
                 f"modes up to {self.top_hz:.4g} Hz (cut-off {CUTOFF_FACTOR:g} x the inputs' "
-                f"{self.input_hz:.4g} Hz = {self.cutoff_hz:.4g} Hz{capped}) by shift-invert, plus "
+                f"{self.input_hz:.4g} Hz = {self.cutoff_hz:.4g} Hz) by shift-invert, plus "
                 f"{self.n_residual} residual static vectors (mode-acceleration correction of every "
                 f"truncated mode)")
 
@@ -182,11 +183,23 @@ def truncated_plant(full: Plant, input_hz: float) -> Truncated:
     k = min(FIRST_MODES, n - 2)
     while True:
         spec = undamped(K, M, None, n_modes=k, method="shift-invert")
-        if spec.omega2[-1] > wc**2 or k >= min(MAX_MODES, n - 2):
+        top_hz = float(np.sqrt(max(spec.omega2[-1], 0.0)) / (2 * np.pi))
+        if spec.omega2[-1] > wc**2 or k >= n - 2:
             break
         # the next count from the one found (modes counted as growing like w^2), at least doubled
-        grow = 1.25 * wc**2 / max(float(spec.omega2[-1]), np.finfo(float).tiny)
-        k = int(min(max(2 * k, math.ceil(k * grow)), MAX_MODES, n - 2))
+        want = min(math.ceil(k * 1.25 * wc**2 / max(float(spec.omega2[-1]), np.finfo(float).tiny)), n - 2)
+        if (k >= MAX_MODES and want > k) or want > 2 * MAX_MODES:
+            # refused rather than answered: modes missing below the cut-off may be the ones the
+            # inputs and outputs see (on a long chain the lowest ones lie far from them), and the
+            # estimate from the kept ones would not know
+            raise AnalysisError(
+                f"simulate: {n} DOFs above the large-model threshold, but {k} modes reach only "
+                f"{top_hz:.4g} Hz of the cut-off {wc / (2 * np.pi):.4g} Hz ({CUTOFF_FACTOR:g} x the inputs' "
+                f"{input_hz:.4g} Hz; about {want} modes needed, at most {MAX_MODES} are computed): a "
+                "truncated answer could not state its error. Use method='modal' (every mode, dense: "
+                "O(n^3) time, 8 n^2 bytes), vibss.reduce(model, Scope.for_simulation(...), 'krylov') "
+                "and simulate its plant, or inputs with less high-frequency content")
+        k = int(min(max(2 * k, want), max(MAX_MODES, k + 1), n - 2))
     phi, w2 = spec.phi, spec.omega2
     forcing = np.hstack([full.F, full.Kz, full.Cz, full.Mz])
     forcing = forcing[:, np.any(forcing != 0, axis=0)]
@@ -196,8 +209,7 @@ def truncated_plant(full: Plant, input_hz: float) -> Truncated:
         d = K.diagonal() / np.maximum(M.diagonal(), np.finfo(float).tiny)
         solve = lu_solver(K + 1e-6 * float(np.median(d[d > 0]) if np.any(d > 0) else 1.0) * M)
     static = np.asarray(solve(forcing), float).reshape(n, -1) if forcing.size else np.zeros((n, 0))
-    capped = not spec.omega2[-1] > wc**2
-    top_w2 = w2[-1] if capped else wc**2
+    top_w2 = min(float(w2[-1]), wc**2)      # all modes kept (a small model) or the cut-off
     # the coarser answers of the error estimate: the modes up to a half and a quarter of the cut-off
     half, quarter = (int(np.searchsorted(w2, top_w2 * c**2, side="right")) for c in (0.5, 0.25))
     plant, nres = _project(full, phi, w2, static)
