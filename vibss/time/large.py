@@ -47,7 +47,6 @@ from ..errors import AnalysisError
 from ..linear.eigen import symmetric_eigen, undamped
 from ..linear.plant import Plant
 from ..linear.solve import SingularMatrixError, lu_solver
-from ..reduction.scope import content_frequency
 
 __all__ = ["CUTOFF_FACTOR", "MAX_MODES", "FIRST_MODES", "SPECTRUM_TAIL", "RATIO_MIN", "RATIO_MAX", "WARN_ERROR",
            "Truncated", "input_frequency", "truncated_plant", "error_estimate"]
@@ -141,6 +140,10 @@ def input_frequency(functions: Sequence[Any], samples: np.ndarray, dt: float) ->
         else the frequency below which the sampled spectrum holds all but :data:`SPECTRUM_TAIL` of
         its L1 mass. Capped by the Nyquist frequency ``1 / (2 dt)``.
     """
+    # late: importing vibss.reduction loads python-control, which `vibss time` must not pay for
+    # (tests/test_startup.py); this path runs only for large models
+    from ..reduction.scope import content_frequency
+
     nyquist = 0.5 / dt
     stated = [content_frequency(fn, 1.0) if fn is not None else math.inf for fn in functions]
     if stated and all(0.0 < f < math.inf for f in stated):
