@@ -6,9 +6,17 @@ model builder itself needs no eigen-analysis), one BLAS thread:
 - ``vibss.modes(model, n_modes=20)`` against raw ``scipy.sparse.linalg.eigsh`` shift-invert on the
   same assembled K and M (time ratio, largest relative difference of the frequencies, peak memory);
 - ``vibss.frequency_response(model, 1 input, 3 outputs, explicit frequencies)`` against a plain
-  ``scipy.sparse.linalg.splu`` per frequency written here (the stock path), and its difference.
+  ``scipy.sparse.linalg.splu`` per frequency written here (the stock path), and its difference;
+- ``vibss.simulate(model, half-sine force, 3 outputs)`` for two pulse lengths: kept sparse
+  (:mod:`vibss.time.large`: the modes up to a cut-off plus residual vectors), its time, the modes
+  kept and the error estimate it states, or its refusal when the cut-off holds too many modes (no
+  stock path runs at this size: python-control would need a dense 2n-state system).
 
-Run: ``python benchmarks/bench_large.py [--quick]`` (quick: 2,000 bodies instead of 10,000).
+``--huge``: 100,000 bodies (600,000 DOF): building the Model, assembly and ``modes(n_modes=20)``,
+with the peak memory (``resource.getrusage``) after each; raw ``eigsh`` on the same matrices in the
+same run. Memory-heavy (several GB): not run by ``make bench``.
+
+Run: ``python benchmarks/bench_large.py [--quick | --huge]`` (quick: 2,000 bodies instead of 10,000).
 """
 
 from __future__ import annotations
@@ -17,6 +25,7 @@ import argparse
 import resource
 import sys
 import time
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -27,6 +36,12 @@ from threadpoolctl import threadpool_limits
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 from benchmarks.models import chain_model  # noqa: E402
 import vibss  # noqa: E402
+from vibss.model.excitation import Excitation  # noqa: E402
+from vibss.model.timefunctions import HalfSine  # noqa: E402
+
+SHOCKS_S = (0.5, 2.5)
+"""Half-sine force pulse lengths [s] of the time-response cases: a shock (content 2 Hz, cut-off
+16 Hz) and a slow pulse (0.4 Hz, cut-off 3.2 Hz)."""
 
 
 def peak_gb() -> float:
@@ -65,7 +80,21 @@ def main(quick: bool = False) -> dict:
             h[:, j] = spl.splu(sp.csc_matrix(K - w * w * M)).solve(rhs)[rows]
         t_splu = time.perf_counter() - t
         err_frf = float(np.abs(r.response[:, 0, :].real - h).max() / np.abs(h).max())
-    out = {"dofs": 6 * n_bodies, "assemble_s": t_asm, "modes_s": t_modes, "eigsh_s": t_eigsh,
+        shocks = []
+        for duration in SHOCKS_S:
+            shock = Excitation("shock", "force", "b0", HalfSine(100.0, duration=duration), dof="z")
+            t = time.perf_counter()
+            try:
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore")
+                    sim = vibss.simulate(model, [shock], outputs=outputs, t_end=2 * duration, dt=duration / 500)
+                what = sim.note.split("; the ")[1].split(" (cut-off")[0]
+                stated = float(sim.note.split("estimated error ")[1].split(" ")[0])
+            except vibss.errors.AnalysisError as exc:
+                what, stated = "refused: " + str(exc).split(": ", 1)[1].split(": a truncated")[0], float("nan")
+            shocks.append({"duration_s": duration, "s": time.perf_counter() - t, "kept": what,
+                           "error_estimate": stated})
+    out = {"dofs": 6 * n_bodies, "assemble_s": t_asm, "shocks": shocks, "modes_s": t_modes, "eigsh_s": t_eigsh,
            "modes_ratio": t_modes / t_eigsh, "modes_error": err_modes, "frf_s": t_frf, "splu_loop_s": t_splu,
            "frf_ratio": t_splu / t_frf, "frf_difference": err_frf, "peak_memory_gb": peak_gb()}
     print(f"{6 * n_bodies} DOF chain (seed 3), one BLAS thread:")
@@ -74,6 +103,40 @@ def main(quick: bool = False) -> dict:
           f"   frequencies differ by {err_modes:.1e}")
     print(f"  FRF 1 x 3 x 200 f {t_frf:.2f} s ({r.method})   splu per frequency {t_splu:.2f} s   "
           f"{t_splu / t_frf:.2f}x faster   difference {err_frf:.1e}")
+    for c in shocks:
+        print(f"  half-sine force {c['duration_s']:g} s, 3 outputs, 1,000 steps: {c['s']:.2f} s: {c['kept']}; "
+              f"estimated error {c['error_estimate']:.2g}")
+    print(f"  peak memory of the process {peak_gb():.2f} GB")
+    return out
+
+
+def huge(n_bodies: int = 100_000) -> dict:
+    """Build, assemble and ``modes(n_modes=20)`` at ``n_bodies`` (600,000 DOF), with peak memory."""
+    with threadpool_limits(1):
+        t = time.perf_counter()
+        model = chain_model(n_bodies, damping="none", seed=3)
+        t_model = time.perf_counter() - t
+        mem_model = peak_gb()
+        t = time.perf_counter()
+        asm = vibss.assemble(model)
+        t_asm = time.perf_counter() - t
+        mem_asm = peak_gb()
+        t = time.perf_counter()
+        md = vibss.modes(asm, n_modes=20)
+        t_modes = time.perf_counter() - t
+        mem_modes = peak_gb()
+        K, M = asm.K.tocsc(), asm.M.tocsc()
+        t = time.perf_counter()
+        w2 = np.sort(spl.eigsh(K, k=20, M=M, sigma=0.0, which="LM")[0])
+        t_eigsh = time.perf_counter() - t
+    err = float(np.abs(md.omega ** 2 / w2 - 1).max())
+    out = {"dofs": 6 * n_bodies, "model_s": t_model, "assemble_s": t_asm, "modes_s": t_modes,
+           "eigsh_s": t_eigsh, "modes_error": err, "peak_gb_model": mem_model, "peak_gb_assembled": mem_asm,
+           "peak_gb_modes": mem_modes, "peak_gb": peak_gb()}
+    print(f"{6 * n_bodies} DOF chain (seed 3), one BLAS thread:")
+    print(f"  Model built {t_model:.1f} s (peak {mem_model:.2f} GB)   assemble {t_asm:.1f} s (peak {mem_asm:.2f} GB)")
+    print(f"  modes(n_modes=20) {t_modes:.1f} s (peak {mem_modes:.2f} GB)   assembly + modes {t_asm + t_modes:.1f} s")
+    print(f"  raw eigsh shift-invert {t_eigsh:.1f} s   ratio {t_modes / t_eigsh:.2f}x   frequencies differ by {err:.1e}")
     print(f"  peak memory of the process {peak_gb():.2f} GB")
     return out
 
@@ -81,4 +144,6 @@ def main(quick: bool = False) -> dict:
 if __name__ == "__main__":
     parser = argparse.ArgumentParser()
     parser.add_argument("--quick", action="store_true")
-    main(parser.parse_args().quick)
+    parser.add_argument("--huge", action="store_true", help="100,000 bodies: assembly and 20 modes only")
+    args = parser.parse_args()
+    huge() if args.huge else main(args.quick)

@@ -42,13 +42,14 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
 from typing import Any, cast
+import warnings
 
 import numpy as np
 import scipy.sparse as sp
 import numpy.typing as npt
 
 from .._validate import choice, name_index, number, vector
-from ..errors import AnalysisError, ArgumentError, DefectiveModesError, ModelError
+from ..errors import AnalysisError, ArgumentError, DefectiveModesError, ModelError, VibssWarning
 from ..results import ReadOnly, Result, Table, jsonable, require_pandas
 from .methods import METHODS, SimulationJob, TimeMethod, resolve_method
 from ..model.model import DOF_NAMES, Model
@@ -58,6 +59,8 @@ from ..linear.hysteresis import dropped_hysteresis
 from ..linear.plant import Plant
 from ..linear.signals import build_plant
 from ..linear.solve import without_hysteresis
+from .large import Truncated, WARN_ERROR, error_estimate, input_frequency, truncated_plant
+from ..frequency.api import LARGE_DOFS
 from ..studies import causal_loss_fit, steady_sweeps, transient_excitations
 from ..diagnostics import check_excitations, check_explicit_rk
 
@@ -429,6 +432,7 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
         causal_note, model = fit.note, fit.model
         model_or_plant = model
     hidden = False
+    truncated: Truncated | None = None
     skipped: tuple[Any, ...] = ()
     if excitations is None and model is not None and inputs is None:
         # the model's time-domain excitations; steady sweeps are frequency studies (vibss.studies)
@@ -465,7 +469,10 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
         if outputs is not None and tuple(outputs) != plant.outputs:
             plant = _select_outputs(plant, outputs)
     elif model is not None:
-        if sources:
+        if _stays_sparse(model, method):
+            truncated = _truncated(model, list(sources.values()), outputs, initial, signals, ts, dt)
+            plant = truncated.plant
+        elif sources:
             plant = build_plant(model, list(sources.values()), outputs)
         else:
             # free vibration from initial conditions: a zero force input, internal and not reported
@@ -528,6 +535,8 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
         raise AnalysisError(f"simulate: method {name!r} returned shape {y.shape}, expected {(ns, len(plant.outputs))}")
     if auto:
         note = f"auto -> {name}: " + (f"{chosen.auto_reason}; " if chosen.auto_reason else "") + note
+    if truncated is not None:
+        note = f"{_truncation_note(truncated, job, chosen.kernel, y)}; " + note
     keep = ts >= record_from - 1e-9 * dt
     shown = [] if hidden else funcs
     u = np.array([np.broadcast_to(f(ts[keep]), (int(keep.sum()),)) for f in shown]).reshape(len(shown), int(keep.sum()))
@@ -603,6 +612,58 @@ def _sum(terms: list[tuple[Callable[[np.ndarray], np.ndarray], tuple[float, ...]
         return terms[0][0]
     fns = [f for f, _ in terms]
     return cast("Callable[[np.ndarray], np.ndarray]", lambda t: sum(np.asarray(f(t), float) for f in fns))
+
+
+def _stays_sparse(model: Model, method: Any) -> bool:
+    """Whether :func:`simulate` keeps ``model`` sparse (:mod:`vibss.time.large`): above
+    :data:`~vibss.frequency.api.LARGE_DOFS` DOFs with ``method="auto"``, and no branch mounts."""
+    return (isinstance(method, str) and method == "auto" and 6 * len(model.bodies) > LARGE_DOFS
+            and not any(t.has_branches for t in model.mount_types.values()))
+
+
+def _truncated(model: Model, sources: list[Any], outputs: Sequence[str] | None, initial: Any,
+               signals: Mapping[str, Any], ts: np.ndarray, dt: float) -> Truncated:
+    """The large model's sparse plant reduced to its low modes and residual vectors (:mod:`vibss.time.large`)."""
+    if not sources:
+        raise AnalysisError(f"simulate: a free vibration of {6 * len(model.bodies)} DOFs (above "
+                            f"{LARGE_DOFS}) from initial conditions alone: the large-model path needs an "
+                            "input to set its cut-off; give method='modal' (every mode, dense) instead")
+    full = build_plant(model, sources, outputs, sparse=True)
+    q0, v0 = _initial(full, initial, model)
+    if np.any(q0) or np.any(v0):
+        raise AnalysisError(f"simulate: initial: nonzero initial conditions on a model of {full.n} DOFs "
+                            f"(above {LARGE_DOFS}, kept sparse with truncated modes) do not map to the "
+                            "reduced coordinates exactly; give method='modal' (every mode, dense) instead")
+    fns = [getattr(sources_of, "function", None) for sources_of in _by_input(full, sources)]
+    samples = np.array([np.broadcast_to(_sum(signals.get(u, []))(ts), ts.shape) for u in full.inputs])
+    return truncated_plant(full, input_frequency(fns, samples.reshape(len(full.inputs), ts.size), dt))
+
+
+def _by_input(plant: Plant, sources: list[Any]) -> list[Any]:
+    """The excitation (or name) behind each of the plant's inputs, in its order (None: several)."""
+    found: dict[str, Any] = {}
+    for s in sources:
+        sig = getattr(s, "signal", s)
+        found[sig] = None if sig in found else s
+    return [found.get(u) for u in plant.inputs]
+
+
+def _truncation_note(tr: Truncated, job: SimulationJob, kernel: Callable[[SimulationJob], Any],
+                     y: np.ndarray) -> str:
+    """What the large-model path kept and its error estimate (the coarse answer run by the same
+    ``kernel``); warns above :data:`~vibss.time.large.WARN_ERROR`."""
+    ys = []
+    for coarse in tr.coarse:
+        coarse = coarse if job.plant is tr.plant else without_hysteresis(coarse)
+        zero = np.zeros(coarse.n)      # initial conditions are refused on this path
+        ys.append(np.asarray(kernel(replace(job, plant=coarse, q0=zero, v0=zero))[0], float))
+    worst = float(error_estimate(y, *ys).max(initial=0.0))
+    text = (f"{tr.describe()}; estimated error {worst:.2g} of each output's peak (from the same path "
+            f"with the {tr.n_coarse[0]} and {tr.n_coarse[1]} modes up to a half and a quarter of the cut-off)")
+    if not worst <= WARN_ERROR:
+        warnings.warn(VibssWarning(f"simulate: {text}: above {WARN_ERROR:g}; the truncated modes matter "
+                                   "for these inputs (method='modal' computes every mode, dense)"), stacklevel=3)
+    return text
 
 
 def _select_outputs(plant: Plant, outputs: Sequence[str]) -> Plant:
