@@ -352,17 +352,15 @@ _ROUND_OFF_ROTATION = fuzzing.Spec(
 
 @pytest.mark.parametrize("ground", [
     (457652.3420089377, 0.0, 0.0),
-    pytest.param((0.0, 0.0, 0.0), marks=pytest.mark.xfail(strict=True, reason=(
-        "open (docs/robustness.md): with no stiffness to ground only inertia holds the 13 g body and "
-        "the assembled form loses 1.6e-3; the mounts' form keeps it (1.6e-16), but choosing it for "
-        "every model with a free motion lost the exact-singularity detection of undamped resonances "
-        "(tests/test_frequency.py::test_undamped_exactly_at_resonance_is_infinite_not_an_error)")))])
+    (0.0, 0.0, 0.0)])
 def test_a_stiff_link_beside_a_single_axis_mount_is_solved_in_the_mounts_form(ground: tuple) -> None:
     """Found by the long run: a 13 g body held by one single-axis 4.6e5 N/m mount, linked by
     2e13 ... 8e13 N/m to a free 4.6 t body. The mount with zero axes is assembled with the rest, so the
     stiffness ratio that chooses the mounts' form saw the link alone (3.7) and the assembled form
     lost 4.7e-3 of the FRF (``direct``; 4.1e-3 ``sparse``) against 60 digits. With no stiffness to
-    ground at all (only inertia holds the 13 g body): 1.6e-3, still open."""
+    ground at all (only inertia holds the 13 g body) the stiffness ratio is 3.7 and the assembled form
+    lost 1.6e-3: the mounts' form is now chosen below the frequency where the link's round-off would
+    swamp the inertia holding the free motions (``MountForm.inertia_w2``)."""
     spec = fuzzing.Spec(
         masses=(0.01326724803150852, 4576.753184177788),
         spreads=((0.9999999999999994, 0.005246995596342535, 0.03311344134944793), (0.02293242204900574, 0.2107556164974517, 0.1)),
@@ -382,6 +380,26 @@ def test_a_stiff_link_beside_a_single_axis_mount_is_solved_in_the_mounts_form(gr
     for method in ("direct", "sparse"):
         h = vibss.frequency_response(model, inputs[:1], outputs, frequencies=[1.9], method=method).response[:, :, 0]
         assert np.abs(h - ref).max() <= 1e-8 * np.abs(ref).max(), method
+
+
+def test_one_sweep_mixes_the_forms_by_frequency_and_keeps_the_exact_resonance() -> None:
+    """A 1 kg body on one 3-axis mount at its COG (f_n = 1 Hz) rotates freely, so below
+    ``sqrt(inertia_w2 / MOUNTS_RATIO)`` (``inertia_w2 = k / m``: 0.032 Hz) its sweep is solved in the
+    mounts' form, above it in the assembled form, whose exact zero pivot at 1 Hz is an unbounded
+    response. Both parts against the closed form ``1 / (k - m w^2)``."""
+    from vibss.linear.signals import build_plant
+    from vibss.linear.solve import _mounts_at
+
+    k = (2 * np.pi) ** 2
+    model = vibss.Model([vibss.Body("b", 1.0, [1, 1, 1])], [vibss.Mount("m", vibss.MountType("t", [k] * 3), "b")])
+    f = np.array([0.001, 0.01, 1.0, 2.0])
+    plant = build_plant(model, ["b.fz"], ["b.z"])
+    assert plant.mounts is not None and plant.mounts.inertia_w2 == pytest.approx(k, rel=1e-12)
+    assert _mounts_at(plant, "auto", 2j * np.pi * f).tolist() == [True, True, False, False]
+    h = vibss.frequency_response(model, ["b.fz"], ["b.z"], frequencies=f, method="direct").response[0, 0]
+    assert np.isinf(h[2].real)
+    w = 2 * np.pi * f[[0, 1, 3]]
+    np.testing.assert_allclose(h[[0, 1, 3]], 1 / (k - w**2), rtol=1e-12)
 
 
 def test_a_nearly_free_rotation_at_0_hz_keeps_the_statics_digits() -> None:
