@@ -115,7 +115,9 @@ def rigid_mask(shapes: np.ndarray, K: Any = None, factor: Any = None, floor: flo
     """Which computed modes are rigid-body (zero-frequency) modes: the one test.
 
     A mode is rigid when its stiffness cancels to round-off: ``||X phi|| <= RIGID_RTOL ||X| |phi||
-    + ROUNDOFF_LEVERS eps reach(X, phi) + floor`` (:func:`_reach`, :data:`ROUNDOFF_LEVERS`) with X the stiffness factor G (``K = G^T G``; preferred) or K itself. For a true null
+    + ROUNDOFF_LEVERS eps reach(X, phi) + floor`` (:func:`_reach`, :data:`ROUNDOFF_LEVERS`;
+    ``floor``: the eigen-solver's backward error, ``n eps omega_max`` for the Jacobi SVD) with X the
+    stiffness factor G (``K = G^T G``; preferred) or K itself. For a true null
     vector the left side is round-off (~1e-16 of the right); an elastic mode stores stiffness energy
     (a 0.005 Hz suspension mode beside 1e6 N/m links: ~1e-5; six isolation modes beside 1e16 N/m
     links, on the factor: ~1e-6). The test looks at each mode alone, so it does not depend on how

@@ -90,6 +90,13 @@ class MountForm(ReadOnly):
     stiffness_ratio : float
         Largest principal stiffness of the mounts kept apart over the smallest nonzero principal
         stiffness of any mount touching a free DOF (kept apart or assembled with the rest).
+    inertia_w2 : float
+        When the mounts leave a motion free (only inertia holds it): the largest
+        ``k_max,p lambda_max(B_p M^-1 B_p^T)`` over the mounts kept apart [rad^2/s^2], the square of
+        the frequency at which a mount's stiffness equals the inertia ``m w^2`` of the lightest mass
+        (or moment of inertia at its lever arm) it moves. The assembled ``K`` rounds at the stiffest
+        mount's level, so below ``sqrt(inertia_w2 / MOUNTS_RATIO)`` a free motion's inertia is
+        swamped by that round-off. 0 when nothing is free.
     """
 
     B: Any
@@ -101,6 +108,7 @@ class MountForm(ReadOnly):
     H: Any
     source: tuple
     stiffness_ratio: float
+    inertia_w2: float = 0.0
 
     owns_arrays: ClassVar[bool] = True     # read-only in place (source: the plant's own arrays)
 

@@ -716,7 +716,49 @@ def mount_form(asm: Assembly, free: np.ndarray, source: tuple, extra_c: Any = No
     return MountForm(B=b[idx], kp=asm.kp[apart], cp=asm.cp[apart], hp=asm.hp[apart],
                      K=sp.csr_matrix(assembled(asm.kp) + rotational(asm.krp, asm.kcp)), C=sp.csr_matrix(c_rest),
                      H=assembled(asm.hp), source=source,
-                     stiffness_ratio=float(lam[apart].max() / _softest(lam[rows > 0])))
+                     stiffness_ratio=float(lam[apart].max() / _softest(lam[rows > 0])),
+                     inertia_w2=_inertia_w2(asm, free, b[idx], lam[apart].max(axis=1), source[3]))
+
+
+FREE_MOTION_CHECK_MAX = 150
+"""Plants up to this many free DOFs are checked for free motions when their mounts' form is built
+(larger ones keep ``inertia_w2 = 0``: the stiffness ratio alone chooses their form)."""
+
+
+def _free_motion(asm: Assembly, free: np.ndarray) -> bool:
+    """Whether the mounts leave a motion of the free DOFs unrestrained: the stiffness factor's
+    smallest singular value at round-off of its largest (or fewer rows than DOFs)."""
+    g = asm.stiffness_factor()[:, free].toarray()
+    if g.shape[0] < g.shape[1]:
+        return True
+    sv = np.linalg.svd(g, compute_uv=False)
+    return bool(sv[-1] <= g.shape[0] * np.finfo(float).eps * sv[0])
+
+
+def _inertia_w2(asm: Assembly, free: np.ndarray, b: sp.csr_matrix, kmax: np.ndarray, mass: Any) -> float:
+    """:attr:`MountForm.inertia_w2` [rad^2/s^2]: ``max_p k_max,p lambda_max(B_p M^-1 B_p^T)`` over the
+    mounts kept apart (``b``: their (3 q, n) deflection rows, ``kmax``: their largest principal
+    stiffness [N/m]) when the mounts leave a motion free; 0 otherwise or above
+    :data:`FREE_MOTION_CHECK_MAX` free DOFs.
+
+    ``B_p M^-1 B_p^T`` [1/kg] is the compliance of the inertia a unit deflection of mount p moves
+    (a moment of inertia counted at the mount's lever arm), so the value is units-independent: a
+    frequency squared. A free motion is held by nothing but inertia, and the assembled ``K``'s
+    round-off of its stiffest mounts swamps it at low frequencies: a 13 g body with no stiffness to
+    ground, linked by 8e13 N/m to a free 4.6 t body, lost 1.6e-3 of its FRF at 1.9 Hz in the
+    assembled form (issue 18's long run) while its stiffness ratio (3.7) chose that form."""
+    if free.size == 0 or free.size > FREE_MOTION_CHECK_MAX or not _free_motion(asm, free):
+        return 0.0
+    m = mass.toarray() if sp.issparse(mass) else np.asarray(mass, dtype=float)
+    bd = b.toarray()
+    try:
+        x = np.linalg.solve(m, bd.T)                                   # M^-1 B^T, (n, 3 q)
+    except np.linalg.LinAlgError:
+        return float(np.inf)
+    q = kmax.size
+    comp = (bd @ x).reshape(q, 3, q, 3)[np.arange(q), :, np.arange(q), :]     # (q, 3, 3) blocks
+    lam = np.linalg.eigvalsh(0.5 * (comp + comp.transpose(0, 2, 1))).max(axis=1)
+    return float(np.max(kmax * np.maximum(lam, 0.0)))
 
 
 def _softest(lam: np.ndarray) -> float:

@@ -230,7 +230,9 @@ def states(plant: Plant, s: np.ndarray, rhs: np.ndarray | None = None,
     form : str
         One of :data:`FORMS`: ``"auto"`` solves in the mounts' forces when the plant carries
         its :class:`~vibss.linear.plant.MountForm` and their stiffness ratio exceeds
-        :data:`MOUNTS_RATIO`, else the assembled matrices with ``backend``.
+        :data:`MOUNTS_RATIO`, or, for a model with a free motion, at frequencies where inertia
+        alone would not hold it against the assembled ``K``'s round-off (:func:`_mounts_at`); else
+        the assembled matrices with ``backend``.
 
     Returns
     -------
@@ -251,14 +253,46 @@ def states(plant: Plant, s: np.ndarray, rhs: np.ndarray | None = None,
     s = np.atleast_1d(np.asarray(s, dtype=complex))
     if rhs is None:
         r_full = forcing(plant, s, zfactor(s, plant.order))
-        def get(part: slice) -> np.ndarray:
+        def get(part: slice | np.ndarray) -> np.ndarray:
             return r_full[part]
     else:
         r = np.asarray(rhs, dtype=complex)
-        def get(part: slice) -> np.ndarray:
+        def get(part: slice | np.ndarray) -> np.ndarray:
             return r[part] if r.ndim == 3 else np.broadcast_to(r, (len(s[part]),) + r.shape).copy()
     name = _pick(plant, backend)
-    return SOLVERS["mounts" if _use_mounts(plant, form) else name](plant, s, get)
+    apart = _mounts_at(plant, form, s)
+    if apart.all() or not apart.any():
+        return SOLVERS["mounts" if apart.all() else name](plant, s, get)
+    x, bad = None, np.zeros(s.size, dtype=bool)
+    for which, solver in ((apart, "mounts"), (~apart, name)):       # each frequency in its own form
+        idx = np.flatnonzero(which)
+
+        def part_of(part: slice, idx: np.ndarray = idx) -> np.ndarray:
+            return get(idx[part])
+        xi, bad[idx] = SOLVERS[solver](plant, s[idx], part_of)
+        if x is None:
+            x = np.zeros((s.size,) + xi.shape[1:], dtype=complex)
+        x[idx] = xi
+    assert x is not None
+    return x, bad
+
+
+def _mounts_at(plant: Plant, form: str, s: np.ndarray) -> np.ndarray:
+    """(nf,) bool: where ``form`` (one of :data:`FORMS`) solves in the mounts' forces at each ``s``.
+
+    ``"auto"``: everywhere when the stiffness ratio exceeds :data:`MOUNTS_RATIO` (:func:`_use_mounts`);
+    else, when the mounts leave a motion free, below the frequency where the stiffest mount's
+    round-off in the assembled ``K`` would swamp the inertia holding that motion:
+    ``|s|^2 MOUNTS_RATIO < inertia_w2`` (:attr:`~vibss.linear.plant.MountForm.inertia_w2`). An undamped
+    resonance of such a model above that frequency keeps the assembled form's exact-singularity
+    detection (:func:`_at_singular`).
+    """
+    if _use_mounts(plant, form):
+        return np.ones(s.size, dtype=bool)
+    mf = plant.mounts
+    if form != "auto" or mf is None or plant.branches is not None or not mf.matches(plant) or mf.inertia_w2 <= 0:
+        return np.zeros(s.size, dtype=bool)
+    return np.abs(s) ** 2 * MOUNTS_RATIO < mf.inertia_w2
 
 
 def _plain(plant: Plant, s: np.ndarray, backend: str, form: str = "auto") -> tuple[np.ndarray, np.ndarray]:
