@@ -5,7 +5,8 @@
 - Modes of the same model: all modes by dense ``eigh`` against the lowest 50 by sparse
   shift-invert (``eigsh``), with the frequency difference between the two.
 
-Run: ``OPENBLAS_NUM_THREADS=1 python benchmarks/bench_core.py`` (``make bench`` runs all).
+``--quick``: 300 bodies (1,800 DOF) for ``make bench-quick``.
+Run: ``OPENBLAS_NUM_THREADS=1 python benchmarks/bench_core.py [--quick]`` (``make bench`` runs all).
 """
 
 from __future__ import annotations
@@ -55,10 +56,10 @@ def best(f, repeat=3):
     return min(times), out
 
 
-def main() -> dict:
+def main(n_bodies: int = 1000) -> dict:
     res: dict = {"machine": f"{platform.processor() or platform.machine()}, {platform.system()}",
                  "threads": 1}
-    model = chain_model(1000, damping="none", ground_mounts=3, seed=1)
+    model = chain_model(n_bodies, damping="none", ground_mounts=3, seed=1)
     res["bodies"], res["mounts"], res["dofs"] = len(model.bodies), len(model.mounts), model.n_dof
     with threadpool_limits(1):
         t_sparse, a_sp = best(lambda: assemble(model, sparse=True))
@@ -87,4 +88,6 @@ def main() -> dict:
 
 
 if __name__ == "__main__":
-    main()
+    import sys
+
+    main(300 if "--quick" in sys.argv else 1000)

@@ -14,7 +14,7 @@ both sides of the headline ratio; ``direct`` once); every vibss call gets a fres
 so nothing it caches (sparse forms, factorisations, the band structure) carries over between calls.
 ``auto_method`` is what ``frequency_response(method="auto")`` would pick, and why. Error: max over frequencies of
 ||H - H_ref||_F / ||H_ref||_F against ``direct``. Results are printed and
-written to ``benchmarks/results/frf.json``. Run: ``python benchmarks/bench_frf.py [n_bodies]``.
+written to ``benchmarks/results/frf.json``. Run: ``python benchmarks/bench_frf.py [n_bodies] [--quick]`` (quick: 40 bodies, 200 frequencies).
 """
 
 from __future__ import annotations
@@ -97,8 +97,10 @@ def run(n_bodies: int = 100, n_freq: int = 1000) -> dict:
 
 
 if __name__ == "__main__":
-    nb = int(sys.argv[1]) if len(sys.argv) > 1 else 100
-    result = run(nb)
+    quick = "--quick" in sys.argv                  # make bench-quick: 40 bodies, 200 frequencies
+    args = [a for a in sys.argv[1:] if a != "--quick"]
+    nb = int(args[0]) if args else (40 if quick else 100)
+    result = run(nb, n_freq=200 if quick else 1000)
     path = Path(__file__).resolve().parent / "results" / "frf.json"
     path.parent.mkdir(exist_ok=True)
     path.write_text(json.dumps(result, indent=2))
