@@ -21,8 +21,8 @@ loop of K - w^2 M + i w C with the 6 input columns, for a sparse solve per frequ
 product counted). ``best_possible`` = control's time over the smaller floor: the largest speed-up
 either family can reach on that model.
 Written to ``benchmarks/results/frf_topology.json``. Run:
-``python benchmarks/bench_frf_topology.py [--quick] [classical] [general] [dampers]`` (quick: 200
-frequencies, no repeats; the dampings named, default all).
+``python benchmarks/bench_frf_topology.py [--quick] [classical] [general] [dampers]`` (quick: 50
+bodies, 200 frequencies, no repeats; the dampings named, default all).
 """
 
 from __future__ import annotations
@@ -148,7 +148,8 @@ def run(n_bodies: int = 100, n_freq: int = 1000, repeat: int = 2,
 if __name__ == "__main__":
     quick = "--quick" in sys.argv
     chosen = tuple(a for a in sys.argv[1:] if a in CANDIDATES) or tuple(CANDIDATES)
-    result = run(n_freq=200 if quick else 1000, repeat=1 if quick else 2, dampings=chosen)
+    result = run(n_bodies=50 if quick else 100, n_freq=200 if quick else 1000, repeat=1 if quick else 2,
+                 dampings=chosen)
     path = Path(__file__).resolve().parent / "results" / "frf_topology.json"
     path.parent.mkdir(exist_ok=True)
     path.write_text(json.dumps(result, indent=2))
