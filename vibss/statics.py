@@ -176,7 +176,7 @@ class StaticResult(Result):
     def reaction(self) -> np.ndarray:
         """(6,) total force [N] and moment about the global origin [N m] into ground, every support
         included (in statics a support is fixed ground); :attr:`reactions` splits it per support."""
-        return np.sum(list(self.reactions.values()), axis=0) if self.model.mounts else np.zeros(6)
+        return np.sum(list(self.reactions.values()), axis=0)
 
     @property
     def reactions(self) -> dict[str, np.ndarray]:
@@ -263,11 +263,12 @@ class StaticResult(Result):
                                      "other side)").render())
             if self.mount_moment is not None:
                 parts.append(self.moment_table().render())
-        r = self.reaction
+        per_support = self.reactions
+        r = np.sum(list(per_support.values()), axis=0)
         parts.append("Total reaction into ground: F = (" + ", ".join(number_text(v, ".2f") for v in r[:3])
                      + ") N, M about origin = (" + ", ".join(number_text(v, ".2f") for v in r[3:]) + ") N m")
         if self.model.support_names:
-            rows = [[k] + [number_text(v, ".2f") for v in x] for k, x in self.reactions.items()]
+            rows = [[k] + [number_text(v, ".2f") for v in x] for k, x in per_support.items()]
             parts.append(Table(["into", "Fx [N]", "Fy [N]", "Fz [N]", "Mx [N m]", "My [N m]", "Mz [N m]"], rows,
                                title="Reaction per support (moments about the global origin)").render())
         if self.free_motions:
