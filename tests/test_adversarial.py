@@ -38,14 +38,15 @@ import numpy as np
 import pytest
 
 hypothesis = pytest.importorskip("hypothesis")
-from hypothesis import HealthCheck, Phase, given, settings  # noqa: E402
+from hypothesis import HealthCheck, Phase, event, given, settings  # noqa: E402
+from hypothesis.control import currently_in_test_context  # noqa: E402
 
 import fuzzing  # noqa: E402
 import mp_reference  # noqa: E402
 import vibss  # noqa: E402
 from vibss.linear import complex_modes  # noqa: E402
 from vibss.cli import main  # noqa: E402
-from vibss.errors import AnalysisError  # noqa: E402
+from vibss.errors import AnalysisError, DefectiveModesError  # noqa: E402
 from vibss.io.modelfile import example_path  # noqa: E402
 
 SETTINGS = settings(max_examples=fuzzing.MODELS, derandomize=True, deadline=None, database=None,
@@ -163,12 +164,24 @@ def test_frf_matches_60_digits_and_is_reciprocal(spec: fuzzing.Spec, f_hz: float
 @given(fuzzing.model_specs())
 def test_time_methods_agree(spec: fuzzing.Spec) -> None:
     """A step force: exact modal superposition and python-control's exact discretisation agree
-    (rigid modes, stiff links and non-proportional damping included)."""
+    (rigid modes, stiff links and non-proportional damping included), or the modal form refuses
+    nearly dependent complex modes in one line and ``auto`` gives python-control's answer."""
     model = fuzzing.build(spec)
     kick = [vibss.Excitation("kick", "force", "b0", vibss.Step(1.0), dof="z")]
     kw = dict(outputs=[f"b0.{d}" for d in vibss.DOF_NAMES], t_end=0.05, dt=1e-3)
-    modal = vibss.simulate(model, kick, method="modal", **kw).outputs
     ref = vibss.simulate(model, kick, method="forced_response", **kw).outputs
+    try:
+        modal = vibss.simulate(model, kick, method="modal", **kw).outputs
+    except DefectiveModesError as exc:
+        # the modal form's own refusal (nearly dependent complex modes, e.g. a rigid mode that
+        # the damping couples): it must say so, and `auto` must then give forced_response's answer
+        assert "nearly dependent" in str(exc)
+        if currently_in_test_context():           # not when a pinned model calls the inner test
+            event("modal refused: nearly dependent complex modes; auto took forced_response")
+        auto = vibss.simulate(model, kick, **kw)
+        assert "auto -> forced_response: modal refused" in auto.note
+        np.testing.assert_array_equal(auto.outputs, ref)
+        return
     assert np.abs(modal - ref).max() <= 1e-8 * max(float(np.abs(ref).max()), 1e-300)
 
 
@@ -662,6 +675,223 @@ def test_a_denormal_stiffness_is_a_free_motion_not_a_1e164_m_answer():
     r = vibss.static(model)
     assert r.free_motions == ("body 'b1' is free to rotate about y",)
     assert np.abs(r.q).max() < 1e5                 # the restrained part: soft, but not 1e164 m
+
+
+def test_time_methods_agree_on_a_four_body_model_whose_poles_are_all_accurate() -> None:
+    """Found by the sixth long run (the 38th model of "time methods agree"): no pole at risk (the
+    largest eps max|lam| / decay is 7e-12), yet ``modal`` was 1.13e-8 of the largest output (b0.rz)
+    off a 40-digit ``expm`` of the first-order system, ``forced_response`` 1.3e-12: ``eig``'s
+    vectors, unrefined, carried an inconsistency between their halves that the structured left
+    vectors magnify by ``omega / |lam|`` (6.1e5 / 0.14). Every vector refined: 2.7e-14. The model as
+    hypothesis drew it."""
+    test_time_methods_agree.hypothesis.inner_test(_FOUR_BODY_TIME)     # type: ignore[attr-defined]
+
+
+_FOUR_BODY_TIME = fuzzing.Spec(masses=(561.0563778826496,
+0.2621568819272609,
+0.9766490650261562,
+0.28430112108826805),
+spreads=((0.0015468237961136996, 0.001000000000000001, 0.1),
+(0.28245252913284047, 0.1, 0.001000000000000001),
+(0.016559184332004262, 0.9999997255105045, 0.13057526088914703),
+(0.7586476866992615, 0.0226975581039136, 0.01)),
+axes=((-1.360459249932398, -0.12305388746119927, -1.9561975576991e-171),
+(-2.695489848969719, -1.0060327978491426, -0.23373732702190075),
+(-0.3163300243846061, -1.105727762240682, 2.448830105911728e-308),
+(0.6132702924092186, 5.230024774530638e-285, -0.17732389855460884)),
+cogs=((-0.9943932471492625, 5.325102258991674e-197, -0.17364056627936342),
+(-0.7158280748165704, 0.9, -0.8372525311333501),
+(-0.979089255964098, -0.11332627786413219, 0.6447044891464331),
+(-2.0950672443880146e-191, -0.13518794736333484, 0.8759676720309368)),
+mounts=((0,
+-1,
+(np.float64(-0.9943932471482625),
+np.float64(0.42642319046478927),
+np.float64(0.07635943372063658)),
+(2.2283582161363515, 0.7844257948853208, 2.6225516641886166),
+(1000.0, 974597.3571654843, 1140.035529616631),
+(2.291310591461531, 9251.789844982495, 10.799282005743603),
+0.0),
+(1,
+-1,
+(np.float64(-0.7801640175519674),
+np.float64(0.9),
+np.float64(-0.8372525311333501)),
+(2.1287848206906794, 2.9999999999999996, 1.0518229137933623),
+(5725.827160454753, 32894.45346406375, 2676066.627578719),
+(5.7258271604547524e-11, 194.2826548415022, 2585.857521480989),
+0.05),
+(1,
+-1,
+(np.float64(-1.0491614081499037),
+np.float64(1.1031875981245696),
+np.float64(-0.6913329825340998)),
+(-1.7028549733185642e-60, 4.6e-10, -1.785216617499065),
+(100.0, 6697020.544398821, 108015.59190224938),
+(0.3162274651547315, 65911.65414711878, 7.09342376938579e-43),
+0.0),
+(1,
+0,
+(np.float64(-0.6904280748165704),
+np.float64(1.016524084017136),
+np.float64(-1.1177974199279357)),
+(1.192092896e-07, -2.593030024294129, -2.225073858507e-311),
+(74.6396677626746, 22.094468880029247, 1366.8541265579756),
+(0.0, 0.0, 0.0),
+0.0),
+(2,
+-1,
+(np.float64(-0.9038241804906039),
+np.float64(-0.10741710587186526),
+np.float64(1.116154769146907)),
+(-0.2505947610259929, 0.5323439394860578, -1.7053005941370625),
+(2478628.275474674, 2478628.275474674, 63149.21507158579),
+(18822.97618749794, 13909.694496245034, 42.271672890492056),
+0.0),
+(2,
+1,
+(np.float64(-1.479089255964098),
+np.float64(-0.4213654710938252),
+np.float64(0.959881153935745)),
+(-1.1, 3.0, -2.047605145233187),
+(7194747.628053922, 9808347.949536966, 3417083623.0878577),
+(0.0, 0.0, 0.0),
+0.0),
+(3,
+-1,
+(np.float64(-0.3280632114779176),
+np.float64(-0.4375209084227602),
+np.float64(1.0028559143258384)),
+(1.6543032512914498e-171, 1.2850058454149833, -2.4920660455671433),
+(625.9263311205219, 4062432.4467764627, 10.0 ** 2.00001),
+(2.0120195267673464e-282, 36815.93338329568, 0.5760337525953582),
+0.0),
+(3,
+-1,
+(np.float64(0.48429213344017397),
+np.float64(0.36481205263666516),
+np.float64(1.1729345936634512)),
+(1.8506561466308735, 4.0402590069598835e-185, 2.680893251328386e-260),
+(974597.3571654843, 23517.782098441694, 1255.3100754147245),
+(4971.339048318514, 8.003336629517842e-118, 9.19457122944542),
+0.0),
+(3,
+-1,
+(np.float64(0.34881509831946267),
+np.float64(-0.13518794736333484),
+np.float64(1.2648320062343485)),
+(1.566142745239402, -7.902567024207943e-167, 4.476097732049895e-35),
+(735.7697233876663, 368184.71706691716, 705.7952036442576),
+(1.2581066672790884, 3419.3200099045284, 1.541333031738558),
+0.0),
+(3,
+0,
+(np.float64(0.18639824220679746),
+np.float64(-0.4603640673497935),
+np.float64(0.8759676720309368)),
+(-2.003385832766498, 2.3120060373180413, 2.3709017909009233),
+(1.5245036041880768, 0.11358395974925135, 100.00228888681097),
+(0.0, 0.0, 0.0),
+0.0)))
+
+
+def test_a_rigid_mode_the_damping_couples_is_refused_by_modal_and_auto_takes_forced_response() -> None:
+    """Found by the time property after the sixth long run: four rigid modes, the fourth coupled
+    to the elastic modes by 5e-8 1/s through ``Phi^T C Phi`` (its own damping -2.7e-15: zero within
+    its shape's error) sits among the complex modes with an exact zero eigenvalue beside a nearly
+    zero one, cond(V) 1.6e15. ``modal`` refuses in one line (as at f80277b); ``auto`` names the
+    refusal and takes ``forced_response``. Not solved: a modal form for a rigid mode coupled only
+    by damping (its displacement the integral of a coupled velocity). The model as hypothesis drew it."""
+    test_time_methods_agree.hypothesis.inner_test(_RIGID_COUPLED_TIME)     # type: ignore[attr-defined]
+    model = fuzzing.build(_RIGID_COUPLED_TIME)
+    kick = [vibss.Excitation("kick", "force", "b0", vibss.Step(1.0), dof="z")]
+    with pytest.raises(DefectiveModesError, match="nearly dependent"):
+        vibss.simulate(model, kick, method="modal", outputs=["b0.z"], t_end=0.05, dt=1e-3)
+
+
+_RIGID_COUPLED_TIME = fuzzing.Spec(masses=(0.002895362892020492, 1000.0, 1.0, 2.0174370856119244),
+spreads=((0.29407619363947096, 0.329397967514023, 0.0027455039120287614),
+(0.001984594631103667, 0.844069299777635, 0.009177967288330266),
+(0.001, 0.006665394417911391, 0.002288241280342034),
+(0.46654464312841926, 0.0018755435611611238, 0.31622776601683794)),
+axes=((-0.5626089083344104,
+-0.017262334493424625,
+-4.220820945525689e-202),
+(1.9471049310285142, -1.5632690520538675, -2.3549498525765395),
+(-1.7285594102627784e-276, -1.0075275804040311, 1.046910910464149),
+(-1e-10, -1.5846516874708922, -0.3552317991586369)),
+cogs=((0.45359237, -4.438894210827963e-107, 0.5522161742501632),
+(-0.47386997097237404, -0.12685325020095184, -0.4581713315690762),
+(1.0, 8.886523917225265e-52, 1.4243244279237272e-276),
+(0.16867564248988676, -2.2546102284524386e-111, -0.99999)),
+mounts=((0,
+-1,
+(np.float64(0.618189061000989),
+np.float64(-0.14074157987357377),
+np.float64(0.8585763991406299)),
+(-2.633947601066263, 0.4624972768438802, 1.7468221377142115),
+(3104.3237816106825, 2483.4654979196375, 10.0 ** 4.6),
+(3.2729366270869e-77, 15.953391875277948, 388.158889992539),
+0.0),
+(1,
+-1,
+(np.float64(-0.07394012000741068),
+np.float64(0.13615230513513654),
+np.float64(-0.3832432520299991)),
+(3.0, 1.5320981034657896e-154, 1.8723727543739717),
+(0.0, 307754.9321627571, 589.1333953995552),
+(0.0, 247.36667872739997, 0.017674001861986657),
+0.05),
+(1,
+-1,
+(np.float64(-0.43295814381312936),
+np.float64(0.0073117107727452835),
+np.float64(-0.6947770020409665)),
+(2e-09, 1.2419735411948025, -2.105576558163656),
+(210782.67835915432, 10.0 ** 2.00001, 1179.0250006367137),
+(1552.897340450942, 2.000298669068881e-280, 6.576603891064497),
+0.0),
+(1,
+0,
+(np.float64(-0.5365164704282341),
+np.float64(-0.12685325020095184),
+np.float64(-0.595238105038949)),
+(-0.8416127429330875, 0.5238970745891676, 2.4515276786111305e-287),
+(1100292332791.5593, 1278043513841.8477, 146051096450.1101),
+(0.0, 0.0, 0.0),
+0.0),
+(2,
+-1,
+(np.float64(1.0), np.float64(-0.5), np.float64(0.2722397538815988)),
+(-2.6694018003551814, 3.298888388984491e-231, 5.960464477539063e-08),
+(4009477.8468728936, 35646.93488886381, 372.2565678024539),
+(244.71910686480064, 168.60902355715237, 1.3347245845056612e-229),
+0.0),
+(2,
+-1,
+(np.float64(0.5), np.float64(8.886523917225265e-52), np.float64(2e-09)),
+(1.0986613324485743, -1.815256371827925, 2.194708558270925),
+(327.35494893410754, 10.0 ** 2.00001, 37365.39513012179),
+(2.907582910803177e-07, 0.1794544436745484, 93.65973108792252),
+0.0),
+(2,
+0,
+(np.float64(0.5),
+np.float64(3.8346189084955976e-25),
+np.float64(-7.1117166879310745e-102)),
+(0.0, 0.0, 0.0),
+(476.17758630008, 476.17758630008, 202.72770394221808),
+(0.0, 0.0, 0.0),
+0.0),
+(3,
+0,
+(np.float64(0.1633444672786334),
+np.float64(9.27683910134517e-27),
+np.float64(-0.99999)),
+(2.827396461468936, 0.0, 0.0),
+(2026479.311847839, 2021497.9732862588, 864365.5083960749),
+(0.0, 0.0, 0.0),
+0.0)))
 
 
 def test_time_methods_agree_on_a_six_body_model_with_1e16_links() -> None:

@@ -131,8 +131,8 @@ response's horizon) gets its vector refined too: its response grows like a rigid
 with its neighbours accumulates over the horizon (:func:`_refine_slow_modes`)."""
 
 REFINE_FLOPS = 1e9
-"""Over a finite horizon, every mode at risk gets the inverse iteration (vector too) when their
-dense solves cost less than this many ``nk^3`` flops; above it only the slow modes do."""
+"""Over a finite horizon, every mode gets the inverse iteration (vector too) when the dense solves
+cost less than this (modes times ``nk^3``); above it only the slow modes at risk do."""
 
 
 def _refine_slow_modes(lam: np.ndarray, v: np.ndarray, scale: np.ndarray, rows: np.ndarray,
@@ -159,11 +159,15 @@ def _refine_slow_modes(lam: np.ndarray, v: np.ndarray, scale: np.ndarray, rows: 
     unchanged to 7e-13, 15 s -> 1.8 s); for a mode slower than the horizon (``|lam| horizon <``
     :data:`SLOW_PHASE`, its response growing like a rigid body's) it accumulates: a six-body model
     with 1e16 N/m links (``max|lam|`` 3.2e9 rad/s) was 3.5e-8 off a 50-digit reference over 0.05 s
-    with the pole alone, 4.8e-10 with every vector refined and 5.8e-10 with the vectors of the three
-    modes below ``SLOW_PHASE`` (0.09 to 1.9 rad/s). So over a finite horizon the slow modes
-    (and every mode at risk, when their inverse iterations cost less than
-    :data:`REFINE_FLOPS`) get the inverse iteration, the other modes :func:`_rayleigh` (the pole
-    only, all modes by two GEMMs).
+    with the pole alone, 2.0e-12 with every vector refined and 5.8e-10 with the vectors of the three
+    modes below ``SLOW_PHASE`` (0.09 to 1.9 rad/s). A mode with an accurate pole is not safe either:
+    on a four-body model (``max|lam|`` 6.1e5 rad/s, no mode at risk by the pole) the unrefined
+    vectors were 1.1e-8 off a 40-digit reference over 0.05 s, 2.7e-14 with every vector refined
+    (the structured left vectors ``x^T Kt / lam`` magnify the inconsistency of ``eig``'s two halves
+    ``v1 ~ S x`` by ``omega / |lam|``). So over a finite horizon every mode gets the inverse
+    iteration when that costs less than :data:`REFINE_FLOPS`; above it the modes slower than the
+    horizon do, and the other modes at risk :func:`_rayleigh` (the pole only, all modes by two
+    GEMMs).
     """
     ne, nk = scale.size, damping.shape[0]
     if not ne or not lam.size:
@@ -171,6 +175,9 @@ def _refine_slow_modes(lam: np.ndarray, v: np.ndarray, scale: np.ndarray, rows: 
     decay = np.maximum(np.abs(lam.real), 1.0 / horizon if horizon > 0 else np.inf)
     risk = np.finfo(float).eps * float(np.abs(lam).max()) / np.maximum(decay, np.finfo(float).tiny)
     todo = np.flatnonzero((risk > REFINE_RISK) & (np.abs(lam) > 0) & np.isfinite(risk))
+    every = np.flatnonzero((np.abs(lam) > 0) & np.isfinite(lam))
+    if np.isfinite(horizon) and every.size * float(nk) ** 3 <= REFINE_FLOPS:
+        todo = every
     if not todo.size:
         return lam, v
     kp = np.zeros((nk, nk), dtype=complex)
