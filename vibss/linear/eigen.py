@@ -397,7 +397,8 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
                     1e-6 * float(np.median(ratio[ratio > 0])) if np.any(ratio > 0) else 1.0
             refined = False
             for _ in range(3):                 # a few sweeps of subspace inverse iteration
-                w2, phi, est, ok = _refine(K, M, factor, w2, phi, est, need, shift, whole=True)
+                w2, phi, est, ok = _refine(K, M, factor, w2, phi, est, need, shift, whole=True,
+                                           estimate=factor is None)   # with a factor: tested below
                 if not ok:
                     break
                 refined = True
@@ -406,8 +407,9 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
                     # others are unchanged, and were not rigid even with the floor
                     head = min(int(np.flatnonzero(need).max()) + 2, w2.size)
                     cols = slice(0, min(head + 1, w2.size))     # one more: the last one's gap is whole
-                    rig = rigid_mask(phi[:, cols], K, factor)
-                    e_head = error_estimate(w2[cols], phi[:, cols], M, None, factor, rig)
+                    nrm = _factor_norms(factor, phi[:, cols])
+                    rig = rigid_mask(phi[:, cols], K, factor, norms=nrm)
+                    e_head = error_estimate(w2[cols], phi[:, cols], M, None, factor, rig, norms=nrm)
                     rigid, est = rigid.copy(), est.copy()
                     rigid[:head], est[:head] = rig[:head], e_head[:head]
                 need = ~rigid & (est > FREQ_RTOL)
@@ -493,14 +495,15 @@ def jacobi_svd(b: np.ndarray, vectors: bool = True) -> tuple[np.ndarray, np.ndar
 
 def _refine(K: Any, M: Any, factor: Any, w2: np.ndarray, phi: np.ndarray, est: np.ndarray,
             need: np.ndarray, shift: float = 0.0, solve: Any = None,
-            whole: bool = False) -> tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
+            whole: bool = False, estimate: bool = True) -> tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
     """Refine the modes flagged ``need`` (and all below them): inverse iteration, then Ritz.
 
     One step of subspace inverse iteration ``X = (K + shift M)^-1 M Phi_low``, the
     columns M-orthonormalised (scaled Cholesky QR, twice), then the Ritz values of the subspace from
     the *factor* by a Jacobi SVD of ``G W`` (high relative accuracy; ``W^T K W`` when no factor is
     known). A mode keeps its old value where the new estimate is not better. Returns
-    ``(w2, phi, est, refined)``.
+    ``(w2, phi, est, refined)``. With ``whole`` and not ``estimate`` every mode up to the last one
+    flagged is replaced and no estimate is formed (the caller tests them: their ``est`` is inf).
     """
     low = np.arange(int(np.flatnonzero(need).max()) + 1)
     mass = M if sp.issparse(M) else fast_matrix(np.asarray(M, float))
@@ -537,7 +540,9 @@ def _refine(K: Any, M: Any, factor: Any, w2: np.ndarray, phi: np.ndarray, est: n
     full_phi[:, low] = x @ q
     top = min(int(low.max()) + 2, w2.size)      # the refined modes and one neighbour for the gap
     new_est = np.full(w2.shape, np.inf)
-    new_est[:top] = error_estimate(new_w2[:top], full_phi[:, :top], M, None if factor is not None else K, factor)
+    if estimate or not whole:
+        new_est[:top] = error_estimate(new_w2[:top], full_phi[:, :top], M, None if factor is not None else K,
+                                       factor)
     better = np.zeros(w2.shape, bool)
     better[low] = need[low] & ~(new_est[low] > est[low])     # only the modes asked for; NaN / inf (rigid) not worse
     if whole:                  # the whole Ritz subspace or nothing: its vectors are one orthonormal set

@@ -41,6 +41,7 @@ from threadpoolctl import ThreadpoolController
 from ..linear.complex_modes import complex_modes
 from ..errors import AnalysisError
 from ..linear.eigen import damping_coupling, modal_basis, symmetric_eigen
+from ..linear.eigen_checks import _six_blocks
 from ..linear.branches import mechanical, require_none
 from ..linear.plant import Plant
 from ..linear.projection import projected_damping
@@ -128,8 +129,15 @@ def prepare(plant: Plant) -> Prepared:
 
 def _prepare(plant: Plant) -> Prepared:
     M = np.asarray(plant.M, float)
-    cho = sl.cho_factor(M)
-    inv = lambda X: sl.cho_solve(cho, np.asarray(X, float))  # noqa: E731
+    blocks = _six_blocks(M) if M.shape[0] > 150 else None
+    if blocks is not None:       # rigid bodies: M^-1 by the 6x6 blocks' Cholesky factors
+        lib = np.linalg.inv(np.linalg.cholesky(blocks))
+        lit = np.ascontiguousarray(np.swapaxes(lib, 1, 2))
+        inv = lambda X: np.matmul(lit, np.matmul(lib, np.asarray(X, float).reshape(lib.shape[0], 6, -1))  # noqa: E731
+                                  ).reshape(np.shape(X))
+    else:
+        cho = sl.cho_factor(M)
+        inv = lambda X: sl.cho_solve(cho, np.asarray(X, float))  # noqa: E731
     motion = np.array([k != "force" for k in plant.kinds])
     G = inv(plant.Mz) * motion
     K, C = np.asarray(plant.K, float), np.asarray(plant.C, float)
