@@ -170,11 +170,19 @@ def test_scan_equals_the_step_by_step_recursion(b: int, length: int) -> None:
     assert np.abs(y2 - ref[:-1]).max() <= 1e-12 * np.abs(ref).max() if length > 1 else True
 
 
+@pytest.mark.parametrize("factored_max", [None, 0])
 @pytest.mark.parametrize("b", [1, 2])
 @pytest.mark.parametrize("length", [1, 64, 1031, 10_000])
-def test_scan_with_factored_forcing_equals_the_step_by_step_recursion(b: int, length: int) -> None:
+def test_scan_with_factored_forcing_equals_the_step_by_step_recursion(b: int, length: int, factored_max,
+                                                                      monkeypatch) -> None:
     """The forcing passed as its factors ``d[i] = V[i] F`` (formed inside the scan) against the
-    step-by-step loop on the product ``V F`` formed beforehand: one step length, as in a plain grid."""
+    step-by-step loop on the product ``V F`` formed beforehand: one step length, as in a plain grid;
+    through the block-Toeplitz GEMMs, and (``FACTORED_MAX = 0``, as for many outputs on a large
+    model) through the per-step loop forming each step's forcing."""
+    import vibss.time.recursion as recursion
+
+    if factored_max is not None:
+        monkeypatch.setattr(recursion, "FACTORED_MAX", factored_max)
     rng = np.random.default_rng(7 * length + b)
     nb, p, c = 11, 4, 5
     theta = rng.uniform(0.001, 3.0, nb)

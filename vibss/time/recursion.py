@@ -169,7 +169,7 @@ def _blocks(E: np.ndarray, H: np.ndarray, x0: np.ndarray, D: "np.ndarray | LowRa
             pw[j] = _matmul(Ek, pw[j - 1])
         W = np.einsum("pim,jicm->jpcm", Yf.reshape(p, b, nb), pw).reshape(Lb * p, b * nb)
     Pirr = np.broadcast_to(np.eye(b, dtype=dtype)[:, :, None], (len(irr), b, b, nb)).copy()
-    if isinstance(D, LowRank) and not irr.size:
+    if isinstance(D, LowRank) and not irr.size and _factored_fits(Lb, p, D.F.shape[0], b * nb):
         # 1. every block from zero, as GEMMs: the outputs through the block's impulse response
         y, last = _factored_blocks(D, pw, Yf.reshape(p, b, nb), dtype)
     else:
@@ -214,6 +214,17 @@ def _blocks(E: np.ndarray, H: np.ndarray, x0: np.ndarray, D: "np.ndarray | LowRa
             xh = xn
             y[irr, j] += out(xh.reshape(irr.size, b * nb))
     return y.reshape(B * Lb, p), x
+
+
+FACTORED_MAX = 2**23
+"""Largest number of entries of either array :func:`_factored_blocks` forms (the (Lb p, Lb c)
+Toeplitz matrix, the (Lb c, b nb) stacked powers): 64 MB of floats. Beyond it (many outputs and
+inputs on a large model) step 1 loops over the steps with the forcing formed per step."""
+
+
+def _factored_fits(Lb: int, p: int, c: int, bnb: int) -> bool:
+    """Whether the arrays of :func:`_factored_blocks` stay within :data:`FACTORED_MAX` entries."""
+    return Lb * p * Lb * c <= FACTORED_MAX and Lb * c * bnb <= FACTORED_MAX // 2
 
 
 def _factored_blocks(D: LowRank, pw: np.ndarray, Y: np.ndarray, dtype: np.dtype) -> tuple[np.ndarray, np.ndarray]:
