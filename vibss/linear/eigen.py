@@ -385,7 +385,8 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
         # eigh cannot tell a rigid mode from one below sqrt(eps) of the top: refine every mode up to
         # the last doubtful one (shifted, so rigid modes are allowed), then test on the factor alone
         need = rigid | (est > FREQ_RTOL)
-        if also is not None and name == "dense" and not np.any(rigid):
+        asked = also is not None and name == "dense" and not np.any(rigid)
+        if also is not None and asked:
             need = need | np.asarray(also(w2, phi, est), bool)
         if np.any(need) and (factor is not None or not np.any(rigid)):
             above = w2[~rigid]
@@ -423,6 +424,13 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
             rigid = rigid_mask(phi, K, factor, _jacobi_floor(w2))
             est = np.minimum(error_estimate(w2, phi, M, None, factor, rigid), bound)
             name = "jacobi (eigh could not certify every mode)"
+        if also is not None and not asked and name.startswith("dense") and not np.any(rigid):
+            # modes flagged rigid at first turned out elastic: the consumer's need, asked now
+            extra = np.asarray(also(w2, phi, est), bool)
+            if np.any(extra):
+                extra = np.arange(w2.size) <= np.flatnonzero(extra).max()
+                w2, phi, est, ok = _refine(K, M, factor, w2, phi, est, extra, whole=True)
+                name += "+refined" if ok and not name.endswith("+refined") else ""
     w2 = np.where(rigid, 0.0, np.maximum(w2, 0.0))
     if n_modes is not None and n_modes < w2.size:
         w2, phi, rigid, est = w2[:n_modes], phi[:, :n_modes], rigid[:n_modes], est[:n_modes]
