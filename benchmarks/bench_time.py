@@ -10,6 +10,12 @@ exact first-order hold (``expm`` of the 1200-state matrix, a dense step-by-step 
 bounds the error of the modal path. Then one modal run of a 1000-body chain (6000 DOF;
 ``forced_response`` is not run there). Results go to benchmarks/results/time.json.
 
+The floor of any modal path is timed in the same run: the bare eigen solve (``scipy.linalg.eigh(K,
+M)`` for classical damping; ``scipy.linalg.eig`` of the 1200-state matrix ``[[0, I], [-M^-1 K,
+-M^-1 C]]``, right vectors only, for general damping) plus the recursion (``simulate`` again on the
+same plant, its modes kept: the time path alone). ``floor ratio`` is ``forced_response`` over that sum:
+the most a modal path that pays one eigen solve can reach.
+
 Run: ``OPENBLAS_NUM_THREADS=1 .venv/bin/python benchmarks/bench_time.py [--quick] [--topology grid]``
 """
 
@@ -23,6 +29,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+import scipy.linalg as sl
 from threadpoolctl import threadpool_limits
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -47,7 +54,35 @@ def _cold(model, inputs, outputs, method: str, kw: dict, repeat: int) -> tuple[f
     return best, res
 
 
-def case(kind: str, n_bodies: int, damping: str, run_reference: bool, repeat: int, seed: int = 1) -> dict:
+def _best(f, repeat: int) -> float:
+    """Best wall time of ``f()`` over ``repeat`` calls [s]."""
+    best = np.inf
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        f()
+        best = min(best, time.perf_counter() - t0)
+    return best
+
+
+def _floor(plant, damping: str, kw: dict, repeat: int) -> tuple[float, float]:
+    """(bare eigen solve, time path with the modes kept) [s] for the plant."""
+    K, M, C = (np.asarray(x, float) for x in (plant.K, plant.M, plant.C))
+    if damping == "classical":
+        t_eig = _best(lambda: sl.eigh(K, M, check_finite=False), repeat)
+    else:
+        n = K.shape[0]
+        a = np.zeros((2 * n, 2 * n))
+        a[:n, n:] = np.eye(n)
+        a[n:, :n] = -np.linalg.solve(M, K)
+        a[n:, n:] = -np.linalg.solve(M, C)
+        t_eig = _best(lambda: sl.eig(a, right=True, check_finite=False), max(1, repeat // 2))
+    simulate(plant, method="modal", **kw)                          # the modes, kept on the plant
+    t_rec = _best(lambda: simulate(plant, method="modal", **kw), repeat)
+    return t_eig, t_rec
+
+
+def case(kind: str, n_bodies: int, damping: str, run_reference: bool, repeat: int, seed: int = 1,
+         floors: bool = True) -> dict:
     model = topology_model(kind, n_bodies, damping=damping)
     inputs = [f"b{n_bodies // 3}.fz", f"b{2 * n_bodies // 3}.fx"]
     outputs = [f"b{n_bodies // 3}.{d}" for d in ("x", "y", "z", "rx", "ry", "rz")]
@@ -63,10 +98,15 @@ def case(kind: str, n_bodies: int, damping: str, run_reference: bool, repeat: in
     with threadpool_limits(1):
         out["modal_s"], modal = _cold(model, inputs, outputs, "modal", kw, repeat)
         out["modal_note"] = modal.note
+        if floors:
+            out["eig_s"], out["recursion_s"] = _floor(build_plant(model, inputs, outputs), damping, kw, repeat)
+            out["floor_s"] = out["eig_s"] + out["recursion_s"]
         if run_reference:
             out["forced_response_s"], ref = _cold(model, inputs, outputs, "forced_response", kw,
                                                   max(1, repeat // 2))
             out["speedup"] = round(out["forced_response_s"] / out["modal_s"], 1)
+            if floors:
+                out["floor_speedup"] = round(out["forced_response_s"] / out["floor_s"], 1)
             scale = np.abs(ref.outputs).max(axis=1, keepdims=True)
             out["max_rel_diff"] = float((np.abs(modal.outputs - ref.outputs) / scale).max())
     return out
@@ -74,7 +114,7 @@ def case(kind: str, n_bodies: int, damping: str, run_reference: bool, repeat: in
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--quick", action="store_true", help="skip the 6000-DOF run, one repeat")
+    parser.add_argument("--quick", action="store_true", help="skip the 6000-DOF run and the floors, one repeat")
     parser.add_argument("--topology", choices=TOPOLOGIES, action="append",
                         help="run only these topologies (repeatable)")
     parser.add_argument("--damping", choices=("classical", "general"), action="append")
@@ -85,15 +125,18 @@ def main() -> None:
     results = {"python": platform.python_version(), "machine": platform.processor() or platform.machine(),
                "cases": []}
     print(f"{'topology':8s} {'damping':9s} {'DOF':>5s} {'forced_response':>16s} {'modal':>8s} "
-          f"{'ratio':>7s} {'max rel. diff':>14s}")
+          f"{'ratio':>7s} {'max rel. diff':>14s} {'eig':>7s} {'recursion':>9s} {'floor ratio':>11s}")
     for kind in args.topology or TOPOLOGIES:
         for damping in args.damping or ("classical", "general"):
-            r = case(kind, 100, damping, run_reference=True, repeat=repeat)
+            r = case(kind, 100, damping, run_reference=True, repeat=repeat, floors=not args.quick)
+            floor = (f"{r['eig_s']:5.3f} s {r['recursion_s']:7.3f} s {r['floor_speedup']:10.1f}x"
+                     if "floor_s" in r else "(floors not timed with --quick)")
             results["cases"].append(r)
             print(f"{kind:8s} {damping:9s} {r['dof']:5d} {r['forced_response_s']:14.2f} s "
-                  f"{r['modal_s']:6.3f} s {r['speedup']:6.1f}x {r['max_rel_diff']:14.1e}", flush=True)
+                  f"{r['modal_s']:6.3f} s {r['speedup']:6.1f}x {r['max_rel_diff']:14.1e} "
+                  f"{floor}", flush=True)
     if not (args.quick or args.skip_large or args.topology):
-        r = case("chain", 1000, "classical", run_reference=False, repeat=1)
+        r = case("chain", 1000, "classical", run_reference=False, repeat=1, floors=False)
         results["cases"].append(r)
         print(f"6000-DOF chain, classical: modal {r['modal_s']:.2f} s (build_plant {r['build_plant_s']:.2f} s)")
     path = Path(__file__).resolve().parent / "results" / "time.json"

@@ -19,7 +19,7 @@ import pytest
 import scipy.linalg as sl
 
 from vibss.time.phi import cs_blocks, cs_expm, foh_blocks, foh_expm, phi_scalar
-from vibss.time.recursion import scan
+from vibss.time.recursion import LowRank, scan
 
 
 def _blocks(w: np.ndarray, c: np.ndarray) -> np.ndarray:
@@ -168,6 +168,55 @@ def test_scan_equals_the_step_by_step_recursion(b: int, length: int) -> None:
     assert np.abs(y - ref).max() <= 1e-12 * np.abs(ref).max()
     y2, _ = scan(E, hk[:-1], x0, drive[:-1], Y) if length > 1 else (ref[:0], None)
     assert np.abs(y2 - ref[:-1]).max() <= 1e-12 * np.abs(ref).max() if length > 1 else True
+
+
+@pytest.mark.parametrize("factored_max", [None, 0])
+@pytest.mark.parametrize("b", [1, 2])
+@pytest.mark.parametrize("length", [1, 64, 1031, 10_000])
+def test_scan_with_factored_forcing_equals_the_step_by_step_recursion(b: int, length: int, factored_max,
+                                                                      monkeypatch) -> None:
+    """The forcing passed as its factors ``d[i] = V[i] F`` (formed inside the scan) against the
+    step-by-step loop on the product ``V F`` formed beforehand: one step length, as in a plain grid;
+    through the block-Toeplitz GEMMs, and (``FACTORED_MAX = 0``, as for many outputs on a large
+    model) through the per-step loop forming each step's forcing."""
+    import vibss.time.recursion as recursion
+
+    if factored_max is not None:
+        monkeypatch.setattr(recursion, "FACTORED_MAX", factored_max)
+    rng = np.random.default_rng(7 * length + b)
+    nb, p, c = 11, 4, 5
+    theta = rng.uniform(0.001, 3.0, nb)
+    if b == 1:
+        E = np.exp((-rng.uniform(0, 1e-3, nb) + 1j) * theta).reshape(1, nb, 1, 1)
+        x0 = rng.normal(size=(1, nb)) + 1j * rng.normal(size=(1, nb))
+        Y = rng.normal(size=(p, 1, nb)) + 1j * rng.normal(size=(p, 1, nb))
+        F = rng.normal(size=(c, 1, nb)) + 1j * rng.normal(size=(c, 1, nb))
+    else:
+        cs_, sn = np.cos(theta), np.sin(theta)
+        E = (np.stack([np.stack([cs_, sn], -1), np.stack([-sn, cs_], -1)], -2) * 0.9995)[None]
+        E[0, 0] = [[1.0, 0.1], [0.0, 1.0]]
+        x0 = rng.normal(size=(2, nb))
+        Y = rng.normal(size=(p, 2, nb))
+        F = rng.normal(size=(c, 2, nb))
+    V = np.cumsum(rng.normal(size=(length, c)), axis=0)
+    hk = np.zeros(length, int)
+    drive = np.einsum("lc,cbn->lbn", V, F)
+    y, x = scan(E, hk, x0, LowRank(V, F), Y)
+    ref = _loop(E, hk, x0, drive, Y)
+    assert np.abs(y - ref).max() <= 1e-12 * np.abs(ref).max()
+
+
+def test_a_plain_grid_has_one_step_length() -> None:
+    """``k dt`` in floats jitters its differences by ~1e-13 dt; every full step is still exactly dt
+    (one key), so the recursion sees one regular step throughout."""
+    from vibss.time.kernels import make_grid
+
+    assert np.unique(np.rint(np.diff(2e-4 * np.arange(10_001)) / 2e-4 * 1e12)).size > 1   # the jitter
+    for dt, n in ((2e-4, 10_001), (1e-3 / 3, 30_000), (0.1, 7)):
+        g = make_grid(n, dt, np.zeros(0))
+        assert g.steps.tolist() == [dt] and not g.hkey.any()
+    g = make_grid(11, 0.1, np.array([0.25, 0.3 + 1e-12]))      # a split step, and one on a sample
+    assert g.steps.round(15).tolist() == [0.05, 0.1] and np.bincount(g.hkey).tolist() == [2, 9]
 
 
 def test_modal_path_against_solve_ivp_in_every_regime() -> None:

@@ -196,6 +196,9 @@ def _is_compressed_sparse(value: Any) -> bool:
     return all(isinstance(getattr(value, k, None), np.ndarray) for k in ("data", "indices", "indptr"))
 
 
+_ATOMS = frozenset({str, int, float, complex, bool, type(None)})
+
+
 def read_only(value: Any) -> Any:
     """A read-only version of ``value`` that leaves ``value`` itself alone.
 
@@ -216,6 +219,8 @@ def read_only(value: Any) -> Any:
         view = value.view()
         view.flags.writeable = False
         return view
+    if type(value) in _ATOMS:          # labels, flags, numbers: nothing to freeze (most fields)
+        return value
     if type(value) is tuple:
         if all(type(v) is str for v in value):         # labels (60,000 DOF names): nothing to freeze
             return value

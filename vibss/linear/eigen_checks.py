@@ -147,7 +147,21 @@ def rigid_mask(shapes: np.ndarray, K: Any = None, factor: Any = None, floor: flo
         x = sp.csr_matrix(K) if sp.issparse(K) else np.asarray(K, float)
         num = np.linalg.norm(np.asarray(x @ shapes), axis=0)
         den = np.linalg.norm(np.asarray(abs(x) @ np.abs(shapes)), axis=0)
-    return num <= RIGID_RTOL * den + ROUNDOFF_LEVERS * np.finfo(float).eps * _reach(x, shapes) + floor
+    lever = ROUNDOFF_LEVERS * np.finfo(float).eps
+    # _reach(x, phi) <= ||rows|| ||phi||: only a mode under that ceiling needs its reach (a product
+    # with the whole factor's pattern); for the others the test is decided without it
+    ceiling = RIGID_RTOL * den + 2 * lever * _row_sums_norm(x) * np.sqrt(np.einsum("ij,ij->j", shapes, shapes)) + floor
+    rigid = np.zeros(num.shape, bool)
+    maybe = np.flatnonzero(~(num > ceiling))
+    if maybe.size:
+        rigid[maybe] = num[maybe] <= RIGID_RTOL * den[maybe] + lever * _reach(x, shapes[:, maybe]) + floor
+    return rigid
+
+
+def _row_sums_norm(x: Any) -> float:
+    """``||rows||`` with ``rows_q = sum_i |X_qi|`` (the bound of :func:`_reach` per unit shape)."""
+    rows = np.asarray(abs(x).sum(axis=1)).ravel() if sp.issparse(x) else np.abs(np.asarray(x, float)).sum(axis=1)
+    return float(np.linalg.norm(rows))
 
 
 def _reach(x: Any, shapes: np.ndarray) -> np.ndarray:

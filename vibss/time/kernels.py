@@ -41,11 +41,12 @@ from threadpoolctl import ThreadpoolController
 from ..linear.complex_modes import complex_modes
 from ..errors import AnalysisError
 from ..linear.eigen import damping_coupling, modal_basis, symmetric_eigen
+from ..linear.eigen_checks import _six_blocks
 from ..linear.branches import mechanical, require_none
 from ..linear.plant import Plant
 from ..linear.projection import projected_damping
 from .phi import cs_blocks, foh_blocks
-from .recursion import scan
+from .recursion import LowRank, scan
 
 __all__ = ["Prepared", "Grid", "Kinematics", "prepare", "make_grid", "nudge", "kinematics",
            "run_modal", "run_forced_response", "run_ivp", "realization"]
@@ -54,7 +55,13 @@ DEGREE = {"force": 1, "displacement": 1, "velocity": 2, "acceleration": 3}
 """Polynomial degree (per interval) of the prescribed coordinate (or force) for a PWL input."""
 
 CHUNK = 1024
-"""Time steps per chunk of the modal recursion (the states of one chunk are kept, then mapped)."""
+"""Time steps per chunk of the modal recursion where the forcing of each step is formed first (steps
+of several lengths, or input jumps, in the chunk)."""
+
+LOWRANK_CHUNK = 16384
+"""Time steps per chunk of the modal recursion where every step has one length and no jump: the
+forcing is passed as its factors (:class:`~vibss.time.recursion.LowRank`), so a chunk keeps only
+``sqrt(steps)`` states per mode."""
 
 _BLAS_LOCK = threading.Lock()
 _blas_users = 0
@@ -122,8 +129,15 @@ def prepare(plant: Plant) -> Prepared:
 
 def _prepare(plant: Plant) -> Prepared:
     M = np.asarray(plant.M, float)
-    cho = sl.cho_factor(M)
-    inv = lambda X: sl.cho_solve(cho, np.asarray(X, float))  # noqa: E731
+    blocks = _six_blocks(M) if M.shape[0] > 150 else None
+    if blocks is not None:       # rigid bodies: M^-1 by the 6x6 blocks' Cholesky factors
+        lib = np.linalg.inv(np.linalg.cholesky(blocks))
+        lit = np.ascontiguousarray(np.swapaxes(lib, 1, 2))
+        inv = lambda X: np.matmul(lit, np.matmul(lib, np.asarray(X, float).reshape(lib.shape[0], 6, -1))  # noqa: E731
+                                  ).reshape(np.shape(X))
+    else:
+        cho = sl.cho_factor(M)
+        inv = lambda X: sl.cho_solve(cho, np.asarray(X, float))  # noqa: E731
     motion = np.array([k != "force" for k in plant.kinds])
     G = inv(plant.Mz) * motion
     K, C = np.asarray(plant.K, float), np.asarray(plant.C, float)
@@ -194,8 +208,11 @@ def make_grid(n_samples: int, dt: float, breakpoints: np.ndarray) -> Grid:
     t = np.union1d(ts, bp)
     samples = np.searchsorted(t, ts)
     h = np.diff(t)
-    # full sample steps are exactly dt; split steps are grouped to 1e-9 dt
+    # full sample steps are exactly dt (``diff(k dt)`` jitters by a few 1e-13 dt: before, that made a
+    # second and third step "length" of dt (1 +- 1e-12) and half the steps irregular for the
+    # recursion); split steps are at least 1e-9 dt away from dt and grouped to 1e-12 dt
     rel = np.rint(h / dt * 1e12).astype(np.int64)
+    rel[np.abs(rel - 10**12) < 1000] = 10**12
     keys, hkey = np.unique(rel, return_inverse=True)
     steps = keys * (dt / 1e12)
     steps[keys == 10**12] = dt
@@ -522,6 +539,29 @@ def _remembered_modal_sets(prep: Prepared, q0: np.ndarray, v0: np.ndarray,
     return sets, how
 
 
+def _drive(hk: np.ndarray, start: int, Va: np.ndarray, fold: np.ndarray, cs: list, jumps: np.ndarray,
+           J: np.ndarray, jfold: np.ndarray, hkey: np.ndarray, cplx: bool, b: int, nb: int) -> np.ndarray:
+    """The forcing of steps ``start .. start + len(hk)`` (keys ``hk``) as a (steps, b, nb) array."""
+    stop = start + len(hk)
+    keys = np.unique(hk)
+    if len(keys) == 1:
+        drive = Va[start:stop] @ fold[keys[0]]
+        for Vo, fo, _ in cs:
+            drive += Vo[start:stop] @ fo[keys[0]]
+    else:
+        drive = np.empty((stop - start, fold.shape[2]))
+        for key in keys:
+            idx = np.flatnonzero(hk == key)
+            drive[idx] = Va[start + idx] @ fold[key]
+            for Vo, fo, _ in cs:
+                drive[idx] += Vo[start + idx] @ fo[key]
+    for i in jumps[(jumps >= start) & (jumps < stop)]:
+        drive[i - start] += J[i] @ jfold[hkey[i]]
+    if cplx:
+        drive = drive.view(complex)
+    return drive.reshape(stop - start, b, nb)
+
+
 def _real_view(a: np.ndarray) -> np.ndarray:
     """A complex array's last axis as interleaved real and imaginary parts (real arrays as they are)."""
     return np.ascontiguousarray(a).view(float) if np.iscomplexobj(a) else a
@@ -570,41 +610,36 @@ def run_modal(prep: Prepared, grid: Grid, kin: Kinematics, rows: np.ndarray,
             # per step length: drive = Va[i] @ fold[h] (the FOH coefficients folded into the map),
             # columns component-major (b, nb) as the recursion takes them
             # complex maps as interleaved real ones: Va is real, so one real GEMM makes re and im
-            fold = _real_view(np.einsum("mc,hkmb->hkcbm", PW[:, active], gam).reshape(nh, -1, b * nb))
+            foldc = np.einsum("mc,hkmb->hkcbm", PW[:, active], gam).reshape(nh, -1, b * nb)
+            fold = _real_view(foldc)
             jfold = _real_view(np.einsum("mc,hmb->hcbm", PW, E[:, :, :, b - 1]).reshape(nh, 3 * m, b * nb))
             cs = []
             for w, Vo in osc:
                 g2 = cs_blocks(ms.A, grid.steps, w)                           # (nh, 2, nb, b)
                 fo = np.einsum("mc,hpmb->hpcbm", PW[:, active], g2).reshape(nh, -1, b * nb)
-                cs.append((Vo[:, :, active].reshape(ni, -1), _real_view(fo)))
+                cs.append((Vo[:, :, active].reshape(ni, -1), _real_view(fo), fo))
             x = np.ascontiguousarray(ms.x0.T)
             if want[0]:
                 y[0] += np.real(np.einsum("pnb,nb->p", ms.Y, ms.x0))
             Yt = np.ascontiguousarray(np.moveaxis(ms.Y, 2, 1))               # (p, b, nb)
             cplx = np.iscomplexobj(E)
-            for start in range(0, ni, CHUNK):
-                stop = min(start + CHUNK, ni)
+            start = 0
+            while start < ni:
+                stop = min(start + LOWRANK_CHUNK, ni)
                 hk = grid.hkey[start:stop]
-                keys = np.unique(hk)
-                if len(keys) == 1:
-                    drive = Va[start:stop] @ fold[keys[0]]
-                    for Vo, fo in cs:
-                        drive += Vo[start:stop] @ fo[keys[0]]
+                if np.all(hk == hk[0]) and not np.any((jumps >= start) & (jumps < stop)):
+                    # one step length, no jump: the forcing as its factors, formed inside the scan
+                    lr = LowRank(np.hstack([Va[start:stop]] + [c[0][start:stop] for c in cs]),
+                                 np.concatenate([foldc[hk[0]]] + [c[2][hk[0]] for c in cs]).reshape(-1, b, nb))
+                    ys, x = scan(E, hk, x, lr, Yt)
                 else:
-                    drive = np.empty((stop - start, fold.shape[2]))
-                    for key in keys:
-                        idx = np.flatnonzero(hk == key)
-                        drive[idx] = Va[start + idx] @ fold[key]
-                        for Vo, fo in cs:
-                            drive[idx] += Vo[start + idx] @ fo[key]
-                for i in jumps[(jumps >= start) & (jumps < stop)]:
-                    drive[i - start] += J[i] @ jfold[grid.hkey[i]]
-                if cplx:
-                    drive = drive.view(complex)
-                ys, x = scan(E, hk, x, drive.reshape(stop - start, b, nb), Yt)
+                    stop = min(start + CHUNK, ni)
+                    hk = grid.hkey[start:stop]
+                    ys, x = scan(E, hk, x, _drive(hk, start, Va, fold, cs, jumps, J, jfold, grid.hkey, cplx, b, nb), Yt)
                 sel = want[start + 1:stop + 1]
                 if sel.any():
                     y[out_pos[start + 1:stop + 1][sel]] += ys[sel]
+                start = stop
     y += direct_terms(prep, kin, rows)
     return y, how
 
