@@ -234,7 +234,7 @@ def _newton_cluster(fun: Callable[[complex], tuple[np.ndarray, np.ndarray]], lam
                 break                                     # exactly on a root
             t -= sum(1.0 / (lam - f) for f in found if f != lam)
             if not real:                                  # the conjugates are roots too
-                t -= sum(1.0 / (lam - f.conjugate()) for f in found if f.conjugate() != lam)
+                t -= sum(1.0 / (lam - f.conjugate()) for f in found if f.imag != 0 and f.conjugate() != lam)
             if t == 0:
                 break
             step = 1.0 / t
@@ -256,11 +256,38 @@ def _newton_cluster(fun: Callable[[complex], tuple[np.ndarray, np.ndarray]], lam
     for grp in _coincident(lam_all, 1e-7):
         la = complex(np.mean(lam_all[grp]))
         E, _ = fun(la)
-        _, sv, vh = np.linalg.svd(E)
-        X[:, grp] = vh[-grp.size:].conj().T
+        # equilibrate rows then columns (mode and branch equations differ by decades), SVD, and one
+        # step of inverse iteration on the scaled matrix
+        rs = 1.0 / np.maximum(np.abs(E).max(axis=1), np.finfo(float).tiny)
+        cs = 1.0 / np.maximum(np.abs(E * rs[:, None]).max(axis=0), np.finfo(float).tiny)
+        Es = E * rs[:, None] * cs[None]
+        _, sv, vh = np.linalg.svd(Es)
+        Y = vh[-grp.size:].conj().T
+        try:
+            Y = np.linalg.qr(np.linalg.solve(Es, Y))[0]
+        except np.linalg.LinAlgError:
+            pass
+        X[:, grp] = cs[:, None] * Y
         if grp.size > 1 and sv[-grp.size] <= 1e-8 * sv[0]:
             lam_all[grp] = la
     return lam_all, X
+
+
+def _meeting(lam: np.ndarray, tol: float, atol: float = 0.0) -> list[tuple[int, int]]:
+    """Pairs ``(i, j)``, ``i != j``, with ``|lam_i - lam_j| <= atol + tol max(|lam_i|, |lam_j|)``
+    (sorted by real part, so only neighbours that close in it are compared: about O(N log N))."""
+    order = np.argsort(lam.real, kind="stable")
+    ls = lam[order]
+    mag = np.abs(ls)
+    out: list[tuple[int, int]] = []
+    for step in range(1, lam.size):
+        lim = atol + tol * np.maximum(mag[step:], mag[:-step])
+        near = np.abs(ls[step:] - ls[:-step]) <= lim
+        if near.any():
+            out.extend((int(order[i]), int(order[i + step])) for i in np.flatnonzero(near))
+        if not np.any(ls[step:].real - ls[:-step].real <= lim):
+            break
+    return out
 
 
 def _coincident(lam: np.ndarray, tol: float = 1e-9) -> list[np.ndarray]:
@@ -288,28 +315,27 @@ def _linearised(fun: Callable[[complex], tuple[np.ndarray, np.ndarray]], d: comp
     return d + mu[order]
 
 
-def _cluster_fun(sec: _Secular, g: np.ndarray) -> Callable[[complex], tuple[np.ndarray, np.ndarray]]:
-    """``E(lam)``, ``E'(lam)`` (c x c) of the modes ``g`` solved together."""
+def _joint_fun(sec: _Secular, modes: np.ndarray) -> Callable[[complex], tuple[np.ndarray, np.ndarray]]:
+    """``T(lam)``, ``T'(lam)`` of the modes ``modes`` solved together with every branch: unknowns
+    ``(eta_C, f)``, equations ``q_C(lam) eta_C + Bphi_C^T f = 0`` and
+    ``-lam Bphi_C eta_C + S_-C(lam) f = 0`` (the other modes eliminated, their poles kept out)."""
     mask = np.zeros(sec.w2.size, bool)
-    mask[g] = True
-    V = sec.bphi[:, g]
+    mask[modes] = True
+    V = sec.bphi[:, modes]
+    cs, r = modes.size, sec.r
 
     def fun(la: complex) -> tuple[np.ndarray, np.ndarray]:
         S, Sd = sec.S(np.array([la]), mask[None])
-        Si_V = np.linalg.solve(S[0], V)
-        E = V.T @ Si_V * la
-        Ed = V.T @ Si_V - la * Si_V.T @ Sd[0] @ Si_V
-        q = la * la + sec.c[g] * la + sec.w2[g]
-        return E + np.diag(q), Ed + np.diag(2 * la + sec.c[g])
-
-    return fun
-
-
-def _branch_fun(sec: _Secular) -> Callable[[complex], tuple[np.ndarray, np.ndarray]]:
-    """``S(lam)``, ``S'(lam)`` with every mode in."""
-    def fun(la: complex) -> tuple[np.ndarray, np.ndarray]:
-        S, Sd = sec.S(np.array([la]))
-        return S[0], Sd[0]
+        T = np.zeros((cs + r, cs + r), complex)
+        Td = np.zeros((cs + r, cs + r), complex)
+        T[:cs, :cs] = np.diag(la * la + sec.c[modes] * la + sec.w2[modes])
+        T[:cs, cs:] = V.T
+        T[cs:, :cs] = -la * V
+        T[cs:, cs:] = S[0]
+        Td[:cs, :cs] = np.diag(2 * la + sec.c[modes])
+        Td[cs:, :cs] = -V
+        Td[cs:, cs:] = Sd[0]
+        return T, Td
 
     return fun
 
@@ -317,11 +343,10 @@ def _branch_fun(sec: _Secular) -> Callable[[complex], tuple[np.ndarray, np.ndarr
 @dataclass(frozen=True)
 class _Poles:
     """The uncoupled roots: one per underdamped mode (upper half plane), two real ones per
-    overdamped mode; ``home`` the mode of each, ``upper`` whether its conjugate is a root too."""
+    overdamped mode; ``home`` the mode of each."""
 
     d: np.ndarray
     home: np.ndarray
-    upper: np.ndarray
 
 
 def _poles(omega: np.ndarray, c: np.ndarray) -> _Poles:
@@ -334,116 +359,129 @@ def _poles(omega: np.ndarray, c: np.ndarray) -> _Poles:
     under = np.flatnonzero(~over)
     ov = np.flatnonzero(over)
     d = np.concatenate([-c[under] / 2 + 1j * root[under], -c[ov] / 2 + root[ov], -c[ov] / 2 - root[ov]])
-    return _Poles(d=d.astype(complex), home=np.concatenate([under, ov, ov]),
-                  upper=np.concatenate([np.ones(under.size, bool), np.zeros(2 * ov.size, bool)]))
+    return _Poles(d=d.astype(complex), home=np.concatenate([under, ov, ov]))
+
+
+def _strong_guesses(omega: np.ndarray, c: np.ndarray, bphi: np.ndarray, k: np.ndarray,
+                    tau: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The strongly coupled modes and first guesses of the roots they share with the branches.
+
+    The modes whose branch stiffness ``sum_i k_i Bphi_ik^2`` is at least :data:`STRONG` of their
+    own ``omega^2`` (at most :data:`MAX_CLUSTER`, the strongest) with every branch: one small dense
+    ``eig``; its roots in the closed upper half plane are the guesses."""
+    ratio = (k[:, None] * bphi ** 2).sum(axis=0) / omega ** 2
+    order = np.argsort(-ratio, kind="stable")[:MAX_CLUSTER]
+    modes = np.sort(order[ratio[order] >= STRONG])
+    cs, r = modes.size, k.size
+    A = np.zeros((2 * cs + r, 2 * cs + r))
+    A[:cs, cs:2 * cs] = np.eye(cs)
+    A[cs:2 * cs, :cs] = -np.diag(omega[modes] ** 2)
+    A[cs:2 * cs, cs:2 * cs] = -np.diag(c[modes])
+    A[cs:2 * cs, 2 * cs:] = -bphi[:, modes].T
+    A[2 * cs:, cs:2 * cs] = k[:, None] * bphi[:, modes]
+    A[2 * cs:, 2 * cs:] = -np.diag(1.0 / tau)
+    ev = sl.eigvals(A)
+    real = np.abs(ev.imag) <= 1e-9 * np.abs(ev)
+    return modes, np.concatenate([ev[real].real, ev[~real & (ev.imag > 0)]]).astype(complex)
+
+
+def _upper(lam: np.ndarray) -> np.ndarray:
+    """Roots in the closed upper half plane, the real ones (to 1e-9) made real."""
+    real = np.abs(lam.imag) <= 1e-9 * np.abs(lam)
+    return np.concatenate([lam[real].real, lam[~real & (lam.imag > 0)]]).astype(complex)
 
 
 def _track(omega: np.ndarray, c: np.ndarray, bphi: np.ndarray, k: np.ndarray, tau: np.ndarray,
-           stages: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, int, _Poles]:
+           stages: int, seed: bool = False) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
     """Every root followed from its uncoupled value as the coupling grows to full in ``stages`` equal
     steps (``Bphi`` scaled by ``sqrt(t)``), Newton at each; then the eigenvectors at full coupling.
 
-    Poles are solved one by one, except those that coincide (:data:`CLUSTER`); where two runs from
-    different poles meet on one root, or one does not converge, their poles are merged into a
-    cluster and solved again (at most :data:`MAX_CLUSTER` poles together)."""
+    The branches' roots are found jointly with a set ``C`` of modes (:func:`_joint_fun`), every
+    other pole alone (:func:`_newton_singletons`). ``C`` starts empty, or (``seed``) with the
+    strongly coupled modes and guesses from their small dense system (:func:`_strong_guesses`);
+    where two poles' runs meet on one root, or one does not converge, their modes join ``C`` (at
+    most :data:`MAX_CLUSTER`). Returns the roots (closed upper half plane; the others are the
+    conjugates of the complex ones), their ``eta`` and ``f``, and the number of rounds."""
     n, r = omega.size, k.size
     w2 = omega * omega
     po = _poles(omega, c)
-    npo = po.d.size
-    label = np.arange(npo)
-    up = np.flatnonzero(po.upper)
-    for g in _coincident(po.d[up], CLUSTER):
-        label[up[g]] = up[g[0]]
-    taus = np.unique(tau)
-    lam = np.concatenate([po.d, np.zeros(r, complex)])
-    xs: dict[tuple[int, ...], np.ndarray] = {}
     sec = _Secular(w2, c, bphi, k, tau)
-    singles_x = np.zeros((0, r), complex)
+    if seed:
+        joint, guess = _strong_guesses(omega, c, bphi, k, tau)
+    else:
+        joint = np.zeros(0, int)
+        guess = np.concatenate([_upper(_linearised(_joint_fun(sec, joint), complex(-1.0 / t), int(np.sum(tau == t))))
+                                for t in np.unique(tau)])
+    lam = po.d.copy()                                     # the single poles' roots
+    sx = np.zeros((po.d.size, r), complex)
+    X = np.zeros((0, 0), complex)
     rounds = 0
     for t in np.arange(1, stages + 1) / stages:
         sec = _Secular(w2, c, np.sqrt(t) * bphi, k, tau)
-        col = npo
-        for i, tv in enumerate(taus):
-            count = int(np.sum(tau == tv))
-            fun = _branch_fun(sec)
-            key = (-1 - i,)
-            sl_ = slice(col, col + count)
-            l0 = _linearised(fun, complex(-1.0 / tv), count) if key not in xs else lam[sl_]
-            lam[sl_], xs[key] = _newton_cluster(fun, l0, real=True)
-            col += count
-        start = lam[:npo].copy()
+        start = lam.copy()
+        fresh = np.ones(po.d.size, bool)
         while True:
             rounds += 1
-            groups = [np.flatnonzero(label == u) for u in np.unique(label)]
-            single = np.array([g[0] for g in groups if g.size == 1], int)
-            multi = [g for g in groups if g.size > 1]
-            big = max([g.size for g in multi] + [0])
-            if big > MAX_CLUSTER:
-                raise DefectiveModesError(f"structured branch eigen-solve: {big} modes interact too closely to be "
-                                          f"solved apart (more than {MAX_CLUSTER})")
+            if joint.size > MAX_CLUSTER:
+                raise DefectiveModesError(f"structured branch eigen-solve: {joint.size} modes interact too closely "
+                                          f"with the branches to be solved apart (more than {MAX_CLUSTER})")
+            alone = np.flatnonzero(~np.isin(po.home, joint))
+            todo = alone[fresh[alone]]
             stuck = np.zeros(0, int)
-            if single.size:
-                lam[single], singles_x, bad = _newton_singletons(sec, start[single], po.home[single])
-                stuck = single[bad]
-            for g in multi:
-                key = tuple(int(i) for i in g)
-                fun = _cluster_fun(sec, po.home[g])
-                l0 = _linearised(fun, complex(np.mean(po.d[g])), g.size) if key not in xs else start[g]
-                lam[g], xs[key] = _newton_cluster(fun, l0, real=not po.upper[g[0]])
-            merged = False
-            fell = np.flatnonzero(po.upper & ~(lam[:npo].imag > 1e-10 * np.abs(lam[:npo])))
-            for i in np.union1d(stuck, fell):   # join the nearest other pole
-                dist = np.abs(po.d - po.d[i])
-                dist[label == label[i]] = np.inf
-                label[label == label[i]] = label[int(np.argmin(dist))]
-                merged = True
-            ml = lam[:npo]
-            meet = np.abs(ml[:, None] - ml[None]) <= 1e-9 * np.abs(ml)[:, None]
-            for i, j in zip(*np.nonzero(np.triu(meet, 1))):
-                if label[i] != label[j]:
-                    label[label == label[j]] = label[i]
-                    merged = True
-            if not merged:
+            if todo.size:
+                lam[todo], sx[todo], bad = _newton_singletons(sec, start[todo], po.home[todo])
+                fresh[todo] = False
+                stuck = todo[bad]
+            fun = _joint_fun(sec, joint)
+            guess, X = _newton_cluster(fun, guess)
+            guess = np.where(np.abs(guess.imag) <= 1e-9 * np.abs(guess), guess.real, guess)
+            # poles whose run failed or met another root (a single's or a joint one) join C
+            failed = set(stuck.tolist())
+            la = lam[alone]
+            for i, j in _meeting(np.concatenate([la, guess]), 1e-9):
+                for q in (i, j):
+                    if q < alone.size:
+                        failed.add(int(alone[q]))
+            if not failed:
                 break
             if rounds > 8 + stages:
-                raise DefectiveModesError("structured branch eigen-solve: roots kept meeting after merging their poles")
-    groups = [np.flatnonzero(label == u) for u in np.unique(label)]
-    single = np.array([g[0] for g in groups if g.size == 1], int)
-    multi = [g for g in groups if g.size > 1]
-    iters = rounds
-    eta = np.zeros((n, npo + r), complex)
-    force = np.zeros((r, npo + r), complex)
-    if single.size:
-        ls = lam[single]
-        f = ls[:, None] * singles_x
-        h, _ = sec.h(ls)
+                raise DefectiveModesError("structured branch eigen-solve: roots kept meeting after joining their "
+                                          "modes to the branches")
+            new = np.unique(po.home[sorted(failed)])
+            joint = np.union1d(joint, new)
+            # the joined modes' poles (where they started) are the new roots' guesses
+            guess = np.concatenate([guess, _upper(start[np.isin(po.home, new)])])
+    alone = np.flatnonzero(~np.isin(po.home, joint))
+    m = alone.size + guess.size
+    roots = np.concatenate([lam[alone], guess])
+    eta = np.zeros((n, m), complex)
+    force = np.zeros((r, m), complex)
+    if alone.size:
+        la = lam[alone]
+        f = la[:, None] * sx[alone]
+        h, _ = sec.h(la)
         e = -h * (f @ bphi)
-        e[np.arange(single.size), po.home[single]] = 1.0
-        eta[:, single] = e.T
-        force[:, single] = f.T
-    for g in multi:
-        modes = po.home[g]
-        mask = np.zeros(n, bool)
-        mask[modes] = True
-        for j, la, x in zip(g, lam[g], xs[tuple(int(i) for i in g)].T):
-            S, _ = sec.S(np.array([la]), mask[None])
-            f = la * np.linalg.solve(S[0], bphi[:, modes] @ x)
-            h, _ = sec.h(np.array([la]))
-            e = -h[0] * (f @ bphi)
-            e[modes] = x
-            eta[:, j], force[:, j] = e, f
-    col = npo
-    for i, tv in enumerate(taus):
-        X = xs[(-1 - i,)]
-        for x in X.T:
-            h, _ = sec.h(np.array([lam[col]]))
-            force[:, col], eta[:, col] = x, -h[0] * (x @ bphi)
-            col += 1
-    return lam, eta, force, iters, po
+        e[np.arange(alone.size), po.home[alone]] = 1.0
+        eta[:, :alone.size] = e.T
+        force[:, :alone.size] = f.T
+    cs = joint.size
+    mask = np.zeros(n, bool)
+    mask[joint] = True
+    for j, (la, x) in enumerate(zip(guess, X.T)):
+        f = x[cs:]
+        h, _ = sec.h(np.array([la]))
+        e = -h[0] * (f @ bphi)
+        e[joint] = x[:cs]
+        eta[:, alone.size + j], force[:, alone.size + j] = e, f
+    return roots, eta, force, rounds
 
 
-STAGES = (1, 4, 16)
-"""Continuation schedules tried in turn (number of equal coupling steps) until the roots certify."""
+STAGES = ((1, True), (1, False), (4, False), (16, False))
+"""Tried in turn until the roots certify: (number of equal coupling steps of the continuation,
+whether the strongly coupled part's small dense ``eig`` gives the first guesses)."""
+
+STRONG = 0.05
+"""A mode whose branch stiffness is this fraction of its own stiffness is strongly coupled."""
 
 MAX_CLUSTER = 48
 """Most modes solved together (one root at a time, each an O(n r^2 + c^3) Newton step)."""
@@ -485,7 +523,8 @@ def branch_modes(omega: np.ndarray, c: np.ndarray, bphi: np.ndarray, k: np.ndarr
     ...                   np.array([0.1]))
     >>> A = np.array([[0, 1, 0], [-100.0, 0, -1], [0, 100.0, -10]])
     >>> ev = np.linalg.eigvals(A)
-    >>> bool(np.allclose(np.sort_complex(np.concatenate([bm.lam, bm.lam[:1].conj()])), np.sort_complex(ev)))
+    >>> lam = np.concatenate([bm.lam, bm.lam[bm.weight == 2].conj()])       # with the conjugates
+    >>> bool(np.allclose(np.sort_complex(lam), np.sort_complex(ev), rtol=1e-12))
     True
     """
     omega, c, bphi = np.asarray(omega, float), np.asarray(c, float), np.asarray(bphi, float)
@@ -495,13 +534,13 @@ def branch_modes(omega: np.ndarray, c: np.ndarray, bphi: np.ndarray, k: np.ndarr
     if np.any(c < 0):
         raise DefectiveModesError("structured branch eigen-solve: negative modal damping")
     refusals = []
-    for stages in STAGES:
+    for stages, seed in STAGES:
         try:
             with np.errstate(divide="ignore", invalid="ignore"):
-                lam, eta, force, iters, po = _track(omega, c, bphi, k, tau, stages)
-            bm = _certify(lam, eta, force, omega, c, bphi, k, tau, iters, po.upper)
+                lam, eta, force, iters = _track(omega, c, bphi, k, tau, stages, seed)
+            bm = _certify(lam, eta, force, omega, c, bphi, k, tau, iters)
         except DefectiveModesError as exc:
-            refusals.append(f"{stages} step(s): {exc}")
+            refusals.append(f"{stages} step(s){', strong part seeded' if seed else ''}: {exc}")
             continue
         how = bm.how + (f", coupling grown in {stages} steps" if stages > 1 else "") \
             + (f", after {len(refusals)} refused attempt(s)" if refusals else "")
@@ -510,20 +549,20 @@ def branch_modes(omega: np.ndarray, c: np.ndarray, bphi: np.ndarray, k: np.ndarr
 
 
 def _certify(lam: np.ndarray, eta: np.ndarray, force: np.ndarray, omega: np.ndarray, c: np.ndarray,
-             bphi: np.ndarray, k: np.ndarray, tau: np.ndarray, iters: int, upper: np.ndarray) -> BranchModes:
+             bphi: np.ndarray, k: np.ndarray, tau: np.ndarray, iters: int) -> BranchModes:
     """The checks of the module docstring; raises :class:`DefectiveModesError` naming the failed one.
-    ``upper``: the roots (of the first ``upper.size``) whose conjugates are roots too."""
+    ``lam``: roots in the closed upper half plane (the complex ones stand for their conjugates too)."""
     n, r = omega.size, k.size
     fail = "structured branch eigen-solve not certified: "
     if not np.all(np.isfinite(lam)) or not np.all(np.isfinite(eta)) or not np.all(np.isfinite(force)):
         raise DefectiveModesError(fail + "a root or eigenvector is not finite")
-    up = np.concatenate([upper, np.zeros(r, bool)])
-    mode, real = lam[up], lam[~up]
-    if np.any(mode.imag <= 1e-10 * np.abs(mode)):
-        raise DefectiveModesError(fail + "a mode's root reached the real axis (overdamped by the branches)")
-    if np.any(np.abs(real.imag) > 1e-10 * np.abs(real)):
-        raise DefectiveModesError(fail + "a branch root (or an overdamped mode's) left the real axis (a complex pair)")
+    up = lam.imag > 1e-10 * np.abs(lam)
+    if np.any(lam[~up].imag < -1e-10 * np.abs(lam[~up])):
+        raise DefectiveModesError(fail + "a root in the lower half plane")
     lam = np.where(up, lam, lam.real)
+    if 2 * int(up.sum()) + int((~up).sum()) != 2 * n + r:
+        raise DefectiveModesError(fail + f"{2 * int(up.sum()) + int((~up).sum())} roots with the conjugates, "
+                                  f"not 2n + r = {2 * n + r}")
     # backward errors in the balanced states [W eta; lam eta; f / sqrt(k)]
     sk = np.sqrt(k)
     qeta = (lam[None] ** 2 + c[:, None] * lam[None] + (omega ** 2)[:, None]) * eta
@@ -561,13 +600,11 @@ def _certify(lam: np.ndarray, eta: np.ndarray, force: np.ndarray, omega: np.ndar
     # bounds: then, with the multiplicities, they are the whole spectrum
     full = np.concatenate([lam, lam[up].conj()])
     bound = np.concatenate([kappa * back, kappa[up] * back[up]]) * anorm
-    gap = np.abs(full[:, None] - full[None])
-    gap[full[:, None] == full[None]] = np.inf         # the members of a group (and each root itself)
-    need = 100 * (bound[:, None] + bound[None]) + 1e-12 * np.maximum(np.abs(full)[:, None], np.abs(full)[None])
-    if np.any(gap <= need):
-        i, j = np.argwhere(gap <= need)[0]
-        raise DefectiveModesError(fail + f"two roots coincide ({full[i]:.8g} and {full[j]:.8g}): a root found twice "
-                                  "or a repeated eigenvalue")
+    for i, j in _meeting(full, 1e-12, 200 * float(bound.max())):
+        if full[i] != full[j] and abs(full[i] - full[j]) <= (100 * (bound[i] + bound[j])
+                                                            + 1e-12 * max(abs(full[i]), abs(full[j]))):
+            raise DefectiveModesError(fail + f"two roots coincide ({full[i]:.8g} and {full[j]:.8g}): a root found "
+                                      "twice or a repeated eigenvalue")
     # trace invariants
     s1 = float(np.sum(full).real)
     t1 = -float(np.sum(c)) - float(np.sum(1.0 / tau))

@@ -51,6 +51,7 @@ import numpy.typing as npt
 from .._validate import choice, name_index, number, vector
 from ..errors import AnalysisError, ArgumentError, DefectiveModesError, ModelError, VibssWarning
 from ..results import ReadOnly, Result, Table, jsonable, require_pandas
+from .branched import suits as branch_path
 from .methods import METHODS, SimulationJob, TimeMethod, resolve_method
 from ..model.model import DOF_NAMES, Model
 from ..model.timefunctions import TimeFunction
@@ -500,8 +501,12 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
                         exact_inputs=tuple(u for u in plant.inputs if exact.get(u, u not in signals)))
     chosen, auto = resolve_method(method)
     if plant.branches is not None and auto:
-        chosen, auto = METHODS["forced_response"], False
-        branch_note = f"{plant.branches.note()}: forced_response of the state space with them"
+        structured, why = branch_path(plant)
+        if structured:       # the exact modal FOH on modes plus branch states; forced_response if refused
+            branch_note = f"{plant.branches.note()}: {why}"
+        else:
+            chosen, auto = METHODS["forced_response"], False
+            branch_note = f"{plant.branches.note()}: forced_response of the state space with them ({why})"
     elif plant.branches is not None:
         branch_note = plant.branches.note()
         if not chosen.internal_states:
@@ -521,7 +526,8 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
         y, note = chosen.kernel(job)
     except DefectiveModesError as exc:
         if not auto or chosen.fallback is None:
-            others = [n for n, m in METHODS.items() if m is not chosen and not (m.forces_only and motions)]
+            others = [n for n, m in METHODS.items() if m is not chosen and not (m.forces_only and motions)
+                      and (m.internal_states or plant.branches is None)]
             raise DefectiveModesError(f"simulate: method {chosen.name!r} refused: {exc}; use one of the "
                                       f"methods simulate accepts: {others} (or 'auto')", argument="method",
                                       received=chosen.name, expected=others) from None
