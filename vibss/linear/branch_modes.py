@@ -231,7 +231,7 @@ def _newton_cluster(fun: Callable[[complex], tuple[np.ndarray, np.ndarray]], lam
             try:
                 t = np.trace(np.linalg.solve(E, Ed))
             except np.linalg.LinAlgError:
-                break                                     # exactly on a root
+                break                                     # exactly on a root (a repeated one is checked below)
             t -= sum(1.0 / (lam - f) for f in found if f != lam)
             if not real:                                  # the conjugates are roots too
                 t -= sum(1.0 / (lam - f.conjugate()) for f in found if f.imag != 0 and f.conjugate() != lam)
@@ -263,8 +263,10 @@ def _newton_cluster(fun: Callable[[complex], tuple[np.ndarray, np.ndarray]], lam
         Es = E * rs[:, None] * cs[None]
         _, sv, vh = np.linalg.svd(Es)
         Y = vh[-grp.size:].conj().T
-        try:
-            Y = np.linalg.qr(np.linalg.solve(Es, Y))[0]
+        try:                                        # keep the step only where it lowers the residual
+            Z = np.linalg.qr(np.linalg.solve(Es, Y))[0]
+            if np.all(np.isfinite(Z)) and np.linalg.norm(Es @ Z) < np.linalg.norm(Es @ Y):
+                Y = Z
         except np.linalg.LinAlgError:
             pass
         X[:, grp] = cs[:, None] * Y
@@ -476,7 +478,7 @@ def _track(omega: np.ndarray, c: np.ndarray, bphi: np.ndarray, k: np.ndarray, ta
     return roots, eta, force, rounds
 
 
-STAGES = ((1, True), (1, False), (4, False), (16, False))
+STAGES = ((1, False), (1, True), (4, False), (16, False))
 """Tried in turn until the roots certify: (number of equal coupling steps of the continuation,
 whether the strongly coupled part's small dense ``eig`` gives the first guesses)."""
 
@@ -536,9 +538,9 @@ def branch_modes(omega: np.ndarray, c: np.ndarray, bphi: np.ndarray, k: np.ndarr
     refusals = []
     for stages, seed in STAGES:
         try:
-            with np.errstate(divide="ignore", invalid="ignore"):
+            with np.errstate(divide="ignore", invalid="ignore", over="ignore"):   # a failed run is refused below
                 lam, eta, force, iters = _track(omega, c, bphi, k, tau, stages, seed)
-            bm = _certify(lam, eta, force, omega, c, bphi, k, tau, iters)
+                bm = _certify(lam, eta, force, omega, c, bphi, k, tau, iters)
         except DefectiveModesError as exc:
             refusals.append(f"{stages} step(s){', strong part seeded' if seed else ''}: {exc}")
             continue
