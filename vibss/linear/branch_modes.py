@@ -137,9 +137,10 @@ class BranchModes(ReadOnly):
 
 
 def _gram(bphi: np.ndarray) -> np.ndarray:
-    """(n, r^2) real: ``P[j, a r + b] = Bphi[a, j] Bphi[b, j]``."""
-    r, n = bphi.shape
-    return (bphi[:, None, :] * bphi[None, :, :]).reshape(r * r, n).T.copy()
+    """(n, r (r + 1) / 2) real: ``P[j, (a, b)] = Bphi[a, j] Bphi[b, j]`` for ``a <= b`` (the upper
+    triangle, row by row: :func:`numpy.triu_indices`)."""
+    a, b = np.triu_indices(bphi.shape[0])
+    return (bphi[a] * bphi[b]).T.copy()
 
 
 def _cmul(h: np.ndarray, p: np.ndarray) -> np.ndarray:
@@ -157,10 +158,16 @@ class _Secular:
 
     def h(self, lam: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(J, n) ``1 / q_j(lam_i)`` and its derivative."""
-        lam = lam[:, None]
-        q = lam * lam + self.c[None] * lam + self.w2[None]
-        h = 1.0 / q
-        return h, -(2.0 * lam + self.c[None]) * h * h
+        la = lam[:, None]
+        q = la + self.c[None]                             # in place from here: q = lam (lam + c) + w^2
+        q *= la
+        q += self.w2[None]
+        h = np.reciprocal(q, out=q)
+        hd = 2.0 * la + self.c[None]
+        hd *= h
+        hd *= h
+        np.negative(hd, out=hd)
+        return h, hd
 
     def S(self, lam: np.ndarray, out: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
         """(J, r, r) ``S(lam)`` and ``S'(lam)``, the modes marked True in ``out`` (J, n) left out."""
@@ -169,8 +176,11 @@ class _Secular:
             h[out] = 0.0
             hd[out] = 0.0
         r = self.r
-        G = _cmul(h, self.P).reshape(-1, r, r)
-        Gd = _cmul(hd, self.P).reshape(-1, r, r)
+        a, b = np.triu_indices(r)
+        G = np.empty((lam.size, r, r), complex)
+        Gd = np.empty((lam.size, r, r), complex)
+        G[:, a, b] = G[:, b, a] = _cmul(h, self.P)                 # symmetric: the upper triangle
+        Gd[:, a, b] = Gd[:, b, a] = _cmul(hd, self.P)
         lv = lam[:, None, None]
         S = lv * G
         Sd = G + lv * Gd
@@ -193,6 +203,7 @@ def _newton_singletons(sec: _Secular, lam0: np.ndarray, home: np.ndarray) -> tup
     v = sec.bphi[:, home].T.astype(complex)                    # (J, r)
     c, w2 = sec.c[home], sec.w2[home]
     active = np.ones(J, bool)
+    x = np.zeros((J, sec.r), complex)
     it = 0
     for it in range(1, MAX_NEWTON + 1):
         idx = np.flatnonzero(active)
@@ -204,12 +215,11 @@ def _newton_singletons(sec: _Secular, lam0: np.ndarray, home: np.ndarray) -> tup
         Ed = 2 * la + c[idx] + vx - la * np.einsum("ja,jab,jb->j", xa, Sd, xa)
         step = E / Ed
         lam[idx] = la - step
+        x[idx] = xa                                  # at the root to the last step's size (round-off)
         done = ~(np.abs(step) > 4 * np.finfo(float).eps * np.abs(la))
         active[idx[done]] = False
         if not active.any():
             break
-    S, _ = sec.S(lam, out)
-    x = np.linalg.solve(S, v[:, :, None])[:, :, 0]
     return lam, x, active
 
 
