@@ -9,7 +9,10 @@ Methods are chosen by name through :data:`METHODS` (a callable is accepted too):
     classical damping (2x2 blocks, exact also for rigid-body modes, omega = 0); complex modes of the
     scaled modal first-order form for the modes that non-proportional damping couples. Each mode is
     discretised exactly for polynomial forcing (first-order hold, and the exact polynomial
-    kinematics of velocity and acceleration inputs); only the outputs are stored.
+    kinematics of velocity and acceleration inputs); only the outputs are stored. Frequency-dependent
+    mounts' Maxwell branches join the modes as states (:mod:`vibss.time.branched`): ``auto`` takes
+    this for a few of them and falls back to ``forced_response`` when most mounts have them or the
+    structured eigen-solve cannot certify its roots (the note says why).
     **Edges:** the inputs' breakpoints (pulse edges, table knots) are inserted into the simulation
     grid, so a pulse edge between two samples is hit exactly and jumps are kept as jumps.
 ``"forced_response"`` (the reference)
