@@ -19,14 +19,19 @@ so ``f`` solves the r x r *secular* system ``S(lam) f = 0``,
 ``S(lam) = diag((lam + 1/tau) / k) + lam Bphi diag(1 / q(lam)) Bphi^T`` (complex symmetric). Each
 root is found by Newton from its uncoupled value, all at once:
 
-- near mode ``k`` (pole ``d_k``, the upper root of ``q_k``), with mode ``k`` kept out of ``S``
+- near mode ``k`` (pole ``d_k``, a root of ``q_k``), with mode ``k`` kept out of ``S``
   (``S_-k``, no pole there), the scalar ``E(lam) = q_k(lam) + lam v^T S_-k(lam)^-1 v = 0``,
   ``v = Bphi[:, k]``; the sums over the other modes for all roots are two GEMMs per iteration,
-  ``(1 / q_j(lam_i)) @ P`` with ``P[j, (a, b)] = Bphi[a, j] Bphi[b, j]``, then r x r solves;
-- modes whose poles coincide (symmetric models) are a cluster: ``E`` is c x c and each of its
-  roots follows one eigenvalue of ``E(lam)`` to zero;
-- near ``-1/tau`` (the branches of one relaxation time): the eigenvalues of ``S(lam)`` itself.
-
+  ``(1 / q_j(lam_i)) @ P`` with ``P[j, (a, b)] = Bphi[a, j] Bphi[b, j]`` (``a <= b``), then r x r
+  solves;
+- the branches' roots, together with a set ``C`` of modes (those whose poles coincide, whose runs
+  met on one root or did not converge, or, in a second attempt, the strongly coupled ones with
+  guesses from their small dense system): the (c + r) x (c + r) matrix ``T(lam)`` of
+  ``q_C(lam) eta_C + Bphi_C^T f = 0``, ``-lam Bphi_C eta_C + S_-C(lam) f = 0``, by Newton on
+  ``log det T`` with the roots already found divided out (their conjugates too), so that no root
+  is taken twice unless it is repeated; real and complex roots alike (a pair of branch roots may
+  be complex);
+- if that fails, the coupling is grown from zero in 4, then 16 steps, Newton at each.
 Eigenvectors follow in O(n r) each (``f`` from the secular solve, ``eta_j = -(Bphi^T f)_j / q_j``),
 and because the problem is symmetric the left eigenvectors come from the right ones,
 ``w = [-W^2 eta / lam; eta; -f / (lam k)]``, ``w^T v = lam eta.eta - eta.W^2 eta / lam - f.(f/k) / lam``.
@@ -38,9 +43,9 @@ time response then takes the dense path): every root is certified by its backwar
 how far each root can be from an eigenvalue, and the 2n + r roots (with the conjugates) must be
 pairwise separated by more than those bounds: then they are all the eigenvalues of ``A`` and its
 eigenvectors are a basis. Sums of ``lam`` and ``lam^2`` against ``trace A`` and ``trace A^2``
-(closed forms in the structured blocks) check the count once more. Rigid modes, overdamped or
-nearly critically damped modes, a branch root off the real axis (complex pair) or a mode root
-pushed onto it are refused before any Newton step or by the checks.
+(closed forms in the structured blocks) check the count once more. Rigid modes and nearly
+critically damped ones (a Jordan block of their own) are refused before any Newton step; an
+overdamped mode gives two real poles, each a root of its own.
 """
 
 from __future__ import annotations
