@@ -119,7 +119,11 @@ def test_long_sine_steady_state_equals_the_frf():
 
 
 def test_only_methods_with_internal_states_take_the_branches():
-    with pytest.raises(AnalysisError, match=r"simulate: method 'modal'.*\['m'\]"):
+    with pytest.raises(AnalysisError, match=r"simulate: method 'newmark'.*\['m'\]"):
+        vibss.simulate(_sdof(), inputs={"b.fz": lambda t: np.ones_like(t)}, t_end=0.01, dt=1e-3, method="newmark")
+    # modal takes them (modes plus branch states) but not beside the free body's rigid rotations
+    with pytest.raises(AnalysisError, match=r"simulate: method 'modal' refused: .*\['m'\].*rigid-body.*"
+                                            r"\['forced_response'\]"):
         vibss.simulate(_sdof(), inputs={"b.fz": lambda t: np.ones_like(t)}, t_end=0.01, dt=1e-3, method="modal")
 
 

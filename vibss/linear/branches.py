@@ -20,7 +20,9 @@ takes the same ladder:
 - the exact solve (:mod:`vibss.linear.solve`) eliminates the ``u_i`` exactly (:func:`groups`):
   ``K + iH + sC + s^2 M + sum_tau tau s / (1 + tau s) K_tau``, through every back-end;
 - :func:`vibss.linear.statespace.statespace` appends the ``u_i`` as states (:func:`close`), which the
-  time response (``forced_response``) and the damped modes use.
+  time response (``forced_response``) and the damped modes use;
+- the modal time response (:mod:`vibss.time.branched`) takes the branch forces as states beside the
+  undamped modes and diagonalises the two together (:mod:`vibss.linear.branch_modes`).
 
 Examples
 --------

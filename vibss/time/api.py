@@ -9,7 +9,10 @@ Methods are chosen by name through :data:`METHODS` (a callable is accepted too):
     classical damping (2x2 blocks, exact also for rigid-body modes, omega = 0); complex modes of the
     scaled modal first-order form for the modes that non-proportional damping couples. Each mode is
     discretised exactly for polynomial forcing (first-order hold, and the exact polynomial
-    kinematics of velocity and acceleration inputs); only the outputs are stored.
+    kinematics of velocity and acceleration inputs); only the outputs are stored. Frequency-dependent
+    mounts' Maxwell branches join the modes as states (:mod:`vibss.time.branched`): ``auto`` takes
+    this for a few of them and falls back to ``forced_response`` when most mounts have them or the
+    structured eigen-solve cannot certify its roots (the note says why).
     **Edges:** the inputs' breakpoints (pulse edges, table knots) are inserted into the simulation
     grid, so a pulse edge between two samples is hit exactly and jumps are kept as jumps.
 ``"forced_response"`` (the reference)
@@ -51,6 +54,7 @@ import numpy.typing as npt
 from .._validate import choice, name_index, number, vector
 from ..errors import AnalysisError, ArgumentError, DefectiveModesError, ModelError, VibssWarning
 from ..results import ReadOnly, Result, Table, jsonable, require_pandas
+from .branched import suits as branch_path
 from .methods import METHODS, SimulationJob, TimeMethod, resolve_method
 from ..model.model import DOF_NAMES, Model
 from ..model.timefunctions import TimeFunction
@@ -500,8 +504,12 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
                         exact_inputs=tuple(u for u in plant.inputs if exact.get(u, u not in signals)))
     chosen, auto = resolve_method(method)
     if plant.branches is not None and auto:
-        chosen, auto = METHODS["forced_response"], False
-        branch_note = f"{plant.branches.note()}: forced_response of the state space with them"
+        structured, why = branch_path(plant)
+        if structured:       # the exact modal FOH on modes plus branch states; forced_response if refused
+            branch_note = f"{plant.branches.note()}: {why}"
+        else:
+            chosen, auto = METHODS["forced_response"], False
+            branch_note = f"{plant.branches.note()}: forced_response of the state space with them ({why})"
     elif plant.branches is not None:
         branch_note = plant.branches.note()
         if not chosen.internal_states:
@@ -521,7 +529,8 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
         y, note = chosen.kernel(job)
     except DefectiveModesError as exc:
         if not auto or chosen.fallback is None:
-            others = [n for n, m in METHODS.items() if m is not chosen and not (m.forces_only and motions)]
+            others = [n for n, m in METHODS.items() if m is not chosen and not (m.forces_only and motions)
+                      and (m.internal_states or plant.branches is None)]
             raise DefectiveModesError(f"simulate: method {chosen.name!r} refused: {exc}; use one of the "
                                       f"methods simulate accepts: {others} (or 'auto')", argument="method",
                                       received=chosen.name, expected=others) from None

@@ -414,9 +414,10 @@ class _ModalSet:
     """A set of decoupled modal blocks with their input and output maps."""
 
     A: np.ndarray       # (nb, b, b)
-    P: np.ndarray       # (nb, n) modal forcing per generalized force (into the last row)
+    P: np.ndarray | None  # (nb, n) modal forcing per generalized force (into the last row)
     x0: np.ndarray      # (nb, b) initial state
     Y: np.ndarray       # (p, nb, b) output per state component (conjugate pairs weighted 2)
+    Pc: np.ndarray | None = None   # (nb, 3m) forcing per input channel [f, z, z'] (added to P @ channels)
 
 
 SEPARATION = 1e-2
@@ -533,8 +534,9 @@ def _remembered_modal_sets(prep: Prepared, q0: np.ndarray, v0: np.ndarray,
         return slot[1]
     sets, how = _modal_sets(prep, q0, v0, horizon)
     for ms in sets:
-        for a in (ms.A, ms.P, ms.x0, ms.Y):
-            a.flags.writeable = False
+        for a in (ms.A, ms.P, ms.x0, ms.Y, ms.Pc):
+            if a is not None:
+                a.flags.writeable = False
     prep.plant._cache["modal sets"] = (key, (sets, how))
     return sets, how
 
@@ -567,9 +569,18 @@ def _real_view(a: np.ndarray) -> np.ndarray:
     return np.ascontiguousarray(a).view(float) if np.iscomplexobj(a) else a
 
 
+def channels(prep: Prepared) -> np.ndarray:
+    """(n, 3m) generalized force per input channel ``[f, z, z']``: ``[F (forces), -Kt, -Ct]``."""
+    return np.hstack([prep.plant.F * prep.force, -prep.Kt, -prep.Ct])
+
+
 def run_modal(prep: Prepared, grid: Grid, kin: Kinematics, rows: np.ndarray,
-              q0: np.ndarray, v0: np.ndarray) -> tuple[np.ndarray, str]:
+              q0: np.ndarray, v0: np.ndarray,
+              modal_sets: tuple[list[_ModalSet], str] | None = None) -> tuple[np.ndarray, str]:
     """Exact modal first-order-hold simulation.
+
+    ``modal_sets`` (the decoupled modes and a text) replaces the plant's own: the modes plus the
+    branch states of frequency-dependent mounts (:mod:`vibss.time.branched`).
 
     Returns
     -------
@@ -580,9 +591,9 @@ def run_modal(prep: Prepared, grid: Grid, kin: Kinematics, rows: np.ndarray,
     """
     plant = prep.plant
     degree = max([DEGREE[k] for k in prep.kinds] + [1])
-    sets, how = _remembered_modal_sets(prep, q0, v0, float(grid.t[-1]))
+    sets, how = _remembered_modal_sets(prep, q0, v0, float(grid.t[-1])) if modal_sets is None else modal_sets
     # generalized forcing per input "channel": [F (force), -Kt (z), -Ct (z')]
-    Wg = np.hstack([plant.F * prep.force, -prep.Kt, -prep.Ct])  # (n, 3m)
+    Wg = channels(prep)
     m = len(prep.kinds)
     ni = len(grid.h)
     coef = kin.coef
@@ -604,7 +615,11 @@ def run_modal(prep: Prepared, grid: Grid, kin: Kinematics, rows: np.ndarray,
         for ms in sets:
             E, gam = foh_blocks(ms.A, grid.steps, degree)
             nb, b = ms.A.shape[0], ms.A.shape[1]
-            PW = ms.P @ Wg  # (nb, 3m)
+            PW = np.zeros((ms.A.shape[0], Wg.shape[1]), np.result_type(ms.A, Wg))    # (nb, 3m)
+            if ms.P is not None:
+                PW = PW + ms.P @ Wg
+            if ms.Pc is not None:
+                PW = PW + ms.Pc
             active = np.flatnonzero(np.any(PW != 0, axis=0))
             Va = V.reshape(ni, degree + 1, 3 * m)[:, :, active].reshape(ni, -1)
             # per step length: drive = Va[i] @ fold[h] (the FOH coefficients folded into the map),

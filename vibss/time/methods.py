@@ -15,6 +15,7 @@ from typing import Any
 
 import numpy as np
 
+from . import branched
 from . import kernels as tm
 from ..diagnostics import check_central_difference
 from ..errors import AnalysisError
@@ -103,7 +104,9 @@ def _method_modal(job: SimulationJob) -> tuple[np.ndarray, str]:
     dt = job.time[1] - job.time[0]
     grid = tm.make_grid(len(job.time), dt, job.breakpoints)
     kin = job.sampled(grid)
-    y, how = tm.run_modal(tm.prepare(job.plant), grid, kin, grid.samples, job.q0, job.v0)
+    prep = tm.prepare(job.plant)
+    sets = branched.modal_sets(prep, job.q0, job.v0) if job.plant.branches is not None else None
+    y, how = tm.run_modal(prep, grid, kin, grid.samples, job.q0, job.v0, sets)
     extra = len(grid.t) - len(job.time)
     given = [u for u in job.plant.inputs]
     exact = [u for u in given if u in job.exact_inputs]
@@ -138,6 +141,7 @@ def _method_central_difference(job: SimulationJob) -> tuple[np.ndarray, str]:
 
 METHODS: dict[str, TimeMethod] = {m.name: m for m in (
     TimeMethod("modal", _method_modal, exact=True, hits_edges=True, fallback="forced_response",
+               internal_states=True,
                auto_reason="exact for piecewise-linear inputs and sine/cosine pieces, and the fastest",
                summary="exact modal superposition of piecewise-linear inputs (breakpoints inserted)"),
     TimeMethod("forced_response", _method_forced_response, exact=True, internal_states=True,
