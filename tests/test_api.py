@@ -21,7 +21,7 @@ LAYERS = [
     {"io", "examples", "linear.assemble", "linear.directions", "linear.eigen", "linear.eigen_checks",
      "linear.hysteresis"},
     {"linear.complex_modes", "linear.banded", "linear.signals", "linear.solve", "linear.backends",
-     "linear.projection", "statics", "time.integrators", "time.phi", "time.recursion", "diagnostics"},
+     "linear.projection", "linear.krylov", "linear.subspace", "statics", "time.integrators", "time.phi", "time.recursion", "diagnostics"},
     {"linear", "modal"},
     {"frequency.kernels", "frequency.lowrank", "frequency.terms", "time.kernels", "studies"},
     {"frequency", "time", "reduction", "design", "shock", "orders", "random", "control"},
