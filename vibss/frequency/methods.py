@@ -182,6 +182,12 @@ def _choose_branches(plant: Plant, nf: int, basis: ModalBasis) -> tuple[str, str
 
 
 _K_BASIS = 1.5e-9     # [s] per n r^2 of the channel subspace's Gram-Schmidt and projection (60,000 DOF chain)
+_K_REDUCED = 1.5e-9   # [s] per nf r^3 of its damped reduced responses (about four per call, dense LU)
+
+
+def _nonzero(a: Any) -> bool:
+    count = getattr(a, "count_nonzero", None)
+    return bool(count()) if count is not None and not isinstance(a, np.ndarray) else bool(np.any(np.asarray(a)))
 
 
 def _choose_sparse(plant: Plant, nf: int) -> tuple[str, str]:
@@ -191,8 +197,9 @@ def _choose_sparse(plant: Plant, nf: int) -> tuple[str, str]:
     The exact path costs ``nf`` solves (:attr:`~vibss.linear.banded.Structure.seconds_per_frequency`);
     the subspace about ``3 N_SHIFTS`` of them (a factorisation per shift, about as many exact checks
     and a few added frequencies) plus its basis work, ``n r^2`` with ``r = N_SHIFTS MOMENTS`` times
-    the input and output vectors (the outputs' only when they are few): cheaper with many
-    frequencies and few channels.
+    the input and output vectors (the outputs' only when they are few), and with dampers or loss
+    factors ``nf r^3`` for the small plant's dense solves: cheaper with many frequencies and few
+    channels.
     """
     st = plant.cached("band structure", lambda: structure(plant))
     per = st.seconds_per_frequency
@@ -203,6 +210,8 @@ def _choose_sparse(plant: Plant, nf: int) -> tuple[str, str]:
     cols = len(plant.inputs) + (len(plant.outputs) if len(plant.outputs) <= TWO_SIDED_MAX else 0)
     r = N_SHIFTS * MOMENTS * cols
     sub = 3 * N_SHIFTS * per + _K_BASIS * plant.n * r * r
+    if _nonzero(plant.C) or _nonzero(plant.H):       # damped: the small plant is solved densely per frequency
+        sub += _K_REDUCED * nf * r**3
     if sub < exact:
         return "subspace", (f"sparse plant, {nf} frequencies on {len(plant.outputs)} x {len(plant.inputs)} "
                             f"channels: channel subspace estimated {sub:.2g} s against {exact:.2g} s for the "

@@ -67,7 +67,8 @@ def exact_response(p: Plant, s: complex, adjoint: bool = False) -> tuple[np.ndar
 
 
 class Basis:
-    """An M-orthonormal basis grown block by block (block Gram-Schmidt twice, with deflation).
+    """An M-orthonormal basis grown block by block (block Gram-Schmidt, a second pass where the
+    first cancelled more than half of a column's M-norm squared; with deflation).
 
     The columns live in one Fortran-ordered array grown by doubling, so adding a block neither
     copies the basis nor hands BLAS a strided view.
@@ -94,19 +95,23 @@ class Basis:
         w = np.asarray(w, float)
         if w.size == 0:
             return w.reshape(w.shape[0], 0)
-        norm0 = np.sqrt(np.maximum(np.einsum("ij,ij->j", w, self.M @ w), 0.0))
+        mw = np.asarray(self.M @ w)             # M w kept beside w
+        norm0 = np.sqrt(np.maximum(np.einsum("ij,ij->j", w, mw), 0.0))
         keep = norm0 > 0
-        w = w[:, keep] / norm0[keep]
+        w, mw = w[:, keep] / norm0[keep], mw[:, keep] / norm0[keep]
         for rnd in range(2):
             if self.r:
                 w = w - self.V @ (self.MV.T @ w)
-            g = w.T @ (self.M @ w)
-            lam, u = symmetric_eigen(g)
+                mw = np.asarray(self.M @ w)     # afresh: updating it would carry the cancellation's error
+            lam, u = symmetric_eigen(0.5 * (w.T @ mw + mw.T @ w))
             floor = DEFLATE_RTOL**2 if rnd == 0 else 1e-12 * float(lam.max(initial=0.0))
             ok = lam > floor
-            w = w @ (u[:, ok] / np.sqrt(lam[ok]))
+            t = u[:, ok] / np.sqrt(lam[ok])
+            w, mw = w @ t, mw @ t
             if w.shape[1] == 0:
                 return w
+            if rnd == 0 and float(lam.min()) >= 0.5:    # little cancelled: once is enough (Kahan-Parlett)
+                break
         k = w.shape[1]
         if self.r + k > self._v.shape[1]:
             cap = max(2 * self._v.shape[1], self.r + k, 16)
@@ -115,24 +120,33 @@ class Basis:
                 grown[:, :self.r] = getattr(self, name)[:, :self.r]
                 setattr(self, name, grown)
         self._v[:, self.r:self.r + k] = w
-        self._mv[:, self.r:self.r + k] = self.M @ w
+        self._mv[:, self.r:self.r + k] = mw
         self.r += k
         return w
 
-    def add_sequence(self, solve: Callable[[np.ndarray], np.ndarray], block: np.ndarray, moments: int) -> int:
+    def add_sequence(self, solve: Callable[[np.ndarray], np.ndarray], block: np.ndarray, moments: int) -> slice:
         """Add the block Krylov sequence ``S B, S M S B, ...`` (``moments`` blocks, ``S = solve``).
 
         Each block is M-orthonormalised against the ones before it of the same sequence only (a
-        small basis), and the whole sequence joins this basis at once: one pass over the basis per
-        sequence instead of one per block. Returns the number of columns added.
+        small basis); the sequence joins this basis in two passes, its last block apart. Returns the
+        columns that last block became (a basis without them is the same sequence one moment shorter:
+        comparing the two shows where the sequence has not converged).
         """
         local = Basis(self.M)
         blk = local.add(np.asarray(solve(np.asarray(block, float)), float))
+        before = local.r
         for _ in range(max(int(moments), 1) - 1):
             if blk.shape[1] == 0:
                 break
+            before = local.r
             blk = local.add(np.asarray(solve(np.asarray(self.M @ blk)), float))
-        return int(self.add(local.V).shape[1]) if local.r else 0
+        if moments > 1 and local.r > before:
+            self.add(local.V[:, :before])
+            start = self.r
+            self.add(local.V[:, before:])
+            return slice(start, self.r)
+        self.add(local.V)
+        return slice(self.r, self.r)
 
 
 def forcing_columns(p: Plant) -> np.ndarray:

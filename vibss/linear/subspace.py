@@ -10,14 +10,18 @@ pushed through the dynamic stiffness near those frequencies (a block, rational K
    ``(K - sigma M)^-1 [B, O^T]``, ``(K - sigma M)^-1 M V_k`` (``B`` every forcing column, ``O`` every
    output row: both sides in one basis keep the projection symmetric, so the error is second order
    in the basis' error). The basis is M-orthonormal (:class:`vibss.linear.krylov.Basis`) and the plant
-   projected in Ritz coordinates (:func:`vibss.linear.krylov.project`): ``M``, ``C``, ``H``, ``K`` and
-   every input and output map, so dampers and loss factors are carried by the same projection.
+   projected on it (its ``V^T X V`` grown with the basis), then turned to Ritz coordinates:
+   ``M``, ``C``, ``H``, ``K`` and every input and output map, so dampers and loss factors are
+   carried by the same projection.
 2. **Checks.** Between neighbouring interpolation frequencies (shifts and frequencies already added),
    where an interpolation error is largest, the requested frequency nearest the midpoint (and each
    end of the list) is solved exactly (:func:`vibss.linear.krylov.exact_response`: the one exact
    solve, banded or sparse LU) and compared with the projected response. The error of a channel
    is ``|H_r - H|`` over the channel's peak ``max |H_r|`` over every requested frequency (times a
    weight per input and frequency when one is given: the time path weighs by the input spectrum).
+   Beside them, where the projected response moves when the basis grows (the first basis against
+   itself without each shift's last moment; then each round against the one before), at the local
+   maxima of that change above the tolerance: a pole that has not converged shows there.
 3. **Greedy.** A check above the tolerance becomes an interpolation point: its exact solution and
    adjoint solution (real and imaginary parts: a complex shift, the factorisation is already
    done) join the basis, and the two new midpoints beside it are checked in the next round. It
@@ -35,11 +39,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import AnalysisError
-from .krylov import Basis, exact_response, forcing_columns, observing_columns, project, shift_solver
+from .eigen import projected_eigen
+from .krylov import Basis, exact_response, forcing_columns, observing_columns, shift_solver
 from .plant import Plant
-from .solve import response
+from .solve import forcing, observe, response, zfactor
 
-__all__ = ["Subspace", "channel_subspace", "N_SHIFTS", "MOMENTS", "MAX_ROUNDS", "TOLERANCE", "TWO_SIDED_MAX", "CHECK_SAFETY"]
+__all__ = ["Subspace", "channel_subspace", "reduced_response", "N_SHIFTS", "MOMENTS", "MAX_ROUNDS", "TOLERANCE", "TWO_SIDED_MAX", "CHECK_SAFETY"]
 
 N_SHIFTS = 8
 """Real shifts spread over the requested frequencies at the start."""
@@ -110,6 +115,71 @@ class Subspace:
                 f"points, tolerance {self.tol:g}; sampled, not bounded, between checks)")
 
 
+class _Galerkin:
+    """``V^T X V`` of ``M, C, K, H`` kept up to date as the basis grows: only the new columns are
+    multiplied (``X V_new`` and ``V^T X V_new``), so a round costs ``n r k``, not ``n r^2``."""
+
+    def __init__(self, plant: Plant, basis: Basis):
+        self.plant, self.basis = plant, basis
+        self.keys = ["M", "K"] + [k for k in ("C", "H") if _nonzero(getattr(plant, k))]
+        self.g = {k: np.zeros((0, 0)) for k in self.keys}
+
+    def plant_now(self) -> Plant:
+        """The plant projected on the basis as it is (its own coordinates, no rotation)."""
+        v = self.basis.V
+        r0, r = self.g["M"].shape[0], v.shape[1]
+        if r > r0:
+            new = v[:, r0:]
+            for k in self.keys:
+                xn = self.basis.MV[:, r0:] if k == "M" else getattr(self.plant, k) @ new
+                top = v.T @ xn                                   # (r, r - r0): V^T X V_new
+                g = np.zeros((r, r))
+                g[:r0, :r0] = self.g[k]
+                g[:, r0:] = top
+                g[r0:, :r0] = top[:r0].T
+                self.g[k] = 0.5 * (g + g.T)
+        return self._ritz(np.arange(r))
+
+    def without(self, drop: list[slice]) -> Plant:
+        """The plant projected on the basis without the columns ``drop`` (after :meth:`plant_now`):
+        the Galerkin matrices sliced, only the input and output maps projected anew."""
+        keep = np.setdiff1d(np.arange(self.basis.r), np.concatenate(
+            [np.arange(d.start, d.stop) for d in drop] + [np.zeros(0, int)]))
+        return self._ritz(keep)
+
+    def _ritz(self, keep: np.ndarray) -> Plant:
+        """The plant projected on the basis columns ``keep``, in Ritz coordinates (``M = I``, ``K``
+        diagonal: the eigenvectors ``T`` of the projected pair, so ``V T`` is the basis used)."""
+        g = {k: self.g[k][np.ix_(keep, keep)] for k in self.keys}
+        w2, t = projected_eigen(g["K"], g["M"])
+        top = max(float(np.abs(w2).max(initial=0.0)), 1e-300)
+        w2 = np.where(np.abs(w2) <= 1e-12 * top, 0.0, w2)
+        r = t.shape[1]
+        known = {k: t.T @ g[k] @ t for k in ("C", "H") if k in g}
+        known.update({k: np.zeros((r, r)) for k in ("C", "H") if k not in g})
+        return self.plant.project(self.basis.V[:, keep] @ t, tuple(f"krylov{k + 1}" for k in range(r)),
+                                  M=np.eye(r), K=np.diag(w2), **known)
+
+
+def reduced_response(red: Plant, s: np.ndarray) -> np.ndarray:
+    """(p, m, nf) response of a plant in Ritz coordinates (``M = I``, ``K`` diagonal) at ``s``:
+    without ``C`` and ``H`` the dynamic stiffness is diagonal and each frequency costs ``r (m + p)``
+    (the same :func:`~vibss.linear.solve.forcing` and :func:`~vibss.linear.solve.observe` as the exact
+    solve); with them, the exact solve of the small dense plant."""
+    if np.any(red.C) or np.any(red.H) or red.branches is not None:
+        return response(red, s)
+    zf = zfactor(s, red.order)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        x = forcing(red, s, zf) / (np.diag(red.K)[None, :] + (s * s)[:, None])[:, :, None]
+    return np.moveaxis(observe(red, s, x, zf), 0, -1)
+
+
+def _nonzero(a: object) -> bool:
+    """Whether a dense or sparse matrix has a nonzero entry."""
+    count = getattr(a, "count_nonzero", None)
+    return bool(count()) if count is not None and not isinstance(a, np.ndarray) else bool(np.any(np.asarray(a)))
+
+
 def _moved(hr: np.ndarray, prev: np.ndarray, scale: np.ndarray, tol: float) -> np.ndarray:
     """Indices of the local maxima of ``|hr - prev|`` (relative per channel, weighted) above
     ``CHECK_SAFETY tol``: where the vectors added last changed the projected response, the previous
@@ -134,7 +204,7 @@ def _midpoints(interp: set[int], nf: int) -> set[int]:
 
 
 def channel_subspace(plant: Plant, omega: np.ndarray, tol: float = TOLERANCE, weight: np.ndarray | None = None,
-                     n_shifts: int = N_SHIFTS, moments: int = MOMENTS, max_rounds: int = MAX_ROUNDS) -> Subspace:
+                     n_shifts: int = N_SHIFTS, moments: int = MOMENTS, max_rounds: int | None = None) -> Subspace:
     """A projection of ``plant`` whose response at ``omega`` is checked against exact solves.
 
     Parameters
@@ -149,8 +219,8 @@ def channel_subspace(plant: Plant, omega: np.ndarray, tol: float = TOLERANCE, we
         Non-negative weight per input and frequency (e.g. ``|U(w)|``) applied to the error and the peak.
     n_shifts, moments : int
         Real shifts at the start and block moments per shift.
-    max_rounds : int
-        Most greedy rounds.
+    max_rounds : int or None
+        Most greedy rounds (None: :data:`MAX_ROUNDS`).
 
     Returns
     -------
@@ -177,6 +247,7 @@ def channel_subspace(plant: Plant, omega: np.ndarray, tol: float = TOLERANCE, we
     (True, True, True)
     """
     t_start = time.perf_counter()
+    max_rounds = MAX_ROUNDS if max_rounds is None else max_rounds
     if plant.branches is not None:
         raise AnalysisError(f"subspace: the frequency-dependent mounts {list(plant.branches.mounts)} are not "
                             "projected; use the exact per-frequency solve (method 'sparse')")
@@ -200,10 +271,11 @@ def channel_subspace(plant: Plant, omega: np.ndarray, tol: float = TOLERANCE, we
     basis = Basis(plant.M)
     at = np.unique(np.round(np.linspace(0, nf - 1, max(1, min(int(n_shifts), nf)))).astype(int))
     sigmas = []
+    last: list[slice] = []
     for i in at:
         solve, sigma = shift_solver(plant, float(w[i]), float(w[-1]))
         sigmas.append(sigma)
-        basis.add_sequence(solve, block0, moments)
+        last.append(basis.add_sequence(solve, block0, moments))
     interp = {int(i) for i in at}
     added: set[int] = set()
     exact: dict[int, np.ndarray] = {}
@@ -212,13 +284,15 @@ def channel_subspace(plant: Plant, omega: np.ndarray, tol: float = TOLERANCE, we
     converged = False
     s = 1j * w
     hr_prev = None
+    galerkin = _Galerkin(plant, basis)
     for rnd in range(max(int(max_rounds), 0) + 1):
-        red = project(plant, basis.V)
-        hr = response(red, s)                                     # (p, m, nf)
+        red = galerkin.plant_now()
+        hr = reduced_response(red, s)                             # (p, m, nf)
         scale = np.ones((1,) + hr.shape[1:]) if wt is None else wt[None]
-        if hr_prev is not None:                 # where the last vectors moved the answer: check there too
-            moved = _moved(hr, hr_prev, scale, tol)
-            new |= set(moved) - set(exact)
+        if hr_prev is None:                     # the first basis against itself one moment shorter
+            hr_prev = reduced_response(galerkin.without(last), s)
+        # where the last vectors moved the answer, the smaller basis was wrong: check there too
+        new |= set(_moved(hr, hr_prev, scale, tol)) - set(exact)
         hr_prev = hr
         for i in sorted(new - set(exact)):
             y, x, xa = exact_response(plant, complex(s[i]), adjoint=two_sided)
