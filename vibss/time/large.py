@@ -125,7 +125,7 @@ def input_spectrum(samples: np.ndarray, dt: float) -> tuple[np.ndarray, np.ndarr
     return np.fft.rfftfreq(nfft, dt), np.abs(np.fft.rfft(samples, nfft, axis=1)) * dt
 
 
-def projected_plant(full: Plant, samples: np.ndarray, dt: float, tol: float = TOLERANCE) -> Projected:
+def projected_plant(full: Plant, samples: np.ndarray, dt: float, tol: float | None = None) -> Projected:
     """Project a sparse plant on a subspace built for its channels and the inputs' spectra.
 
     Parameters
@@ -137,8 +137,8 @@ def projected_plant(full: Plant, samples: np.ndarray, dt: float, tol: float = TO
         Its inputs sampled every ``dt`` [input units].
     dt : float
         Time step [s].
-    tol : float
-        Weighted checked error asked [-] (module docstring).
+    tol : float or None
+        Weighted checked error asked [-] (module docstring); None: :data:`TOLERANCE`.
 
     Returns
     -------
@@ -150,6 +150,7 @@ def projected_plant(full: Plant, samples: np.ndarray, dt: float, tol: float = TO
         The inputs are all zero, or the greedy did not reach ``tol`` (the answer would carry an
         error it could not state).
     """
+    tol = TOLERANCE if tol is None else tol
     f, mag = input_spectrum(np.asarray(samples, float).reshape(len(full.inputs), -1), dt)
     if not np.any(mag):
         raise AnalysisError(f"simulate: the inputs {list(full.inputs)} are zero over the whole window; "
