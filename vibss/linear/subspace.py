@@ -21,7 +21,8 @@ pushed through the dynamic stiffness near those frequencies (a block, rational K
    weight per input and frequency when one is given: the time path weighs by the input spectrum).
    Beside them, where the projected response moves when the basis grows (the first basis against
    itself without each shift's last moment; then each round against the one before), at the local
-   maxima of that change above the tolerance: a pole that has not converged shows there.
+   maxima of that change above the tolerance (the largest :data:`MOVED_MAX` per round): a pole that
+   has not converged shows there.
 3. **Greedy.** A check above the tolerance becomes an interpolation point: its exact solution and
    adjoint solution (real and imaginary parts: a complex shift, the factorisation is already
    done) join the basis, and the two new midpoints beside it are checked in the next round. It
@@ -44,7 +45,7 @@ from .krylov import Basis, exact_response, forcing_columns, observing_columns, s
 from .plant import Plant
 from .solve import forcing, observe, response, zfactor
 
-__all__ = ["Subspace", "channel_subspace", "reduced_response", "N_SHIFTS", "MOMENTS", "MAX_ROUNDS", "TOLERANCE", "TWO_SIDED_MAX", "CHECK_SAFETY"]
+__all__ = ["Subspace", "channel_subspace", "reduced_response", "N_SHIFTS", "MOMENTS", "MAX_ROUNDS", "TOLERANCE", "TWO_SIDED_MAX", "CHECK_SAFETY", "MOVED_MAX"]
 
 N_SHIFTS = 8
 """Real shifts spread over the requested frequencies at the start."""
@@ -57,6 +58,8 @@ TOLERANCE = 1e-8
 CHECK_SAFETY = 0.5
 """A check passes when its error is below this fraction of the tolerance (the error between checks
 is not measured: the margin is for it)."""
+MOVED_MAX = 10
+"""Most checks per round placed where the projected response moved (each is one exact solve)."""
 TWO_SIDED_MAX = 12
 """Most output rows whose vectors (and adjoint solutions) join the basis; more outputs: the input
 side only."""
@@ -181,8 +184,8 @@ def _nonzero(a: object) -> bool:
 
 
 def _moved(hr: np.ndarray, prev: np.ndarray, scale: np.ndarray, tol: float) -> np.ndarray:
-    """Indices of the local maxima of ``|hr - prev|`` (relative per channel, weighted) above
-    ``CHECK_SAFETY tol``: where the vectors added last changed the projected response, the previous
+    """Indices of the :data:`MOVED_MAX` largest local maxima of ``|hr - prev|`` (relative per
+    channel, weighted) above ``CHECK_SAFETY tol``: where the vectors added last changed the projected response, the previous
     basis was wrong there, and so may the new one be."""
     peak = np.abs(hr * scale).max(axis=2, keepdims=True)
     d = (np.abs(hr - prev) * scale / np.where(peak > 0, peak, 1.0)).max(axis=(0, 1))
@@ -191,7 +194,8 @@ def _moved(hr: np.ndarray, prev: np.ndarray, scale: np.ndarray, tol: float) -> n
     inner = np.flatnonzero((d[1:-1] >= d[:-2]) & (d[1:-1] >= d[2:])) + 1
     ends = [i for i in (0, d.size - 1) if d[i] >= d[1 if i == 0 else -2]]
     cand = np.r_[inner, ends].astype(int)
-    return cand[d[cand] > CHECK_SAFETY * tol]
+    cand = cand[d[cand] > CHECK_SAFETY * tol]
+    return cand[np.argsort(d[cand])[::-1][:MOVED_MAX]]
 
 
 def _midpoints(interp: set[int], nf: int) -> set[int]:
