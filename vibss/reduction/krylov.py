@@ -10,7 +10,7 @@ A second-order (structure-preserving) Galerkin projection ``q = V eta`` with ``V
 
 - **real shifts** ``sigma_j = w_j^2`` spread over the band ``[w1, w2]`` (``w_j`` evenly spaced; a
   band starting at 0 gets ``sigma = 0``, the static response, or a slightly negative shift when
-  ``K`` is singular), each factorised once (``splu`` of ``K - sigma_j M``);
+  ``K`` is singular), each factorised once (banded ``dgbtrf`` or ``splu`` of ``K - sigma_j M``, :mod:`vibss.linear.krylov`);
 - per shift a block Arnoldi sequence ``V_0 = (K - sigma M)^-1 B``, ``V_{k+1} = (K - sigma M)^-1 M V_k``
   for ``moments`` blocks, where ``B`` holds every forcing column (``F``, ``Kz``, ``Cz``, ``Mz``,
   ``Hz``) and, when the outputs are few (``<= TWO_SIDED_MAX`` rows), the output rows transposed
@@ -266,7 +266,7 @@ def _krylov(p: Plant, band: tuple[float, float], tol: float, n_shifts: int, mome
     sigmas = []
     for w in ws:
         t0 = time.perf_counter()
-        lu, sigma = _shift_lu(p, float(w), w2)
+        lu, sigma = _shift_lu(p, float(w), w2, banded=False)   # SuperLU, as its tolerances were set with
         t1 = time.perf_counter()
         timings["shift_lu_s"] += t1 - t0
         sigmas.append(sigma)
