@@ -180,6 +180,8 @@ def freeze(value: Any) -> Any:
     """
     if isinstance(value, np.ndarray):
         value.flags.writeable = False
+    elif isinstance(value, (str, int, float)):     # labels and numbers: nothing to freeze (60,000 DOF labels)
+        pass
     elif isinstance(value, (tuple, list)):
         for v in value:
             freeze(v)

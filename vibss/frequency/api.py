@@ -444,7 +444,8 @@ def _stays_sparse(system: Any, frequencies: Any, chosen: Any) -> bool:
     if isinstance(system, Plant) or not isinstance(system, (Model, Assembly)):
         return False
     model = system.model if isinstance(system, Assembly) else system
-    if 6 * len(model.bodies) <= LARGE_DOFS or (chosen is not None and chosen.name != "sparse"):
+    if 6 * len(model.bodies) <= LARGE_DOFS or (chosen is not None and not any(
+            chosen is METHODS[k] for k in ("sparse", "subspace"))):
         return False
     if any(t.has_branches for t in model.mount_types.values()):
         return False
@@ -537,7 +538,7 @@ def frequency_response(system: Model | Assembly | Plant, inputs: Sequence[Any] |
         Explicit frequencies, or a grid spec (default: refined log grid around the modes).
     quantity : {"receptance", "mobility", "accelerance"}
         Multiply the outputs by ``(i w)^0, ^1, ^2``.
-    method : {"auto", "direct", "modal", "complex_modal", "sparse", "statespace"}, FrequencyMethod or callable
+    method : {"auto", "direct", "modal", "complex_modal", "woodbury", "sparse", "subspace", "statespace"}, FrequencyMethod or callable
         Method (:data:`vibss.frequency.kernels.METHODS`), or a kernel ``f(plant, s, basis) -> (p, m, nf)``
         with the built-ins' signature (``s`` Laplace points ``i w``, ``basis`` the undamped
         :class:`~vibss.linear.eigen.ModalBasis`, None for a sparse plant; ``f(plant, s)`` is
@@ -608,7 +609,10 @@ def frequency_response(system: Model | Assembly | Plant, inputs: Sequence[Any] |
             what = "complex modes" if refused.name == "complex_modal" else f"method {refused.name!r}"
             reason = f"{reason}; {what} refused ({exc}): {chosen.summary}"
             raw = chosen.kernel(plant, s, basis)
-        if not chosen.exact and not chosen.needs_basis:
+        if chosen.self_checked:             # (response, the note of its own exact checks)
+            raw, own = raw
+            reason = "; ".join(x for x in (reason, own) if x)
+        elif not chosen.exact and not chosen.needs_basis:
             reason = "; ".join(x for x in (reason, _checked(plant, s, raw, chosen.name)) if x)
         h[:, :, pos] = _times_power(raw, s, k)
     if np.any(~pos):

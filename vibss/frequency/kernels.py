@@ -21,6 +21,12 @@ with ``O(s) = Oq + i Oh + s Ov + s^2 Oa``, ``P(s) = Pz + i Ph + s Pv + s^2 Pa`` 
 - ``sparse``: the direct solve on the sparse structure, per frequency: a banded LU after a reverse
   Cuthill-McKee ordering (chains and other locally connected layouts), else SuperLU
   (:mod:`vibss.banded`). Exact like ``direct``; any damping.
+- ``subspace``: a Galerkin projection on a block rational Krylov basis built from the inputs and
+  outputs (real shifts over the band, one sparse or banded LU each), grown where exact solves at
+  check frequencies between its interpolation points exceed the tolerance
+  (:mod:`vibss.linear.subspace`); the note states the basis, the shifts and the checked error. For
+  large models asked for many frequencies on few channels; any damping (C and H are projected),
+  no frequency-dependent mounts.
 - ``statespace``: ``control.frequency_response`` on :func:`vibss.linear.statespace.statespace`
   (SLICOT TB05AD on the scaled modal realization; viscous damping only).
 
@@ -44,6 +50,7 @@ from ..linear.plant import Plant
 from ..linear.eigen import ModalBasis, damping_coupling, modal_basis, symmetric_eigen
 from ..linear.projection import projected_damping
 from ..linear.solve import response, zero_frequency_limit, zfactor
+from ..linear.subspace import TOLERANCE, channel_subspace
 from ..methods import Method, callable_name
 from .lowrank import woodbury
 from .terms import feedthrough as _feedthrough, mass_solve as _mass_solve, static as _static, terms as _terms
@@ -75,6 +82,23 @@ def sparse(plant: Plant, s: np.ndarray) -> np.ndarray:
     O(n b^2) per frequency instead of O(n^3).
     """
     return response(plant, s, backend="sparse")
+
+
+def subspace(plant: Plant, s: np.ndarray, tol: float = TOLERANCE) -> tuple[np.ndarray, str]:
+    """The response of a projection built for the plant's channels, checked by exact solves;
+    returns ((p, m, nf), note).
+
+    :func:`vibss.linear.subspace.channel_subspace`: a block rational Krylov basis from the input
+    and output vectors (real shifts over the band, each one sparse or banded LU), ``M, C, K, H``
+    and every map projected on it, grown where the exact solve at a check frequency between the
+    interpolation points shows an error above the tolerance. When it does not reach ``tol`` the
+    exact sparse solve (:func:`sparse`) answers every frequency instead, and the note says so.
+    """
+    sub = channel_subspace(plant, np.abs(np.asarray(s).imag), tol)
+    if sub.converged:
+        return sub.response, sub.describe()
+    return sparse(plant, s), (f"the channel subspace did not reach {tol:g} ({sub.describe()}): exact sparse "
+                              "solve at every frequency instead")
 
 
 def _times_left(o: np.ndarray, blocks: list[_Factors]) -> np.ndarray:
@@ -388,10 +412,13 @@ class FrequencyMethod(Method):
         Superposes the undamped modes (the driver computes them for the grid anyway).
     sparse_ok : bool
         Accepts a plant whose ``M, C, K, H`` are scipy.sparse matrices.
+    self_checked : bool
+        The kernel returns ``(response, note)`` and checks itself against the exact solve.
     """
 
     needs_basis: bool = False
     sparse_ok: bool = False
+    self_checked: bool = False
 
 
 def _direct(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) -> np.ndarray:
@@ -406,6 +433,10 @@ def _statespace(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) ->
     return via_statespace(plant, s)
 
 
+def _subspace(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) -> tuple[np.ndarray, str]:
+    return subspace(plant, s)
+
+
 METHODS: dict[str, FrequencyMethod] = {m.name: m for m in (
     FrequencyMethod("direct", _direct, exact=True, internal_states=True,
                     summary="one dense complex solve per frequency (the reference)"),
@@ -418,6 +449,9 @@ METHODS: dict[str, FrequencyMethod] = {m.name: m for m in (
                             "bordered solve per frequency (any damping)"),
     FrequencyMethod("sparse", _sparse, exact=True, sparse_ok=True, internal_states=True,
                     summary="banded or SuperLU complex solve per frequency"),
+    FrequencyMethod("subspace", _subspace, sparse_ok=True, self_checked=True,
+                    summary="projection on a rational Krylov basis built for the channels, checked by exact "
+                            "solves between its shifts (large models, many frequencies, few channels)"),
     FrequencyMethod("statespace", _statespace, internal_states=True,
                     summary="control.frequency_response of the modal state space (viscous only)"),
 )}

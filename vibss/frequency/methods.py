@@ -17,6 +17,7 @@ from ..linear.banded import seconds_floor, structure
 from ..linear.eigen import ModalBasis
 from ..linear.plant import Plant
 from ..linear.projection import damping_factors
+from ..linear.subspace import MOMENTS, N_SHIFTS, TWO_SIDED_MAX
 from ..methods import resolve
 from .kernels import (COMPLEX_MODE_RISK, METHODS, FrequencyMethod, classical_damping, complex_mode_risk,
                       custom_method, project_damping)
@@ -121,7 +122,7 @@ def choose(plant: Plant, nf: int, basis: ModalBasis | None) -> tuple[str, str]:
         A key of :data:`METHODS` and the reason recorded in the result.
     """
     if basis is None:
-        return "sparse", "sparse plant: sparse direct solve per frequency"
+        return _choose_sparse(plant, nf)
     if plant.branches is not None:
         return _choose_branches(plant, nf, basis)
     if plant.n <= 12:
@@ -178,3 +179,42 @@ def _choose_branches(plant: Plant, nf: int, basis: ModalBasis) -> tuple[str, str
     other = next(k for k in cost if k != best)
     return best, (f"{note}: {best} ({what[best]}), estimated {cost[best]:.2g} s against "
                   f"{other} {cost[other]:.2g} s")
+
+
+_K_BASIS = 1.5e-9     # [s] per n r^2 of the channel subspace's Gram-Schmidt and projection (60,000 DOF chain)
+_K_REDUCED = 1.5e-9   # [s] per nf r^3 of its damped reduced responses (about four per call, dense LU)
+
+
+def _nonzero(a: Any) -> bool:
+    count = getattr(a, "count_nonzero", None)
+    return bool(count()) if count is not None and not isinstance(a, np.ndarray) else bool(np.any(np.asarray(a)))
+
+
+def _choose_sparse(plant: Plant, nf: int) -> tuple[str, str]:
+    """``auto`` for a sparse plant: the exact solve per frequency or the channel subspace
+    (:mod:`vibss.linear.subspace`), by their estimated costs.
+
+    The exact path costs ``nf`` solves (:attr:`~vibss.linear.banded.Structure.seconds_per_frequency`);
+    the subspace about ``3 N_SHIFTS`` of them (a factorisation per shift, about as many exact checks
+    and a few added frequencies) plus its basis work, ``n r^2`` with ``r = N_SHIFTS MOMENTS`` times
+    the input and output vectors (the outputs' only when they are few), and with dampers or loss
+    factors ``nf r^3`` for the small plant's dense solves: cheaper with many frequencies and few
+    channels.
+    """
+    st = plant.cached("band structure", lambda: structure(plant))
+    per = st.seconds_per_frequency
+    how = f"banded LU, half-bandwidth {st.band}" if st.banded else "SuperLU"
+    exact = nf * per
+    if plant.branches is not None:
+        return "sparse", f"sparse plant: exact sparse solve per frequency ({how}; frequency-dependent mounts)"
+    cols = len(plant.inputs) + (len(plant.outputs) if len(plant.outputs) <= TWO_SIDED_MAX else 0)
+    r = N_SHIFTS * MOMENTS * cols
+    sub = 3 * N_SHIFTS * per + _K_BASIS * plant.n * r * r
+    if _nonzero(plant.C) or _nonzero(plant.H):       # damped: the small plant is solved densely per frequency
+        sub += _K_REDUCED * nf * r**3
+    if sub < exact:
+        return "subspace", (f"sparse plant, {nf} frequencies on {len(plant.outputs)} x {len(plant.inputs)} "
+                            f"channels: channel subspace estimated {sub:.2g} s against {exact:.2g} s for the "
+                            f"exact solve per frequency ({how})")
+    return "sparse", (f"sparse plant: exact sparse solve per frequency ({how}), estimated {exact:.2g} s "
+                      f"against {sub:.2g} s for a channel subspace")

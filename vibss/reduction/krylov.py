@@ -10,7 +10,7 @@ A second-order (structure-preserving) Galerkin projection ``q = V eta`` with ``V
 
 - **real shifts** ``sigma_j = w_j^2`` spread over the band ``[w1, w2]`` (``w_j`` evenly spaced; a
   band starting at 0 gets ``sigma = 0``, the static response, or a slightly negative shift when
-  ``K`` is singular), each factorised once (``splu`` of ``K - sigma_j M``);
+  ``K`` is singular), each factorised once (banded ``dgbtrf`` or ``splu`` of ``K - sigma_j M``, :mod:`vibss.linear.krylov`);
 - per shift a block Arnoldi sequence ``V_0 = (K - sigma M)^-1 B``, ``V_{k+1} = (K - sigma M)^-1 M V_k``
   for ``moments`` blocks, where ``B`` holds every forcing column (``F``, ``Kz``, ``Cz``, ``Mz``,
   ``Hz``) and, when the outputs are few (``<= TWO_SIDED_MAX`` rows), the output rows transposed
@@ -44,10 +44,10 @@ import scipy.sparse as sp
 
 from ..errors import AnalysisError
 from ..model.model import Model
-from ..linear.eigen import projected_eigen, symmetric_eigen
 from ..linear.plant import FIELD_ROLES, Plant
 from ..linear.signals import build_plant
-from ..linear.solve import SingularMatrixError, forcing, lu_solver, observe, output_map, states, zfactor
+from ..linear.krylov import DEFLATE_RTOL, Basis as _Basis, exact_response, forcing_columns as _forcing, \
+    observing_columns as _observing, project, shift_solver as _shift_lu
 from .prune import Removal, _components, _dof_names, _touched_rows, frf
 
 __all__ = ["KrylovBasis", "krylov", "sparse_plant", "as_sparse", "prune_sparse", "exact_response",
@@ -63,9 +63,6 @@ MAX_ROUNDS = 8
 """Most enrichment rounds."""
 TWO_SIDED_MAX = 12
 """Largest number of output rows (Oq, Ov, Oa, Oh together) whose adjoint blocks join the basis."""
-DEFLATE_RTOL = 1e-9
-"""A new column is dropped when its M-norm after orthogonalisation is below this fraction of its
-M-norm before."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -160,118 +157,6 @@ def prune_sparse(p: Plant) -> tuple[Plant, list[Removal]]:
            for why, names in removals.items()]
     k = np.flatnonzero(keep)
     return p.restrict(k), out
-
-
-# ------------------------------------------------------------------------ exact sparse solves
-
-def exact_response(p: Plant, s: complex, adjoint: bool = False) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
-    """Exact response of a sparse plant at one Laplace point ``s`` [rad/s] (the one exact solve,
-    :func:`vibss.linear.solve.states`, on the sparse structure: banded LU or SuperLU).
-
-    Parameters
-    ----------
-    p : Plant
-        With sparse ``M, C, K, H`` (:func:`sparse_plant`, :func:`as_sparse`).
-    s : complex
-        Laplace point (``i w``).
-    adjoint : bool
-        Also solve ``A(s)^T x = O(s)^T`` (the output side, same solve: A is symmetric).
-
-    Returns
-    -------
-    y : (p, m) complex ndarray
-        Outputs per unit input.
-    x : (n, m) complex ndarray
-        DOF response.
-    xa : (n, p) complex ndarray or None
-        Adjoint solutions (``adjoint``).
-    """
-    sv = np.array([s], dtype=complex)
-    zf = zfactor(sv, p.order)
-    rhs = forcing(p, sv, zf)[0]
-    m = rhs.shape[1]
-    obs = output_map(p, complex(s))
-    if adjoint:
-        rhs = np.hstack([rhs, obs.T])
-    xs, bad = states(p, sv, rhs=rhs, backend="sparse")
-    if bad[0]:
-        raise AnalysisError(f"krylov: K + iH + sC + s^2 M is singular at s = {s:.6g} rad/s")
-    x = xs[0, :, :m]
-    y = observe(p, sv, x[None], zf)[0]
-    return y, x, (xs[0, :, m:] if adjoint else None)
-
-
-# ------------------------------------------------------------------------ basis
-
-class _Basis:
-    """An M-orthonormal basis grown block by block (block Gram-Schmidt twice, with deflation)."""
-
-    def __init__(self, M: sp.csr_matrix):
-        self.M = M
-        self.V = np.zeros((M.shape[0], 0))
-        self.MV = np.zeros((M.shape[0], 0))
-
-    def add(self, w: np.ndarray) -> np.ndarray:
-        """Add the columns of ``w`` (n, k); returns the new M-orthonormal columns (n, k' <= k)."""
-        w = np.asarray(w, float)
-        if w.size == 0:
-            return w.reshape(w.shape[0], 0)
-        norm0 = np.sqrt(np.maximum(np.einsum("ij,ij->j", w, self.M @ w), 0.0))
-        keep = norm0 > 0
-        w = w[:, keep] / norm0[keep]
-        for rnd in range(2):
-            w = w - self.V @ (self.MV.T @ w)
-            g = w.T @ (self.M @ w)
-            lam, u = symmetric_eigen(g)
-            floor = DEFLATE_RTOL**2 if rnd == 0 else 1e-12 * float(lam.max(initial=0.0))
-            ok = lam > floor
-            w = w @ (u[:, ok] / np.sqrt(lam[ok]))
-            if w.shape[1] == 0:
-                return w
-        mw = self.M @ w
-        self.V = np.hstack([self.V, w])
-        self.MV = np.hstack([self.MV, mw])
-        return w
-
-
-def _forcing(p: Plant) -> np.ndarray:
-    b = np.hstack([p.F, p.Kz, p.Cz, p.Mz, p.Hz])
-    return b[:, np.any(b != 0, axis=0)]
-
-
-def _observing(p: Plant) -> np.ndarray:
-    o = np.vstack([a for a in (p.Oq, p.Ov, p.Oa, p.Oh) if a is not None]).T
-    return o[:, np.any(o != 0, axis=0)]
-
-
-def _shift_lu(p: Plant, w: float, w2: float) -> tuple[Any, float]:
-    """LU of ``K - sigma M`` at ``sigma = w^2`` (nudged when singular); returns (solve, sigma)."""
-    sigma = w * w
-    for k in range(4):
-        try:
-            return lu_solver(cast("sp.spmatrix", p.K - sigma * p.M).tocsc()), sigma
-        except SingularMatrixError:
-            sigma = sigma * (1 + 1e-3 * (k + 1)) if sigma > 0 else -((1e-2 * (k + 1) * w2) ** 2)
-    raise AnalysisError(f"krylov: K - sigma M is singular near sigma = {w * w:.6g} (rad/s)^2")
-
-
-def project(p: Plant, V: np.ndarray) -> Plant:
-    """Galerkin projection of a sparse plant on M-orthonormal ``V`` (n, r), in Ritz coordinates.
-
-    ``M_r = I``, ``K_r = diag(w_k^2)`` (eigenvectors ``T`` of ``V^T K V``), ``C_r, H_r = T^T V^T (C, H) V T``,
-    force maps ``T^T V^T F ...``, output maps ``O V T``. Feedthrough terms are kept.
-    """
-    def sym(a: sp.csr_matrix) -> np.ndarray:
-        g = V.T @ (a @ V)
-        return 0.5 * (g + g.T)
-
-    mr, kr = sym(p.M), sym(p.K)
-    w2, t = projected_eigen(kr, mr)
-    vt = V @ t
-    top = max(float(np.abs(w2).max(initial=0.0)), 1e-300)
-    w2 = np.where(np.abs(w2) <= 1e-12 * top, 0.0, w2)
-    r = V.shape[1]
-    return p.project(vt, tuple(f"krylov{k + 1}" for k in range(r)), M=np.eye(r), K=np.diag(w2))
 
 
 def _midpoints(points: np.ndarray, lo: float, hi: float) -> np.ndarray:
@@ -381,7 +266,7 @@ def _krylov(p: Plant, band: tuple[float, float], tol: float, n_shifts: int, mome
     sigmas = []
     for w in ws:
         t0 = time.perf_counter()
-        lu, sigma = _shift_lu(p, float(w), w2)
+        lu, sigma = _shift_lu(p, float(w), w2, banded=False)   # SuperLU, as its tolerances were set with
         t1 = time.perf_counter()
         timings["shift_lu_s"] += t1 - t0
         sigmas.append(sigma)

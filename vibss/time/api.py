@@ -63,7 +63,7 @@ from ..linear.hysteresis import dropped_hysteresis
 from ..linear.plant import Plant
 from ..linear.signals import build_plant
 from ..linear.solve import without_hysteresis
-from .large import Truncated, WARN_ERROR, error_estimate, input_frequency, truncated_plant
+from .large import Projected, WARN_ERROR, projected_plant
 from ..studies import causal_loss_fit, steady_sweeps, transient_excitations
 from ..diagnostics import check_excitations, check_explicit_rk
 
@@ -435,7 +435,7 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
         causal_note, model = fit.note, fit.model
         model_or_plant = model
     hidden = False
-    truncated: Truncated | None = None
+    truncated: Projected | None = None
     skipped: tuple[Any, ...] = ()
     if excitations is None and model is not None and inputs is None:
         # the model's time-domain excitations; steady sweeps are frequency studies (vibss.studies)
@@ -544,7 +544,7 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
     if auto:
         note = f"auto -> {name}: " + (f"{chosen.auto_reason}; " if chosen.auto_reason else "") + note
     if truncated is not None:
-        note = f"{_truncation_note(truncated, job, chosen.kernel, y)}; " + note
+        note = f"{_truncation_note(truncated, y)}; " + note
     keep = ts >= record_from - 1e-9 * dt
     shown = [] if hidden else funcs
     u = np.array([np.broadcast_to(f(ts[keep]), (int(keep.sum()),)) for f in shown]).reshape(len(shown), int(keep.sum()))
@@ -623,10 +623,10 @@ def _sum(terms: list[tuple[Callable[[np.ndarray], np.ndarray], tuple[float, ...]
 
 
 LARGE_DOFS = 6000
-"""Above this many DOFs ``simulate(model, method="auto")`` keeps the model sparse with truncated
-modes and an error estimate (:mod:`vibss.time.large`); at or below it every mode is computed densely
-and the answer is exact (65–196 s at 6,000 DOF, by the load on the machine). Twice the frequency response's threshold
-(:data:`vibss.frequency.api.LARGE_DOFS`), whose sparse path stays exact while this one truncates."""
+"""Above this many DOFs ``simulate(model, method="auto")`` keeps the model sparse and projects it on
+a subspace built for its inputs and outputs, with an error estimate (:mod:`vibss.time.large`); at or
+below it every mode is computed densely and the answer is exact (65–196 s at 6,000 DOF, by the load
+on the machine). Twice the frequency response's threshold (:data:`vibss.frequency.api.LARGE_DOFS`)."""
 
 
 def _stays_sparse(model: Model, method: Any) -> bool:
@@ -637,47 +637,31 @@ def _stays_sparse(model: Model, method: Any) -> bool:
 
 
 def _truncated(model: Model, sources: list[Any], outputs: Sequence[str] | None, initial: Any,
-               signals: Mapping[str, Any], ts: np.ndarray, dt: float) -> Truncated:
-    """The large model's sparse plant reduced to its low modes and residual vectors (:mod:`vibss.time.large`)."""
+               signals: Mapping[str, Any], ts: np.ndarray, dt: float) -> Projected:
+    """The large model's sparse plant projected on a subspace built for its channels (:mod:`vibss.time.large`)."""
     if not sources:
         raise AnalysisError(f"simulate: a free vibration of {6 * len(model.bodies)} DOFs (above "
                             f"{LARGE_DOFS}) from initial conditions alone: the large-model path needs an "
-                            "input to set its cut-off; give method='modal' (every mode, dense) instead")
+                            "input to build its subspace; give method='modal' (every mode, dense) instead")
     full = build_plant(model, sources, outputs, sparse=True)
     q0, v0 = _initial(full, initial, model)
     if np.any(q0) or np.any(v0):
         raise AnalysisError(f"simulate: initial: nonzero initial conditions on a model of {full.n} DOFs "
-                            f"(above {LARGE_DOFS}, kept sparse with truncated modes) do not map to the "
+                            f"(above {LARGE_DOFS}, kept sparse and projected) do not map to the "
                             "reduced coordinates exactly; give method='modal' (every mode, dense) instead")
-    fns = [getattr(sources_of, "function", None) for sources_of in _by_input(full, sources)]
     samples = np.array([np.broadcast_to(_sum(signals.get(u, []))(ts), ts.shape) for u in full.inputs])
-    return truncated_plant(full, input_frequency(fns, samples.reshape(len(full.inputs), ts.size), dt))
+    return projected_plant(full, samples.reshape(len(full.inputs), ts.size), dt)
 
 
-def _by_input(plant: Plant, sources: list[Any]) -> list[Any]:
-    """The excitation (or name) behind each of the plant's inputs, in its order (None: several)."""
-    found: dict[str, Any] = {}
-    for s in sources:
-        sig = getattr(s, "signal", s)
-        found[sig] = None if sig in found else s
-    return [found.get(u) for u in plant.inputs]
-
-
-def _truncation_note(tr: Truncated, job: SimulationJob, kernel: Callable[[SimulationJob], Any],
-                     y: np.ndarray) -> str:
-    """What the large-model path kept and its error estimate (the coarse answer run by the same
-    ``kernel``); warns above :data:`~vibss.time.large.WARN_ERROR`."""
-    ys = []
-    for coarse in tr.coarse:
-        coarse = coarse if job.plant is tr.plant else without_hysteresis(coarse)
-        zero = np.zeros(coarse.n)      # initial conditions are refused on this path
-        ys.append(np.asarray(kernel(replace(job, plant=coarse, q0=zero, v0=zero))[0], float))
-    worst = float(error_estimate(y, *ys).max(initial=0.0))
-    text = (f"{tr.describe()}; estimated error {worst:.2g} of each output's peak (from the same path "
-            f"with the {tr.n_coarse[0]} and {tr.n_coarse[1]} modes up to a half and a quarter of the cut-off)")
+def _truncation_note(tr: Projected, y: np.ndarray) -> str:
+    """What the large-model path kept and its error estimate; warns above
+    :data:`~vibss.time.large.WARN_ERROR`."""
+    worst = float(tr.estimate(y).max(initial=0.0))
+    text = (f"{tr.describe()}; estimated error {worst:.2g} of each output's peak ((1/pi) int |dH| |U| dw "
+            "with |dH| from the checks: an estimate from sampled checks, not a bound)")
     if not worst <= WARN_ERROR:
-        warnings.warn(VibssWarning(f"simulate: {text}: above {WARN_ERROR:g}; the truncated modes matter "
-                                   "for these inputs (method='modal' computes every mode, dense)"), stacklevel=3)
+        warnings.warn(VibssWarning(f"simulate: {text}: above {WARN_ERROR:g} (method='modal' computes every "
+                                   "mode, dense)"), stacklevel=3)
     return text
 
 
