@@ -211,6 +211,7 @@ def _inverse_iteration(lam: np.ndarray, v: np.ndarray, todo: np.ndarray, scale: 
                 break
             if not np.all(np.isfinite(y)) or not np.any(y):
                 break
+            y = y / np.abs(y).max()                    # lj all but exact: y can reach 1e308
             x = y / np.linalg.norm(y)
             num = x @ (lj * lj * x + lj * (damping @ x) + kp @ x)    # x^T Q(lj) x (Q symmetric)
             den = x @ (2 * lj * x + damping @ x)
@@ -218,7 +219,9 @@ def _inverse_iteration(lam: np.ndarray, v: np.ndarray, todo: np.ndarray, scale: 
                 break
             lj = lj - num / den
         vj = np.concatenate([scale * x[rows], lj * x])
-        lam[j], v[:, j] = lj, vj / np.linalg.norm(vj)
+        size = np.linalg.norm(vj)
+        if np.isfinite(size) and size > 0 and np.isfinite(lj):     # else keep eig's pair
+            lam[j], v[:, j] = lj, vj / size
     return lam, v
 
 
