@@ -55,9 +55,9 @@ import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg as sl
 
 from ..errors import DefectiveModesError
+from .complex_modes import eigenvalues
 from ..results import ReadOnly
 
 __all__ = ["BranchModes", "branch_modes", "RESIDUAL_TOL", "COND_MAX"]
@@ -324,7 +324,7 @@ def _linearised(fun: Callable[[complex], tuple[np.ndarray, np.ndarray]], d: comp
                 count: int) -> np.ndarray:
     """``count`` first guesses near ``d`` from ``E(d) + (lam - d) E'(d)`` and their vectors."""
     E0, Ed0 = fun(d)
-    mu = sl.eig(E0, -Ed0, right=False)
+    mu = eigenvalues(E0, -Ed0)
     finite = np.isfinite(mu)
     order = np.argsort(np.where(finite, np.abs(mu), np.inf))[:count]
     if not np.all(finite[order]):
@@ -397,7 +397,7 @@ def _strong_guesses(omega: np.ndarray, c: np.ndarray, bphi: np.ndarray, k: np.nd
     A[cs:2 * cs, 2 * cs:] = -bphi[:, modes].T
     A[2 * cs:, cs:2 * cs] = k[:, None] * bphi[:, modes]
     A[2 * cs:, 2 * cs:] = -np.diag(1.0 / tau)
-    ev = sl.eigvals(A)
+    ev = eigenvalues(A)
     real = np.abs(ev.imag) <= 1e-9 * np.abs(ev)
     return modes, np.concatenate([ev[real].real, ev[~real & (ev.imag > 0)]]).astype(complex)
 

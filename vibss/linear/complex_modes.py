@@ -31,7 +31,7 @@ from scipy.linalg import get_lapack_funcs
 from ..errors import DefectiveModesError
 from ..results import ReadOnly
 
-__all__ = ["ComplexModes", "complex_modes", "PROBE_TOL"]
+__all__ = ["ComplexModes", "complex_modes", "eigenpairs", "eigenvalues", "PROBE_TOL"]
 
 PROBE_TOL = 1e-10
 """Largest relative residual of ``V^-1 (V r) = r`` (random ``r``) accepted for the left
@@ -119,6 +119,16 @@ def eigenpairs(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     :func:`vibss.linear.eigen.undamped`.
     """
     return sl.eig(a, right=True, check_finite=False)
+
+
+def eigenvalues(a: np.ndarray, b: np.ndarray | None = None) -> np.ndarray:
+    """Eigenvalues of a small general matrix, or of the pencil ``a - lam b``: LAPACK ``geev`` /
+    ``ggev`` without vectors (infinite eigenvalues of a singular ``b`` come back as ``inf``).
+
+    The one general eigenvalue call beside :func:`eigenpairs` (the structured branch solver's first
+    guesses, :mod:`vibss.linear.branch_modes`).
+    """
+    return sl.eig(a, b, right=False, check_finite=False)
 
 
 REFINE_RISK = 1e-9
