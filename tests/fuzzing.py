@@ -39,6 +39,11 @@ MODELS = int(os.environ.get("VIBSS_FUZZ_MODELS", 1000 if LONG else 12))
 FILES = int(os.environ.get("VIBSS_FUZZ_FILES", 10_000 if LONG else 60))
 """Mutated model files, spread over the examples (``VIBSS_FUZZ_FILES`` overrides)."""
 
+SEED = int(os.environ["VIBSS_FUZZ_SEED"]) if os.environ.get("VIBSS_FUZZ_SEED") else None
+"""Another draw of random models (``VIBSS_FUZZ_SEED``: an integer; the draws stay deterministic per
+seed). Unset, hypothesis derives the draw from each test's own code, so the same tests give the same
+models run to run; but a change to a test, or selecting other tests, may move it."""
+
 EPS = np.finfo(float).eps
 
 

@@ -300,3 +300,25 @@ def test_an_undamped_banded_solve_runs_in_real_arithmetic(monkeypatch):
     calls.clear()
     vibss.frequency_response(damped, *io, frequencies=f, method="sparse")
     assert not calls
+
+
+@pytest.mark.parametrize("zero_axis_damping", [0.0, 1e-6])
+def test_a_zero_axis_beside_a_stiff_one_keeps_the_free_mass(zero_axis_damping: float) -> None:
+    """A 1 g body at the centre of an inclined mount of 1e8 N/m on two axes and none on the third
+    (issue 18's fuzzer: such a mount, assembled, rounds the zero axis at the stiff axes' level).
+    At 0.01 Hz the body is a free mass along that axis: the closed form
+    ``H = sum_a e_a e_a^T / (k_a (1 + i eta_a) + i w c_a - m w^2)`` over the mount's local axes ``e_a``."""
+    from vibss import Orientation
+    k, c, eta = np.array([1e8, 0.0, 1e8]), np.array([3.0, zero_axis_damping, 5.0]), np.array([0.02, 0.0, 0.01])
+    orient = Orientation.from_euler([0.3, -0.7, 1.1])
+    model = Model([Body("b", 1e-3, [1e-7, 2e-7, 3e-7])],
+                  [Mount("m", MountType("t", k.tolist(), c.tolist(), loss_factor=eta.tolist()), "b",
+                         orientation=orient)])
+    w = 2 * np.pi * 0.01
+    e = orient.matrix                                                   # columns: the local axes
+    ref = (e / (k * (1 + 1j * eta) + 1j * w * c - 1e-3 * w * w)) @ e.T
+    plant = build_plant(model, ["b.fx", "b.fy", "b.fz"], ["b.x", "b.y", "b.z"])
+    assert plant.mounts is not None and plant.mounts.ka.size == 2     # kept apart, per stiff axis
+    for backend in BACKENDS:
+        y = response(plant, np.array([1j * w]), backend=backend)[:, :, 0]
+        assert np.abs(y - ref).max() <= 1e-12 * np.abs(ref).max(), backend

@@ -74,7 +74,7 @@ def _elastic(plant: Plant) -> Plant:
     out = replace(plant, H=h0, Hz=np.zeros_like(plant.Hz), Oh=None, Ph=None)
     form = plant.mounts
     if form is not None and form.matches(plant):
-        form = replace(form, hp=np.zeros_like(form.hp), H=sp.csr_matrix(form.H.shape),
+        form = replace(form, hp=np.zeros_like(form.hp), ha=np.zeros_like(form.ha), H=sp.csr_matrix(form.H.shape),
                        source=(out.K, out.C, out.H, out.M))
         out = replace(out, mounts=form)
     return out

@@ -173,21 +173,21 @@ def _mounts(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray]) -> 
     """
     form = plant.mounts
     assert form is not None
-    n, q3 = plant.n, form.B.shape[0]
+    rows = form.rows
+    n, q3 = plant.n, rows.shape[0]
     m_csr = plant.cached("csr M", lambda: sp.csr_matrix(plant.M))
-    bt = form.B.T.tocsr()
+    bt = rows.T.tocsr()
     r_all = rhs(slice(None))
     x = np.zeros(r_all.shape, dtype=complex)
     bad = np.zeros(s.size, dtype=bool)
     dense = n + q3 <= MOUNTS_DENSE_MAX
     if dense:
-        bd, btd, md = form.B.toarray(), bt.toarray(), m_csr.toarray()
+        bd, btd, md = rows.toarray(), bt.toarray(), m_csr.toarray()
         kd, cd, hd = form.K.toarray(), form.C.toarray(), form.H.toarray()
     zeros = np.zeros((q3, r_all.shape[2]), dtype=complex)
     for i, sk in enumerate(s):
-        with np.errstate(all="ignore"):
-            zi = np.linalg.inv(form.kp + sk * form.cp + 1j * form.hp)              # (q, 3, 3)
-        if not np.all(np.isfinite(zi)):
+        zi = form.z_inverse(sk, sparse=not dense)
+        if zi is None:
             bad[i] = True
             continue
         r = np.vstack([r_all[i], zeros])
@@ -195,17 +195,17 @@ def _mounts(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray]) -> 
             a = np.zeros((n + q3, n + q3), dtype=complex)
             a[:n, :n] = kd + 1j * hd + sk * cd + sk * sk * md
             a[:n, n:], a[n:, :n] = btd, bd
-            a[n:, n:] = -sl.block_diag(*zi)
-            d = _equilibrate(form, np.diag(a[:n, :n]), sk)
+            a[n:, n:] = -zi
+            d = _equilibrate(form, rows, np.diag(a[:n, :n]), sk)
             try:
                 x[i] = d[:n, None] * np.linalg.solve(d[:, None] * a * d[None, :], d[:, None] * r)[:n]
             except np.linalg.LinAlgError:
                 bad[i] = True
             continue
         top = form.K + 1j * form.H + sk * form.C + sk * sk * m_csr
-        d = _equilibrate(form, top.diagonal(), sk)
+        d = _equilibrate(form, rows, top.diagonal(), sk)
         dd = sp.diags(d)
-        a = sp.bmat([[top, bt], [form.B, -sp.block_diag(list(zi))]], format="csc")
+        a = sp.bmat([[top, bt], [rows, -zi]], format="csc")
         try:
             x[i] = d[:n, None] * spl.splu(sp.csc_matrix(dd @ a @ dd, dtype=complex)).solve(d[:, None] * r)[:n]
         except RuntimeError:
@@ -213,13 +213,13 @@ def _mounts(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray]) -> 
     return x, bad
 
 
-def _equilibrate(form: Any, top: np.ndarray, sk: complex) -> np.ndarray:
+def _equilibrate(form: Any, rows: Any, top: np.ndarray, sk: complex) -> np.ndarray:
     """Symmetric diagonal scaling of the mounts' system: ``|diag A(s)|^-1/2`` on the DOFs
-    (``A = R + B^T Z B``; ``top`` is ``diag R(s)``), ``|Z_pp|^1/2`` on the mount forces, so both
-    diagonals are ~ 1. Measured on the instrument: 1.7e-8 unscaled, 2e-14 scaled."""
-    z = form.kp + sk * form.cp + 1j * form.hp
-    zd = np.abs(np.einsum("qii->qi", z)).ravel()
-    bz = np.asarray(abs(form.B).power(2).T @ zd).ravel()           # diag(B^T |Z| B), no cancellation
+    (``A = R + B^T Z B``; ``top`` is ``diag R(s)``, ``rows`` the mount forces' ``B``), ``|Z_pp|^1/2``
+    on the mount forces, so both diagonals are ~ 1. Measured on the instrument: 1.7e-8 unscaled,
+    2e-14 scaled."""
+    zd = form.z_diagonal(sk)
+    bz = np.asarray(abs(rows).power(2).T @ zd).ravel()           # diag(B^T |Z| B), no cancellation
     dx = 1.0 / np.sqrt(np.maximum(np.abs(top) + bz, np.finfo(float).tiny))
     return np.concatenate([dx, np.sqrt(zd)])
 

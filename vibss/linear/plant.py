@@ -87,6 +87,12 @@ class MountForm(ReadOnly):
         The plant's own ``(K, C, H, M)`` arrays this form reproduces; the solve uses the form only
         for a plant holding these very arrays (a plant derived with ``dataclasses.replace`` and
         new matrices falls back to them).
+    Ba : (r, n) scipy.sparse CSR matrix
+        Deflection along each stiff local axis of the mounts kept apart per axis: those with a zero
+        principal stiffness (not positive definite) whose local matrices are diagonal [m/m, m/rad].
+    ka, ca, ha : (r,) ndarray
+        Stiffness [N/m] (> 0), viscous damping [N s/m] and hysteretic stiffness [N/m] of those axes;
+        the zero axes' dampers are in ``C``.
     stiffness_ratio : float
         Largest principal stiffness of the mounts kept apart over the smallest nonzero principal
         stiffness of any mount touching a free DOF (kept apart or assembled with the rest).
@@ -109,6 +115,43 @@ class MountForm(ReadOnly):
     source: tuple
     stiffness_ratio: float
     inertia_w2: float = 0.0
+    Ba: Any = None
+    ka: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    ca: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    ha: np.ndarray = field(default_factory=lambda: np.zeros(0))
+
+    @property
+    def rows(self) -> Any:
+        """(3 q + r, n) CSR: ``B`` over ``Ba``, the rows of every mount force kept apart."""
+        if self.Ba is None or self.Ba.shape[0] == 0:
+            return self.B
+        import scipy.sparse as sp
+        return sp.csr_matrix(sp.vstack([self.B, self.Ba]))
+
+    def z_inverse(self, s: complex, sparse: bool = False) -> Any:
+        """``Z(s)^-1`` of every mount force kept apart as one (3 q + r) square matrix (block diagonal:
+        the 3 x 3 blocks, then the per-axis scalars; scipy.sparse CSR when ``sparse``), or None where
+        ``Z = k + s c + i h`` is singular."""
+        with np.errstate(all="ignore"):
+            zi = np.linalg.inv(self.kp + s * self.cp + 1j * self.hp)              # (q, 3, 3)
+            za = 1.0 / (self.ka + s * self.ca + 1j * self.ha)
+        if not (np.all(np.isfinite(zi)) and np.all(np.isfinite(za))):
+            return None
+        if sparse:
+            import scipy.sparse as sp
+            return sp.block_diag(list(zi) + [sp.diags(za)], format="csr") if za.size else \
+                sp.block_diag(list(zi), format="csr")
+        q3 = 3 * self.kp.shape[0]
+        out = np.zeros((q3 + za.size,) * 2, dtype=complex)
+        for p in range(self.kp.shape[0]):
+            out[3 * p:3 * p + 3, 3 * p:3 * p + 3] = zi[p]
+        out[np.arange(q3, q3 + za.size), np.arange(q3, q3 + za.size)] = za
+        return out
+
+    def z_diagonal(self, s: complex) -> np.ndarray:
+        """``|Z_pp(s)|`` of every mount force kept apart, (3 q + r,) [N/m]."""
+        z = self.kp + s * self.cp + 1j * self.hp
+        return np.concatenate([np.abs(np.einsum("qii->qi", z)).ravel(), np.abs(self.ka + s * self.ca + 1j * self.ha)])
 
     owns_arrays: ClassVar[bool] = True     # read-only in place (source: the plant's own arrays)
 

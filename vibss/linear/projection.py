@@ -141,6 +141,11 @@ def _factors(plant: Plant, basis: ModalBasis) -> tuple[ModalBasis, tuple[np.ndar
             cols.append(np.asarray(form.B[rows] @ phi).T)
             zc.append(sl.block_diag(*form.cp[damped]))
             zh.append(sl.block_diag(*form.hp[damped]))
+        axes = np.flatnonzero((form.ca != 0) | (form.ha != 0))        # the mounts kept apart per axis
+        if axes.size:
+            cols.append(np.asarray(form.Ba[axes] @ phi).T)
+            zc.append(np.diag(form.ca[axes]))
+            zh.append(np.diag(form.ha[axes]))
         rest = [form.C, form.H]
     else:
         rest = [plant.C, plant.H]
