@@ -56,7 +56,7 @@ from .lowrank import woodbury
 from .terms import feedthrough as _feedthrough, mass_solve as _mass_solve, static as _static, terms as _terms
 
 __all__ = ["METHODS", "FrequencyMethod", "custom_method", "direct", "modal", "complex_modal", "woodbury", "sparse", "via_statespace", "classical_damping",
-           "complex_mode_risk", "project_damping", "COMPLEX_MODE_RISK",
+           "complex_mode_risk", "mode_risks", "project_damping", "COMPLEX_MODE_RISK", "REFINE_PREDICT",
            "zero_frequency_limit"]
 
 
@@ -215,15 +215,49 @@ def project_damping(plant: Plant, basis: ModalBasis) -> tuple[np.ndarray, np.nda
 
 
 COMPLEX_MODE_RISK = 1e-9
-"""``auto`` avoids complex modes when :func:`complex_mode_risk` exceeds this."""
+"""Above this :func:`complex_mode_risk` ``eig``'s poles are not trusted as they stand: complex modes
+screen and refine the slow ones (:mod:`vibss.linear.complex_modes`), and ``auto`` counts that cost."""
+
+REFINE_PREDICT = 1e-6
+"""``auto`` expects a mode to need the per-mode inverse iteration of the complex modes (after their
+a-posteriori screen) when its :func:`mode_risks` exceeds this. Measured, 600 DOF, counted per
+conjugate pair: the tree of benchmarks/models.py 2 predicted, 5 refined (107 above
+:data:`COMPLEX_MODE_RISK`); its badly scaled chain 132 predicted, 53 refined (344 above)."""
 
 
-def complex_mode_risk(basis: ModalBasis, projected: tuple[np.ndarray, np.ndarray]) -> float:
-    """Predicted relative error of complex modes near the slowest-decaying resonance.
+def mode_risks(basis: ModalBasis, projected: tuple[np.ndarray, np.ndarray]) -> np.ndarray:
+    """Predicted relative error of complex modes at each elastic mode's resonance; returns (ne,).
 
     ``eig`` has absolute pole errors of about eps max|lambda| (overdamped modes reach |lambda| ~
     the diagonal of ``Phi^T C Phi``), which a mode decaying at ``zeta omega`` amplifies by
-    ``1 / (zeta omega)`` at its resonance; ``inf`` when an elastic mode has no damping.
+    ``1 / (zeta omega)`` at its resonance; ``inf`` where an elastic mode has no damping. An
+    a-priori bound: the true errors can be far smaller (:mod:`vibss.linear.complex_modes`).
+
+    Parameters
+    ----------
+    basis : ModalBasis
+        Undamped modes.
+    projected : (Phi^T C Phi, Phi^T H Phi)
+        From :func:`project_damping`.
+
+    Returns
+    -------
+    (ne,) ndarray
+    """
+    el = ~basis.rigid
+    if not el.any():
+        return np.zeros(0)
+    g = np.abs(np.diag(projected[0])[el])
+    w = np.sqrt(np.maximum(basis.omega2[el], np.finfo(float).tiny))
+    decay = 0.5 * g + 0.5 * np.abs(np.diag(projected[1])[el]) / w
+    top = max(float(w.max()), float(g.max()))
+    eps = np.finfo(float).eps
+    with np.errstate(divide="ignore"):
+        return np.where(decay <= eps * top, np.inf, eps * top / decay)   # undamped: a pole on the axis
+
+
+def complex_mode_risk(basis: ModalBasis, projected: tuple[np.ndarray, np.ndarray]) -> float:
+    """The largest of :func:`mode_risks` (0 without elastic modes).
 
     Parameters
     ----------
@@ -236,16 +270,8 @@ def complex_mode_risk(basis: ModalBasis, projected: tuple[np.ndarray, np.ndarray
     -------
     float
     """
-    el = ~basis.rigid
-    if not el.any():
-        return 0.0
-    g = np.abs(np.diag(projected[0])[el])
-    w = np.sqrt(np.maximum(basis.omega2[el], np.finfo(float).tiny))
-    decay = 0.5 * g + 0.5 * np.abs(np.diag(projected[1])[el]) / w
-    top = max(float(w.max()), float(g.max()))
-    if float(decay.min()) <= np.finfo(float).eps * top:
-        return float("inf")                          # an undamped mode: a pole on the axis
-    return float(np.finfo(float).eps * top / float(decay.min()))
+    risks = mode_risks(basis, projected)
+    return float(risks.max()) if risks.size else 0.0
 
 
 def classical_damping(plant: Plant, basis: ModalBasis | None = None,

@@ -19,8 +19,8 @@ from ..linear.plant import Plant
 from ..linear.projection import damping_factors
 from ..linear.subspace import MOMENTS, N_SHIFTS, TWO_SIDED_MAX
 from ..methods import resolve
-from .kernels import (COMPLEX_MODE_RISK, METHODS, FrequencyMethod, classical_damping, complex_mode_risk,
-                      custom_method, project_damping)
+from .kernels import (COMPLEX_MODE_RISK, METHODS, REFINE_PREDICT, FrequencyMethod, classical_damping,
+                      custom_method, mode_risks, project_damping)
 
 __all__ = ["METHODS", "FrequencyMethod", "resolve_method", "choose", "estimates"]
 
@@ -51,12 +51,13 @@ def resolve_method(method: Any, where: str = "frequency_response") -> FrequencyM
 
 _K_EIG = 4.6e-10     # [s] per N^3 of the complex-mode eig (N = 2n states)
 _K_SUPERPOSE = 4e-10  # [s] per frequency x mode x channel of the superposition
+_K_REFINE = 3.5e-10   # [s] per nk^3 of one complex mode's inverse iteration (two dense solves)
 _K_GEMM = 4e-10       # [s] per frequency x mode x column of woodbury's weighted sums
 _K_BORDER = 2e-9      # [s] per frequency x (r + 2)^3 of woodbury's bordered LU
 _NEAR_GUESS = 2       # near-resonant modes solved with the dampers per frequency, for the estimate
 
 
-def estimates(plant: Plant, nf: int, basis: ModalBasis, rank: int, risky: bool) -> dict[str, float]:
+def estimates(plant: Plant, nf: int, basis: ModalBasis, rank: int, refine: int | None) -> dict[str, float]:
     """``auto``'s cost model: estimated seconds of each modal method for a non-classical plant.
 
     Counts the inputs ``m``, outputs ``p``, frequencies ``nf``, modes ``n`` and the damper rank ``r``
@@ -64,8 +65,10 @@ def estimates(plant: Plant, nf: int, basis: ModalBasis, rank: int, risky: bool) 
 
     - ``woodbury``: ``nf n (p m + r (p + m) + r^2 / 2)`` weighted-sum GEMM work plus ``nf (r + 2)^3``
       for the bordered LUs;
-    - ``complex_modal``: ``(2n)^3`` for the ``eig`` plus ``nf 2n p m`` for the superposition (left out
-      when ``risky``: its pole errors are not damped, :func:`complex_mode_risk`).
+    - ``complex_modal``: ``(2n)^3`` for the ``eig`` plus ``nf 2n p m`` for the superposition, plus
+      ``refine n^3`` for the slow poles its screen is expected to send to the inverse iteration
+      (:data:`~vibss.frequency.kernels.REFINE_PREDICT`); left out when ``refine`` is None (an
+      undamped mode: a pole on the axis, whose error nothing damps).
 
     The sparse solve's cost (its band, :func:`vibss.linear.banded.structure`) is added by
     :func:`choose` only when it could win. Constants measured by benchmarks/bench_frf.py.
@@ -79,8 +82,8 @@ def estimates(plant: Plant, nf: int, basis: ModalBasis, rank: int, risky: bool) 
         Undamped modes.
     rank : int
         Columns of the damping factor ``U`` (3 per damped mount plus the rest's DOFs).
-    risky : bool
-        Complex modes could lose accuracy (left out).
+    refine : int or None
+        Modes expected to need the complex modes' inverse iteration; None leaves complex modes out.
 
     Returns
     -------
@@ -90,8 +93,9 @@ def estimates(plant: Plant, nf: int, basis: ModalBasis, rank: int, risky: bool) 
     n, p, m, r = basis.phi.shape[1], len(plant.outputs), len(plant.inputs), rank
     out = {"woodbury": _K_GEMM * nf * n * (p * m + r * (p + m) + r * r / 2)
            + _K_BORDER * nf * (r + _NEAR_GUESS) ** 3}
-    if not risky:
-        out["complex_modal"] = _K_EIG * (2 * n) ** 3 + _K_SUPERPOSE * nf * 2 * n * p * m
+    if refine is not None:
+        out["complex_modal"] = (_K_EIG * (2 * n) ** 3 + _K_SUPERPOSE * nf * 2 * n * p * m
+                                + _K_REFINE * refine * float(n) ** 3)
     return out
 
 
@@ -134,10 +138,11 @@ def choose(plant: Plant, nf: int, basis: ModalBasis | None) -> tuple[str, str]:
     ok, why = classical_damping(plant, basis, projected)
     if ok:
         return "modal", f"{why}: modal superposition is the fastest"
-    risk = complex_mode_risk(basis, projected)
-    risky = risk > COMPLEX_MODE_RISK
+    risks = mode_risks(basis, projected)
+    risk = float(risks.max()) if risks.size else 0.0
+    refine = None if np.isinf(risk) else int(np.count_nonzero(risks > REFINE_PREDICT))
     rank = damping_factors(plant, basis)[0].shape[1]
-    cost = estimates(plant, nf, basis, rank, risky)
+    cost = estimates(plant, nf, basis, rank, refine)
     best = min(cost, key=cost.__getitem__)
     how = ""
     if cost[best] > nf * seconds_floor(plant.n):        # the sparse solve could win: cost its band
@@ -147,9 +152,12 @@ def choose(plant: Plant, nf: int, basis: ModalBasis | None) -> tuple[str, str]:
         best = min(cost, key=cost.__getitem__)
     others = ", ".join(f"{k}{how if k == 'sparse' else ''} {v:.2g} s" for k, v in cost.items() if k != best)
     note = ""
-    if risky:
-        note = ("; complex modes left out, they could lose accuracy (" + ("a mode has no damping, so eig's pole error is not damped at its "
-                "resonance" if np.isinf(risk) else f"eig's pole error relative to the slowest decay rate ~{risk:.1g}") + ")")
+    if refine is None:
+        note = ("; complex modes left out, they could lose accuracy (a mode has no damping, so eig's pole "
+                "error is not damped at its resonance)")
+    elif risk > COMPLEX_MODE_RISK:
+        note = (f"; complex modes costed with their slow poles refined (eig's pole error relative to the "
+                f"slowest decay rate up to ~{risk:.1g}; {refine} inverse iterations expected)")
     what = {"woodbury": f"undamped modes + damper rank {rank} as a low-rank update",
             "complex_modal": "complex-mode superposition",
             "sparse": f"sparse direct solve per frequency{how}"}[best]
@@ -168,7 +176,7 @@ def _choose_branches(plant: Plant, nf: int, basis: ModalBasis) -> tuple[str, str
     projected = project_damping(plant, basis)
     classical, _ = classical_damping(plant, basis, projected)
     rank = br.r + (0 if classical else damping_factors(plant, basis)[0].shape[1])
-    cost = {"woodbury": estimates(plant, nf, basis, rank, True)["woodbury"]}
+    cost = {"woodbury": estimates(plant, nf, basis, rank, None)["woodbury"]}
     st = plant.cached("band structure", lambda: structure(plant))
     cost["sparse"] = nf * st.seconds_per_frequency
     best = min(cost, key=cost.__getitem__)
