@@ -274,8 +274,7 @@ def _groups(plant: Any, br: Branches) -> list[Group]:
         sel = (br.tau == tau) & (mu_all == mu)
         b, k = br.B[sel], br.k[sel]
         kb = b * k[:, None]
-        bs = sp.csr_matrix(b)                 # a branch reads the 6 DOFs of its body or two
-        kmat = (bs.T @ sp.diags(k) @ bs).toarray()
+        kmat = b.T @ kb
         kmat = 0.5 * (kmat + kmat.T)
         out.append(Group(tau=float(tau), K=sp.csr_matrix(kmat) if sparse else kmat, Kz=kb.T @ br.Bz[sel],
                          Oq=(br.O[:, sel] * k[None]) @ b, Pz=(br.O[:, sel] * k[None]) @ br.Bz[sel], mu=float(mu)))
