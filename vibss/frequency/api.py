@@ -493,9 +493,10 @@ def _modes_if_needed(plant: Plant, frequencies: Any,
 
     A dense plant's modes are computed for the default grid, for the resonance marks and for the
     methods that superpose them. A plant with frequency-dependent mounts asked for explicit
-    frequencies skips them when the method needs none (given, or chosen from sizes and structure
-    by :func:`vibss.frequency.methods.choose_without_modes`): its static-stiffness modes do not
-    mark its resonances, and at 600 DOFs they cost a tenth of the banded exact solve.
+    frequencies skips them when a built-in method needs none (given, or chosen from sizes and
+    structure by :func:`vibss.frequency.methods.choose_without_modes`; a user's kernel still gets
+    them, and so does 0 Hz): its static-stiffness modes do not mark its resonances, and at 600 DOFs
+    they cost a tenth of the banded exact solve.
     """
     if plant.branches is None or frequencies is None or isinstance(frequencies, (Mapping, FrequencyGrid)):
         basis = modal_basis(plant)
@@ -503,7 +504,8 @@ def _modes_if_needed(plant: Plant, frequencies: Any,
     f = _frequencies(plant, frequencies, None)
     pick = choose_without_modes(plant, f.size) if chosen is None else None
     method = chosen if pick is None else METHODS[pick[0]]
-    if method is None or method.needs_basis or not np.all(f > 0):
+    builtin = method is not None and METHODS.get(method.name) is method      # a user's method gets the modes
+    if not builtin or getattr(method, "needs_basis", True) or not np.all(f > 0):
         return modal_basis(plant), f, pick
     return None, f, pick
 
