@@ -13,6 +13,7 @@ import vibss
 from vibss import Body, Model, Mount, MountType
 from vibss.frequency.kernels import METHODS
 from vibss.frequency.lowrank import woodbury
+from vibss.frequency.methods import choose_without_modes
 from vibss.linear.signals import build_plant
 from vibss.linear.solve import states
 
@@ -107,6 +108,28 @@ def test_auto_takes_the_low_rank_update_for_few_branches_and_the_band_for_many()
         assert r.method == expect, r.note
         plant = build_plant(model, ins, outs)
         assert _err(r.response, METHODS["direct"].kernel(plant, 2j * np.pi * f, None)) <= 1e-9
+
+
+def test_auto_chooses_the_band_for_full_rank_branches_without_the_modes() -> None:
+    """Every ground mount Zener (r = n): ``auto`` takes the banded exact solve from sizes and
+    structure alone -- no undamped modes computed (none cached on the plant), no resonance marks,
+    the note says why -- and it equals the dense solve; with a grid spec (built around the modes)
+    the modes are computed and marked as before; a few branches still go to the cost model on the
+    modes (``woodbury``)."""
+    many = _chain(30, {f"g{i}_{j}": ZENER for i in range(30) for j in (0, 1)})
+    ins, outs = ["b3.fz", "b17.mx"], ["b3.z", "b20.ry", "mount.g4_1.f2"]     # a branch force output too
+    plant = build_plant(many, ins, outs)
+    f = np.geomspace(0.5, 100.0, 150)
+    assert choose_without_modes(plant, f.size)[0] == "sparse"
+    r = vibss.frequency_response(plant, frequencies=f)
+    assert r.method == "sparse" and "no modes computed" in r.note and "resonances not marked" in r.note
+    assert r.natural_hz.size == 0 and "modal basis" not in plant._cache
+    assert _err(r.response, METHODS["direct"].kernel(plant, 2j * np.pi * f, None)) <= 1e-9
+    grid = vibss.frequency_response(many, ins, outs, frequencies={"f1": 0.5, "f2": 100.0, "points": 50})
+    assert grid.method == "sparse" and grid.natural_hz.size > 0
+    few = build_plant(_chain(30, {f"g{i}_{j}": ZENER for i in (14, 15) for j in (0, 1)}), ins, outs)
+    assert choose_without_modes(few, f.size) is None
+    assert vibss.frequency_response(few, frequencies=f).method == "woodbury"
 
 
 def test_banded_backend_with_branches_off_the_axis_matches_the_dense_solve() -> None:

@@ -16,7 +16,7 @@ from vibss.errors import AnalysisError
 from vibss.frequency.kernels import METHODS
 from vibss.linear.signals import build_plant
 from vibss.linear import backends
-from vibss.linear.solve import response, states, zero_frequency_limit, zfactor
+from vibss.linear.solve import observe, observed_dofs, response, states, zero_frequency_limit, zfactor
 
 BACKENDS = ("dense", "banded", "superlu")
 TOL = 1e-8
@@ -149,6 +149,33 @@ def test_states_match_the_equations() -> None:
             a = plant.K + 1j * plant.H + sk * plant.C + sk**2 * plant.M
             r = plant.F - (plant.Kz + 1j * plant.Hz + sk * plant.Cz + sk**2 * plant.Mz) * zf[k]
             assert np.linalg.norm(a @ x[k] - r) <= 1e-12 * np.linalg.norm(a) * np.linalg.norm(x[k])
+
+
+def test_kept_rows_are_the_full_solution_there() -> None:
+    """``states(..., rows=...)`` returns exactly those rows of the full solution from every back-end
+    and form, and the response through them (:func:`observed_dofs`) equals the full-row product
+    ``O(s) X`` that the outputs' equations give (mount-force and motion outputs read other DOFs)."""
+    z = MountType("z", damping=[5.0] * 3, rheology={"type": "zener", "k_0": 2e4, "k_inf": 5e4, "tau": 2e-3})
+    zener = Model(_rich_model().bodies, _rich_model().mounts + (Mount("zm", z, "b", to="a", at=[0.1, 0.0, 0.2]),))
+    for plant in (_rich_plant(), build_plant(zener, ["a.fz", "ground.y.acc"], ["mount.zm.f1", "a.ry"])):
+        _kept_rows_agree(plant)
+
+
+def _kept_rows_agree(plant) -> None:
+    s = 1j * np.array([3.0, 30.0, 300.0])
+    rows = observed_dofs(plant)
+    assert 0 < rows.size < plant.n                  # the outputs read one body's DOFs and a mount's
+    zf = zfactor(s, plant.order)
+    forms = ("assembled",) if plant.branches is not None else ("assembled", "mounts")
+    for b in BACKENDS:
+        for form in forms:
+            full, bad = states(plant, s, backend=b, form=form)
+            part, bad2 = states(plant, s, backend=b, form=form, rows=rows)
+            assert not bad.any() and not bad2.any()
+            np.testing.assert_allclose(part, full[:, rows], rtol=1e-13, atol=1e-15 * np.abs(full).max())
+            y_full = observe(plant, s, full, zf)
+            np.testing.assert_allclose(observe(plant, s, part, zf, rows), y_full, rtol=1e-12,
+                                       atol=1e-14 * np.abs(y_full).max())
 
 
 # ---------------------------------------------------------------------------- 0 Hz limit

@@ -40,7 +40,7 @@ from ..errors import AnalysisError, ArgumentError, DefectiveModesError, ModelErr
 from .kernels import COMPLEX_MODE_RISK, METHODS, complex_mode_risk, project_damping, zero_frequency_limit
 from ..linear.branches import require_none
 from ..linear.solve import response
-from .methods import choose, resolve_method
+from .methods import choose, choose_without_modes, resolve_method
 from ..model.model import Model
 from ..linear.plant import Plant
 from ..linear.signals import build_plant, control_name
@@ -483,6 +483,33 @@ def _frequencies(plant: Plant, frequencies: Any, basis: ModalBasis | None) -> np
     return f
 
 
+_NO_MODES = ("no undamped modes computed (the method needs none, and those of the static stiffness are not a "
+             "frequency-dependent model's resonances)")
+
+
+def _modes_if_needed(plant: Plant, frequencies: Any,
+                     chosen: Any) -> tuple[ModalBasis | None, np.ndarray, tuple[str, str] | None]:
+    """The undamped modes (or None), the frequencies [Hz] and ``auto``'s choice if it needed no modes.
+
+    A dense plant's modes are computed for the default grid, for the resonance marks and for the
+    methods that superpose them. A plant with frequency-dependent mounts asked for explicit
+    frequencies skips them when a built-in method needs none (given, or chosen from sizes and
+    structure by :func:`vibss.frequency.methods.choose_without_modes`; a user's kernel still gets
+    them, and so does 0 Hz): its static-stiffness modes do not mark its resonances, and at 600 DOFs
+    they cost a tenth of the banded exact solve.
+    """
+    if plant.branches is None or frequencies is None or isinstance(frequencies, (Mapping, FrequencyGrid)):
+        basis = modal_basis(plant)
+        return basis, _frequencies(plant, frequencies, basis), None
+    f = _frequencies(plant, frequencies, None)
+    pick = choose_without_modes(plant, f.size) if chosen is None else None
+    method = chosen if pick is None else METHODS[pick[0]]
+    builtin = method is not None and METHODS.get(method.name) is method      # a user's method gets the modes
+    if not builtin or getattr(method, "needs_basis", True) or not np.all(f > 0):
+        return modal_basis(plant), f, pick
+    return None, f, pick
+
+
 def _times_power(raw: np.ndarray, s: np.ndarray, k: int) -> np.ndarray:
     """Mobility / accelerance: ``raw * s^k``, keeping inf as inf."""
     if not k:
@@ -577,7 +604,7 @@ def frequency_response(system: Model | Assembly | Plant, inputs: Sequence[Any] |
     else:
         large = False
         plant = _as_plant(system, inputs, outputs)
-    reason = ""
+    reason, pick = "", None
     large_note = (f"{plant.n} DOFs above {LARGE_DOFS} with explicit frequencies: kept sparse, no dense "
                   "eigen-analysis (resonances not marked)") if large else ""
     if sp.issparse(plant.K):    # no dense eigen-analysis: explicit frequencies > 0, no resonance marks
@@ -593,9 +620,11 @@ def frequency_response(system: Model | Assembly | Plant, inputs: Sequence[Any] |
                                 f"..., sparse=True)) takes {[m for m, v in METHODS.items() if v.sparse_ok]} "
                                 "or 'auto'")
     else:
-        basis = modal_basis(plant)
-        f = _frequencies(plant, frequencies, basis)
-    if chosen is None:
+        basis, f, pick = _modes_if_needed(plant, frequencies, chosen)
+    if pick is not None:                      # auto chose from sizes and structure, without the modes
+        name, reason = pick
+        chosen = METHODS[name]
+    elif chosen is None:
         name, reason = choose(plant, f.size, basis)
         chosen = METHODS[name]
     elif plant.branches is not None and not chosen.internal_states:
@@ -603,6 +632,8 @@ def frequency_response(system: Model | Assembly | Plant, inputs: Sequence[Any] |
                      f"use one of {[k for k, v in METHODS.items() if v.internal_states]} or 'auto'")
     elif plant.branches is not None:
         reason = plant.branches.note()
+    if basis is None and not large and not sp.issparse(plant.K):
+        reason = f"{reason}; resonances not marked: {_NO_MODES}"
     reason = "; ".join(x for x in (large_note, reason) if x)
     k = QUANTITIES[quantity]
     h = np.empty((len(plant.outputs), len(plant.inputs), f.size), dtype=complex)

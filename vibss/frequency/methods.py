@@ -22,7 +22,7 @@ from ..methods import resolve
 from .kernels import (COMPLEX_MODE_RISK, METHODS, REFINE_PREDICT, FrequencyMethod, classical_damping,
                       custom_method, mode_risks, project_damping)
 
-__all__ = ["METHODS", "FrequencyMethod", "resolve_method", "choose", "estimates"]
+__all__ = ["METHODS", "FrequencyMethod", "resolve_method", "choose", "choose_without_modes", "estimates"]
 
 
 def resolve_method(method: Any, where: str = "frequency_response") -> FrequencyMethod | None:
@@ -106,7 +106,8 @@ def choose(plant: Plant, nf: int, basis: ModalBasis | None) -> tuple[str, str]:
     undamped one, the dense solve for a small model, the modal superposition for classical damping.
     Frequency-dependent mounts are costed (:func:`_choose_branches`): the low-rank update of the
     undamped modes by their branches (``woodbury``, cheap for a few such mounts) against the banded
-    exact solve with the branches in its band. General damping is
+    exact solve with the branches in its band; where the branches alone make the update dearer than
+    the band, without the modes (:func:`choose_without_modes`). General damping is
     costed (:func:`estimates`): the low-rank update of the undamped modes (``woodbury``), the
     complex modes (one ``eig`` of the 2n-state matrix) and, only where it could win, the sparse
     direct solve (one banded or sparse LU per frequency, by the model's band width).
@@ -164,15 +165,55 @@ def choose(plant: Plant, nf: int, basis: ModalBasis | None) -> tuple[str, str]:
     return best, f"{why}: {best} ({what}), estimated {cost[best]:.2g} s against {others or 'nothing else'}{note}"
 
 
-def _choose_branches(plant: Plant, nf: int, basis: ModalBasis) -> tuple[str, str]:
-    """``auto`` for frequency-dependent mounts: the exact sparse solve with the branches in the
-    dynamic stiffness, or the undamped modes with the branches (and non-classical dampers) as a
-    low-rank update (``woodbury``), by their estimated costs."""
+def choose_without_modes(plant: Plant, nf: int) -> tuple[str, str] | None:
+    """``auto``'s choice for frequency-dependent mounts where sizes and structure settle it, or None
+    when the modes are needed to choose (:func:`choose` then costs the methods on them).
+
+    A small model takes the dense solve. Otherwise ``woodbury`` costs at least its bordered LUs,
+    ``nf (r + 2)^3`` for the ``r`` branches alone (its rank only grows with non-classical dampers,
+    and its GEMM work is left out): when that lower bound already exceeds the exact sparse solve
+    (``nf`` banded or SuperLU solves, :attr:`~vibss.linear.banded.Structure.seconds_per_frequency`),
+    the full cost model of :func:`choose` would pick the sparse solve too, and no modes are needed
+    (the branches of every ground mount of a chain: ``r = n``). No trial solve.
+
+    Parameters
+    ----------
+    plant : Plant
+        Dense plant with branches.
+    nf : int
+        Number of frequencies.
+
+    Returns
+    -------
+    (name, reason) or None
+    """
     br = plant.branches
-    assert br is not None
+    if br is None:
+        return None
     note = br.note()
     if plant.n + br.r <= 12:
         return "direct", f"{note}: small model, exact solve with them as DOFs"
+    st = plant.cached("band structure", lambda: structure(plant))
+    band = nf * st.seconds_per_frequency
+    border = _K_BORDER * nf * (br.r + _NEAR_GUESS) ** 3
+    if border <= band:
+        return None
+    how = f"banded LU, half-bandwidth {st.band}" if st.banded else "SuperLU"
+    return "sparse", (f"{note}: sparse (sparse exact solve with the branches in the dynamic stiffness, {how}), "
+                      f"estimated {band:.2g} s; {br.r} branches on {plant.n} DOFs: woodbury's bordered LUs "
+                      f"alone would take {border:.2g} s (chosen from sizes and structure, no modes computed)")
+
+
+def _choose_branches(plant: Plant, nf: int, basis: ModalBasis) -> tuple[str, str]:
+    """``auto`` for frequency-dependent mounts: the exact sparse solve with the branches in the
+    dynamic stiffness, or the undamped modes with the branches (and non-classical dampers) as a
+    low-rank update (``woodbury``), by their estimated costs (:func:`choose_without_modes` first)."""
+    br = plant.branches
+    assert br is not None
+    quick = choose_without_modes(plant, nf)
+    if quick is not None:
+        return quick
+    note = br.note()
     projected = project_damping(plant, basis)
     classical, _ = classical_damping(plant, basis, projected)
     rank = br.r + (0 if classical else damping_factors(plant, basis)[0].shape[1])

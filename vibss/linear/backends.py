@@ -1,8 +1,9 @@
 """The back-ends of the exact solve (:mod:`vibss.linear.solve`): one function per way of factorising.
 
-Each takes ``(plant, s, rhs)`` -- ``rhs(part)`` gives the right-hand sides ``(k, n, m)`` of the
-frequencies ``s[part]`` -- and returns the DOF solutions ``(nf, n, m)`` and a ``(nf,)`` mask of
-the frequencies where the matrix is exactly singular (a zero pivot; solutions there are zeros).
+Each takes ``(plant, s, rhs, rows=None)`` -- ``rhs(part)`` gives the right-hand sides ``(k, n, m)``
+of the frequencies ``s[part]``, ``rows`` the DOFs to keep of each solution -- and returns the DOF
+solutions ``(nf, n, m)`` (``(nf, len(rows), m)``) and a ``(nf,)`` mask of the frequencies where the
+matrix is exactly singular (a zero pivot; solutions there are zeros).
 
 Frequency-dependent mounts add ``g_tau(s) K_tau`` per relaxation time (:func:`vibss.linear.branches.groups`).
 
@@ -39,8 +40,9 @@ _CHUNK_BYTES = 64 * 2**20
 """Memory per batch of the dense back-end."""
 
 
-def _dense(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
-    """Batched dense LU; rows of exactly singular ``A(s)`` come back as zeros and flagged."""
+def _dense(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray],
+           rows: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Batched dense LU; the solutions where ``A(s)`` is exactly singular come back as zeros, flagged."""
     mats = {k: (getattr(plant, k).toarray() if sp.issparse(getattr(plant, k)) else getattr(plant, k))
             for k in ("K", "H", "C", "M")}
     k0 = mats["K"] + 1j * mats["H"] if np.any(mats["H"]) else mats["K"]
@@ -64,21 +66,25 @@ def _dense(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray]) -> t
                     x[k] = np.linalg.solve(dyn[k], r[k])
                 except np.linalg.LinAlgError:
                     bad[lo + k] = True
-        xs.append(x)
+        xs.append(x if rows is None else x[:, rows])
     return np.concatenate(xs), bad
 
 
-def _banded(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+def _banded(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray],
+            rows: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """RCM-ordered banded LU (``zgbsv``), ``K + iH + sC + s^2 M (+ g(s) K_tau)`` built per frequency
-    by one GEMV of its coefficients against the stacked band parts."""
+    by one GEMM of its coefficients against the stacked band parts; only the DOFs ``rows`` of each
+    solution are kept (all by default)."""
     st = plant.cached("band structure", lambda: structure(plant))
     parts, band, perm = st.parts, st.band, st.perm
     relax = [(f"G{j}", g) for j, g in enumerate(groups(plant))]
     inv = np.argsort(perm)
+    if rows is not None:                    # where the kept DOFs sit in the band's order
+        inv = inv[rows]
     r_all = rhs(slice(None))
     # force inputs only: the same right-hand side (a broadcast view) at every s, reordered once
     fixed = np.asfortranarray(r_all[0][perm]) if s.size and r_all.strides[0] == 0 else None
-    x = np.zeros(r_all.shape, dtype=complex)
+    x = np.zeros((s.size, inv.size, r_all.shape[2]), dtype=complex)
     bad = np.zeros(s.size, dtype=bool)
     shape = (3 * band + 1, plant.n)
     if (not relax and "C" not in parts and "H" not in parts and not np.any(s.real)
@@ -118,8 +124,8 @@ def _banded_real(k: np.ndarray, m: np.ndarray, band: int, perm: np.ndarray, inv:
                  fixed: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
     """The same banded LU in real arithmetic (``dgbsv``): an undamped model on the imaginary axis
     has the real matrix ``K - w^2 M`` and, under forces, a real right-hand side. The same pivots and
-    digits as ``zgbsv`` on it, at a quarter of the flops."""
-    x = np.zeros(r_all.shape, dtype=complex)
+    digits as ``zgbsv`` on it, at a quarter of the flops. ``inv``: the band positions of the DOFs kept."""
+    x = np.zeros((s.size, inv.size, r_all.shape[2]), dtype=complex)
     bad = np.zeros(s.size, dtype=bool)
     fixed_re = None if fixed is None else np.asfortranarray(fixed.real)
     for i, sk in enumerate(s):
@@ -136,8 +142,9 @@ def _banded_real(k: np.ndarray, m: np.ndarray, band: int, perm: np.ndarray, inv:
     return x, bad
 
 
-def _superlu(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
-    """SuperLU (COLAMD ordering) per frequency."""
+def _superlu(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray],
+             rows: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """SuperLU (COLAMD ordering) per frequency; only the DOFs ``rows`` kept (all by default)."""
     mats = {k: plant.cached(f"csc {k}", partial(sp.csc_matrix, getattr(plant, k))) for k in ("K", "H", "C", "M")}
     relax = [replace(g, K=sp.csc_matrix(g.K)) for g in groups(plant)]
     r_all = rhs(slice(None))
@@ -155,11 +162,13 @@ def _superlu(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray]) ->
             x[i] = spl.splu(sp.csc_matrix(a, dtype=complex)).solve(r_all[i])
         except RuntimeError:                              # "Factor is exactly singular"
             bad[i] = True
-    return x, bad
+    return (x if rows is None else x[:, rows]), bad
 
 
-def _mounts(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
-    """The solve in the mounts' forces (:class:`~vibss.linear.plant.MountForm`), per frequency.
+def _mounts(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray],
+            rows: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """The solve in the mounts' forces (:class:`~vibss.linear.plant.MountForm`), per frequency
+    (only the DOFs ``rows`` of each solution kept; all by default).
 
     With ``lam = Z(s) B x`` (``Z = k_p + s c_p + i h_p`` per mount) as unknowns,
 
@@ -210,7 +219,7 @@ def _mounts(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray]) -> 
             x[i] = d[:n, None] * spl.splu(sp.csc_matrix(dd @ a @ dd, dtype=complex)).solve(d[:, None] * r)[:n]
         except RuntimeError:
             bad[i] = True
-    return x, bad
+    return (x if rows is None else x[:, rows]), bad
 
 
 def _equilibrate(form: Any, rows: Any, top: np.ndarray, sk: complex) -> np.ndarray:

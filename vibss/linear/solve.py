@@ -55,7 +55,7 @@ from .plant import Plant
 
 __all__ = ["BACKENDS", "FORMS", "MOUNTS_RATIO", "DENSE_MAX", "zfactor", "states", "response", "zero_frequency_limit",
            "lu_solver", "statespace_plant", "without_hysteresis", "SingularMatrixError", "forcing",
-           "observe", "output_map"]
+           "observe", "observed_dofs", "output_map"]
 
 BACKENDS = ("auto", "dense", "sparse", "banded", "superlu")
 """Names accepted by ``backend=``."""
@@ -152,7 +152,21 @@ def output_map(plant: Plant, s: complex) -> np.ndarray:
     return out
 
 
-def observe(plant: Plant, s: np.ndarray, x: np.ndarray, zf: np.ndarray) -> np.ndarray:
+def observed_dofs(plant: Plant) -> np.ndarray:
+    """(q,) sorted DOFs that some output reads (a nonzero column of ``Oq, Oh, Ov, Oa`` or of a
+    branch group's ``Oq``): the rows of the solution that :func:`observe` needs."""
+    cols = [plant.Oq, _hyst(plant.Oh), plant.Ov, plant.Oa] + [g.Oq for g in groups(plant)]
+    used = np.zeros(plant.n, dtype=bool)
+    for o in cols:
+        if sp.issparse(o):
+            used |= np.asarray(abs(o).sum(axis=0)).ravel() > 0
+        elif np.ndim(o) == 2:
+            used |= np.any(np.asarray(o) != 0, axis=0)
+    return np.flatnonzero(used)
+
+
+def observe(plant: Plant, s: np.ndarray, x: np.ndarray, zf: np.ndarray,
+            rows: np.ndarray | None = None) -> np.ndarray:
     """Outputs ``O(s) X + P(s) Z(s) + Pf`` from DOF solutions.
 
     Parameters
@@ -161,26 +175,31 @@ def observe(plant: Plant, s: np.ndarray, x: np.ndarray, zf: np.ndarray) -> np.nd
     s : (nf,) complex ndarray
         Laplace values [rad/s].
     x : (nf, n, m) complex ndarray
-        DOF solutions per unit input (:func:`states`).
+        DOF solutions per unit input (:func:`states`); (nf, q, m) with ``rows``.
     zf : (nf, m) complex ndarray
         :func:`zfactor` at ``s``.
+    rows : (q,) int ndarray or None
+        The DOFs that ``x`` holds (at least :func:`observed_dofs`); None: all of them.
 
     Returns
     -------
     (nf, p, m) complex ndarray
     """
+    def cut(o: np.ndarray) -> np.ndarray:
+        return o if rows is None else o[:, rows]
+
     oh, ph = _hyst(plant.Oh), _hyst(plant.Ph)
     sc = s[:, None, None]
     y = np.zeros((s.size, len(plant.outputs), x.shape[2]), dtype=complex)
     for power, o in ((0, plant.Oq + 1j * oh if np.any(oh) else plant.Oq), (1, plant.Ov), (2, plant.Oa)):
         if np.any(o):
-            y += (sc**power) * (o @ x) if power else o @ x
+            y += (sc**power) * (cut(o) @ x) if power else cut(o) @ x
     p0 = plant.Pz + 1j * ph if np.any(ph) else plant.Pz
     if np.any(p0) or np.any(plant.Pv) or np.any(plant.Pa):
         y += (p0[None] + sc * plant.Pv[None] + sc**2 * plant.Pa[None]) * zf[:, None, :]
     for g in groups(plant):               # the branch forces seen by mount and ground force outputs
         if np.any(g.Oq) or np.any(g.Pz):
-            y += g.factor(s)[:, None, None] * (g.Oq @ x + g.Pz[None] * zf[:, None, :])
+            y += g.factor(s)[:, None, None] * (cut(g.Oq) @ x + g.Pz[None] * zf[:, None, :])
     return y + plant.Pf[None]
 
 
@@ -213,7 +232,8 @@ def _use_mounts(plant: Plant, form: str) -> bool:
 
 
 def states(plant: Plant, s: np.ndarray, rhs: np.ndarray | None = None,
-           backend: str = "auto", form: str = "auto") -> tuple[np.ndarray, np.ndarray]:
+           backend: str = "auto", form: str = "auto",
+           rows: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """DOF solutions ``X(s) = A(s)^-1 R`` of ``A(s) = K + iH + sC + s^2 M`` at each ``s``.
 
     Parameters
@@ -233,11 +253,13 @@ def states(plant: Plant, s: np.ndarray, rhs: np.ndarray | None = None,
         :data:`MOUNTS_RATIO`, or, for a model with a free motion, at frequencies where inertia
         alone would not hold it against the assembled ``K``'s round-off (:func:`_mounts_at`); else
         the assembled matrices with ``backend``.
+    rows : (q,) int array_like or None
+        The DOFs to return of each solution (the outputs' DOFs, :func:`observed_dofs`); None: all.
 
     Returns
     -------
     x : (nf, n, k) complex ndarray
-        Solutions (zeros where singular).
+        Solutions (zeros where singular); (nf, q, k) with ``rows``.
     singular : (nf,) bool ndarray
         Where ``A(s)`` is exactly singular (a zero pivot).
 
@@ -259,17 +281,18 @@ def states(plant: Plant, s: np.ndarray, rhs: np.ndarray | None = None,
         r = np.asarray(rhs, dtype=complex)
         def get(part: slice | np.ndarray) -> np.ndarray:
             return r[part] if r.ndim == 3 else np.broadcast_to(r, (len(s[part]),) + r.shape).copy()
+    keep = None if rows is None else np.asarray(rows, dtype=int)
     name = _pick(plant, backend)
     apart = _mounts_at(plant, form, s)
     if apart.all() or not apart.any():
-        return SOLVERS["mounts" if apart.all() else name](plant, s, get)
+        return SOLVERS["mounts" if apart.all() else name](plant, s, get, keep)
     x, bad = None, np.zeros(s.size, dtype=bool)
     for which, solver in ((apart, "mounts"), (~apart, name)):       # each frequency in its own form
         idx = np.flatnonzero(which)
 
         def part_of(part: slice, idx: np.ndarray = idx) -> np.ndarray:
             return get(idx[part])
-        xi, bad[idx] = SOLVERS[solver](plant, s[idx], part_of)
+        xi, bad[idx] = SOLVERS[solver](plant, s[idx], part_of, keep)
         if x is None:
             x = np.zeros((s.size,) + xi.shape[1:], dtype=complex)
         x[idx] = xi
@@ -298,8 +321,9 @@ def _mounts_at(plant: Plant, form: str, s: np.ndarray) -> np.ndarray:
 def _plain(plant: Plant, s: np.ndarray, backend: str, form: str = "auto") -> tuple[np.ndarray, np.ndarray]:
     """(nf, p, m) response by the plain solve, and where ``A(s)`` is singular (values there: 0)."""
     zf = zfactor(s, plant.order)
-    x, bad = states(plant, s, backend=backend, form=form)
-    return observe(plant, s, x, zf), bad
+    rows = observed_dofs(plant)          # only the solutions' rows that the outputs read
+    x, bad = states(plant, s, backend=backend, form=form, rows=rows)
+    return observe(plant, s, x, zf, rows), bad
 
 
 def response(plant: Plant, s: np.ndarray, backend: str = "auto", form: str = "auto") -> np.ndarray:
