@@ -182,16 +182,16 @@ def _mounts(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray],
     """
     form = plant.mounts
     assert form is not None
-    rows = form.rows
-    n, q3 = plant.n, rows.shape[0]
+    fb = form.rows                                  # the mount forces' B
+    n, q3 = plant.n, fb.shape[0]
     m_csr = plant.cached("csr M", lambda: sp.csr_matrix(plant.M))
-    bt = rows.T.tocsr()
+    bt = fb.T.tocsr()
     r_all = rhs(slice(None))
     x = np.zeros(r_all.shape, dtype=complex)
     bad = np.zeros(s.size, dtype=bool)
     dense = n + q3 <= MOUNTS_DENSE_MAX
     if dense:
-        bd, btd, md = rows.toarray(), bt.toarray(), m_csr.toarray()
+        bd, btd, md = fb.toarray(), bt.toarray(), m_csr.toarray()
         kd, cd, hd = form.K.toarray(), form.C.toarray(), form.H.toarray()
     zeros = np.zeros((q3, r_all.shape[2]), dtype=complex)
     for i, sk in enumerate(s):
@@ -205,16 +205,16 @@ def _mounts(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray],
             a[:n, :n] = kd + 1j * hd + sk * cd + sk * sk * md
             a[:n, n:], a[n:, :n] = btd, bd
             a[n:, n:] = -zi
-            d = _equilibrate(form, rows, np.diag(a[:n, :n]), sk)
+            d = _equilibrate(form, fb, np.diag(a[:n, :n]), sk)
             try:
                 x[i] = d[:n, None] * np.linalg.solve(d[:, None] * a * d[None, :], d[:, None] * r)[:n]
             except np.linalg.LinAlgError:
                 bad[i] = True
             continue
         top = form.K + 1j * form.H + sk * form.C + sk * sk * m_csr
-        d = _equilibrate(form, rows, top.diagonal(), sk)
+        d = _equilibrate(form, fb, top.diagonal(), sk)
         dd = sp.diags(d)
-        a = sp.bmat([[top, bt], [rows, -zi]], format="csc")
+        a = sp.bmat([[top, bt], [fb, -zi]], format="csc")
         try:
             x[i] = d[:n, None] * spl.splu(sp.csc_matrix(dd @ a @ dd, dtype=complex)).solve(d[:, None] * r)[:n]
         except RuntimeError:
