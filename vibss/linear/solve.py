@@ -52,6 +52,7 @@ from .banded import structure
 from .branches import groups
 from .eigen import modal_basis
 from .plant import Plant
+from .plant_terms import plant_terms
 
 __all__ = ["BACKENDS", "FORMS", "MOUNTS_RATIO", "DENSE_MAX", "zfactor", "states", "response", "zero_frequency_limit",
            "lu_solver", "statespace_plant", "without_hysteresis", "SingularMatrixError", "forcing",
@@ -104,6 +105,8 @@ def zfactor(s: np.ndarray, order: np.ndarray) -> np.ndarray:
     """
     s = np.atleast_1d(np.asarray(s, dtype=complex))
     order = np.asarray(order)
+    if not np.any(order > 0):       # forces and displacements: ones, as np.where would give them
+        return np.ones((s.size, order.size), dtype=complex)
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.where(order[None, :] > 0, s[:, None] ** (-np.maximum(order, 0))[None, :], 1.0 + 0j)
 
@@ -129,9 +132,8 @@ def forcing(plant: Plant, s: np.ndarray, zf: np.ndarray) -> np.ndarray:
     (nf, n, m) complex ndarray
         Generalised forces per unit input [N, N m].
     """
-    kz = plant.Kz + 1j * plant.Hz if np.any(plant.Hz) else plant.Kz
+    motion = plant_terms(plant).motion
     sc = s[:, None, None]
-    motion = [(power, c) for power, c in ((0, kz), (1, plant.Cz), (2, plant.Mz)) if np.any(c)]
     relax = [g for g in groups(plant) if np.any(g.Kz)]
     f = np.asarray(plant.F, dtype=complex)[None]
     if not motion and not relax:          # force inputs only: one read-only view for every s
@@ -169,15 +171,13 @@ def observe(plant: Plant, s: np.ndarray, x: np.ndarray, zf: np.ndarray) -> np.nd
     -------
     (nf, p, m) complex ndarray
     """
-    oh, ph = _hyst(plant.Oh), _hyst(plant.Ph)
+    terms = plant_terms(plant)
     sc = s[:, None, None]
     y = np.zeros((s.size, len(plant.outputs), x.shape[2]), dtype=complex)
-    for power, o in ((0, plant.Oq + 1j * oh if np.any(oh) else plant.Oq), (1, plant.Ov), (2, plant.Oa)):
-        if np.any(o):
-            y += (sc**power) * (o @ x) if power else o @ x
-    p0 = plant.Pz + 1j * ph if np.any(ph) else plant.Pz
-    if np.any(p0) or np.any(plant.Pv) or np.any(plant.Pa):
-        y += (p0[None] + sc * plant.Pv[None] + sc**2 * plant.Pa[None]) * zf[:, None, :]
+    for power, o in terms.outputs:
+        y += (sc**power) * (o @ x) if power else o @ x
+    if terms.feedthrough:
+        y += (terms.p0[None] + sc * plant.Pv[None] + sc**2 * plant.Pa[None]) * zf[:, None, :]
     for g in groups(plant):               # the branch forces seen by mount and ground force outputs
         if np.any(g.Oq) or np.any(g.Pz):
             y += g.factor(s)[:, None, None] * (g.Oq @ x + g.Pz[None] * zf[:, None, :])
