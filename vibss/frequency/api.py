@@ -483,6 +483,13 @@ def _frequencies(plant: Plant, frequencies: Any, basis: ModalBasis | None) -> np
     return f
 
 
+def _fresh(raw: Any, chosen: Any, shape: tuple[int, ...]) -> bool:
+    """Whether a kernel's answer can be the result's array itself: a built-in kernel's new, writeable
+    complex array of the result's shape (a user's kernel may keep its array, so that is copied)."""
+    return (chosen is METHODS.get(chosen.name) and isinstance(raw, np.ndarray) and raw.dtype == complex
+            and raw.shape == shape and raw.flags.writeable)
+
+
 def _times_power(raw: np.ndarray, s: np.ndarray, k: int) -> np.ndarray:
     """Mobility / accelerance: ``raw * s^k``, keeping inf as inf."""
     if not k:
@@ -497,13 +504,14 @@ def _units(plant: Plant, quantity: str) -> tuple[str, ...]:
     """Units of the outputs' quantity: the output unit times ``s^-k`` (mobility k = 1, accelerance 2)."""
     from ..model.units import times_s
 
-    return tuple(times_s(u, QUANTITIES[quantity]) for u in plant.units)
+    return plant.cached(f"units of the {quantity}",
+                        lambda: tuple(times_s(u, QUANTITIES[quantity]) for u in plant.units))
 
 
 def _input_units(plant: Plant) -> tuple[str, ...]:
     from ..model.units import input_unit
 
-    return tuple(input_unit(u, k) for u, k in zip(plant.inputs, plant.kinds))
+    return plant.cached("input units", lambda: tuple(input_unit(u, k) for u, k in zip(plant.inputs, plant.kinds)))
 
 
 def _checked(plant: Plant, s: np.ndarray, raw: np.ndarray, name: str) -> str:
@@ -593,10 +601,11 @@ def frequency_response(system: Model | Assembly | Plant, inputs: Sequence[Any] |
         reason = plant.branches.note()
     reason = "; ".join(x for x in (large_note, reason) if x)
     k = QUANTITIES[quantity]
-    h = np.empty((len(plant.outputs), len(plant.inputs), f.size), dtype=complex)
     pos = f > 0
-    if np.any(pos):
-        s = 2j * np.pi * f[pos]
+    every = bool(pos.all())             # no 0 Hz: the kernel's array is the response, no masked copy
+    h = None if every else np.empty((len(plant.outputs), len(plant.inputs), f.size), dtype=complex)
+    if every or np.any(pos):
+        s = 2j * np.pi * (f if every else f[pos])
         try:
             raw = chosen.kernel(plant, s, basis)
         except DefectiveModesError as exc:
@@ -614,9 +623,16 @@ def frequency_response(system: Model | Assembly | Plant, inputs: Sequence[Any] |
             reason = "; ".join(x for x in (reason, own) if x)
         elif not chosen.exact and not chosen.needs_basis:
             reason = "; ".join(x for x in (reason, _checked(plant, s, raw, chosen.name)) if x)
-        h[:, :, pos] = _times_power(raw, s, k)
-    if np.any(~pos):
+        shape = (len(plant.outputs), len(plant.inputs), f.size)
+        if h is None and _fresh(raw, chosen, shape):
+            h = _times_power(raw, s, k)
+        else:                           # 0 Hz among them, or a user's kernel: copied in, as complex
+            h = np.empty(shape, dtype=complex) if h is None else h
+            h[:, :, pos] = _times_power(raw, s, k)
+    if not every:
+        assert h is not None
         h[:, :, ~pos] = zero_frequency_limit(plant, power=k)[:, :, None]
+    assert h is not None
     units = _units(plant, quantity)
     fr, numbers, labels = _resonances(plant, basis, float(f.min()), float(f.max()))
     return FrequencyResponse(f, h, plant.outputs, plant.inputs, units, quantity, chosen.name, reason,
@@ -630,6 +646,22 @@ def _resonances(plant: Plant, basis: ModalBasis | None, lo: float,
     not body DOFs (a modal plant)."""
     if basis is None:
         return np.zeros(0), (), ()
+    own = plant._cache.get("modal basis") is basis
+    if not own:
+        return _band_resonances(plant, basis, lo, hi)
+    # the plant's own modes: the last band's answer kept (a loop asks the same band again)
+    last: dict[tuple[float, float], Any] = plant.cached("resonances of the last band", dict)
+    hit = last.get((lo, hi))
+    if hit is None:
+        hit = _band_resonances(plant, basis, lo, hi)
+        hit[0].flags.writeable = False
+        last.clear()
+        last[(lo, hi)] = hit
+    return hit
+
+
+def _band_resonances(plant: Plant, basis: ModalBasis, lo: float,
+                     hi: float) -> tuple[np.ndarray, tuple[int, ...], tuple[str, ...]]:
     fr = basis.omega / (2 * np.pi)
     keep = ~basis.rigid & (fr >= lo) & (fr <= hi)
     if not keep.any():

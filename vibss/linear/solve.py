@@ -338,8 +338,13 @@ def response(plant: Plant, s: np.ndarray, backend: str = "auto", form: str = "au
     [0.0001, inf, -3.333e-05]
     """
     s = np.atleast_1d(np.asarray(s, dtype=complex))
-    out = np.zeros((s.size, len(plant.outputs), len(plant.inputs)), dtype=complex)
     zero = s == 0
+    if s.size and not zero.any():            # no 0 Hz (every frequency response): no masked copy
+        y, bad = _plain(plant, s, backend, form)
+        for k in np.flatnonzero(bad):
+            y[k] = _at_singular(plant, complex(s[k]), backend, form)
+        return y.transpose(1, 2, 0)
+    out = np.zeros((s.size, len(plant.outputs), len(plant.inputs)), dtype=complex)
     if np.any(~zero):
         y, bad = _plain(plant, s[~zero], backend, form)
         for k in np.flatnonzero(bad):
