@@ -297,8 +297,8 @@ def _mounts_at(plant: Plant, form: str, s: np.ndarray) -> np.ndarray:
 
 def _plain(plant: Plant, s: np.ndarray, backend: str, form: str = "auto") -> tuple[np.ndarray, np.ndarray]:
     """(nf, p, m) response by the plain solve, and where ``A(s)`` is singular (values there: 0)."""
-    zf = zfactor(s, plant.order)
-    x, bad = states(plant, s, backend=backend, form=form)
+    zf = zfactor(s, plant.order)          # once for the right-hand sides and the outputs
+    x, bad = states(plant, s, rhs=forcing(plant, s, zf), backend=backend, form=form)
     return observe(plant, s, x, zf), bad
 
 
