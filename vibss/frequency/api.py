@@ -475,7 +475,9 @@ def _frequencies(plant: Plant, frequencies: Any, basis: ModalBasis | None) -> np
         f = np.atleast_1d(np.asarray(frequencies, dtype=float))
     except (TypeError, ValueError):
         f = np.array([np.nan])
-    if f.ndim != 1 or not np.all(np.isfinite(f)) or np.any(f < 0):
+    # min and max say it all: NaN or inf anywhere makes one of them non-finite
+    lo, hi = (float(f.min()), float(f.max())) if f.ndim == 1 and f.size else (0.0, 0.0)
+    if f.ndim != 1 or not (np.isfinite(lo) and np.isfinite(hi) and lo >= 0):
         raise ModelError(f"frequencies: expected finite frequencies >= 0 [Hz], got {frequencies!r}")
     if f.size == 0:
         raise ModelError("frequencies: got an empty list; give at least one frequency [Hz], a grid "
@@ -657,7 +659,7 @@ def _resonances(plant: Plant, basis: ModalBasis | None, lo: float,
         hit[0].flags.writeable = False
         last.clear()
         last[(lo, hi)] = hit
-    return hit
+    return hit[0].view(), hit[1], hit[2]    # a view of the kept array: it cannot be made writeable
 
 
 def _band_resonances(plant: Plant, basis: ModalBasis, lo: float,

@@ -297,7 +297,9 @@ def _mounts_at(plant: Plant, form: str, s: np.ndarray) -> np.ndarray:
 
 def _plain(plant: Plant, s: np.ndarray, backend: str, form: str = "auto") -> tuple[np.ndarray, np.ndarray]:
     """(nf, p, m) response by the plain solve, and where ``A(s)`` is singular (values there: 0)."""
-    zf = zfactor(s, plant.order)          # once for the right-hand sides and the outputs
+    # once for the right-hand sides and the outputs; all ones without velocity/acceleration inputs
+    zf = (zfactor(s, plant.order) if plant_terms(plant).motion_inputs
+          else np.ones((s.size, len(plant.inputs)), dtype=complex))
     x, bad = states(plant, s, rhs=forcing(plant, s, zf), backend=backend, form=form)
     return observe(plant, s, x, zf), bad
 
