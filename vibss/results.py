@@ -224,7 +224,7 @@ def read_only(value: Any) -> Any:
     if type(value) in _ATOMS:          # labels, flags, numbers: nothing to freeze (most fields)
         return value
     if type(value) is tuple:
-        if all(type(v) in _ATOMS for v in value):      # labels (60,000 DOF names), numbers: nothing to freeze
+        if _ATOMS.issuperset(map(type, value)):        # labels (60,000 DOF names), numbers: nothing to freeze
             return value
         return tuple(read_only(v) for v in value)
     if type(value) is list:

@@ -218,8 +218,8 @@ class FrequencyResponse(Result):
     def __post_init__(self) -> None:
         for key in ("frequency_hz", "response", "natural_hz"):
             object.__setattr__(self, key, np.asarray(getattr(self, key)))
-        object.__setattr__(self, "mode_numbers", tuple(int(k) for k in self.mode_numbers))
-        object.__setattr__(self, "mode_labels", tuple(str(x) for x in self.mode_labels))
+        object.__setattr__(self, "mode_numbers", tuple(map(int, self.mode_numbers)))
+        object.__setattr__(self, "mode_labels", tuple(map(str, self.mode_labels)))
         if self.mode_numbers and len(self.mode_numbers) != len(self.natural_hz):
             raise ModelError(f"mode_numbers: {len(self.mode_numbers)} numbers for {len(self.natural_hz)} "
                              "natural frequencies; give one per frequency or none")

@@ -101,6 +101,12 @@ def _dense(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray]) -> t
     relax = [g if not sp.issparse(g.K) else replace(g, K=g.K.toarray()) for g in groups(plant)]
     n = plant.n
     chunk = max(1, _CHUNK_BYTES // (16 * max(n, 1) ** 2))
+    if not relax and s.size <= chunk:      # one batch (every small model): no chunk bookkeeping
+        dyn = dynamic_stiffness(k0, c, m, s)
+        try:
+            return np.linalg.solve(dyn, rhs(slice(None))), np.zeros(s.size, dtype=bool)
+        except np.linalg.LinAlgError:      # some frequency exactly singular: the loop below
+            pass
     xs, bad = [], np.zeros(s.size, dtype=bool)
     for lo in range(0, s.size, chunk):
         part = slice(lo, lo + chunk)

@@ -37,6 +37,8 @@ class PlantTerms(ReadOnly):
         ``Pz + i Ph`` where ``Ph`` is nonzero, else ``Pz``.
     feedthrough : bool
         ``p0``, ``Pv`` or ``Pa`` is nonzero.
+    forces : (n, m) complex ndarray
+        ``F`` as complex [N, N m per unit input].
     """
 
     kz: np.ndarray
@@ -45,6 +47,7 @@ class PlantTerms(ReadOnly):
     outputs: tuple[tuple[int, np.ndarray], ...]
     p0: np.ndarray
     feedthrough: bool
+    forces: np.ndarray
 
 
 def _hyst(a: np.ndarray | None) -> np.ndarray | float:
@@ -73,4 +76,5 @@ def _make(plant: Plant) -> PlantTerms:
     outputs = tuple((power, o) for power, o in ((0, oq), (1, plant.Ov), (2, plant.Oa)) if np.any(o))
     p0 = plant.Pz + 1j * ph if np.any(ph) else plant.Pz
     feed = bool(np.any(p0) or np.any(plant.Pv) or np.any(plant.Pa))
-    return PlantTerms(kz, motion, bool(np.any(plant.order > 0)), outputs, p0, feed)
+    return PlantTerms(kz, motion, bool(np.any(plant.order > 0)), outputs, p0, feed,
+                      np.asarray(plant.F, dtype=complex))

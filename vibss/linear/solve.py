@@ -135,7 +135,7 @@ def forcing(plant: Plant, s: np.ndarray, zf: np.ndarray) -> np.ndarray:
     motion = plant_terms(plant).motion
     sc = s[:, None, None]
     relax = [g for g in groups(plant) if np.any(g.Kz)]
-    f = np.asarray(plant.F, dtype=complex)[None]
+    f = plant_terms(plant).forces[None]
     if not motion and not relax:          # force inputs only: one read-only view for every s
         return np.broadcast_to(f, (s.size,) + plant.F.shape)
     out = np.broadcast_to(f, (s.size,) + plant.F.shape).copy()
@@ -261,8 +261,10 @@ def states(plant: Plant, s: np.ndarray, rhs: np.ndarray | None = None,
             return r[part] if r.ndim == 3 else np.broadcast_to(r, (len(s[part]),) + r.shape).copy()
     name = _pick(plant, backend)
     apart = _mounts_at(plant, form, s)
-    if apart.all() or not apart.any():
-        return SOLVERS["mounts" if apart.all() else name](plant, s, get)
+    if apart is None or not apart.any():
+        return SOLVERS[name](plant, s, get)
+    if apart.all():
+        return SOLVERS["mounts"](plant, s, get)
     x, bad = None, np.zeros(s.size, dtype=bool)
     for which, solver in ((apart, "mounts"), (~apart, name)):       # each frequency in its own form
         idx = np.flatnonzero(which)
@@ -277,8 +279,9 @@ def states(plant: Plant, s: np.ndarray, rhs: np.ndarray | None = None,
     return x, bad
 
 
-def _mounts_at(plant: Plant, form: str, s: np.ndarray) -> np.ndarray:
-    """(nf,) bool: where ``form`` (one of :data:`FORMS`) solves in the mounts' forces at each ``s``.
+def _mounts_at(plant: Plant, form: str, s: np.ndarray) -> np.ndarray | None:
+    """(nf,) bool: where ``form`` (one of :data:`FORMS`) solves in the mounts' forces at each ``s``;
+    None for nowhere without a test per frequency.
 
     ``"auto"``: everywhere when the stiffness ratio exceeds :data:`MOUNTS_RATIO` (:func:`_use_mounts`);
     else, when the mounts leave a motion free, below the frequency where the stiffest mount's
@@ -291,7 +294,7 @@ def _mounts_at(plant: Plant, form: str, s: np.ndarray) -> np.ndarray:
         return np.ones(s.size, dtype=bool)
     mf = plant.mounts
     if form != "auto" or mf is None or plant.branches is not None or not mf.matches(plant) or mf.inertia_w2 <= 0:
-        return np.zeros(s.size, dtype=bool)
+        return None
     return np.abs(s) ** 2 * MOUNTS_RATIO < mf.inertia_w2
 
 
