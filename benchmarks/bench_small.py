@@ -2,8 +2,8 @@
 
 Issue 17 item 5 asks for ``modes`` within 5x of bare ``scipy.linalg.eigh`` plus an inline assembly,
 and ``frequency_response`` / ``simulate`` at least as fast as python-control on the same system
-(target 3x faster). Each call is timed as the best of five loops in CPU time of the process
-(:func:`per_call`; seeded models, one BLAS thread); errors are against an independent reference (``eigh`` on matrices assembled inline here
+(target 3x faster). Each call is timed as the best of 25 short loops in CPU time of the process,
+the two sides of each ratio interleaved (:func:`per_call_each`; seeded models, one BLAS thread); errors are against an independent reference (``eigh`` on matrices assembled inline here
 for the modes; python-control's own answers for the FRF and the time response).
 
 Two vibss figures per call: **same model** (the loop of the issue: one model asked again, so its
@@ -71,19 +71,35 @@ def inline_matrices(model: vibss.Model) -> tuple[np.ndarray, np.ndarray, np.ndar
     return M, K, C
 
 
+LOOPS = 25
+"""Short loops per figure (:func:`per_call`)."""
+
+
 def per_call(fn: Callable[[], Any], repeat: int) -> float:
-    """CPU seconds of this process per call, the best of five loops: the machine is shared, and the
-    wall clock counts the other processes' work (it moved the same-run ratios by 2x between runs);
-    every side runs on one thread here (one BLAS thread, no threads of its own), so CPU time is its
-    work."""
-    fn()
-    times = []
-    for _ in range(5):
-        t = time.process_time()
-        for _ in range(repeat):
-            fn()
-        times.append((time.process_time() - t) / repeat)
-    return float(np.min(times))
+    """CPU seconds of this process per call, the best of :data:`LOOPS` loops of ``repeat / 5`` calls
+    (``5 repeat`` calls in all): the machine is shared, and the wall clock counts the other
+    processes' work (it moved the same-run ratios by 2x between runs); every side runs on one thread
+    here (one BLAS thread, no threads of its own), so CPU time is its work. CPU time still grows
+    with the load (caches and cores shared with other processes: a loop of 200 calls at load 7 took
+    up to twice the quiet figure), so many short loops are timed and the best kept; five long ones
+    (before 27 Nov) seldom saw a quiet stretch."""
+    return per_call_each([fn], repeat)[0]
+
+
+def per_call_each(fns: list[Callable[[], Any]], repeat: int) -> list[float]:
+    """:func:`per_call` of several functions, their loops interleaved (a, b, a, b, ...): the two
+    sides of a ratio see the same stretches of load, and each keeps its best."""
+    for fn in fns:
+        fn()
+    n = max(1, repeat // 5)
+    best = [np.inf] * len(fns)
+    for _ in range(LOOPS):
+        for i, fn in enumerate(fns):
+            t = time.process_time()
+            for _ in range(n):
+                fn()
+            best[i] = min(best[i], (time.process_time() - t) / n)
+    return [float(b) for b in best]
 
 
 TARGETS = {"modes": 5.0, "frf": 3.0, "simulate": 3.0}
@@ -118,8 +134,7 @@ def main(quick: bool = False) -> dict:
             do_sim = lambda: vibss.simulate(model, inputs={"box.fz": lambda x: np.sin(40.0 * x)},  # noqa: E731
                                             outputs=["box.z"], t_end=float(t[-1]), dt=1e-3)
             t_eigh = per_call(lambda: sl.eigh(K, M), repeat)
-            t_inline = per_call(lambda: (inline_matrices(model), sl.eigh(K, M)), repeat)
-            t_modes = per_call(do_modes, repeat)
+            t_inline, t_modes = per_call_each([lambda: (inline_matrices(model), sl.eigh(K, M)), do_modes], repeat)
             t_modes_new = per_call(fresh(do_modes), repeat // 2)
             A = np.block([[np.zeros((n, n)), np.eye(n)], [-np.linalg.solve(M, K), -np.linalg.solve(M, C)]])
             B = np.vstack([np.zeros((n, 1)), np.linalg.solve(M, np.eye(n)[:, [2]])])
@@ -129,15 +144,14 @@ def main(quick: bool = False) -> dict:
             h = vibss.frequency_response(model, ["box.fz"], ["box.z"], frequencies=f, method="auto").response[0, 0]
             ref = np.asarray(h_ctl.magnitude).ravel() * np.exp(1j * np.asarray(h_ctl.phase).ravel())
             err_frf = float(np.abs(h - ref).max() / np.abs(ref).max())
-            t_frf = per_call(do_frf, repeat)
+            t_frf, t_ctl_frf = per_call_each([do_frf, lambda: control.frequency_response(sys_, 2 * np.pi * f)],
+                                             repeat)
             t_frf_new = per_call(fresh(do_frf), repeat // 2)
-            t_ctl_frf = per_call(lambda: control.frequency_response(sys_, 2 * np.pi * f), repeat)
             y_ctl = control.forced_response(sys_, t, u).outputs
             r = do_sim()
             err_sim = float(np.abs(r["box.z"] - y_ctl).max() / np.abs(y_ctl).max())
-            t_sim = per_call(do_sim, repeat // 4)
+            t_sim, t_ctl_sim = per_call_each([do_sim, lambda: control.forced_response(sys_, t, u)], repeat // 4)
             t_sim_new = per_call(fresh(do_sim), repeat // 4)
-            t_ctl_sim = per_call(lambda: control.forced_response(sys_, t, u), repeat // 4)
             out[label] = {"modes_ms": 1e3 * t_modes, "modes_new_model_ms": 1e3 * t_modes_new,
                           "eigh_ms": 1e3 * t_eigh, "inline_eigh_ms": 1e3 * t_inline,
                           "frf_ms": 1e3 * t_frf, "frf_new_model_ms": 1e3 * t_frf_new,

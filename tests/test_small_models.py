@@ -169,3 +169,72 @@ def test_components_of_a_dense_pattern_are_csgraphs() -> None:
         p = rng.random((n, n)) < 0.08
         p = p | p.T | np.eye(n, dtype=bool)
         np.testing.assert_array_equal(_components(p), connected_components(sp.csr_matrix(p), directed=False)[1])
+
+
+def test_dynamic_stiffness_on_the_imaginary_axis_is_the_complex_expression_bit_for_bit() -> None:
+    """The real-arithmetic build of ``K + iH + sC + s^2 M`` at ``s = i w`` against the complex
+    expression it replaces (``k0 + s C + s^2 M`` in complex arithmetic), bit for bit, on random
+    matrices spanning twelve decades (with and without ``H``, negative and huge ``w``), and off the
+    axis the complex expression itself."""
+    from vibss.linear.backends import dynamic_stiffness
+
+    rng = np.random.default_rng(3)
+    for trial in range(60):
+        n = int(rng.integers(1, 14))
+        k, c, m, h = (np.exp(rng.uniform(-14, 14, (n, n))) * rng.choice([-1.0, 1.0], (n, n)) for _ in range(4))
+        k0 = k + 1j * h if trial % 2 else k
+        w = np.exp(rng.uniform(-3, 9, 50)) * rng.choice([-1.0, 1.0], 50)
+        s = 1j * w
+        sc = s[:, None, None]
+        ref = k0[None] + sc * c[None] + sc**2 * m[None]
+        assert bits(dynamic_stiffness(k0, c, m, s)) == bits(ref)
+        s2 = s + rng.uniform(-1, 1, 50)
+        sc2 = s2[:, None, None]
+        assert bits(dynamic_stiffness(k0, c, m, s2)) == bits(k0[None] + sc2 * c[None] + sc2**2 * m[None])
+
+
+def test_resonance_marks_of_a_remembered_plant_follow_the_band_and_stay_read_only() -> None:
+    """The marks kept for the last band (issue 17 item 5) against the modes themselves
+    (:func:`vibss.modes`, a second path): every elastic natural frequency inside each band asked in
+    turn, and the kept array cannot be made writeable through a result (issue 18)."""
+    m = box()
+    fn = vibss.modes(m).frequency_hz
+    for lo, hi in ((1.0, 60.0), (0.5, 8.0), (1.0, 60.0), (20.0, 400.0)):
+        f = np.linspace(lo, hi, 30)
+        r = vibss.frequency_response(m, ["b.fz"], ["b.z"], frequencies=f)
+        want = fn[(fn >= lo) & (fn <= hi) & (fn > 0)]
+        np.testing.assert_allclose(r.natural_hz, want, rtol=1e-12)
+        assert len(r.mode_labels) == want.size
+        assert not r.response.flags.writeable
+        with pytest.raises(ValueError):      # shared with the next call: not even by its flag
+            r.natural_hz.flags.writeable = True
+
+
+def test_a_grid_without_breakpoints_is_the_samples_themselves() -> None:
+    """``make_grid`` without breakpoints inside the run (no ``union1d``) against the samples
+    ``k dt`` and ``searchsorted`` written out here, and one step length of exactly ``dt``."""
+    from vibss.time.kernels import make_grid
+
+    for n, dt in ((1001, 1e-3), (7, 0.25), (50_000, 3.3e-5)):
+        ts = dt * np.arange(n)
+        for bps in (np.zeros(0), np.array([0.0, ts[-1], 2 * ts[-1]]), np.array([5 * dt])):
+            g = make_grid(n, dt, bps)
+            assert bits(g.t) == bits(ts) and bits(g.h) == bits(np.diff(ts))
+            np.testing.assert_array_equal(g.samples, np.searchsorted(ts, ts))
+            assert g.steps.tolist() == [dt] and not g.hkey.any()
+
+
+def test_one_blas_thread_sets_every_pool_to_one_and_puts_it_back() -> None:
+    """The time runs' own limiter (threadpoolctl's pools set directly) against threadpoolctl's
+    report of them: one thread inside, nested too, and what was there before afterwards."""
+    from threadpoolctl import threadpool_info
+
+    from vibss.time.kernels import one_blas_thread
+
+    before = [i["num_threads"] for i in threadpool_info()]
+    with one_blas_thread():
+        assert all(i["num_threads"] == 1 for i in threadpool_info())
+        with one_blas_thread():
+            assert all(i["num_threads"] == 1 for i in threadpool_info())
+        assert all(i["num_threads"] == 1 for i in threadpool_info())
+    assert [i["num_threads"] for i in threadpool_info()] == before

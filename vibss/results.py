@@ -224,7 +224,7 @@ def read_only(value: Any) -> Any:
     if type(value) in _ATOMS:          # labels, flags, numbers: nothing to freeze (most fields)
         return value
     if type(value) is tuple:
-        if all(type(v) is str for v in value):         # labels (60,000 DOF names): nothing to freeze
+        if _ATOMS.issuperset(map(type, value)):        # labels (60,000 DOF names), numbers: nothing to freeze
             return value
         return tuple(read_only(v) for v in value)
     if type(value) is list:
@@ -241,9 +241,18 @@ def freeze_fields(obj: Any) -> None:
 
     Fields whose name starts with ``_`` (private caches) are left alone.
     """
-    for f in dataclasses.fields(obj):
-        if not f.name.startswith("_"):
-            object.__setattr__(obj, f.name, read_only(getattr(obj, f.name)))
+    names = _PUBLIC_FIELDS.get(type(obj))
+    if names is None:           # the class's public fields, listed once (a small result is built often)
+        names = _PUBLIC_FIELDS[type(obj)] = tuple(f.name for f in dataclasses.fields(obj)
+                                                  if not f.name.startswith("_"))
+    for name in names:
+        value = getattr(obj, name)
+        frozen = read_only(value)
+        if frozen is not value:
+            object.__setattr__(obj, name, frozen)
+
+
+_PUBLIC_FIELDS: dict[type, tuple[str, ...]] = {}
 
 
 class ReadOnly:

@@ -218,8 +218,8 @@ class FrequencyResponse(Result):
     def __post_init__(self) -> None:
         for key in ("frequency_hz", "response", "natural_hz"):
             object.__setattr__(self, key, np.asarray(getattr(self, key)))
-        object.__setattr__(self, "mode_numbers", tuple(int(k) for k in self.mode_numbers))
-        object.__setattr__(self, "mode_labels", tuple(str(x) for x in self.mode_labels))
+        object.__setattr__(self, "mode_numbers", tuple(map(int, self.mode_numbers)))
+        object.__setattr__(self, "mode_labels", tuple(map(str, self.mode_labels)))
         if self.mode_numbers and len(self.mode_numbers) != len(self.natural_hz):
             raise ModelError(f"mode_numbers: {len(self.mode_numbers)} numbers for {len(self.natural_hz)} "
                              "natural frequencies; give one per frequency or none")
@@ -475,7 +475,9 @@ def _frequencies(plant: Plant, frequencies: Any, basis: ModalBasis | None) -> np
         f = np.atleast_1d(np.asarray(frequencies, dtype=float))
     except (TypeError, ValueError):
         f = np.array([np.nan])
-    if f.ndim != 1 or not np.all(np.isfinite(f)) or np.any(f < 0):
+    # min and max say it all: NaN or inf anywhere makes one of them non-finite
+    lo, hi = (float(f.min()), float(f.max())) if f.ndim == 1 and f.size else (0.0, 0.0)
+    if f.ndim != 1 or not (np.isfinite(lo) and np.isfinite(hi) and lo >= 0):
         raise ModelError(f"frequencies: expected finite frequencies >= 0 [Hz], got {frequencies!r}")
     if f.size == 0:
         raise ModelError("frequencies: got an empty list; give at least one frequency [Hz], a grid "
@@ -510,6 +512,13 @@ def _modes_if_needed(plant: Plant, frequencies: Any,
     return None, f, pick
 
 
+def _fresh(raw: Any, chosen: Any, shape: tuple[int, ...]) -> bool:
+    """Whether a kernel's answer can be the result's array itself: a built-in kernel's new, writeable
+    complex array of the result's shape (a user's kernel may keep its array, so that is copied)."""
+    return (chosen is METHODS.get(chosen.name) and isinstance(raw, np.ndarray) and raw.dtype == complex
+            and raw.shape == shape and raw.flags.writeable)
+
+
 def _times_power(raw: np.ndarray, s: np.ndarray, k: int) -> np.ndarray:
     """Mobility / accelerance: ``raw * s^k``, keeping inf as inf."""
     if not k:
@@ -524,13 +533,14 @@ def _units(plant: Plant, quantity: str) -> tuple[str, ...]:
     """Units of the outputs' quantity: the output unit times ``s^-k`` (mobility k = 1, accelerance 2)."""
     from ..model.units import times_s
 
-    return tuple(times_s(u, QUANTITIES[quantity]) for u in plant.units)
+    return plant.cached(f"units of the {quantity}",
+                        lambda: tuple(times_s(u, QUANTITIES[quantity]) for u in plant.units))
 
 
 def _input_units(plant: Plant) -> tuple[str, ...]:
     from ..model.units import input_unit
 
-    return tuple(input_unit(u, k) for u, k in zip(plant.inputs, plant.kinds))
+    return plant.cached("input units", lambda: tuple(input_unit(u, k) for u, k in zip(plant.inputs, plant.kinds)))
 
 
 def _check(plant: Plant, s: np.ndarray, raw: np.ndarray) -> tuple[float, str]:
@@ -636,10 +646,11 @@ def frequency_response(system: Model | Assembly | Plant, inputs: Sequence[Any] |
         reason = f"{reason}; resonances not marked: {_NO_MODES}"
     reason = "; ".join(x for x in (large_note, reason) if x)
     k = QUANTITIES[quantity]
-    h = np.empty((len(plant.outputs), len(plant.inputs), f.size), dtype=complex)
     pos = f > 0
-    if np.any(pos):
-        s = 2j * np.pi * f[pos]
+    every = bool(pos.all())             # no 0 Hz: the kernel's array is the response, no masked copy
+    h = None if every else np.empty((len(plant.outputs), len(plant.inputs), f.size), dtype=complex)
+    if every or np.any(pos):
+        s = 2j * np.pi * (f if every else f[pos])
         try:
             raw = chosen.kernel(plant, s, basis)
         except DefectiveModesError as exc:
@@ -668,9 +679,16 @@ def frequency_response(system: Model | Assembly | Plant, inputs: Sequence[Any] |
             reason = "; ".join(x for x in (reason, own) if x)
         elif not chosen.exact and not chosen.needs_basis:
             reason = "; ".join(x for x in (reason, _checked(plant, s, raw, chosen.name)) if x)
-        h[:, :, pos] = _times_power(raw, s, k)
-    if np.any(~pos):
+        shape = (len(plant.outputs), len(plant.inputs), f.size)
+        if h is None and _fresh(raw, chosen, shape):
+            h = _times_power(raw, s, k)
+        else:                           # 0 Hz among them, or a user's kernel: copied in, as complex
+            h = np.empty(shape, dtype=complex) if h is None else h
+            h[:, :, pos] = _times_power(raw, s, k)
+    if not every:
+        assert h is not None
         h[:, :, ~pos] = zero_frequency_limit(plant, power=k)[:, :, None]
+    assert h is not None
     units = _units(plant, quantity)
     fr, numbers, labels = _resonances(plant, basis, float(f.min()), float(f.max()))
     return FrequencyResponse(f, h, plant.outputs, plant.inputs, units, quantity, chosen.name, reason,
@@ -684,6 +702,22 @@ def _resonances(plant: Plant, basis: ModalBasis | None, lo: float,
     not body DOFs (a modal plant)."""
     if basis is None:
         return np.zeros(0), (), ()
+    own = plant._cache.get("modal basis") is basis
+    if not own:
+        return _band_resonances(plant, basis, lo, hi)
+    # the plant's own modes: the last band's answer kept (a loop asks the same band again)
+    last: dict[tuple[float, float], Any] = plant.cached("resonances of the last band", dict)
+    hit = last.get((lo, hi))
+    if hit is None:
+        hit = _band_resonances(plant, basis, lo, hi)
+        hit[0].flags.writeable = False
+        last.clear()
+        last[(lo, hi)] = hit
+    return hit[0].view(), hit[1], hit[2]    # a view of the kept array: it cannot be made writeable
+
+
+def _band_resonances(plant: Plant, basis: ModalBasis, lo: float,
+                     hi: float) -> tuple[np.ndarray, tuple[int, ...], tuple[str, ...]]:
     fr = basis.omega / (2 * np.pi)
     keep = ~basis.rigid & (fr >= lo) & (fr <= hi)
     if not keep.any():

@@ -31,7 +31,7 @@ from .banded import structure
 from .branches import groups
 from .plant import Plant
 
-__all__ = ["SOLVERS", "MOUNTS_DENSE_MAX"]
+__all__ = ["SOLVERS", "MOUNTS_DENSE_MAX", "dynamic_stiffness"]
 
 MOUNTS_DENSE_MAX = 300
 """The mounts' system (n + 3 q unknowns) is solved by dense LU up to this size, else by SuperLU."""
@@ -40,20 +40,81 @@ _CHUNK_BYTES = 64 * 2**20
 """Memory per batch of the dense back-end."""
 
 
-def _dense(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray],
-           rows: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """Batched dense LU; the solutions where ``A(s)`` is exactly singular come back as zeros, flagged."""
+_KEEP_DOFS = 150
+"""Plants up to this many DOFs keep their dense ``K + iH``, ``C``, ``M`` in their cache (a few
+hundred kilobytes at most; a larger one converts per call rather than hold another n x n)."""
+
+
+def _make_dense_terms(plant: Plant) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     mats = {k: (getattr(plant, k).toarray() if sp.issparse(getattr(plant, k)) else getattr(plant, k))
             for k in ("K", "H", "C", "M")}
     k0 = mats["K"] + 1j * mats["H"] if np.any(mats["H"]) else mats["K"]
+    for a in (k0, mats["C"], mats["M"]):
+        a.flags.writeable = False       # the plant's own arrays already are; new ones made so
+    return k0, mats["C"], mats["M"]
+
+
+def _dense_terms(plant: Plant) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Dense ``(K + iH, C, M)`` of a small plant, found once (the plant is frozen)."""
+    return plant.cached("dense K + iH, C, M", lambda: _make_dense_terms(plant))
+
+
+def dynamic_stiffness(k0: np.ndarray, c: np.ndarray, m: np.ndarray, s: np.ndarray) -> np.ndarray:
+    """``A(s) = k0 + s C + s^2 M`` at each Laplace value, (nf, n, n) complex.
+
+    On the imaginary axis (``s = i w``, every frequency response) it is built as its real part
+    ``Re k0 - w^2 M`` and imaginary part ``Im k0 + w C`` in real arithmetic: the same bits as the
+    complex expression (whose ``s C`` and ``s^2 M`` have exactly zero real and imaginary parts
+    there, so each entry is the same one rounding of the same operands) at about half the work;
+    ``tests/test_small_models.py`` compares the two.
+
+    Parameters
+    ----------
+    k0 : (n, n) ndarray
+        ``K + iH`` [N/m] (real without hysteretic damping).
+    c, m : (n, n) ndarray
+        Damping [N s/m] and mass [kg] matrices.
+    s : (nf,) complex ndarray
+        Laplace values [rad/s].
+
+    Returns
+    -------
+    (nf, n, n) complex ndarray
+    """
+    if s.size and not np.any(s.real):
+        w = s.imag[:, None, None]
+        out = np.empty((s.size,) + c.shape, dtype=complex)
+        parts = out.view(float).reshape(out.shape + (2,))
+        re, im = parts[..., 0], parts[..., 1]
+        np.multiply(w * w, m, out=re)
+        np.subtract(k0.real, re, out=re)
+        np.multiply(w, c, out=im)
+        if np.iscomplexobj(k0):
+            np.add(k0.imag, im, out=im)
+        return out
+    sc = s[:, None, None]
+    return k0[None] + sc * c[None] + sc**2 * m[None]
+
+
+def _dense(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray],
+           rows: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Batched dense LU; the solutions where ``A(s)`` is exactly singular come back as zeros, flagged;
+    only the DOFs ``rows`` of each solution are kept (all by default)."""
+    k0, c, m = _dense_terms(plant) if plant.n <= _KEEP_DOFS else _make_dense_terms(plant)
     relax = [g if not sp.issparse(g.K) else replace(g, K=g.K.toarray()) for g in groups(plant)]
     n = plant.n
     chunk = max(1, _CHUNK_BYTES // (16 * max(n, 1) ** 2))
+    if not relax and s.size <= chunk:      # one batch (every small model): no chunk bookkeeping
+        dyn = dynamic_stiffness(k0, c, m, s)
+        try:
+            x = np.linalg.solve(dyn, rhs(slice(None)))
+            return (x if rows is None else x[:, rows]), np.zeros(s.size, dtype=bool)
+        except np.linalg.LinAlgError:      # some frequency exactly singular: the loop below
+            pass
     xs, bad = [], np.zeros(s.size, dtype=bool)
     for lo in range(0, s.size, chunk):
         part = slice(lo, lo + chunk)
-        sc = s[part, None, None]
-        dyn = k0[None] + sc * mats["C"][None] + sc**2 * mats["M"][None]
+        dyn = dynamic_stiffness(k0, c, m, s[part])
         for g in relax:
             dyn += g.factor(s[part])[:, None, None] * g.K[None]
         r = rhs(part)

@@ -30,6 +30,7 @@ import numpy as np
 
 from ..errors import VibssWarning
 from ..model.model import Model
+from .memo import remembered
 
 __all__ = ["hysteretic_mounts", "dropped_hysteresis"]
 
@@ -46,7 +47,8 @@ def hysteretic_mounts(model: Model) -> tuple[str, ...]:
     tuple of str
         In the model's order.
     """
-    return tuple(m.name for m in model.mounts if np.any(np.asarray(m.type.loss_factor) * m.type.stiffness))
+    return remembered(model, "hysteretic mounts", lambda: tuple(
+        m.name for m in model.mounts if np.any(np.asarray(m.type.loss_factor) * m.type.stiffness)))
 
 
 def _plant_has_hysteresis(plant: Any) -> bool:

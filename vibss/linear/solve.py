@@ -52,6 +52,7 @@ from .banded import structure
 from .branches import groups
 from .eigen import modal_basis
 from .plant import Plant
+from .plant_terms import plant_terms
 
 __all__ = ["BACKENDS", "FORMS", "MOUNTS_RATIO", "DENSE_MAX", "zfactor", "states", "response", "zero_frequency_limit",
            "lu_solver", "statespace_plant", "without_hysteresis", "SingularMatrixError", "forcing",
@@ -104,6 +105,8 @@ def zfactor(s: np.ndarray, order: np.ndarray) -> np.ndarray:
     """
     s = np.atleast_1d(np.asarray(s, dtype=complex))
     order = np.asarray(order)
+    if not np.any(order > 0):       # forces and displacements: ones, as np.where would give them
+        return np.ones((s.size, order.size), dtype=complex)
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.where(order[None, :] > 0, s[:, None] ** (-np.maximum(order, 0))[None, :], 1.0 + 0j)
 
@@ -129,11 +132,10 @@ def forcing(plant: Plant, s: np.ndarray, zf: np.ndarray) -> np.ndarray:
     (nf, n, m) complex ndarray
         Generalised forces per unit input [N, N m].
     """
-    kz = plant.Kz + 1j * plant.Hz if np.any(plant.Hz) else plant.Kz
+    motion = plant_terms(plant).motion
     sc = s[:, None, None]
-    motion = [(power, c) for power, c in ((0, kz), (1, plant.Cz), (2, plant.Mz)) if np.any(c)]
     relax = [g for g in groups(plant) if np.any(g.Kz)]
-    f = np.asarray(plant.F, dtype=complex)[None]
+    f = plant_terms(plant).forces[None]
     if not motion and not relax:          # force inputs only: one read-only view for every s
         return np.broadcast_to(f, (s.size,) + plant.F.shape)
     out = np.broadcast_to(f, (s.size,) + plant.F.shape).copy()
@@ -188,15 +190,13 @@ def observe(plant: Plant, s: np.ndarray, x: np.ndarray, zf: np.ndarray,
     def cut(o: np.ndarray) -> np.ndarray:
         return o if rows is None else o[:, rows]
 
-    oh, ph = _hyst(plant.Oh), _hyst(plant.Ph)
+    terms = plant_terms(plant)
     sc = s[:, None, None]
     y = np.zeros((s.size, len(plant.outputs), x.shape[2]), dtype=complex)
-    for power, o in ((0, plant.Oq + 1j * oh if np.any(oh) else plant.Oq), (1, plant.Ov), (2, plant.Oa)):
-        if np.any(o):
-            y += (sc**power) * (cut(o) @ x) if power else cut(o) @ x
-    p0 = plant.Pz + 1j * ph if np.any(ph) else plant.Pz
-    if np.any(p0) or np.any(plant.Pv) or np.any(plant.Pa):
-        y += (p0[None] + sc * plant.Pv[None] + sc**2 * plant.Pa[None]) * zf[:, None, :]
+    for power, o in terms.outputs:
+        y += (sc**power) * (cut(o) @ x) if power else cut(o) @ x
+    if terms.feedthrough:
+        y += (terms.p0[None] + sc * plant.Pv[None] + sc**2 * plant.Pa[None]) * zf[:, None, :]
     for g in groups(plant):               # the branch forces seen by mount and ground force outputs
         if np.any(g.Oq) or np.any(g.Pz):
             y += g.factor(s)[:, None, None] * (cut(g.Oq) @ x + g.Pz[None] * zf[:, None, :])
@@ -284,8 +284,10 @@ def states(plant: Plant, s: np.ndarray, rhs: np.ndarray | None = None,
     keep = None if rows is None else np.asarray(rows, dtype=int)
     name = _pick(plant, backend)
     apart = _mounts_at(plant, form, s)
-    if apart.all() or not apart.any():
-        return SOLVERS["mounts" if apart.all() else name](plant, s, get, keep)
+    if apart is None or not apart.any():
+        return SOLVERS[name](plant, s, get, keep)
+    if apart.all():
+        return SOLVERS["mounts"](plant, s, get, keep)
     x, bad = None, np.zeros(s.size, dtype=bool)
     for which, solver in ((apart, "mounts"), (~apart, name)):       # each frequency in its own form
         idx = np.flatnonzero(which)
@@ -300,8 +302,9 @@ def states(plant: Plant, s: np.ndarray, rhs: np.ndarray | None = None,
     return x, bad
 
 
-def _mounts_at(plant: Plant, form: str, s: np.ndarray) -> np.ndarray:
-    """(nf,) bool: where ``form`` (one of :data:`FORMS`) solves in the mounts' forces at each ``s``.
+def _mounts_at(plant: Plant, form: str, s: np.ndarray) -> np.ndarray | None:
+    """(nf,) bool: where ``form`` (one of :data:`FORMS`) solves in the mounts' forces at each ``s``;
+    None for nowhere without a test per frequency.
 
     ``"auto"``: everywhere when the stiffness ratio exceeds :data:`MOUNTS_RATIO` (:func:`_use_mounts`);
     else, when the mounts leave a motion free, below the frequency where the stiffest mount's
@@ -314,15 +317,17 @@ def _mounts_at(plant: Plant, form: str, s: np.ndarray) -> np.ndarray:
         return np.ones(s.size, dtype=bool)
     mf = plant.mounts
     if form != "auto" or mf is None or plant.branches is not None or not mf.matches(plant) or mf.inertia_w2 <= 0:
-        return np.zeros(s.size, dtype=bool)
+        return None
     return np.abs(s) ** 2 * MOUNTS_RATIO < mf.inertia_w2
 
 
 def _plain(plant: Plant, s: np.ndarray, backend: str, form: str = "auto") -> tuple[np.ndarray, np.ndarray]:
     """(nf, p, m) response by the plain solve, and where ``A(s)`` is singular (values there: 0)."""
-    zf = zfactor(s, plant.order)
-    rows = observed_dofs(plant)          # only the solutions' rows that the outputs read
-    x, bad = states(plant, s, backend=backend, form=form, rows=rows)
+    # once for the right-hand sides and the outputs; all ones without velocity/acceleration inputs
+    zf = (zfactor(s, plant.order) if plant_terms(plant).motion_inputs
+          else np.ones((s.size, len(plant.inputs)), dtype=complex))
+    rows = plant.cached("observed dofs", lambda: observed_dofs(plant))   # the solutions' rows the outputs read
+    x, bad = states(plant, s, rhs=forcing(plant, s, zf), backend=backend, form=form, rows=rows)
     return observe(plant, s, x, zf, rows), bad
 
 
@@ -362,8 +367,13 @@ def response(plant: Plant, s: np.ndarray, backend: str = "auto", form: str = "au
     [0.0001, inf, -3.333e-05]
     """
     s = np.atleast_1d(np.asarray(s, dtype=complex))
-    out = np.zeros((s.size, len(plant.outputs), len(plant.inputs)), dtype=complex)
     zero = s == 0
+    if s.size and not zero.any():            # no 0 Hz (every frequency response): no masked copy
+        y, bad = _plain(plant, s, backend, form)
+        for k in np.flatnonzero(bad):
+            y[k] = _at_singular(plant, complex(s[k]), backend, form)
+        return y.transpose(1, 2, 0)
+    out = np.zeros((s.size, len(plant.outputs), len(plant.inputs)), dtype=complex)
     if np.any(~zero):
         y, bad = _plain(plant, s[~zero], backend, form)
         for k in np.flatnonzero(bad):
