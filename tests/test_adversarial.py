@@ -345,10 +345,11 @@ def test_pickled_models_give_the_same_answers(spec: fuzzing.Spec) -> None:
     assert not again.omega.flags.writeable
 
 
-def test_an_inclined_zero_stiffness_axis_is_not_kept_apart() -> None:
+def test_an_inclined_zero_stiffness_axis_is_not_a_singular_block() -> None:
     """Found by this suite: a mount with one zero principal stiffness, inclined, has a rounded
     global ``kp`` whose smallest eigenvalue is +2e-12 instead of 0; the mounts' exact form took it
-    as positive definite and its singular ``Z(s)`` ended in ``LinAlgError: Singular matrix``."""
+    as positive definite and its singular ``Z(s)`` ended in ``LinAlgError: Singular matrix``. (Such
+    a mount is now kept apart per stiff local axis, a scalar ``Z`` each, never as a 3 x 3 block.)"""
     from scipy.spatial.transform import Rotation
 
     t = vibss.MountType("t", [430163.3193050424, 0.0, 1661723.4748265292], [4301.6, 0.0, 16617.2], 0.05)
