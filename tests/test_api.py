@@ -17,7 +17,7 @@ PACKAGE = Path(vibss.__file__).parent
 LAYERS = [
     {"errors", "_validate", "results", "methods", "model.units", "model.geometry", "model.limits", "io.tomlwriter",
      "linear.memo"},
-    {"model", "linear.plant", "linear.branches", "io.filetable"},
+    {"model", "linear.plant", "linear.plant_terms", "linear.branches", "io.filetable"},
     {"io", "examples", "linear.assemble", "linear.directions", "linear.eigen", "linear.eigen_checks",
      "linear.hysteresis"},
     {"linear.complex_modes", "linear.branch_modes", "linear.banded", "linear.signals", "linear.solve",
