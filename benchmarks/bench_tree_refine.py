@@ -41,6 +41,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "tests"))
 from benchmarks.models import topology_model  # noqa: E402
+from mp_reference import extended_precision_frf  # noqa: E402
 import vibss.linear.complex_modes as cmm  # noqa: E402
 from vibss.frequency.kernels import METHODS  # noqa: E402
 from vibss.linear.eigen import modal_basis  # noqa: E402
@@ -161,23 +162,6 @@ VARIANTS = {"none": v_none, "all at risk": v_all, "screened": v_screened, "hesse
 
 
 # ----------------------------------------------------------------------- references
-def extended_precision_frf(plant, s: np.ndarray) -> np.ndarray:
-    """``Oq (K + s^2 M + s C)^-1 F``: dense LU, three refinement steps with long-double residuals."""
-    def dense(x):
-        return np.asarray(x.toarray() if sp.issparse(x) else x, dtype=float)
-
-    M, C, K, F, O = (dense(x) for x in (plant.M, plant.C, plant.K, plant.F, plant.Oq))
-    Ml, Cl, Kl, Fl, Ol = (x.astype(np.longdouble) for x in (M, C, K, F, O))
-    out = []
-    for sk in s:
-        lu = sl.lu_factor(K + sk * sk * M + sk * C)
-        x = sl.lu_solve(lu, F.astype(complex)).astype(np.clongdouble)
-        z = np.clongdouble(sk)
-        a = Kl + z * z * Ml + z * Cl
-        for _ in range(3):
-            x = x + sl.lu_solve(lu, (Fl - a @ x).astype(complex)).astype(np.clongdouble)
-        out.append((Ol @ x).astype(complex))
-    return np.stack(out, axis=-1)
 
 
 def _err(h: np.ndarray, ref: np.ndarray) -> float:

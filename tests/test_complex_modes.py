@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 
+from mp_reference import extended_precision_frf
 from vibss.linear.complex_modes import complex_modes
 
 
@@ -85,29 +86,6 @@ def test_refined_velocity_solve(hysteretic):
     assert np.abs(cm.vectors @ z - full).max() <= 1e-14 * np.abs(cm.vectors).max() * np.abs(z).max() * 33
 
 
-def _extended_precision_frf(plant, s):
-    """Receptance ``(K + s^2 M + s C)^-1 F`` seen by ``Oq``: a dense LU refined three times with the
-    residual formed in long double (80-bit on x86), independent of any eigen-decomposition."""
-    import scipy.linalg as sl
-    import scipy.sparse as sps
-
-    def dense(x):
-        return np.asarray(x.toarray() if sps.issparse(x) else x, dtype=float)
-
-    M, C, K, F, O = (dense(x) for x in (plant.M, plant.C, plant.K, plant.F, plant.Oq))
-    Ml, Cl, Kl, Fl = (x.astype(np.longdouble) for x in (M, C, K, F))
-    out = []
-    for sk in s:
-        lu = sl.lu_factor(K + sk * sk * M + sk * C)
-        x = sl.lu_solve(lu, F.astype(complex)).astype(np.clongdouble)
-        sl_ = np.clongdouble(sk)
-        a = Kl + sl_ * sl_ * Ml + sl_ * Cl
-        for _ in range(3):
-            x = x + sl.lu_solve(lu, (Fl - a @ x).astype(complex)).astype(np.clongdouble)
-        out.append((O.astype(np.longdouble) @ x).astype(complex))
-    return np.stack(out, axis=-1)
-
-
 def test_frf_screen_refines_only_the_poles_that_are_off(monkeypatch):
     """A random tree (every mount damped, stiff overdamped modes beside light ones): the a-priori
     bound ``eps max|lam| / |Re lam|`` flags tens of modes, the a-posteriori screen sends only the few
@@ -138,6 +116,6 @@ def test_frf_screen_refines_only_the_poles_that_are_off(monkeypatch):
     w = np.unique(np.abs(seen["at_risk"].imag))
     s = 1j * w[w > 0]
     h = METHODS["complex_modal"](plant, s)
-    ref = _extended_precision_frf(plant, s)
+    ref = extended_precision_frf(plant, s)
     err = np.linalg.norm(h - ref, axis=(0, 1)) / np.linalg.norm(ref, axis=(0, 1))
     assert err.max() <= 1e-9
