@@ -29,8 +29,6 @@ class PlantTerms(ReadOnly):
         ``Kz + i Hz`` where ``Hz`` is nonzero, else ``Kz`` [N/m].
     motion : tuple of (int, ndarray)
         ``(power, map)`` of the nonzero motion-input maps ``kz, Cz, Mz`` (powers 0, 1, 2 of ``s``).
-    motion_inputs : bool
-        Some input is a velocity or an acceleration (``zfactor`` is not all ones).
     outputs : tuple of (int, ndarray)
         ``(power, map)`` of the nonzero output maps ``Oq (+ i Oh), Ov, Oa``.
     p0 : (p, m) ndarray
@@ -43,7 +41,6 @@ class PlantTerms(ReadOnly):
 
     kz: np.ndarray
     motion: tuple[tuple[int, np.ndarray], ...]
-    motion_inputs: bool
     outputs: tuple[tuple[int, np.ndarray], ...]
     p0: np.ndarray
     feedthrough: bool
@@ -76,5 +73,5 @@ def _make(plant: Plant) -> PlantTerms:
     outputs = tuple((power, o) for power, o in ((0, oq), (1, plant.Ov), (2, plant.Oa)) if np.any(o))
     p0 = plant.Pz + 1j * ph if np.any(ph) else plant.Pz
     feed = bool(np.any(p0) or np.any(plant.Pv) or np.any(plant.Pa))
-    return PlantTerms(kz, motion, bool(np.any(plant.order > 0)), outputs, p0, feed,
+    return PlantTerms(kz, motion, outputs, p0, feed,
                       np.asarray(plant.F, dtype=complex))

@@ -323,9 +323,7 @@ def _mounts_at(plant: Plant, form: str, s: np.ndarray) -> np.ndarray | None:
 
 def _plain(plant: Plant, s: np.ndarray, backend: str, form: str = "auto") -> tuple[np.ndarray, np.ndarray]:
     """(nf, p, m) response by the plain solve, and where ``A(s)`` is singular (values there: 0)."""
-    # once for the right-hand sides and the outputs; all ones without velocity/acceleration inputs
-    zf = (zfactor(s, plant.order) if plant_terms(plant).motion_inputs
-          else np.ones((s.size, len(plant.inputs)), dtype=complex))
+    zf = zfactor(s, plant.order)         # once for the right-hand sides and the outputs
     rows = plant.cached("observed dofs", lambda: observed_dofs(plant))   # the solutions' rows the outputs read
     x, bad = states(plant, s, rhs=forcing(plant, s, zf), backend=backend, form=form, rows=rows)
     return observe(plant, s, x, zf, rows), bad
