@@ -13,11 +13,13 @@ of bodies 0, 10, ..., 90, along their local axis 3) and a collocated geophone ea
   and ``StateSpace.lft`` with the static skyhook gain.
 
 Accuracy: the closed loops' ``ground.z.vel -> b0.z.vel`` response at 20 frequencies, against each
-other (relative difference). One BLAS thread. Run: ``python benchmarks/bench_control.py``.
+other (relative difference). One BLAS thread. Run: ``python benchmarks/bench_control.py [--quick]``
+(``--quick``: a 40-body chain, 240 DOF, with 4 loops).
 """
 
 from __future__ import annotations
 
+import argparse
 import sys
 import time
 from pathlib import Path
@@ -37,12 +39,15 @@ from vibss.linear.signals import build_plant  # noqa: E402
 
 GAIN = 2000.0
 OUTS = [f"b{i}.z.vel" for i in (0, 20, 40, 60, 80, 99)]
+"""Performance outputs of the 100-body chain (:func:`model` sets them for its size)."""
 
 
-def model() -> vibss.Model:
-    m = chain_model(100, zeta=0.01)
+def model(n: int = 100) -> vibss.Model:
+    global OUTS
+    OUTS = [f"b{round(i * (n - 1) / 99)}.z.vel" for i in (0, 20, 40, 60, 80, 99)]
+    m = chain_model(n, zeta=0.01)
     ground = [x for x in m.mounts if x.to == "ground"]
-    picks = [next(x for x in ground if x.body == f"b{i}") for i in range(0, 100, 10)]
+    picks = [next(x for x in ground if x.body == f"b{i}") for i in range(0, n, 10)]
     acts = [Actuator(f"a{i}", mount=x.name, axis=3) for i, x in enumerate(picks)]
     sens = []
     for i, x in enumerate(picks):
@@ -85,13 +90,14 @@ def hand_route(m: vibss.Model, check: bool = False) -> tuple[object, float]:
     return cl, time.perf_counter() - t
 
 
-def main() -> dict:
+def main(quick: bool = False) -> dict:
+    n = 40 if quick else 100
     with threadpool_limits(1):
-        m = model()
+        m = model(n)
         vibss_route(m, False)                       # warm caches and imports
         hand_route(m)
         tv = min(vibss_route(m, False)[1] for _ in range(3))
-        tm = min(vibss_route(m, True)[1] for _ in range(2))
+        tm = min(vibss_route(m, True)[1] for _ in range(1 if quick else 2))
         th = min(hand_route(m)[1] for _ in range(3))
         thc = min(hand_route(m, True)[1] for _ in range(3))
         t = time.perf_counter()
@@ -114,10 +120,10 @@ def main() -> dict:
            "hand_with_stability_check_s": thc, "ratio_hand_over_vibss": th / tv, "ratio_checked": thc / tv,
            "closed_loop_difference": diff, "states_vibss": sv.nstates, "states_hand": sh.nstates,
            "platform_design_and_analysis_s": t_platform}
-    print("600 DOF, 10 skyhook loops: plant + close")
+    print(f"{6 * n} DOF, {len(m.actuators)} skyhook loops: plant + close")
     print(f"  vibss plant only              {tp:8.3f} s")
     print(f"  vibss plant+close (no margins){tv:8.3f} s   states {sv.nstates}  (close checks stability: eigvals)")
-    print(f"  vibss plant+close (10 margins){tm:8.3f} s")
+    print(f"  vibss plant+close ({len(m.actuators)} margins){tm:8.3f} s")
     print(f"  hand-written, no check        {th:8.3f} s   states {sh.nstates}   ratio hand/vibss {th / tv:.2f}")
     print(f"  hand-written + stability check{thc:8.3f} s   ratio hand/vibss {thc / tv:.2f}")
     print(f"  closed loops agree to {diff:.1e} (relative, 20 frequencies)")
@@ -126,4 +132,6 @@ def main() -> dict:
 
 
 if __name__ == "__main__":
-    main()
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--quick", action="store_true")
+    main(ap.parse_args().quick)

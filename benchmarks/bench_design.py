@@ -149,13 +149,14 @@ def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--quick", action="store_true")
     args = ap.parse_args()
-    n, loop = (20_000, 100) if args.quick else (100_000, 500)
-    figures()
+    n, loop = (5_000, 50) if args.quick else (100_000, 500)
+    if not args.quick:                  # the figures of docs/analyses/design.md: the full run only
+        figures()
     out = {"machine": machine(), "quick": args.quick, "monte_carlo": bench_monte_carlo(n, loop)}
     opt = bench_optimise(args.quick)
     if opt is not None:
         out["optimise"] = opt
-    dk = bench_dask(2_000 if args.quick else 10_000)
+    dk = bench_dask(500 if args.quick else 10_000)
     if dk is not None:
         out["dask"] = dk
     RESULTS.mkdir(exist_ok=True)

@@ -316,8 +316,9 @@ if __name__ == "__main__":
     if not args.frf:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            err, how = time_accuracy()
-            err2, how2 = time_accuracy(20, engine=True)       # 20 bodies: auto takes the structured path
+            steps_ivp = 400 if args.quick else 2000         # solve_ivp (Radau, rtol 1e-10) is the slow side
+            err, how = time_accuracy(steps=steps_ivp)
+            err2, how2 = time_accuracy(20, steps=steps_ivp, engine=True)  # 20 bodies: auto takes the structured path
         result["time"]["error_vs_solve_ivp_5_bodies"] = err
         result["time"]["engine_error_vs_solve_ivp_20_bodies"] = err2
         print(f"time response of a 5-body Zener chain vs solve_ivp of its state space: {err:.1e} ({how}); "

@@ -9,8 +9,8 @@ with the machine line on top. The hand-written text around the markers is kept.
 
 Usage: ``python benchmarks/run_all.py [--quick] [--only NAME ...] [--no-run]``
 
-- ``--quick``: small sizes (about 2 minutes; passed on to the benchmarks that accept it;
-  ``make bench QUICK=1`` or ``make bench-quick``). Every run is seeded: two quick runs give the
+- ``--quick``: small sizes (under 5 minutes; passed on to the benchmarks that accept it, and the
+  one-model studies of :data:`FULL_ONLY` left out; ``make bench QUICK=1`` or ``make bench-quick``). Every run is seeded: two quick runs give the
   same counts (basis sizes, frequencies, errors to their printed digits), only timings differ;
 - ``--only``: run these benchmarks (e.g. ``pareto stability``), tabulate all results present;
 - ``--no-run``: only regenerate the tables from the existing results.
@@ -33,6 +33,8 @@ RESULTS = HERE / "results"
 DOC = ROOT / "docs" / "performance.md"
 BEGIN, END = "<!-- BEGIN GENERATED: benchmarks/run_all.py -->", "<!-- END GENERATED -->"
 ORDER = ["core", "frf", "time", "reduction", "pareto", "stability"]
+FULL_ONLY = {"tree_refine": "a study of one 600-DOF model's slow poles (about 2 minutes), with no small size"}
+"""Benchmarks ``--quick`` leaves out, and why."""
 THREAD_ENV = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1",
               "MPLBACKEND": "Agg", "PYTHONHASHSEED": "0"}
 """One BLAS thread (timings comparable, sums in one order) and a fixed hash seed (set iteration order
@@ -267,6 +269,9 @@ def main() -> int:
     if not args.no_run:
         for name, path in benchmarks():
             if args.only and name not in args.only:
+                continue
+            if args.quick and name in FULL_ONLY and not args.only:
+                print(f"[run_all] {name}: left out with --quick ({FULL_ONLY[name]})", flush=True)
                 continue
             log.append(run(name, path, args.quick, args.timeout))
     write_doc(generate(log, args.quick))
