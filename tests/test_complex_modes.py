@@ -145,3 +145,24 @@ def test_frf_screen_refines_only_the_poles_that_are_off(monkeypatch):
     ref = extended_precision_frf(plant, s)
     err = np.linalg.norm(h - ref, axis=(0, 1)) / np.linalg.norm(ref, axis=(0, 1))
     assert err.max() <= 1e-9
+
+
+def test_close_distinct_eigenvalues_keep_the_structured_solve():
+    """Two modes 0.001 rad/s apart beside a 1e8 rad/s one (within 1e-9 max|lam|, the tolerance that
+    used to send V to an LU, as on the 600-DOF tree): their cross terms are small, the structured
+    left vectors are kept, and they invert V (numpy's inv) and diagonalise A."""
+    w = np.array([1.0, 1.001, 1e8])
+    w2 = w * w
+    rng = np.random.default_rng(3)
+    r = rng.standard_normal((3, 3))
+    g = 0.001 * (r @ r.T) + np.diag([0.0, 0.0, 1e4])
+    cm = complex_modes(w, np.arange(3), w2, g)
+    lam = cm.lam
+    d = np.abs(lam[:, None] - lam[None, :])
+    np.fill_diagonal(d, np.inf)
+    assert d.min() < 1e-9 * np.abs(lam).max()              # a close pair is there
+    assert cm.how.startswith("left eigenvectors")
+    inv = np.linalg.inv(cm.vectors)
+    np.testing.assert_allclose(cm.solve(np.eye(6)), inv, atol=1e-9 * np.abs(inv).max())
+    a = _matrix(w, np.arange(3), w2, g, None)
+    np.testing.assert_allclose(cm.solve(a @ cm.vectors), np.diag(lam), atol=1e-9 * np.abs(lam).max())

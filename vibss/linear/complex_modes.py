@@ -340,7 +340,7 @@ def _screen_poles(lam: np.ndarray, v: np.ndarray, todo: np.ndarray, scale: np.nd
 
 
 MAX_PAIRS = 256
-"""Most pairs of close eigenvalues whose cross terms :func:`_mixed_pairs` checks one by one; more
+"""Most pairs of close eigenvalues whose cross terms :func:`_mixed_pairs` checks; more
 (a cluster of many equal modes) and ``V`` is factorised."""
 
 
@@ -353,12 +353,14 @@ def _mixed_pairs(lam: np.ndarray, v: np.ndarray, x: np.ndarray, norm: np.ndarray
 
     Before, any two eigenvalues within ``tol = 1e-9 max|lam|`` sent the solve to an LU of ``V``; on
     the 600-DOF tree of benchmarks/models.py (``max|lam|`` 2.5e7 rad/s, so ``tol`` 0.025 rad/s) that
-    caught four distinct pairs 0.008-0.018 rad/s apart whose cross terms are 2e-12-4e-12 (and the
-    full ``V^-1 V - I`` is 1.7e-10 at most, the LU's own inverse 1.8e-11 from the structured one):
-    the LU (0.3 s, an eighth of the time path's cost) bought nothing there. An arbitrary basis of a
+    caught four distinct pairs 0.008-0.018 rad/s apart whose cross terms are 1e-11 at most (and the
+    full ``V^-1 V - I`` is 1.7e-10 at most, ``inv(V)`` 1.8e-11 from the structured inverse): the LU
+    (0.3 s, a ninth of the modal time response) bought nothing there. An arbitrary basis of a
     repeated eigenvalue gives cross terms of order one. Cost: a k-d tree of the eigenvalues and
     O(N) per close pair.
     """
+    if not np.all(np.isfinite(lam)):
+        return np.inf
     pairs = cKDTree(np.column_stack([lam.real, lam.imag])).query_pairs(tol, output_type="ndarray")
     if not len(pairs):
         return 0.0
