@@ -49,13 +49,39 @@ def test_structured_inverse_matches_explicit_inverse(hysteretic):
     np.testing.assert_allclose(cm.solve(a @ cm.vectors), np.diag(cm.lam), atol=1e-10 * np.abs(cm.lam).max())
 
 
-def test_repeated_eigenvalues_fall_back_to_lu():
-    """Two identical uncoupled modes: any basis of the eigenspace is returned, so V is factorised."""
+def test_repeated_eigenvalues_with_a_clean_basis_keep_the_structured_solve():
+    """Two identical uncoupled modes: eig returns a bi-orthogonal basis of their eigenspace here, the
+    pair check sees cross terms of zero, and the structured solve is V's inverse (numpy's inv)."""
     w2 = np.array([4.0, 4.0, 9.0])
     g = np.diag([0.1, 0.1, 0.2])
     cm = complex_modes(np.sqrt(w2), np.arange(3), w2, g)
-    assert cm.how == "LU of V (repeated eigenvalues)"
+    assert cm.how.startswith("left eigenvectors")
     np.testing.assert_allclose(cm.solve(np.eye(6)), np.linalg.inv(cm.vectors), atol=1e-12)
+
+
+def test_a_mixed_basis_of_a_repeated_eigenvalue_is_caught():
+    """The same pair with its two eigenvectors recombined (still eigenvectors, no longer bi-orthogonal
+    under the structured left vectors): the pair check reports a cross term of order one, above
+    PROBE_TOL, where an LU of V is needed; the unmixed basis reports (near) zero."""
+    from vibss.linear.complex_modes import PROBE_TOL, _mixed_pairs
+
+    w2 = np.array([4.0, 4.0, 9.0])
+    s = np.sqrt(w2)
+    g = np.diag([0.1, 0.1, 0.2])
+    a = _matrix(s, np.arange(3), w2, g, None).real
+    lam, v = np.linalg.eig(a)
+    i, j = [k for k in range(6) if abs(lam[k] - (-0.05 + 1.9993749j)) < 1e-6]
+    vm = v.copy()
+    vm[:, i], vm[:, j] = (v[:, i] + v[:, j]) / np.sqrt(2), (v[:, i] - 2 * v[:, j]) / np.sqrt(5)
+    assert np.allclose(a @ vm[:, [i, j]], vm[:, [i, j]] * lam[[i, j]])        # still eigenvectors
+
+    def worst(vec: np.ndarray) -> float:
+        x = vec[3:] / lam
+        norm = np.einsum("ij,ij->j", x, vec[3:]) - np.einsum("i,ij->j", w2 / s, x * vec[:3]) / lam
+        return _mixed_pairs(lam, vec, x, norm, np.arange(3), w2 / s, None, 3, 1e-9 * np.abs(lam).max())
+
+    assert worst(vm) > 0.1 > PROBE_TOL
+    assert worst(v) < PROBE_TOL
 
 
 def test_zero_eigenvalue_falls_back_to_lu():
@@ -119,3 +145,24 @@ def test_frf_screen_refines_only_the_poles_that_are_off(monkeypatch):
     ref = extended_precision_frf(plant, s)
     err = np.linalg.norm(h - ref, axis=(0, 1)) / np.linalg.norm(ref, axis=(0, 1))
     assert err.max() <= 1e-9
+
+
+def test_close_distinct_eigenvalues_keep_the_structured_solve():
+    """Two modes 0.001 rad/s apart beside a 1e8 rad/s one (within 1e-9 max|lam|, the tolerance that
+    used to send V to an LU, as on the 600-DOF tree): their cross terms are small, the structured
+    left vectors are kept, and they invert V (numpy's inv) and diagonalise A."""
+    w = np.array([1.0, 1.001, 1e8])
+    w2 = w * w
+    rng = np.random.default_rng(3)
+    r = rng.standard_normal((3, 3))
+    g = 0.001 * (r @ r.T) + np.diag([0.0, 0.0, 1e4])
+    cm = complex_modes(w, np.arange(3), w2, g)
+    lam = cm.lam
+    d = np.abs(lam[:, None] - lam[None, :])
+    np.fill_diagonal(d, np.inf)
+    assert d.min() < 1e-9 * np.abs(lam).max()              # a close pair is there
+    assert cm.how.startswith("left eigenvectors")
+    inv = np.linalg.inv(cm.vectors)
+    np.testing.assert_allclose(cm.solve(np.eye(6)), inv, atol=1e-9 * np.abs(inv).max())
+    a = _matrix(w, np.arange(3), w2, g, None)
+    np.testing.assert_allclose(cm.solve(a @ cm.vectors), np.diag(lam), atol=1e-9 * np.abs(lam).max())

@@ -16,7 +16,7 @@ eigenvectors follow from the same ``x`` with no second eigenproblem:
 So one ``eig`` without left vectors (about 12 % cheaper than with them) plus O(N^2) work gives
 the rows of ``V^-1``, instead of an O(N^3) solve with ``V``. Where the structure cannot be trusted —
 a zero eigenvalue, repeated eigenvalues (any basis of their eigenspace is returned, not a
-bi-orthogonal one), or a random probe ``V^-1 (V r) = r`` that misses by more than
+bi-orthogonal one; eigenvalues merely close are checked pair by pair), or a random probe ``V^-1 (V r) = r`` that misses by more than
 :data:`PROBE_TOL` — ``V`` is LU-factorised instead and the reason is recorded.
 """
 
@@ -27,6 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg as sl
 from scipy.linalg import get_lapack_funcs
+from scipy.spatial import cKDTree
 
 from ..errors import DefectiveModesError
 from ..results import ReadOnly
@@ -156,6 +157,8 @@ def _refine_slow_modes(lam: np.ndarray, v: np.ndarray, scale: np.ndarray, rows: 
                        coupling: np.ndarray | None, horizon: float = np.inf) -> tuple[np.ndarray, np.ndarray]:
     """Refine the lightly damped modes of ``eig`` on the quadratic problem ``Q(lam) x = 0``.
 
+    ``lam`` and ``v`` (``eig``'s own arrays) are refined in place where they are complex already.
+
     ``eig`` is backward stable for ``A``: each eigenvalue carries an absolute error of about
     ``eps max|lam|``, which a mode decaying at ``|Re lam|`` << ``max|lam|`` feels as a relative
     error ``eps max|lam| / |Re lam|`` at its resonance (graded chain: 8.9e-9 on the lowest pole,
@@ -205,11 +208,11 @@ def _refine_slow_modes(lam: np.ndarray, v: np.ndarray, scale: np.ndarray, rows: 
         todo = every
     if not todo.size:
         return lam, v
-    kp = np.zeros((nk, nk), dtype=complex)
+    kp = np.zeros((nk, nk), dtype=complex if coupling is not None and np.iscomplexobj(coupling) else float)
     kp[rows, rows] = omega2
     if coupling is not None:
         kp[:, rows] += coupling * scale[None, :]
-    lam, v = lam.astype(complex), v.astype(complex)
+    lam, v = lam.astype(complex, copy=False), v.astype(complex, copy=False)   # eig's own arrays, refined in place
     if not np.isfinite(horizon):
         todo = _screen_poles(lam, v, todo, scale, rows, damping, kp, REFINE_ESTIMATE)
     if np.isfinite(horizon) and todo.size * float(nk) ** 3 > REFINE_FLOPS:
@@ -261,14 +264,29 @@ def _inverse_iteration(lam: np.ndarray, v: np.ndarray, todo: np.ndarray, scale: 
     return lam, v
 
 
+def _abs2(z: np.ndarray) -> np.ndarray:
+    """``|z|^2`` elementwise without the square root of ``abs`` (one pass over ``z``)."""
+    if not np.iscomplexobj(z):
+        return z * z
+    return z.real * z.real + z.imag * z.imag
+
+
+def _times(a: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """``a @ x``; a real ``a`` times a complex ``x`` as one real GEMM on ``x``'s interleaved parts
+    (numpy would make ``a`` complex: four times the flops)."""
+    if np.iscomplexobj(a) or not np.iscomplexobj(x):
+        return a @ x
+    return (a @ np.ascontiguousarray(x).view(float)).view(complex)
+
+
 def _rayleigh_roots(lam: np.ndarray, v: np.ndarray, todo: np.ndarray, damping: np.ndarray,
                     kp: np.ndarray, ne: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """For the modes ``todo``: ``x = v2 / lam`` from ``eig``, the root of ``x^T Q(mu) x = 0``
     nearest to ``eig``'s pole, and where that root is finite (all modes at once: two GEMMs)."""
     X = v[ne:, todo] / lam[todo]
     a = np.einsum("ij,ij->j", X, X)
-    b = np.einsum("ij,ij->j", X, damping @ X)
-    c = np.einsum("ij,ij->j", X, kp @ X)
+    b = np.einsum("ij,ij->j", X, _times(damping, X))
+    c = np.einsum("ij,ij->j", X, _times(kp, X))
     with np.errstate(divide="ignore", invalid="ignore"):
         root = np.sqrt(b * b - 4 * a * c)
         r1 = (-b + root) / (2 * a)
@@ -319,6 +337,42 @@ def _screen_poles(lam: np.ndarray, v: np.ndarray, todo: np.ndarray, scale: np.nd
     keep = ok & (err <= bound)
     lam[todo[keep]] = near[keep]
     return todo[~keep]
+
+
+MAX_PAIRS = 256
+"""Most pairs of close eigenvalues whose cross terms :func:`_mixed_pairs` checks; more
+(a cluster of many equal modes) and ``V`` is factorised."""
+
+
+def _mixed_pairs(lam: np.ndarray, v: np.ndarray, x: np.ndarray, norm: np.ndarray, rows: np.ndarray,
+                 kt_diag: np.ndarray, coupling: np.ndarray | None, ne: int, tol: float) -> float:
+    """Largest ``|w_j^T v_k| / |w_j^T v_j|`` over the pairs of eigenvalues within ``tol`` [1/s] of
+    each other (0 when there are none): the entries of ``V^-1 V - I`` that the left vectors built
+    from the right ones get wrong when ``eig`` returns an arbitrary basis of a repeated eigenvalue's
+    eigenspace (not a bi-orthogonal one).
+
+    Before, any two eigenvalues within ``tol = 1e-9 max|lam|`` sent the solve to an LU of ``V``; on
+    the 600-DOF tree of benchmarks/models.py (``max|lam|`` 2.5e7 rad/s, so ``tol`` 0.025 rad/s) that
+    caught four distinct pairs 0.008-0.018 rad/s apart whose cross terms are 1e-11 at most (and the
+    full ``V^-1 V - I`` is 1.7e-10 at most, ``inv(V)`` 1.8e-11 from the structured inverse): the LU
+    (0.3 s, a ninth of the modal time response) bought nothing there. An arbitrary basis of a
+    repeated eigenvalue gives cross terms of order one. Cost: a k-d tree of the eigenvalues and
+    O(N) per close pair.
+    """
+    if not np.all(np.isfinite(lam)):
+        return np.inf
+    pairs = cKDTree(np.column_stack([lam.real, lam.imag])).query_pairs(tol, output_type="ndarray")
+    if not len(pairs):
+        return 0.0
+    if len(pairs) > MAX_PAIRS:
+        return np.inf                           # a large cluster: factorise V rather than check it
+    p = np.concatenate([pairs[:, 0], pairs[:, 1]])
+    q = np.concatenate([pairs[:, 1], pairs[:, 0]])
+    vq1 = v[:ne, q]
+    wv = np.einsum("ij,ij->j", x[:, p], v[ne:, q]) - np.einsum("i,ij,ij->j", kt_diag, x[rows][:, p], vq1) / lam[p]
+    if coupling is not None:
+        wv -= np.einsum("ij,ij->j", x[:, p], coupling @ vq1) / lam[p]
+    return float(np.abs(wv / norm[p]).max())
 
 
 def complex_modes(scale: np.ndarray, rows: np.ndarray, omega2: np.ndarray, damping: np.ndarray,
@@ -384,8 +438,6 @@ def complex_modes(scale: np.ndarray, rows: np.ndarray, omega2: np.ndarray, dampi
     reason = ""
     if np.any(np.abs(lam) <= tol):
         reason = "a zero eigenvalue"
-    elif np.unique(np.round(lam.real / tol) + 1j * np.round(lam.imag / tol)).size < lam.size:
-        reason = "repeated eigenvalues"
     else:
         x = v[ne:] / lam[None, :]
         # w^T v = x^T v2 - x^T Kt v1 / lam with the computed v1 (not P x), so that w_j^T v_j = 1
@@ -395,14 +447,20 @@ def complex_modes(scale: np.ndarray, rows: np.ndarray, omega2: np.ndarray, dampi
         if coupling is not None:
             ktv = ktv + np.einsum("ij,ij->j", x, coupling @ v1)
         norm = np.einsum("ij,ij->j", x, v[ne:]) - ktv / lam
+        if _mixed_pairs(lam, v, x, norm, rows, omega2 / scale, coupling, ne, tol) > PROBE_TOL:
+            reason = "repeated eigenvalues"
+    if not reason:
         modes = ComplexModes(lam, v, ne, "left eigenvectors from the right ones (symmetric problem)",
                              x / norm[None, :], kt, None)
         # eigenvalue condition numbers ||w|| ||v|| / |w^T v| (||v|| = 1 from eig)
-        w1 = (omega2 / scale)[:, None] * x[rows]            # Kt^T x (the diagonal part)
-        if coupling is not None:
-            w1 += coupling.T @ x
-        kappa = np.sqrt(np.sum(np.abs(w1 / lam[None, :]) ** 2, axis=0) + np.sum(np.abs(x) ** 2, axis=0))
-        kappa /= np.abs(norm)
+        if coupling is None:        # |Kt^T x|^2 = sum_i (omega2_i / scale_i)^2 |x_i|^2: one pass over x
+            ax2 = _abs2(x)
+            w1n = (omega2 / scale) ** 2 @ (ax2 if rows.size == nk and np.array_equal(rows, np.arange(nk))
+                                           else ax2[rows])
+        else:
+            w1 = (omega2 / scale)[:, None] * x[rows] + coupling.T @ x      # Kt^T x
+            w1n, ax2 = _abs2(w1).sum(axis=0), _abs2(x)
+        kappa = np.sqrt(w1n / _abs2(lam) + ax2.sum(axis=0)) / np.abs(norm)
         r = np.random.default_rng(seed).standard_normal(n)
         miss = float(np.linalg.norm(modes.solve(v @ r) - r) / np.linalg.norm(r))
         if miss <= PROBE_TOL and float(kappa.max()) <= COND_MAX:

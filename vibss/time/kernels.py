@@ -517,18 +517,26 @@ def _modal_sets(prep: Prepared, q0: np.ndarray, v0: np.ndarray,
         cm = complex_modes(se, np.arange(ne), w2[e], chat[np.ix_(e, e)], horizon=horizon)
         lam, V = cm.lam, cm.vectors
         keep = lam.imag >= 0
-        sol = np.column_stack([cm.solve(np.concatenate([se * eta0[e], deta0[e]])[:, None]),
-                               cm.velocity_rows()])
+        z0 = cm.solve(np.concatenate([se * eta0[e], deta0[e]])[:, None])[keep]
         Vk = V[:, keep]
         Yw = Ceta[:, e] @ (Vk[:ne] / se[:, None]) + Cdeta[:, e] @ Vk[ne:]
         weight = np.where(lam[keep].imag > 0, 2.0, 1.0)
-        scalar.append(_ModalSet(A=lam[keep].reshape(-1, 1, 1), P=(sol[keep, 1:] @ phi[:, e].T),
-                                x0=sol[keep, :1], Y=Yw[:, :, None] * weight[None, :, None]))
+        # the forcing per input channel, V^-1[:, velocity] Phi^T [F, -Kt, -Ct] (N/2 x 3m): the
+        # (N/2 x n) map Phi^T itself is only ever applied to those 3m columns (an N^3/8 complex
+        # GEMM saved, about 0.06 s at 600 DOF)
+        scalar.append(_ModalSet(A=lam[keep].reshape(-1, 1, 1), P=None,
+                                x0=z0, Y=Yw[:, :, None] * weight[None, :, None],
+                                Pc=cm.velocity_rows()[keep] @ (phi[:, e].T @ channels(prep))))
         how = (f"non-proportional damping: {ne} coupled modes as complex modes (eig of the scaled "
                f"modal first-order form), {len(w) - ne} decoupled real modes")
+    if len(scalar) > 1:     # decoupled and coupled scalar modes in one set: their channel maps
+        wg = channels(prep)
+        scalar = [x if x.P is None else dataclasses.replace(x, P=None, Pc=x.P @ wg) for x in scalar]
     if scalar:
-        sets.append(_ModalSet(A=np.concatenate([x.A for x in scalar]), P=np.concatenate([x.P for x in scalar]),
-                              x0=np.concatenate([x.x0 for x in scalar]), Y=np.concatenate([x.Y for x in scalar], axis=1)))
+        sets.append(_ModalSet(A=np.concatenate([x.A for x in scalar]),
+                              P=None if scalar[0].P is None else np.concatenate([x.P for x in scalar]),
+                              x0=np.concatenate([x.x0 for x in scalar]), Y=np.concatenate([x.Y for x in scalar], axis=1),
+                              Pc=None if scalar[0].Pc is None else np.concatenate([x.Pc for x in scalar])))
     return sets, how
 
 
