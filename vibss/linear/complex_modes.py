@@ -242,7 +242,6 @@ def _inverse_iteration(lam: np.ndarray, v: np.ndarray, todo: np.ndarray, scale: 
     hysteretic coupling), the partner of a pair ``eig`` returned conjugate takes the conjugate of
     the refined mode instead of a solve of its own."""
     ne, nk = scale.size, damping.shape[0]
-    eye = np.eye(nk)
     real = not np.iscomplexobj(damping) and not np.any(kp.imag)
     done: dict[complex, int] = {}
     for j in todo:
@@ -253,15 +252,16 @@ def _inverse_iteration(lam: np.ndarray, v: np.ndarray, todo: np.ndarray, scale: 
             continue
         done[complex(lj)] = j
         x = v[ne:, j] / lj
-        q = lj * lj * eye + lj * damping + kp
+        q = lj * damping                              # Q(lj) = lj^2 I + lj G + Kt P, one temporary
+        q += kp
+        q.flat[::nk + 1] += lj * lj
         with warnings.catch_warnings():            # an exactly singular Q: lj exact, nothing to refine
             warnings.simplefilter("ignore", sl.LinAlgWarning)
             lu = sl.lu_factor(q, overwrite_a=True, check_finite=False)
         if not np.all(np.diag(lu[0])) or not np.all(np.isfinite(lu[0])):
             continue
         for _ in range(2):
-            dq = 2 * lj * eye + damping
-            y = sl.lu_solve(lu, dq @ x, check_finite=False)     # inverse iteration (Newton) step
+            y = sl.lu_solve(lu, 2 * lj * x + damping @ x, check_finite=False)   # Q'(lj) x: a Newton step
             if not np.all(np.isfinite(y)) or not np.any(y):
                 break
             y = y / np.abs(y).max()                    # lj all but exact: y can reach 1e308
