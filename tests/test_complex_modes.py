@@ -119,3 +119,19 @@ def test_frf_screen_refines_only_the_poles_that_are_off(monkeypatch):
     ref = extended_precision_frf(plant, s)
     err = np.linalg.norm(h - ref, axis=(0, 1)) / np.linalg.norm(ref, axis=(0, 1))
     assert err.max() <= 1e-9
+
+
+def test_close_but_resolved_eigenvalues_keep_the_structured_inverse_for_an_frf():
+    """Two modes 1e-10 apart in omega^2 (eigenvalues ~3e-11 max|lam| apart, well above eig's error):
+    for a frequency response they are not 'repeated' (REPEATED_TOL) and the left vectors from the
+    right ones still invert V (against an explicit inverse); a time response keeps the LU there."""
+    w2 = np.array([4.0, 4.0 * (1 + 1e-10), 9.0])
+    g = np.diag([0.1, 0.1, 0.2])
+    cm = complex_modes(np.sqrt(w2), np.arange(3), w2, g)
+    assert cm.how.startswith("left eigenvectors")
+    inv = np.linalg.inv(cm.vectors)
+    r = np.random.default_rng(2).standard_normal((3, 2))
+    full = np.vstack([np.zeros((3, 2)), r])
+    np.testing.assert_allclose(cm.solve_velocity(r), inv @ full, atol=1e-9 * np.abs(inv @ full).max())
+    timed = complex_modes(np.sqrt(w2), np.arange(3), w2, g, horizon=1.0)
+    assert timed.how == "LU of V (repeated eigenvalues)"
