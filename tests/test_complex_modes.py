@@ -166,3 +166,18 @@ def test_close_distinct_eigenvalues_keep_the_structured_solve():
     np.testing.assert_allclose(cm.solve(np.eye(6)), inv, atol=1e-9 * np.abs(inv).max())
     a = _matrix(w, np.arange(3), w2, g, None)
     np.testing.assert_allclose(cm.solve(a @ cm.vectors), np.diag(lam), atol=1e-9 * np.abs(lam).max())
+
+
+def test_close_but_resolved_eigenvalues_keep_the_structured_inverse_for_frf_and_time():
+    """Two modes 1e-10 apart in omega^2 (eigenvalues ~3e-11 max|lam| apart, well above eig's error):
+    their cross terms are small, so for a frequency response and a time response alike the left
+    vectors from the right ones are kept, and they invert V (against an explicit inverse)."""
+    w2 = np.array([4.0, 4.0 * (1 + 1e-10), 9.0])
+    g = np.diag([0.1, 0.1, 0.2])
+    r = np.random.default_rng(2).standard_normal((3, 2))
+    full = np.vstack([np.zeros((3, 2)), r])
+    for horizon in (np.inf, 1.0):
+        cm = complex_modes(np.sqrt(w2), np.arange(3), w2, g, horizon=horizon)
+        assert cm.how.startswith("left eigenvectors")
+        inv = np.linalg.inv(cm.vectors)
+        np.testing.assert_allclose(cm.solve_velocity(r), inv @ full, atol=1e-9 * np.abs(inv @ full).max())

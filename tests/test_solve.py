@@ -349,3 +349,26 @@ def test_a_zero_axis_beside_a_stiff_one_keeps_the_free_mass(zero_axis_damping: f
     for backend in BACKENDS:
         y = response(plant, np.array([1j * w]), backend=backend)[:, :, 0]
         assert np.abs(y - ref).max() <= 1e-12 * np.abs(ref).max(), backend
+
+
+def test_a_full_dense_plant_above_dense_max_takes_the_dense_lu() -> None:
+    """``backend="auto"`` by the pattern: a 600-DOF grid assembled from mounts (a few per cent
+    full) keeps the sparse LU; the same plant projected on 320 random vectors (C full, as the
+    channel subspace's reduced plants) takes the batched dense LU, and its response equals
+    SuperLU's on the same matrices (a second factorisation)."""
+    import sys
+    from pathlib import Path
+
+    from vibss.linear import solve as sv
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    from models import grid_model
+
+    plant = build_plant(grid_model(100, damping="general", seed=2), ["b0.fz", "b7.fx"], ["b3.z", "b9.y"])
+    assert plant.n > sv.DENSE_MAX and sv._pick(plant, "auto") in ("banded", "superlu")
+    v = np.linalg.qr(np.random.default_rng(3).standard_normal((plant.n, 320)))[0]
+    red = plant.project(v)
+    assert red.n > sv.DENSE_MAX and sv._pick(red, "auto") == "dense"
+    s = 2j * np.pi * np.array([0.7, 3.0, 11.0])
+    h, ref = response(red, s), response(red, s, backend="superlu")
+    assert _error(h, ref) <= 1e-10

@@ -152,3 +152,22 @@ def test_auto_costs_the_damper_rank() -> None:
         ref = frequency_response(model, ["b0.fz"], ["b29.z", "b3.x"], f, method="direct").response
         err = np.linalg.norm(r.response - ref, axis=(0, 1)) / np.linalg.norm(ref, axis=(0, 1))
         assert err.max() <= (1e-7 if expect else 1e-9)
+
+
+@pytest.mark.parametrize("damping", ["general", "classical"])
+def test_damping_rank_counts_the_factor_columns_without_forming_them(damping: str) -> None:
+    """``auto`` costs woodbury by :func:`damping_rank`: three columns per damped mount, counted from
+    the model itself, and the column count of the formed factor ``U`` (an invariant)."""
+    import sys
+    from pathlib import Path
+
+    from vibss.linear.projection import damping_rank
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    from models import tree_model
+
+    model = tree_model(12, damping=damping)
+    plant = build_plant(model, ["b0.fx"], ["b3.z"])
+    damped = sum(1 for m in model.mounts if np.any(np.asarray(m.type.damping)))
+    assert damped > 0
+    assert damping_rank(plant) == 3 * damped == damping_factors(plant, modal_basis(plant))[0].shape[1]

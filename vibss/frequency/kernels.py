@@ -66,6 +66,8 @@ _Factors = tuple[np.ndarray, ...]
 """A matrix given as the product of its factors, ``(A, B, ...)`` for ``A @ B @ ...``."""
 _RightFactors = tuple[np.ndarray | Callable[[np.ndarray], np.ndarray], ...]
 """The same for right factors, where a callable ``f`` stands for the linear map ``x -> f(x)``."""
+_Form = np.ndarray | tuple[np.ndarray, np.ndarray]
+"""Modal transfer functions (nf, r), or the factors ``(a, b)`` of ``d * a[:, None] * b[None, :]``."""
 
 
 def direct(plant: Plant, s: np.ndarray) -> np.ndarray:
@@ -115,7 +117,7 @@ def _times_right(blocks: list[_RightFactors], r: np.ndarray) -> np.ndarray:
 
 def _superpose(plant: Plant, s: np.ndarray, left: list[_Factors],
                right: list[_RightFactors], d: np.ndarray,
-               d_acc: np.ndarray | None = None, d_mass: np.ndarray | None = None) -> np.ndarray:
+               d_acc: _Form | None = None, d_mass: _Form | None = None) -> np.ndarray:
     """``Y = sum_ab s^(a+b) Z (O_a left) diag(d) (right R_b)`` + feedthrough; returns (p, m, nf).
 
     ``left`` (n, r) maps modal amplitudes to DOFs, ``right`` (r, n) maps generalised forces to
@@ -131,7 +133,10 @@ def _superpose(plant: Plant, s: np.ndarray, left: list[_Factors],
     displacements) the *mass-residual* form ``Y = O M^-1 R / s^2 + sum(d_mass)`` competes too: far
     above a mode, its first-order terms ``r/(s - lam) + conj`` cancel to ``~ |s| / omega`` times
     their sum (graded chain, omega_max / omega_1 = 2e7: 1e-8 lost at 1.01 omega_max), which the
-    residual form does not.
+    residual form does not. Either form may be given as a pair ``(a, b)`` of (nf,) and (r,) factors
+    for ``d * a[:, None] * b[None, :]`` (complex modes: ``d_acc = s d / lam``, ``d_mass = d lam^2 /
+    s^2``): its cost is then ``|d|``'s weighted by ``|b|`` and it is formed only at the frequencies
+    that take it (two (nf, r) complex arrays and their magnitudes fewer: 0.15 s of 3 s at 600 DOF).
     """
     outs, rhs, order = _terms(plant)
     p, m, nf = len(plant.outputs), len(plant.inputs), s.size
@@ -144,11 +149,16 @@ def _superpose(plant: Plant, s: np.ndarray, left: list[_Factors],
     wl = sum(np.linalg.norm(lo, axis=0) for _, lo in lefts)
     wr = sum(np.linalg.norm(ro, axis=1) for _, ro, _, _ in rights)
     omap = dict(outs)
-    # the forms: (transfer functions, constant outputs {(a, i): (p, m)}, their factor per frequency)
-    forms: list[tuple[np.ndarray, dict | None, np.ndarray | None]] = [(d, None, None)]
-    costs = [np.abs(d) @ (wl * wr)]
+    weight = wl * wr
+    absd = np.abs(d)
+    # the forms: (transfer functions or their (row, column) factors on d, constant outputs
+    # {(a, i): (p, m)}, their factor per frequency)
+    forms: list[tuple[_Form, dict | None, np.ndarray | None]] = [(d, None, None)]
+    costs = [absd @ weight]
     for extra, solver, factor in ((d_acc, _static, None), (d_mass, _mass_solve, -2)):
         if extra is None:
+            continue
+        if isinstance(extra, tuple) and not np.all(np.isfinite(extra[1])):
             continue
         try:
             const = [solver(plant, rb) for _, _, _, rb in rights]
@@ -157,23 +167,33 @@ def _superpose(plant: Plant, s: np.ndarray, left: list[_Factors],
         with np.errstate(divide="ignore", invalid="ignore"):
             scale = np.ones(nf) if factor is None else s.astype(complex) ** factor
         ok = np.isfinite(scale)
-        fin = np.isfinite(extra)
-        if not fin.all():                                # at s = 0 or an undamped resonance
-            ok &= np.all(fin | bad, axis=1)
-            extra = np.where(fin, extra, 0.0)
+        if isinstance(extra, tuple):                     # d a[:, None] b[None, :], d finite
+            ok &= np.isfinite(extra[0])
+            terms = (absd @ (np.abs(extra[1]) * weight)) * np.abs(np.where(ok, extra[0], 0.0))
+        else:
+            fin = np.isfinite(extra)
+            if not fin.all():                            # at s = 0 or an undamped resonance
+                ok &= np.all(fin | bad, axis=1)
+                extra = np.where(fin, extra, 0.0)
+            terms = np.abs(extra) @ weight
         scale = np.where(ok, scale, 0.0)
         ys = {(a, i): omap[a] @ const[i] for a, _ in lefts for i in range(len(rights))}
         # pick per frequency the form with the smallest sum of term magnitudes
-        cost = np.abs(extra) @ (wl * wr) + np.abs(scale) * sum(np.linalg.norm(v) for v in ys.values())
+        cost = terms + np.abs(scale) * sum(np.linalg.norm(v) for v in ys.values())
         forms.append((extra, ys, scale))
         costs.append(np.where(ok, cost, np.inf))
     pick = np.argmin(np.stack(costs), axis=0)
     y = np.zeros((nf, p * m), dtype=complex)
-    for which, (dd, consts, cscale) in enumerate(forms):
+    for which, (form, consts, cscale) in enumerate(forms):
         rows = pick == which
         if not np.any(rows):
             continue
-        dd, sr, zr = dd[rows], s[rows], zf[rows]
+        if isinstance(form, tuple):
+            dd = d[rows] * form[0][rows, None]
+            dd *= form[1][None, :]
+        else:
+            dd = form if rows.all() else form[rows]
+        sr, zr = s[rows], zf[rows]
         part = np.zeros((sr.size, p * m), dtype=complex)
         for a, lo in lefts:
             for i, (b, ro, scaled, _) in enumerate(rights):
@@ -399,12 +419,13 @@ def complex_modal(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) 
             with np.errstate(divide="ignore", invalid="ignore"):
                 ds.append(pole * inv_s[:, None])
     d = np.asarray(ds[0] if len(ds) == 1 else np.hstack(ds), dtype=complex)   # no copy for one part
-    d_acc = d_mass = None
+    d_acc: _Form | None = None
+    d_mass: _Form | None = None
     if not basis.rigid.any():
         with np.errstate(divide="ignore", invalid="ignore"):
-            d_acc = s[:, None] * d / lam[None, :]
+            d_acc = (s, 1.0 / lam)            # s d / lam
             # 1 / (s - lam) - 1 / s - lam / s^2: sum_j r_j = 0 and sum_j lam_j r_j = M^-1 for displacements
-            d_mass = d * (lam**2)[None, :] / (s**2)[:, None]
+            d_mass = (1.0 / s**2, lam**2)     # d lam^2 / s^2
     return _superpose(plant, s, lefts, rights, d, d_acc, d_mass)
 
 

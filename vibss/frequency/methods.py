@@ -16,7 +16,7 @@ import numpy as np
 from ..linear.banded import seconds_floor, structure
 from ..linear.eigen import ModalBasis
 from ..linear.plant import Plant
-from ..linear.projection import damping_factors
+from ..linear.projection import damping_rank
 from ..linear.subspace import MOMENTS, N_SHIFTS, TWO_SIDED_MAX
 from ..methods import resolve
 from .kernels import (COMPLEX_MODE_RISK, METHODS, REFINE_PREDICT, FrequencyMethod, classical_damping,
@@ -61,7 +61,8 @@ def estimates(plant: Plant, nf: int, basis: ModalBasis, rank: int, refine: int |
     """``auto``'s cost model: estimated seconds of each modal method for a non-classical plant.
 
     Counts the inputs ``m``, outputs ``p``, frequencies ``nf``, modes ``n`` and the damper rank ``r``
-    (:func:`vibss.linear.projection.damping_factors`):
+    (:func:`vibss.linear.projection.damping_rank`, the columns of
+    :func:`~vibss.linear.projection.damping_factors`' ``U``):
 
     - ``woodbury``: ``nf n (p m + r (p + m) + r^2 / 2)`` weighted-sum GEMM work plus ``nf (r + 2)^3``
       for the bordered LUs;
@@ -142,7 +143,7 @@ def choose(plant: Plant, nf: int, basis: ModalBasis | None) -> tuple[str, str]:
     risks = mode_risks(basis, projected)
     risk = float(risks.max()) if risks.size else 0.0
     refine = None if np.isinf(risk) else int(np.count_nonzero(risks > REFINE_PREDICT))
-    rank = damping_factors(plant, basis)[0].shape[1]
+    rank = damping_rank(plant)
     cost = estimates(plant, nf, basis, rank, refine)
     best = min(cost, key=cost.__getitem__)
     how = ""
@@ -216,7 +217,7 @@ def _choose_branches(plant: Plant, nf: int, basis: ModalBasis) -> tuple[str, str
     note = br.note()
     projected = project_damping(plant, basis)
     classical, _ = classical_damping(plant, basis, projected)
-    rank = br.r + (0 if classical else damping_factors(plant, basis)[0].shape[1])
+    rank = br.r + (0 if classical else damping_rank(plant))
     cost = {"woodbury": estimates(plant, nf, basis, rank, None)["woodbury"]}
     st = plant.cached("band structure", lambda: structure(plant))
     cost["sparse"] = nf * st.seconds_per_frequency

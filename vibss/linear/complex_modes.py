@@ -22,6 +22,7 @@ bi-orthogonal one; eigenvalues merely close are checked pair by pair), or a rand
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -225,12 +226,16 @@ def _refine_slow_modes(lam: np.ndarray, v: np.ndarray, scale: np.ndarray, rows: 
 def _inverse_iteration(lam: np.ndarray, v: np.ndarray, todo: np.ndarray, scale: np.ndarray,
                        rows: np.ndarray, damping: np.ndarray,
                        kp: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The modes ``todo`` refined, pole and vector, by two inverse-iteration (Newton) steps on
-    ``Q(lam) = lam^2 I + lam G + Kt P`` (a dense solve per mode). Where ``Q`` is real (no
+    """The modes ``todo`` refined, pole and vector, by two inverse-iteration steps on
+    ``Q(lam) = lam^2 I + lam G + Kt P``, each followed by a Newton step on ``x^T Q(lam) x = 0`` for
+    the pole. Both steps solve with one LU of ``Q`` at ``eig``'s pole (a dense factorisation per
+    mode, O(nk^3); the second step's solve is O(nk^2)): that shift is within ``eps max|lam|`` of
+    the pole, so the second step contracts the vector's error by ``eps max|lam| / gap`` as well as
+    a fresh factorisation at the Newton pole would (measured: the graded chain's 60-digit errors
+    and the tree's extended-precision ones unchanged, half the dense work). Where ``Q`` is real (no
     hysteretic coupling), the partner of a pair ``eig`` returned conjugate takes the conjugate of
     the refined mode instead of a solve of its own."""
     ne, nk = scale.size, damping.shape[0]
-    eye = np.eye(nk)
     real = not np.iscomplexobj(damping) and not np.any(kp.imag)
     done: dict[complex, int] = {}
     for j in todo:
@@ -241,13 +246,16 @@ def _inverse_iteration(lam: np.ndarray, v: np.ndarray, todo: np.ndarray, scale: 
             continue
         done[complex(lj)] = j
         x = v[ne:, j] / lj
+        q = lj * damping                              # Q(lj) = lj^2 I + lj G + Kt P, one temporary
+        q += kp
+        q.flat[::nk + 1] += lj * lj
+        with warnings.catch_warnings():            # an exactly singular Q: lj exact, nothing to refine
+            warnings.simplefilter("ignore", sl.LinAlgWarning)
+            lu = sl.lu_factor(q, overwrite_a=True, check_finite=False)
+        if not np.all(np.diag(lu[0])) or not np.all(np.isfinite(lu[0])):
+            continue
         for _ in range(2):
-            q = lj * lj * eye + lj * damping + kp
-            dq = 2 * lj * eye + damping
-            try:
-                y = np.linalg.solve(q, dq @ x)                    # inverse iteration (Newton) step
-            except np.linalg.LinAlgError:                          # lj exact: nothing to refine
-                break
+            y = sl.lu_solve(lu, 2 * lj * x + damping @ x, check_finite=False)   # Q'(lj) x: a Newton step
             if not np.all(np.isfinite(y)) or not np.any(y):
                 break
             y = y / np.abs(y).max()                    # lj all but exact: y can reach 1e308
@@ -434,7 +442,8 @@ def complex_modes(scale: np.ndarray, rows: np.ndarray, omega2: np.ndarray, dampi
     lam, v = eigenpairs(a)
     lam, v = _refine_slow_modes(lam, v, scale, rows, omega2, damping, coupling, horizon)
     kt = (rows, omega2 / scale, coupling)
-    tol = 1e-9 * max(float(np.abs(lam).max()), np.finfo(float).tiny)
+    top = max(float(np.abs(lam).max()), np.finfo(float).tiny)
+    tol = 1e-9 * top
     reason = ""
     if np.any(np.abs(lam) <= tol):
         reason = "a zero eigenvalue"

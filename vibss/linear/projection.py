@@ -19,7 +19,7 @@ import scipy.sparse as sp
 from .eigen import ModalBasis, fast_matrix
 from .plant import Plant
 
-__all__ = ["projected_damping", "damping_factors"]
+__all__ = ["projected_damping", "damping_factors", "damping_rank"]
 
 
 def projected_damping(plant: Plant, basis: ModalBasis) -> tuple[np.ndarray, np.ndarray]:
@@ -127,29 +127,56 @@ def _touched(mats: list[Any], n: int) -> np.ndarray:
     return np.flatnonzero(hit)
 
 
+def _pieces(plant: Plant) -> tuple[Any, np.ndarray, np.ndarray, list[Any], np.ndarray]:
+    """Where the damping sits: the plant's mount form (None when it does not match), its damped
+    mounts, its per-axis mounts, the rest of ``C`` and ``H`` and the DOFs that rest touches."""
+    form = plant.mounts
+    if form is not None and form.matches(plant):
+        damped = np.flatnonzero(np.any(form.cp != 0, axis=(1, 2)) | np.any(form.hp != 0, axis=(1, 2)))
+        axes = np.flatnonzero((form.ca != 0) | (form.ha != 0))        # the mounts kept apart per axis
+        rest = [form.C, form.H]
+    else:
+        form, damped, axes, rest = None, np.zeros(0, int), np.zeros(0, int), [plant.C, plant.H]
+    return form, damped, axes, rest, _touched(rest, plant.n)
+
+
+def damping_rank(plant: Plant) -> int:
+    """The number of columns of :func:`damping_factors`' ``U`` (3 per damped mount, one per damped
+    mount axis kept apart, one per DOF the rest of the damping touches), counted without forming
+    it: ``auto`` costs the low-rank update by it (:mod:`vibss.frequency.methods`), and forming ``U``
+    (a product with every mode) only to count its columns cost 0.08-0.10 s at 600 DOF.
+
+    Parameters
+    ----------
+    plant : Plant
+
+    Returns
+    -------
+    int
+    """
+    def count() -> int:
+        _, damped, axes, _, idx = _pieces(plant)
+        return 3 * damped.size + axes.size + idx.size
+
+    return plant.cached("damping rank", count)
+
+
 def _factors(plant: Plant, basis: ModalBasis) -> tuple[ModalBasis, tuple[np.ndarray, np.ndarray, np.ndarray]]:
     phi = basis.phi
-    n = phi.shape[0]
-    form = plant.mounts
     cols: list[np.ndarray] = []          # (k, r_i) blocks of U
     zc: list[np.ndarray] = []
     zh: list[np.ndarray] = []
-    if form is not None and form.matches(plant):
-        damped = np.flatnonzero(np.any(form.cp != 0, axis=(1, 2)) | np.any(form.hp != 0, axis=(1, 2)))
+    form, damped, axes, rest, idx = _pieces(plant)
+    if form is not None:
         if damped.size:
             rows = (3 * damped[:, None] + np.arange(3)).ravel()
             cols.append(np.asarray(form.B[rows] @ phi).T)
             zc.append(sl.block_diag(*form.cp[damped]))
             zh.append(sl.block_diag(*form.hp[damped]))
-        axes = np.flatnonzero((form.ca != 0) | (form.ha != 0))        # the mounts kept apart per axis
         if axes.size:
             cols.append(np.asarray(form.Ba[axes] @ phi).T)
             zc.append(np.diag(form.ca[axes]))
             zh.append(np.diag(form.ha[axes]))
-        rest = [form.C, form.H]
-    else:
-        rest = [plant.C, plant.H]
-    idx = _touched(rest, n)
     if idx.size:
         cols.append(phi[idx].T)
         zc.append(_dense(rest[0])[np.ix_(idx, idx)])

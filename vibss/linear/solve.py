@@ -24,7 +24,8 @@ Three back-ends solve the same equations (``backend=``):
 - ``"banded"``: reverse Cuthill-McKee ordering + LAPACK ``zgbsv`` (:mod:`vibss.linear.banded`), O(n b^2);
 - ``"superlu"``: :func:`scipy.sparse.linalg.splu` per frequency;
 - ``"sparse"``: ``"banded"`` or ``"superlu"`` by the structure (half-bandwidth <= ``BAND_MAX``);
-- ``"auto"``: ``"dense"`` for dense plants up to :data:`DENSE_MAX` DOFs, else ``"sparse"``.
+- ``"auto"``: ``"dense"`` for dense plants up to :data:`DENSE_MAX` DOFs or whose pattern is
+  :data:`DENSE_FILL` full, else ``"sparse"``.
 
 All are LU with partial pivoting on the assembled matrices, backward stable for ``A(s)``. On models
 with stiffness ratios of 1e5 and more that is not enough: the entries of ``K`` themselves carry
@@ -54,7 +55,7 @@ from .eigen import modal_basis
 from .plant import Plant
 from .plant_terms import plant_terms
 
-__all__ = ["BACKENDS", "FORMS", "MOUNTS_RATIO", "DENSE_MAX", "zfactor", "states", "response", "zero_frequency_limit",
+__all__ = ["BACKENDS", "FORMS", "MOUNTS_RATIO", "DENSE_MAX", "DENSE_FILL", "zfactor", "states", "response", "zero_frequency_limit",
            "lu_solver", "statespace_plant", "without_hysteresis", "SingularMatrixError", "forcing",
            "observe", "observed_dofs", "output_map"]
 
@@ -63,6 +64,14 @@ BACKENDS = ("auto", "dense", "sparse", "banded", "superlu")
 
 DENSE_MAX = 300
 """``backend="auto"``: dense plants up to this many DOFs are solved by the batched dense LU."""
+
+DENSE_FILL = 0.2
+"""``backend="auto"``: a dense plant above :data:`DENSE_MAX` DOFs takes the batched dense LU too when
+the nonzero pattern of its matrices fills at least this fraction of n x n (a plant projected on a
+basis, whose ``C`` and ``H`` are full: the channel subspace's reduced plants in Ritz coordinates):
+a sparse LU fills such a pattern in to dense and pays its overhead on every entry (subspace of a
+200-body grid, 160-656 vectors, 200 frequencies: 33 s of reduced solves by SuperLU). A plant
+assembled from mounts fills a few per cent at 300 DOF and less above, and stays sparse."""
 
 FORMS = ("auto", "assembled", "mounts")
 """Names accepted by ``form=``: the assembled ``K, C, H``, or the sum over mounts (:class:`MountForm`)."""
@@ -203,11 +212,23 @@ def observe(plant: Plant, s: np.ndarray, x: np.ndarray, zf: np.ndarray,
     return y + plant.Pf[None]
 
 
+def _filled(plant: Plant) -> bool:
+    """Whether a dense plant's ``K, C, M, H`` (and branch stiffnesses) together fill at least
+    :data:`DENSE_FILL` of the n x n pattern."""
+    def fill() -> float:
+        mats = [plant.K, plant.C, plant.M, plant.H] + [g.K for g in groups(plant)]
+        hit = np.zeros((plant.n, plant.n), dtype=bool)
+        for a in mats:
+            hit |= np.asarray(a) != 0
+        return float(np.count_nonzero(hit)) / max(plant.n, 1) ** 2
+    return bool(plant.cached("pattern fill", fill) >= DENSE_FILL)
+
+
 def _pick(plant: Plant, backend: str) -> str:
     if backend not in BACKENDS:
         raise ModelError(f"backend: expected one of {list(BACKENDS)}, got {backend!r}")
     if backend == "auto":
-        backend = "dense" if not sp.issparse(plant.K) and plant.n <= DENSE_MAX else "sparse"
+        backend = "dense" if not sp.issparse(plant.K) and (plant.n <= DENSE_MAX or _filled(plant)) else "sparse"
     if backend == "sparse":
         st = plant.cached("band structure", lambda: structure(plant))
         backend = "banded" if st.banded else "superlu"
