@@ -118,9 +118,11 @@ def _make(plant: Plant, k0: np.ndarray, c: np.ndarray, m: np.ndarray) -> ModalIn
     hh = float(np.vdot(h, h)) if h is not None else 0.0
     hc = float(np.vdot(h, c)) if h is not None else 0.0
     norms = np.array([np.vdot(kr, kr), np.vdot(kr, m), np.vdot(m, m), np.vdot(c, c), hh, hc], dtype=float)
-    for arr in (lam, left, right, terms, norms):
+    kept = []
+    for arr in (lam, left, right, terms, norms):      # read-only views of read-only arrays: for good
         arr.flags.writeable = False
-    return ModalInverse(lam, left, right, terms, norms)
+        kept.append(arr.view())
+    return ModalInverse(*kept)
 
 
 def modal_inverse(plant: Plant, k0: np.ndarray, c: np.ndarray, m: np.ndarray) -> ModalInverse | None:
