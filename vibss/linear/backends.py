@@ -29,7 +29,7 @@ from scipy.linalg.lapack import dgbsv, zgbsv
 
 from .banded import structure
 from .branches import groups
-from .certified import CERTIFY_TOL, applies, certified_states, modal_inverse
+from .certified import CERTIFY_MIN_FREQUENCIES, CERTIFY_TOL, applies, certified_states, modal_inverse
 from .plant import Plant
 
 __all__ = ["SOLVERS", "MOUNTS_DENSE_MAX", "dynamic_stiffness", "certified_note"]
@@ -157,14 +157,13 @@ def certified_note(plant: Plant, nf: int) -> str:
     certified complex-mode solutions (:mod:`vibss.linear.certified`), or ``""`` where it does not
     try them (too large or too few frequencies, frequency-dependent mounts, nearly dependent
     eigenvectors such as undamped rigid-body modes)."""
-    probe = np.zeros(nf, dtype=complex)
-    if plant.n > _KEEP_DOFS or not applies(plant, probe) or sp.issparse(plant.K):
+    if nf < CERTIFY_MIN_FREQUENCIES or plant.n > _KEEP_DOFS or sp.issparse(plant.K) \
+            or not applies(plant, np.zeros(CERTIFY_MIN_FREQUENCIES, dtype=complex)):
         return ""
-    if modal_inverse(plant, *_dense_terms(plant)) is None:
-        return ""
-    return ("complex-mode solutions kept at each frequency where their backward error "
-            f"||b - A x|| / (||A|| ||x|| + ||b||) is at most n eps = {CERTIFY_TOL * plant.n * np.finfo(float).eps:.1e} "
-            "(LU's level; checked at every frequency), the batched LU at the others")
+    return plant.cached("certified note", lambda: "" if modal_inverse(plant, *_dense_terms(plant)) is None else (
+        "complex-mode solutions kept at each frequency where their backward error "
+        f"||b - A x|| / (||A|| ||x|| + ||b||) is at most n eps = {CERTIFY_TOL * plant.n * np.finfo(float).eps:.1e} "
+        "(LU's level; checked at every frequency), the batched LU at the others"))
 
 
 def _banded(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray],

@@ -201,7 +201,7 @@ def certified_states(plant: Plant, s: np.ndarray, rhs: np.ndarray, k0: np.ndarra
         return None
     w = s.imag
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        pole = _poles(w, inv.lam)                                     # (nf, N)
+        pole = 1.0 / (s[:, None] - inv.lam[None, :])                 # (nf, N)
         if rhs.strides[0] == 0:                  # the same right-hand side at every s: R b once
             b = np.broadcast_to(rhs[0][:, None, :], (n, nf, nr))
             b_norm = np.broadcast_to(np.linalg.norm(rhs[0], axis=0), (nf, nr))
@@ -218,21 +218,6 @@ def certified_states(plant: Plant, s: np.ndarray, rhs: np.ndarray, k0: np.ndarra
         eta = _column_norms(_residual(inv, w, b, x)) / (a_norm[:, None] * _column_norms(x) + b_norm)
     ok = np.all(eta <= CERTIFY_TOL * n * np.finfo(float).eps, axis=1)
     return x.transpose(1, 0, 2), ok
-
-
-def _poles(w: np.ndarray, lam: np.ndarray) -> np.ndarray:
-    """``1 / (i w - lam)``, (nf, N) complex, in real arithmetic (``conj(d) / |d|^2``; no overflow for
-    the distances of a small plant's poles from the axis)."""
-    out = np.empty((w.size, lam.size), dtype=complex)
-    parts = out.view(float).reshape(out.shape + (2,))
-    re, im = parts[..., 0], parts[..., 1]
-    np.subtract(0.0, lam.real[None, :], out=re)               # Re d = -Re lam
-    np.subtract(w[:, None], lam.imag[None, :], out=im)        # Im d = w - Im lam
-    den = re * re + im * im
-    np.divide(re, den, out=re)
-    np.divide(im, den, out=im)
-    np.negative(im, out=im)
-    return out
 
 
 def _column_norms(v: np.ndarray) -> np.ndarray:
