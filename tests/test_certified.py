@@ -20,12 +20,12 @@ import vibss  # noqa: E402
 from vibss import Body, Model, Mount, MountType, Orientation  # noqa: E402
 from vibss.linear import backends, certified  # noqa: E402
 from vibss.linear.signals import build_plant  # noqa: E402
-from vibss.linear.solve import forcing, states, zfactor  # noqa: E402
+from vibss.linear.solve import forcing, states, statespace_plant, zfactor  # noqa: E402
 
 from cases import asymmetric_model  # noqa: E402
 from mp_reference import extended_precision_frf  # noqa: E402
 from scaled_cases import FAMILY  # noqa: E402
-from small_cases import sdof  # noqa: E402
+from small_cases import chain, sdof  # noqa: E402
 
 EPS = np.finfo(float).eps
 
@@ -126,13 +126,16 @@ def test_frequencies_that_miss_are_the_lu_bits(monkeypatch: pytest.MonkeyPatch) 
 
 
 def test_not_tried_where_it_cannot_help(monkeypatch: pytest.MonkeyPatch) -> None:
-    """Undamped rigid-body modes (Jordan blocks: nearly dependent eigenvectors), fewer than
-    CERTIFY_MIN_FREQUENCIES points, points off the imaginary axis and the mounts' form of the badly
+    """Undamped rigid-body modes (Jordan blocks: nearly dependent eigenvectors), a one-body plant
+    (6 DOF, below CERTIFY_MIN_DOFS), fewer than CERTIFY_MIN_FREQUENCIES points, points off the imaginary axis and the mounts' form of the badly
     scaled family keep the LU alone, bit for bit."""
-    plant = build_plant(sdof(), ["b.fz", "b.mx"], ["b.z", "b.rx"])       # rotations free: rigid modes
+    plant = build_plant(chain(), ["a.fz", "b.mx"], ["b.z", "a.rx"])      # rotations free: rigid modes
     s = 2j * np.pi * np.linspace(1.0, 30.0, 50)
     assert np.array_equal(states(plant, s)[0], _lu_only(plant, s, monkeypatch))
     assert plant._cache.get("certified modal inverse", "absent") is None
+    one_body = build_plant(sdof(), ["b.fz"], ["b.z"])                    # 6 DOF: the LU is as fast
+    states(one_body, s)
+    assert "certified modal inverse" not in one_body._cache
     model, _, s = _plant("box_and_item")
     few = build_plant(model, ["box.fz"], ["box.z"])
     states(few, s[:certified.CERTIFY_MIN_FREQUENCIES - 1])
@@ -143,6 +146,19 @@ def test_not_tried_where_it_cannot_help(monkeypatch: pytest.MonkeyPatch) -> None
         p = build_plant(m, [f"{m.bodies[0].name}.fz"], None)
         states(p, 2j * np.pi * np.geomspace(0.1, 1e3, 40))
         assert "certified modal inverse" not in p._cache, name
+
+
+def test_a_first_order_plant_keeps_the_lu() -> None:
+    """A state-space plant (``M = 0``, reduction responses) has no mass-normalised modes: the LU
+    answers, against the closed form ``c (sI - A)^-1 b`` of a damped oscillator."""
+    a = np.kron(np.eye(6), np.array([[0.0, 1.0], [-100.0, -0.5]]))      # six oscillators, 12 states
+    b, c = np.eye(12)[:, [1]], np.eye(12)[[0]]
+    p = statespace_plant(a, b, c, np.zeros((1, 1)), ("u",), ("y",))
+    s = 2j * np.pi * np.linspace(0.1, 10.0, 50)
+    y = vibss.linear.solve.response(p, s)[0, 0]
+    ref = 1.0 / (s * s + 0.5 * s + 100.0)
+    assert np.abs(y - ref).max() <= 1e-14 * np.abs(ref).max()
+    assert p._cache.get("certified modal inverse", "absent") is None
 
 
 def test_modal_inverse_is_read_only_and_auto_says_what_it_did() -> None:

@@ -7,7 +7,8 @@ matrix is exactly singular (a zero pivot; solutions there are zeros).
 
 Frequency-dependent mounts add ``g_tau(s) K_tau`` per relaxation time (:func:`vibss.linear.branches.groups`).
 
-- :func:`_dense`: batched LAPACK LU of the assembled ``K + iH + sC + s^2 M``;
+- :func:`_dense`: batched LAPACK LU of the assembled ``K + iH + sC + s^2 M`` (a small plant's
+  certified complex-mode solutions first, :mod:`vibss.linear.certified`);
 - :func:`_banded`: RCM ordering and LAPACK ``zgbsv`` (:mod:`vibss.linear.banded`);
 - :func:`_superlu`: :func:`scipy.sparse.linalg.splu`;
 - :func:`_mounts`: the mounts kept apart (:class:`~vibss.linear.plant.MountForm`), their forces
