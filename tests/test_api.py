@@ -21,7 +21,7 @@ LAYERS = [
     {"io", "examples", "linear.assemble", "linear.directions", "linear.eigen", "linear.eigen_checks",
      "linear.hysteresis"},
     {"linear.complex_modes", "linear.branch_modes", "linear.banded", "linear.signals", "linear.solve",
-     "linear.backends", "linear.projection", "linear.krylov", "linear.subspace", "statics", "time.integrators",
+     "linear.backends", "linear.certified", "linear.projection", "linear.krylov", "linear.subspace", "statics", "time.integrators",
      "time.phi", "time.recursion", "diagnostics"},
     {"linear", "modal"},
     {"frequency.kernels", "frequency.lowrank", "frequency.terms", "time.kernels", "time.branched", "studies"},

@@ -13,6 +13,7 @@ from typing import Any
 
 import numpy as np
 
+from ..linear.backends import certified_note
 from ..linear.banded import seconds_floor, structure
 from ..linear.eigen import ModalBasis
 from ..linear.plant import Plant
@@ -132,7 +133,8 @@ def choose(plant: Plant, nf: int, basis: ModalBasis | None) -> tuple[str, str]:
     if plant.branches is not None:
         return _choose_branches(plant, nf, basis)
     if plant.n <= 12:
-        return "direct", f"small model ({plant.n} DOF): direct solve is exact and cheap"
+        how = certified_note(plant, nf)
+        return "direct", f"small model ({plant.n} DOF): direct solve is exact and cheap{'; ' + how if how else ''}"
     if not np.any(plant.C) and not np.any(plant.H):
         return "sparse", ("undamped: sparse direct solve (a modal sum of an undamped model loses "
                           "digits next to each resonance, where its eigenvalue errors are not damped)")

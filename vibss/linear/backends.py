@@ -7,7 +7,8 @@ matrix is exactly singular (a zero pivot; solutions there are zeros).
 
 Frequency-dependent mounts add ``g_tau(s) K_tau`` per relaxation time (:func:`vibss.linear.branches.groups`).
 
-- :func:`_dense`: batched LAPACK LU of the assembled ``K + iH + sC + s^2 M``;
+- :func:`_dense`: batched LAPACK LU of the assembled ``K + iH + sC + s^2 M`` (a small plant's
+  certified complex-mode solutions first, :mod:`vibss.linear.certified`);
 - :func:`_banded`: RCM ordering and LAPACK ``zgbsv`` (:mod:`vibss.linear.banded`);
 - :func:`_superlu`: :func:`scipy.sparse.linalg.splu`;
 - :func:`_mounts`: the mounts kept apart (:class:`~vibss.linear.plant.MountForm`), their forces
@@ -29,9 +30,10 @@ from scipy.linalg.lapack import dgbsv, zgbsv
 
 from .banded import structure
 from .branches import groups
+from .certified import CERTIFY_MIN_FREQUENCIES, CERTIFY_TOL, applies, certified_states, modal_inverse
 from .plant import Plant
 
-__all__ = ["SOLVERS", "MOUNTS_DENSE_MAX", "dynamic_stiffness"]
+__all__ = ["SOLVERS", "MOUNTS_DENSE_MAX", "dynamic_stiffness", "certified_note"]
 
 MOUNTS_DENSE_MAX = 300
 """The mounts' system (n + 3 q unknowns) is solved by dense LU up to this size, else by SuperLU."""
@@ -97,10 +99,30 @@ def dynamic_stiffness(k0: np.ndarray, c: np.ndarray, m: np.ndarray, s: np.ndarra
 
 
 def _dense(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray],
-           rows: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+           rows: np.ndarray | None = None, certify: bool = True) -> tuple[np.ndarray, np.ndarray]:
     """Batched dense LU; the solutions where ``A(s)`` is exactly singular come back as zeros, flagged;
-    only the DOFs ``rows`` of each solution are kept (all by default)."""
+    only the DOFs ``rows`` of each solution are kept (all by default).
+
+    A small plant on the imaginary axis first takes its complex-mode solutions where their backward
+    error is at LU's level, frequency by frequency (:mod:`vibss.linear.certified`; ``certify=False``
+    skips them); the LU solves the frequencies that miss."""
     k0, c, m = _dense_terms(plant) if plant.n <= _KEEP_DOFS else _make_dense_terms(plant)
+    if certify and plant.n <= _KEEP_DOFS and applies(plant, s):
+        r_all = rhs(slice(None))
+        got = certified_states(plant, s, r_all, k0, c, m)
+        if got is not None:
+            x, bad = got[0], np.zeros(s.size, dtype=bool)
+            miss = np.flatnonzero(~got[1])
+            if miss.size:                           # the LU where the certificate missed
+
+                def part_of(part: slice) -> np.ndarray:
+                    return r_all[miss[part]]
+                x[miss], bad[miss] = _dense(plant, s[miss], part_of, None, certify=False)
+            return (x if rows is None else x[:, rows]), bad
+
+        def asked(part: slice, r_all: np.ndarray = r_all) -> np.ndarray:    # the right-hand sides asked once
+            return r_all[part]
+        rhs = asked
     relax = [g if not sp.issparse(g.K) else replace(g, K=g.K.toarray()) for g in groups(plant)]
     n = plant.n
     chunk = max(1, _CHUNK_BYTES // (16 * max(n, 1) ** 2))
@@ -129,6 +151,20 @@ def _dense(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray],
                     bad[lo + k] = True
         xs.append(x if rows is None else x[:, rows])
     return np.concatenate(xs), bad
+
+
+def certified_note(plant: Plant, nf: int) -> str:
+    """What the dense exact solve of ``plant`` at ``nf`` frequencies (> 0 Hz) does beside its LU: the
+    certified complex-mode solutions (:mod:`vibss.linear.certified`), or ``""`` where it does not
+    try them (too large or too few frequencies, frequency-dependent mounts, nearly dependent
+    eigenvectors such as undamped rigid-body modes)."""
+    if nf < CERTIFY_MIN_FREQUENCIES or plant.n > _KEEP_DOFS or sp.issparse(plant.K) \
+            or not applies(plant, np.zeros(CERTIFY_MIN_FREQUENCIES, dtype=complex)):
+        return ""
+    return plant.cached("certified note", lambda: "" if modal_inverse(plant, *_dense_terms(plant)) is None else (
+        "complex-mode solutions kept at each frequency where their backward error "
+        f"||b - A x|| / (||A|| ||x|| + ||b||) is at most n eps = {CERTIFY_TOL * plant.n * np.finfo(float).eps:.1e} "
+        "(LU's level; checked at every frequency), the batched LU at the others"))
 
 
 def _banded(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray],
