@@ -39,11 +39,10 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.linalg as sl
-from scipy.linalg import get_lapack_funcs
 
 from ..errors import VibssError
 from ..results import ReadOnly
-from .complex_modes import COND_MAX, eigenpairs
+from .complex_modes import COND_MAX, eigenpairs, factor_vectors
 from .eigen import modal_basis
 from .plant import Plant
 from .projection import projected_damping
@@ -114,9 +113,7 @@ def _make(plant: Plant, k0: np.ndarray, c: np.ndarray, m: np.ndarray) -> ModalIn
     lam, v = eigenpairs(a)
     if not (np.all(np.isfinite(lam)) and np.all(np.isfinite(v))):
         return None
-    lu = sl.lu_factor(v, check_finite=False)
-    gecon = get_lapack_funcs("gecon", (lu[0],))
-    rcond, _ = gecon(lu[0], np.linalg.norm(v, 1), norm="1")
+    lu, rcond = factor_vectors(v)
     if not rcond > 1.0 / COND_MAX:          # nearly dependent eigenvectors: the sums would fail everywhere
         return None
     sel = np.zeros((2 * n, n))

@@ -33,7 +33,7 @@ from scipy.spatial import cKDTree
 from ..errors import DefectiveModesError
 from ..results import ReadOnly
 
-__all__ = ["ComplexModes", "complex_modes", "eigenpairs", "eigenvalues", "PROBE_TOL"]
+__all__ = ["ComplexModes", "complex_modes", "eigenpairs", "eigenvalues", "factor_vectors", "PROBE_TOL"]
 
 PROBE_TOL = 1e-10
 """Largest relative residual of ``V^-1 (V r) = r`` (random ``r``) accepted for the left
@@ -383,6 +383,28 @@ def _mixed_pairs(lam: np.ndarray, v: np.ndarray, x: np.ndarray, norm: np.ndarray
     return float(np.abs(wv / norm[p]).max())
 
 
+def factor_vectors(v: np.ndarray) -> tuple[tuple[np.ndarray, np.ndarray], float]:
+    """LU factors of the eigenvectors ``V`` and the reciprocal of their 1-norm condition number
+    (LAPACK ``gecon``): below ``1 / COND_MAX`` the vectors are nearly dependent.
+
+    Parameters
+    ----------
+    v : (N, N) ndarray
+        Right eigenvectors, one per column.
+
+    Returns
+    -------
+    lu : tuple
+        ``scipy.linalg.lu_factor``'s factors of ``v``.
+    rcond : float
+        Estimate of ``1 / cond_1(V)``.
+    """
+    lu = sl.lu_factor(v, check_finite=False)
+    gecon = get_lapack_funcs("gecon", (lu[0],))
+    rcond, _ = gecon(lu[0], np.linalg.norm(v, 1), norm="1")
+    return lu, float(rcond)
+
+
 def complex_modes(scale: np.ndarray, rows: np.ndarray, omega2: np.ndarray, damping: np.ndarray,
                   coupling: np.ndarray | None = None, seed: int = 0, horizon: float = np.inf) -> ComplexModes:
     """Eigen-decompose ``A = [[0, P], [-Kt, -G]]`` (see the module docstring).
@@ -476,9 +498,7 @@ def complex_modes(scale: np.ndarray, rows: np.ndarray, omega2: np.ndarray, dampi
             return modes
         reason = (f"probe residual {miss:.1e} > {PROBE_TOL:g}" if miss > PROBE_TOL
                   else f"eigenvalue condition number {float(kappa.max()):.1e}")
-    lu = sl.lu_factor(v, check_finite=False)
-    gecon = get_lapack_funcs("gecon", (lu[0],))
-    rcond, _ = gecon(lu[0], np.linalg.norm(v, 1), norm="1")
+    lu, rcond = factor_vectors(v)
     if not rcond > 1.0 / COND_MAX:
         raise DefectiveModesError(f"complex modes: the eigenvectors are nearly dependent (cond(V) ~ "
                             f"{1 / max(rcond, 1e-300):.1e}: critically damped or defective modes), so a "
