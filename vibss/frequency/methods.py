@@ -18,6 +18,7 @@ from ..linear.banded import seconds_floor, structure
 from ..linear.eigen import ModalBasis
 from ..linear.plant import Plant
 from ..linear.projection import damping_rank
+from ..linear.solve import mounts_form_possible
 from ..linear.subspace import MOMENTS, N_SHIFTS, TWO_SIDED_MAX
 from ..methods import resolve
 from .kernels import (COMPLEX_MODE_RISK, METHODS, REFINE_PREDICT, FrequencyMethod, classical_damping,
@@ -133,7 +134,7 @@ def choose(plant: Plant, nf: int, basis: ModalBasis | None) -> tuple[str, str]:
     if plant.branches is not None:
         return _choose_branches(plant, nf, basis)
     if plant.n <= 12:
-        how = certified_note(plant, nf)
+        how = "" if mounts_form_possible(plant) else certified_note(plant, nf)
         return "direct", f"small model ({plant.n} DOF): direct solve is exact and cheap{'; ' + how if how else ''}"
     if not np.any(plant.C) and not np.any(plant.H):
         return "sparse", ("undamped: sparse direct solve (a modal sum of an undamped model loses "

@@ -30,7 +30,7 @@ from scipy.linalg.lapack import dgbsv, zgbsv
 
 from .banded import structure
 from .branches import groups
-from .certified import CERTIFY_MIN_FREQUENCIES, CERTIFY_TOL, applies, certified_states, modal_inverse
+from .certified import CERTIFY_TOL, applies, certified_states, modal_inverse
 from .plant import Plant
 
 __all__ = ["SOLVERS", "MOUNTS_DENSE_MAX", "dynamic_stiffness", "certified_note"]
@@ -157,9 +157,9 @@ def certified_note(plant: Plant, nf: int) -> str:
     """What the dense exact solve of ``plant`` at ``nf`` frequencies (> 0 Hz) does beside its LU: the
     certified complex-mode solutions (:mod:`vibss.linear.certified`), or ``""`` where it does not
     try them (too large or too few frequencies, frequency-dependent mounts, nearly dependent
-    eigenvectors such as undamped rigid-body modes)."""
-    if nf < CERTIFY_MIN_FREQUENCIES or plant.n > _KEEP_DOFS or sp.issparse(plant.K) \
-            or not applies(plant, np.zeros(CERTIFY_MIN_FREQUENCIES, dtype=complex)):
+    eigenvectors such as undamped rigid-body modes). The caller asks only where the assembled form
+    solves every frequency (:func:`vibss.linear.solve.mounts_form_possible` is false)."""
+    if sp.issparse(plant.K) or not applies(plant, np.zeros(nf, dtype=complex)):
         return ""
     return plant.cached("certified note", lambda: "" if modal_inverse(plant, *_dense_terms(plant)) is None else (
         "complex-mode solutions kept at each frequency where their backward error "

@@ -58,7 +58,7 @@ from .plant import Plant
 from .plant_terms import plant_terms
 
 __all__ = ["BACKENDS", "FORMS", "MOUNTS_RATIO", "DENSE_MAX", "DENSE_FILL", "zfactor", "states", "response", "zero_frequency_limit",
-           "lu_solver", "statespace_plant", "without_hysteresis", "SingularMatrixError", "forcing",
+           "lu_solver", "statespace_plant", "without_hysteresis", "SingularMatrixError", "forcing", "mounts_form_possible",
            "observe", "observed_dofs", "output_map"]
 
 BACKENDS = ("auto", "dense", "sparse", "banded", "superlu")
@@ -342,6 +342,13 @@ def _mounts_at(plant: Plant, form: str, s: np.ndarray) -> np.ndarray | None:
     if form != "auto" or mf is None or plant.branches is not None or not mf.matches(plant) or mf.inertia_w2 <= 0:
         return None
     return np.abs(s) ** 2 * MOUNTS_RATIO < mf.inertia_w2
+
+
+def mounts_form_possible(plant: Plant, form: str = "auto") -> bool:
+    """Whether ``form`` (one of :data:`FORMS`) solves some frequency of ``plant`` in the mounts' forces
+    (everywhere, or below a frequency: :func:`_mounts_at`), so that not every answer comes from the
+    assembled back-ends."""
+    return _mounts_at(plant, form, np.zeros(0)) is not None
 
 
 def _plain(plant: Plant, s: np.ndarray, backend: str, form: str = "auto") -> tuple[np.ndarray, np.ndarray]:
