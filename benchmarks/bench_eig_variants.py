@@ -72,9 +72,9 @@ def modal_matrix(kind: str) -> np.ndarray:
     from pathlib import Path
     sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
     from benchmarks.models import topology_model
-    import vibss.linear.complex_modes as cm
+    import vibss.linear.eigen.complex_modes as cm
     from vibss.frequency.kernels import METHODS
-    from vibss.linear.signals import build_plant
+    from vibss.linear.plant.signals import build_plant
 
     plant = build_plant(topology_model(kind, 100, damping="general"), ["b0.fx"], ["b0.x"])
     seen = {}

@@ -6,7 +6,7 @@ model builder itself needs no eigen-analysis), one BLAS thread:
 - ``vibss.modes(model, n_modes=20)`` against raw ``scipy.sparse.linalg.eigsh`` shift-invert on the
   same assembled K and M (time ratio, largest relative difference of the frequencies, peak memory);
 - ``vibss.frequency_response(model, 1 input, 3 outputs, 200 explicit frequencies)``: ``auto`` (the
-  channel subspace, :mod:`vibss.linear.subspace`) against the exact banded LU per frequency
+  channel subspace, :mod:`vibss.linear.project.subspace`) against the exact banded LU per frequency
   (``method="sparse"``) and a plain ``scipy.sparse.linalg.splu`` per frequency written here (the
   stock path), with the error of both against the splu answer at every frequency (relative to each
   channel's peak);

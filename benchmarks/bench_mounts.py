@@ -58,9 +58,9 @@ from benchmarks.machine import machine, timed  # noqa: E402
 from benchmarks.models import chain_model  # noqa: E402
 from vibss import Model, MountType, frequency_response, simulate, statespace  # noqa: E402
 from vibss.frequency.kernels import METHODS  # noqa: E402
-from vibss.linear.banded import structure  # noqa: E402
-from vibss.linear.branches import groups  # noqa: E402
-from vibss.linear.signals import build_plant  # noqa: E402
+from vibss.linear.solve.banded import structure  # noqa: E402
+from vibss.linear.plant.branches import groups  # noqa: E402
+from vibss.linear.plant.signals import build_plant  # noqa: E402
 
 
 def zener_twin(model: Model, tau: float, only: tuple[str, ...] | None = None) -> Model:

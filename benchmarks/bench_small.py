@@ -8,7 +8,7 @@ for the modes; python-control's own answers for the FRF and the time response, a
 also an LU refined with the residual in long double, ``tests/mp_reference.extended_precision_frf``).
 
 Two vibss figures per call: **same model** (the loop of the issue: one model asked again, so its
-assembly, plant and factorisations are remembered, :mod:`vibss.linear.memo`) and **new model**
+assembly, plant and factorisations are remembered, :mod:`vibss.linear.plant.memo`) and **new model**
 (the memo emptied before every call: the cost for a model never seen, e.g. each Monte Carlo
 variant). The python-control side gets its ``StateSpace`` built once (its own cached object).
 Run: ``python benchmarks/bench_small.py [--quick]``.
@@ -31,8 +31,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
 import control  # noqa: E402
 
 import vibss  # noqa: E402
-from vibss.linear.memo import forget  # noqa: E402
-from vibss.linear.signals import build_plant  # noqa: E402
+from vibss.linear.plant.memo import forget  # noqa: E402
+from vibss.linear.plant.signals import build_plant  # noqa: E402
 from mp_reference import extended_precision_frf  # noqa: E402
 
 

@@ -2,7 +2,7 @@
 
 A 200-body 10-wide grid (1,200 DOF), every mount damped with its own beta and a loss factor 0.05, 2
 inputs x 3 outputs x 200 frequencies (tests/test_frequency_subspace.py's grid case), built sparse.
-The subspace (:mod:`vibss.linear.subspace`) projects the plant on 160-656 Ritz vectors, whose ``C``
+The subspace (:mod:`vibss.linear.project.subspace`) projects the plant on 160-656 Ritz vectors, whose ``C``
 and ``H`` are full; each reduced plant's response at the 200 frequencies is an exact solve of it.
 Timed, one BLAS thread, CPU seconds (the machine is shared): the subspace with its reduced plants
 solved by SuperLU (``backend="sparse"`` forced: the path before ``DENSE_FILL``) and by ``auto``
@@ -24,11 +24,11 @@ from threadpoolctl import threadpool_limits
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 from benchmarks.models import grid_model  # noqa: E402
-import vibss.linear.subspace as sub  # noqa: E402
+import vibss.linear.project.subspace as sub  # noqa: E402
 from vibss import Model  # noqa: E402
 from vibss.frequency.kernels import subspace  # noqa: E402
-from vibss.linear.signals import build_plant  # noqa: E402
-from vibss.linear.solve import response  # noqa: E402
+from vibss.linear.plant.signals import build_plant  # noqa: E402
+from vibss.linear.solve.exact import response  # noqa: E402
 
 
 def main() -> None:

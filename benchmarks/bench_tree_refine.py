@@ -4,7 +4,7 @@ item 2): which modes need it, what each refinement costs, and how accurate each 
 The tree of ``benchmarks/models.py`` (100 bodies, every mount damped with its own beta) has stiff
 overdamped modes (``max|lam|`` 2.5e7 rad/s) beside lightly damped ones, so the a-priori bound
 ``eps max|lam| / |Re lam|`` flags hundreds of modes. Variants of
-``vibss.linear.complex_modes._refine_slow_modes``, each run through ``complex_modal``:
+``vibss.linear.eigen.complex_modes._refine_slow_modes``, each run through ``complex_modal``:
 
 - ``none``: ``eig``'s pairs as they stand;
 - ``all at risk``: the per-mode dense inverse iteration on ``Q(lam)`` for every flagged mode (the
@@ -42,10 +42,10 @@ sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "tests"))
 from benchmarks.models import topology_model  # noqa: E402
 from mp_reference import extended_precision_frf  # noqa: E402
-import vibss.linear.complex_modes as cmm  # noqa: E402
+import vibss.linear.eigen.complex_modes as cmm  # noqa: E402
 from vibss.frequency.kernels import METHODS  # noqa: E402
-from vibss.linear.eigen import modal_basis  # noqa: E402
-from vibss.linear.signals import build_plant  # noqa: E402
+from vibss.linear.eigen.undamped import modal_basis  # noqa: E402
+from vibss.linear.plant.signals import build_plant  # noqa: E402
 
 EPS = np.finfo(float).eps
 

@@ -45,7 +45,7 @@ from hypothesis.control import currently_in_test_context  # noqa: E402
 import fuzzing  # noqa: E402
 import mp_reference  # noqa: E402
 import vibss  # noqa: E402
-from vibss.linear import complex_modes  # noqa: E402
+from vibss.linear.eigen import complex_modes  # noqa: E402
 from vibss.cli import main  # noqa: E402
 from vibss.errors import AnalysisError, DefectiveModesError  # noqa: E402
 from vibss.io.modelfile import example_path  # noqa: E402
@@ -66,7 +66,7 @@ RIGID = 1e-30
 RIGID_FLAGGED = 1e-24
 """vibss may call a mode rigid when its 60-digit w^2 is below this fraction of the largest (a
 frequency 1e-12 of the top: the round-off of lever arms computed from positions,
-``vibss.linear.eigen_checks.ROUNDOFF_LEVERS``); between this and :data:`RIGID` either answer is
+``vibss.linear.eigen.checks.ROUNDOFF_LEVERS``); between this and :data:`RIGID` either answer is
 right."""
 
 
@@ -422,8 +422,8 @@ def test_one_sweep_mixes_the_forms_by_frequency_and_keeps_the_exact_resonance() 
     ``sqrt(inertia_w2 / MOUNTS_RATIO)`` (``inertia_w2 = k / m``: 0.032 Hz) its sweep is solved in the
     mounts' form, above it in the assembled form, whose exact zero pivot at 1 Hz is an unbounded
     response. Both parts against the closed form ``1 / (k - m w^2)``."""
-    from vibss.linear.signals import build_plant
-    from vibss.linear.solve import _mounts_at
+    from vibss.linear.plant.signals import build_plant
+    from vibss.linear.solve.exact import _mounts_at
 
     k = (2 * np.pi) ** 2
     model = vibss.Model([vibss.Body("b", 1.0, [1, 1, 1])], [vibss.Mount("m", vibss.MountType("t", [k] * 3), "b")])

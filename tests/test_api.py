@@ -16,12 +16,12 @@ PACKAGE = Path(vibss.__file__).parent
 # Layers, lowest first: a module may import only from its own layer or below.
 LAYERS = [
     {"errors", "_validate", "results", "methods", "model.units", "model.geometry", "model.limits", "io.tomlwriter",
-     "linear.memo"},
-    {"model", "linear.plant", "linear.plant_terms", "linear.branches", "io.filetable"},
-    {"io", "examples", "linear.assemble", "linear.directions", "linear.eigen", "linear.eigen_checks",
-     "linear.hysteresis"},
-    {"linear.complex_modes", "linear.branch_modes", "linear.banded", "linear.signals", "linear.solve",
-     "linear.backends", "linear.certified", "linear.projection", "linear.krylov", "linear.subspace", "statics", "time.integrators",
+     "linear.plant.memo"},
+    {"model", "linear.plant.plant", "linear.plant.terms", "linear.plant.branches", "io.filetable"},
+    {"io", "examples", "linear.plant.assemble", "linear.eigen.directions", "linear.eigen.undamped", "linear.eigen.checks",
+     "linear.plant.hysteresis"},
+    {"linear.eigen.complex_modes", "linear.eigen.branch_modes", "linear.solve.banded", "linear.plant.signals", "linear.solve.exact",
+     "linear.solve.backends", "linear.solve.certified", "linear.eigen.projection", "linear.project.krylov", "linear.project.subspace", "statics", "time.integrators",
      "time.phi", "time.recursion", "diagnostics"},
     {"linear", "modal"},
     {"frequency.kernels", "frequency.lowrank", "frequency.terms", "time.kernels", "time.branched", "studies"},

@@ -40,7 +40,7 @@ def test_seeded_shift_invert_is_repeatable():
         from benchmarks.models import chain_model
     finally:
         sys.path.remove(str(ROOT))
-    from vibss.linear.memo import forget
+    from vibss.linear.plant.memo import forget
 
     model = chain_model(8, damping="none", seed=3)
     a = []
@@ -60,7 +60,7 @@ def test_krylov_numerical_failure_is_a_vibss_error(monkeypatch):
     def broken(*args, **kwargs):
         raise np.linalg.LinAlgError("Singular matrix")
 
-    import vibss.linear.krylov as basis_pieces          # the basis' Gram-Schmidt lives there
+    import vibss.linear.project.krylov as basis_pieces          # the basis' Gram-Schmidt lives there
 
     monkeypatch.setattr(basis_pieces, "symmetric_eigen", broken)
     p = kr.sparse_plant(vibss.load_example("two_mass"), ["body1.fz"], ["body2.z"])

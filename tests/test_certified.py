@@ -1,4 +1,4 @@
-"""The certified complex-mode solutions of a small plant's exact solve (vibss/linear/certified.py).
+"""The certified complex-mode solutions of a small plant's exact solve (vibss/linear/solve/certified.py).
 
 Every number asserted comes from outside the code under test: an LU refined with the residual in
 long double (tests/mp_reference.extended_precision_frf, no eigen-decomposition), the backward error
@@ -18,9 +18,9 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import vibss  # noqa: E402
 from vibss import Body, Model, Mount, MountType, Orientation  # noqa: E402
-from vibss.linear import backends, certified  # noqa: E402
-from vibss.linear.signals import build_plant  # noqa: E402
-from vibss.linear.solve import forcing, states, statespace_plant, zfactor  # noqa: E402
+from vibss.linear.solve import backends, certified  # noqa: E402
+from vibss.linear.plant.signals import build_plant  # noqa: E402
+from vibss.linear.solve.exact import forcing, states, statespace_plant, zfactor  # noqa: E402
 
 from cases import asymmetric_model  # noqa: E402
 from mp_reference import extended_precision_frf  # noqa: E402
@@ -98,11 +98,11 @@ def test_frf_meets_the_extended_precision_reference(name: str, monkeypatch: pyte
     p = build_plant(model, [f"{model.bodies[0].name}.fx", f"{model.bodies[0].name}.fz"], None)
     ref = extended_precision_frf(p, s)
     scale = np.abs(ref).max(axis=(0, 1))
-    y = vibss.linear.solve.response(p, s)
+    y = vibss.linear.solve.exact.response(p, s)
     err = float((np.abs(y - ref).max(axis=(0, 1)) / scale).max())
     with monkeypatch.context() as mp:
         mp.setattr(backends, "applies", lambda plant, s: False)
-        y_lu = vibss.linear.solve.response(build_plant(model, [f"{model.bodies[0].name}.fx",
+        y_lu = vibss.linear.solve.exact.response(build_plant(model, [f"{model.bodies[0].name}.fx",
                                                                 f"{model.bodies[0].name}.fz"], None), s)
     err_lu = float((np.abs(y_lu - ref).max(axis=(0, 1)) / scale).max())
     assert err <= max(30 * err_lu, 1e-14) and err <= 1e-12, (err, err_lu)
@@ -158,7 +158,7 @@ def test_a_first_order_plant_keeps_the_lu() -> None:
     b, c = np.eye(12)[:, [1]], np.eye(12)[[0]]
     p = statespace_plant(a, b, c, np.zeros((1, 1)), ("u",), ("y",))
     s = 2j * np.pi * np.linspace(0.1, 10.0, 50)
-    y = vibss.linear.solve.response(p, s)[0, 0]
+    y = vibss.linear.solve.exact.response(p, s)[0, 0]
     ref = 1.0 / (s * s + 0.5 * s + 100.0)
     assert np.abs(y - ref).max() <= 1e-14 * np.abs(ref).max()
     assert p._cache.get("certified modal inverse", "absent") is None

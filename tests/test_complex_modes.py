@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from mp_reference import extended_precision_frf
-from vibss.linear.complex_modes import complex_modes
+from vibss.linear.eigen.complex_modes import complex_modes
 
 
 def _problem(ne=8, nr=2, hysteretic=False, seed=1):
@@ -63,7 +63,7 @@ def test_a_mixed_basis_of_a_repeated_eigenvalue_is_caught():
     """The same pair with its two eigenvectors recombined (still eigenvectors, no longer bi-orthogonal
     under the structured left vectors): the pair check reports a cross term of order one, above
     PROBE_TOL, where an LU of V is needed; the unmixed basis reports (near) zero."""
-    from vibss.linear.complex_modes import PROBE_TOL, _mixed_pairs
+    from vibss.linear.eigen.complex_modes import PROBE_TOL, _mixed_pairs
 
     w2 = np.array([4.0, 4.0, 9.0])
     s = np.sqrt(w2)
@@ -120,9 +120,9 @@ def test_frf_screen_refines_only_the_poles_that_are_off(monkeypatch):
     import sys
     from pathlib import Path
 
-    import vibss.linear.complex_modes as cmm
+    import vibss.linear.eigen.complex_modes as cmm
     from vibss.frequency.kernels import METHODS
-    from vibss.linear.signals import build_plant
+    from vibss.linear.plant.signals import build_plant
 
     sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
     from models import tree_model

@@ -97,7 +97,7 @@ def test_exact_pruning_hanging_chain():
 def test_inexact_methods_say_so_with_a_checked_error():
     """A method that is neither exact nor built on the certified modal basis (a user's kernel,
     'statespace') reports its error against the exact solve; here a kernel off by exactly 1e-6."""
-    from vibss.linear.solve import response
+    from vibss.linear.solve.exact import response
 
     def off_by_a_millionth(plant, s, basis=None):
         return (1 + 1e-6) * response(plant, s)

@@ -14,7 +14,7 @@ from vibss import AnalysisError, Body, Model, ModelError, Mount, MountType, asse
 from vibss.frequency.api import FrequencyGrid, frequency_grid, frequency_response
 from vibss.frequency.sweep import sweep_response, transmissibility
 from vibss.frequency.kernels import METHODS
-from vibss.linear.signals import build_plant
+from vibss.linear.plant.signals import build_plant
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from test_signals import two_body  # noqa: E402
@@ -291,7 +291,7 @@ def test_sparse_method_matches_direct_banded_and_superlu(shuffle: bool, extra: i
     """The reverse Cuthill-McKee ordering finds the chain's narrow band whatever the body order
     (each body couples to its neighbours: half-bandwidth under 3 bodies, 18 DOFs); long-range mounts
     widen it past BAND_MAX and SuperLU takes over. Both equal the dense direct solve."""
-    from vibss.linear.banded import BAND_MAX, structure
+    from vibss.linear.solve.banded import BAND_MAX, structure
 
     model = _chain(16, shuffle, extra)
     ins = ["b3.fz", "b11.mx", "ground.y.acc"]

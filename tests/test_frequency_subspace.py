@@ -1,5 +1,5 @@
 """The FRF of large models through a subspace built for the channels (issue 17 item 4,
-:mod:`vibss.linear.subspace`), checked against the exact per-frequency solve (``method="sparse"``,
+:mod:`vibss.linear.project.subspace`), checked against the exact per-frequency solve (``method="sparse"``,
 banded or SuperLU LU at every frequency) on models small enough for both."""
 
 from __future__ import annotations
@@ -16,9 +16,9 @@ import vibss.frequency.api as fa
 from vibss import Model, Mount, MountType
 from vibss.errors import AnalysisError
 from vibss.frequency.kernels import subspace
-from vibss.linear.signals import build_plant
-from vibss.linear.solve import response
-from vibss.linear.subspace import CHECK_SAFETY, TOLERANCE, channel_subspace
+from vibss.linear.plant.signals import build_plant
+from vibss.linear.solve.exact import response
+from vibss.linear.project.subspace import CHECK_SAFETY, TOLERANCE, channel_subspace
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "benchmarks"))
 from models import chain_model, grid_model  # noqa: E402
@@ -88,7 +88,7 @@ def test_the_greedy_adds_frequencies_where_its_checks_fail() -> None:
 def test_when_the_greedy_falls_short_the_exact_solve_answers_and_says_so(monkeypatch) -> None:
     """An unreachable tolerance in one round: not converged, and the kernel answers by the exact
     solve at every frequency, saying why."""
-    import vibss.linear.subspace as subspace_module
+    import vibss.linear.project.subspace as subspace_module
 
     monkeypatch.setattr(subspace_module, "MAX_ROUNDS", 0)
     p = build_plant(chain_model(40, damping="classical", seed=2), ["b0.fz"], ["b0.z"], sparse=True)

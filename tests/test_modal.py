@@ -208,8 +208,8 @@ def test_generalized_eigh_block_path_matches_scipy():
     the fallback for a mass matrix that is not block-diagonal."""
     import scipy.linalg as sl
 
-    from vibss.linear.eigen import _inverse_cholesky, generalized_eigh
-    from vibss.linear.signals import build_plant
+    from vibss.linear.eigen.undamped import _inverse_cholesky, generalized_eigh
+    from vibss.linear.plant.signals import build_plant
     from test_signals import two_body
 
     p = build_plant(two_body(), ["frame.rz.disp", "engine.fz"], ["engine.z"])   # frame rz prescribed

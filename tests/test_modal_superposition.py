@@ -13,8 +13,8 @@ import pytest
 import mp_reference as mpr
 import scaled_cases as sc
 from vibss.frequency.kernels import METHODS
-from vibss.linear.complex_modes import complex_modes
-from vibss.linear.signals import build_plant
+from vibss.linear.eigen.complex_modes import complex_modes
+from vibss.linear.plant.signals import build_plant
 
 TOL = 1e-8
 

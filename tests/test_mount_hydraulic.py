@@ -18,8 +18,8 @@ import vibss
 from vibss import Body, Model, Mount, MountType
 from vibss.errors import ModelError
 from vibss.io.modelfile import dumps_model, loads_model
-from vibss.linear.signals import build_plant
-from vibss.linear.solve import response
+from vibss.linear.plant.signals import build_plant
+from vibss.linear.solve.exact import response
 
 M, KR, CR, KB, MF, CF = 20.0, 2.0e5, 60.0, 3.0e5, 4.0, 150.0
 SPEC = {"type": "hydraulic", "k_r": KR, "c_r": CR, "k_b": [0.0, 0.0, KB], "m_f": [0.0, 0.0, MF],

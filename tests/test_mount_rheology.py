@@ -13,8 +13,8 @@ from scipy.integrate import solve_ivp
 import vibss
 from vibss import Body, Model, Mount, MountType
 from vibss.errors import AnalysisError, ModelError, VibssWarning
-from vibss.linear.signals import build_plant
-from vibss.linear.solve import response
+from vibss.linear.plant.signals import build_plant
+from vibss.linear.solve.exact import response
 from vibss.model.rheology import FractionalZener, fit_ladder
 
 M, K0, KINF, TAU, C = 2.0, 1e4, 3e4, 2e-3, 8.0

@@ -31,7 +31,7 @@ def critical() -> Model:
 
 def test_simulate_suggests_only_its_own_methods(monkeypatch: pytest.MonkeyPatch) -> None:
     import vibss.time.kernels as tk
-    from vibss.linear import complex_modes as cm
+    from vibss.linear.eigen import complex_modes as cm
 
     def refuse(*args: object, **kwargs: object) -> object:   # the core's own refusal, as on a Jordan block
         raise DefectiveModesError("complex modes: the eigenvectors are nearly dependent (cond(V) ~ 1e16: "

@@ -3,7 +3,7 @@
 Two things are tested. The dense small-model path (the assembly, the stiffness factor G and the
 Jacobi eigen path's products done in NumPy) gives *bit for bit* the digits of the scipy.sparse path
 it replaces -- the reference is scipy.sparse itself, on the badly scaled family where the order of
-summation is part of the answer. And the memo (:mod:`vibss.linear.memo`) that hands a model's
+summation is part of the answer. And the memo (:mod:`vibss.linear.plant.memo`) that hands a model's
 assembly, plants and spectra out again is keyed right: the same model gives what a fresh solve
 gives, another model (even an equal one) is solved anew, a large one is not kept, and what is kept
 stays read-only.
@@ -19,11 +19,11 @@ from scaled_cases import graded_chain, hanging_chain, instrument, stiff_links
 
 import vibss
 from vibss import Body, Model, Mount, MountType
-from vibss.linear import memo
-from vibss.linear.assemble import _assemble, assemble
-from vibss.linear.eigen import _sparse_order_product
-from vibss.linear.eigen_checks import _inverse_cholesky
-from vibss.linear.signals import build_plant
+from vibss.linear.plant import memo
+from vibss.linear.plant.assemble import _assemble, assemble
+from vibss.linear.eigen.undamped import _sparse_order_product
+from vibss.linear.eigen.checks import _inverse_cholesky
+from vibss.linear.plant.signals import build_plant
 
 MODELS = {
     "prism": prism_model, "two_mass": two_mass_model, "asymmetric": asymmetric_model,
@@ -161,7 +161,7 @@ def test_components_of_a_dense_pattern_are_csgraphs() -> None:
     ``scipy.sparse.csgraph.connected_components`` on random symmetric patterns."""
     from scipy.sparse.csgraph import connected_components
 
-    from vibss.linear.eigen_checks import _components
+    from vibss.linear.eigen.checks import _components
 
     rng = np.random.default_rng(1)
     for _ in range(200):
@@ -176,7 +176,7 @@ def test_dynamic_stiffness_on_the_imaginary_axis_is_the_complex_expression_bit_f
     expression it replaces (``k0 + s C + s^2 M`` in complex arithmetic), bit for bit, on random
     matrices spanning twelve decades (with and without ``H``, negative and huge ``w``), and off the
     axis the complex expression itself."""
-    from vibss.linear.backends import dynamic_stiffness
+    from vibss.linear.solve.backends import dynamic_stiffness
 
     rng = np.random.default_rng(3)
     for trial in range(60):

@@ -1,4 +1,4 @@
-"""The one exact solve (vibss.linear.solve): its back-ends against a 60-digit reference and each
+"""The one exact solve (vibss.linear.solve.exact): its back-ends against a 60-digit reference and each
 other, the 0 Hz limit, the singular-frequency policy, the s^-order rule, and every FRF method of
 frequency.kernels.METHODS against the reference on the badly scaled family."""
 
@@ -14,9 +14,9 @@ import scaled_cases as sc
 from vibss import Body, Model, Mount, MountType
 from vibss.errors import AnalysisError
 from vibss.frequency.kernels import METHODS
-from vibss.linear.signals import build_plant
-from vibss.linear import backends
-from vibss.linear.solve import observe, observed_dofs, response, states, zero_frequency_limit, zfactor
+from vibss.linear.plant.signals import build_plant
+from vibss.linear.solve import backends
+from vibss.linear.solve.exact import observe, observed_dofs, response, states, zero_frequency_limit, zfactor
 
 BACKENDS = ("dense", "banded", "superlu")
 TOL = 1e-8
@@ -359,7 +359,7 @@ def test_a_full_dense_plant_above_dense_max_takes_the_dense_lu() -> None:
     import sys
     from pathlib import Path
 
-    from vibss.linear import solve as sv
+    from vibss.linear.solve import exact as sv
 
     sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
     from models import grid_model

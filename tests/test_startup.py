@@ -64,7 +64,7 @@ def test_frf_and_time_commands_load_no_control_or_plotting():
 def test_subpackages_resolve_as_attributes():
     """``vibss.io.x``, ``vibss.linear.x`` ... work without importing the subpackage first (notebooks
     and scripts written before the imports went lazy rely on it)."""
-    code = ("import vibss\nassert vibss.io.modelfile.example_names()\nassert vibss.linear.plant.Plant\n"
+    code = ("import vibss\nassert vibss.io.modelfile.example_names()\nassert vibss.linear.plant.plant.Plant\n"
             "assert vibss.plotting.plot_modes")
     assert "matplotlib" in _loaded(code)
 

@@ -249,7 +249,7 @@ def test_complex_modes_refined_for_a_time_horizon_against_mpmath() -> None:
     over the horizon, ``|d lam| min(horizon, 1 / |Re lam|)``, as small as the per-mode inverse
     iteration does for frequency responses (``|d lam| / |Re lam|``), against a 40-digit
     eigen-decomposition."""
-    from vibss.linear.complex_modes import complex_modes
+    from vibss.linear.eigen.complex_modes import complex_modes
 
     rng = np.random.default_rng(3)
     n = 10

@@ -68,7 +68,7 @@ def test_initial_conditions_and_free_vibration_are_refused_on_the_large_path(mon
 def test_an_unreached_tolerance_is_refused_not_answered(monkeypatch) -> None:
     """When the greedy cannot reach the tolerance (here an unreachable one, in one round) simulate
     refuses, naming the dense path, rather than answer with an error it cannot state."""
-    import vibss.linear.subspace as subspace
+    import vibss.linear.project.subspace as subspace
     import vibss.time.large as large
 
     monkeypatch.setattr(time_api, "LARGE_DOFS", 100)

@@ -27,7 +27,7 @@ from .errors import (AnalysisError, ArgumentError, ControlDesignError, Defective
 # A new public name: one line here (name -> module) and one in __all__ (tests/test_startup.py
 # checks that every name resolves).
 _LAZY: dict[str, str] = {
-    "Assembly": ".linear.assemble", "assemble": ".linear.assemble",
+    "Assembly": ".linear.plant.assemble", "assemble": ".linear.plant.assemble",
     "DampedModes": ".modal.damped", "damped_modes": ".modal.damped",
     "Excitation": ".model.excitation",
     # time functions of excitations (vibss.model.timefunctions)
@@ -56,10 +56,10 @@ _LAZY: dict[str, str] = {
     "FrequencyGrid": ".frequency.api", "FrequencyResponse": ".frequency.api",
     "frequency_grid": ".frequency.api", "frequency_response": ".frequency.api",
     "sweep_response": ".frequency.sweep", "transmissibility": ".frequency.sweep",
-    "Plant": ".linear.plant",
+    "Plant": ".linear.plant.plant",
     "Reduction": ".reduction.api", "reduce": ".reduction.api",
     "Scope": ".reduction.scope",
-    "build_plant": ".linear.signals",
+    "build_plant": ".linear.plant.signals",
     "NamedStateSpace": ".linear.statespace", "statespace": ".linear.statespace",
     "StaticResult": ".statics", "static": ".statics",
     "StudyDefaults": ".studies", "study_defaults": ".studies", "causal_loss": ".studies",
@@ -102,9 +102,9 @@ if TYPE_CHECKING:                          # what static checkers and IDEs see
     from .frequency.api import FrequencyGrid, FrequencyResponse, frequency_grid, frequency_response
     from .frequency.sweep import sweep_response, transmissibility
     from .io.modelfile import dump_model, dumps_model, example_names, load_example, load_model, loads_model
-    from .linear.assemble import Assembly, assemble
-    from .linear.plant import Plant
-    from .linear.signals import build_plant
+    from .linear.plant.assemble import Assembly, assemble
+    from .linear.plant.plant import Plant
+    from .linear.plant.signals import build_plant
     from .linear.statespace import NamedStateSpace, statespace
     from .modal.damped import DampedModes, damped_modes
     from .modal.undamped import Modes, modes

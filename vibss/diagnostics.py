@@ -45,8 +45,8 @@ import numpy as np
 import scipy.linalg as sl
 from threadpoolctl import threadpool_info
 
-from .linear.directions import cluster_slices
-from .linear.eigen import symmetric_eigen, undamped
+from .linear.eigen.directions import cluster_slices
+from .linear.eigen.undamped import symmetric_eigen, undamped
 from .errors import VibssWarning
 
 __all__ = ["VibssWarning", "Finding", "Conditioning", "natural_frequencies",

@@ -50,7 +50,7 @@ class Method:
         One line on what it does.
     internal_states : bool
         Represents the internal states of frequency-dependent mounts (their Maxwell branches,
-        :mod:`vibss.linear.branches`); a driver refuses a plant with branches otherwise.
+        :mod:`vibss.linear.plant.branches`); a driver refuses a plant with branches otherwise.
 
     Calling a Method calls its kernel, so ``METHODS["direct"](plant, s)`` keeps working.
     """

@@ -168,8 +168,8 @@ def freeze(value: Any) -> Any:
     """``value`` with every numpy array in it made read-only **in place**, and returned.
 
     Walks tuples, lists and dict values and the ``data``, ``indices`` and ``indptr`` arrays of
-    scipy.sparse matrices. For objects that own their arrays (an :class:`~vibss.linear.assemble.Assembly`,
-    a :class:`~vibss.linear.plant.Plant`); results use :func:`read_only`, which never touches the
+    scipy.sparse matrices. For objects that own their arrays (an :class:`~vibss.linear.plant.assemble.Assembly`,
+    a :class:`~vibss.linear.plant.plant.Plant`); results use :func:`read_only`, which never touches the
     arrays it was given.
 
     Examples

@@ -1,7 +1,7 @@
 """Static deflection: K q = F, with prescribed displacements, self-weight and clear failure modes.
 
 Models up to :data:`FACTOR_MAX` DOFs are solved from the stiffness *factor* (``K = G^T G``, one row
-per mount axis, :meth:`~vibss.linear.assemble.Assembly.stiffness_factor`): a QR factorisation of G
+per mount axis, :meth:`~vibss.linear.plant.assemble.Assembly.stiffness_factor`): a QR factorisation of G
 with rows sorted by size and column pivoting is row-wise backward stable, so soft mounts beside
 1e16 N/m links keep their digits (K formed in floats loses them: 1e16 * eps ~ 1 N/m). Otherwise the
 stiffness matrix of the free DOFs is equilibrated (``D K D`` with ``D = diag(K)^-1/2``),
@@ -26,10 +26,10 @@ import scipy.sparse as sp
 import scipy.sparse.csgraph as csgraph
 import scipy.sparse.linalg as spl
 
-from .linear.assemble import Assembly, assemble
-from .linear.directions import align_cluster, describe_motion
+from .linear.plant.assemble import Assembly, assemble
+from .linear.eigen.directions import align_cluster, describe_motion
 from ._validate import number, vector
-from .linear.eigen import jacobi_svd, symmetric_eigen, undamped
+from .linear.eigen.undamped import jacobi_svd, symmetric_eigen, undamped
 from .errors import AnalysisError, ModelError, did_you_mean
 from .model.geometry import point_transfer
 from .model.model import DOF_NAMES, GROUND, Model

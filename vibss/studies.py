@@ -52,7 +52,7 @@ from typing import Any
 import numpy as np
 
 from .errors import ModelError
-from .linear.assemble import assemble
+from .linear.plant.assemble import assemble
 from .modal.undamped import Modes, modes as undamped_modes
 from .model.model import Model
 

@@ -16,7 +16,7 @@ from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
-from ..linear.complex_modes import eigenpairs
+from ..linear.eigen.complex_modes import eigenpairs
 
 from ..errors import ArgumentError, ControlDesignError, MissingDependencyError, ModelError
 from .loop import Controller, controller
@@ -59,7 +59,7 @@ def preflight(P: Any, need: tuple[str, ...]) -> None:
         raise ModelError("plant: expected a vibss.control.plant(...) (its signals are grouped w, u, z, y)")
     p = _parts(P)
     A = p["A"]
-    lam, left = eigenpairs(A.T)          # the one general eigen solve (vibss.linear.complex_modes)
+    lam, left = eigenpairs(A.T)          # the one general eigen solve (vibss.linear.eigen.complex_modes)
     lam_r, right = eigenpairs(A)
     scale = max(np.abs(lam).max(initial=1.0), 1.0)
     for which, mat, vecs, vals, hint in (

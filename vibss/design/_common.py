@@ -6,11 +6,11 @@ from typing import Any
 
 import numpy as np
 
-from ..linear.eigen import symmetric_eigen
+from ..linear.eigen.undamped import symmetric_eigen
 from .._validate import vector
 from ..errors import AnalysisError, ArgumentError, VibssError, did_you_mean
-from ..linear.assemble import Assembly, assemble
-from ..linear.directions import energy_fractions
+from ..linear.plant.assemble import Assembly, assemble
+from ..linear.eigen.directions import energy_fractions
 from ..model.model import Model
 
 __all__ = ["body_blocks", "unit_axis", "body_name", "AXES", "FRAMES", "frame_axes", "frame_rotation",
@@ -117,7 +117,7 @@ def ke_fractions(phi: np.ndarray, M: np.ndarray, R: np.ndarray | None = None) ->
         phi = np.swapaxes(R, -1, -2) @ phi
         M = np.swapaxes(R, -1, -2) @ M @ R
     if phi.ndim == 2:
-        return energy_fractions(phi, M)             # the one definition (vibss.linear.directions)
+        return energy_fractions(phi, M)             # the one definition (vibss.linear.eigen.directions)
     mp = M @ phi                                      # a stack of variants: the same, batched
     num = np.swapaxes((phi.conj() * mp).real, -1, -2)
     return num / num.sum(axis=-1, keepdims=True)

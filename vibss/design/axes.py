@@ -36,9 +36,9 @@ from typing import Any
 
 import numpy as np
 
-from ..linear.eigen import symmetric_eigen
+from ..linear.eigen.undamped import symmetric_eigen
 from ..results import ReadOnly
-from ..linear.assemble import Assembly
+from ..linear.plant.assemble import Assembly
 from ..model.model import Model
 from ._common import body_blocks, body_name, unit_axis
 

@@ -28,7 +28,7 @@ import numpy as np
 
 from .._validate import array, number
 from ..errors import AnalysisError, ArgumentError
-from ..linear.assemble import assemble
+from ..linear.plant.assemble import assemble
 from ..modal.damped import damped_modes
 from ..modal.undamped import modes as undamped_modes
 from ..model.model import DOF_NAMES, Model

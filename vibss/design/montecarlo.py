@@ -21,10 +21,10 @@ from typing import Any, ClassVar
 import numpy as np
 from scipy.stats import norm, qmc
 
-from ..linear.eigen import symmetric_eigen
+from ..linear.eigen.undamped import symmetric_eigen
 from .._validate import choice, integer, number
 from ..errors import AnalysisError, ArgumentError
-from ..linear.assemble import assemble
+from ..linear.plant.assemble import assemble
 from ..model.geometry import point_transfer
 from ..model.model import DOF_NAMES, Model
 from ..results import Result, Table, jsonable, require_pandas

@@ -34,7 +34,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from ..errors import ArgumentError, ModelError, did_you_mean
-from ..linear.assemble import Assembly
+from ..linear.plant.assemble import Assembly
 from ..model.geometry import Orientation, point_transfer, skew
 from ..model.model import Model, MountType
 

@@ -24,7 +24,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from ..errors import AnalysisError
-from ..linear.assemble import assemble
+from ..linear.plant.assemble import assemble
 from ..modal.undamped import modes as undamped_modes
 from ..model.model import Model
 from ..results import Result, Table, jsonable, require_pandas

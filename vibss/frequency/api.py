@@ -1,7 +1,7 @@
 """Frequency response: FRFs of named outputs to named inputs (transmissibility and swept-sine
 steady states build on it in :mod:`vibss.frequency.sweep`).
 
-``frequency_response`` evaluates ``Y(i w) / U`` of a :class:`~vibss.linear.plant.Plant` for named inputs and
+``frequency_response`` evaluates ``Y(i w) / U`` of a :class:`~vibss.linear.plant.plant.Plant` for named inputs and
 outputs with a kernel from :data:`vibss.frequency.kernels.METHODS` (``"auto"`` picks one and records why).
 Conventions:
 
@@ -34,19 +34,19 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from ..linear.assemble import Assembly
+from ..linear.plant.assemble import Assembly
 from .._validate import choice, integer, name_index, number
 from ..errors import AnalysisError, ArgumentError, DefectiveModesError, ModelError
 from .kernels import COMPLEX_MODE_RISK, METHODS, complex_mode_risk, project_damping, zero_frequency_limit
-from ..linear.branches import require_none
-from ..linear.solve import response
+from ..linear.plant.branches import require_none
+from ..linear.solve.exact import response
 from .methods import choose, choose_without_modes, resolve_method
 from ..model.model import Model
-from ..linear.plant import Plant
-from ..linear.signals import build_plant, control_name
-from ..linear.directions import dof_labels, energy_fractions
-from ..linear.eigen import ModalBasis, modal_basis
-from ..linear.projection import projected_damping
+from ..linear.plant.plant import Plant
+from ..linear.plant.signals import build_plant, control_name
+from ..linear.eigen.directions import dof_labels, energy_fractions
+from ..linear.eigen.undamped import ModalBasis, modal_basis
+from ..linear.eigen.projection import projected_damping
 from ..results import Result, Table, jsonable, require_pandas
 
 __all__ = ["FrequencyResponse", "FrequencyGrid", "frequency_grid", "frequency_response", "QUANTITIES"]
@@ -590,7 +590,7 @@ def frequency_response(system: Model | Assembly | Plant, inputs: Sequence[Any] |
     method : {"auto", "direct", "modal", "complex_modal", "woodbury", "sparse", "subspace", "statespace"}, FrequencyMethod or callable
         Method (:data:`vibss.frequency.kernels.METHODS`), or a kernel ``f(plant, s, basis) -> (p, m, nf)``
         with the built-ins' signature (``s`` Laplace points ``i w``, ``basis`` the undamped
-        :class:`~vibss.linear.eigen.ModalBasis`, None for a sparse plant; ``f(plant, s)`` is
+        :class:`~vibss.linear.eigen.undamped.ModalBasis`, None for a sparse plant; ``f(plant, s)`` is
         accepted too).
 
     Returns

@@ -1,4 +1,4 @@
-"""Frequency-response kernels of a :class:`~vibss.linear.plant.Plant`, chosen by name (:data:`METHODS`).
+"""Frequency-response kernels of a :class:`~vibss.linear.plant.plant.Plant`, chosen by name (:data:`METHODS`).
 
 Every kernel evaluates, at complex Laplace points ``s`` (``s = i w`` on the frequency axis),
 
@@ -10,7 +10,7 @@ with ``O(s) = Oq + i Oh + s Ov + s^2 Oa``, ``P(s) = Pz + i Ph + s Pv + s^2 Pa`` 
 (for ``w > 0``). Kernels return a ``(p, m, nf)`` complex array.
 
 - ``direct``: one complex solve per frequency (batched). The accurate reference.
-- ``modal``: undamped modes (:func:`vibss.linear.eigen.modal_basis`) and modal superposition; only for classical damping (``Phi^T C Phi`` and
+- ``modal``: undamped modes (:func:`vibss.linear.eigen.undamped.modal_basis`) and modal superposition; only for classical damping (``Phi^T C Phi`` and
   ``Phi^T H Phi`` diagonal). Rigid-body modes are exact (omega = 0 double integrators).
 - ``complex_modal``: eigen-decomposition of the well-scaled first-order modal form
   ``[[0, S], [-(Omega^2 + i Phi^T H Phi) S^-1, -Phi^T C Phi]]`` (general viscous damping).
@@ -24,7 +24,7 @@ with ``O(s) = Oq + i Oh + s Ov + s^2 Oa``, ``P(s) = Pz + i Ph + s Pv + s^2 Pa`` 
 - ``subspace``: a Galerkin projection on a block rational Krylov basis built from the inputs and
   outputs (real shifts over the band, one sparse or banded LU each), grown where exact solves at
   check frequencies between its interpolation points exceed the tolerance
-  (:mod:`vibss.linear.subspace`); the note states the basis, the shifts and the checked error. For
+  (:mod:`vibss.linear.project.subspace`); the note states the basis, the shifts and the checked error. For
   large models asked for many frequencies on few channels; any damping (C and H are projected),
   no frequency-dependent mounts.
 - ``statespace``: ``control.frequency_response`` on :func:`vibss.linear.statespace.statespace`
@@ -44,13 +44,13 @@ from functools import reduce
 
 import numpy as np
 
-from ..linear.complex_modes import complex_modes
+from ..linear.eigen.complex_modes import complex_modes
 from ..errors import AnalysisError
-from ..linear.plant import Plant
-from ..linear.eigen import ModalBasis, damping_coupling, modal_basis, symmetric_eigen
-from ..linear.projection import projected_damping
-from ..linear.solve import response, zero_frequency_limit, zfactor
-from ..linear.subspace import TOLERANCE, channel_subspace
+from ..linear.plant.plant import Plant
+from ..linear.eigen.undamped import ModalBasis, damping_coupling, modal_basis, symmetric_eigen
+from ..linear.eigen.projection import projected_damping
+from ..linear.solve.exact import response, zero_frequency_limit, zfactor
+from ..linear.project.subspace import TOLERANCE, channel_subspace
 from ..methods import Method, callable_name
 from .lowrank import woodbury
 from .terms import feedthrough as _feedthrough, mass_solve as _mass_solve, static as _static, terms as _terms
@@ -71,16 +71,16 @@ _Form = np.ndarray | tuple[np.ndarray, np.ndarray]
 
 
 def direct(plant: Plant, s: np.ndarray) -> np.ndarray:
-    """The exact solve (:func:`vibss.linear.solve.response`) by batched dense LU; returns (p, m, nf)."""
+    """The exact solve (:func:`vibss.linear.solve.exact.response`) by batched dense LU; returns (p, m, nf)."""
     return response(plant, s, backend="dense")
 
 
 def sparse(plant: Plant, s: np.ndarray) -> np.ndarray:
     """The exact solve on the sparse structure; returns (p, m, nf).
 
-    The same equations as :func:`direct` (:func:`vibss.linear.solve.response`), solved by a
+    The same equations as :func:`direct` (:func:`vibss.linear.solve.exact.response`), solved by a
     banded LU (LAPACK ``zgbsv``, partial pivoting) after a reverse Cuthill-McKee ordering, or by
-    SuperLU where the band is wide (:mod:`vibss.linear.banded`). Exact like ``direct``, at
+    SuperLU where the band is wide (:mod:`vibss.linear.solve.banded`). Exact like ``direct``, at
     O(n b^2) per frequency instead of O(n^3).
     """
     return response(plant, s, backend="sparse")
@@ -90,7 +90,7 @@ def subspace(plant: Plant, s: np.ndarray, tol: float = TOLERANCE) -> tuple[np.nd
     """The response of a projection built for the plant's channels, checked by exact solves;
     returns ((p, m, nf), note).
 
-    :func:`vibss.linear.subspace.channel_subspace`: a block rational Krylov basis from the input
+    :func:`vibss.linear.project.subspace.channel_subspace`: a block rational Krylov basis from the input
     and output vectors (real shifts over the band, each one sparse or banded LU), ``M, C, K, H``
     and every map projected on it, grown where the exact solve at a check frequency between the
     interpolation points shows an error above the tolerance. When it does not reach ``tol`` the
@@ -229,14 +229,14 @@ def project_damping(plant: Plant, basis: ModalBasis) -> tuple[np.ndarray, np.nda
     -------
     gamma, eta : (n, n) ndarray
         Projected viscous [1/s] and hysteretic [1/s^2] damping, symmetrised, read-only; computed
-        once per plant and basis (:func:`vibss.linear.projection.projected_damping`).
+        once per plant and basis (:func:`vibss.linear.eigen.projection.projected_damping`).
     """
     return projected_damping(plant, basis)
 
 
 COMPLEX_MODE_RISK = 1e-9
 """Above this :func:`complex_mode_risk` ``eig``'s poles are not trusted as they stand: complex modes
-screen and refine the slow ones (:mod:`vibss.linear.complex_modes`), and ``auto`` counts that cost."""
+screen and refine the slow ones (:mod:`vibss.linear.eigen.complex_modes`), and ``auto`` counts that cost."""
 
 REFINE_PREDICT = 1e-6
 """``auto`` expects a mode to need the per-mode inverse iteration of the complex modes (after their
@@ -251,7 +251,7 @@ def mode_risks(basis: ModalBasis, projected: tuple[np.ndarray, np.ndarray]) -> n
     ``eig`` has absolute pole errors of about eps max|lambda| (overdamped modes reach |lambda| ~
     the diagonal of ``Phi^T C Phi``), which a mode decaying at ``zeta omega`` amplifies by
     ``1 / (zeta omega)`` at its resonance; ``inf`` where an elastic mode has no damping. An
-    a-priori bound: the true errors can be far smaller (:mod:`vibss.linear.complex_modes`).
+    a-priori bound: the true errors can be far smaller (:mod:`vibss.linear.eigen.complex_modes`).
 
     Parameters
     ----------
@@ -451,7 +451,7 @@ class FrequencyMethod(Method):
     """A frequency-response method: ``kernel(plant, s, basis=None) -> (p, m, nf)`` complex.
 
     ``s`` (nf,) are Laplace points (``i w``, w > 0), ``basis`` the plant's undamped
-    :class:`~vibss.linear.eigen.ModalBasis` (computed once per analysis; None for a sparse plant).
+    :class:`~vibss.linear.eigen.undamped.ModalBasis` (computed once per analysis; None for a sparse plant).
 
     Attributes
     ----------

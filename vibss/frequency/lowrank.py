@@ -5,10 +5,10 @@ In the undamped modes (``Phi^T M Phi = I``, ``Phi^T K Phi = Omega^2``) the dynam
     A(s) = D(s) + U Z(s) U^T,    D(s) = Omega^2 + s^2 (diagonal),    Z(s) = s Zc + i Zh  (r x r)
 
 where ``U`` (k x r) holds the modes' deflections at the dampers and ``Zc``, ``Zh`` their viscous and
-hysteretic blocks (:func:`vibss.linear.projection.damping_factors`): the damping of any model,
+hysteretic blocks (:func:`vibss.linear.eigen.projection.damping_factors`): the damping of any model,
 classical or not, has rank ``r <= 3 x`` (damped mounts). Classical damping (``Phi^T C Phi`` and
 ``Phi^T H Phi`` diagonal) stays in ``D(s) = Omega^2 + s Gamma + i Eta + s^2`` instead. The Maxwell
-branches of frequency-dependent mounts (:mod:`vibss.linear.branches`) join ``U`` with their
+branches of frequency-dependent mounts (:mod:`vibss.linear.plant.branches`) join ``U`` with their
 deflections ``Phi^T B_i^T`` and ``Z_ii(s) = k_i g_i(s)``, ``g_i = P_i / (1 + P_i)``,
 ``P_i = mu_i s^2 + tau_i s``; their terms in the inputs and outputs carry ``g(s)`` too. With
 ``y = U^T x`` the update's deflections, ``A x = P`` is the bordered system
@@ -30,7 +30,7 @@ besides the modal basis: well below the complex modes' ``eig`` of the 2k-state m
 mounts are damped; when every mount is (r > k), ``complex_modal`` or ``sparse`` is cheaper and
 ``auto`` takes them (:func:`vibss.frequency.methods.choose`).
 
-Exact: the same equations as :func:`vibss.linear.solve.response` on the certified modal basis, no
+Exact: the same equations as :func:`vibss.linear.solve.exact.response` on the certified modal basis, no
 eigenvalues of the damped system, no truncation; a frequency where the bordered matrix is singular
 (an undamped mode exactly at resonance) is answered by the exact solve.
 """
@@ -41,11 +41,11 @@ from typing import Any
 
 import numpy as np
 
-from ..linear.branches import groups
-from ..linear.eigen import ModalBasis, damping_coupling, modal_basis
-from ..linear.plant import Plant
-from ..linear.projection import damping_factors, projected_damping
-from ..linear.solve import response, zfactor
+from ..linear.plant.branches import groups
+from ..linear.eigen.undamped import ModalBasis, damping_coupling, modal_basis
+from ..linear.plant.plant import Plant
+from ..linear.eigen.projection import damping_factors, projected_damping
+from ..linear.solve.exact import response, zfactor
 from .terms import elastic_static, feedthrough, mass_solve, terms
 
 __all__ = ["woodbury", "NEAR", "near_modes", "CHUNK"]
@@ -103,7 +103,7 @@ def _update(plant: Plant, basis: ModalBasis, s: np.ndarray) -> tuple[np.ndarray,
     Returns ``D`` (nf, k), ``U`` (k, r), ``Z`` as a function of frequency indices -> (len, r, r), and
     ``|diag(U Z(s) U^T)|`` (nf, k). Classical damping (``Phi^T C Phi`` and ``Phi^T H Phi`` diagonal)
     stays in ``D``; other damping joins ``U`` as its mounts' deflections
-    (:func:`vibss.linear.projection.damping_factors`); every Maxwell branch of a frequency-dependent
+    (:func:`vibss.linear.eigen.projection.damping_factors`); every Maxwell branch of a frequency-dependent
     mount adds its deflection ``Phi^T B_i^T`` with ``k_i g_i(s)`` (:meth:`Branches.dynamic`).
     """
     omega2 = basis.omega2

@@ -13,13 +13,13 @@ from typing import Any
 
 import numpy as np
 
-from ..linear.backends import certified_note
-from ..linear.banded import seconds_floor, structure
-from ..linear.eigen import ModalBasis
-from ..linear.plant import Plant
-from ..linear.projection import damping_rank
-from ..linear.solve import mounts_form_possible
-from ..linear.subspace import MOMENTS, N_SHIFTS, TWO_SIDED_MAX
+from ..linear.solve.backends import certified_note
+from ..linear.solve.banded import seconds_floor, structure
+from ..linear.eigen.undamped import ModalBasis
+from ..linear.plant.plant import Plant
+from ..linear.eigen.projection import damping_rank
+from ..linear.solve.exact import mounts_form_possible
+from ..linear.project.subspace import MOMENTS, N_SHIFTS, TWO_SIDED_MAX
 from ..methods import resolve
 from .kernels import (COMPLEX_MODE_RISK, METHODS, REFINE_PREDICT, FrequencyMethod, classical_damping,
                       custom_method, mode_risks, project_damping)
@@ -63,8 +63,8 @@ def estimates(plant: Plant, nf: int, basis: ModalBasis, rank: int, refine: int |
     """``auto``'s cost model: estimated seconds of each modal method for a non-classical plant.
 
     Counts the inputs ``m``, outputs ``p``, frequencies ``nf``, modes ``n`` and the damper rank ``r``
-    (:func:`vibss.linear.projection.damping_rank`, the columns of
-    :func:`~vibss.linear.projection.damping_factors`' ``U``):
+    (:func:`vibss.linear.eigen.projection.damping_rank`, the columns of
+    :func:`~vibss.linear.eigen.projection.damping_factors`' ``U``):
 
     - ``woodbury``: ``nf n (p m + r (p + m) + r^2 / 2)`` weighted-sum GEMM work plus ``nf (r + 2)^3``
       for the bordered LUs;
@@ -73,7 +73,7 @@ def estimates(plant: Plant, nf: int, basis: ModalBasis, rank: int, refine: int |
       (:data:`~vibss.frequency.kernels.REFINE_PREDICT`); left out when ``refine`` is None (an
       undamped mode: a pole on the axis, whose error nothing damps).
 
-    The sparse solve's cost (its band, :func:`vibss.linear.banded.structure`) is added by
+    The sparse solve's cost (its band, :func:`vibss.linear.solve.banded.structure`) is added by
     :func:`choose` only when it could win. Constants measured by benchmarks/bench_frf.py.
 
     Parameters
@@ -176,7 +176,7 @@ def choose_without_modes(plant: Plant, nf: int) -> tuple[str, str] | None:
     A small model takes the dense solve. Otherwise ``woodbury`` costs at least its bordered LUs,
     ``nf (r + 2)^3`` for the ``r`` branches alone (its rank only grows with non-classical dampers,
     and its GEMM work is left out): when that lower bound already exceeds the exact sparse solve
-    (``nf`` banded or SuperLU solves, :attr:`~vibss.linear.banded.Structure.seconds_per_frequency`),
+    (``nf`` banded or SuperLU solves, :attr:`~vibss.linear.solve.banded.Structure.seconds_per_frequency`),
     the full cost model of :func:`choose` would pick the sparse solve too, and no modes are needed
     (the branches of every ground mount of a chain: ``r = n``). No trial solve.
 
@@ -245,9 +245,9 @@ def _nonzero(a: Any) -> bool:
 
 def _choose_sparse(plant: Plant, nf: int) -> tuple[str, str]:
     """``auto`` for a sparse plant: the exact solve per frequency or the channel subspace
-    (:mod:`vibss.linear.subspace`), by their estimated costs.
+    (:mod:`vibss.linear.project.subspace`), by their estimated costs.
 
-    The exact path costs ``nf`` solves (:attr:`~vibss.linear.banded.Structure.seconds_per_frequency`);
+    The exact path costs ``nf`` solves (:attr:`~vibss.linear.solve.banded.Structure.seconds_per_frequency`);
     the subspace about ``3 N_SHIFTS`` of them (a factorisation per shift, about as many exact checks
     and a few added frequencies) plus its basis work, ``n r^2`` with ``r = N_SHIFTS MOMENTS`` times
     the input and output vectors (the outputs' only when they are few), and with dampers or loss

@@ -6,7 +6,7 @@ the realization is balanced first (``scipy.linalg.matrix_balance``) and then sol
 every frequency (batched LAPACK ``gesv``). Above 150 states the system is diagonalised once instead
 (``C V (sI - Lambda)^-1 V^-1 B``: O(n p m) per frequency) when its eigenvectors are well conditioned
 (``cond(V) < 1e8``), else solved directly. Used for closed loops and other systems that are not a
-vibss :class:`~vibss.linear.plant.Plant` (for a plant, :func:`vibss.frequency_response` is exact).
+vibss :class:`~vibss.linear.plant.plant.Plant` (for a plant, :func:`vibss.frequency_response` is exact).
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 import scipy.linalg as sl
 
-from ..linear.complex_modes import eigenpairs
+from ..linear.eigen.complex_modes import eigenpairs
 
 __all__ = ["evaluate", "Evaluator"]
 

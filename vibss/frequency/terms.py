@@ -13,9 +13,9 @@ from dataclasses import replace
 import numpy as np
 import scipy.sparse as sp
 
-from ..linear.eigen import stiffness_solver
-from ..linear.plant import Plant
-from ..linear.solve import MOUNTS_RATIO, states
+from ..linear.eigen.undamped import stiffness_solver
+from ..linear.plant.plant import Plant
+from ..linear.solve.exact import MOUNTS_RATIO, states
 
 __all__ = ["terms", "feedthrough", "static", "elastic_static", "mass_solve"]
 
@@ -45,8 +45,8 @@ def feedthrough(plant: Plant, s: np.ndarray, zf: np.ndarray) -> np.ndarray:
 def static(plant: Plant, rb: np.ndarray) -> np.ndarray:
     """``(K + iH)^-1 rb``: the static part of the mode-acceleration form.
 
-    Solved in the mounts' forces (:func:`vibss.linear.solve.states` at ``s = 0``) when the plant's
-    stiffness ratio exceeds :data:`~vibss.linear.solve.MOUNTS_RATIO`: the assembled ``K`` carries
+    Solved in the mounts' forces (:func:`vibss.linear.solve.exact.states` at ``s = 0``) when the plant's
+    stiffness ratio exceeds :data:`~vibss.linear.solve.exact.MOUNTS_RATIO`: the assembled ``K`` carries
     round-off of its stiffest mounts, which a Cholesky of it hands on to the soft modes (graded
     chain: 5.5e-5 relative error by the Cholesky of ``K``, 1.4e-14 in the mounts' forces). Else the
     plant's cached Cholesky of ``K``.

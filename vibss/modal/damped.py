@@ -25,14 +25,14 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from ..linear.assemble import Assembly, assemble
+from ..linear.plant.assemble import Assembly, assemble
 from ..errors import ArgumentError
 from ..model.model import Model
-from ..linear.complex_modes import eigenpairs
-from ..linear.eigen import damping_coupling
-from ..linear.hysteresis import dropped_hysteresis
-from ..linear.signals import build_plant
-from ..linear.solve import without_hysteresis
+from ..linear.eigen.complex_modes import eigenpairs
+from ..linear.eigen.undamped import damping_coupling
+from ..linear.plant.hysteresis import dropped_hysteresis
+from ..linear.plant.signals import build_plant
+from ..linear.solve.exact import without_hysteresis
 from .undamped import Modes, modes
 from ..results import Result, Table, freeze, jsonable, require_pandas
 

@@ -1,11 +1,11 @@
 """Undamped modes: K phi = w^2 M phi, with the tables engineers read.
 
-The modes come from the one eigen path, :func:`vibss.linear.eigen.undamped` (methods by name, or
+The modes come from the one eigen path, :func:`vibss.linear.eigen.undamped.undamped` (methods by name, or
 pass a callable ``f(K, M, n_modes) -> (w2, shapes)``):
 
 - ``"jacobi"``: Jacobi SVD of the factored problem (``K = G^T G``): every frequency to high
   relative accuracy, also beside 1e16 N/m links (the default up to
-  :data:`~vibss.linear.eigen.JACOBI_MAX` DOFs);
+  :data:`~vibss.linear.eigen.undamped.JACOBI_MAX` DOFs);
 - ``"dense"``: ``eigh`` on dense matrices (all modes, or the lowest ``n_modes``), refined where
   the a-posteriori estimate says so;
 - ``"shift-invert"``: sparse shift-invert about a small negative shift: the lowest ``n_modes`` of a
@@ -13,11 +13,11 @@ pass a callable ``f(K, M, n_modes) -> (w2, shapes)``):
 - ``"auto"``: shift-invert for a large sparse model when fewer than a tenth of the modes are asked
   for, Jacobi for a small one, dense otherwise.
 
-Zero-frequency (rigid-body) modes are found by :func:`~vibss.linear.eigen.rigid_mask`, a
+Zero-frequency (rigid-body) modes are found by :func:`~vibss.linear.eigen.undamped.rigid_mask`, a
 unit-independent test of whether each mode's stiffness cancels to round-off on the factor; it does
 not depend on ``n_modes``. Rigid modes are reported with frequency 0. Every mode carries a relative
 error bound of its frequency (:attr:`Modes.error_estimate`). Repeated frequencies (symmetric layouts, free bodies) are split into
-clean directions by :func:`vibss.linear.directions.align_cluster`.
+clean directions by :func:`vibss.linear.eigen.directions.align_cluster`.
 """
 
 from __future__ import annotations
@@ -28,9 +28,9 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from ..linear.assemble import Assembly, assemble
-from ..linear.eigen import FREQ_RTOL, JACOBI_MAX, Solver, undamped
-from ..linear.directions import align_cluster, cluster_slices, direction_shares, dominant_direction, energy_fractions
+from ..linear.plant.assemble import Assembly, assemble
+from ..linear.eigen.undamped import FREQ_RTOL, JACOBI_MAX, Solver, undamped
+from ..linear.eigen.directions import align_cluster, cluster_slices, direction_shares, dominant_direction, energy_fractions
 from .._validate import integer
 from ..errors import AnalysisError, ArgumentError, ModelError
 from ..model.model import DOF_NAMES, Model
@@ -97,7 +97,7 @@ class Modes(Result):
         Why that solver (for ``method="auto"``).
     error_estimate : (k,) ndarray or None
         Relative error bound of each natural frequency [-] (NaN for rigid modes, whose 0 is exact);
-        see :func:`vibss.linear.eigen.error_estimate`.
+        see :func:`vibss.linear.eigen.undamped.error_estimate`.
     """
 
     signal_kind: ClassVar[str] = "DOF"

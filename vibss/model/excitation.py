@@ -33,7 +33,7 @@ from .._validate import choice, read_regular_file, regular_file, vector
 from ..errors import ModelError, did_you_mean
 from ._common import unit_direction
 from .model import DOF_NAMES, GROUND
-from ..linear.plant import INPUT_KINDS
+from ..linear.plant.plant import INPUT_KINDS
 from .timefunctions import (FUNCTIONS, HalfSine, Haversine, Ramp, Rectangular, Sawtooth, Sine,
                             SineSweep, Step, Sum, Table, TimeFunction, Triangle)
 from .units import Units

@@ -180,8 +180,8 @@ def random_response(system: Any, inputs: Mapping[str, Any], outputs: Sequence[st
     (1,)
     """
     from ..frequency.api import frequency_response
-    from ..linear.plant import Plant
-    from ..linear.signals import build_plant
+    from ..linear.plant.plant import Plant
+    from ..linear.plant.signals import build_plant
     from ..modal.undamped import modes
 
     who = "random_response"

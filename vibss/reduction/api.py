@@ -1,6 +1,6 @@
 """Study-driven model reduction with measured error: model no more than a scene needs.
 
-:func:`reduce` takes a model (or a :class:`~vibss.linear.plant.Plant`) and a :class:`~vibss.reduction.scope.Scope`
+:func:`reduce` takes a model (or a :class:`~vibss.linear.plant.plant.Plant`) and a :class:`~vibss.reduction.scope.Scope`
 (inputs, outputs, band, tolerance) and returns a :class:`Reduction`. Methods (by name):
 
 ``"prune"`` (exact)
@@ -60,14 +60,14 @@ import scipy.sparse as sp
 from .._validate import choice
 from ..errors import AnalysisError, ModelError
 from ..model.model import Model
-from ..linear.plant import Plant
+from ..linear.plant.plant import Plant
 from .kernels import Removal, frf, sparse_plant
 from .methods import (BALANCED_MAX_STATES, KRYLOV_MIN_DOF, METHODS, MODE_PRUNE_MAX, Reduced, ReduceOptions,
                       ReductionMethod, _floor, _states, check_grid, choose, resolve_method)
 from ..results import Result, Table, jsonable, require_pandas
 from .scope import Scope
-from ..linear.signals import build_plant
-from ..linear.solve import statespace_plant
+from ..linear.plant.signals import build_plant
+from ..linear.solve.exact import statespace_plant
 from ..linear.statespace import NamedStateSpace, statespace
 
 __all__ = ["reduce", "Reduction", "Removal", "Reduced", "ReduceOptions", "ReductionMethod", "METHODS",
@@ -342,7 +342,7 @@ def reduce(model_or_plant: Model | Plant, scope: Scope, method: Any = "auto", *,
     ----------
     model_or_plant : Model or Plant
         The full system; a Model is turned into the scope's Plant by
-        :func:`vibss.linear.signals.build_plant`; a Plant is cut to the scope's inputs and outputs.
+        :func:`vibss.linear.plant.signals.build_plant`; a Plant is cut to the scope's inputs and outputs.
     scope : Scope
         Inputs, outputs, band [Hz] and relative tolerance.
     method : {"auto", "prune", "modal", "balanced", "krylov"}, ReductionMethod or callable

@@ -1,7 +1,7 @@
 """Input-driven rational Krylov (moment-matching) reduction for :mod:`vibss.reduction`.
 
 The full system stays sparse: ``M, C, K, H`` as CSR matrices over the free DOFs (a
-:class:`~vibss.linear.plant.Plant` whose four matrices are ``scipy.sparse``, see :func:`sparse_plant`), the
+:class:`~vibss.linear.plant.plant.Plant` whose four matrices are ``scipy.sparse``, see :func:`sparse_plant`), the
 input and output maps dense but thin (n x m, p x n). Nothing n x n is ever dense.
 
 Basis
@@ -10,7 +10,7 @@ A second-order (structure-preserving) Galerkin projection ``q = V eta`` with ``V
 
 - **real shifts** ``sigma_j = w_j^2`` spread over the band ``[w1, w2]`` (``w_j`` evenly spaced; a
   band starting at 0 gets ``sigma = 0``, the static response, or a slightly negative shift when
-  ``K`` is singular), each factorised once (banded ``dgbtrf`` or ``splu`` of ``K - sigma_j M``, :mod:`vibss.linear.krylov`);
+  ``K`` is singular), each factorised once (banded ``dgbtrf`` or ``splu`` of ``K - sigma_j M``, :mod:`vibss.linear.project.krylov`);
 - per shift a block Arnoldi sequence ``V_0 = (K - sigma M)^-1 B``, ``V_{k+1} = (K - sigma M)^-1 M V_k``
   for ``moments`` blocks, where ``B`` holds every forcing column (``F``, ``Kz``, ``Cz``, ``Mz``,
   ``Hz``) and, when the outputs are few (``<= TWO_SIDED_MAX`` rows), the output rows transposed
@@ -45,9 +45,9 @@ import scipy.sparse as sp
 
 from ..errors import AnalysisError
 from ..model.model import Model
-from ..linear.plant import FIELD_ROLES, Plant
-from ..linear.signals import build_plant
-from ..linear.krylov import DEFLATE_RTOL, Basis as _Basis, exact_response, forcing_columns as _forcing, \
+from ..linear.plant.plant import FIELD_ROLES, Plant
+from ..linear.plant.signals import build_plant
+from ..linear.project.krylov import DEFLATE_RTOL, Basis as _Basis, exact_response, forcing_columns as _forcing, \
     observing_columns as _observing, project, shift_solver as _shift_lu
 from .prune import Removal, _components, _dof_names, _touched_rows, frf
 
@@ -114,7 +114,7 @@ class KrylovBasis:
 def sparse_plant(model: Model, inputs: Sequence[Any], outputs: Sequence[str]) -> Plant:
     """The scope's plant with ``M, C, K, H`` as scipy.sparse CSR matrices (no dense n x n).
 
-    :func:`vibss.linear.signals.build_plant` with ``sparse=True``.
+    :func:`vibss.linear.plant.signals.build_plant` with ``sparse=True``.
 
     Parameters
     ----------

@@ -17,8 +17,8 @@ import control
 import numpy as np
 
 from ..errors import AnalysisError
-from ..linear.plant import Plant
-from ..linear.signals import control_name
+from ..linear.plant.plant import Plant
+from ..linear.plant.signals import control_name
 from ..linear.statespace import NamedStateSpace, statespace
 from ..methods import Method, callable_name, resolve
 from .kernels import Removal, as_sparse, frf, krylov, prune_dofs, prune_modes, prune_sparse, truncate

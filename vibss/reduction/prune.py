@@ -24,9 +24,9 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
-from ..linear.eigen import undamped
-from ..linear.plant import Plant
-from ..linear.solve import response
+from ..linear.eigen.undamped import undamped
+from ..linear.plant.plant import Plant
+from ..linear.solve.exact import response
 
 __all__ = ["Removal", "sub_plant", "modal_plant", "prune_dofs", "prune_modes", "frf", "ZERO_RTOL",
            "PART_RTOL", "DENSE_MAX"]
@@ -223,7 +223,7 @@ def prune_modes(p: Plant) -> tuple[Plant, list[Removal], bool]:
 
 def frf(p: Plant, s: np.ndarray) -> np.ndarray:
     """Exact response ``Y(s)`` (p, m, nf) of a plant at Laplace points ``s``: the one exact solve,
-    :func:`vibss.linear.solve.response` (dense batched LU for small dense plants, banded or SuperLU
+    :func:`vibss.linear.solve.exact.response` (dense batched LU for small dense plants, banded or SuperLU
     for large or scipy.sparse ones; the 0 Hz limit at ``s = 0``; ``inf`` only where an exactly
     singular resonance is seen and driven)."""
     return response(p, np.atleast_1d(np.asarray(s, complex)))

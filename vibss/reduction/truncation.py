@@ -1,4 +1,4 @@
-"""Modal truncation of a :class:`~vibss.linear.plant.Plant` for :mod:`vibss.reduction`.
+"""Modal truncation of a :class:`~vibss.linear.plant.plant.Plant` for :mod:`vibss.reduction`.
 
 Kept modes and the residual correction
 --------------------------------------
@@ -48,8 +48,8 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spl
 
 from .._validate import choice
-from ..linear.eigen import symmetric_eigen, undamped
-from ..linear.plant import Plant
+from ..linear.eigen.undamped import symmetric_eigen, undamped
+from ..linear.plant.plant import Plant
 from .prune import DENSE_MAX, frf
 
 __all__ = ["truncate", "Truncation", "N_CHECK", "CHECK_SAFETY", "SPARSE_MODES_MAX"]

@@ -1,6 +1,6 @@
 """Time response: shocks, forces, prescribed motions and initial conditions.
 
-:func:`simulate` runs a linear simulation of a model (or a :class:`~vibss.linear.plant.Plant`) from
+:func:`simulate` runs a linear simulation of a model (or a :class:`~vibss.linear.plant.plant.Plant`) from
 ``t = 0`` and returns a :class:`TimeResponse` sampled every ``dt`` from ``record_from`` on.
 Methods are chosen by name through :data:`METHODS` (a callable is accepted too):
 
@@ -58,11 +58,11 @@ from .branched import suits as branch_path
 from .methods import METHODS, SimulationJob, TimeMethod, resolve_method
 from ..model.model import DOF_NAMES, Model
 from ..model.timefunctions import TimeFunction
-from ..linear.branches import require_none
-from ..linear.hysteresis import dropped_hysteresis
-from ..linear.plant import Plant
-from ..linear.signals import build_plant
-from ..linear.solve import without_hysteresis
+from ..linear.plant.branches import require_none
+from ..linear.plant.hysteresis import dropped_hysteresis
+from ..linear.plant.plant import Plant
+from ..linear.plant.signals import build_plant
+from ..linear.solve.exact import without_hysteresis
 from .large import Projected, WARN_ERROR, projected_plant
 from ..studies import causal_loss_fit, steady_sweeps, transient_excitations
 from ..diagnostics import check_excitations, check_explicit_rk
@@ -356,7 +356,7 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
     Parameters
     ----------
     model_or_plant : Model or Plant
-        The system; a Model is turned into a Plant by :func:`vibss.linear.signals.build_plant`.
+        The system; a Model is turned into a Plant by :func:`vibss.linear.plant.signals.build_plant`.
     excitations : sequence of Excitation or None
         Excitations (several on one signal add up). Default: the model's time-domain ones
         (:func:`vibss.studies.transient_excitations`; its steady sweeps are skipped, as the
@@ -410,7 +410,7 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
     -----
     VibssWarning
         Mounts with a loss factor: it has no causal time-domain form and is left out (named in the
-        warning and in ``note``; :func:`vibss.linear.hysteresis.dropped_hysteresis`).
+        warning and in ``note``; :func:`vibss.linear.plant.hysteresis.dropped_hysteresis`).
     """
     secs = "a number of seconds"
     dt = number(dt, "dt", who="simulate", minimum=0.0, strict=True, what=secs, must="a positive time step [s]")

@@ -1,12 +1,12 @@
 """The exact modal time response of a plant with a few Maxwell branches (frequency-dependent mounts).
 
-The branch forces ``f`` join the undamped modes' coordinates as states (:mod:`vibss.linear.branches`):
+The branch forces ``f`` join the undamped modes' coordinates as states (:mod:`vibss.linear.plant.branches`):
 
     M p'' + C p' + K p = F f_in - Kt z - Ct z' - B^T f,
     f' = diag(k) (B p' + Bt z') - f / tau,        Bt = Bz - B G,
 
 (``p = q + G z``, :mod:`vibss.time.kernels`), and ``y = Cp p + Cv p' + (O - Oa M^-1 B^T) f + ...``.
-:func:`vibss.linear.branch_modes.branch_modes` diagonalises the augmented modal matrix from the
+:func:`vibss.linear.eigen.branch_modes.branch_modes` diagonalises the augmented modal matrix from the
 r x r secular equation, certified, without forming it; each eigenvalue is then one scalar mode of
 the existing exact FOH recursion (:func:`vibss.time.kernels.run_modal`), driven through ``V^-1``
 (left eigenvectors from the right ones): the generalized forces through the ``eta'`` rows, the
@@ -24,10 +24,10 @@ import numpy as np
 import scipy.linalg as sl
 
 from ..errors import DefectiveModesError
-from ..linear.branch_modes import BranchModes, branch_modes
-from ..linear.eigen import damping_coupling, modal_basis
-from ..linear.plant import Plant
-from ..linear.projection import projected_damping
+from ..linear.eigen.branch_modes import BranchModes, branch_modes
+from ..linear.eigen.undamped import damping_coupling, modal_basis
+from ..linear.plant.plant import Plant
+from ..linear.eigen.projection import projected_damping
 from .kernels import Prepared, _ModalSet, channels
 
 __all__ = ["modal_sets", "suits", "COST_FACTOR"]

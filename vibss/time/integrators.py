@@ -22,7 +22,7 @@ passed to ``simulate(..., method=newmark_method)`` or registered by name.
 Examples
 --------
 >>> import numpy as np
->>> from vibss.linear.plant import Plant
+>>> from vibss.linear.plant.plant import Plant
 >>> z = np.zeros((1, 1)); one = np.ones((1, 1))
 >>> p = Plant(("b.z",), one, z, 100 * one, z, ("f",), ("force",), one, z, z, z, z,
 ...           ("b.z",), ("m",), one, z, z, z, z, z, z)
@@ -40,8 +40,8 @@ import numpy as np
 import scipy.linalg as sl
 
 from ..errors import ModelError
-from ..linear.eigen import generalized_eigvals
-from ..linear.plant import Plant
+from ..linear.eigen.undamped import generalized_eigvals
+from ..linear.plant.plant import Plant
 
 __all__ = ["newmark", "central_difference", "newmark_method", "central_difference_method",
            "critical_step"]

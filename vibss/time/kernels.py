@@ -3,7 +3,7 @@ recursion, the z-only state-space realization, and the ``forced_response`` / ``s
 
 Formulation shared by every method
 ----------------------------------
-The plant (:class:`vibss.linear.plant.Plant`) is ``M q'' + C q' + K q = F f - (Kz z + Cz z' + Mz z'')``
+The plant (:class:`vibss.linear.plant.plant.Plant`) is ``M q'' + C q' + K q = F f - (Kz z + Cz z' + Mz z'')``
 with outputs ``y = Oq q + Ov q' + Oa q'' + Pz z + Pv z' + Pa z'' + Pf f``. The mass coupling to the
 prescribed coordinates is removed by the substitution ``p = q + G z`` with ``G = M^-1 Mz``:
 
@@ -38,13 +38,13 @@ import numpy as np
 import scipy.linalg as sl
 from threadpoolctl import ThreadpoolController
 
-from ..linear.complex_modes import complex_modes
+from ..linear.eigen.complex_modes import complex_modes
 from ..errors import AnalysisError
-from ..linear.eigen import damping_coupling, modal_basis, symmetric_eigen
-from ..linear.eigen_checks import _six_blocks
-from ..linear.branches import mechanical, require_none
-from ..linear.plant import Plant
-from ..linear.projection import projected_damping
+from ..linear.eigen.undamped import damping_coupling, modal_basis, symmetric_eigen
+from ..linear.eigen.checks import _six_blocks
+from ..linear.plant.branches import mechanical, require_none
+from ..linear.plant.plant import Plant
+from ..linear.eigen.projection import projected_damping
 from .phi import cs_blocks, foh_blocks
 from .recursion import LowRank, scan
 

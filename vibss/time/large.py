@@ -8,7 +8,7 @@ the inputs and outputs.
 
 1. **The inputs' spectrum.** The sampled inputs ``u_j(t)`` (zero-padded 4x) give ``|U_j(w)|``
    [unit s] on the FFT bins from ``df`` to the Nyquist frequency ``1 / (2 dt)``.
-2. **Subspace.** :func:`vibss.linear.subspace.channel_subspace` at :data:`FREQUENCIES` of those
+2. **Subspace.** :func:`vibss.linear.project.subspace.channel_subspace` at :data:`FREQUENCIES` of those
    bins (log-spaced by index, so the low band is dense): a block rational Krylov basis from the
    input and output vectors, real shifts spread over the bins, grown greedily where an exact
    solve at a check frequency shows an error above :data:`TOLERANCE`, the error of a channel
@@ -36,9 +36,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import AnalysisError
-from ..linear.plant import Plant
-from ..linear.solve import without_hysteresis
-from ..linear.subspace import Subspace, channel_subspace
+from ..linear.plant.plant import Plant
+from ..linear.solve.exact import without_hysteresis
+from ..linear.project.subspace import Subspace, channel_subspace
 
 __all__ = ["FREQUENCIES", "TOLERANCE", "WARN_ERROR", "Projected", "input_spectrum", "projected_plant"]
 
@@ -131,7 +131,7 @@ def projected_plant(full: Plant, samples: np.ndarray, dt: float, tol: float | No
     Parameters
     ----------
     full : Plant
-        Plant with sparse ``M, C, K`` (:func:`vibss.linear.signals.build_plant` ``sparse=True``);
+        Plant with sparse ``M, C, K`` (:func:`vibss.linear.plant.signals.build_plant` ``sparse=True``);
         its hysteretic part is left out (the time domain has none).
     samples : (m, ns) ndarray
         Its inputs sampled every ``dt`` [input units].

@@ -19,7 +19,7 @@ from . import branched
 from . import kernels as tm
 from ..diagnostics import check_central_difference
 from ..errors import AnalysisError
-from ..linear.plant import Plant
+from ..linear.plant.plant import Plant
 from ..methods import Method, callable_name, resolve
 from .integrators import central_difference_method, newmark_method
 

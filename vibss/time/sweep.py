@@ -5,7 +5,7 @@ lower, later (shifted in the sweep direction) and followed by beating. :func:`sw
 simulates the sweep (:func:`vibss.time.simulate`), takes the envelope of every output (magnitude of
 the analytic signal, :func:`scipy.signal.hilbert`) against the instantaneous frequency, and sets it
 beside the steady-state amplitude ``|H(f)| a(f)`` from the exact solve of
-``(K - w^2 M + i w C) X = RHS`` (:func:`vibss.linear.solve.response`).
+``(K - w^2 M + i w C) X = RHS`` (:func:`vibss.linear.solve.exact.response`).
 """
 
 from __future__ import annotations
@@ -18,8 +18,8 @@ from scipy.signal import hilbert
 
 from ..errors import ArgumentError, ModelError
 from ..model.model import Model
-from ..linear.signals import build_plant
-from ..linear.solve import response, without_hysteresis
+from ..linear.plant.signals import build_plant
+from ..linear.solve.exact import response, without_hysteresis
 from ..results import Result, Table, jsonable, require_pandas
 from .api import TimeResponse, simulate
 
@@ -184,7 +184,7 @@ def sweep_envelope(model: Model, excitation: Any, *, outputs: Any = None, dt: fl
 
 def _frf(plant: Any, w: np.ndarray) -> np.ndarray:
     """(p, k) response per unit input of the plant's single input: the one exact solve
-    (:func:`vibss.linear.solve.response`) without the hysteretic parts (the time domain has none).
+    (:func:`vibss.linear.solve.exact.response`) without the hysteretic parts (the time domain has none).
 
     At ``w = 0`` the value is the exact limit ``w -> 0+`` (finite, e.g. a static deflection, or
     ``inf``, e.g. a displacement under a constant acceleration). Where the dynamic matrix is exactly

@@ -21,8 +21,8 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spl
 from scipy.sparse.csgraph import reverse_cuthill_mckee
 
-from .branches import groups
-from .plant import Plant
+from ..plant.branches import groups
+from ..plant.plant import Plant
 
 __all__ = ["Structure", "structure", "BAND_MAX", "seconds_floor"]
 
@@ -50,7 +50,7 @@ class Structure:
         Whether the band is narrow enough for the banded LU (``band <= BAND_MAX``).
     parts : dict of str to ndarray or scipy.sparse matrix
         ``"K"``, ``"C"``, ``"M"``, ``"H"`` (only the nonzero ones) and ``"G0"``, ``"G1"`` ... (the
-        frequency-dependent mounts' :func:`~vibss.linear.branches.groups`): LAPACK band storage of the
+        frequency-dependent mounts' :func:`~vibss.linear.plant.branches.groups`): LAPACK band storage of the
         reordered matrix, shape ``(2 band + 1, n)``, when ``banded``; else CSC matrices in the
         original order.
     seconds_per_frequency : float
@@ -105,8 +105,8 @@ def structure(plant: Plant) -> Structure:
     --------
     A chain of three bodies on mounts couples each body to its neighbours only:
 
-    >>> from vibss import Body, Model, Mount, MountType
-    >>> from vibss.linear.signals import build_plant
+    >>> from ... import Body, Model, Mount, MountType
+    >>> from ..plant.signals import build_plant
     >>> t = MountType("t", [1e5, 1e5, 1e5], [10.0, 10.0, 10.0])
     >>> bodies = [Body(f"b{i}", 10.0, [1, 1, 1], cog=[i, 0, 0]) for i in range(3)]
     >>> mounts = [Mount("g", t, "b0", at=[0.2, 0.1, -0.3])] + [

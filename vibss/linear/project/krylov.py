@@ -3,7 +3,7 @@ shift-invert solves, the exact response at one point (with its adjoint) and the 
 in Ritz coordinates.
 
 Shared by the Krylov reduction (:mod:`vibss.reduction.krylov`) and the channel subspace of the
-large-model frequency and time responses (:mod:`vibss.linear.subspace`). Nothing n x n is dense.
+large-model frequency and time responses (:mod:`vibss.linear.project.subspace`). Nothing n x n is dense.
 """
 
 from __future__ import annotations
@@ -15,11 +15,11 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.linalg.lapack import dgbtrf, dgbtrs
 
-from ..errors import AnalysisError
-from .banded import Structure, structure
-from .eigen import projected_eigen, symmetric_eigen
-from .plant import Plant
-from .solve import SingularMatrixError, forcing, lu_solver, observe, output_map, states, zfactor
+from ...errors import AnalysisError
+from ..solve.banded import Structure, structure
+from ..eigen.undamped import projected_eigen, symmetric_eigen
+from ..plant.plant import Plant
+from ..solve.exact import SingularMatrixError, forcing, lu_solver, observe, output_map, states, zfactor
 
 __all__ = ["Basis", "exact_response", "forcing_columns", "observing_columns", "shift_solver", "project",
            "DEFLATE_RTOL"]
@@ -31,7 +31,7 @@ M-norm before."""
 
 def exact_response(p: Plant, s: complex, adjoint: bool = False) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
     """Exact response of a sparse plant at one Laplace point ``s`` [rad/s] (the one exact solve,
-    :func:`vibss.linear.solve.states`, on the sparse structure: banded LU or SuperLU).
+    :func:`vibss.linear.solve.exact.states`, on the sparse structure: banded LU or SuperLU).
 
     Parameters
     ----------
@@ -160,8 +160,8 @@ def observing_columns(p: Plant) -> np.ndarray:
 def shift_solver(p: Plant, w: float, w2: float, banded: bool = True) -> tuple[Callable[[np.ndarray], np.ndarray], float]:
     """LU of ``K - sigma M`` at ``sigma = w^2`` (nudged when singular); returns (solve, sigma).
 
-    Banded LU (``dgbtrf``) on the plant's banded ordering (:func:`vibss.linear.banded.structure`)
-    when it bands, ``banded`` is true and ``sigma > 0``; else SuperLU (:func:`vibss.linear.solve.lu_solver`): a static
+    Banded LU (``dgbtrf``) on the plant's banded ordering (:func:`vibss.linear.solve.banded.structure`)
+    when it bands, ``banded`` is true and ``sigma > 0``; else SuperLU (:func:`vibss.linear.solve.exact.lu_solver`): a static
     shift's ``K`` may be singular to round-off, which SuperLU's pivoting reports as exactly singular
     (the shift is then nudged below zero) where the banded LU answered with a basis too poor for the
     reduction's tolerance (measured: 8.4e-9 against 1e-9 in tests/test_reduction.py).

@@ -10,7 +10,7 @@ naming the mounts and a sentence for the result's ``note``.
 Examples
 --------
 >>> import warnings
->>> from vibss import Body, Model, Mount, MountType
+>>> from ... import Body, Model, Mount, MountType
 >>> m = Model([Body("b", 1.0, [1, 1, 1])], [Mount("m", MountType("t", [1e4] * 3, loss_factor=0.1), "b")])
 >>> hysteretic_mounts(m)
 ('m',)
@@ -28,8 +28,8 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import VibssWarning
-from ..model.model import Model
+from ...errors import VibssWarning
+from ...model.model import Model
 from .memo import remembered
 
 __all__ = ["hysteretic_mounts", "dropped_hysteresis"]

@@ -30,8 +30,8 @@ import scipy.linalg as sl
 from scipy.linalg import get_lapack_funcs
 from scipy.spatial import cKDTree
 
-from ..errors import DefectiveModesError
-from ..results import ReadOnly
+from ...errors import DefectiveModesError
+from ...results import ReadOnly
 
 __all__ = ["ComplexModes", "complex_modes", "eigenpairs", "eigenvalues", "factor_vectors", "PROBE_TOL"]
 
@@ -118,7 +118,7 @@ def eigenpairs(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Eigenvalues and unit right eigenvectors of a small general (state) matrix, LAPACK ``geev``.
 
     The one general eigen solve (damped modes, complex modal FRFs); undamped modes come from
-    :func:`vibss.linear.eigen.undamped`.
+    :func:`vibss.linear.eigen.undamped.undamped`.
     """
     return sl.eig(a, right=True, check_finite=False)
 
@@ -128,7 +128,7 @@ def eigenvalues(a: np.ndarray, b: np.ndarray | None = None) -> np.ndarray:
     ``ggev`` without vectors (infinite eigenvalues of a singular ``b`` come back as ``inf``).
 
     The one general eigenvalue call beside :func:`eigenpairs` (the structured branch solver's first
-    guesses, :mod:`vibss.linear.branch_modes`).
+    guesses, :mod:`vibss.linear.eigen.branch_modes`).
     """
     return sl.eig(a, b, right=False, check_finite=False)
 

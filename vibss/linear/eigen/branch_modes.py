@@ -56,9 +56,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import DefectiveModesError
+from ...errors import DefectiveModesError
 from .complex_modes import eigenvalues
-from ..results import ReadOnly
+from ...results import ReadOnly
 
 __all__ = ["BranchModes", "branch_modes", "RESIDUAL_TOL", "COND_MAX"]
 
@@ -67,7 +67,7 @@ RESIDUAL_TOL = 1e-11
 
 COND_MAX = 1e8
 """Largest eigenvalue condition number ``||w|| ||v|| / |w^T v|`` accepted (as in
-:data:`vibss.linear.complex_modes.COND_MAX`)."""
+:data:`vibss.linear.eigen.complex_modes.COND_MAX`)."""
 
 CLUSTER = 1e-6
 """Modes whose undamped poles lie within this fraction of their magnitude are solved together."""

@@ -1,9 +1,9 @@
 """Which terms of a plant's inputs and outputs are nonzero, found once per plant.
 
-The exact solve (:mod:`vibss.linear.solve`) skips the zero terms of ``F - (Kz + iHz + s Cz + s^2 Mz) Z``
+The exact solve (:mod:`vibss.linear.solve.exact`) skips the zero terms of ``F - (Kz + iHz + s Cz + s^2 Mz) Z``
 and ``O(s) X + P(s) Z + Pf``; testing each map with ``np.any`` on every call cost about twenty small
 reductions per frequency response (a tenth of a 12-DOF call). A plant is frozen (its arrays are
-read-only in place, :class:`~vibss.linear.plant.Plant`), so the tests are made once and kept in its
+read-only in place, :class:`~vibss.linear.plant.plant.Plant`), so the tests are made once and kept in its
 cache; the arithmetic on the kept terms is the same as before, in the same order.
 """
 
@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..results import ReadOnly
+from ...results import ReadOnly
 from .plant import Plant
 
 __all__ = ["PlantTerms", "plant_terms"]

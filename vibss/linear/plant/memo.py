@@ -8,8 +8,8 @@ computed once. The memo holds the last :data:`MODELS` models of at most :data:`S
 (a few kilobytes each), keyed by identity: an equal but distinct model is assembled again, and a
 large model is never kept alive by it.
 
-Everything kept is itself read-only (an :class:`~vibss.linear.assemble.Assembly` and a
-:class:`~vibss.linear.plant.Plant` freeze their arrays in place), so a later call cannot see a
+Everything kept is itself read-only (an :class:`~vibss.linear.plant.assemble.Assembly` and a
+:class:`~vibss.linear.plant.plant.Plant` freeze their arrays in place), so a later call cannot see a
 change made through a handle the first one returned.
 """
 

@@ -6,17 +6,17 @@ pushed through the dynamic stiffness near those frequencies (a block, rational K
 
 1. **Shifts.** :data:`N_SHIFTS` real shifts ``sigma_j = w_j^2`` at frequencies ``w_j`` spread over
    the requested ones (evenly by index), each one sparse or banded factorisation of
-   ``K - sigma_j M`` (:func:`vibss.linear.krylov.shift_solver`); per shift :data:`MOMENTS` blocks
+   ``K - sigma_j M`` (:func:`vibss.linear.project.krylov.shift_solver`); per shift :data:`MOMENTS` blocks
    ``(K - sigma M)^-1 [B, O^T]``, ``(K - sigma M)^-1 M V_k`` (``B`` every forcing column, ``O`` every
    output row: both sides in one basis keep the projection symmetric, so the error is second order
-   in the basis' error). The basis is M-orthonormal (:class:`vibss.linear.krylov.Basis`) and the plant
+   in the basis' error). The basis is M-orthonormal (:class:`vibss.linear.project.krylov.Basis`) and the plant
    projected on it (its ``V^T X V`` grown with the basis), then turned to Ritz coordinates:
    ``M``, ``C``, ``H``, ``K`` and every input and output map, so dampers and loss factors are
    carried by the same projection.
 2. **Checks.** Between neighbouring interpolation frequencies (shifts and frequencies already added),
    where an interpolation error is largest, the requested frequency nearest the midpoint (and each
    end of the list; with dampers or loss factors the shift frequencies too, which a real shift
-   does not interpolate) is solved exactly (:func:`vibss.linear.krylov.exact_response`: the one exact
+   does not interpolate) is solved exactly (:func:`vibss.linear.project.krylov.exact_response`: the one exact
    solve, banded or sparse LU) and compared with the projected response. The error of a channel
    is ``|H_r - H|`` over the channel's peak ``max |H_r|`` over every requested frequency (times a
    weight per input and frequency when one is given: the time path weighs by the input spectrum).
@@ -42,11 +42,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import AnalysisError
-from .eigen import projected_eigen
+from ...errors import AnalysisError
+from ..eigen.undamped import projected_eigen
 from .krylov import Basis, exact_response, forcing_columns, observing_columns, shift_solver
-from .plant import Plant
-from .solve import forcing, observe, response, zfactor
+from ..plant.plant import Plant
+from ..solve.exact import forcing, observe, response, zfactor
 
 __all__ = ["Subspace", "channel_subspace", "reduced_response", "N_SHIFTS", "MOMENTS", "MAX_ROUNDS", "TOLERANCE", "TWO_SIDED_MAX", "CHECK_SAFETY", "MOVED_MAX"]
 
@@ -170,7 +170,7 @@ class _Galerkin:
 def reduced_response(red: Plant, s: np.ndarray) -> np.ndarray:
     """(p, m, nf) response of a plant in Ritz coordinates (``M = I``, ``K`` diagonal) at ``s``:
     without ``C`` and ``H`` the dynamic stiffness is diagonal and each frequency costs ``r (m + p)``
-    (the same :func:`~vibss.linear.solve.forcing` and :func:`~vibss.linear.solve.observe` as the exact
+    (the same :func:`~vibss.linear.solve.exact.forcing` and :func:`~vibss.linear.solve.exact.observe` as the exact
     solve); with them, the exact solve of the small dense plant."""
     if np.any(red.C) or np.any(red.H) or red.branches is not None:
         return response(red, s)
@@ -242,8 +242,8 @@ def channel_subspace(plant: Plant, omega: np.ndarray, tol: float = TOLERANCE, we
 
     Examples
     --------
-    >>> from vibss import Body, Model, Mount, MountType
-    >>> from vibss.linear.signals import build_plant
+    >>> from ... import Body, Model, Mount, MountType
+    >>> from ..plant.signals import build_plant
     >>> t = MountType("t", [1e5, 2e5, 3e5])
     >>> bodies = [Body(f"b{i}", 10.0 + i, [1, 1, 1], cog=[i, 0, 0]) for i in range(20)]
     >>> mounts = [Mount(f"g{i}", t, f"b{i}", at=[i, 0.1, -0.2]) for i in range(20)]

@@ -26,11 +26,11 @@ import numpy as np
 import numpy.typing as npt
 import scipy.sparse as sp
 
-from ..errors import ModelError
-from ..results import ReadOnly
-from ..model.geometry import point_transfer
-from ..model.model import DOF_NAMES, GROUND, Model
-from .eigen import symmetric_eigen
+from ...errors import ModelError
+from ...results import ReadOnly
+from ...model.geometry import point_transfer
+from ...model.model import DOF_NAMES, GROUND, Model
+from ..eigen.undamped import symmetric_eigen
 from .memo import remembered
 
 __all__ = ["Assembly", "assemble", "SPARSE_THRESHOLD", "dof_labels"]
@@ -224,11 +224,11 @@ class Assembly(ReadOnly):
         coupled 6x6 ``stiffness_matrix`` gives one row per positive eigenvalue of its (diagonally
         scaled) matrix instead (:meth:`_matrix_factor`). Unlike K it keeps
         every mount's stiffness apart, so soft mounts are not lost beside stiff links when it is
-        used by the eigen path (:func:`vibss.linear.eigen.undamped`) and by statics.
+        used by the eigen path (:func:`vibss.linear.eigen.undamped.undamped`) and by statics.
 
         Examples
         --------
-        >>> from vibss import Body, MountType, Mount, Model
+        >>> from ... import Body, MountType, Mount, Model
         >>> m = Model([Body("b", 10.0, [1, 1, 1])], [Mount("m", MountType("t", [1e4, 1e4, 2e4]), "b", at=[0.1, 0, 0])])
         >>> a = assemble(m)
         >>> g = a.stiffness_factor()
@@ -360,13 +360,13 @@ def assemble(model: Model, sparse: bool | None = None) -> Assembly:
 
     Examples
     --------
-    >>> from vibss import Body, MountType, Mount, Model
+    >>> from ... import Body, MountType, Mount, Model
     >>> t = MountType("t", [1e4, 1e4, 2e4])
     >>> m = Model([Body("b", 10.0, [1, 1, 1])], [Mount("m", t, "b")])
     >>> float(assemble(m).K[2, 2])
     20000.0
 
-    A small model's assembly is remembered (:mod:`vibss.linear.memo`): asked again for the same
+    A small model's assembly is remembered (:mod:`vibss.linear.plant.memo`): asked again for the same
     model, ``assemble`` returns the same read-only Assembly (and what is cached on it).
     """
     if sparse is None:

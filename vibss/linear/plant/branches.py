@@ -14,20 +14,20 @@ so ``f_i = k_i tau_i s / (1 + tau_i s) delta_i`` in the frequency domain. A hydr
 (:class:`~vibss.model.rheology.Hydraulic`) gives its coordinate a mass, ``mu_i u_i'' + tau_i u_i' +
 u_i = delta_i`` with ``mu_i = m_i / k_i``: ``f_i = k_i P_i / (1 + P_i) delta_i``, ``P_i = mu_i s^2 +
 tau_i s`` (two states in the time domain: ``u_i`` and its rate). :class:`Branches` holds
-``B, Bz, O, k, tau`` of a plant (a field of :class:`~vibss.linear.plant.Plant`); every analysis
+``B, Bz, O, k, tau`` of a plant (a field of :class:`~vibss.linear.plant.plant.Plant`); every analysis
 takes the same ladder:
 
-- the exact solve (:mod:`vibss.linear.solve`) eliminates the ``u_i`` exactly (:func:`groups`):
+- the exact solve (:mod:`vibss.linear.solve.exact`) eliminates the ``u_i`` exactly (:func:`groups`):
   ``K + iH + sC + s^2 M + sum_tau tau s / (1 + tau s) K_tau``, through every back-end;
 - :func:`vibss.linear.statespace.statespace` appends the ``u_i`` as states (:func:`close`), which the
   time response (``forced_response``) and the damped modes use;
 - the modal time response (:mod:`vibss.time.branched`) takes the branch forces as states beside the
-  undamped modes and diagonalises the two together (:mod:`vibss.linear.branch_modes`).
+  undamped modes and diagonalises the two together (:mod:`vibss.linear.eigen.branch_modes`).
 
 Examples
 --------
->>> from vibss import Body, Model, Mount, MountType
->>> from vibss.linear.signals import build_plant
+>>> from ... import Body, Model, Mount, MountType
+>>> from .signals import build_plant
 >>> t = MountType("rubber", rheology={"type": "zener", "k_0": 1e4, "k_inf": 3e4, "tau": 1e-2})
 >>> p = build_plant(Model([Body("b", 1.0, [1, 1, 1])], [Mount("m", t, "b")]), ["b.fz"], ["b.z"])
 >>> p.branches.labels
@@ -46,7 +46,7 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from ..errors import AnalysisError
+from ...errors import AnalysisError
 
 __all__ = ["Branches", "Group", "build_branches", "groups", "mechanical", "close", "require_none"]
 
@@ -139,11 +139,11 @@ def build_branches(model: Any, deflection: Any, free: np.ndarray, motion: np.nda
     model : Model
         Its mount types' ladders (:attr:`vibss.MountType.ladder`) give ``k`` and ``tau``.
     deflection : (3 n_mounts, n + nz) sparse matrix
-        :meth:`vibss.linear.assemble.Assembly.deflection_matrix` (global axes, ground last).
+        :meth:`vibss.linear.plant.assemble.Assembly.deflection_matrix` (global axes, ground last).
     free : (n_free,) int ndarray
         Free body DOFs.
     motion : (n + nz, m) ndarray
-        Prescribed coordinates per input (:func:`vibss.linear.signals.input_maps`).
+        Prescribed coordinates per input (:func:`vibss.linear.plant.signals.input_maps`).
     force_rows : (p, 3 n_mounts) ndarray
         Each output per unit force of each mount into its ``to`` side (global axes).
 

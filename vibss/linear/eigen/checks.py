@@ -1,12 +1,12 @@
 """Checks of computed undamped modes on the stiffness factor: the rigid-mode test and error bounds.
 
 The factor ``G`` of ``K = G^T G`` (one row per mount principal axis,
-:meth:`vibss.linear.assemble.Assembly.stiffness_factor`) keeps every mount's stiffness apart, so
+:meth:`vibss.linear.plant.assemble.Assembly.stiffness_factor`) keeps every mount's stiffness apart, so
 products with it do not cancel soft mounts against stiff links the way K formed in floats does.
 
 - :func:`rigid_mask`: the one test of which computed modes are rigid-body modes;
 - :func:`error_estimate`: a relative error bound of each computed frequency (Kato-Temple);
-- block-diagonal mass helpers shared with :mod:`vibss.linear.eigen`.
+- block-diagonal mass helpers shared with :mod:`vibss.linear.eigen.undamped`.
 """
 
 from __future__ import annotations

@@ -17,7 +17,7 @@ each kind gets an exact realization (see :mod:`vibss.statespace`).
 
 Frequency-domain-only hysteretic stiffness enters as ``K + i H`` and ``Kz + i Hz``.
 
-The plant is built by :func:`vibss.linear.signals.build_plant`; analyses take a Plant, never re-derive it.
+The plant is built by :func:`vibss.linear.plant.signals.build_plant`; analyses take a Plant, never re-derive it.
 """
 
 from __future__ import annotations
@@ -30,9 +30,9 @@ from typing import Any, ClassVar
 import numpy as np
 import numpy.typing as npt
 
-from .._validate import name_index
-from ..errors import AnalysisError, ModelError, SignalIndexError
-from ..results import ReadOnly
+from ..._validate import name_index
+from ...errors import AnalysisError, ModelError, SignalIndexError
+from ...results import ReadOnly
 from .branches import Branches
 
 __all__ = ["Plant", "MountForm", "INPUT_KINDS", "MOTION_ORDER", "FIELD_ROLES"]
@@ -59,7 +59,7 @@ FIELD_ROLES: dict[str, str] = {
 :meth:`Plant.project`, by the axes it spans (``"factor x dof"`` is a stiffness factor ``Kf`` with
 ``K = Kf^T Kf``: its columns follow the DOFs; ``"mount form"`` is the :class:`MountForm`, kept by a
 selection of signals and dropped by restriction and projection, which change the matrices it
-reproduces; ``"branches"`` is the :class:`~vibss.linear.branches.Branches`, cut and projected by its
+reproduces; ``"branches"`` is the :class:`~vibss.linear.plant.branches.Branches`, cut and projected by its
 own methods). A field missing here is carried along unchanged when
 it is None and refused otherwise, so a new field must be classified before a plant operation can
 silently get it wrong."""
@@ -72,7 +72,7 @@ class MountForm(ReadOnly):
     Assembling ``K = sum B_p^T k_p B_p`` rounds every entry at the level of the stiffest mount it
     holds; the soft modes beside stiff mounts (stiffness ratios of 1e5 and more) are sensitive to
     exactly that round-off. Kept apart, the mount forces ``lam = Z B q`` become unknowns of their
-    own (:mod:`vibss.linear.solve`, ``form="mounts"``) and nothing large is ever summed.
+    own (:mod:`vibss.linear.solve.exact`, ``form="mounts"``) and nothing large is ever summed.
 
     Attributes
     ----------
@@ -204,10 +204,10 @@ class Plant(ReadOnly):
         ``Kf[:, dofs]`` only when the dropped DOFs are prescribed (not condensed).
     mounts : MountForm or None
         ``K, C, H`` kept as a sum over the mounts, for the exact solve on badly scaled models
-        (:func:`vibss.linear.signals.build_plant` sets it; None: only the assembled matrices).
+        (:func:`vibss.linear.plant.signals.build_plant` sets it; None: only the assembled matrices).
     branches : Branches or None
         Maxwell branches of frequency-dependent mounts (internal states; ``K`` and ``C`` hold their
-        static stiffness and dashpots only): :mod:`vibss.linear.branches`. None: no such mount.
+        static stiffness and dashpots only): :mod:`vibss.linear.plant.branches`. None: no such mount.
     """
 
     dofs: tuple[str, ...]
@@ -312,8 +312,8 @@ class Plant(ReadOnly):
 
         Examples
         --------
-        >>> from vibss import Body, Model, Mount, MountType
-        >>> from vibss.linear.signals import build_plant
+        >>> from ... import Body, Model, Mount, MountType
+        >>> from .signals import build_plant
         >>> m = Model([Body("b", 1.0, [1, 1, 1])], [Mount("m", MountType("t", [1e3] * 3), "b")])
         >>> p = build_plant(m, ["b.fz", "b.fx"], ["b.x", "b.z"]).select(["b.fz"], ["b.z"])
         >>> p.inputs, p.outputs, p.F.shape, p.Oq.shape
@@ -365,8 +365,8 @@ class Plant(ReadOnly):
 
         Examples
         --------
-        >>> from vibss import Body, Model, Mount, MountType
-        >>> from vibss.linear.signals import build_plant
+        >>> from ... import Body, Model, Mount, MountType
+        >>> from .signals import build_plant
         >>> m = Model([Body("b", 1.0, [1, 1, 1])], [Mount("m", MountType("t", [1e3] * 3), "b")])
         >>> build_plant(m, ["b.fz"], ["b.z"]).restrict(["b.z"]).K
         array([[1000.]])
@@ -432,8 +432,8 @@ class Plant(ReadOnly):
         Examples
         --------
         >>> import numpy as np
-        >>> from vibss import Body, Model, Mount, MountType
-        >>> from vibss.linear.signals import build_plant
+        >>> from ... import Body, Model, Mount, MountType
+        >>> from .signals import build_plant
         >>> m = Model([Body("b", 2.0, [1, 1, 1])], [Mount("m", MountType("t", [1e3] * 3), "b")])
         >>> p = build_plant(m, ["b.fz"], ["b.z"])
         >>> p.project(np.eye(6)[:, [2]], ["z"]).M      # the z row and column

@@ -16,7 +16,7 @@ truncation, Krylov checks, diagnostics) takes its undamped modes from here.
   residual, and the Jacobi SVD's own bound);
 - :func:`symmetric_eigen`, :func:`projected_eigen`: the small symmetric problems (cluster rotations,
   principal axes, projected Ritz problems) so that every eigen solve lives in this module;
-- :func:`modal_basis`: the mass-normalised basis of a :class:`~vibss.linear.plant.Plant`, with
+- :func:`modal_basis`: the mass-normalised basis of a :class:`~vibss.linear.plant.plant.Plant`, with
   low modes refined to relative accuracy where a light damping would amplify their error;
 - :func:`damping_coupling`: the one test of classical damping on a projected damping matrix.
 """
@@ -34,12 +34,12 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spl
 from scipy.linalg import lapack
 
-from .._validate import choice
-from ..results import ReadOnly
-from ..errors import ModelError
-from .eigen_checks import (RIGID_RTOL, _as_factor, _factor_norms, _inverse_cholesky, _six_blocks, _trace_norm,
+from ..._validate import choice
+from ...results import ReadOnly
+from ...errors import ModelError
+from .checks import (RIGID_RTOL, _as_factor, _factor_norms, _inverse_cholesky, _six_blocks, _trace_norm,
                            error_estimate, fast_matrix, rigid_mask, stiffness_solver)
-from .plant import Plant
+from ..plant.plant import Plant
 
 __all__ = ["generalized_eigh", "rigid_mask", "damping_coupling", "modal_basis", "ModalBasis", "METHODS",
            "RIGID_RTOL", "CLASSICAL_RTOL", "fast_matrix", "stiffness_solver", "Solver", "Spectrum",
@@ -312,7 +312,7 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
     K, M : (n, n) array_like or sparse matrix
         Stiffness [N/m ...] and mass [kg ...] matrices.
     factor : (r, n) array_like or sparse, optional
-        Stiffness factor G with ``K = G^T G`` (:meth:`vibss.linear.assemble.Assembly.stiffness_factor`).
+        Stiffness factor G with ``K = G^T G`` (:meth:`vibss.linear.plant.assemble.Assembly.stiffness_factor`).
         With it the frequencies are exact to high relative accuracy on badly scaled models.
     n_modes : int or None
         Number of lowest modes (None: all). The rigid test does not depend on it.

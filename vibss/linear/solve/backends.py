@@ -1,17 +1,17 @@
-"""The back-ends of the exact solve (:mod:`vibss.linear.solve`): one function per way of factorising.
+"""The back-ends of the exact solve (:mod:`vibss.linear.solve.exact`): one function per way of factorising.
 
 Each takes ``(plant, s, rhs, rows=None)`` -- ``rhs(part)`` gives the right-hand sides ``(k, n, m)``
 of the frequencies ``s[part]``, ``rows`` the DOFs to keep of each solution -- and returns the DOF
 solutions ``(nf, n, m)`` (``(nf, len(rows), m)``) and a ``(nf,)`` mask of the frequencies where the
 matrix is exactly singular (a zero pivot; solutions there are zeros).
 
-Frequency-dependent mounts add ``g_tau(s) K_tau`` per relaxation time (:func:`vibss.linear.branches.groups`).
+Frequency-dependent mounts add ``g_tau(s) K_tau`` per relaxation time (:func:`vibss.linear.plant.branches.groups`).
 
 - :func:`_dense`: batched LAPACK LU of the assembled ``K + iH + sC + s^2 M`` (a small plant's
-  certified complex-mode solutions first, :mod:`vibss.linear.certified`);
-- :func:`_banded`: RCM ordering and LAPACK ``zgbsv`` (:mod:`vibss.linear.banded`);
+  certified complex-mode solutions first, :mod:`vibss.linear.solve.certified`);
+- :func:`_banded`: RCM ordering and LAPACK ``zgbsv`` (:mod:`vibss.linear.solve.banded`);
 - :func:`_superlu`: :func:`scipy.sparse.linalg.splu`;
-- :func:`_mounts`: the mounts kept apart (:class:`~vibss.linear.plant.MountForm`), their forces
+- :func:`_mounts`: the mounts kept apart (:class:`~vibss.linear.plant.plant.MountForm`), their forces
   unknowns of their own.
 """
 
@@ -29,9 +29,9 @@ import scipy.sparse.linalg as spl
 from scipy.linalg.lapack import dgbsv, zgbsv
 
 from .banded import structure
-from .branches import groups
+from ..plant.branches import groups
 from .certified import CERTIFY_TOL, applies, certified_states, modal_inverse
-from .plant import Plant
+from ..plant.plant import Plant
 
 __all__ = ["SOLVERS", "MOUNTS_DENSE_MAX", "dynamic_stiffness", "certified_note"]
 
@@ -104,7 +104,7 @@ def _dense(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray],
     only the DOFs ``rows`` of each solution are kept (all by default).
 
     A small plant on the imaginary axis first takes its complex-mode solutions where their backward
-    error is at LU's level, frequency by frequency (:mod:`vibss.linear.certified`; ``certify=False``
+    error is at LU's level, frequency by frequency (:mod:`vibss.linear.solve.certified`; ``certify=False``
     skips them); the LU solves the frequencies that miss."""
     k0, c, m = _dense_terms(plant) if plant.n <= _KEEP_DOFS else _make_dense_terms(plant)
     if certify and plant.n <= _KEEP_DOFS and applies(plant, s):
@@ -155,10 +155,10 @@ def _dense(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray],
 
 def certified_note(plant: Plant, nf: int) -> str:
     """What the dense exact solve of ``plant`` at ``nf`` frequencies (> 0 Hz) does beside its LU: the
-    certified complex-mode solutions (:mod:`vibss.linear.certified`), or ``""`` where it does not
+    certified complex-mode solutions (:mod:`vibss.linear.solve.certified`), or ``""`` where it does not
     try them (too large or too few frequencies, frequency-dependent mounts, nearly dependent
     eigenvectors such as undamped rigid-body modes). The caller asks only where the assembled form
-    solves every frequency (:func:`vibss.linear.solve.mounts_form_possible` is false)."""
+    solves every frequency (:func:`vibss.linear.solve.exact.mounts_form_possible` is false)."""
     if sp.issparse(plant.K) or not applies(plant, np.zeros(nf, dtype=complex)):
         return ""
     return plant.cached("certified note", lambda: "" if modal_inverse(plant, *_dense_terms(plant)) is None else (
@@ -264,7 +264,7 @@ def _superlu(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray],
 
 def _mounts(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray],
             rows: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """The solve in the mounts' forces (:class:`~vibss.linear.plant.MountForm`), per frequency
+    """The solve in the mounts' forces (:class:`~vibss.linear.plant.plant.MountForm`), per frequency
     (only the DOFs ``rows`` of each solution kept; all by default).
 
     With ``lam = Z(s) B x`` (``Z = k_p + s c_p + i h_p`` per mount) as unknowns,

@@ -1,6 +1,6 @@
 """Complex-mode solutions of a small plant's dynamic stiffness, certified at every frequency.
 
-The dense exact solve (:func:`vibss.linear.backends._dense`) factorises ``A(iw) = K + iH + iwC - w^2 M``
+The dense exact solve (:func:`vibss.linear.solve.backends._dense`) factorises ``A(iw) = K + iH + iwC - w^2 M``
 once per frequency: 200 LUs of a 12 x 12 complex matrix are most of a small model's frequency
 response. For a small plant the eigen-decomposition of its 2n-state first-order form is cheaper than
 a handful of those LUs and is kept on the (frozen) plant, and then every frequency's solution is a
@@ -9,7 +9,7 @@ few GEMMs:
     x(w) = L diag(1 / (iw - lam)) R b(w),      L = Phi S^-1 V_1,   R = (V^-1)_2 Phi^T,
 
 on the undamped modal basis ``Phi`` (mass-normalised, ``S = omega``) and the eigenvectors ``V`` of
-``[[0, S], [-(Omega^2 + i Phi^T H Phi) S^-1, -Phi^T C Phi]]`` (:func:`~vibss.linear.complex_modes.eigenpairs`).
+``[[0, S], [-(Omega^2 + i Phi^T H Phi) S^-1, -Phi^T C Phi]]`` (:func:`~vibss.linear.eigen.complex_modes.eigenpairs`).
 A modal sum is not backward stable by itself (its error grows with the eigenvectors' condition and
 with cancellation between modes), so it is not trusted: one step of iterative refinement with the
 same modal inverse, ``x <- x + L diag(1/(iw - lam)) R (b - A(iw) x)``, and then at **every
@@ -21,7 +21,7 @@ frequency** the normwise backward error
 polynomial in ``w``) is compared with :data:`CERTIFY_TOL` ``= n eps``, the order of the a-priori
 bound of LU with partial pivoting (``gamma_3n`` times its growth; LU's realised ``eta`` on the small
 benchmark models is below ``eps``, and so is that of the refined modal solution). A frequency whose
-``eta`` misses, or is not finite, is solved by the LU (the caller's, :func:`vibss.linear.backends._dense`).
+``eta`` misses, or is not finite, is solved by the LU (the caller's, :func:`vibss.linear.solve.backends._dense`).
 So every answer is the exact solution of ``(A(iw) + dA) x = b + db`` with ``||dA|| <= eta ||A||``
 and ``||db|| <= eta ||b||``, ``eta`` of order ``n eps``: the residual is formed in double precision,
 and its own rounding (about ``(n + 1) eps (||A|| ||x|| + ||b||)``) is of the threshold's size, so the
@@ -44,12 +44,12 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg as sl
 
-from ..errors import VibssError
-from ..results import ReadOnly
-from .complex_modes import COND_MAX, eigenpairs, factor_vectors
-from .eigen import modal_basis
-from .plant import Plant
-from .projection import projected_damping
+from ...errors import VibssError
+from ...results import ReadOnly
+from ..eigen.complex_modes import COND_MAX, eigenpairs, factor_vectors
+from ..eigen.undamped import modal_basis
+from ..plant.plant import Plant
+from ..eigen.projection import projected_damping
 
 __all__ = ["CERTIFY_MAX_DOFS", "CERTIFY_MIN_DOFS", "CERTIFY_MIN_FREQUENCIES", "CERTIFY_TOL", "ModalInverse", "modal_inverse",
            "applies", "certified_states"]

@@ -1,4 +1,4 @@
-"""Named input and output signals of a study, and the :class:`~vibss.linear.plant.Plant` they define.
+"""Named input and output signals of a study, and the :class:`~vibss.linear.plant.plant.Plant` they define.
 
 Signal names (fixed; every analysis, result and the command line use them)
 -------------------------------------------------------------------------
@@ -58,7 +58,7 @@ names (it is its ``system.signal`` separator), so python-control objects carry t
 
 Examples
 --------
->>> from vibss import Body, Model, Mount, MountType
+>>> from ... import Body, Model, Mount, MountType
 >>> t = MountType("t", [1e4, 1e4, 1e4])
 >>> m = Model([Body("b", 10.0, [1, 1, 1])], [Mount("m", t, "b")])
 >>> p = build_plant(m, ["b.fz"], ["b.z", "mount.m.fz"])
@@ -76,11 +76,11 @@ import numpy as np
 import scipy.sparse as sp
 
 from .assemble import Assembly, assemble
-from ..errors import ModelError, SignalError, did_you_mean
-from ..model.geometry import point_transfer
-from .eigen import undamped
-from ..model.actuation import resolve
-from ..model.model import DOF_NAMES, GROUND, Model
+from ...errors import ModelError, SignalError, did_you_mean
+from ...model.geometry import point_transfer
+from ..eigen.undamped import undamped
+from ...model.actuation import resolve
+from ...model.model import DOF_NAMES, GROUND, Model
 from .branches import build_branches
 from .plant import INPUT_KINDS, MountForm, Plant
 from .memo import remembered
@@ -554,7 +554,7 @@ def build_plant(model_or_assembly: Model | Assembly, inputs: Sequence[Any],
 
     Examples
     --------
-    >>> from vibss import Body, Model, Mount, MountType
+    >>> from ... import Body, Model, Mount, MountType
     >>> t = MountType("t", [1e4, 1e4, 1e4])
     >>> m = Model([Body("b", 10.0, [1, 1, 1])], [Mount("m", t, "b")])
     >>> p = build_plant(m, ["ground.z.disp"], ["b.z"])
@@ -562,7 +562,7 @@ def build_plant(model_or_assembly: Model | Assembly, inputs: Sequence[Any],
     (('b.x', 'b.y', 'b.z'), ('displacement',), -10000.0)
 
     The plant of a small Model and signals named by strings is remembered
-    (:mod:`vibss.linear.memo`): the same model and signals give the same read-only Plant, with the
+    (:mod:`vibss.linear.plant.memo`): the same model and signals give the same read-only Plant, with the
     modal basis and factorisations already cached on it.
     """
     if isinstance(model_or_assembly, Model) and modal_damping is None:
@@ -658,7 +658,7 @@ def _columns(g: sp.csr_matrix, cols: np.ndarray) -> sp.csr_matrix:
 
 
 def mount_form(asm: Assembly, free: np.ndarray, source: tuple, extra_c: Any = None) -> MountForm | None:
-    """The plant's ``K, C, H`` as a sum over its mounts (:class:`~vibss.linear.plant.MountForm`).
+    """The plant's ``K, C, H`` as a sum over its mounts (:class:`~vibss.linear.plant.plant.MountForm`).
 
     Parameters
     ----------

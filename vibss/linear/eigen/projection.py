@@ -2,7 +2,7 @@
 
 The frequency kernels (``modal``, ``complex_modal``), ``auto``'s choice (classical damping, the
 complex-mode risk), the frequency grid's damping estimate and the modal state space all need the
-projection of the same plant's damping on the same :class:`~vibss.linear.eigen.ModalBasis`.
+projection of the same plant's damping on the same :class:`~vibss.linear.eigen.undamped.ModalBasis`.
 :func:`projected_damping` computes it once per plant and basis and keeps it in the plant's cache
 (the plant is frozen, so it never goes stale).
 """
@@ -16,8 +16,8 @@ import numpy as np
 import scipy.linalg as sl
 import scipy.sparse as sp
 
-from .eigen import ModalBasis, fast_matrix
-from .plant import Plant
+from .undamped import ModalBasis, fast_matrix
+from ..plant.plant import Plant
 
 __all__ = ["projected_damping", "damping_factors", "damping_rank"]
 
@@ -40,9 +40,9 @@ def projected_damping(plant: Plant, basis: ModalBasis) -> tuple[np.ndarray, np.n
 
     Examples
     --------
-    >>> from vibss import Body, Model, Mount, MountType
-    >>> from vibss.linear.eigen import modal_basis
-    >>> from vibss.linear.signals import build_plant
+    >>> from ... import Body, Model, Mount, MountType
+    >>> from .undamped import modal_basis
+    >>> from ..plant.signals import build_plant
     >>> m = Model([Body("b", 4.0, [1, 1, 1])], [Mount("m", MountType("t", [1e3] * 3, [8.0] * 3), "b")])
     >>> p = build_plant(m, ["b.fz"], ["b.z"])
     >>> b = modal_basis(p)
@@ -73,7 +73,7 @@ def _project(plant: Plant, basis: ModalBasis) -> tuple[ModalBasis, tuple[np.ndar
 def damping_factors(plant: Plant, basis: ModalBasis) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The damping as a low-rank product on the modes: ``Phi^T (C + i H / s) Phi = U (Zc + Zh / s) U^T``.
 
-    Dampers live in mounts: with the plant's :class:`~vibss.linear.plant.MountForm`, every mount
+    Dampers live in mounts: with the plant's :class:`~vibss.linear.plant.plant.MountForm`, every mount
     with a viscous or hysteretic part contributes the three columns ``Phi^T B_p^T`` of its
     deflection map and its (3, 3) damping blocks, and the rest of ``C`` and ``H`` (mounts with a
     zero stiffness axis, rotational parts, added damping) the rows of the DOFs it touches, with its
@@ -98,9 +98,9 @@ def damping_factors(plant: Plant, basis: ModalBasis) -> tuple[np.ndarray, np.nda
 
     Examples
     --------
-    >>> from vibss import Body, Model, Mount, MountType
-    >>> from vibss.linear.eigen import modal_basis
-    >>> from vibss.linear.signals import build_plant
+    >>> from ... import Body, Model, Mount, MountType
+    >>> from .undamped import modal_basis
+    >>> from ..plant.signals import build_plant
     >>> t = MountType("t", [1e3] * 3, [8.0] * 3)
     >>> m = Model([Body("b", 4.0, [1, 1, 1])], [Mount("m", t, "b"), Mount("n", MountType("u", [1e3] * 3), "b", at=[1, 0, 0])])
     >>> p = build_plant(m, ["b.fz"], ["b.z"])

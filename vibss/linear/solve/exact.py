@@ -2,7 +2,7 @@
 
 Frequency-dependent mounts add ``sum_tau tau s / (1 + tau s) K_tau`` to the matrix (and their
 terms to the inputs and outputs): their Maxwell branches eliminated exactly
-(:func:`vibss.linear.branches.groups`); every back-end takes them.
+(:func:`vibss.linear.plant.branches.groups`); every back-end takes them.
 
 Every path that claims an *exact* response (the ``direct`` and ``sparse`` FRF kernels, pruning,
 Krylov checks, the sweep envelope's steady state, reduction responses) goes through
@@ -22,8 +22,8 @@ Three back-ends solve the same equations (``backend=``):
 
 - ``"dense"``: batched LAPACK LU (``numpy.linalg.solve`` on a stack of frequencies); a plant of 12 to
   30 DOFs asked for many frequencies on the imaginary axis takes its complex-mode solutions where
-  their backward error, checked at every frequency, is at most ``n eps`` (:mod:`vibss.linear.certified`);
-- ``"banded"``: reverse Cuthill-McKee ordering + LAPACK ``zgbsv`` (:mod:`vibss.linear.banded`), O(n b^2);
+  their backward error, checked at every frequency, is at most ``n eps`` (:mod:`vibss.linear.solve.certified`);
+- ``"banded"``: reverse Cuthill-McKee ordering + LAPACK ``zgbsv`` (:mod:`vibss.linear.solve.banded`), O(n b^2);
 - ``"superlu"``: :func:`scipy.sparse.linalg.splu` per frequency;
 - ``"sparse"``: ``"banded"`` or ``"superlu"`` by the structure (half-bandwidth <= ``BAND_MAX``);
 - ``"auto"``: ``"dense"`` for dense plants up to :data:`DENSE_MAX` DOFs or whose pattern is
@@ -34,7 +34,7 @@ with stiffness ratios of 1e5 and more that is not enough: the entries of ``K`` t
 round-off of the stiffest mount they hold, and the soft modes are sensitive to it (measured against
 a 60-digit reference: 2.6e-3 relative error on a graded chain, 1e-3 on two bodies joined by 1e16 N/m
 links, whatever the LU or a diagonal scaling of ``A``). ``form="mounts"`` (chosen by ``"auto"`` above
-:data:`MOUNTS_RATIO`) keeps the mounts apart (:class:`~vibss.linear.plant.MountForm`) and solves for
+:data:`MOUNTS_RATIO`) keeps the mounts apart (:class:`~vibss.linear.plant.plant.MountForm`) and solves for
 their forces too: 1e-12 ... 1e-16 on the same cases (:func:`_mounts`).
 """
 
@@ -49,13 +49,13 @@ import scipy.linalg as sl
 import scipy.sparse as sp
 import scipy.sparse.linalg as spl
 
-from ..errors import AnalysisError, ModelError
+from ...errors import AnalysisError, ModelError
 from .backends import SOLVERS
 from .banded import structure
-from .branches import groups
-from .eigen import modal_basis
-from .plant import Plant
-from .plant_terms import plant_terms
+from ..plant.branches import groups
+from ..eigen.undamped import modal_basis
+from ..plant.plant import Plant
+from ..plant.terms import plant_terms
 
 __all__ = ["BACKENDS", "FORMS", "MOUNTS_RATIO", "DENSE_MAX", "DENSE_FILL", "zfactor", "states", "response", "zero_frequency_limit",
            "lu_solver", "statespace_plant", "without_hysteresis", "SingularMatrixError", "forcing", "mounts_form_possible",
@@ -128,7 +128,7 @@ def _hyst(a: np.ndarray | None) -> Any:
 
 def forcing(plant: Plant, s: np.ndarray, zf: np.ndarray) -> np.ndarray:
     """Right-hand sides ``F - (Kz + iHz + s Cz + s^2 Mz + sum g_tau(s) Kz_tau) Z(s)`` of the inputs
-    (``Kz_tau``: frequency-dependent mounts, :func:`vibss.linear.branches.groups`).
+    (``Kz_tau``: frequency-dependent mounts, :func:`vibss.linear.plant.branches.groups`).
 
     Parameters
     ----------
@@ -272,7 +272,7 @@ def states(plant: Plant, s: np.ndarray, rhs: np.ndarray | None = None,
         One of :data:`BACKENDS` (for the assembled form).
     form : str
         One of :data:`FORMS`: ``"auto"`` solves in the mounts' forces when the plant carries
-        its :class:`~vibss.linear.plant.MountForm` and their stiffness ratio exceeds
+        its :class:`~vibss.linear.plant.plant.MountForm` and their stiffness ratio exceeds
         :data:`MOUNTS_RATIO`, or, for a model with a free motion, at frequencies where inertia
         alone would not hold it against the assembled ``K``'s round-off (:func:`_mounts_at`); else
         the assembled matrices with ``backend``.
@@ -288,8 +288,8 @@ def states(plant: Plant, s: np.ndarray, rhs: np.ndarray | None = None,
 
     Examples
     --------
-    >>> from vibss import Body, Model, Mount, MountType
-    >>> from vibss.linear.signals import build_plant
+    >>> from ... import Body, Model, Mount, MountType
+    >>> from ..plant.signals import build_plant
     >>> m = Model([Body("b", 1.0, [1, 1, 1])], [Mount("m", MountType("t", [1e4, 1e4, 1e4]), "b")])
     >>> x, bad = states(build_plant(m, ["b.fz"], ["b.z"]), [50j, 100j])
     >>> float(x[0, 2, 0].real) * 7500, bool(bad[1])     # 1 / (k - m w^2); singular at w_n = 100 rad/s
@@ -332,7 +332,7 @@ def _mounts_at(plant: Plant, form: str, s: np.ndarray) -> np.ndarray | None:
     ``"auto"``: everywhere when the stiffness ratio exceeds :data:`MOUNTS_RATIO` (:func:`_use_mounts`);
     else, when the mounts leave a motion free, below the frequency where the stiffest mount's
     round-off in the assembled ``K`` would swamp the inertia holding that motion:
-    ``|s|^2 MOUNTS_RATIO < inertia_w2`` (:attr:`~vibss.linear.plant.MountForm.inertia_w2`). An undamped
+    ``|s|^2 MOUNTS_RATIO < inertia_w2`` (:attr:`~vibss.linear.plant.plant.MountForm.inertia_w2`). An undamped
     resonance of such a model above that frequency keeps the assembled form's exact-singularity
     detection (:func:`_at_singular`).
     """
@@ -387,8 +387,8 @@ def response(plant: Plant, s: np.ndarray, backend: str = "auto", form: str = "au
     An undamped 1 kg / 1e4 N/m body: the static deflection at 0 Hz, an unbounded response exactly
     at 100 rad/s, and the closed form ``1 / (k - m w^2)`` elsewhere:
 
-    >>> from vibss import Body, Model, Mount, MountType
-    >>> from vibss.linear.signals import build_plant
+    >>> from ... import Body, Model, Mount, MountType
+    >>> from ..plant.signals import build_plant
     >>> m = Model([Body("b", 1.0, [1, 1, 1])], [Mount("m", MountType("t", [1e4, 1e4, 1e4]), "b")])
     >>> y = response(build_plant(m, ["b.fz"], ["b.z"]), [0j, 100j, 200j])[0, 0]
     >>> y.real.round(8).tolist()
@@ -466,7 +466,7 @@ def zero_frequency_limit(plant: Plant, power: int = 0, n_points: int = 32, backe
     ``s = 0`` itself (the static deflection; ``s^power Y -> 0`` for ``power > 0``). Otherwise it
     comes from the Laurent series of the exact response about ``s = 0`` (trapezoidal rule on two
     small circles of radius a twentieth of the lowest elastic frequency of
-    :func:`vibss.linear.eigen.modal_basis`; ``i H`` is held at its ``w > 0`` value), so rigid-body
+    :func:`vibss.linear.eigen.undamped.modal_basis`; ``i H`` is held at its ``w > 0`` value), so rigid-body
     modes, velocity and acceleration inputs and mobility/accelerance are all handled exactly.
 
     Parameters
@@ -489,8 +489,8 @@ def zero_frequency_limit(plant: Plant, power: int = 0, n_points: int = 32, backe
 
     Examples
     --------
-    >>> from vibss import Body, Model, Mount, MountType
-    >>> from vibss.linear.signals import build_plant
+    >>> from ... import Body, Model, Mount, MountType
+    >>> from ..plant.signals import build_plant
     >>> m = Model([Body("b", 1.0, [1, 1, 1])], [Mount("m", MountType("t", [1e4, 1e4, 1e4]), "b")])
     >>> zero_frequency_limit(build_plant(m, ["b.fz", "ground.z.vel"], ["b.z"])).real.round(8).tolist()
     [[0.0001, inf]]

@@ -1,0 +1,1 @@
+"""Projection bases: Krylov and the channel subspace."""
