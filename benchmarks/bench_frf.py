@@ -35,7 +35,7 @@ from benchmarks.machine import timed  # noqa: E402
 from vibss.frequency.methods import choose as _choose  # noqa: E402
 from vibss.frequency.kernels import METHODS  # noqa: E402
 from vibss.linear.eigen.undamped import modal_basis  # noqa: E402
-from vibss.linear.plant.signals import build_plant  # noqa: E402
+from vibss.linear.plant.build import build_plant  # noqa: E402
 
 
 def _stock(plant, omega):

@@ -17,7 +17,7 @@ from benchmarks.models import chain_model
 from vibss import Body, Model, Mount, MountType
 from vibss.errors import DefectiveModesError
 from vibss.linear.eigen.branch_modes import branch_modes
-from vibss.linear.plant.signals import build_plant
+from vibss.linear.plant.build import build_plant
 from vibss.linear.solve.exact import response
 from vibss.model.timefunctions import Sine
 

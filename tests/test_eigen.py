@@ -16,7 +16,7 @@ import scaled_cases as sc
 from vibss import Body, Model, Mount, MountType, Orientation, assemble, modes
 from vibss.errors import ModelError
 from vibss.linear.eigen.undamped import JACOBI_MAX, modal_basis, rigid_mask, undamped
-from vibss.linear.plant.signals import build_plant
+from vibss.linear.plant.build import build_plant
 
 _MODELS: dict[str, Model] = {}
 

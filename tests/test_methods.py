@@ -17,7 +17,7 @@ from vibss import Body, Model, Mount, MountType, VibssError
 from vibss.errors import AnalysisError, ModelError, VibssWarning
 from vibss.frequency import METHODS as FREQ, FrequencyMethod, frequency_response
 from vibss.linear.eigen.undamped import ModalBasis
-from vibss.linear.plant.signals import build_plant
+from vibss.linear.plant.build import build_plant
 from vibss.methods import Method
 from vibss.model.excitation import Excitation
 from vibss.model.timefunctions import Ramp, Rectangular

@@ -17,7 +17,7 @@ from vibss.frequency.kernels import METHODS
 from vibss.frequency.lowrank import woodbury
 from vibss.linear.eigen.undamped import modal_basis
 from vibss.linear.eigen.projection import damping_factors, projected_damping
-from vibss.linear.plant.signals import build_plant
+from vibss.linear.plant.build import build_plant
 
 TOL = 1e-8          # as the other modal superpositions on the scaled family (test_modal_superposition)
 

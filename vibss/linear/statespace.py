@@ -35,14 +35,14 @@ physical one divided by a power of 2 (``StateSpace.vibss_state_scale`` holds the
 
 Integrator states of motion inputs are named ``<input>:z`` and ``<input>:zdot``. Signal names are
 the vibss names with ``.`` replaced by ``:`` (python-control reserves ``.``;
-:func:`vibss.linear.plant.signals.control_name`). Hysteretic damping (``H``) is frequency-domain only and is
+:func:`vibss.linear.plant.names.control_name`). Hysteretic damping (``H``) is frequency-domain only and is
 left out of every time-domain realization, with a :class:`~vibss.errors.VibssWarning` naming the mounts
 (:func:`vibss.linear.plant.hysteresis.dropped_hysteresis`).
 
 Examples
 --------
 >>> from vibss import Body, Model, Mount, MountType
->>> from vibss.linear.plant.signals import build_plant
+>>> from vibss.linear.plant.build import build_plant
 >>> t = MountType("t", [1e4, 1e4, 1e4], [10.0, 10.0, 10.0])
 >>> m = Model([Body("b", 10.0, [1, 1, 1])], [Mount("m", t, "b")])
 >>> sys = statespace(build_plant(m, ["ground.z.disp"], ["b.z"]))
@@ -72,7 +72,8 @@ from .plant.hysteresis import dropped_hysteresis
 from ..model.model import Model
 from .plant.plant import Plant
 from .eigen.projection import projected_damping
-from .plant.signals import build_plant, control_name
+from .plant.build import build_plant
+from .plant.names import control_name
 
 __all__ = ["statespace", "NamedStateSpace", "REALIZATIONS"]
 
@@ -318,7 +319,7 @@ def statespace(plant: Plant | Model | Assembly, realization: str = "modal", bala
     Parameters
     ----------
     plant : Plant, Model or Assembly
-        From :func:`vibss.linear.plant.signals.build_plant`; or a model, with ``inputs`` and ``outputs``, to
+        From :func:`vibss.linear.plant.build.build_plant`; or a model, with ``inputs`` and ``outputs``, to
         build the study's system in one call.
     realization : {"modal", "physical"}
         State coordinates (see the module docstring). ``"modal"`` (default) is well scaled for
@@ -347,7 +348,7 @@ def statespace(plant: Plant | Model | Assembly, realization: str = "modal", bala
     Examples
     --------
     >>> from vibss import Body, Model, Mount, MountType
-    >>> from vibss.linear.plant.signals import build_plant
+    >>> from vibss.linear.plant.build import build_plant
     >>> m = Model([Body("b", 10.0, [1, 1, 1])], [Mount("m", MountType("t", [1e4] * 3), "b")])
     >>> sys = statespace(build_plant(m, ["b.fz"], ["b.z"]))
     >>> sys.nstates, sys.state_labels[:2], sys.output_labels

@@ -42,7 +42,7 @@ def projected_damping(plant: Plant, basis: ModalBasis) -> tuple[np.ndarray, np.n
     --------
     >>> from ... import Body, Model, Mount, MountType
     >>> from .undamped import modal_basis
-    >>> from ..plant.signals import build_plant
+    >>> from ..plant.build import build_plant
     >>> m = Model([Body("b", 4.0, [1, 1, 1])], [Mount("m", MountType("t", [1e3] * 3, [8.0] * 3), "b")])
     >>> p = build_plant(m, ["b.fz"], ["b.z"])
     >>> b = modal_basis(p)
@@ -100,7 +100,7 @@ def damping_factors(plant: Plant, basis: ModalBasis) -> tuple[np.ndarray, np.nda
     --------
     >>> from ... import Body, Model, Mount, MountType
     >>> from .undamped import modal_basis
-    >>> from ..plant.signals import build_plant
+    >>> from ..plant.build import build_plant
     >>> t = MountType("t", [1e3] * 3, [8.0] * 3)
     >>> m = Model([Body("b", 4.0, [1, 1, 1])], [Mount("m", t, "b"), Mount("n", MountType("u", [1e3] * 3), "b", at=[1, 0, 0])])
     >>> p = build_plant(m, ["b.fz"], ["b.z"])

@@ -289,7 +289,7 @@ def states(plant: Plant, s: np.ndarray, rhs: np.ndarray | None = None,
     Examples
     --------
     >>> from ... import Body, Model, Mount, MountType
-    >>> from ..plant.signals import build_plant
+    >>> from ..plant.build import build_plant
     >>> m = Model([Body("b", 1.0, [1, 1, 1])], [Mount("m", MountType("t", [1e4, 1e4, 1e4]), "b")])
     >>> x, bad = states(build_plant(m, ["b.fz"], ["b.z"]), [50j, 100j])
     >>> float(x[0, 2, 0].real) * 7500, bool(bad[1])     # 1 / (k - m w^2); singular at w_n = 100 rad/s
@@ -388,7 +388,7 @@ def response(plant: Plant, s: np.ndarray, backend: str = "auto", form: str = "au
     at 100 rad/s, and the closed form ``1 / (k - m w^2)`` elsewhere:
 
     >>> from ... import Body, Model, Mount, MountType
-    >>> from ..plant.signals import build_plant
+    >>> from ..plant.build import build_plant
     >>> m = Model([Body("b", 1.0, [1, 1, 1])], [Mount("m", MountType("t", [1e4, 1e4, 1e4]), "b")])
     >>> y = response(build_plant(m, ["b.fz"], ["b.z"]), [0j, 100j, 200j])[0, 0]
     >>> y.real.round(8).tolist()
@@ -490,7 +490,7 @@ def zero_frequency_limit(plant: Plant, power: int = 0, n_points: int = 32, backe
     Examples
     --------
     >>> from ... import Body, Model, Mount, MountType
-    >>> from ..plant.signals import build_plant
+    >>> from ..plant.build import build_plant
     >>> m = Model([Body("b", 1.0, [1, 1, 1])], [Mount("m", MountType("t", [1e4, 1e4, 1e4]), "b")])
     >>> zero_frequency_limit(build_plant(m, ["b.fz", "ground.z.vel"], ["b.z"])).real.round(8).tolist()
     [[0.0001, inf]]
