@@ -29,7 +29,8 @@ import scipy.sparse.linalg as spl
 from .linear.plant.assemble import Assembly, assemble
 from .linear.eigen.directions import align_cluster, describe_motion
 from ._validate import number, vector
-from .linear.eigen.undamped import jacobi_svd, symmetric_eigen, undamped
+from .linear.eigen.undamped import symmetric_eigen, undamped
+from .linear.eigen.jacobi import jacobi_svd
 from .errors import AnalysisError, ModelError, did_you_mean
 from .model.geometry import point_transfer
 from .model.model import DOF_NAMES, GROUND, Model

@@ -67,11 +67,11 @@ from .._validate import choice
 from ..errors import (AnalysisError, ArgumentError, ArgumentTypeError, ModelError, SignalError,
                       SignalIndexError, did_you_mean)
 from .plant.branches import close
-from .eigen.undamped import modal_basis
+from .eigen.basis import modal_basis
 from .plant.hysteresis import dropped_hysteresis
 from ..model.model import Model
 from .plant.plant import Plant
-from .eigen.projection import projected_damping
+from .eigen.basis import projected_damping
 from .plant.build import build_plant
 from .plant.names import control_name
 

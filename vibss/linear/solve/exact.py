@@ -53,7 +53,7 @@ from ...errors import AnalysisError, ModelError
 from .backends import SOLVERS
 from .banded import structure
 from ..plant.branches import groups
-from ..eigen.undamped import modal_basis
+from ..eigen.basis import modal_basis
 from ..plant.plant import Plant
 from ..plant.terms import plant_terms
 
@@ -466,7 +466,7 @@ def zero_frequency_limit(plant: Plant, power: int = 0, n_points: int = 32, backe
     ``s = 0`` itself (the static deflection; ``s^power Y -> 0`` for ``power > 0``). Otherwise it
     comes from the Laurent series of the exact response about ``s = 0`` (trapezoidal rule on two
     small circles of radius a twentieth of the lowest elastic frequency of
-    :func:`vibss.linear.eigen.undamped.modal_basis`; ``i H`` is held at its ``w > 0`` value), so rigid-body
+    :func:`vibss.linear.eigen.basis.modal_basis`; ``i H`` is held at its ``w > 0`` value), so rigid-body
     modes, velocity and acceleration inputs and mobility/accelerance are all handled exactly.
 
     Parameters
