@@ -23,7 +23,7 @@ LAYERS = [
      "linear.plant.hysteresis"},
     {"linear.eigen.complex_modes", "linear.eigen.branch_modes", "linear.solve.banded", "linear.plant.names", "linear.plant.build",
      "linear.plant.mountform", "linear.plant.signals", "linear.solve.exact",
-     "linear.solve.backends", "linear.solve.certified", "linear.eigen.projection", "linear.project.krylov", "linear.project.subspace", "statics", "time.integrators",
+     "linear.solve.backends", "linear.solve.certified", "linear.solve.static", "linear.eigen.projection", "linear.project.krylov", "linear.project.subspace", "statics", "time.integrators",
      "time.phi", "time.recursion", "diagnostics"},
     {"linear", "modal"},
     {"frequency.kernels", "frequency.lowrank", "frequency.terms", "time.kernels", "time.branched", "studies"},
