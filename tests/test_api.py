@@ -19,7 +19,7 @@ LAYERS = [
      "linear.plant.memo"},
     {"model", "linear.plant.plant", "linear.plant.terms", "linear.plant.branches", "io.filetable"},
     {"io", "examples", "linear.plant.assemble", "linear.eigen.directions", "linear.eigen.undamped", "linear.eigen.checks",
-     "linear.eigen.jacobi", "linear.eigen.basis",
+     "linear.eigen.jacobi", "linear.eigen.basis", "linear.solve.mass",
      "linear.plant.hysteresis"},
     {"linear.eigen.complex_modes", "linear.eigen.branch_modes", "linear.solve.banded", "linear.plant.names", "linear.plant.build",
      "linear.plant.mountform", "linear.plant.signals", "linear.solve.exact",

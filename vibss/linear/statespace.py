@@ -67,13 +67,13 @@ from .._validate import choice
 from ..errors import (AnalysisError, ArgumentError, ArgumentTypeError, ModelError, SignalError,
                       SignalIndexError, did_you_mean)
 from .plant.branches import close
-from .eigen.basis import modal_basis
+from .eigen.basis import modal_basis, projected_damping
 from .plant.hysteresis import dropped_hysteresis
 from ..model.model import Model
 from .plant.plant import Plant
-from .eigen.basis import projected_damping
 from .plant.build import build_plant
 from .plant.names import control_name
+from .solve.mass import mass_solver
 
 __all__ = ["statespace", "NamedStateSpace", "REALIZATIONS"]
 
@@ -290,13 +290,13 @@ def _modal(plant: Plant) -> _Basis:
 
 def _physical(plant: Plant) -> _Basis:
     try:
-        cho = sl.cho_factor(plant.M)
+        solve = mass_solver(plant)
     except np.linalg.LinAlgError:
         raise ModelError("mass matrix of the free DOFs is not positive definite") from None
     eye = np.eye(plant.n)
     dofs = [control_name(d) for d in plant.dofs]
-    return _Basis(Tw=eye, Tv=eye, R=eye, Kt=sl.cho_solve(cho, plant.K), Ct=sl.cho_solve(cho, plant.C),
-                  lm=lambda x: sl.cho_solve(cho, x), names=(dofs, [f"{d}:vel" for d in dofs]))
+    return _Basis(Tw=eye, Tv=eye, R=eye, Kt=solve(plant.K), Ct=solve(plant.C),
+                  lm=solve, names=(dofs, [f"{d}:vel" for d in dofs]))
 
 
 def _improper(plant: Plant, coef: np.ndarray, scale: np.ndarray, cols: np.ndarray, what: str) -> None:
