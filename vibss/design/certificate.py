@@ -33,6 +33,7 @@ from ..linear.solve.static import static_solve
 from ..modal.damped import damped_modes
 from ..modal.undamped import modes as undamped_modes
 from ..model.model import DOF_NAMES, Model
+from ..model.units import G
 from ..results import Result, Table, jsonable, number_text, require_pandas
 from ._common import body_name, frame_axes, frame_rotation, ke_fractions, unit_axis
 
@@ -42,8 +43,9 @@ WINDOW_RTOL = 1e-6
 """A frequency within this (relative) of a window's edge counts as inside (optimisers meet
 constraints to about this accuracy)."""
 
-STANDARD_GRAVITY = (0.0, 0.0, -9.80665)
-"""Gravity used for the sag under weight when the model defines none [m/s^2]."""
+STANDARD_GRAVITY = (0.0, 0.0, -G)
+"""Gravity used for the sag under weight when the model defines none [m/s^2]: standard gravity
+(:data:`vibss.model.units.STANDARD_GRAVITY`) along -z."""
 
 
 def in_windows(frequency_hz: np.ndarray, windows: np.ndarray) -> np.ndarray:
