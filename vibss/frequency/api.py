@@ -43,7 +43,8 @@ from ..linear.solve.exact import response
 from .methods import choose, choose_without_modes, resolve_method
 from ..model.model import Model
 from ..linear.plant.plant import Plant
-from ..linear.plant.signals import build_plant, control_name
+from ..linear.plant.build import build_plant
+from ..linear.plant.names import control_name
 from ..linear.eigen.directions import dof_labels, energy_fractions
 from ..linear.eigen.basis import ModalBasis, modal_basis, projected_damping
 from ..results import Result, Table, jsonable, require_pandas
