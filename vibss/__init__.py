@@ -53,8 +53,8 @@ _LAZY: dict[str, str] = {
     "Mount": ".model.model", "MountType": ".model.model", "Support": ".model.model",
     "symmetric": ".model.model",
     "Actuator": ".model.actuation", "Sensor": ".model.actuation",
-    "FrequencyGrid": ".frequency.api", "FrequencyResponse": ".frequency.api",
-    "frequency_grid": ".frequency.api", "frequency_response": ".frequency.api",
+    "FrequencyGrid": ".frequency.grid", "FrequencyResponse": ".frequency.result",
+    "frequency_grid": ".frequency.grid", "frequency_response": ".frequency.api",
     "sweep_response": ".frequency.sweep", "transmissibility": ".frequency.sweep",
     "Plant": ".linear.plant.plant",
     "Reduction": ".reduction.api", "reduce": ".reduction.api",
@@ -99,7 +99,9 @@ if TYPE_CHECKING:                          # what static checkers and IDEs see
     from .model.actuation import Actuator, Sensor
     from .shock.srs import ShockResponseSpectrum
     from .design.study import study
-    from .frequency.api import FrequencyGrid, FrequencyResponse, frequency_grid, frequency_response
+    from .frequency.api import frequency_response
+    from .frequency.grid import FrequencyGrid, frequency_grid
+    from .frequency.result import FrequencyResponse
     from .frequency.sweep import sweep_response, transmissibility
     from .io.modelfile import dump_model, dumps_model, example_names, load_example, load_model, loads_model
     from .linear.plant.assemble import Assembly, assemble

@@ -9,6 +9,7 @@ each kernel, and says why.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
@@ -20,11 +21,15 @@ from ..linear.plant.plant import Plant
 from ..linear.eigen.projection import damping_rank
 from ..linear.solve.exact import mounts_form_possible
 from ..linear.project.subspace import MOMENTS, N_SHIFTS, TWO_SIDED_MAX
-from ..methods import resolve
+from ..linear.plant.assemble import Assembly
+from ..methods import LARGE_DOFS, resolve
+from ..model.model import Model
+from .grid import FrequencyGrid
 from .kernels import (COMPLEX_MODE_RISK, METHODS, REFINE_PREDICT, FrequencyMethod, classical_damping,
                       custom_method, mode_risks, project_damping)
 
-__all__ = ["METHODS", "FrequencyMethod", "resolve_method", "choose", "choose_without_modes", "estimates"]
+__all__ = ["METHODS", "FrequencyMethod", "resolve_method", "choose", "choose_without_modes", "estimates",
+           "stays_sparse"]
 
 
 def resolve_method(method: Any, where: str = "frequency_response") -> FrequencyMethod | None:
@@ -49,6 +54,29 @@ def resolve_method(method: Any, where: str = "frequency_response") -> FrequencyM
     if isinstance(method, str) and method == "auto":
         return None
     return resolve(method, METHODS, where=where, custom=custom_method, extra=["auto"])
+
+
+def stays_sparse(system: Any, frequencies: Any, chosen: Any) -> bool:
+    """Whether :func:`~vibss.frequency.api.frequency_response` builds the plant sparse: a Model above
+    :data:`vibss.methods.LARGE_DOFS` DOFs, no branch mounts, explicit frequencies all > 0 and
+    ``method`` ``"auto"``, ``"sparse"`` or ``"subspace"`` (no dense n x n matrix and no dense
+    eigen-analysis of all the modes; the grid around the modes, resonance marks and the modal
+    methods need them, so a grid spec keeps the dense path)."""
+    if isinstance(system, Plant) or not isinstance(system, (Model, Assembly)):
+        return False
+    model = system.model if isinstance(system, Assembly) else system
+    if 6 * len(model.bodies) <= LARGE_DOFS or (chosen is not None and not any(
+            chosen is METHODS[k] for k in ("sparse", "subspace"))):
+        return False
+    if any(t.has_branches for t in model.mount_types.values()):
+        return False
+    if frequencies is None or isinstance(frequencies, (Mapping, FrequencyGrid)):
+        return False
+    try:
+        f = np.atleast_1d(np.asarray(frequencies, dtype=float))
+    except (TypeError, ValueError):
+        return False
+    return bool(f.size) and bool(np.all(np.isfinite(f))) and bool(np.all(f > 0))
 
 
 _K_EIG = 4.6e-10     # [s] per N^3 of the complex-mode eig (N = 2n states)

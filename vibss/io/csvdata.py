@@ -10,7 +10,7 @@ One file per result, readable by a spreadsheet or ``pandas.read_csv(path, commen
 
 :func:`read_csv` reads an FRF file (from vibss or any tool that writes the same columns, e.g. a
 measured FRF to overlay and compare with :func:`vibss.io.frac`) as a
-:class:`~vibss.frequency.api.FrequencyResponse` and a time file as a
+:class:`~vibss.frequency.result.FrequencyResponse` and a time file as a
 :class:`~vibss.time.api.TimeResponse`.
 """
 
@@ -177,7 +177,7 @@ def read_csv(path: str | Path) -> Any:
 
 
 def _frf(path: Path, name: str, data: np.ndarray, parsed: list[tuple[str, str | None, str]]) -> Any:
-    from ..frequency.api import FrequencyResponse
+    from ..frequency.result import FrequencyResponse
 
     outs: list[str] = []
     ins: list[str] = []

@@ -2,7 +2,7 @@
 through pyuff.
 
 ``write_uff(result, path)`` writes one dataset 58 per channel of a
-:class:`~vibss.frequency.api.FrequencyResponse` (function type 4, FRF: complex, frequency abscissa)
+:class:`~vibss.frequency.result.FrequencyResponse` (function type 4, FRF: complex, frequency abscissa)
 or of a :class:`~vibss.time.api.TimeResponse` (function type 1, time response: real); ``read_uff(path)``
 reads FRF datasets back as a FrequencyResponse, e.g. a measured FRF to overlay on a computed one
 (:func:`frac`: the frequency response assurance criterion per channel). Signal names travel in the
@@ -248,7 +248,7 @@ def read_uff(path: str | Path) -> Any:
     FrequencyResponse
         ``quantity`` from the records (``"frf"``), ``method = "uff"``.
     """
-    from ..frequency.api import FrequencyResponse
+    from ..frequency.result import FrequencyResponse
 
     pyuff = _pyuff()
     path = Path(path)

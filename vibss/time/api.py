@@ -55,7 +55,7 @@ from .._validate import choice, name_index, number, vector
 from ..errors import AnalysisError, ArgumentError, DefectiveModesError, ModelError, VibssWarning
 from ..results import ReadOnly, Result, Table, jsonable, require_pandas
 from .branched import suits as branch_path
-from .methods import METHODS, SimulationJob, TimeMethod, resolve_method
+from .methods import METHODS, SimulationJob, TimeMethod, resolve_method, stays_sparse
 from ..model.model import DOF_NAMES, Model
 from ..model.timefunctions import TimeFunction
 from ..linear.plant.branches import require_none
@@ -65,6 +65,7 @@ from ..linear.plant.signals import build_plant
 from ..linear.solve.exact import without_hysteresis
 from .large import Projected, WARN_ERROR, projected_plant
 from ..studies import causal_loss_fit, steady_sweeps, transient_excitations
+from ..methods import SIMULATE_LARGE_DOFS
 from ..diagnostics import check_excitations, check_explicit_rk
 
 EXPLICIT_RK = ("RK23", "RK45", "DOP853")
@@ -472,7 +473,7 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
         if outputs is not None and tuple(outputs) != plant.outputs:
             plant = _select_outputs(plant, outputs)
     elif model is not None:
-        if _stays_sparse(model, method):
+        if stays_sparse(model, method):
             truncated = _truncated(model, list(sources.values()), outputs, initial, signals, ts, dt)
             plant = truncated.plant
         elif sources:
@@ -622,32 +623,18 @@ def _sum(terms: list[tuple[Callable[[np.ndarray], np.ndarray], tuple[float, ...]
     return cast("Callable[[np.ndarray], np.ndarray]", lambda t: sum(np.asarray(f(t), float) for f in fns))
 
 
-LARGE_DOFS = 6000
-"""Above this many DOFs ``simulate(model, method="auto")`` keeps the model sparse and projects it on
-a subspace built for its inputs and outputs, with an error estimate (:mod:`vibss.time.large`); at or
-below it every mode is computed densely and the answer is exact (65–196 s at 6,000 DOF, by the load
-on the machine). Twice the frequency response's threshold (:data:`vibss.frequency.api.LARGE_DOFS`)."""
-
-
-def _stays_sparse(model: Model, method: Any) -> bool:
-    """Whether :func:`simulate` keeps ``model`` sparse (:mod:`vibss.time.large`): above
-    :data:`LARGE_DOFS` DOFs with ``method="auto"``, and no branch mounts."""
-    return (isinstance(method, str) and method == "auto" and 6 * len(model.bodies) > LARGE_DOFS
-            and not any(t.has_branches for t in model.mount_types.values()))
-
-
 def _truncated(model: Model, sources: list[Any], outputs: Sequence[str] | None, initial: Any,
                signals: Mapping[str, Any], ts: np.ndarray, dt: float) -> Projected:
     """The large model's sparse plant projected on a subspace built for its channels (:mod:`vibss.time.large`)."""
     if not sources:
         raise AnalysisError(f"simulate: a free vibration of {6 * len(model.bodies)} DOFs (above "
-                            f"{LARGE_DOFS}) from initial conditions alone: the large-model path needs an "
+                            f"{SIMULATE_LARGE_DOFS}) from initial conditions alone: the large-model path needs an "
                             "input to build its subspace; give method='modal' (every mode, dense) instead")
     full = build_plant(model, sources, outputs, sparse=True)
     q0, v0 = _initial(full, initial, model)
     if np.any(q0) or np.any(v0):
         raise AnalysisError(f"simulate: initial: nonzero initial conditions on a model of {full.n} DOFs "
-                            f"(above {LARGE_DOFS}, kept sparse and projected) do not map to the "
+                            f"(above {SIMULATE_LARGE_DOFS}, kept sparse and projected) do not map to the "
                             "reduced coordinates exactly; give method='modal' (every mode, dense) instead")
     samples = np.array([np.broadcast_to(_sum(signals.get(u, []))(ts), ts.shape) for u in full.inputs])
     return projected_plant(full, samples.reshape(len(full.inputs), ts.size), dt)

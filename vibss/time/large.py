@@ -1,7 +1,7 @@
 """Large models in the time domain without a dense n x n matrix: a subspace built for the channels.
 
 :func:`vibss.time.simulate` of a :class:`~vibss.model.model.Model` with more than
-:data:`~vibss.time.api.LARGE_DOFS` (6,000) DOFs and ``method="auto"`` runs here first (issue 17 item 4):
+:data:`~vibss.methods.SIMULATE_LARGE_DOFS` (6,000) DOFs and ``method="auto"`` runs here first (issue 17 item 4):
 computing every mode densely is O(n^3) (196 s at 6,000 DOF, 26.8 GiB of memory at 60,000), and
 every mode below a cut-off is thousands of modes on a long chain, most of them localised far from
 the inputs and outputs.

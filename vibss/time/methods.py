@@ -20,10 +20,11 @@ from . import kernels as tm
 from ..diagnostics import check_central_difference
 from ..errors import AnalysisError
 from ..linear.plant.plant import Plant
-from ..methods import Method, callable_name, resolve
+from ..methods import SIMULATE_LARGE_DOFS, Method, callable_name, resolve
+from ..model.model import Model
 from .integrators import central_difference_method, newmark_method
 
-__all__ = ["SimulationJob", "TimeMethod", "METHODS", "AUTO", "resolve_method"]
+__all__ = ["SimulationJob", "TimeMethod", "METHODS", "AUTO", "resolve_method", "stays_sparse"]
 
 
 @dataclass(frozen=True)
@@ -186,3 +187,10 @@ def resolve_method(method: Any) -> tuple[TimeMethod, bool]:
     if isinstance(method, str) and method == "auto":
         return METHODS[AUTO], True
     return resolve(method, METHODS, where="simulate", custom=_custom, extra=["auto"]), False
+
+
+def stays_sparse(model: Model, method: Any) -> bool:
+    """Whether :func:`~vibss.time.api.simulate` keeps ``model`` sparse (:mod:`vibss.time.large`): above
+    :data:`vibss.methods.SIMULATE_LARGE_DOFS` DOFs with ``method="auto"``, and no branch mounts."""
+    return (isinstance(method, str) and method == "auto" and 6 * len(model.bodies) > SIMULATE_LARGE_DOFS
+            and not any(t.has_branches for t in model.mount_types.values()))
