@@ -25,7 +25,7 @@ LAYERS = [
      "time.phi", "time.recursion", "diagnostics"},
     {"linear", "modal"},
     {"frequency.kernels", "frequency.lowrank", "frequency.terms", "frequency.grid", "frequency.result",
-     "time.kernels", "time.branched", "studies"},
+     "time.kernels", "time.branched", "time.result", "time.inputs", "studies"},
     {"frequency", "time", "reduction", "design", "shock", "orders", "random", "control"},
     {"plotting", "report"},
     {"commands", "cli", "__main__"},

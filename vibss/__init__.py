@@ -63,7 +63,7 @@ _LAZY: dict[str, str] = {
     "NamedStateSpace": ".linear.statespace", "statespace": ".linear.statespace",
     "StaticResult": ".statics", "static": ".statics",
     "StudyDefaults": ".studies", "study_defaults": ".studies", "causal_loss": ".studies",
-    "TimeResponse": ".time.api", "simulate": ".time.api",
+    "TimeResponse": ".time.result", "simulate": ".time.api",
     "SweepEnvelope": ".time.sweep", "sweep_envelope": ".time.sweep",
     "study": ".design.study",
     "srs": ".shock", "ShockResponseSpectrum": ".shock.srs",
@@ -121,7 +121,8 @@ if TYPE_CHECKING:                          # what static checkers and IDEs see
     from .shock import srs  # type: ignore[no-redef]  # the function, not the module vibss.shock.srs
     from .statics import StaticResult, static
     from .studies import StudyDefaults, causal_loss, study_defaults
-    from .time.api import TimeResponse, simulate
+    from .time.api import simulate
+    from .time.result import TimeResponse
     from .time.sweep import SweepEnvelope, sweep_envelope
 
 __version__ = "0.1.0"

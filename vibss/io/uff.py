@@ -3,7 +3,7 @@ through pyuff.
 
 ``write_uff(result, path)`` writes one dataset 58 per channel of a
 :class:`~vibss.frequency.result.FrequencyResponse` (function type 4, FRF: complex, frequency abscissa)
-or of a :class:`~vibss.time.api.TimeResponse` (function type 1, time response: real); ``read_uff(path)``
+or of a :class:`~vibss.time.result.TimeResponse` (function type 1, time response: real); ``read_uff(path)``
 reads FRF datasets back as a FrequencyResponse, e.g. a measured FRF to overlay on a computed one
 (:func:`frac`: the frequency response assurance criterion per channel). Signal names travel in the
 ID lines (``id1`` the output, ``id2`` the input); nodes are channel numbers and directions the DOF

@@ -21,7 +21,8 @@ from ..model.model import Model
 from ..linear.plant.signals import build_plant
 from ..linear.solve.exact import response, without_hysteresis
 from ..results import Result, Table, jsonable, require_pandas
-from .api import TimeResponse, simulate
+from .api import simulate
+from .result import TimeResponse
 
 __all__ = ["SweepEnvelope", "sweep_envelope"]
 
