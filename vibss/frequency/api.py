@@ -38,7 +38,7 @@ from ..errors import AnalysisError, DefectiveModesError, ModelError
 from .kernels import COMPLEX_MODE_RISK, METHODS, complex_mode_risk, project_damping, zero_frequency_limit
 from ..linear.plant.branches import require_none
 from ..linear.solve.exact import response
-from .methods import choose, choose_without_modes, resolve_method, stays_sparse
+from .methods import FrequencyMethod, choose, choose_without_modes, resolve_method, stays_sparse
 from ..methods import LARGE_DOFS
 from ..model.model import Model
 from ..linear.plant.plant import Plant
@@ -204,42 +204,12 @@ def frequency_response(system: Model | Assembly | Plant, inputs: Sequence[Any] |
     """
     choice(quantity, "quantity", QUANTITIES)
     chosen = resolve_method(method)
-    large = stays_sparse(system, frequencies, chosen)
-    if large and inputs is not None and not isinstance(system, Plant):
-        plant = build_plant(system, inputs, outputs, sparse=True)
-    else:
-        large = False
-        plant = _as_plant(system, inputs, outputs)
-    reason, pick = "", None
-    large_note = (f"{plant.n} DOFs above {LARGE_DOFS} with explicit frequencies: kept sparse, no dense "
-                  "eigen-analysis (resonances not marked)") if large else ""
-    if sp.issparse(plant.K):    # no dense eigen-analysis: explicit frequencies > 0, no resonance marks
-        basis = None
-        if frequencies is None or isinstance(frequencies, (Mapping, FrequencyGrid)):
-            raise ModelError("frequencies: a sparse plant (build_plant(..., sparse=True)) needs explicit "
-                             "frequencies [Hz]: the default grid is built around the modes")
-        f = _frequencies(plant, frequencies, None)
-        if np.any(f <= 0):
-            raise ModelError("frequencies: a sparse plant takes frequencies > 0 (the 0 Hz limit needs the modes)")
-        if chosen is not None and not chosen.sparse_ok:
-            raise AnalysisError(f"method {chosen.name!r} needs the dense plant; a sparse plant (build_plant("
-                                f"..., sparse=True)) takes {[m for m, v in METHODS.items() if v.sparse_ok]} "
-                                "or 'auto'")
-    else:
-        basis, f, pick = _modes_if_needed(plant, frequencies, chosen)
-    if pick is not None:                      # auto chose from sizes and structure, without the modes
-        name, reason = pick
-        chosen = METHODS[name]
-    elif chosen is None:
-        name, reason = choose(plant, f.size, basis)
-        chosen = METHODS[name]
-    elif plant.branches is not None and not chosen.internal_states:
-        require_none(plant, f"frequency_response: method {chosen.name!r}",
-                     f"use one of {[k for k, v in METHODS.items() if v.internal_states]} or 'auto'")
-    elif plant.branches is not None:
-        reason = plant.branches.note()
+    plant, basis, f, pick, large = _plant_and_modes(system, inputs, outputs, frequencies, chosen)
+    chosen, reason = _settled(plant, chosen, pick, basis, f.size)
     if basis is None and not large and not sp.issparse(plant.K):
         reason = f"{reason}; resonances not marked: {_NO_MODES}"
+    large_note = (f"{plant.n} DOFs above {LARGE_DOFS} with explicit frequencies: kept sparse, no dense "
+                  "eigen-analysis (resonances not marked)") if large else ""
     reason = "; ".join(x for x in (large_note, reason) if x)
     k = QUANTITIES[quantity]
     pos = f > 0
@@ -247,34 +217,7 @@ def frequency_response(system: Model | Assembly | Plant, inputs: Sequence[Any] |
     h = None if every else np.empty((len(plant.outputs), len(plant.inputs), f.size), dtype=complex)
     if every or np.any(pos):
         s = 2j * np.pi * (f if every else f[pos])
-        try:
-            raw = chosen.kernel(plant, s, basis)
-        except DefectiveModesError as exc:
-            if method != "auto" or chosen.fallback is None:
-                exact = [n for n, m in METHODS.items() if m.exact]
-                raise DefectiveModesError(f"frequency_response: method {chosen.name!r} refused: {exc}; use an "
-                                          f"exact method: {exact} (or 'auto')", argument="method",
-                                          received=chosen.name, expected=exact) from None
-            refused, chosen = chosen, METHODS[chosen.fallback]
-            what = "complex modes" if refused.name == "complex_modal" else f"method {refused.name!r}"
-            reason = f"{reason}; {what} refused ({exc}): {chosen.summary}"
-            raw = chosen.kernel(plant, s, basis)
-        else:
-            if method == "auto" and chosen.fallback is not None and chosen.name == "complex_modal" and basis is not None \
-                    and complex_mode_risk(basis, project_damping(plant, basis)) > COMPLEX_MODE_RISK:
-                err, where = _check(plant, s, raw)
-                if not err <= AUTO_CHECK_TOL:
-                    chosen = METHODS[chosen.fallback]
-                    reason = (f"{reason}; complex modes missed the exact solve by {err:.1e} at {where}: "
-                              f"{chosen.summary}")
-                    raw = chosen.kernel(plant, s, basis)
-                else:
-                    reason = f"{reason}; checked: {err:.1e} against the exact solve at {where}"
-        if chosen.self_checked:             # (response, the note of its own exact checks)
-            raw, own = raw
-            reason = "; ".join(x for x in (reason, own) if x)
-        elif not chosen.exact and not chosen.needs_basis:
-            reason = "; ".join(x for x in (reason, _checked(plant, s, raw, chosen.name)) if x)
+        raw, chosen, reason = _evaluated(plant, s, basis, chosen, method, reason)
         shape = (len(plant.outputs), len(plant.inputs), f.size)
         if h is None and _fresh(raw, chosen, shape):
             h = _times_power(raw, s, k)
@@ -289,6 +232,88 @@ def frequency_response(system: Model | Assembly | Plant, inputs: Sequence[Any] |
     fr, numbers, labels = _resonances(plant, basis, float(f.min()), float(f.max()))
     return FrequencyResponse(f, h, plant.outputs, plant.inputs, units, quantity, chosen.name, reason,
                              fr, plant.name, _input_units(plant), numbers, labels)
+
+
+def _plant_and_modes(system: Model | Assembly | Plant, inputs: Any, outputs: Any, frequencies: Any,
+                     chosen: FrequencyMethod | None) -> tuple[Plant, ModalBasis | None, np.ndarray,
+                                                             tuple[str, str] | None, bool]:
+    """The plant (sparse for a large model, :func:`~vibss.frequency.methods.stays_sparse`), its
+    undamped modes or None, the frequencies [Hz], ``auto``'s choice if it needed no modes, and
+    whether the model was kept sparse."""
+    large = stays_sparse(system, frequencies, chosen)
+    if large and inputs is not None and not isinstance(system, Plant):
+        plant = build_plant(system, inputs, outputs, sparse=True)
+    else:
+        large = False
+        plant = _as_plant(system, inputs, outputs)
+    if not sp.issparse(plant.K):
+        basis, f, pick = _modes_if_needed(plant, frequencies, chosen)
+        return plant, basis, f, pick, large
+    # no dense eigen-analysis: explicit frequencies > 0, no resonance marks
+    if frequencies is None or isinstance(frequencies, (Mapping, FrequencyGrid)):
+        raise ModelError("frequencies: a sparse plant (build_plant(..., sparse=True)) needs explicit "
+                         "frequencies [Hz]: the default grid is built around the modes")
+    f = _frequencies(plant, frequencies, None)
+    if np.any(f <= 0):
+        raise ModelError("frequencies: a sparse plant takes frequencies > 0 (the 0 Hz limit needs the modes)")
+    if chosen is not None and not chosen.sparse_ok:
+        raise AnalysisError(f"method {chosen.name!r} needs the dense plant; a sparse plant (build_plant("
+                            f"..., sparse=True)) takes {[m for m, v in METHODS.items() if v.sparse_ok]} "
+                            "or 'auto'")
+    return plant, None, f, None, large
+
+
+def _settled(plant: Plant, chosen: FrequencyMethod | None, pick: tuple[str, str] | None,
+             basis: ModalBasis | None, nf: int) -> tuple[FrequencyMethod, str]:
+    """The method that runs (``auto`` settled by :func:`~vibss.frequency.methods.choose`) and why."""
+    reason = ""
+    if pick is not None:                      # auto chose from sizes and structure, without the modes
+        name, reason = pick
+        chosen = METHODS[name]
+    elif chosen is None:
+        name, reason = choose(plant, nf, basis)
+        chosen = METHODS[name]
+    elif plant.branches is not None and not chosen.internal_states:
+        require_none(plant, f"frequency_response: method {chosen.name!r}",
+                     f"use one of {[k for k, v in METHODS.items() if v.internal_states]} or 'auto'")
+    elif plant.branches is not None:
+        reason = plant.branches.note()
+    return chosen, reason
+
+
+def _evaluated(plant: Plant, s: np.ndarray, basis: ModalBasis | None, chosen: FrequencyMethod, method: Any,
+               reason: str) -> tuple[Any, FrequencyMethod, str]:
+    """The kernel's answer at the Laplace points ``s``, the method that gave it (``auto``'s fallback
+    where its pick refused or missed the exact solve) and the note with its checks."""
+    try:
+        raw = chosen.kernel(plant, s, basis)
+    except DefectiveModesError as exc:
+        if method != "auto" or chosen.fallback is None:
+            exact = [n for n, m in METHODS.items() if m.exact]
+            raise DefectiveModesError(f"frequency_response: method {chosen.name!r} refused: {exc}; use an "
+                                      f"exact method: {exact} (or 'auto')", argument="method",
+                                      received=chosen.name, expected=exact) from None
+        refused, chosen = chosen, METHODS[chosen.fallback]
+        what = "complex modes" if refused.name == "complex_modal" else f"method {refused.name!r}"
+        reason = f"{reason}; {what} refused ({exc}): {chosen.summary}"
+        raw = chosen.kernel(plant, s, basis)
+    else:
+        if method == "auto" and chosen.fallback is not None and chosen.name == "complex_modal" and basis is not None \
+                and complex_mode_risk(basis, project_damping(plant, basis)) > COMPLEX_MODE_RISK:
+            err, where = _check(plant, s, raw)
+            if not err <= AUTO_CHECK_TOL:
+                chosen = METHODS[chosen.fallback]
+                reason = (f"{reason}; complex modes missed the exact solve by {err:.1e} at {where}: "
+                          f"{chosen.summary}")
+                raw = chosen.kernel(plant, s, basis)
+            else:
+                reason = f"{reason}; checked: {err:.1e} against the exact solve at {where}"
+    if chosen.self_checked:             # (response, the note of its own exact checks)
+        raw, own = raw
+        reason = "; ".join(x for x in (reason, own) if x)
+    elif not chosen.exact and not chosen.needs_basis:
+        reason = "; ".join(x for x in (reason, _checked(plant, s, raw, chosen.name)) if x)
+    return raw, chosen, reason
 
 
 def _resonances(plant: Plant, basis: ModalBasis | None, lo: float,
