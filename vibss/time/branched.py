@@ -8,7 +8,7 @@ The branch forces ``f`` join the undamped modes' coordinates as states (:mod:`vi
 (``p = q + G z``, :mod:`vibss.time.kernels`), and ``y = Cp p + Cv p' + (O - Oa M^-1 B^T) f + ...``.
 :func:`vibss.linear.eigen.branch_modes.branch_modes` diagonalises the augmented modal matrix from the
 r x r secular equation, certified, without forming it; each eigenvalue is then one scalar mode of
-the existing exact FOH recursion (:func:`vibss.time.kernels.run_modal`), driven through ``V^-1``
+the existing exact FOH recursion (:func:`vibss.time.kernels.modal.run_modal`), driven through ``V^-1``
 (left eigenvectors from the right ones): the generalized forces through the ``eta'`` rows, the
 prescribed motion's ``z'`` through the branch rows. A displacement jump is an impulse on ``f``
 (the branch spring reacts at once), applied exactly like the dampers' ``Ct`` impulse.
@@ -28,7 +28,8 @@ from ..linear.eigen.branch_modes import BranchModes, branch_modes
 from ..linear.eigen.undamped import damping_coupling, modal_basis
 from ..linear.plant.plant import Plant
 from ..linear.eigen.projection import projected_damping
-from .kernels import Prepared, _ModalSet, channels
+from .kernels.modal import _ModalSet, channels
+from .kernels.prepared import Prepared
 
 __all__ = ["modal_sets", "suits", "COST_FACTOR"]
 
@@ -88,7 +89,7 @@ def _structure(plant: Plant) -> tuple[np.ndarray, np.ndarray, np.ndarray, Branch
 
 def modal_sets(prep: Prepared, q0: np.ndarray, v0: np.ndarray) -> tuple[list[_ModalSet], str]:
     """The scalar modes of the augmented system and what was solved, for
-    :func:`vibss.time.kernels.run_modal`.
+    :func:`vibss.time.kernels.modal.run_modal`.
 
     Parameters
     ----------
