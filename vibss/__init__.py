@@ -57,7 +57,7 @@ _LAZY: dict[str, str] = {
     "frequency_grid": ".frequency.grid", "frequency_response": ".frequency.api",
     "sweep_response": ".frequency.sweep", "transmissibility": ".frequency.sweep",
     "Plant": ".linear.plant.plant",
-    "Reduction": ".reduction.api", "reduce": ".reduction.api",
+    "Reduction": ".reduction.result", "reduce": ".reduction.api",
     "Scope": ".reduction.scope",
     "build_plant": ".linear.plant.signals",
     "NamedStateSpace": ".linear.statespace", "statespace": ".linear.statespace",
@@ -115,7 +115,8 @@ if TYPE_CHECKING:                          # what static checkers and IDEs see
                                       Sum, Table, TimeFunction, Triangle)
     from .model.geometry import Orientation
     from .model.model import DOF_NAMES, GROUND, Body, ControlPoint, Load, Model, Mount, MountType, Support, symmetric
-    from .reduction.api import Reduction, reduce
+    from .reduction.api import reduce
+    from .reduction.result import Reduction
     from .reduction.scope import Scope
     from .random import PSD, random_response
     from .shock import srs  # type: ignore[no-redef]  # the function, not the module vibss.shock.srs

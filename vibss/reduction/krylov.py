@@ -24,7 +24,7 @@ At check frequencies (the midpoints between neighbouring interpolation frequenci
 interpolation error is largest) the full response is computed exactly with one complex sparse LU
 of ``K + iH + iwC - w^2 M`` per frequency, and compared with the reduced one: the relative error per
 output (divided by the output's largest response over the band, see
-:func:`vibss.reduction.relative_error`). Where it exceeds ``CHECK_SAFETY`` times the tolerance the
+:func:`vibss.reduction.result.relative_error`). Where it exceeds ``CHECK_SAFETY`` times the tolerance the
 exact solutions at that frequency (state and, two-sided, adjoint; real and imaginary parts) join the
 basis -- they cost nothing more, the factorisation is there -- which makes the reduced response
 exact at that frequency, and the new midpoints are checked in the next round. It stops when every
@@ -142,7 +142,7 @@ def as_sparse(p: Plant) -> Plant:
 def prune_sparse(p: Plant) -> tuple[Plant, list[Removal]]:
     """Remove the connected components (graph of M, C, K, H) no input excites or no output sees.
 
-    The sparse counterpart of :func:`vibss.reduction.kernels.prune_dofs` (exact, zero initial
+    The sparse counterpart of :func:`vibss.reduction.prune.prune_dofs` (exact, zero initial
     conditions); entries count as couplings when nonzero.
     """
     pattern = abs(p.M) + abs(p.C) + abs(p.K) + abs(p.H)
