@@ -28,7 +28,7 @@ from .errors import (AnalysisError, ArgumentError, ControlDesignError, Defective
 # checks that every name resolves).
 _LAZY: dict[str, str] = {
     "Assembly": ".linear.plant.assemble", "assemble": ".linear.plant.assemble",
-    "DampedModes": ".modal.damped", "damped_modes": ".modal.damped",
+    "DampedModes": ".modal.result", "damped_modes": ".modal.api",
     "Excitation": ".model.excitation",
     # time functions of excitations (vibss.model.timefunctions)
     "TimeFunction": ".model.timefunctions",
@@ -47,7 +47,7 @@ _LAZY: dict[str, str] = {
     "Orientation": ".model.geometry",
     "dump_model": ".io.modelfile", "dumps_model": ".io.modelfile", "example_names": ".io.modelfile",
     "load_example": ".io.modelfile", "load_model": ".io.modelfile", "loads_model": ".io.modelfile",
-    "Modes": ".modal.undamped", "modes": ".modal.undamped",
+    "Modes": ".modal.result", "modes": ".modal.api",
     "DOF_NAMES": ".model.model", "GROUND": ".model.model", "Body": ".model.model",
     "ControlPoint": ".model.model", "Load": ".model.model", "Model": ".model.model",
     "Mount": ".model.model", "MountType": ".model.model", "Support": ".model.model",
@@ -108,8 +108,8 @@ if TYPE_CHECKING:                          # what static checkers and IDEs see
     from .linear.plant.plant import Plant
     from .linear.plant.signals import build_plant
     from .linear.statespace import NamedStateSpace, statespace
-    from .modal.damped import DampedModes, damped_modes
-    from .modal.undamped import Modes, modes
+    from .modal.api import damped_modes, modes
+    from .modal.result import DampedModes, Modes
     from .model.excitation import Excitation
     from .model.timefunctions import (HalfSine, Haversine, Ramp, Rectangular, Sawtooth, Sine, SineSweep, Step,
                                       Sum, Table, TimeFunction, Triangle)

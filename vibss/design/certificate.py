@@ -29,8 +29,7 @@ import numpy as np
 from .._validate import array, number
 from ..errors import AnalysisError, ArgumentError
 from ..linear.plant.assemble import assemble
-from ..modal.damped import damped_modes
-from ..modal.undamped import modes as undamped_modes
+from ..modal.api import damped_modes, modes as undamped_modes
 from ..model.model import DOF_NAMES, Model
 from ..results import Result, Table, jsonable, number_text, require_pandas
 from ._common import body_name, frame_axes, frame_rotation, ke_fractions, unit_axis

@@ -10,7 +10,7 @@ ID lines (``id1`` the output, ``id2`` the input); nodes are channel numbers and 
 (x, y, z, rx, ry, rz = 1 ... 6; 0 when the signal is not a DOF). Binary double precision by default,
 so values come back exactly.
 
-A :class:`~vibss.modal.undamped.Modes` goes out as one dataset 2411 with a node per body at its
+A :class:`~vibss.modal.result.Modes` goes out as one dataset 2411 with a node per body at its
 centre of gravity [m] (node ``n`` is the model's ``n``-th body), then one per control point (moving
 with its body), the names in each 55's ``id2``, and one dataset 55 per mode (structural normal mode, six real values per node: x, y, z
 [m] and rx, ry, rz [rad] of the mass-normalised shape, zero for a DOF the analysis held fixed);
