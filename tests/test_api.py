@@ -25,6 +25,7 @@ LAYERS = [
      "time.phi", "time.recursion", "diagnostics"},
     {"linear", "modal"},
     {"frequency.kernels", "frequency.lowrank", "frequency.terms", "frequency.grid", "frequency.result",
+     "frequency.statespace_kernels",
      "time.kernels", "time.branched", "time.result", "time.inputs", "studies"},
     {"frequency", "time", "reduction", "design", "shock", "orders", "random", "control"},
     {"plotting", "report"},

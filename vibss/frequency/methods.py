@@ -9,7 +9,8 @@ each kernel, and says why.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -22,14 +23,15 @@ from ..linear.eigen.projection import damping_rank
 from ..linear.solve.exact import mounts_form_possible
 from ..linear.project.subspace import MOMENTS, N_SHIFTS, TWO_SIDED_MAX
 from ..linear.plant.assemble import Assembly
-from ..methods import LARGE_DOFS, resolve
+from ..methods import LARGE_DOFS, Method, resolve
 from ..model.model import Model
+from . import statespace_kernels
 from .grid import FrequencyGrid
 from .kernels import (COMPLEX_MODE_RISK, METHODS, REFINE_PREDICT, FrequencyMethod, classical_damping,
                       custom_method, mode_risks, project_damping)
 
 __all__ = ["METHODS", "FrequencyMethod", "resolve_method", "choose", "choose_without_modes", "estimates",
-           "stays_sparse"]
+           "stays_sparse", "STATESPACE_METHODS", "StateSpaceMethod", "choose_statespace"]
 
 
 def resolve_method(method: Any, where: str = "frequency_response") -> FrequencyMethod | None:
@@ -299,3 +301,44 @@ def _choose_sparse(plant: Plant, nf: int) -> tuple[str, str]:
                             f"exact solve per frequency ({how})")
     return "sparse", (f"sparse plant: exact sparse solve per frequency ({how}), estimated {exact:.2g} s "
                       f"against {sub:.2g} s for a channel subspace")
+
+
+@dataclass(frozen=True)
+class StateSpaceMethod(Method):
+    """A way to evaluate a python-control state space's ``C (sI - A)^-1 B`` at many frequencies
+    (:mod:`vibss.frequency.statespace_kernels`, kernel ``f(A, B, C) -> h or None``).
+
+    Attributes
+    ----------
+    min_states : int
+        ``auto`` tries it on systems of more states than this only.
+    """
+
+    min_states: int = 0
+
+
+STATESPACE_METHODS: dict[str, StateSpaceMethod] = {
+    "modal": StateSpaceMethod(
+        "modal", statespace_kernels.modal, fallback="balanced", min_states=150,
+        summary="diagonalised once (O(n p m) per frequency) where the eigenvectors are well conditioned"),
+    "balanced": StateSpaceMethod(
+        "balanced", statespace_kernels.balanced, exact=True,
+        summary="balanced, then solved directly at every frequency (batched LU)"),
+}
+"""The state-space evaluators, in ``auto``'s order: ``modal`` above 150 states (the diagonalisation
+once, O(n^3), against an O(n^3) LU at every frequency), falling back to ``balanced`` where it
+refuses (ill-conditioned eigenvectors) and below."""
+
+
+def choose_statespace(A: np.ndarray, B: np.ndarray,
+                      C: np.ndarray) -> tuple[StateSpaceMethod, Callable[[np.ndarray], np.ndarray]]:
+    """``auto``'s evaluator for the state space ``(A, B, C)`` and its response ``h(s)``: the first
+    of :data:`STATESPACE_METHODS` whose ``min_states`` the system exceeds and that accepts it."""
+    n = A.shape[0]
+    for method in STATESPACE_METHODS.values():
+        if n > method.min_states:
+            h = method.kernel(A, B, C)
+            if h is not None:
+                return method, h
+    last = STATESPACE_METHODS["balanced"]
+    return last, last.kernel(A, B, C)
