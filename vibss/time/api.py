@@ -51,12 +51,10 @@ import scipy.sparse as sp
 
 from .._validate import choice, number
 from ..errors import AnalysisError, ArgumentError, DefectiveModesError, ModelError
-from .branched import suits as branch_path
 from .inputs import SignalInput, as_function, exact_terms, initial_state, summed
-from .methods import METHODS, SimulationJob, TimeMethod, resolve_method, stays_sparse
+from .methods import METHODS, SimulationJob, TimeMethod, settled, stays_sparse
 from ..model.model import Model
 from ..model.timefunctions import TimeFunction
-from ..linear.plant.branches import require_none
 from ..linear.plant.hysteresis import dropped_hysteresis
 from ..linear.plant.plant import Plant
 from ..linear.plant.signals import build_plant
@@ -159,7 +157,7 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
     plant, truncated, hidden = _plant(model_or_plant, model, sig, outputs, initial, method, ts, dt)
     job, funcs, left_out = _job(plant, model, sig, initial, hidden, ts, rtol, atol, solver)
     plant = job.plant
-    chosen, auto, branch_note = _method(plant, method)
+    chosen, auto, branch_note = settled(plant, method)
     motions = [u for u, kind in zip(plant.inputs, plant.kinds) if kind != "force"]
     if chosen.forces_only and motions:
         raise ModelError(f"simulate: method {chosen.name!r} takes only force inputs; inputs {motions} "
@@ -286,24 +284,6 @@ def _job(plant: Plant, model: Model | None, sig: _Signals, initial: Any, hidden:
                         sinusoids=tuple(tuple(sig.pieces.get(u, ())) for u in plant.inputs),
                         exact_inputs=tuple(u for u in plant.inputs if sig.exact.get(u, u not in sig.terms)))
     return job, funcs, left_out
-
-
-def _method(plant: Plant, method: Any) -> tuple[TimeMethod, bool, str]:
-    """The method (``auto`` settled for frequency-dependent mounts), whether ``auto`` chose it, and
-    the note on the plant's Maxwell branches."""
-    chosen, auto = resolve_method(method)
-    if plant.branches is not None and auto:
-        structured, why = branch_path(plant)
-        if structured:       # the exact modal FOH on modes plus branch states; forced_response if refused
-            return chosen, auto, f"{plant.branches.note()}: {why}"
-        return (METHODS["forced_response"], False,
-                f"{plant.branches.note()}: forced_response of the state space with them ({why})")
-    if plant.branches is not None:
-        if not chosen.internal_states:
-            require_none(plant, f"simulate: method {chosen.name!r}",
-                         f"use one of {[k for k, v in METHODS.items() if v.internal_states]} or 'auto'")
-        return chosen, auto, plant.branches.note()
-    return chosen, auto, ""
 
 
 def _run(job: SimulationJob, chosen: TimeMethod, auto: bool,
