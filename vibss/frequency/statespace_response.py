@@ -14,12 +14,12 @@ vibss :class:`~vibss.linear.plant.plant.Plant` (for a plant, :func:`vibss.freque
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
 
-from .methods import choose_statespace
+from .methods import StateSpaceMethod, choose_statespace
 
 __all__ = ["evaluate", "Evaluator"]
 
@@ -49,7 +49,10 @@ class Evaluator:
         self.D = D
         self.n = n
         # the evaluator (None for a static gain) and the response h(s) without D
-        self.method, self._h = choose_statespace(A, B, C) if n else (None, None)
+        self.method: StateSpaceMethod | None = None
+        self._h: Callable[[np.ndarray], np.ndarray] | None = None
+        if n:
+            self.method, self._h = choose_statespace(A, B, C)
 
     def __call__(self, omega: Any, chunk: int = 64) -> np.ndarray:
         """(p, m, nf) complex response at ``omega`` [rad/s]."""

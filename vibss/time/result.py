@@ -3,6 +3,7 @@ protocol of :mod:`vibss.results`) and its :class:`PeakTable`."""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from typing import Any
 
