@@ -276,7 +276,7 @@ def _job(plant: Plant, model: Model | None, sig: _Signals, initial: Any, hidden:
                          "nonzero initial conditions (initial={body: {'displacement': [6], "
                          "'velocity': [6]}})")
     _check_derivatives(plant)
-    left_out = dropped_hysteresis(model if model is not None else plant, "simulate")
+    left_out = dropped_hysteresis(model if model is not None else plant, "simulate", stacklevel=4)  # via _job
     if left_out:                         # said once here; the kernels then see no hysteretic part
         plant = without_hysteresis(plant)
     job = SimulationJob(plant=plant, time=ts, funcs=tuple(funcs), breakpoints=np.array(bps, float),
