@@ -31,8 +31,10 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from benchmarks.models import chain_model  # noqa: E402
 from vibss import Mount, MountType, assemble  # noqa: E402
 from vibss.model.excitation import Excitation  # noqa: E402
-from vibss.reduction.api import reduce, relative_error  # noqa: E402
-from vibss.reduction.kernels import exact_response, frf, sparse_plant  # noqa: E402
+from vibss.reduction.api import reduce  # noqa: E402
+from vibss.reduction.result import relative_error  # noqa: E402
+from vibss.reduction.krylov import exact_response, sparse_plant  # noqa: E402
+from vibss.reduction.prune import frf  # noqa: E402
 from vibss.reduction.scope import Scope  # noqa: E402
 from vibss.linear.plant.build import build_plant  # noqa: E402
 from vibss.time.api import simulate  # noqa: E402

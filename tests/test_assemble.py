@@ -7,7 +7,7 @@ import pytest
 import scipy.sparse as sp
 
 from vibss import Body, Model, Mount, MountType, assemble
-from vibss.modal.undamped import rigid_influence
+from vibss.modal.kernels import rigid_influence
 
 from reference_impl import loop_assemble, loop_mass
 

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import vibss
-import vibss.frequency.api as fa
+import vibss.frequency.methods as fa
 from vibss import Model, Mount, MountType
 from vibss.errors import AnalysisError
 from vibss.frequency.kernels import subspace

@@ -22,7 +22,7 @@ from vibss.methods import Method
 from vibss.model.excitation import Excitation
 from vibss.model.timefunctions import Ramp, Rectangular
 from vibss.reduction import METHODS as RED, Reduced, ReductionMethod, reduce
-from vibss.reduction.kernels import frf
+from vibss.reduction.prune import frf
 from vibss.reduction.scope import Scope
 from vibss.time import METHODS as TIME, SimulationJob, TimeMethod, simulate
 

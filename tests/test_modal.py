@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from vibss import Body, Model, modes
-from vibss.modal.undamped import rigid_influence
+from vibss.modal.kernels import rigid_influence
 
 from cases import asymmetric_model
 from reference_impl import loop_assemble, loop_mass

@@ -23,12 +23,7 @@ FACTS = {   # fact: (its code pattern, its home (module:function), other files a
     "static solve": (re.compile(r"linalg\.solve\((K|\w+\.K)\b"), "vibss.linear.solve.static:static_solve",
                      {"linear/solve/static.py": "the home"}),
     "mass solve": (re.compile(r"cho_factor\((M|md|mass|\w+\.M)\b"), "vibss.linear.solve.mass:mass_solver",
-                   {"linear/solve/mass.py": "the home",
-                    # TEMPORARY, lead switches after merge: vibss/time was being reshaped while the
-                    # mass solve moved; remove these three entries when it calls mass_solver
-                    "time/kernels.py": "lead switches after merge",
-                    "time/integrators.py": "lead switches after merge",
-                    "time/branched.py": "lead switches after merge"}),
+                   {"linear/solve/mass.py": "the home"}),
     "standard gravity": (re.compile(r"(?<![\w.])9\.80665(?!\d)"), "vibss.model.units:STANDARD_GRAVITY",
                          {"model/units.py": "the home (G = STANDARD_GRAVITY beside it)"}),
     "undamped eigenproblem": (re.compile(r"(?<!\w)eigh\("), "vibss.linear.eigen.undamped:undamped",

@@ -8,8 +8,9 @@ import pytest
 import small_cases as sc
 from cases import asymmetric_model, prism_model, two_mass_model
 from vibss import Body, Model, ModelError, Mount, MountType, AnalysisError, load_example
-from vibss.reduction.api import reduce, relative_error
-from vibss.reduction.kernels import frf
+from vibss.reduction.api import reduce
+from vibss.reduction.result import relative_error
+from vibss.reduction.prune import frf
 from vibss.reduction.scope import Scope
 from vibss.linear.plant.build import build_plant
 

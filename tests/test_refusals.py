@@ -30,7 +30,7 @@ def critical() -> Model:
 
 
 def test_simulate_suggests_only_its_own_methods(monkeypatch: pytest.MonkeyPatch) -> None:
-    import vibss.time.kernels as tk
+    import vibss.time.kernels.modal as tk
     from vibss.linear.eigen import complex_modes as cm
 
     def refuse(*args: object, **kwargs: object) -> object:   # the core's own refusal, as on a Jordan block

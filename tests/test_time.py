@@ -325,7 +325,7 @@ def test_modal_time_path_with_damper_only_mounts_matches_forced_response():
 def test_auto_falls_back_to_forced_response_when_complex_modes_refuse(monkeypatch):
     """When complex modes refuse (DefectiveModesError: nearly dependent eigenvectors), simulate's
     auto runs forced_response and says so; an explicit method='modal' raises."""
-    import vibss.time.kernels as tm
+    import vibss.time.kernels.modal as tm
     from vibss import DefectiveModesError
     from test_signals import two_body
 

@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import vibss.time.api as time_api
+import vibss.time.methods as time_api
 from vibss import simulate
 from vibss.errors import AnalysisError, VibssWarning
 from vibss.model.excitation import Excitation
@@ -24,7 +24,7 @@ from models import chain_model  # noqa: E402
 
 def _both(model, excitation, outputs, monkeypatch, **kw):
     """The large-model path (threshold lowered below the model) and the exact dense modal path."""
-    monkeypatch.setattr(time_api, "LARGE_DOFS", 100)
+    monkeypatch.setattr(time_api, "SIMULATE_LARGE_DOFS", 100)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", VibssWarning)
         large = simulate(model, [excitation], outputs=outputs, **kw)
@@ -54,7 +54,7 @@ def test_projected_path_is_within_its_stated_estimate_of_the_dense_modal_path(mo
 
 
 def test_initial_conditions_and_free_vibration_are_refused_on_the_large_path(monkeypatch) -> None:
-    monkeypatch.setattr(time_api, "LARGE_DOFS", 30)
+    monkeypatch.setattr(time_api, "SIMULATE_LARGE_DOFS", 30)
     model = chain_model(6, damping="none", seed=2)
     shock = Excitation("shock", "force", "b0", HalfSine(1.0, duration=0.01), dof="z")
     with pytest.raises(AnalysisError, match="initial.*method='modal'"):
@@ -71,7 +71,7 @@ def test_an_unreached_tolerance_is_refused_not_answered(monkeypatch) -> None:
     import vibss.linear.project.subspace as subspace
     import vibss.time.large as large
 
-    monkeypatch.setattr(time_api, "LARGE_DOFS", 100)
+    monkeypatch.setattr(time_api, "SIMULATE_LARGE_DOFS", 100)
     monkeypatch.setattr(large, "TOLERANCE", 1e-30)
     monkeypatch.setattr(subspace, "MAX_ROUNDS", 0)
     model = chain_model(30, damping="none", seed=3)

@@ -28,7 +28,7 @@ from .errors import (AnalysisError, ArgumentError, ControlDesignError, Defective
 # checks that every name resolves).
 _LAZY: dict[str, str] = {
     "Assembly": ".linear.plant.assemble", "assemble": ".linear.plant.assemble",
-    "DampedModes": ".modal.damped", "damped_modes": ".modal.damped",
+    "DampedModes": ".modal.result", "damped_modes": ".modal.api",
     "Excitation": ".model.excitation",
     # time functions of excitations (vibss.model.timefunctions)
     "TimeFunction": ".model.timefunctions",
@@ -47,23 +47,23 @@ _LAZY: dict[str, str] = {
     "Orientation": ".model.geometry",
     "dump_model": ".io.modelfile", "dumps_model": ".io.modelfile", "example_names": ".io.modelfile",
     "load_example": ".io.modelfile", "load_model": ".io.modelfile", "loads_model": ".io.modelfile",
-    "Modes": ".modal.undamped", "modes": ".modal.undamped",
+    "Modes": ".modal.result", "modes": ".modal.api",
     "DOF_NAMES": ".model.model", "GROUND": ".model.model", "Body": ".model.model",
     "ControlPoint": ".model.model", "Load": ".model.model", "Model": ".model.model",
     "Mount": ".model.model", "MountType": ".model.model", "Support": ".model.model",
     "symmetric": ".model.model",
     "Actuator": ".model.actuation", "Sensor": ".model.actuation",
-    "FrequencyGrid": ".frequency.api", "FrequencyResponse": ".frequency.api",
-    "frequency_grid": ".frequency.api", "frequency_response": ".frequency.api",
+    "FrequencyGrid": ".frequency.grid", "FrequencyResponse": ".frequency.result",
+    "frequency_grid": ".frequency.grid", "frequency_response": ".frequency.api",
     "sweep_response": ".frequency.sweep", "transmissibility": ".frequency.sweep",
     "Plant": ".linear.plant.plant",
-    "Reduction": ".reduction.api", "reduce": ".reduction.api",
+    "Reduction": ".reduction.result", "reduce": ".reduction.api",
     "Scope": ".reduction.scope",
     "build_plant": ".linear.plant.build",
     "NamedStateSpace": ".linear.statespace", "statespace": ".linear.statespace",
     "StaticResult": ".statics", "static": ".statics",
     "StudyDefaults": ".studies", "study_defaults": ".studies", "causal_loss": ".studies",
-    "TimeResponse": ".time.api", "simulate": ".time.api",
+    "TimeResponse": ".time.result", "simulate": ".time.api",
     "SweepEnvelope": ".time.sweep", "sweep_envelope": ".time.sweep",
     "study": ".design.study",
     "srs": ".shock", "ShockResponseSpectrum": ".shock.srs",
@@ -99,27 +99,31 @@ if TYPE_CHECKING:                          # what static checkers and IDEs see
     from .model.actuation import Actuator, Sensor
     from .shock.srs import ShockResponseSpectrum
     from .design.study import study
-    from .frequency.api import FrequencyGrid, FrequencyResponse, frequency_grid, frequency_response
+    from .frequency.api import frequency_response
+    from .frequency.grid import FrequencyGrid, frequency_grid
+    from .frequency.result import FrequencyResponse
     from .frequency.sweep import sweep_response, transmissibility
     from .io.modelfile import dump_model, dumps_model, example_names, load_example, load_model, loads_model
     from .linear.plant.assemble import Assembly, assemble
     from .linear.plant.plant import Plant
     from .linear.plant.build import build_plant
     from .linear.statespace import NamedStateSpace, statespace
-    from .modal.damped import DampedModes, damped_modes
-    from .modal.undamped import Modes, modes
+    from .modal.api import damped_modes, modes
+    from .modal.result import DampedModes, Modes
     from .model.excitation import Excitation
     from .model.timefunctions import (HalfSine, Haversine, Ramp, Rectangular, Sawtooth, Sine, SineSweep, Step,
                                       Sum, Table, TimeFunction, Triangle)
     from .model.geometry import Orientation
     from .model.model import DOF_NAMES, GROUND, Body, ControlPoint, Load, Model, Mount, MountType, Support, symmetric
-    from .reduction.api import Reduction, reduce
+    from .reduction.api import reduce
+    from .reduction.result import Reduction
     from .reduction.scope import Scope
     from .random import PSD, random_response
     from .shock import srs  # type: ignore[no-redef]  # the function, not the module vibss.shock.srs
     from .statics import StaticResult, static
     from .studies import StudyDefaults, causal_loss, study_defaults
-    from .time.api import TimeResponse, simulate
+    from .time.api import simulate
+    from .time.result import TimeResponse
     from .time.sweep import SweepEnvelope, sweep_envelope
 
 __version__ = "0.1.0"

@@ -28,7 +28,22 @@ from typing import Any, TypeVar
 from ._validate import choice
 from .errors import ArgumentError
 
-__all__ = ["Method", "resolve"]
+__all__ = ["Method", "resolve", "LARGE_DOFS", "SIMULATE_LARGE_DOFS"]
+
+LARGE_DOFS = 3000
+"""The large-model threshold [DOF]: above it an analysis of a Model keeps the model sparse instead of
+computing every undamped mode densely. The measured crossover: the dense eigen-analysis of all the
+modes is O(n^3) (a 20-frequency FRF at 6,000 DOF took 203 s, and the sparse path 0.17 s, the same
+answer; docs/performance.md), while below a few thousand DOF the dense modes cost seconds and buy the
+grid around the modes, the resonance marks and the modal methods. The frequency response's sparse
+path is exact, so :func:`vibss.frequency_response` switches here (:func:`vibss.frequency.methods.stays_sparse`)."""
+
+SIMULATE_LARGE_DOFS = 2 * LARGE_DOFS
+"""The threshold of :func:`vibss.simulate` [DOF], twice :data:`LARGE_DOFS` for a measured reason: the time
+response's large path (:mod:`vibss.time.large`) projects on a subspace and is approximate (a few per
+cent on a pulse's displacements at its cut-off, with an error estimate), so it takes over only where
+the exact dense modal path costs minutes and gigabytes (65-196 s at 6,000 DOF, by the load on the
+machine; :func:`vibss.time.methods.stays_sparse`)."""
 
 
 @dataclass(frozen=True)

@@ -41,9 +41,9 @@ from typing import Any
 
 import numpy as np
 
-from .modal.damped import damped_modes
+from .modal.api import damped_modes
 from .errors import SignalError, VibssError, did_you_mean
-from .modal.undamped import modes
+from .modal.api import modes
 from .model.model import GROUND, Model
 from .results import Table, number_text
 from .statics import StaticResult, static

@@ -53,7 +53,8 @@ import numpy as np
 
 from .errors import ModelError
 from .linear.plant.assemble import assemble
-from .modal.undamped import Modes, modes as undamped_modes
+from .modal.api import modes as undamped_modes
+from .modal.result import Modes
 from .model.model import Model
 
 __all__ = ["TimeWindow", "FrequencyBand", "StudyDefaults", "TimeOutputs", "is_steady_sweep", "steady_sweeps",

@@ -39,7 +39,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     """Compute and print the frequency response."""
     check_save(args.save)
-    from ..frequency.api import FrequencyGrid, frequency_response
+    from ..frequency.api import frequency_response
+    from ..frequency.grid import FrequencyGrid
     from ..frequency.sweep import sweep_response
     from ..studies import frequency_band, steady_sweeps
 

@@ -28,7 +28,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run_modes(args: argparse.Namespace) -> int:
     """Print the undamped modes."""
     check_save(args.save, (".uff", ".unv"))
-    from ..modal.undamped import modes
+    from ..modal.api import modes
 
     result = modes(load_from_args(args), n_modes=args.modes)
     emit(result, args.format)
@@ -38,7 +38,7 @@ def run_modes(args: argparse.Namespace) -> int:
 
 def run_damped(args: argparse.Namespace) -> int:
     """Print the damped modes."""
-    from ..modal.damped import damped_modes
+    from ..modal.api import damped_modes
 
     emit(damped_modes(load_from_args(args)), args.format)
     return 0

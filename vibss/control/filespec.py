@@ -109,7 +109,7 @@ def run_control(model: Any, frequencies: Any = None) -> ControlStudy:
         K = integral_force(P, spec["gain"], leak_hz=spec.get("leak", 0.0))
     cl = close(P, K, name=f"{spec['design']} on {model.name}")
     if frequencies is None:
-        from ..modal.undamped import modes
+        from ..modal.api import modes
 
         f = modes(model).frequency_hz
         f = f[f > 0]

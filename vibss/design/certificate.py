@@ -30,8 +30,7 @@ from .._validate import array, number
 from ..errors import AnalysisError, ArgumentError
 from ..linear.plant.assemble import assemble
 from ..linear.solve.static import static_solve
-from ..modal.damped import damped_modes
-from ..modal.undamped import modes as undamped_modes
+from ..modal.api import damped_modes, modes as undamped_modes
 from ..model.model import DOF_NAMES, Model
 from ..model.units import G
 from ..results import Result, Table, jsonable, number_text, require_pandas

@@ -26,7 +26,7 @@ import numpy as np
 from ..errors import AnalysisError
 from ..linear.plant.assemble import assemble
 from ..linear.solve.static import static_solve
-from ..modal.undamped import modes as undamped_modes
+from ..modal.api import modes as undamped_modes
 from ..model.model import Model
 from ..results import Result, Table, jsonable, require_pandas
 from ._common import body_name, frame_axes, frame_rotation, ke_fractions

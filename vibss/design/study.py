@@ -36,7 +36,7 @@ Progress = Callable[[int, int], None]
 
 
 def _modes(model: Model) -> dict[str, float]:
-    from ..modal.undamped import modes
+    from ..modal.api import modes
 
     return {f"f{i + 1}_hz": float(f) for i, f in enumerate(modes(model).frequency_hz)}
 

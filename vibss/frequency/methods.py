@@ -9,6 +9,8 @@ each kernel, and says why.
 
 from __future__ import annotations
 
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -19,10 +21,15 @@ from ..linear.eigen.basis import ModalBasis, classical_damping, damping_rank, pr
 from ..linear.plant.plant import Plant
 from ..linear.solve.exact import mounts_form_possible
 from ..linear.project.subspace import MOMENTS, N_SHIFTS, TWO_SIDED_MAX
-from ..methods import resolve
+from ..linear.plant.assemble import Assembly
+from ..methods import LARGE_DOFS, Method, resolve
+from ..model.model import Model
+from . import statespace_kernels
+from .grid import FrequencyGrid
 from .kernels import COMPLEX_MODE_RISK, METHODS, REFINE_PREDICT, FrequencyMethod, custom_method, mode_risks
 
-__all__ = ["METHODS", "FrequencyMethod", "resolve_method", "choose", "choose_without_modes", "estimates"]
+__all__ = ["METHODS", "FrequencyMethod", "resolve_method", "choose", "choose_without_modes", "estimates",
+           "stays_sparse", "STATESPACE_METHODS", "StateSpaceMethod", "choose_statespace"]
 
 
 def resolve_method(method: Any, where: str = "frequency_response") -> FrequencyMethod | None:
@@ -47,6 +54,29 @@ def resolve_method(method: Any, where: str = "frequency_response") -> FrequencyM
     if isinstance(method, str) and method == "auto":
         return None
     return resolve(method, METHODS, where=where, custom=custom_method, extra=["auto"])
+
+
+def stays_sparse(system: Any, frequencies: Any, chosen: Any) -> bool:
+    """Whether :func:`~vibss.frequency.api.frequency_response` builds the plant sparse: a Model above
+    :data:`vibss.methods.LARGE_DOFS` DOFs, no branch mounts, explicit frequencies all > 0 and
+    ``method`` ``"auto"``, ``"sparse"`` or ``"subspace"`` (no dense n x n matrix and no dense
+    eigen-analysis of all the modes; the grid around the modes, resonance marks and the modal
+    methods need them, so a grid spec keeps the dense path)."""
+    if isinstance(system, Plant) or not isinstance(system, (Model, Assembly)):
+        return False
+    model = system.model if isinstance(system, Assembly) else system
+    if 6 * len(model.bodies) <= LARGE_DOFS or (chosen is not None and not any(
+            chosen is METHODS[k] for k in ("sparse", "subspace"))):
+        return False
+    if any(t.has_branches for t in model.mount_types.values()):
+        return False
+    if frequencies is None or isinstance(frequencies, (Mapping, FrequencyGrid)):
+        return False
+    try:
+        f = np.atleast_1d(np.asarray(frequencies, dtype=float))
+    except (TypeError, ValueError):
+        return False
+    return bool(f.size) and bool(np.all(np.isfinite(f))) and bool(np.all(f > 0))
 
 
 _K_EIG = 4.6e-10     # [s] per N^3 of the complex-mode eig (N = 2n states)
@@ -269,3 +299,44 @@ def _choose_sparse(plant: Plant, nf: int) -> tuple[str, str]:
                             f"exact solve per frequency ({how})")
     return "sparse", (f"sparse plant: exact sparse solve per frequency ({how}), estimated {exact:.2g} s "
                       f"against {sub:.2g} s for a channel subspace")
+
+
+@dataclass(frozen=True)
+class StateSpaceMethod(Method):
+    """A way to evaluate a python-control state space's ``C (sI - A)^-1 B`` at many frequencies
+    (:mod:`vibss.frequency.statespace_kernels`, kernel ``f(A, B, C) -> h or None``).
+
+    Attributes
+    ----------
+    min_states : int
+        ``auto`` tries it on systems of more states than this only.
+    """
+
+    min_states: int = 0
+
+
+STATESPACE_METHODS: dict[str, StateSpaceMethod] = {
+    "modal": StateSpaceMethod(
+        "modal", statespace_kernels.modal, fallback="balanced", min_states=150,
+        summary="diagonalised once (O(n p m) per frequency) where the eigenvectors are well conditioned"),
+    "balanced": StateSpaceMethod(
+        "balanced", statespace_kernels.balanced, exact=True,
+        summary="balanced, then solved directly at every frequency (batched LU)"),
+}
+"""The state-space evaluators, in ``auto``'s order: ``modal`` above 150 states (the diagonalisation
+once, O(n^3), against an O(n^3) LU at every frequency), falling back to ``balanced`` where it
+refuses (ill-conditioned eigenvectors) and below."""
+
+
+def choose_statespace(A: np.ndarray, B: np.ndarray,
+                      C: np.ndarray) -> tuple[StateSpaceMethod, Callable[[np.ndarray], np.ndarray]]:
+    """``auto``'s evaluator for the state space ``(A, B, C)`` and its response ``h(s)``: the first
+    of :data:`STATESPACE_METHODS` whose ``min_states`` the system exceeds and that accepts it."""
+    n = A.shape[0]
+    for method in STATESPACE_METHODS.values():
+        if n > method.min_states:
+            h = method.kernel(A, B, C)
+            if h is not None:
+                return method, h
+    last = STATESPACE_METHODS["balanced"]
+    return last, last.kernel(A, B, C)

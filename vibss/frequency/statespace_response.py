@@ -5,19 +5,21 @@ loses digits on badly scaled realizations (``../shared/notes/python-control.md``
 the realization is balanced first (``scipy.linalg.matrix_balance``) and then solved directly at
 every frequency (batched LAPACK ``gesv``). Above 150 states the system is diagonalised once instead
 (``C V (sI - Lambda)^-1 V^-1 B``: O(n p m) per frequency) when its eigenvectors are well conditioned
-(``cond(V) < 1e8``), else solved directly. Used for closed loops and other systems that are not a
+(``cond(V) < 1e8``), else solved directly: the registry
+:data:`vibss.frequency.methods.STATESPACE_METHODS` and its choice
+:func:`~vibss.frequency.methods.choose_statespace`, on the kernels of
+:mod:`vibss.frequency.statespace_kernels`. Used for closed loops and other systems that are not a
 vibss :class:`~vibss.linear.plant.plant.Plant` (for a plant, :func:`vibss.frequency_response` is exact).
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
-import scipy.linalg as sl
 
-from ..linear.eigen.complex_modes import eigenpairs
+from .methods import StateSpaceMethod, choose_statespace
 
 __all__ = ["evaluate", "Evaluator"]
 
@@ -45,17 +47,12 @@ class Evaluator:
         if inputs is not None:
             B, D = B[:, list(inputs)], D[:, list(inputs)]
         self.D = D
-        self.modal = False
-        if n > 150:
-            lam, V = eigenpairs(A)
-            if np.linalg.cond(V) < 1e8:
-                self.modal = True
-                self.lam, self.left, self.right = lam, C @ V, np.linalg.solve(V, B)
-        if not self.modal and n:
-            _, (scale, _) = sl.matrix_balance(A, permute=False, separate=True)
-            self.A = A / scale[:, None] * scale[None, :]
-            self.B, self.C = B / scale[:, None], C * scale[None, :]
         self.n = n
+        # the evaluator (None for a static gain) and the response h(s) without D
+        self.method: StateSpaceMethod | None = None
+        self._h: Callable[[np.ndarray], np.ndarray] | None = None
+        if n:
+            self.method, self._h = choose_statespace(A, B, C)
 
     def __call__(self, omega: Any, chunk: int = 64) -> np.ndarray:
         """(p, m, nf) complex response at ``omega`` [rad/s]."""
@@ -65,15 +62,10 @@ class Evaluator:
         if self.n == 0:
             out[:] = D[:, :, None]
             return out
+        assert self._h is not None
         for start in range(0, w.size, chunk):
             s = 1j * w[start:start + chunk]
-            if self.modal:
-                g = 1.0 / (s[None, :] - self.lam[:, None])
-                out[:, :, start:start + s.size] = np.einsum("in,nf,nk->ikf", self.left, g, self.right) + D[:, :, None]
-            else:
-                lhs = s[:, None, None] * np.eye(self.n)[None] - self.A[None]
-                x = np.linalg.solve(lhs, np.broadcast_to(self.B, (s.size, *self.B.shape)))
-                out[:, :, start:start + s.size] = np.einsum("ij,fjk->ikf", self.C, x) + D[:, :, None]
+            out[:, :, start:start + s.size] = self._h(s) + D[:, :, None]
         return out
 
 

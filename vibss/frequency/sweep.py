@@ -11,7 +11,9 @@ from ..errors import AnalysisError, ModelError, SignalError, did_you_mean
 from ..linear.plant.assemble import Assembly
 from ..linear.plant.build import build_plant
 from ..model.model import Model
-from .api import FrequencyGrid, FrequencyResponse, frequency_response
+from .api import frequency_response
+from .grid import FrequencyGrid
+from .result import FrequencyResponse
 
 __all__ = ["transmissibility", "sweep_response"]
 

@@ -10,8 +10,8 @@ One file per result, readable by a spreadsheet or ``pandas.read_csv(path, commen
 
 :func:`read_csv` reads an FRF file (from vibss or any tool that writes the same columns, e.g. a
 measured FRF to overlay and compare with :func:`vibss.io.frac`) as a
-:class:`~vibss.frequency.api.FrequencyResponse` and a time file as a
-:class:`~vibss.time.api.TimeResponse`.
+:class:`~vibss.frequency.result.FrequencyResponse` and a time file as a
+:class:`~vibss.time.result.TimeResponse`.
 """
 
 from __future__ import annotations
@@ -166,7 +166,7 @@ def read_csv(path: str | Path) -> Any:
     if head[0] == "frequency_hz":
         return _frf(path, name, data, parsed)
     if head[0] == "time_s":
-        from ..time.api import TimeResponse
+        from ..time.result import TimeResponse
 
         if any(p for _, p, _ in parsed):
             raise ModelFileError(f"read_csv: {path}: a time file has real columns only (no 're'/'im')")
@@ -177,7 +177,7 @@ def read_csv(path: str | Path) -> Any:
 
 
 def _frf(path: Path, name: str, data: np.ndarray, parsed: list[tuple[str, str | None, str]]) -> Any:
-    from ..frequency.api import FrequencyResponse
+    from ..frequency.result import FrequencyResponse
 
     outs: list[str] = []
     ins: list[str] = []

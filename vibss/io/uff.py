@@ -2,15 +2,15 @@
 through pyuff.
 
 ``write_uff(result, path)`` writes one dataset 58 per channel of a
-:class:`~vibss.frequency.api.FrequencyResponse` (function type 4, FRF: complex, frequency abscissa)
-or of a :class:`~vibss.time.api.TimeResponse` (function type 1, time response: real); ``read_uff(path)``
+:class:`~vibss.frequency.result.FrequencyResponse` (function type 4, FRF: complex, frequency abscissa)
+or of a :class:`~vibss.time.result.TimeResponse` (function type 1, time response: real); ``read_uff(path)``
 reads FRF datasets back as a FrequencyResponse, e.g. a measured FRF to overlay on a computed one
 (:func:`frac`: the frequency response assurance criterion per channel). Signal names travel in the
 ID lines (``id1`` the output, ``id2`` the input); nodes are channel numbers and directions the DOF
 (x, y, z, rx, ry, rz = 1 ... 6; 0 when the signal is not a DOF). Binary double precision by default,
 so values come back exactly.
 
-A :class:`~vibss.modal.undamped.Modes` goes out as one dataset 2411 with a node per body at its
+A :class:`~vibss.modal.result.Modes` goes out as one dataset 2411 with a node per body at its
 centre of gravity [m] (node ``n`` is the model's ``n``-th body), then one per control point (moving
 with its body), the names in each 55's ``id2``, and one dataset 55 per mode (structural normal mode, six real values per node: x, y, z
 [m] and rx, ry, rz [rad] of the mass-normalised shape, zero for a DOF the analysis held fixed);
@@ -248,7 +248,7 @@ def read_uff(path: str | Path) -> Any:
     FrequencyResponse
         ``quantity`` from the records (``"frf"``), ``method = "uff"``.
     """
-    from ..frequency.api import FrequencyResponse
+    from ..frequency.result import FrequencyResponse
 
     pyuff = _pyuff()
     path = Path(path)

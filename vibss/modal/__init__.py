@@ -1,6 +1,6 @@
-"""Undamped and damped modes: frequencies, shapes, energies, poles and damping ratios."""
+"""Undamped and damped modes: frequencies, shapes, energies, poles and damping ratios (api / result / methods / kernels)."""
 
-from .damped import DampedModes, damped_modes
-from .undamped import Modes, modes
+from .api import damped_modes, modes
+from .result import DampedModes, Modes
 
 __all__ = ["DampedModes", "Modes", "damped_modes", "modes"]

@@ -48,7 +48,7 @@ class Sinusoid:
 
     A function that declares its pieces (:attr:`TimeFunction.sinusoids`) is piecewise linear once
     they are subtracted (its breakpoints include every ``t0`` and finite ``t1``); the exact modal
-    time path (:func:`vibss.time.kernels.run_modal`) then integrates it exactly at any step.
+    time path (:func:`vibss.time.kernels.modal.run_modal`) then integrates it exactly at any step.
 
     Attributes
     ----------

@@ -229,7 +229,7 @@ def order_response(model: Model, sources: Any, rpm: Any, outputs: Sequence[str] 
     """
     from ..frequency.api import frequency_response
     from ..linear.plant.build import build_plant
-    from ..modal.undamped import modes
+    from ..modal.api import modes
 
     who = "order_response"
     srcs = _sources(sources)

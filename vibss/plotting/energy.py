@@ -9,7 +9,7 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Patch
 
 from ..errors import ModelError
-from ..modal.undamped import Modes
+from ..modal.result import Modes
 from ..model.model import DOF_NAMES
 from ._draw import fitted_title, new_figure
 

@@ -11,7 +11,7 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure, SubFigure
 
 from ..errors import ModelError
-from ..modal.undamped import Modes
+from ..modal.result import Modes
 from ._draw import (VIEW_TITLES, VIEWS, Drawing, add_view_axes, check_view, legend_handles,
                     new_figure, set_limits)
 from ._scene import Scene

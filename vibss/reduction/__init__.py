@@ -1,4 +1,4 @@
-"""Study-driven model reduction: pruning, modal truncation and Krylov projection (api / methods / kernels)."""
+"""Study-driven model reduction: pruning, modal truncation and Krylov projection (api / result / methods; kernels: prune, truncation, krylov)."""
 
 from .api import *  # noqa: F401,F403
 from .api import __all__

@@ -24,7 +24,7 @@ At check frequencies (the midpoints between neighbouring interpolation frequenci
 interpolation error is largest) the full response is computed exactly with one complex sparse LU
 of ``K + iH + iwC - w^2 M`` per frequency, and compared with the reduced one: the relative error per
 output (divided by the output's largest response over the band, see
-:func:`vibss.reduction.relative_error`). Where it exceeds ``CHECK_SAFETY`` times the tolerance the
+:func:`vibss.reduction.result.relative_error`). Where it exceeds ``CHECK_SAFETY`` times the tolerance the
 exact solutions at that frequency (state and, two-sided, adjoint; real and imaginary parts) join the
 basis -- they cost nothing more, the factorisation is there -- which makes the reduced response
 exact at that frequency, and the new midpoints are checked in the next round. It stops when every
@@ -37,8 +37,8 @@ from __future__ import annotations
 
 import time
 from collections.abc import Sequence
-from dataclasses import dataclass, replace
-from typing import Any, cast
+from dataclasses import dataclass, field, replace
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -142,7 +142,7 @@ def as_sparse(p: Plant) -> Plant:
 def prune_sparse(p: Plant) -> tuple[Plant, list[Removal]]:
     """Remove the connected components (graph of M, C, K, H) no input excites or no output sees.
 
-    The sparse counterpart of :func:`vibss.reduction.kernels.prune_dofs` (exact, zero initial
+    The sparse counterpart of :func:`vibss.reduction.prune.prune_dofs` (exact, zero initial
     conditions); entries count as couplings when nonzero.
     """
     pattern = abs(p.M) + abs(p.C) + abs(p.K) + abs(p.H)
@@ -262,8 +262,43 @@ def _krylov(p: Plant, band: tuple[float, float], tol: float, n_shifts: int, mome
     if two_sided is None:
         two_sided = o.shape[1] <= TWO_SIDED_MAX
     block0 = np.hstack([b, o]) if two_sided else b
-    basis = _Basis(p.M)
     ws = np.linspace(w1, w2, max(int(n_shifts), 1)) if n_shifts > 1 else np.array([0.5 * (w1 + w2)])
+    basis, sigmas = _shifted_basis(p, ws, w2, block0, moments, timings)
+    # check frequencies avoid 0 (a motion input of order > 0 diverges there)
+    lo = w1 if w1 > 0 else w2 * 1e-3
+    interp = np.clip(ws, lo, w2)
+    checks = _midpoints(interp, lo, w2)
+    seen = _Checks()
+    added: list[float] = []
+    notes: list[str] = []
+    for rnd in range(max_rounds + 1):
+        red, sols, err, row = _checked_round(p, basis, checks, bool(two_sided), seen, lo, w2, timings)
+        estimate = float(err.max())
+        seen.history.append((basis.V.shape[1], int(checks.size), estimate))
+        res = _resonance_checks(red, row, lo, w2, tol, np.array(seen.every))
+        if (estimate <= CHECK_SAFETY * tol and res.size == 0) or rnd == max_rounds:
+            break
+        bad = _enriched(basis, sols, checks, err > CHECK_SAFETY * tol, added, timings)
+        interp = np.r_[interp, checks[bad]]
+        checks = _next_checks(np.unique(interp), checks[bad], res)
+    estimate = max(estimate, _earlier_checks(red, seen, added, row))
+    if estimate > tol:
+        notes.append(f"the requested tolerance {tol:g} was not reached in {max_rounds} rounds "
+                     f"(sampled error {estimate:.3g} with {basis.V.shape[1]} vectors)")
+    timings["total_s"] = time.perf_counter() - t_start
+    two_pi = 2 * np.pi
+    return KrylovBasis(plant=red, ritz_hz=np.sqrt(np.maximum(np.diag(red.K), 0.0)) / two_pi,
+                       shifts_hz=np.sign(sigmas) * np.sqrt(np.abs(sigmas)) / two_pi, moments=int(moments),
+                       interpolation_hz=np.array(added) / two_pi, check_hz=np.array(seen.every) / two_pi,
+                       estimate=estimate, history=tuple(seen.history), timings=timings,
+                       two_sided=bool(two_sided), notes=tuple(notes))
+
+
+def _shifted_basis(p: Plant, ws: np.ndarray, w2: float, block0: np.ndarray, moments: int,
+                   timings: dict[str, float]) -> tuple[_Basis, list[float]]:
+    """The M-orthonormal basis of ``moments`` moments of ``block0`` about each shift near ``ws``
+    [rad/s], and the shifts ``sigma`` [rad^2/s^2] taken."""
+    basis = _Basis(p.M)
     sigmas = []
     for w in ws:
         t0 = time.perf_counter()
@@ -277,80 +312,82 @@ def _krylov(p: Plant, band: tuple[float, float], tol: float, n_shifts: int, mome
                 break
             blk = basis.add(lu(np.asarray(p.M @ blk)))
         timings["basis_s"] += time.perf_counter() - t1
-    # check frequencies avoid 0 (a motion input of order > 0 diverges there)
-    lo = w1 if w1 > 0 else w2 * 1e-3
-    interp = np.clip(ws, lo, w2)
-    checks = _midpoints(interp, lo, w2)
-    h_seen: list[np.ndarray] = []
-    w_seen: list[np.ndarray] = []
-    history: list[tuple[int, int, float]] = []
-    all_checks: list[float] = []
-    added: list[float] = []
-    notes: list[str] = []
-    estimate = np.inf
-    red = None
-    for rnd in range(max_rounds + 1):
-        t0 = time.perf_counter()
-        red = project(p, basis.V)
-        t1 = time.perf_counter()
-        timings["project_s"] += t1 - t0
-        sols = [exact_response(p, 1j * w, adjoint=two_sided) for w in checks]
-        hf = np.stack([y for y, _, _ in sols], axis=-1)
-        hr = frf(red, 1j * checks)
-        h_seen.append(hf)
-        w_seen.append(checks)
-        # reference per output: its largest response over the band (full at the checks so far,
-        # reduced at its own in-band resonances)
-        wr = _off_undamped(red, np.sqrt(np.maximum(np.diag(red.K), 0.0)))
-        wr = wr[(wr >= lo) & (wr <= w2)]
-        peak = np.max([np.abs(h).max(axis=(1, 2)) for h in h_seen], axis=0)
-        if wr.size:
-            peak = np.maximum(peak, np.abs(frf(red, 1j * wr)).max(axis=(1, 2)))
-        row = np.where(peak > 0, peak, max(float(peak.max()), 1e-300))
-        err = (np.abs(hr - hf) / row[:, None, None]).max(axis=(0, 1))        # per check
-        timings["check_s"] += time.perf_counter() - t1
-        all_checks.extend(checks.tolist())
-        estimate = float(err.max())
-        history.append((basis.V.shape[1], int(checks.size), estimate))
-        res = _resonance_checks(red, row, lo, w2, tol, np.array(all_checks))
-        if (estimate <= CHECK_SAFETY * tol and res.size == 0) or rnd == max_rounds:
-            break
-        t2 = time.perf_counter()
-        bad = err > CHECK_SAFETY * tol
-        for (y, x, xa), w, flag in zip(sols, checks, bad):
-            if flag:
-                cols = [x] + ([xa] if xa is not None else [])
-                z = np.hstack(cols)
-                basis.add(np.hstack([z.real, z.imag]))
-                added.append(float(w))
-        timings["basis_s"] += time.perf_counter() - t2
-        interp = np.r_[interp, checks[bad]]
-        pts = np.unique(interp)
-        # new checks: midpoints of the intervals that end at a frequency just added
-        new = []
-        for w in checks[bad]:
-            i = int(np.searchsorted(pts, w))
-            if i > 0:
-                new.append(0.5 * (pts[i - 1] + pts[i]))
-            if i + 1 < pts.size:
-                new.append(0.5 * (pts[i] + pts[i + 1]))
-        checks = np.unique(np.r_[new, res]) if new else res
-    red = cast(Plant, red)  # projected in every round (max_rounds >= 0)
-    if len(h_seen) > 1:
-        # the earlier rounds' checks that were not added to the basis, against the final basis: a
-        # last round's checks sit only beside the frequencies just added and miss the rest of the band
-        w_all, h_all = np.concatenate(w_seen[:-1]), np.concatenate(h_seen[:-1], axis=-1)
-        keep = ~np.isin(w_all, np.asarray(added))
-        if keep.any():
-            e_all = (np.abs(frf(red, 1j * w_all[keep]) - h_all[..., keep]) / row[:, None, None]).max()
-            estimate = max(estimate, float(e_all))
-    if estimate > tol:
-        notes.append(f"the requested tolerance {tol:g} was not reached in {max_rounds} rounds "
-                     f"(sampled error {estimate:.3g} with {basis.V.shape[1]} vectors)")
-    timings["total_s"] = time.perf_counter() - t_start
-    two_pi = 2 * np.pi
-    return KrylovBasis(plant=red, ritz_hz=np.sqrt(np.maximum(np.diag(red.K), 0.0)) / two_pi,
-                       shifts_hz=np.sign(sigmas) * np.sqrt(np.abs(sigmas)) / two_pi, moments=int(moments),
-                       interpolation_hz=np.array(added) / two_pi, check_hz=np.array(all_checks) / two_pi,
-                       estimate=estimate, history=tuple(history), timings=timings,
-                       two_sided=bool(two_sided), notes=tuple(notes))
+    return basis, sigmas
+
+
+@dataclass
+class _Checks:
+    """The exact responses at the check frequencies of every round so far, and each round's
+    (vectors, checks, sampled error)."""
+
+    h: list[np.ndarray] = field(default_factory=list)
+    w: list[np.ndarray] = field(default_factory=list)
+    every: list[float] = field(default_factory=list)
+    history: list[tuple[int, int, float]] = field(default_factory=list)
+
+
+def _checked_round(p: Plant, basis: _Basis, checks: np.ndarray, two_sided: bool, seen: _Checks, lo: float,
+                   w2: float, timings: dict[str, float]) -> tuple[Plant, list[Any], np.ndarray, np.ndarray]:
+    """One round: the plant projected on the basis, the exact solutions at ``checks`` [rad/s], the
+    error per check relative to each output's largest response, and that reference per output."""
+    t0 = time.perf_counter()
+    red = project(p, basis.V)
+    t1 = time.perf_counter()
+    timings["project_s"] += t1 - t0
+    sols = [exact_response(p, 1j * w, adjoint=two_sided) for w in checks]
+    hf = np.stack([y for y, _, _ in sols], axis=-1)
+    hr = frf(red, 1j * checks)
+    seen.h.append(hf)
+    seen.w.append(checks)
+    # reference per output: its largest response over the band (full at the checks so far,
+    # reduced at its own in-band resonances)
+    wr = _off_undamped(red, np.sqrt(np.maximum(np.diag(red.K), 0.0)))
+    wr = wr[(wr >= lo) & (wr <= w2)]
+    peak = np.max([np.abs(h).max(axis=(1, 2)) for h in seen.h], axis=0)
+    if wr.size:
+        peak = np.maximum(peak, np.abs(frf(red, 1j * wr)).max(axis=(1, 2)))
+    row = np.where(peak > 0, peak, max(float(peak.max()), 1e-300))
+    err = (np.abs(hr - hf) / row[:, None, None]).max(axis=(0, 1))        # per check
+    timings["check_s"] += time.perf_counter() - t1
+    seen.every.extend(checks.tolist())
+    return red, sols, err, row
+
+
+def _enriched(basis: _Basis, sols: list[Any], checks: np.ndarray, bad: np.ndarray, added: list[float],
+              timings: dict[str, float]) -> np.ndarray:
+    """The exact solutions at the checks that missed (``bad``) added to the basis (real and
+    imaginary parts, with the adjoint's); their frequencies appended to ``added``."""
+    t2 = time.perf_counter()
+    for (y, x, xa), w, flag in zip(sols, checks, bad):
+        if flag:
+            cols = [x] + ([xa] if xa is not None else [])
+            z = np.hstack(cols)
+            basis.add(np.hstack([z.real, z.imag]))
+            added.append(float(w))
+    timings["basis_s"] += time.perf_counter() - t2
+    return bad
+
+
+def _next_checks(pts: np.ndarray, just_added: np.ndarray, res: np.ndarray) -> np.ndarray:
+    """New checks: midpoints of the intervals of ``pts`` that end at a frequency just added, and the
+    resonances ``res`` still to check."""
+    new = []
+    for w in just_added:
+        i = int(np.searchsorted(pts, w))
+        if i > 0:
+            new.append(0.5 * (pts[i - 1] + pts[i]))
+        if i + 1 < pts.size:
+            new.append(0.5 * (pts[i] + pts[i + 1]))
+    return np.unique(np.r_[new, res]) if new else res
+
+
+def _earlier_checks(red: Plant, seen: _Checks, added: list[float], row: np.ndarray) -> float:
+    """The earlier rounds' checks that were not added to the basis, against the final basis: a
+    last round's checks sit only beside the frequencies just added and miss the rest of the band."""
+    if len(seen.h) <= 1:
+        return 0.0
+    w_all, h_all = np.concatenate(seen.w[:-1]), np.concatenate(seen.h[:-1], axis=-1)
+    keep = ~np.isin(w_all, np.asarray(added))
+    if not keep.any():
+        return 0.0
+    return float((np.abs(frf(red, 1j * w_all[keep]) - h_all[..., keep]) / row[:, None, None]).max())

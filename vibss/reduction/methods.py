@@ -21,7 +21,9 @@ from ..linear.plant.plant import Plant
 from ..linear.plant.names import control_name
 from ..linear.statespace import NamedStateSpace, statespace
 from ..methods import Method, callable_name, resolve
-from .kernels import Removal, as_sparse, frf, krylov, prune_dofs, prune_modes, prune_sparse, truncate
+from .krylov import as_sparse, krylov, prune_sparse
+from .prune import Removal, frf, prune_dofs, prune_modes
+from .truncation import truncate
 from .scope import Scope
 
 __all__ = ["ReductionMethod", "ReduceOptions", "Reduced", "METHODS", "choose", "resolve_method",

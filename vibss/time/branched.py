@@ -8,7 +8,7 @@ The branch forces ``f`` join the undamped modes' coordinates as states (:mod:`vi
 (``p = q + G z``, :mod:`vibss.time.kernels`), and ``y = Cp p + Cv p' + (O - Oa M^-1 B^T) f + ...``.
 :func:`vibss.linear.eigen.branch_modes.branch_modes` diagonalises the augmented modal matrix from the
 r x r secular equation, certified, without forming it; each eigenvalue is then one scalar mode of
-the existing exact FOH recursion (:func:`vibss.time.kernels.run_modal`), driven through ``V^-1``
+the existing exact FOH recursion (:func:`vibss.time.kernels.modal.run_modal`), driven through ``V^-1``
 (left eigenvectors from the right ones): the generalized forces through the ``eta'`` rows, the
 prescribed motion's ``z'`` through the branch rows. A displacement jump is an impulse on ``f``
 (the branch spring reacts at once), applied exactly like the dampers' ``Ct`` impulse.
@@ -21,14 +21,15 @@ says why and ``auto`` runs ``forced_response`` on the dense augmented state spac
 from __future__ import annotations
 
 import numpy as np
-import scipy.linalg as sl
 
 from ..errors import DefectiveModesError
+from ..linear.solve.mass import mass_solver
 from ..linear.eigen.branch_modes import BranchModes, branch_modes
-from ..linear.eigen.undamped import damping_coupling, modal_basis
+from ..linear.eigen.basis import damping_coupling, modal_basis
 from ..linear.plant.plant import Plant
-from ..linear.eigen.projection import projected_damping
-from .kernels import Prepared, _ModalSet, channels
+from ..linear.eigen.basis import projected_damping
+from .kernels.modal import _ModalSet, channels
+from .kernels.prepared import Prepared
 
 __all__ = ["modal_sets", "suits", "COST_FACTOR"]
 
@@ -88,7 +89,7 @@ def _structure(plant: Plant) -> tuple[np.ndarray, np.ndarray, np.ndarray, Branch
 
 def modal_sets(prep: Prepared, q0: np.ndarray, v0: np.ndarray) -> tuple[list[_ModalSet], str]:
     """The scalar modes of the augmented system and what was solved, for
-    :func:`vibss.time.kernels.run_modal`.
+    :func:`vibss.time.kernels.modal.run_modal`.
 
     Parameters
     ----------
@@ -120,7 +121,7 @@ def modal_sets(prep: Prepared, q0: np.ndarray, v0: np.ndarray) -> tuple[list[_Mo
     pc = dd.T @ (phi.T @ channels(prep))                       # generalized forces into eta'
     pc[:, 2 * m:] += df.T @ (br.k[:, None] * bt)               # f' = k Bt z'
     Oa = np.asarray(plant.Oa, float)
-    cf = br.O - (Oa @ sl.cho_solve(sl.cho_factor(M), br.B.T) if np.any(Oa) else 0.0)
+    cf = br.O - (Oa @ mass_solver(plant)(br.B.T) if np.any(Oa) else 0.0)
     Y = ((prep.Cp @ phi) @ bm.eta + (prep.Cv @ phi) @ (bm.eta * bm.lam[None]) + cf @ bm.force) * bm.weight[None]
     x0 = de.T @ eta0 + dd.T @ deta0
     ms = _ModalSet(A=bm.lam.reshape(-1, 1, 1), P=None, x0=x0[:, None], Y=Y[:, :, None], Pc=pc)

@@ -40,6 +40,7 @@ import numpy as np
 import scipy.linalg as sl
 
 from ..errors import ModelError
+from ..linear.solve.mass import mass_solver
 from ..linear.eigen.undamped import generalized_eigvals
 from ..linear.plant.plant import Plant
 
@@ -84,7 +85,7 @@ def _start(plant: Plant, q0: Any, v0: Any, g0: np.ndarray) -> tuple[np.ndarray, 
     q = np.zeros(n) if q0 is None else np.asarray(q0, float).reshape(n)
     v = np.zeros(n) if v0 is None else np.asarray(v0, float).reshape(n)
     M, C, K = (np.asarray(x, float) for x in (plant.M, plant.C, plant.K))
-    a = sl.cho_solve(sl.cho_factor(M), g0 - C @ v - K @ q)
+    a = mass_solver(plant)(g0 - C @ v - K @ q)
     return q, v, a
 
 

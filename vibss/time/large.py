@@ -1,7 +1,7 @@
 """Large models in the time domain without a dense n x n matrix: a subspace built for the channels.
 
 :func:`vibss.time.simulate` of a :class:`~vibss.model.model.Model` with more than
-:data:`~vibss.time.api.LARGE_DOFS` (6,000) DOFs and ``method="auto"`` runs here first (issue 17 item 4):
+:data:`~vibss.methods.SIMULATE_LARGE_DOFS` (6,000) DOFs and ``method="auto"`` runs here first (issue 17 item 4):
 computing every mode densely is O(n^3) (196 s at 6,000 DOF, 26.8 GiB of memory at 60,000), and
 every mode below a cut-off is thousands of modes on a long chain, most of them localised far from
 the inputs and outputs.
@@ -31,16 +31,24 @@ The result's ``note`` says the basis, the shifts, the checked error and the esti
 from __future__ import annotations
 
 import math
+import warnings
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
-from ..errors import AnalysisError
+from ..errors import AnalysisError, VibssWarning
 from ..linear.plant.plant import Plant
+from ..linear.plant.build import build_plant
 from ..linear.solve.exact import without_hysteresis
+from ..methods import SIMULATE_LARGE_DOFS
+from ..model.model import Model
+from .inputs import initial_state, summed
 from ..linear.project.subspace import Subspace, channel_subspace
 
-__all__ = ["FREQUENCIES", "TOLERANCE", "WARN_ERROR", "Projected", "input_spectrum", "projected_plant"]
+__all__ = ["FREQUENCIES", "TOLERANCE", "WARN_ERROR", "Projected", "input_spectrum", "projected_plant",
+           "projected_model", "truncation_note"]
 
 FREQUENCIES = 250
 """Most frequencies (FFT bins of the inputs' spectrum) where the subspace is built and checked."""
@@ -131,7 +139,7 @@ def projected_plant(full: Plant, samples: np.ndarray, dt: float, tol: float | No
     Parameters
     ----------
     full : Plant
-        Plant with sparse ``M, C, K`` (:func:`vibss.linear.plant.signals.build_plant` ``sparse=True``);
+        Plant with sparse ``M, C, K`` (:func:`vibss.linear.plant.build.build_plant` ``sparse=True``);
         its hysteretic part is left out (the time domain has none).
     samples : (m, ns) ndarray
         Its inputs sampled every ``dt`` [input units].
@@ -164,3 +172,32 @@ def projected_plant(full: Plant, samples: np.ndarray, dt: float, tol: float | No
             f"reach {tol:g} ({sub.describe()}): a projected answer could not state its error. Use "
             "method='modal' (every mode, dense: O(n^3) time, 8 n^2 bytes) or fewer inputs and outputs")
     return Projected(plant=sub.plant, full=full, subspace=sub, frequency_hz=f, spectrum=mag)
+
+
+def projected_model(model: Model, sources: list[Any], outputs: Sequence[str] | None, initial: Any,
+               signals: Mapping[str, Any], ts: np.ndarray, dt: float) -> Projected:
+    """The large model's sparse plant (inputs ``sources``, samples of ``signals`` at ``ts``) projected on a subspace built for its channels (:mod:`vibss.time.large`)."""
+    if not sources:
+        raise AnalysisError(f"simulate: a free vibration of {6 * len(model.bodies)} DOFs (above "
+                            f"{SIMULATE_LARGE_DOFS}) from initial conditions alone: the large-model path needs an "
+                            "input to build its subspace; give method='modal' (every mode, dense) instead")
+    full = build_plant(model, sources, outputs, sparse=True)
+    q0, v0 = initial_state(full, initial, model)
+    if np.any(q0) or np.any(v0):
+        raise AnalysisError(f"simulate: initial: nonzero initial conditions on a model of {full.n} DOFs "
+                            f"(above {SIMULATE_LARGE_DOFS}, kept sparse and projected) do not map to the "
+                            "reduced coordinates exactly; give method='modal' (every mode, dense) instead")
+    samples = np.array([np.broadcast_to(summed(signals.get(u, []))(ts), ts.shape) for u in full.inputs])
+    return projected_plant(full, samples.reshape(len(full.inputs), ts.size), dt)
+
+
+def truncation_note(tr: Projected, y: np.ndarray) -> str:
+    """What the large-model path kept and its error estimate; warns above
+    :data:`~vibss.time.large.WARN_ERROR`."""
+    worst = float(tr.estimate(y).max(initial=0.0))
+    text = (f"{tr.describe()}; estimated error {worst:.2g} of each output's peak ((1/pi) int |dH| |U| dw "
+            "with |dH| from the checks: an estimate from sampled checks, not a bound)")
+    if not worst <= WARN_ERROR:
+        warnings.warn(VibssWarning(f"simulate: {text}: above {WARN_ERROR:g} (method='modal' computes every "
+                                   "mode, dense)"), stacklevel=3)
+    return text

@@ -19,11 +19,13 @@ from . import branched
 from . import kernels as tm
 from ..diagnostics import check_central_difference
 from ..errors import AnalysisError
+from ..linear.plant.branches import require_none
 from ..linear.plant.plant import Plant
-from ..methods import Method, callable_name, resolve
+from ..methods import SIMULATE_LARGE_DOFS, Method, callable_name, resolve
+from ..model.model import Model
 from .integrators import central_difference_method, newmark_method
 
-__all__ = ["SimulationJob", "TimeMethod", "METHODS", "AUTO", "resolve_method"]
+__all__ = ["SimulationJob", "TimeMethod", "METHODS", "AUTO", "resolve_method", "stays_sparse", "settled"]
 
 
 @dataclass(frozen=True)
@@ -186,3 +188,29 @@ def resolve_method(method: Any) -> tuple[TimeMethod, bool]:
     if isinstance(method, str) and method == "auto":
         return METHODS[AUTO], True
     return resolve(method, METHODS, where="simulate", custom=_custom, extra=["auto"]), False
+
+
+def stays_sparse(model: Model, method: Any) -> bool:
+    """Whether :func:`~vibss.time.api.simulate` keeps ``model`` sparse (:mod:`vibss.time.large`): above
+    :data:`vibss.methods.SIMULATE_LARGE_DOFS` DOFs with ``method="auto"``, and no branch mounts."""
+    return (isinstance(method, str) and method == "auto" and 6 * len(model.bodies) > SIMULATE_LARGE_DOFS
+            and not any(t.has_branches for t in model.mount_types.values()))
+
+
+def settled(plant: Plant, method: Any) -> tuple[TimeMethod, bool, str]:
+    """The method :func:`~vibss.time.api.simulate` runs (``auto`` settled for frequency-dependent
+    mounts: the structured modal path where :func:`vibss.time.branched.suits` says so, else
+    ``forced_response``), whether ``auto`` chose it, and the note on the plant's Maxwell branches."""
+    chosen, auto = resolve_method(method)
+    if plant.branches is not None and auto:
+        structured, why = branched.suits(plant)
+        if structured:       # the exact modal FOH on modes plus branch states; forced_response if refused
+            return chosen, auto, f"{plant.branches.note()}: {why}"
+        return (METHODS["forced_response"], False,
+                f"{plant.branches.note()}: forced_response of the state space with them ({why})")
+    if plant.branches is not None:
+        if not chosen.internal_states:
+            require_none(plant, f"simulate: method {chosen.name!r}",
+                         f"use one of {[k for k, v in METHODS.items() if v.internal_states]} or 'auto'")
+        return chosen, auto, plant.branches.note()
+    return chosen, auto, ""

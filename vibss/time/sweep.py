@@ -18,10 +18,11 @@ from scipy.signal import hilbert
 
 from ..errors import ArgumentError, ModelError
 from ..model.model import Model
-from ..linear.plant.signals import build_plant
+from ..linear.plant.build import build_plant
 from ..linear.solve.exact import response, without_hysteresis
 from ..results import Result, Table, jsonable, require_pandas
-from .api import TimeResponse, simulate
+from .api import simulate
+from .result import TimeResponse
 
 __all__ = ["SweepEnvelope", "sweep_envelope"]
 

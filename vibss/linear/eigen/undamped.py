@@ -402,15 +402,3 @@ def _refine(K: Any, M: Any, factor: Any, w2: np.ndarray, phi: np.ndarray, est: n
     phi = np.where(better[None, :], full_phi, phi)
     est = np.where(better, new_est, est)
     return w2, phi, est, bool(better.any())
-
-
-_MOVED = ("ModalBasis", "modal_basis", "damping_coupling", "CLASSICAL_RTOL")
-
-
-def __getattr__(name: str) -> Any:
-    """The names issue 28 moved to :mod:`vibss.linear.eigen.basis`, still importable from here for
-    ``vibss/time`` only (its imports are switched by the lead after the merge; then this goes)."""
-    if name in _MOVED:
-        from . import basis
-        return getattr(basis, name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

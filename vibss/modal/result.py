@@ -1,24 +1,6 @@
-"""Undamped modes: K phi = w^2 M phi, with the tables engineers read.
-
-The modes come from the one eigen path, :func:`vibss.linear.eigen.undamped.undamped` (methods by name, or
-pass a callable ``f(K, M, n_modes) -> (w2, shapes)``):
-
-- ``"jacobi"``: Jacobi SVD of the factored problem (``K = G^T G``): every frequency to high
-  relative accuracy, also beside 1e16 N/m links (the default up to
-  :data:`~vibss.linear.eigen.undamped.JACOBI_MAX` DOFs);
-- ``"dense"``: ``eigh`` on dense matrices (all modes, or the lowest ``n_modes``), refined where
-  the a-posteriori estimate says so;
-- ``"shift-invert"``: sparse shift-invert about a small negative shift: the lowest ``n_modes`` of a
-  large sparse model;
-- ``"auto"``: shift-invert for a large sparse model when fewer than a tenth of the modes are asked
-  for, Jacobi for a small one, dense otherwise.
-
-Zero-frequency (rigid-body) modes are found by :func:`~vibss.linear.eigen.undamped.rigid_mask`, a
-unit-independent test of whether each mode's stiffness cancels to round-off on the factor; it does
-not depend on ``n_modes``. Rigid modes are reported with frequency 0. Every mode carries a relative
-error bound of its frequency (:attr:`Modes.error_estimate`). Repeated frequencies (symmetric layouts, free bodies) are split into
-clean directions by :func:`vibss.linear.eigen.directions.align_cluster`.
-"""
+"""The results of the modal analyses: undamped :class:`Modes` (frequencies, shapes, energies,
+effective masses, with the tables engineers read) and :class:`DampedModes` (poles, damping ratios
+and complex shapes, paired with the undamped modes). :mod:`vibss.modal.api` computes them."""
 
 from __future__ import annotations
 
@@ -28,42 +10,19 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from ..linear.plant.assemble import Assembly, assemble
-from ..linear.eigen.undamped import FREQ_RTOL, JACOBI_MAX, Solver, undamped
-from ..linear.eigen.directions import align_cluster, cluster_slices, direction_shares, dominant_direction, energy_fractions
-from .._validate import integer
-from ..errors import AnalysisError, ArgumentError, ModelError
+from ..linear.eigen.directions import direction_shares, dominant_direction
 from ..model.model import DOF_NAMES, Model
-from ..results import Result, Table, jsonable, require_pandas
+from ..results import Result, Table, freeze, jsonable, require_pandas
+from .kernels import rigid_influence
 
-__all__ = ["Modes", "modes", "rigid_influence"]
-
-REPEAT_RTOL = 1e-8
-"""Frequencies closer than this (relative) are treated as repeated and aligned by direction."""
+__all__ = ["Modes", "DampedModes", "CPM_PER_HZ"]
 
 CPM_PER_HZ = 60.0
+
 
 def _read_only(a: np.ndarray) -> np.ndarray:
     a.setflags(write=False)     # cached on a frozen result: nobody may change it in place
     return a
-
-
-def rigid_influence(model: Model, about: np.ndarray | None = None) -> np.ndarray:
-    """(n, 6) DOF motion of all bodies moving as one rigid body: unit x, y, z, rx, ry, rz.
-
-    Rotations are about ``about`` [m] (default: the system's centre of gravity).
-    """
-    c = model.centre_of_gravity if about is None else np.asarray(about, float)
-    nb = len(model.bodies)
-    out = np.zeros((nb, 6, 6))
-    out[:, :3, :3] = np.eye(3)
-    out[:, 3:, 3:] = np.eye(3)
-    r = np.array([b.cog for b in model.bodies], dtype=float).reshape(nb, 3) - c
-    # translation of the COG for a rotation theta about c: theta x r = -[r]x theta
-    out[:, 0, 4], out[:, 0, 5] = r[:, 2], -r[:, 1]
-    out[:, 1, 3], out[:, 1, 5] = -r[:, 2], r[:, 0]
-    out[:, 2, 3], out[:, 2, 4] = r[:, 1], -r[:, 0]
-    return out.reshape(6 * nb, 6)
 
 
 @dataclass(frozen=True, eq=False)
@@ -299,88 +258,140 @@ class Modes(Result):
         return plot_modes(self, ax=ax, **kwargs)
 
 
-def modes(model: Model | Assembly, n_modes: int | None = None,
-          method: str | Solver = "auto") -> Modes:
-    """Undamped natural frequencies and mode shapes.
+@dataclass(frozen=True, eq=False)
+class DampedModes(Result):
+    """Damped modes (one entry per complex-conjugate pole pair or real pole).
 
-    Parameters
+    Follows the result protocol (:mod:`vibss.results`): ``d['engine.z']`` is the (k,) complex
+    component of every damped shape in one DOF; ``output_labels`` are the DOFs; there is no
+    python-control twin (``control`` is None; :func:`vibss.statespace` gives the system).
+
+    Attributes
     ----------
-    model : Model or Assembly
-        The system (ground fixed).
-    n_modes : int or None
-        Number of lowest modes; None for all (6 per body).
-    method : {"auto", "jacobi", "dense", "shift-invert"} or callable
-        Eigen-solver (see module docstring).
-
-    Returns
-    -------
-    Modes
-
-    Examples
-    --------
-    >>> from vibss import Body, MountType, Mount, Model, symmetric
-    >>> t = MountType("t", [1e4, 2e4, 3e4])
-    >>> m = Model([Body("b", 1000.0, [10, 20, 30])], symmetric(Mount("m", t, "b", at=[1, 2, 0])))
-    >>> r = modes(m)
-    >>> r.frequency_hz.round(4)[:3], r.directions[:3]
-    (array([1.0066, 1.4235, 1.7435]), ['x', 'y', 'z'])
+    poles : (k,) complex ndarray
+        Poles [rad/s] with non-negative imaginary part (one of each conjugate pair); real poles
+        of overdamped or damped rigid motions are listed one by one.
+    shapes : (n, k) complex ndarray
+        Complex mode shapes in the model's DOFs, scaled so the largest component is 1.
+    paired : (k,) int ndarray
+        Index of the undamped mode each damped mode belongs to (largest modal participation).
+    undamped : Modes
+        The undamped modes used.
+    method : str
+        How the poles were found.
+    note : str
+        Why (the damping found in the model).
     """
-    a = model if isinstance(model, Assembly) else assemble(model)
-    n = a.n
-    if n_modes is not None:
-        if not isinstance(n_modes, (int, np.integer)):      # 6.0 modes is a mistake, not a count
-            raise ArgumentError(f"modes: n_modes: expected a positive integer or None, got {n_modes!r}",
-                                argument="n_modes", received=n_modes, expected="a positive integer")
-        n_modes = min(integer(n_modes, "n_modes", who="modes"), n)
-    try:
-        spec = _spectrum(a, n_modes, method)
-    except (np.linalg.LinAlgError, ValueError) as exc:
-        if isinstance(exc, ModelError):
-            raise
-        raise AnalysisError(f"the eigen-solver ({method if isinstance(method, str) else 'custom'}) failed: "
-                            f"{exc}; check the model for extreme values (masses, inertias, stiffnesses "
-                            "or positions many decades apart)") from None
-    w2, phi, rigid, name = spec.omega2, spec.phi.copy(), spec.rigid, spec.method
-    M = a.M            # sparse on a large model: post-processing needs M times k vectors, not dense M
-    # Repeated frequencies: rigid-body modes form one cluster; elastic ones by relative gap.
-    groups = cluster_slices(np.sqrt(w2), REPEAT_RTOL, 0.0)
-    if rigid.sum() > 1:
-        groups = [g for g in groups if not rigid[g.start]] + [slice(0, int(rigid.sum()))]
-    for g in groups:
-        aligned = align_cluster(phi[:, g], M)
-        # inside a cluster, list the modes in DOF order (x y z rx ry rz), then by body
-        key = np.argmax(np.abs(energy_fractions(aligned, M)), axis=1)
-        phi[:, g] = aligned[:, np.argsort(key % 6 * a.n + key, kind="stable")]
-    # sign: largest component positive
-    idx = np.argmax(np.abs(phi), axis=0)
-    phi = phi * np.sign(phi[idx, np.arange(phi.shape[1])])
-    omega = np.sqrt(w2)
-    energy = energy_fractions(phi, M)
-    gamma = phi.T @ (M @ rigid_influence(a.model))
-    return Modes(model=a.model, dofs=a.dofs, omega=omega, shapes=phi, energy=energy,
-                 effective_mass=gamma ** 2, rigid=rigid, method=name, note=_why(method, name),
-                 error_estimate=spec.error)
 
+    signal_kind: ClassVar[str] = "DOF"
 
-def _spectrum(a: Assembly, n_modes: int | None, method: str | Solver) -> Any:
-    """The assembly's undamped spectrum, solved once per ``(n_modes, method)`` (a named method: a
-    callable is the caller's and is run each time); the Spectrum is read-only."""
-    if callable(method):
-        return undamped(a.K, a.M, a.stiffness_factor(), n_modes, method)
-    key = ("spectrum", n_modes, method)
-    if key not in a._cache:
-        a._cache[key] = undamped(a.K, a.M, a.stiffness_factor(), n_modes, method)
-    return a._cache[key]
+    poles: np.ndarray
+    shapes: np.ndarray
+    paired: np.ndarray
+    undamped: Modes
+    method: str
+    note: str = ""
 
+    @property
+    def output_labels(self) -> tuple[str, ...]:
+        """DOF labels of the rows of the shapes."""
+        return self.undamped.dofs
 
-def _why(method: Any, name: str) -> str:
-    """Why ``auto`` chose the solver ("" for a solver chosen by the caller)."""
-    if not isinstance(method, str) or method != "auto":
-        return ""
-    if name.startswith("shift-invert"):
-        return "auto: sparse model and fewer than a tenth of the modes asked for: shift-invert"
-    if name.startswith("jacobi"):
-        return (f"auto: Jacobi SVD of the stiffness factor (high relative accuracy; up to {JACOBI_MAX} "
-                "DOFs)")
-    return ("auto: dense eigh, modes whose error estimate exceeds "
-            f"{FREQ_RTOL:g} refined on the stiffness factor")
+    @property
+    def units(self) -> tuple[str, ...]:
+        """Unit of the motion of each DOF (m or rad); the shapes are relative (largest = 1)."""
+        return self.undamped.units
+
+    def _item(self, i: int, j: int | None) -> np.ndarray:
+        return self.shapes[i]
+
+    @cached_property
+    def natural_frequency(self) -> np.ndarray:
+        """Undamped natural frequency of each pole, ``|lambda|`` [rad/s]."""
+        return freeze(np.abs(self.poles))
+
+    @cached_property
+    def frequency_hz(self) -> np.ndarray:
+        """``|lambda| / 2 pi`` [Hz]."""
+        return freeze(self.natural_frequency / (2 * np.pi))
+
+    @cached_property
+    def damped_frequency_hz(self) -> np.ndarray:
+        """Damped frequency ``Im(lambda) / 2 pi`` [Hz] (0 for real poles)."""
+        return freeze(self.poles.imag / (2 * np.pi))
+
+    @cached_property
+    def damping_ratio(self) -> np.ndarray:
+        """``-Re(lambda) / |lambda|`` [-] (0 for zero poles)."""
+        wn = self.natural_frequency
+        with np.errstate(invalid="ignore", divide="ignore"):
+            return freeze(np.where(wn > 0, -self.poles.real / np.where(wn > 0, wn, 1.0), 0.0))
+
+    def __len__(self) -> int:
+        return len(self.poles)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The spec's JSON structure (SI)."""
+        names = self.undamped.model.body_names
+        out = []
+        for k in range(len(self)):
+            s = self.shapes[:, k]
+            out.append({
+                "frequency_hz": float(self.frequency_hz[k]),
+                "damped_frequency_hz": float(self.damped_frequency_hz[k]),
+                "damping_ratio": float(self.damping_ratio[k]),
+                "pole": [float(self.poles[k].real), float(self.poles[k].imag)],
+                "undamped_mode": int(self.paired[k]) + 1,
+                "direction": self.undamped.directions[self.paired[k]],
+                "shape": {b: {"amplitude": np.abs(s[6 * i:6 * i + 6]).tolist(),
+                              "phase_deg": np.degrees(np.angle(s[6 * i:6 * i + 6])).tolist()}
+                          for i, b in enumerate(names)},
+            })
+        return jsonable({"model": self.undamped.model.name, "method": self.method, "note": self.note,
+                         "modes": out})
+
+    def table(self) -> Table:
+        """Frequencies, damping ratios and the paired undamped modes."""
+        rows = []
+        for k in range(len(self)):
+            j = self.paired[k]
+            rows.append([f"{k + 1}", f"{self.frequency_hz[k]:.4f}", f"{self.damped_frequency_hz[k]:.4f}",
+                         f"{self.damping_ratio[k]:.5f}", f"{self.poles[k].real:.5g}",
+                         f"{self.poles[k].imag:.5g}", f"{j + 1} ({self.undamped.frequency_hz[j]:.3f} Hz, "
+                         f"{self.undamped.labels[j]})"])
+        return Table(["mode", "fn [Hz]", "fd [Hz]", "zeta", "Re p [1/s]", "Im p [rad/s]", "undamped mode"],
+                     rows, title=f"Damped modes ({self.method})")
+
+    def summary(self) -> Table:
+        """The table of poles (:meth:`table`)."""
+        return self.table()
+
+    def report(self) -> str:
+        """Text report."""
+        return f"Damped modes of {self.undamped.model.name!r}\n\n" + self.table().render()
+
+    def plot(self, ax: Any = None) -> Any:
+        """Pole map: :func:`vibss.plotting.plot_poles`.
+
+        Parameters
+        ----------
+        ax : Axes or None
+            Axes to draw in; default: a new figure.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+        """
+        from ..plotting import plot_poles
+
+        return plot_poles(self, ax)
+
+    def to_pandas(self) -> Any:
+        """DataFrame: one row per damped mode."""
+        pd = require_pandas()
+
+        return pd.DataFrame({
+            "frequency_hz": self.frequency_hz, "damped_frequency_hz": self.damped_frequency_hz,
+            "damping_ratio": self.damping_ratio, "pole_real": self.poles.real,
+            "pole_imag": self.poles.imag, "undamped_mode": self.paired + 1,
+        }, index=pd.RangeIndex(1, len(self) + 1, name="mode"))

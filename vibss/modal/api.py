@@ -1,0 +1,163 @@
+"""Undamped and damped modes: :func:`modes` (K phi = w^2 M phi) and :func:`damped_modes` (poles,
+damping ratios and complex shapes, paired with the undamped modes; see :mod:`vibss.modal.kernels`).
+
+Undamped modes
+--------------
+
+The modes come from the one eigen path, :func:`vibss.linear.eigen.undamped.undamped` (methods by name, or
+pass a callable ``f(K, M, n_modes) -> (w2, shapes)``):
+
+- ``"jacobi"``: Jacobi SVD of the factored problem (``K = G^T G``): every frequency to high
+  relative accuracy, also beside 1e16 N/m links (the default up to
+  :data:`~vibss.linear.eigen.undamped.JACOBI_MAX` DOFs);
+- ``"dense"``: ``eigh`` on dense matrices (all modes, or the lowest ``n_modes``), refined where
+  the a-posteriori estimate says so;
+- ``"shift-invert"``: sparse shift-invert about a small negative shift: the lowest ``n_modes`` of a
+  large sparse model;
+- ``"auto"``: shift-invert for a large sparse model when fewer than a tenth of the modes are asked
+  for, Jacobi for a small one, dense otherwise.
+
+Zero-frequency (rigid-body) modes are found by :func:`~vibss.linear.eigen.undamped.rigid_mask`, a
+unit-independent test of whether each mode's stiffness cancels to round-off on the factor; it does
+not depend on ``n_modes``. Rigid modes are reported with frequency 0. Every mode carries a relative
+error bound of its frequency (:attr:`Modes.error_estimate`). Repeated frequencies (symmetric layouts, free bodies) are split into
+clean directions by :func:`vibss.linear.eigen.directions.align_cluster`.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from .._validate import integer
+from ..errors import AnalysisError, ArgumentError, ModelError
+from ..linear.eigen.directions import align_cluster, cluster_slices, energy_fractions
+from ..linear.eigen.undamped import Solver, undamped
+from ..linear.plant.assemble import Assembly, assemble
+from ..linear.plant.hysteresis import dropped_hysteresis
+from ..model.model import Model
+from .kernels import projected_c, rigid_influence
+from .methods import auto_note, damped_route
+from .result import DampedModes, Modes
+
+__all__ = ["modes", "damped_modes"]
+
+REPEAT_RTOL = 1e-8
+"""Frequencies closer than this (relative) are treated as repeated and aligned by direction."""
+
+
+def modes(model: Model | Assembly, n_modes: int | None = None,
+          method: str | Solver = "auto") -> Modes:
+    """Undamped natural frequencies and mode shapes.
+
+    Parameters
+    ----------
+    model : Model or Assembly
+        The system (ground fixed).
+    n_modes : int or None
+        Number of lowest modes; None for all (6 per body).
+    method : {"auto", "jacobi", "dense", "shift-invert"} or callable
+        Eigen-solver (see module docstring).
+
+    Returns
+    -------
+    Modes
+
+    Examples
+    --------
+    >>> from vibss import Body, MountType, Mount, Model, symmetric
+    >>> t = MountType("t", [1e4, 2e4, 3e4])
+    >>> m = Model([Body("b", 1000.0, [10, 20, 30])], symmetric(Mount("m", t, "b", at=[1, 2, 0])))
+    >>> r = modes(m)
+    >>> r.frequency_hz.round(4)[:3], r.directions[:3]
+    (array([1.0066, 1.4235, 1.7435]), ['x', 'y', 'z'])
+    """
+    a = model if isinstance(model, Assembly) else assemble(model)
+    n = a.n
+    if n_modes is not None:
+        if not isinstance(n_modes, (int, np.integer)):      # 6.0 modes is a mistake, not a count
+            raise ArgumentError(f"modes: n_modes: expected a positive integer or None, got {n_modes!r}",
+                                argument="n_modes", received=n_modes, expected="a positive integer")
+        n_modes = min(integer(n_modes, "n_modes", who="modes"), n)
+    try:
+        spec = _spectrum(a, n_modes, method)
+    except (np.linalg.LinAlgError, ValueError) as exc:
+        if isinstance(exc, ModelError):
+            raise
+        raise AnalysisError(f"the eigen-solver ({method if isinstance(method, str) else 'custom'}) failed: "
+                            f"{exc}; check the model for extreme values (masses, inertias, stiffnesses "
+                            "or positions many decades apart)") from None
+    w2, phi, rigid, name = spec.omega2, spec.phi.copy(), spec.rigid, spec.method
+    M = a.M            # sparse on a large model: post-processing needs M times k vectors, not dense M
+    # Repeated frequencies: rigid-body modes form one cluster; elastic ones by relative gap.
+    groups = cluster_slices(np.sqrt(w2), REPEAT_RTOL, 0.0)
+    if rigid.sum() > 1:
+        groups = [g for g in groups if not rigid[g.start]] + [slice(0, int(rigid.sum()))]
+    for g in groups:
+        aligned = align_cluster(phi[:, g], M)
+        # inside a cluster, list the modes in DOF order (x y z rx ry rz), then by body
+        key = np.argmax(np.abs(energy_fractions(aligned, M)), axis=1)
+        phi[:, g] = aligned[:, np.argsort(key % 6 * a.n + key, kind="stable")]
+    # sign: largest component positive
+    idx = np.argmax(np.abs(phi), axis=0)
+    phi = phi * np.sign(phi[idx, np.arange(phi.shape[1])])
+    omega = np.sqrt(w2)
+    energy = energy_fractions(phi, M)
+    gamma = phi.T @ (M @ rigid_influence(a.model))
+    return Modes(model=a.model, dofs=a.dofs, omega=omega, shapes=phi, energy=energy,
+                 effective_mass=gamma ** 2, rigid=rigid, method=name, note=auto_note(method, name),
+                 error_estimate=spec.error)
+
+
+def _spectrum(a: Assembly, n_modes: int | None, method: str | Solver) -> Any:
+    """The assembly's undamped spectrum, solved once per ``(n_modes, method)`` (a named method: a
+    callable is the caller's and is run each time); the Spectrum is read-only."""
+    if callable(method):
+        return undamped(a.K, a.M, a.stiffness_factor(), n_modes, method)
+    key = ("spectrum", n_modes, method)
+    if key not in a._cache:
+        a._cache[key] = undamped(a.K, a.M, a.stiffness_factor(), n_modes, method)
+    return a._cache[key]
+
+
+def damped_modes(model: Model | Assembly, undamped: Modes | None = None) -> DampedModes:
+    """Poles, damping ratios and complex shapes of a viscously damped model.
+
+    Loss factors (hysteretic damping) have no causal time-domain form and are left out: a
+    :class:`~vibss.errors.VibssWarning` names the mounts and ``note`` says so.
+
+    Parameters
+    ----------
+    model : Model or Assembly
+        The system (ground fixed).
+    undamped : Modes or None
+        All undamped modes of the same model, if already computed.
+
+    Returns
+    -------
+    DampedModes
+        Ordered by natural frequency.
+
+    Examples
+    --------
+    >>> from vibss import Body, MountType, Mount, Model
+    >>> t = MountType("t", [1e4, 1e4, 1e4], damping=[20.0, 20.0, 20.0])
+    >>> m = Model([Body("b", 1.0, [1e-2, 1e-2, 1e-2])], [Mount("m", t, "b")])
+    >>> d = damped_modes(m)   # one mount at the COG: rotations are free (zero poles)
+    >>> d.damping_ratio[d.frequency_hz > 0].round(6)   # c / (2 sqrt(k m)) for x, y, z
+    array([0.1, 0.1, 0.1])
+    """
+    a = model if isinstance(model, Assembly) else assemble(model)
+    und = undamped if undamped is not None else modes(a)
+    if len(und) != a.n:
+        raise ArgumentError(f"damped_modes: undamped: needs all {a.n} undamped modes (modes(model, "
+                            f"n_modes=None)), got {len(und)}", argument="undamped", received=len(und),
+                            expected=a.n)
+    left_out = dropped_hysteresis(a, "damped_modes")
+    branches = any(t.has_branches for t in a.model.mount_types.values())
+    chat = None if branches else projected_c(a, und)
+    route = damped_route(a, chat)
+    poles, shapes, paired, said = route.kernel(a, und, chat)
+    return DampedModes(poles=poles, shapes=shapes, paired=paired, undamped=und, method=route.summary,
+                       note="; ".join(x for x in (said, left_out) if x))

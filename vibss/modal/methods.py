@@ -1,0 +1,111 @@
+"""The modal analyses' automatic choices as registries of :class:`~vibss.methods.Method` objects.
+
+:data:`METHODS` lists the eigen routes of :func:`vibss.modes` (``method=``): the one eigen path,
+:func:`vibss.linear.eigen.undamped.undamped`, runs them and settles ``"auto"`` (Jacobi SVD of the
+stiffness factor up to :data:`~vibss.linear.eigen.undamped.JACOBI_MAX` DOFs, shift-invert for a few
+modes of a large sparse model, dense ``eigh`` otherwise); each entry carries the reason ``auto``
+records when it picks it. :data:`DAMPED_ROUTES` lists the routes of :func:`vibss.damped_modes`, and
+:func:`damped_route` is its choice among them (by the mounts and the projected damping).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ..linear.eigen.undamped import FREQ_RTOL, JACOBI_MAX, undamped
+
+from ..linear.eigen.basis import damping_coupling
+from ..linear.plant.assemble import Assembly
+from ..methods import Method
+from .kernels import poles_classical, poles_general, poles_undamped, poles_with_branches
+
+__all__ = ["EigenRoute", "METHODS", "auto_note", "DampedRoute", "DAMPED_ROUTES", "damped_route"]
+
+
+@dataclass(frozen=True)
+class EigenRoute(Method):
+    """An eigen route of :func:`vibss.modes`: its kernel is ``f(K, M, factor, n_modes) -> Spectrum``.
+
+    Attributes
+    ----------
+    auto_reason : str
+        What ``auto``'s note says when it picks this route.
+    needs_factor : bool
+        Works on the stiffness factor (``K = G^T G``); without one the eigen path runs ``dense``.
+    sparse_ok : bool
+        Takes a sparse model without forming dense n x n matrices (the lowest ``n_modes`` only).
+    """
+
+    auto_reason: str = ""
+    needs_factor: bool = False
+    sparse_ok: bool = False
+
+
+def _route(name: str) -> Callable[..., Any]:
+    def kernel(K: Any, M: Any, factor: Any = None, n_modes: int | None = None) -> Any:
+        return undamped(K, M, factor, n_modes, name)
+    kernel.__name__ = name
+    return kernel
+
+
+METHODS: dict[str, EigenRoute] = {
+    "jacobi": EigenRoute(
+        "jacobi", _route("jacobi"), exact=True, needs_factor=True,
+        summary="Jacobi SVD of the factored problem: every frequency to high relative accuracy",
+        auto_reason=f"auto: Jacobi SVD of the stiffness factor (high relative accuracy; up to {JACOBI_MAX} DOFs)"),
+    "dense": EigenRoute(
+        "dense", _route("dense"),
+        summary="eigh on dense matrices, refined where the a-posteriori estimate says so",
+        auto_reason=f"auto: dense eigh, modes whose error estimate exceeds {FREQ_RTOL:g} refined on the stiffness factor"),
+    "shift-invert": EigenRoute(
+        "shift-invert", _route("shift-invert"), sparse_ok=True,
+        summary="sparse shift-invert about a small negative shift: the lowest n_modes of a large sparse model",
+        auto_reason="auto: sparse model and fewer than a tenth of the modes asked for: shift-invert"),
+}
+"""The eigen routes of :func:`vibss.modes`, by name (``"auto"`` is settled by the eigen path)."""
+
+
+def auto_note(method: Any, name: str) -> str:
+    """Why ``auto`` chose the solver named ``name`` by the eigen path ("" for a solver chosen by the caller)."""
+    if not isinstance(method, str) or method != "auto":
+        return ""
+    for key in ("shift-invert", "jacobi"):
+        if name.startswith(key):
+            return METHODS[key].auto_reason
+    return METHODS["dense"].auto_reason
+
+
+@dataclass(frozen=True)
+class DampedRoute(Method):
+    """A route of :func:`vibss.damped_modes`: its kernel is ``f(a, und, chat) -> (poles, shapes,
+    paired, note)`` (:mod:`vibss.modal.kernels`); ``summary`` is what the result reports as ``method``."""
+
+
+DAMPED_ROUTES: dict[str, DampedRoute] = {
+    "undamped": DampedRoute("undamped", poles_undamped, exact=True, summary="undamped (poles i w)"),
+    "classical": DampedRoute("classical", poles_classical, exact=True,
+                             summary="classical damping: closed form per undamped mode"),
+    "general": DampedRoute("general", poles_general,
+                           summary="general damping: eig of the scaled modal state matrix"),
+    "branches": DampedRoute("branches", poles_with_branches, internal_states=True,
+                            summary="frequency-dependent mounts: eig of the state matrix with their internal states"),
+}
+"""The routes of :func:`vibss.damped_modes`, by name."""
+
+
+def damped_route(a: Assembly, chat: np.ndarray | None) -> DampedRoute:
+    """The route for assembly ``a`` with projected damping ``chat`` (None: not computed, which only
+    the route with frequency-dependent mounts allows): their branches first, then no damping,
+    classical damping (``chat`` diagonal), general damping."""
+    if any(t.has_branches for t in a.model.mount_types.values()):
+        return DAMPED_ROUTES["branches"]
+    assert chat is not None
+    if not np.any(chat):
+        return DAMPED_ROUTES["undamped"]
+    if not bool(np.any(damping_coupling(chat) > 0)):
+        return DAMPED_ROUTES["classical"]
+    return DAMPED_ROUTES["general"]
