@@ -16,9 +16,10 @@ PACKAGE = Path(vibss.__file__).parent
 # Layers, lowest first: a module may import only from its own layer or below.
 LAYERS = [
     {"errors", "_validate", "results", "methods", "model.units", "model.geometry", "model.limits", "io.tomlwriter",
-     "linear.plant.memo"},
-    {"model", "linear.plant.plant", "linear.plant.terms", "linear.plant.branches", "io.filetable"},
-    {"io", "examples", "linear.plant.assemble", "linear.eigen.directions", "linear.eigen.undamped", "linear.eigen.checks",
+     "linear.plant.memo", "linear.eigen.small"},
+    {"model", "linear.plant.plant", "linear.plant.terms", "linear.plant.branches", "linear.plant.assemble",
+     "io.filetable"},
+    {"io", "examples", "linear.eigen.directions", "linear.eigen.undamped", "linear.eigen.checks",
      "linear.eigen.jacobi", "linear.eigen.basis", "linear.solve.mass",
      "linear.plant.hysteresis"},
     {"linear.eigen.complex_modes", "linear.eigen.branch_modes", "linear.solve.banded", "linear.plant.names", "linear.plant.build",

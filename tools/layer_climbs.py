@@ -13,14 +13,21 @@ Usage::
 
     python tools/layer_climbs.py                       # vibss.frequency.api:frequency_response
     python tools/layer_climbs.py vibss.time.api:simulate --path
+    python tools/layer_climbs.py --trace --path        # the path one FRF of the example really takes
+
+The static walk takes every branch (every method of a registry); ``--trace`` follows the one path a
+call takes, with the profiler.
 """
 
 from __future__ import annotations
 
 import ast
+import functools
 import sys
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 ROOT = Path(__file__).resolve().parents[1]
 PACKAGE = ROOT / "vibss"
@@ -225,9 +232,74 @@ def climbs(entry: str = "vibss.frequency.api:frequency_response") -> tuple[int, 
     return count, path
 
 
+INLINE = ("<listcomp>", "<genexpr>", "<dictcomp>", "<setcomp>", "<module>")
+"""Frames that are no call from module to module: comprehensions (part of the function that holds
+them) and module bodies (a lazy import runs them on the first call; importing is not the path)."""
+
+
+def _is_property_frame(frame: Any) -> bool:
+    """A property or cached_property getter running (reading a field, not a step down the core)."""
+    owner = frame.f_locals.get("self")
+    if owner is None:
+        return False
+    for klass in type(owner).__mro__:
+        attr = klass.__dict__.get(frame.f_code.co_name)
+        if attr is not None:
+            return isinstance(attr, (property, functools.cached_property))
+    return False
+
+
+def trace(run: Callable[[], Any]) -> tuple[int, list[tuple[str, int]]]:
+    """Climbs on the path one call of ``run`` really takes: every vibss function entered, in order
+    (the profiler's call events), with the same omissions as the static walk (:data:`SKIPPED`,
+    properties, comprehensions)."""
+    table = layers()
+    seq: list[str] = []
+
+    importing = [0]         # module bodies on the stack: what runs under them is an import
+
+    def prof(frame: Any, event: str, arg: Any) -> None:
+        if frame.f_code.co_name == "<module>":
+            importing[0] += {"call": 1, "return": -1}.get(event, 0)
+            return
+        if event != "call" or importing[0]:
+            return
+        mod = frame.f_globals.get("__name__") or ""
+        if not mod.startswith("vibss") or frame.f_code.co_name in INLINE or _is_property_frame(frame):
+            return
+        seq.append(mod)
+
+    sys.setprofile(prof)
+    try:
+        run()
+    finally:
+        sys.setprofile(None)
+    path: list[tuple[str, int]] = []
+    for mod in seq:
+        lay = layer_of(mod, table)
+        if lay <= SKIPPED:
+            continue
+        if not path or path[-1][0] != mod:
+            path.append((mod, lay))
+    return sum(1 for a, b in zip(path, path[1:]) if b[1] > a[1]), path
+
+
+def example_frf() -> Any:
+    """One FRF of the built-in example, as the demo asks it: ground acceleration to the engine's."""
+    import vibss
+
+    model = vibss.load_example("powertrain")
+    return lambda: vibss.frequency_response(model, ["ground.z.acc"], ["powertrain.z.acc"])
+
+
 def main(argv: list[str]) -> int:
     entry = next((a for a in argv if not a.startswith("-")), "vibss.frequency.api:frequency_response")
-    count, path = climbs(entry)
+    if "--trace" in argv:
+        sys.path.insert(0, str(ROOT))
+        entry = "frequency_response of the powertrain example (traced)"
+        count, path = trace(example_frf())
+    else:
+        count, path = climbs(entry)
     if "--path" in argv:
         for (mod, lay), prev in zip(path, [None, *path]):
             up = " ^" if prev is not None and lay > prev[1] else ""

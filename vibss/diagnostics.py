@@ -45,7 +45,8 @@ import numpy as np
 from threadpoolctl import threadpool_info
 
 from .linear.eigen.directions import cluster_slices
-from .linear.eigen.undamped import symmetric_eigen, undamped
+from .linear.eigen.undamped import undamped
+from .linear.eigen.small import symmetric_eigen
 from .linear.solve.mass import mass_solver
 from .errors import VibssWarning
 

@@ -6,7 +6,7 @@ from typing import Any
 
 import numpy as np
 
-from ..linear.eigen.undamped import symmetric_eigen
+from ..linear.eigen.small import symmetric_eigen
 from .._validate import vector
 from ..errors import AnalysisError, ArgumentError, VibssError, did_you_mean
 from ..linear.plant.assemble import Assembly, assemble

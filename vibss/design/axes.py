@@ -36,7 +36,7 @@ from typing import Any
 
 import numpy as np
 
-from ..linear.eigen.undamped import symmetric_eigen
+from ..linear.eigen.small import symmetric_eigen
 from ..results import ReadOnly
 from ..linear.plant.assemble import Assembly
 from ..linear.solve.static import static_solve

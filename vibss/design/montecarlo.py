@@ -21,7 +21,7 @@ from typing import Any, ClassVar
 import numpy as np
 from scipy.stats import norm, qmc
 
-from ..linear.eigen.undamped import symmetric_eigen
+from ..linear.eigen.small import symmetric_eigen
 from .._validate import choice, integer, number
 from ..errors import AnalysisError, ArgumentError
 from ..linear.plant.assemble import assemble

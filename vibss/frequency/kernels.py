@@ -47,7 +47,7 @@ import numpy as np
 from ..linear.eigen.complex_modes import complex_modes
 from ..errors import AnalysisError
 from ..linear.plant.plant import Plant
-from ..linear.eigen.undamped import symmetric_eigen
+from ..linear.eigen.small import symmetric_eigen
 from ..linear.eigen.basis import ModalBasis, classical_damping, modal_basis, projected_damping
 from ..linear.solve.exact import response, zero_frequency_limit, zfactor
 from ..linear.project.subspace import TOLERANCE, channel_subspace

@@ -16,7 +16,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from ..errors import ModelError
-from ..linear.eigen.undamped import symmetric_eigen
+from ..linear.eigen.small import symmetric_eigen
 from ..model.geometry import point_transfer
 from ..model.model import GROUND, Model
 

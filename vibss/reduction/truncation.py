@@ -48,7 +48,8 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spl
 
 from .._validate import choice
-from ..linear.eigen.undamped import symmetric_eigen, undamped
+from ..linear.eigen.undamped import undamped
+from ..linear.eigen.small import symmetric_eigen
 from ..linear.plant.plant import Plant
 from .prune import DENSE_MAX, frf
 

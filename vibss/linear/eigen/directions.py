@@ -15,7 +15,7 @@ from typing import cast
 import numpy as np
 
 from ...model.model import DOF_NAMES
-from .undamped import symmetric_eigen
+from .small import symmetric_eigen
 
 __all__ = ["energy_fractions", "direction_shares", "dominant_direction", "align_cluster",
            "cluster_slices", "describe_motion", "dof_labels"]

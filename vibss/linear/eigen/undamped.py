@@ -14,7 +14,7 @@ truncation, Krylov checks, diagnostics) takes its undamped modes from here.
 - :func:`rigid_mask`: the one test of which computed modes are rigid-body modes, and
   :func:`error_estimate`: relative error bound of each frequency (Kato-Temple on the factored
   residual, and the Jacobi SVD's own bound), both from :mod:`vibss.linear.eigen.checks`;
-- :func:`symmetric_eigen`, :func:`projected_eigen`: the small symmetric problems (cluster rotations,
+- :func:`~vibss.linear.eigen.small.symmetric_eigen`, :func:`~vibss.linear.eigen.small.projected_eigen` (in :mod:`.small`): the small symmetric problems (cluster rotations,
   principal axes, projected Ritz problems) so that every eigen solve lives in this module.
 
 The modal basis of a plant, its projected damping and the classical-damping test are in
@@ -37,11 +37,12 @@ from ...results import ReadOnly
 from ...errors import ModelError
 from .checks import (RIGID_RTOL, _as_factor, _factor_norms, _inverse_cholesky, _six_blocks, _trace_norm,
                            error_estimate, fast_matrix, rigid_mask, stiffness_solver)
+from .small import projected_eigen
 from .jacobi import SMALL_PRODUCTS, _jacobi, _jacobi_floor, jacobi_svd
 
 __all__ = ["generalized_eigh", "rigid_mask", "METHODS",
            "RIGID_RTOL", "fast_matrix", "stiffness_solver", "Solver", "Spectrum",
-           "undamped", "error_estimate", "symmetric_eigen", "projected_eigen", "JACOBI_MAX",
+           "undamped", "error_estimate", "JACOBI_MAX",
            "generalized_eigvals"]
 
 Solver = Callable[[Any, Any, "int | None"], "tuple[np.ndarray, np.ndarray]"]
@@ -152,35 +153,6 @@ def _shift_invert(K: Any, M: Any, n_modes: int | None) -> tuple[np.ndarray, np.n
 
 
 METHODS: dict[str, Solver] = {"dense": _dense, "shift-invert": _shift_invert}
-
-
-def symmetric_eigen(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Eigenvalues (ascending) and orthonormal eigenvectors of a small symmetric matrix, or of a
-    stack of them (``(..., k, k)``: one LAPACK call for every matrix, e.g. 100,000 Monte Carlo
-    variants of a 6-DOF layout).
-
-    The one call for the small problems (cluster rotations, principal axes of an inertia tensor,
-    projected damping blocks, batched variants); ``a`` is symmetrised first.
-
-    Examples
-    --------
-    >>> w, v = symmetric_eigen(np.array([[2.0, 1.0], [1.0, 2.0]]))
-    >>> w.round(12).tolist()
-    [1.0, 3.0]
-    """
-    a = np.asarray(a)
-    return np.linalg.eigh(0.5 * (a + np.swapaxes(a, -1, -2)))
-
-
-def projected_eigen(kr: np.ndarray, mr: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """``kr t = w2 mr t`` for a small projected (Ritz, Krylov) pair, ``t^T mr t = I``.
-
-    Parameters
-    ----------
-    kr, mr : (k, k) ndarray
-        Projected stiffness and (positive definite) mass; symmetrised first.
-    """
-    return sl.eigh(0.5 * (kr + kr.T), 0.5 * (mr + mr.T), check_finite=False)
 
 
 @dataclass(frozen=True, eq=False)

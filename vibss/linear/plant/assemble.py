@@ -30,7 +30,7 @@ from ...errors import ModelError
 from ...results import ReadOnly
 from ...model.geometry import point_transfer
 from ...model.model import DOF_NAMES, GROUND, Model
-from ..eigen.undamped import symmetric_eigen
+from ..eigen.small import symmetric_eigen
 from .memo import remembered
 
 __all__ = ["Assembly", "assemble", "SPARSE_THRESHOLD", "dof_labels"]

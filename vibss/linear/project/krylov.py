@@ -17,7 +17,7 @@ from scipy.linalg.lapack import dgbtrf, dgbtrs
 
 from ...errors import AnalysisError
 from ..solve.banded import Structure, structure
-from ..eigen.undamped import projected_eigen, symmetric_eigen
+from ..eigen.small import projected_eigen, symmetric_eigen
 from ..plant.plant import Plant
 from ..solve.exact import SingularMatrixError, forcing, lu_solver, observe, output_map, states, zfactor
 

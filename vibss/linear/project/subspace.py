@@ -43,7 +43,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...errors import AnalysisError
-from ..eigen.undamped import projected_eigen
+from ..eigen.small import projected_eigen
 from .krylov import Basis, exact_response, forcing_columns, observing_columns, shift_solver
 from ..plant.plant import Plant
 from ..solve.exact import forcing, observe, response, zfactor

@@ -30,7 +30,8 @@ import scipy.sparse.linalg as spl
 
 from ..plant.assemble import Assembly
 from ..eigen.directions import align_cluster, describe_motion
-from ..eigen.undamped import symmetric_eigen, undamped
+from ..eigen.undamped import undamped
+from ..eigen.small import symmetric_eigen
 from ..eigen.jacobi import jacobi_svd
 from ...errors import AnalysisError
 

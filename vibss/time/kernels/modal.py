@@ -10,7 +10,7 @@ import numpy as np
 
 from ...linear.eigen.complex_modes import complex_modes
 from ...linear.eigen.basis import projected_damping
-from ...linear.eigen.undamped import symmetric_eigen
+from ...linear.eigen.small import symmetric_eigen
 from ...linear.eigen.basis import damping_coupling, modal_basis
 from ..phi import cs_blocks, foh_blocks
 from ..recursion import LowRank, scan
