@@ -130,7 +130,7 @@ def figures() -> None:
     folder = Path(__file__).parents[1] / "docs" / "figures"
     pt = vibss.load_example("powertrain")
     win = (5.0, 26.7 / np.sqrt(2))
-    from vibss.plotting.design import plot_design_axes
+    from vibss.design import plot_design_axes
 
     plot_design_axes(pt).savefig(folder / "design_axes.png", dpi=100)
     certificate(pt, purity=0.9, windows=win, frame="tra").plot().savefig(folder / "design_certificate.png", dpi=110)

@@ -214,7 +214,7 @@ tolerance."""),
 import numpy as np
 import vibss
 from vibss import design
-from vibss.plotting.design import plot_design_axes
+from vibss.design import plot_design_axes
 
 pt = vibss.load_example("powertrain")
 windows = (5.0, 26.7 / np.sqrt(2))

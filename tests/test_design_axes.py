@@ -104,7 +104,7 @@ def test_refusals():
 
 
 def test_axes_drawn_on_the_layout():
-    from vibss.plotting.design import plot_design_axes
+    from vibss.design import plot_design_axes
 
     fig = plot_design_axes(vibss.load_example("powertrain"))
     labels = [t.get_text() for t in fig.legends[-1].get_texts()]

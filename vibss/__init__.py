@@ -122,7 +122,7 @@ if TYPE_CHECKING:                          # what static checkers and IDEs see
     from .time.api import TimeResponse, simulate
     from .time.sweep import SweepEnvelope, sweep_envelope
 
-__version__ = "0.1.0"
+from ._version import __version__  # noqa: E402  (written once, in vibss/_version.py)
 
 __all__ = [
     "HalfSine", "Haversine", "Ramp", "Rectangular", "Sawtooth", "Sine", "SineSweep", "Step", "Sum", "Table",

@@ -650,7 +650,7 @@ img { max-width: 100%; border: 1px solid #eee; margin: 0.5em 0; display: block; 
 def _html(report: Report, images: dict[str, bytes]) -> str:
     m = report.model
     now = datetime.datetime.now().strftime("%Y-%m-%d %H:%M")
-    from . import __version__
+    from ._version import __version__
 
     parts = ["<!DOCTYPE html>", '<html lang="en"><head><meta charset="utf-8">',
              f"<title>vibss report: {html.escape(m.name)}</title><style>{_CSS}</style></head><body>",

@@ -4,8 +4,8 @@ Monte Carlo tolerance studies and optimisation of mount layouts.
 
 from __future__ import annotations
 
-from .axes import (ElasticAxes, TorqueResponse, elastic_axes, principal_axes, torque_response,
-                   torque_roll_axis)
+from .axes import (DesignAxes, ElasticAxes, TorqueResponse, design_axes, elastic_axes, plot_design_axes,
+                   principal_axes, torque_response, torque_roll_axis)
 from .certificate import Certificate, certificate
 from .montecarlo import MonteCarlo, monte_carlo
 from .optimise import Optimisation, optimise
@@ -14,4 +14,4 @@ from .sensitivity import Sensitivity, sensitivity
 from .study import study
 
 __all__ = ["study", "Optimisation", "optimise", "MonteCarlo", "monte_carlo", "Parameter", "Sensitivity", "sensitivity", "Certificate", "certificate", "ElasticAxes", "TorqueResponse", "elastic_axes", "principal_axes", "torque_response",
-           "torque_roll_axis"]
+           "torque_roll_axis", "DesignAxes", "design_axes", "plot_design_axes"]

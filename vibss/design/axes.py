@@ -37,13 +37,13 @@ from typing import Any
 import numpy as np
 
 from ..linear.eigen.undamped import symmetric_eigen
-from ..results import ReadOnly
+from ..results import ReadOnly, Result, Table, jsonable, require_pandas
 from ..linear.plant.assemble import Assembly
 from ..model.model import Model
 from ._common import body_blocks, body_name, unit_axis
 
-__all__ = ["torque_roll_axis", "principal_axes", "elastic_axes", "torque_response", "ElasticAxes",
-           "TorqueResponse", "EXIST_RTOL"]
+__all__ = ["torque_roll_axis", "principal_axes", "elastic_axes", "torque_response", "design_axes",
+           "plot_design_axes", "ElasticAxes", "TorqueResponse", "DesignAxes", "EXIST_RTOL"]
 
 EXIST_RTOL = 1e-6
 """Elastic centre / axes exist when the residual screw (and axis mismatch) is below this, relative."""
@@ -276,3 +276,162 @@ def torque_response(model: Model | Assembly, body: str | None = None, axis: Any 
     return TorqueResponse(body=a.model.bodies[i].name, torque=float(torque) * e, displacement=q,
                           rotation_axis=rot, tra=tra, misalignment=angle)
 
+
+
+_XYZ = ("x", "y", "z")
+
+
+@dataclass(frozen=True, eq=False)
+class DesignAxes(Result):
+    """The axes of one body on its mounts, computed together so a figure can draw them
+    (scikit-learn's Display objects: the result computes, :meth:`plot` only draws).
+
+    Attributes
+    ----------
+    model : Model
+        The system.
+    torque : TorqueResponse
+        Static response to a unit torque about the crank axis, with its torque-roll axis.
+    elastic : ElasticAxes
+        Elastic centre and axes of the body's mounts.
+    principal_moments : (3,) ndarray
+        Principal moments of inertia, ascending [kg m^2].
+    principal_axes : (3, 3) ndarray
+        Principal axes of inertia as columns (global axes), right-handed [-].
+    """
+
+    model: Model
+    torque: TorqueResponse
+    elastic: ElasticAxes
+    principal_moments: np.ndarray
+    principal_axes: np.ndarray
+
+    signal_kind = "axis"
+
+    @property
+    def _vectors(self) -> dict[str, np.ndarray]:
+        return {"tra": self.torque.tra, "rotation_axis": self.torque.rotation_axis,
+                "elastic_centre": self.elastic.centre_global,
+                **{f"principal_{k + 1}": self.principal_axes[:, k] for k in range(3)},
+                **{f"elastic_{k + 1}": self.elastic.axes[:, k] for k in range(3)}}
+
+    @property
+    def output_labels(self) -> tuple[str, ...]:
+        """``"<axis>.x"`` ... for the torque-roll axis, the static rotation axis, the elastic centre,
+        the principal and the elastic axes."""
+        return tuple(f"{k}.{c}" for k in self._vectors for c in _XYZ)
+
+    @property
+    def units(self) -> tuple[str, ...]:
+        """``m`` for the elastic centre, ``-`` for the unit directions."""
+        return tuple("m" if k == "elastic_centre" else "-" for k in self._vectors for _ in _XYZ)
+
+    @property
+    def method(self) -> str:
+        """How the axes were computed."""
+        return "exact"
+
+    @property
+    def note(self) -> str:
+        """Whether an elastic centre and axes exist, and why."""
+        return self.elastic.note
+
+    def _item(self, i: int, j: int | None) -> Any:
+        return float(np.concatenate(list(self._vectors.values()))[i])
+
+    def summary(self) -> Table:
+        """One row per axis: its x, y, z components."""
+        rows = [[k] + [f"{v:+.4f}" for v in vec] for k, vec in self._vectors.items()]
+        return Table(["axis", "x", "y", "z"], rows, title=f"Axes of {self.torque.body!r} (global, unit "
+                     f"directions; elastic centre [m])", notes=[self.note])
+
+    def report(self) -> str:
+        """Text: the axes, the TRA's angle to the static rotation axis, the elastic centre's verdict."""
+        return "\n\n".join([self.summary().render(),
+                             f"TRA {self.torque.misalignment_deg:.1f} deg from the static rotation axis"])
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready axes (SI)."""
+        return jsonable({"body": self.torque.body, **self._vectors,
+                         "principal_moments": self.principal_moments,
+                         "misalignment": self.torque.misalignment, "elastic_centre_exists": self.elastic.exists,
+                         "note": self.note})
+
+    def to_pandas(self) -> Any:
+        """DataFrame: one row per axis, columns x, y, z."""
+        pd = require_pandas()
+        return pd.DataFrame(np.array(list(self._vectors.values())), columns=list(_XYZ),
+                            index=pd.Index(list(self._vectors), name="axis"))
+
+    def plot(self, ax: Any = None, view: str = "three", length: float | None = None) -> Any:
+        """The axes drawn on the layout: :func:`vibss.plotting.design.plot_axes`.
+
+        Parameters
+        ----------
+        ax : None
+            Not supported (the figure has one panel per view); kept for the result protocol.
+        view : {"three", "iso", "xz", "yz", "xy"}
+            As :func:`vibss.plotting.plot_model`.
+        length : float or None
+            Half-length of the drawn axes [m]; default: half the largest mount distance from the COG.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+        """
+        from ..plotting.design import plot_axes
+
+        if ax is not None:
+            from ..errors import ArgumentError
+            raise ArgumentError("DesignAxes.plot draws a figure of its own (one panel per view): ax must be None",
+                                argument="ax", received=ax)
+        return plot_axes(self, view=view, length=length)
+
+
+def design_axes(model: Model | Assembly, body: str | None = None, axis: Any = "x") -> DesignAxes:
+    """Torque-roll axis, static rotation axis, elastic centre and axes, and principal axes of inertia
+    of ``body``, together (what :meth:`DesignAxes.plot` draws).
+
+    Parameters
+    ----------
+    model : Model or Assembly
+        The system (the other bodies held fixed).
+    body : str or None
+        The body (None: the only body).
+    axis : {"x", "y", "z"} or (3,) array_like
+        Crank axis [-].
+
+    Returns
+    -------
+    DesignAxes
+    """
+    m = model.model if isinstance(model, Assembly) else model
+    moments, axes = principal_axes(model, body)
+    return DesignAxes(model=m, torque=torque_response(model, body, axis), elastic=elastic_axes(model, body),
+                      principal_moments=moments, principal_axes=axes)
+
+
+def plot_design_axes(model: Model | Assembly, body: str | None = None, axis: Any = "x", view: str = "three",
+                     length: float | None = None) -> Any:
+    """``design_axes(model, body, axis).plot(view=view, length=length)``: the layout with the
+    torque-roll axis, the static rotation axis under a torque about ``axis``, the elastic centre and
+    its axes, and the principal axes of inertia drawn through the body.
+
+    Parameters
+    ----------
+    model : Model or Assembly
+        The model.
+    body : str or None
+        The body (None: the only body).
+    axis : {"x", "y", "z"} or (3,) array_like
+        Crank axis [-].
+    view : {"three", "iso", "xz", "yz", "xy"}
+        As :func:`vibss.plotting.plot_model`.
+    length : float or None
+        Half-length of the drawn axes [m]; default: half the largest mount distance from the COG.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    return design_axes(model, body, axis).plot(view=view, length=length)

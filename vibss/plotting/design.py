@@ -10,7 +10,7 @@ from matplotlib.figure import Figure
 from ..errors import ArgumentError
 from ._draw import new_figure
 
-__all__ = ["plot_certificate", "plot_sensitivity", "plot_monte_carlo", "plot_optimisation", "plot_design_axes"]
+__all__ = ["plot_certificate", "plot_sensitivity", "plot_monte_carlo", "plot_optimisation", "plot_axes"]
 
 
 def _axes(ax: Any, width: float, height: float) -> tuple[Figure, Any]:
@@ -190,20 +190,15 @@ def plot_optimisation(opt: Any, ax: Any = None) -> Figure:
     return fig
 
 
-def plot_design_axes(model: Any, body: str | None = None, axis: Any = "x", view: str = "three",
-                     length: float | None = None) -> Figure:
+def plot_axes(result: Any, view: str = "three", length: float | None = None) -> Figure:
     """The layout (:func:`vibss.plotting.plot_model`) with the torque-roll axis, the static rotation
-    axis under a torque about ``axis``, the elastic centre and its axes, and the principal axes of
-    inertia drawn through the body.
+    axis under a torque, the elastic centre and its axes, and the principal axes of inertia drawn
+    through the body, from computed :class:`vibss.design.DesignAxes` (this draws, it computes nothing).
 
     Parameters
     ----------
-    model : Model
-        The model.
-    body : str or None
-        The body (None: the only body).
-    axis : {"x", "y", "z"} or (3,) array_like
-        Crank axis [-].
+    result : vibss.design.DesignAxes
+        The computed axes (:func:`vibss.design.design_axes`).
     view : {"three", "iso", "xz", "yz", "xy"}
         As :func:`vibss.plotting.plot_model`.
     length : float or None
@@ -213,13 +208,10 @@ def plot_design_axes(model: Any, body: str | None = None, axis: Any = "x", view:
     -------
     Figure
     """
-    from ..design import elastic_axes, principal_axes, torque_response
     from .layout import plot_model
 
+    model, tr, ea, pa = result.model, result.torque, result.elastic, result.principal_axes
     fig = plot_model(model, view=view, labels=False)
-    tr = torque_response(model, body, axis)
-    ea = elastic_axes(model, body)
-    _, pa = principal_axes(model, body)
     b = model.body(tr.body)
     if length is None:
         pts = np.array([model.mount_point(m) for m in model.mounts if m.body == b.name]) - b.cog
@@ -251,3 +243,16 @@ def plot_design_axes(model: Any, body: str | None = None, axis: Any = "x", view:
     fig.suptitle(f"TRA {np.degrees(tr.misalignment):.1f} deg from the static rotation axis; "
                  f"{'elastic centre exists' if ea.exists else 'no elastic centre'}", fontsize=10, x=0.4)
     return fig
+
+
+def __getattr__(name: str) -> Any:
+    # deprecated for one release: the figure no longer computes; vibss.design.plot_design_axes does
+    if name == "plot_design_axes":
+        import warnings
+
+        from ..design.axes import plot_design_axes
+        warnings.warn("vibss.plotting.design.plot_design_axes is deprecated: use "
+                      "vibss.design.plot_design_axes (or vibss.design.design_axes(...).plot())",
+                      DeprecationWarning, stacklevel=2)
+        return plot_design_axes
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
