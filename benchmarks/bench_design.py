@@ -6,7 +6,7 @@ with exact gradients against finite-difference gradients — same run, same mach
   eigen-solve per 10,000), against ``vibss.modes(apply(model, ...))`` called in a loop on the first
   ``LOOP`` variants (time per variant extrapolated); largest frequency and KE-fraction differences
   over those variants.
-- **Optimisation** (when ``vibss.design.optimise`` is present): the powertrain's purity objective
+- **Optimization** (when ``vibss.design.optimize`` is present): the powertrain's purity objective
   over 12+ design variables by SLSQP with the exact gradients, and again with finite-difference
   gradients (scipy's 2-point differences on the same objective); wall time, evaluations, result.
 - **Study runner on Dask**: ``vibss.study`` of 10,000 variants (``modes``) in-process and on a
@@ -70,14 +70,14 @@ def bench_monte_carlo(n: int, loop: int) -> dict:
 
 def bench_optimise(quick: bool) -> dict | None:
     try:
-        from vibss.design.optimise import benchmark_case, optimise
+        from vibss.design.optimize import benchmark_case, optimize
     except ImportError:
         return None
     model, variables, kwargs = benchmark_case()
     res = {}
     for grad in ("exact", "finite-difference"):
         t0 = time.perf_counter()
-        r = optimise(model, variables, gradient=grad, starts=1, **kwargs)
+        r = optimize(model, variables, gradient=grad, starts=1, **kwargs)
         wall = time.perf_counter() - t0
         res[grad] = {"wall_s": wall, "evaluations": r.evaluations, "objective": r.objective,
                      "min_purity_before": float(r.before.purity.min()),
@@ -124,7 +124,7 @@ def bench_dask(n: int) -> dict | None:
 
 def figures() -> None:
     """The figures of docs/analyses/design.md."""
-    from vibss.design.optimise import benchmark_case, optimise
+    from vibss.design.optimize import benchmark_case, optimize
     from vibss.design import certificate, sensitivity
 
     folder = Path(__file__).parents[1] / "docs" / "figures"
@@ -137,7 +137,7 @@ def figures() -> None:
     sens = sensitivity(pt, ["engine.k3", "gearbox.k3", "torque-strut.k1", "engine.z", "engine.rx"], frame="tra")
     sens.plot(quantity="purity").savefig(folder / "design_sensitivity.png", dpi=110)
     model, variables, options = benchmark_case()
-    opt = optimise(model, variables, **options)
+    opt = optimize(model, variables, **options)
     opt.plot().savefig(folder / "design_optimisation.png", dpi=110)
     tol = {f"{m.name}.k{j}": 0.15 for m in opt.model.mounts for j in (1, 2, 3)}
     mc = monte_carlo(opt.model, tol, n=20_000, sampling="lhs", purity=0.9, windows=win, frame="tra")

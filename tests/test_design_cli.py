@@ -24,7 +24,7 @@ def test_certificate_text_and_json(capsys):
 def test_optimise_writes_a_better_model_and_checks_tolerances(tmp_path, capsys):
     path = tmp_path / "opt.toml"
     assert main(["design", "--example", "powertrain", "--frame", "tra", "--window", "5", "18.9",
-                 "--optimise", "--output", str(path), "--tolerance", "0.15", "--samples", "500"]) == 0
+                 "--optimize", "--output", str(path), "--tolerance", "0.15", "--samples", "500"]) == 0
     out = capsys.readouterr().out
     assert "Optimised layout" in out and "Tolerance study" in out
     before = certificate(vibss.load_example("powertrain"), frame="tra")

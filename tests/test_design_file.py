@@ -98,7 +98,7 @@ def test_design_command_uses_the_file(text, tmp_path, capsys):
     data = json.loads(capsys.readouterr().out)
     expected = certificate(vibss.load_model(src), purity=0.85, frame="tra", windows=(5.0, 18.9))
     np.testing.assert_allclose(data["ke_matrix"], expected.ke_matrix, atol=1e-12)
-    assert main(["design", str(src), "--optimise", "--output", str(out), "--tolerance"]) == 0
+    assert main(["design", str(src), "--optimize", "--output", str(out), "--tolerance"]) == 0
     text_out = capsys.readouterr().out
     assert "engine.k1/k3" in text_out and "gearbox.rx" in text_out and "Tolerance study" in text_out
     assert "300 variants (sobol" in text_out

@@ -7,10 +7,11 @@ from typing import Any
 import numpy as np
 from matplotlib.figure import Figure
 
+from .._deprecated import module_aliases
 from ..errors import ArgumentError
 from ._draw import new_figure
 
-__all__ = ["plot_certificate", "plot_sensitivity", "plot_monte_carlo", "plot_optimisation", "plot_axes"]
+__all__ = ["plot_certificate", "plot_sensitivity", "plot_monte_carlo", "plot_optimization", "plot_axes"]
 
 
 def _axes(ax: Any, width: float, height: float) -> tuple[Figure, Any]:
@@ -75,7 +76,7 @@ def plot_sensitivity(sens: Any, quantity: str = "frequency", ax: Any = None) -> 
     -------
     Figure
     """
-    d = sens.normalised(quantity)                       # (k, p)
+    d = sens.normalized(quantity)                       # (k, p)
     k, p = d.shape
     fig, ax = _axes(ax, 6.5, 1.5 + 0.28 * p)
     y = np.arange(p)
@@ -159,13 +160,13 @@ def _tornado(mc: Any, ax: Any, mode: int | None) -> Figure:
     return fig
 
 
-def plot_optimisation(opt: Any, ax: Any = None) -> Figure:
-    """Purity [%] of every mode before and after an optimisation, with the target.
+def plot_optimization(opt: Any, ax: Any = None) -> Figure:
+    """Purity [%] of every mode before and after an optimization, with the target.
 
     Parameters
     ----------
-    opt : vibss.design.Optimisation
-        The optimisation.
+    opt : vibss.design.Optimization
+        The optimization.
     ax : Axes or None
         Draw into these axes; default: a new figure.
 
@@ -245,14 +246,12 @@ def plot_axes(result: Any, view: str = "three", length: float | None = None) -> 
     return fig
 
 
-def __getattr__(name: str) -> Any:
-    # deprecated for one release: the figure no longer computes; vibss.design.plot_design_axes does
-    if name == "plot_design_axes":
-        import warnings
+def _plot_design_axes() -> Any:
+    from ..design.axes import plot_design_axes      # computes: a figure no longer does
+    return plot_design_axes
 
-        from ..design.axes import plot_design_axes
-        warnings.warn("vibss.plotting.design.plot_design_axes is deprecated: use "
-                      "vibss.design.plot_design_axes (or vibss.design.design_axes(...).plot())",
-                      DeprecationWarning, stacklevel=2)
-        return plot_design_axes
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+__getattr__ = module_aliases(__name__, {
+    "plot_optimisation": ("vibss.plotting.design.plot_optimization", lambda: plot_optimization),
+    "plot_design_axes": ("vibss.design.plot_design_axes (or vibss.design.design_axes(...).plot())",
+                         _plot_design_axes)})

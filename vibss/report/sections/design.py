@@ -19,14 +19,14 @@ def _design_section(model: Model, figures: bool, results: dict[str, Any]) -> Sec
 
     run = run_design(model)
     results["design"] = run
-    done = [r for r in (run.certificate, run.optimisation, run.tolerance) if r is not None]
+    done = [r for r in (run.certificate, run.optimization, run.tolerance) if r is not None]
     tables: list[Table] = [run.certificate.summary(), run.certificate.ke_table()]
-    if run.optimisation is not None:
-        tables += [run.optimisation.summary(), run.optimisation.comparison()]
+    if run.optimization is not None:
+        tables += [run.optimization.summary(), run.optimization.comparison()]
     if run.tolerance is not None:
         tables.append(run.tolerance.summary())
     figs = tuple((f"design_{k}.png", r.plot()) for k, r in
-                 zip(("certificate", "optimisation", "tolerance"), (run.certificate, run.optimisation, run.tolerance))
+                 zip(("certificate", "optimisation", "tolerance"), (run.certificate, run.optimization, run.tolerance))
                  if r is not None) if figures else ()
     note = ("targets, variables and tolerances from the file's [design] table" if given else
             "default targets (purity 0.9, global axes, no windows); a [design] table sets them")
