@@ -9,7 +9,7 @@ with exact gradients against finite-difference gradients — same run, same mach
 - **Optimization** (when ``vibss.design.optimize`` is present): the powertrain's purity objective
   over 12+ design variables by SLSQP with the exact gradients, and again with finite-difference
   gradients (scipy's 2-point differences on the same objective); wall time, evaluations, result.
-- **Study runner on Dask**: ``vibss.study`` of 10,000 variants (``modes``) in-process and on a
+- **Study runner on Dask**: ``vibss.grid_study`` of 10,000 variants (``modes``) in-process and on a
   2-worker ``LocalCluster``; the Dask overhead per variant from the same study with an analysis that
   does nothing.
 
@@ -102,16 +102,16 @@ def bench_dask(n: int) -> dict | None:
     model = vibss.load_example("powertrain")
     table = {"engine.k3": np.linspace(2e5, 3e5, n)}
     t0 = time.perf_counter()
-    local = vibss.study(model, "modes", table=table)
+    local = vibss.grid_study(model, "modes", table=table)
     t_local = time.perf_counter() - t0
     out = {"variants": n, "in_process_s": t_local}
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, dashboard_address=None) as cluster, \
             distributed.Client(cluster) as client:
         t0 = time.perf_counter()
-        remote = vibss.study(model, "modes", table=table, client=client)
+        remote = vibss.grid_study(model, "modes", table=table, client=client)
         out["dask_2_workers_s"] = time.perf_counter() - t0
         t0 = time.perf_counter()
-        vibss.study(model, _nothing, table=table, client=client)
+        vibss.grid_study(model, _nothing, table=table, client=client)
         out["dask_trivial_analysis_s"] = time.perf_counter() - t0
     out["same_table"] = bool(local.equals(remote))
     out["overhead_per_variant_us"] = 1e6 * out["dask_trivial_analysis_s"] / n

@@ -33,7 +33,7 @@ from .linear.eigen.undamped import jacobi_svd, symmetric_eigen, undamped
 from .errors import AnalysisError, ModelError, did_you_mean
 from .model.geometry import point_transfer
 from .model.model import DOF_NAMES, GROUND, Model
-from .results import Result, Table, jsonable, number_text, require_pandas
+from .results import Result, TextTable as Table, jsonable, number_text, require_pandas
 
 __all__ = ["StaticResult", "static", "centre_of_rotation", "SINGULAR_RCOND"]
 

@@ -9,7 +9,7 @@ from ..errors import ArgumentError
 from .common import load_from_args
 
 ANALYSES = ("certificate", "modes")
-"""Names of :data:`vibss.design.study.ANALYSES` (written out: the parser must not import the analyses)."""
+"""Names of :data:`vibss.design.grid.ANALYSES` (written out: the parser must not import the analyses)."""
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -49,7 +49,7 @@ def _grid(items: list[str]) -> dict[str, list[float]]:
 
 def run(args: argparse.Namespace) -> int:
     """Print the study's table."""
-    from ..design.study import study
+    from ..design.grid import grid_study
 
     model = load_from_args(args)
     spec = dict(model.settings.get("study", {}))       # the file's [study] table (SI)
@@ -59,7 +59,7 @@ def run(args: argparse.Namespace) -> int:
     if grid is None and table is None:
         raise ArgumentError("vibss study: nothing to vary: give --vary PARAM=V1,V2,... or a [study] table "
                             "in the model file (docs/model-file.md)", argument="vary")
-    df = study(model, analysis, grid=grid, table=table, client=args.client, progress=bool(args.progress))
+    df = grid_study(model, analysis, grid=grid, table=table, client=args.client, progress=bool(args.progress))
     if args.format == "json":
         sys.stdout.write(df.to_json(orient="records", indent=2) + "\n")
     else:

@@ -25,7 +25,7 @@ Examples
 >>> body = vibss.Body("b", 100.0, [2.0, 4.0, 5.0])
 >>> m = vibss.Model([body], vibss.symmetric(vibss.Mount("m", t, "b", at=[0.3, 0.2, -0.1])))
 >>> ea = elastic_axes(m)
->>> ea.exists, ea.centre.round(6).tolist()
+>>> ea.exists, ea.center.round(6).tolist()
 (True, [0.0, 0.0, -0.1])
 """
 
@@ -37,7 +37,8 @@ from typing import Any
 import numpy as np
 
 from ..linear.eigen.undamped import symmetric_eigen
-from ..results import ReadOnly, Result, Table, jsonable, require_pandas
+from .._deprecated import renamed_attribute
+from ..results import ReadOnly, Result, TextTable, jsonable, require_pandas
 from ..linear.plant.assemble import Assembly
 from ..model.model import Model
 from ._common import body_blocks, body_name, unit_axis
@@ -130,9 +131,9 @@ class ElasticAxes(ReadOnly):
     ----------
     body : str
         The body.
-    centre : (3,) ndarray
+    center : (3,) ndarray
         Elastic centre relative to the COG [m] (least-squares point where none exists).
-    centre_global : (3,) ndarray
+    center_global : (3,) ndarray
         The same in global coordinates [m].
     axes : (3, 3) ndarray
         Principal directions of the rotational stiffness about ``centre`` (columns, global axes).
@@ -156,8 +157,8 @@ class ElasticAxes(ReadOnly):
     """
 
     body: str
-    centre: np.ndarray
-    centre_global: np.ndarray
+    center: np.ndarray
+    center_global: np.ndarray
     axes: np.ndarray
     rotational_stiffness: np.ndarray
     translational_axes: np.ndarray
@@ -167,6 +168,9 @@ class ElasticAxes(ReadOnly):
     exists: bool
     axes_exist: bool
     note: str
+
+    centre = renamed_attribute("centre", "center", "ElasticAxes")
+    centre_global = renamed_attribute("centre_global", "center_global", "ElasticAxes")
 
 
 def elastic_axes(model: Model | Assembly, body: str | None = None) -> ElasticAxes:
@@ -207,7 +211,7 @@ def elastic_axes(model: Model | Assembly, body: str | None = None) -> ElasticAxe
     else:
         note = (f"no elastic centre: a torque gives a screw (rotation plus translation along the axis); "
                 f"residual {screw:.3g}; the centre given is the least-squares point")
-    return ElasticAxes(body=name, centre=c, centre_global=c + a.model.bodies[i].cog, axes=vr,
+    return ElasticAxes(body=name, center=c, center_global=c + a.model.bodies[i].cog, axes=vr,
                        rotational_stiffness=kr, translational_axes=vt, translational_stiffness=kt,
                        screw=screw, mismatch=mismatch, exists=exists, axes_exist=axes_exist, note=note)
 
@@ -311,7 +315,7 @@ class DesignAxes(Result):
     @property
     def _vectors(self) -> dict[str, np.ndarray]:
         return {"tra": self.torque.tra, "rotation_axis": self.torque.rotation_axis,
-                "elastic_centre": self.elastic.centre_global,
+                "elastic_centre": self.elastic.center_global,
                 **{f"principal_{k + 1}": self.principal_axes[:, k] for k in range(3)},
                 **{f"elastic_{k + 1}": self.elastic.axes[:, k] for k in range(3)}}
 
@@ -339,10 +343,10 @@ class DesignAxes(Result):
     def _item(self, i: int, j: int | None) -> Any:
         return float(np.concatenate(list(self._vectors.values()))[i])
 
-    def summary(self) -> Table:
+    def summary(self) -> TextTable:
         """One row per axis: its x, y, z components."""
         rows = [[k] + [f"{v:+.4f}" for v in vec] for k, vec in self._vectors.items()]
-        return Table(["axis", "x", "y", "z"], rows, title=f"Axes of {self.torque.body!r} (global, unit "
+        return TextTable(["axis", "x", "y", "z"], rows, title=f"Axes of {self.torque.body!r} (global, unit "
                      f"directions; elastic centre [m])", notes=[self.note])
 
     def report(self) -> str:

@@ -32,7 +32,7 @@ from .._deprecated import module_aliases
 from ..errors import AnalysisError, ArgumentError, VibssError, did_you_mean
 from ..io.modelfile import dump_model
 from ..model.model import DOF_NAMES, Model
-from ..results import Result, Table, jsonable, require_pandas
+from ..results import Result, TextTable, jsonable, require_pandas
 from .certificate import Certificate, certificate, windows_for
 from .methods import METHODS, Optimizer, Problem, differential_evolution, penalized, resolve_method
 from .parameters import Parameter, apply, current_values, parameters_of
@@ -113,20 +113,20 @@ class Optimization(Result):
     def _item(self, i: int, j: int | None) -> float:
         return float(self.x[i])
 
-    def summary(self) -> Table:
+    def summary(self) -> TextTable:
         """Design variables: bounds, initial and optimized values."""
         rows = [[v, u, f"{lo:.4g}", f"{hi:.4g}", f"{a:.5g}", f"{b:.5g}"]
                 for v, u, (lo, hi), a, b in zip(self.variables, self.units, self.bounds, self.x0, self.x)]
-        return Table(["variable", "unit", "lower", "upper", "before", "after"], rows,
+        return TextTable(["variable", "unit", "lower", "upper", "before", "after"], rows,
                      title="Design variables (shifts and angles from the base layout)")
 
-    def comparison(self) -> Table:
+    def comparison(self) -> TextTable:
         """Per mode: frequency and purity before and after."""
         b, a = self.before, self.after
         rows = [[f"{k + 1}", f"{b.frequency_hz[k]:.3f}", f"{100 * b.purity[k]:.1f} {b.dominant[k]}",
                  f"{a.frequency_hz[k]:.3f}", f"{100 * a.purity[k]:.1f} {a.dominant[k]}",
                  "yes" if a.in_window[k] else "NO"] for k in range(len(a.purity))]
-        return Table(["mode", "f before [Hz]", "purity before [%]", "f after [Hz]", "purity after [%]",
+        return TextTable(["mode", "f before [Hz]", "purity before [%]", "f after [Hz]", "purity after [%]",
                       "in window"], rows, title=f"Before and after ({a.frame_name} frame)")
 
     def report(self) -> str:

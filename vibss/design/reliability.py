@@ -32,7 +32,7 @@ from .._deprecated import module_aliases
 from .._validate import integer, number
 from ..errors import ArgumentError
 from ..model.model import Model
-from ..results import ReadOnly, Table
+from ..results import ReadOnly, TextTable
 from .montecarlo import MonteCarlo, monte_carlo
 
 __all__ = ["Reliability", "reliable_optimize", "quantile_margins"]
@@ -60,11 +60,11 @@ class Reliability(ReadOnly):
     deterministic: MonteCarlo
     reliable: MonteCarlo
 
-    def table(self) -> Table:
+    def table(self) -> TextTable:
         """P(each target) before and after, and the margins kept."""
         p0, p1 = self.deterministic.probability, self.reliable.probability
         rows = [[key, f"{p0[key]:.3f}", f"{p1[key]:.3f}"] for key in p1]
-        return Table(["target", "P deterministic optimum", "P reliable optimum"], rows,
+        return TextTable(["target", "P deterministic optimum", "P reliable optimum"], rows,
                      title=f"Reliability (beta = {self.beta:g}, {self.iterations} optimisations; "
                            f"Monte Carlo {self.reliable.n} variants)")
 

@@ -28,7 +28,7 @@ from ..linear.plant.assemble import assemble
 from ..modal.undamped import modes as undamped_modes
 from ..model.model import Model
 from .._deprecated import renamed_attribute
-from ..results import Result, Table, jsonable, require_pandas
+from ..results import Result, TextTable, jsonable, require_pandas
 from ._common import body_name, frame_axes, frame_rotation, ke_fractions
 from .certificate import STANDARD_GRAVITY
 from .parameters import Parameter, _angles, apply, current_values, parameters_of, stiffness_derivatives
@@ -143,12 +143,12 @@ class Sensitivity(Result):
 
     normalised = renamed_attribute("normalised", "normalized", "Sensitivity")
 
-    def summary(self) -> Table:
+    def summary(self) -> TextTable:
         """Frequency derivatives, normalized (see :meth:`normalized`)."""
         d = self.normalized("frequency")
         rows = [[p, f"{v:.4g} {u}"] + [f"{x:+.3f}" for x in d[:, j]]
                 for j, (p, v, u) in enumerate(zip(self.parameters, self.values, self.parameter_units))]
-        return Table(["parameter", "value"] + [f"f{i + 1} {self.frequency_hz[i]:.2f} Hz"
+        return TextTable(["parameter", "value"] + [f"f{i + 1} {self.frequency_hz[i]:.2f} Hz"
                                                 for i in range(len(self.frequency_hz))], rows,
                      title="Frequency change [%] per 1 % rate, 1 mm shift, 1 deg rotation")
 
@@ -156,7 +156,7 @@ class Sensitivity(Result):
         """Text: frequency and purity sensitivities."""
         dp = self.normalized("purity")
         rows = [[p] + [f"{x:+.3f}" for x in dp[:, j]] for j, p in enumerate(self.parameters)]
-        purity = Table(["parameter"] + [f"mode {i + 1} ({100 * self.purity[i]:.0f} %)"
+        purity = TextTable(["parameter"] + [f"mode {i + 1} ({100 * self.purity[i]:.0f} %)"
                                         for i in range(len(self.purity))], rows,
                        title="Purity change [% of its value] per 1 % rate, 1 mm shift, 1 deg rotation")
         return "\n\n".join([f"Exact sensitivities of {self.model.name!r} ({len(self.parameters)} parameters, "

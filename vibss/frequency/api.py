@@ -47,7 +47,7 @@ from ..linear.plant.signals import build_plant, control_name
 from ..linear.eigen.directions import dof_labels, energy_fractions
 from ..linear.eigen.undamped import ModalBasis, modal_basis
 from ..linear.eigen.projection import projected_damping
-from ..results import Result, Table, jsonable, require_pandas
+from ..results import Result, TextTable as Table, jsonable, require_pandas
 
 __all__ = ["FrequencyResponse", "FrequencyGrid", "frequency_grid", "frequency_response", "QUANTITIES"]
 

@@ -34,7 +34,7 @@ from ..linear.plant.hysteresis import dropped_hysteresis
 from ..linear.plant.signals import build_plant
 from ..linear.solve.exact import without_hysteresis
 from .undamped import Modes, modes
-from ..results import Result, Table, freeze, jsonable, require_pandas
+from ..results import Result, TextTable as Table, freeze, jsonable, require_pandas
 
 __all__ = ["DampedModes", "damped_modes"]
 

@@ -34,7 +34,7 @@ from ..linear.eigen.directions import align_cluster, cluster_slices, direction_s
 from .._validate import integer
 from ..errors import AnalysisError, ArgumentError, ModelError
 from ..model.model import DOF_NAMES, Model
-from ..results import Result, Table, jsonable, require_pandas
+from ..results import Result, TextTable as Table, jsonable, require_pandas
 
 __all__ = ["Modes", "modes", "rigid_influence"]
 

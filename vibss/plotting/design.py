@@ -221,7 +221,7 @@ def plot_axes(result: Any, view: str = "three", length: float | None = None) -> 
         (b.cog, tr.tra, "k", "--", "torque-roll axis"),
         (b.cog, tr.rotation_axis, "tab:orange", "-", "static rotation under torque")]
     lines += [(b.cog, pa[:, j], "0.55", ":", "principal axes of inertia" if j == 0 else None) for j in range(3)]
-    lines += [(ea.centre_global, ea.axes[:, j], "tab:purple", "-.",
+    lines += [(ea.center_global, ea.axes[:, j], "tab:purple", "-.",
                ("elastic axes" if ea.exists else "rotational axes at the least-squares centre") if j == 0 else None)
               for j in range(3)]
     views = ["xz", "yz", "xy"] if view == "three" else [view]
@@ -233,7 +233,7 @@ def plot_axes(result: Any, view: str = "three", length: float | None = None) -> 
             else:
                 i0, i1 = {"xz": (0, 2), "yz": (1, 2), "xy": (0, 1)}[v]
                 ax.plot(seg[:, i0], seg[:, i1], color=colour, ls=style, lw=1.4, label=label)
-        c = ea.centre_global
+        c = ea.center_global
         if v == "iso":
             ax.scatter(c[0], c[1], c[2], color="tab:purple", marker="x")
         else:

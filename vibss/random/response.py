@@ -24,7 +24,7 @@ import numpy as np
 
 from .. import _validate as v
 from ..errors import AnalysisError, ArgumentError
-from ..results import Result, Table, jsonable, require_pandas
+from ..results import Result, TextTable as Table, jsonable, require_pandas
 from .psd import G, PSD, as_psd
 
 __all__ = ["RandomResponse", "random_response"]

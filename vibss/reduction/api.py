@@ -64,7 +64,7 @@ from ..linear.plant.plant import Plant
 from .kernels import Removal, frf, sparse_plant
 from .methods import (BALANCED_MAX_STATES, KRYLOV_MIN_DOF, METHODS, MODE_PRUNE_MAX, Reduced, ReduceOptions,
                       ReductionMethod, _floor, _states, check_grid, choose, resolve_method)
-from ..results import Result, Table, jsonable, require_pandas
+from ..results import Result, TextTable as Table, jsonable, require_pandas
 from .scope import Scope
 from ..linear.plant.signals import build_plant
 from ..linear.solve.exact import statespace_plant

@@ -10,7 +10,7 @@ import html
 import re
 from pathlib import Path
 
-from ..results import Table
+from ..results import TextTable
 from .section import Report
 
 __all__ = ["html_table", "write_report", "render_report"]
@@ -18,12 +18,12 @@ __all__ = ["html_table", "write_report", "render_report"]
 _NUMBER = re.compile(r"^[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$")
 
 
-def html_table(table: Table, shade_from: int | None = None) -> str:
-    """An HTML ``<table>`` of a :class:`~vibss.results.Table` (numbers right-aligned).
+def html_table(table: TextTable, shade_from: int | None = None) -> str:
+    """An HTML ``<table>`` of a :class:`~vibss.results.TextTable` (numbers right-aligned).
 
     Parameters
     ----------
-    table : Table
+    table : TextTable
         The table.
     shade_from : int or None
         Shade numeric cells from this column on by their value as a percentage (energy tables).

@@ -13,7 +13,7 @@ from typing import Any
 
 from ..errors import SignalError, did_you_mean
 from ..model.model import Model
-from ..results import Table
+from ..results import TextTable
 
 __all__ = ["Section", "Report", "STEPS", "TITLES", "MAX_MODE_PANELS", "Progress", "slug", "default_folder", "progress_on_stderr"]
 
@@ -46,7 +46,7 @@ class Section:
         Heading.
     text : str
         Text report of the analysis ('' when skipped).
-    tables : tuple of Table
+    tables : tuple of TextTable
         The same results as tables (rendered as HTML tables).
     figures : tuple of (str, Any)
         ``(file name, matplotlib Figure)`` pairs; empty without figures.
@@ -61,7 +61,7 @@ class Section:
     key: str
     title: str
     text: str = ""
-    tables: tuple[Table, ...] = ()
+    tables: tuple[TextTable, ...] = ()
     figures: tuple[tuple[str, Any], ...] = ()
     note: str = ""
     skipped: bool = False

@@ -53,7 +53,7 @@ import numpy.typing as npt
 
 from .._validate import choice, name_index, number, vector
 from ..errors import AnalysisError, ArgumentError, DefectiveModesError, ModelError, VibssWarning
-from ..results import ReadOnly, Result, Table, jsonable, require_pandas
+from ..results import ReadOnly, Result, TextTable as Table, jsonable, require_pandas
 from .branched import suits as branch_path
 from .methods import METHODS, SimulationJob, TimeMethod, resolve_method
 from ..model.model import DOF_NAMES, Model

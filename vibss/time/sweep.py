@@ -20,7 +20,7 @@ from ..errors import ArgumentError, ModelError
 from ..model.model import Model
 from ..linear.plant.signals import build_plant
 from ..linear.solve.exact import response, without_hysteresis
-from ..results import Result, Table, jsonable, require_pandas
+from ..results import Result, TextTable as Table, jsonable, require_pandas
 from .api import TimeResponse, simulate
 
 __all__ = ["SweepEnvelope", "sweep_envelope"]

@@ -6,7 +6,7 @@ from __future__ import annotations
 from typing import Any
 
 from ...model.model import Model
-from ...results import Table
+from ...results import TextTable
 from ..section import TITLES, Section
 
 def _design_section(model: Model, figures: bool, results: dict[str, Any]) -> Section:
@@ -20,7 +20,7 @@ def _design_section(model: Model, figures: bool, results: dict[str, Any]) -> Sec
     run = run_design(model)
     results["design"] = run
     done = [r for r in (run.certificate, run.optimization, run.tolerance) if r is not None]
-    tables: list[Table] = [run.certificate.summary(), run.certificate.ke_table()]
+    tables: list[TextTable] = [run.certificate.summary(), run.certificate.ke_table()]
     if run.optimization is not None:
         tables += [run.optimization.summary(), run.optimization.comparison()]
     if run.tolerance is not None:

@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 
 from ...model.model import GROUND, Model
-from ...results import Table
+from ...results import TextTable
 from ...studies import frequency_band, steady_sweeps
 from ..section import TITLES, Section, _available, slug
 
@@ -58,14 +58,14 @@ def _frequency_section(model: Model, figures: bool, results: dict[str, Any]) -> 
                    note=f"{band.f1:g} to {band.f2:g} Hz ({band.note}), method {r.method}")
 
 
-def _frf_table(r: Any, title: str) -> Table:
+def _frf_table(r: Any, title: str) -> TextTable:
     rows = []
     for i, y in enumerate(r.outputs):
         for j, u in enumerate(r.inputs):
             peaks = r.peaks(y, u, 1)
             f, a = peaks[0] if peaks else (float("nan"), 0.0)
             rows.append([y, u, f"{f:.4f}", f"{a:.4e}", r.channel_unit(i, j)])
-    return Table(["output", "input", "peak f [Hz]", "amplitude", "unit"], rows, title=title)
+    return TextTable(["output", "input", "peak f [Hz]", "amplitude", "unit"], rows, title=title)
 
 
 def _isolation_section(model: Model, figures: bool, results: dict[str, Any]) -> Section:
@@ -102,7 +102,7 @@ def _isolation_section(model: Model, figures: bool, results: dict[str, Any]) -> 
                     peak = "unbounded (no damping)" if undamped else f"{a:.4g}"
                     rows.append([kind, u, y, f"{f:.4g}", peak, "unbounded" if undamped else f"{top:.4g}",
                                  "-" if not np.isfinite(iso) else f"{iso:.4g}"])
-    table = Table(["kind", "input", "output", "peak f [Hz]", "peak |T| [-]", "max |T| [-]", "|T| < 1 above [Hz]"],
+    table = TextTable(["kind", "input", "output", "peak f [Hz]", "peak |T| [-]", "max |T| [-]", "|T| < 1 above [Hz]"],
                   rows, title="Transmissibility (no sine sweep in the file: unit ground motion along each axis, "
                               "unit forces at each body's COG)")
     lines.append(str(table))

@@ -8,11 +8,11 @@ from typing import Any
 import numpy as np
 
 from ...model.model import Model
-from ...results import Table
+from ...results import TextTable
 from ..section import TITLES, Section
 
 def _model_section(model: Model, figures: bool) -> Section:
-    bodies = Table(["body", "mass [kg]", "Ixx", "Iyy", "Izz", "Ixy", "Ixz", "Iyz", "COG x [m]",
+    bodies = TextTable(["body", "mass [kg]", "Ixx", "Iyy", "Izz", "Ixy", "Ixz", "Iyz", "COG x [m]",
                     "COG y [m]", "COG z [m]"],
                    [[b.name, " ".join(f"{m:.4g}" for m in np.unique(b.masses))]
                     + [f"{b.tensor[i, j]:.4g}" for i, j in ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))]
@@ -20,7 +20,7 @@ def _model_section(model: Model, figures: bool) -> Section:
                    title="Bodies (inertia tensor about the COG in global axes [kg m^2]; "
                          "off-diagonals are minus the products of inertia)")
     rotational = any(t.rotational for t in model.mount_types.values())
-    types = Table(["mount type", "k1 [N/m]", "k2 [N/m]", "k3 [N/m]", "c1 [N s/m]", "c2 [N s/m]",
+    types = TextTable(["mount type", "k1 [N/m]", "k2 [N/m]", "k3 [N/m]", "c1 [N s/m]", "c2 [N s/m]",
                    "c3 [N s/m]", "loss factor", "rheology"]
                   + (["kr1 [N m/rad]", "kr2 [N m/rad]", "kr3 [N m/rad]", "cr1 [N m s/rad]", "cr2 [N m s/rad]",
                       "cr3 [N m s/rad]"] if rotational else []),
@@ -31,7 +31,7 @@ def _model_section(model: Model, figures: bool) -> Section:
                    for t in model.mount_types.values()],
                   title="Mount types (k: static stiffness; rheology: frequency-dependent, its ladder's "
                         "fit error)")
-    mounts = Table(["mount", "type", "joins", "x [m]", "y [m]", "z [m]", "orientation"],
+    mounts = TextTable(["mount", "type", "joins", "x [m]", "y [m]", "z [m]", "orientation"],
                    [[m.name, m.type.name, f"{m.body}->{m.support or m.to}"]
                     + [f"{v:.4g}" for v in model.mount_point(m)] + [_describe(m.orientation)]
                     for m in model.mounts],
@@ -42,25 +42,25 @@ def _model_section(model: Model, figures: bool) -> Section:
             for key in ("stiffness", "damping") if getattr(t, f"{key}_matrix") is not None]
     if full:
         labels = ("d1", "d2", "d3", "r1", "r2", "r3")
-        tables.append(Table(["mount type", "matrix", "row"] + list(labels),
+        tables.append(TextTable(["mount type", "matrix", "row"] + list(labels),
                             [[t.name, key, labels[i]] + [f"{v:.4g}" for v in t.local_matrix(key)[i]]
                              for t, key in full for i in range(6)],
                             title="Full 6x6 mount matrices in local axes (on d1..d3 [m], r1..r3 [rad]: "
                                   "N/m, N m/rad, coupling N/rad; damping N s/m, N m s/rad, N s/rad)"))
     if model.supports:
-        tables.append(Table(["support", "mounts", "description"],
+        tables.append(TextTable(["support", "mounts", "description"],
                             [[g.name, ", ".join(m.name for m in model.mounts if m.support == g.name), g.description]
                              for g in model.supports],
                             title="Supports (ground points moved on their own: inputs <support>.<dof>.disp|vel|acc)"))
     if model.control_points:
         pts = [[c.name, c.body] + [f"{v:.4g}" for v in model.body(c.body).cog + model.point(c.body, c.at, c.frame)]
                for c in model.control_points]
-        tables.append(Table(["point", "body", "x [m]", "y [m]", "z [m]"], pts, title="Control points"))
+        tables.append(TextTable(["point", "body", "x [m]", "y [m]", "z [m]"], pts, title="Control points"))
     if model.excitations:
         rows = [[e.name, e.kind, e.target, e.dof or "direction " + str(np.round(e.direction, 3).tolist()),
                  type(e.function).__name__, _function_parameters(e.function.to_dict(), e.unit), e.unit]
                 for e in model.excitations]
-        tables.append(Table(["excitation", "kind", "target", "dof", "function", "parameters", "unit"], rows,
+        tables.append(TextTable(["excitation", "kind", "target", "dof", "function", "parameters", "unit"], rows,
                             title="Excitations (amplitudes in the unit column, times in s, frequencies in Hz)"))
     nb = len(model.bodies)
     text = (f"{nb} bod{'y' if nb == 1 else 'ies'}, {len(model.mounts)} mounts, total mass "

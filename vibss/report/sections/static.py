@@ -5,25 +5,25 @@ from __future__ import annotations
 from typing import Any
 
 from ...model.model import Model
-from ...results import Table, number_text
+from ...results import TextTable, number_text
 from ...statics import StaticResult, static
 from ..section import TITLES, Section
 
-def _static_tables(r: StaticResult) -> tuple[Table, ...]:
+def _static_tables(r: StaticResult) -> tuple[TextTable, ...]:
     under = f" under load case {r.case!r}" if r.case else (" under the unnamed loads" if r.model.load_cases else "")
     rows = []
     for b in r.model.bodies:
         d, c = r.body(b.name), r.centre_of_rotation(b.name)
         rows.append([b.name] + [f"{1e3 * v:.4f}" for v in d]
                     + ["pure translation" if c is None else "(" + ", ".join(number_text(v) for v in c) + ")"])
-    out = [Table(["body", "x [mm]", "y [mm]", "z [mm]", "rx [mrad]", "ry [mrad]", "rz [mrad]",
+    out = [TextTable(["body", "x [mm]", "y [mm]", "z [mm]", "rx [mrad]", "ry [mrad]", "rz [mrad]",
                   "centre of rotation [m]"], rows, title="Bodies (COG)" + under)]
     if r.model.control_points:
-        out.append(Table(["point", "x [mm]", "y [mm]", "z [mm]"],
+        out.append(TextTable(["point", "x [mm]", "y [mm]", "z [mm]"],
                          [[k] + [f"{1e3 * v:.4f}" for v in x] for k, x in r.control_points.items()],
                          title="Control points" + under))
     if r.model.mounts:
-        out.append(Table(["mount", "joins", "dx [mm]", "dy [mm]", "dz [mm]", "d1 [mm]", "d2 [mm]", "d3 [mm]",
+        out.append(TextTable(["mount", "joins", "dx [mm]", "dy [mm]", "dz [mm]", "d1 [mm]", "d2 [mm]", "d3 [mm]",
                           "Fx [N]", "Fy [N]", "Fz [N]"],
                          [[m.name, f"{m.body}->{m.support or m.to}"] + [f"{1e3 * v:.4f}" for v in r.mount_deflection[p]]
                           + [f"{1e3 * v:.4f}" for v in r.mount_deflection_local[p]]

@@ -5,7 +5,7 @@ from __future__ import annotations
 from typing import Any
 
 from ...model.model import Model
-from ...results import Table
+from ...results import TextTable
 from ...studies import time_outputs, time_window, transient_excitations
 from ..section import TITLES, Section, _available
 
@@ -25,7 +25,7 @@ def _time_section(model: Model, figures: bool, results: dict[str, Any]) -> Secti
     results["time"] = r
     in_g = (model.settings or {}).get("units", {}).get("acceleration") == "g"   # the file asks for g
     summary = (r.in_g() if in_g else r).summary()
-    table = Table(summary.header, summary.rows,
+    table = TextTable(summary.header, summary.rows,
                   title=f"Peaks of the response to {', '.join(e.name for e in transient)} "
                         "(body motions absolute; mount deflection = body side minus other side)"
                         + summary.title.removeprefix(f"method {r.method}"))
