@@ -6,10 +6,11 @@ import argparse
 import sys
 
 from ..errors import ArgumentError
-from .common import load_from_args
+from .common import RegistryNames, load_from_args
 
-ANALYSES = ("certificate", "modes")
-"""Names of :data:`vibss.design.grid.ANALYSES` (written out: the parser must not import the analyses)."""
+ANALYSES = RegistryNames("vibss.design.grid", attribute="ANALYSES")
+"""Names of :data:`vibss.design.grid.ANALYSES`, read from it when first needed (building the parser
+imports no analysis)."""
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -24,8 +25,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--vary", action="append", metavar="PARAM=V1,V2,...",
                    help="a parameter and its values in SI (repeatable: every combination is run); "
                         "default: the model file's [study] table")
-    p.add_argument("--analysis", choices=ANALYSES,
-                   help="analysis (default: the file's [study] analysis, else modes)")
+    p.add_argument("--analysis", choices=ANALYSES, metavar="ANALYSIS",
+                   help="analysis: one of %(choices)s (default: the file's [study] analysis, else modes)")
     p.add_argument("--client", metavar="ADDRESS",
                    help="run on Dask: a scheduler address, or 'local' for a 2-worker LocalCluster")
     p.add_argument("--format", choices=("csv", "json"), default="csv", help="table format (default csv)")
