@@ -18,7 +18,6 @@ Run: ``python benchmarks/bench_design.py [--quick]``; writes ``benchmarks/result
 
 from __future__ import annotations
 
-import argparse
 import json
 import sys
 import time
@@ -145,23 +144,22 @@ def figures() -> None:
     mc.plot(kind="tornado").savefig(folder / "design_tornado.png", dpi=100)
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--quick", action="store_true")
-    args = ap.parse_args()
-    n, loop = (5_000, 50) if args.quick else (100_000, 500)
-    if not args.quick:                  # the figures of docs/analyses/design.md: the full run only
+def bench(quick: bool) -> dict:
+    """Monte Carlo, optimization and the Dask grid study (small sizes with ``quick``)."""
+    n, loop = (5_000, 50) if quick else (100_000, 500)
+    if not quick:                       # the figures of docs/analyses/design.md: the full run only
         figures()
-    out = {"machine": machine(), "quick": args.quick, "monte_carlo": bench_monte_carlo(n, loop)}
-    opt = bench_optimise(args.quick)
+    out = {"machine": machine(), "quick": quick, "monte_carlo": bench_monte_carlo(n, loop)}
+    opt = bench_optimise(quick)
     if opt is not None:
         out["optimise"] = opt
-    dk = bench_dask(500 if args.quick else 10_000)
+    dk = bench_dask(500 if quick else 10_000)
     if dk is not None:
         out["dask"] = dk
-    RESULTS.mkdir(exist_ok=True)
-    (RESULTS / "design.json").write_text(json.dumps(out, indent=1, default=float))
+    return out
 
 
 if __name__ == "__main__":
-    main()
+    from run_all import main_one
+
+    main_one("design")
