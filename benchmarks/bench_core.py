@@ -12,12 +12,12 @@ Run: ``OPENBLAS_NUM_THREADS=1 python benchmarks/bench_core.py [--quick]`` (``mak
 from __future__ import annotations
 
 import platform
-import time
 
 import numpy as np
 from threadpoolctl import threadpool_limits
 
 from models import chain_model
+from run_all import best
 from vibss import assemble, modes
 from vibss.model.geometry import point_transfer
 from vibss.model import GROUND
@@ -40,15 +40,6 @@ def loop_assembly(model):
             K[6 * i:6 * i + 6, 6 * j:6 * j + 6] -= lb.T @ kp @ la
             K[6 * j:6 * j + 6, 6 * i:6 * i + 6] -= la.T @ kp @ lb
     return K
-
-
-def best(f, repeat=3):
-    times, out = [], None
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        out = f()
-        times.append(time.perf_counter() - t0)
-    return min(times), out
 
 
 def main(n_bodies: int = 1000) -> dict:

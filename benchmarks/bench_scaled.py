@@ -33,6 +33,7 @@ sys.path.insert(0, str(ROOT / "tests"))
 
 import mp_reference as ref  # noqa: E402
 import vibss  # noqa: E402
+from run_all import best  # noqa: E402
 from scaled_cases import graded_chain, hanging_chain, instrument, stiff_links  # noqa: E402
 from vibss.frequency.kernels import METHODS  # noqa: E402
 from vibss.linear.plant.signals import build_plant  # noqa: E402
@@ -45,15 +46,6 @@ CASES: dict[str, Callable[[], vibss.Model]] = {
     "instrument": instrument,
 }
 POLES = ("stiff links 1e10", "instrument")      # 60-digit eig of 2n x 2n: seconds for these, minutes for 96
-
-
-def best(f: Callable[[], Any], n: int = 3) -> tuple[float, Any]:
-    out, t = None, np.inf
-    for _ in range(n):
-        t0 = time.perf_counter()
-        out = f()
-        t = min(t, time.perf_counter() - t0)
-    return t, out
 
 
 def modes_row(m: vibss.Model) -> dict[str, float]:
