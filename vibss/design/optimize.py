@@ -328,7 +328,7 @@ def optimize(model: Model, variables: Mapping[Any, Any], *, modes: Any = None, p
                         note=f"maximised the mean purity of modes {items or 'all'} in the {before.frame_name} frame")
 
 
-def _design_variables(model: Model, variables: Mapping[Any, Any], who: str) -> tuple[list[Parameter], np.ndarray]:
+def _design_variables(model: Model, variables: Mapping[Any, Any], who: str) -> tuple[tuple[Parameter, ...], np.ndarray]:
     """The validated parameters and their ``(p, 2)`` bounds [N/m, m, rad]."""
     if not isinstance(variables, Mapping) or not variables:
         raise ArgumentError(f"{who}: variables: expected a mapping of parameter to (lower, upper), got "
@@ -362,7 +362,7 @@ def _catalogue(catalogue: Mapping[Any, Any] | None, names: list[str], bounds: np
     return cat
 
 
-def _problem(model: Model, params: list[Parameter], bounds: np.ndarray, before: Certificate, items: Any,
+def _problem(model: Model, params: tuple[Parameter, ...], bounds: np.ndarray, before: Certificate, items: Any,
              windows: Any, purity: float | None, max_sag: float | None, margins: Mapping[str, Any] | None,
              body: str | None, frame: Any, axis: Any, *, exact: bool, who: str) -> tuple[Problem, list[int]]:
     """The objective (minus the mean purity of the chosen modes) and the window, purity and sag
