@@ -19,7 +19,6 @@ other (relative difference). One BLAS thread. Run: ``python benchmarks/bench_con
 
 from __future__ import annotations
 
-import argparse
 import sys
 import time
 from pathlib import Path
@@ -92,7 +91,7 @@ def hand_route(m: vibss.Model, check: bool = False) -> tuple[object, float]:
     return cl, time.perf_counter() - t
 
 
-def main(quick: bool = False) -> dict:
+def bench(quick: bool) -> dict:
     n = 40 if quick else 100
     with threadpool_limits(1):
         m = model(n)
@@ -134,6 +133,6 @@ def main(quick: bool = False) -> dict:
 
 
 if __name__ == "__main__":
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--quick", action="store_true")
-    main(ap.parse_args().quick)
+    from run_all import main_one
+
+    main_one("control")

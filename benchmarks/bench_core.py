@@ -11,21 +11,16 @@ Run: ``OPENBLAS_NUM_THREADS=1 python benchmarks/bench_core.py [--quick]`` (``mak
 
 from __future__ import annotations
 
-import json
 import platform
-import time
-from pathlib import Path
 
 import numpy as np
 from threadpoolctl import threadpool_limits
 
 from models import chain_model
+from run_all import best
 from vibss import assemble, modes
 from vibss.model.geometry import point_transfer
 from vibss.model import GROUND
-
-OUT = Path(__file__).parent / "results" / "core.json"
-
 
 def loop_assembly(model):
     """The obvious alternative: one Python iteration per mount, blocks added into dense K."""
@@ -45,15 +40,6 @@ def loop_assembly(model):
             K[6 * i:6 * i + 6, 6 * j:6 * j + 6] -= lb.T @ kp @ la
             K[6 * j:6 * j + 6, 6 * i:6 * i + 6] -= la.T @ kp @ lb
     return K
-
-
-def best(f, repeat=3):
-    times, out = [], None
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        out = f()
-        times.append(time.perf_counter() - t0)
-    return min(times), out
 
 
 def main(n_bodies: int = 1000) -> dict:
@@ -82,12 +68,15 @@ def main(n_bodies: int = 1000) -> dict:
         print(f"modes: all {res['dofs']} by dense eigh {t_all:.1f} s; lowest 50 by dense eigh subset "
               f"{t_50d:.1f} s; by sparse shift-invert {t_50:.2f} s ({t_all / t_50:.0f}x faster than all); "
               f"max rel. frequency difference {ferr:.1e}")
-    OUT.parent.mkdir(exist_ok=True)
-    OUT.write_text(json.dumps(res, indent=2))
     return res
 
 
-if __name__ == "__main__":
-    import sys
+def bench(quick: bool) -> dict:
+    """Assembly and modes of a 1,000-body chain (300 with ``quick``)."""
+    return main(300 if quick else 1000)
 
-    main(300 if "--quick" in sys.argv else 1000)
+
+if __name__ == "__main__":
+    from run_all import main_one
+
+    main_one("core")

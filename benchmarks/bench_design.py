@@ -6,10 +6,10 @@ with exact gradients against finite-difference gradients — same run, same mach
   eigen-solve per 10,000), against ``vibss.modes(apply(model, ...))`` called in a loop on the first
   ``LOOP`` variants (time per variant extrapolated); largest frequency and KE-fraction differences
   over those variants.
-- **Optimisation** (when ``vibss.design.optimise`` is present): the powertrain's purity objective
+- **Optimization** (when ``vibss.design.optimize`` is present): the powertrain's purity objective
   over 12+ design variables by SLSQP with the exact gradients, and again with finite-difference
   gradients (scipy's 2-point differences on the same objective); wall time, evaluations, result.
-- **Study runner on Dask**: ``vibss.study`` of 10,000 variants (``modes``) in-process and on a
+- **Study runner on Dask**: ``vibss.grid_study`` of 10,000 variants (``modes``) in-process and on a
   2-worker ``LocalCluster``; the Dask overhead per variant from the same study with an analysis that
   does nothing.
 
@@ -18,7 +18,6 @@ Run: ``python benchmarks/bench_design.py [--quick]``; writes ``benchmarks/result
 
 from __future__ import annotations
 
-import argparse
 import json
 import sys
 import time
@@ -70,14 +69,14 @@ def bench_monte_carlo(n: int, loop: int) -> dict:
 
 def bench_optimise(quick: bool) -> dict | None:
     try:
-        from vibss.design.optimise import benchmark_case, optimise
+        from vibss.design.optimize import benchmark_case, optimize
     except ImportError:
         return None
     model, variables, kwargs = benchmark_case()
     res = {}
     for grad in ("exact", "finite-difference"):
         t0 = time.perf_counter()
-        r = optimise(model, variables, gradient=grad, starts=1, **kwargs)
+        r = optimize(model, variables, gradient=grad, starts=1, **kwargs)
         wall = time.perf_counter() - t0
         res[grad] = {"wall_s": wall, "evaluations": r.evaluations, "objective": r.objective,
                      "min_purity_before": float(r.before.purity.min()),
@@ -102,16 +101,16 @@ def bench_dask(n: int) -> dict | None:
     model = vibss.load_example("powertrain")
     table = {"engine.k3": np.linspace(2e5, 3e5, n)}
     t0 = time.perf_counter()
-    local = vibss.study(model, "modes", table=table)
+    local = vibss.grid_study(model, "modes", table=table)
     t_local = time.perf_counter() - t0
     out = {"variants": n, "in_process_s": t_local}
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, dashboard_address=None) as cluster, \
             distributed.Client(cluster) as client:
         t0 = time.perf_counter()
-        remote = vibss.study(model, "modes", table=table, client=client)
+        remote = vibss.grid_study(model, "modes", table=table, client=client)
         out["dask_2_workers_s"] = time.perf_counter() - t0
         t0 = time.perf_counter()
-        vibss.study(model, _nothing, table=table, client=client)
+        vibss.grid_study(model, _nothing, table=table, client=client)
         out["dask_trivial_analysis_s"] = time.perf_counter() - t0
     out["same_table"] = bool(local.equals(remote))
     out["overhead_per_variant_us"] = 1e6 * out["dask_trivial_analysis_s"] / n
@@ -124,20 +123,20 @@ def bench_dask(n: int) -> dict | None:
 
 def figures() -> None:
     """The figures of docs/analyses/design.md."""
-    from vibss.design.optimise import benchmark_case, optimise
+    from vibss.design.optimize import benchmark_case, optimize
     from vibss.design import certificate, sensitivity
 
     folder = Path(__file__).parents[1] / "docs" / "figures"
     pt = vibss.load_example("powertrain")
     win = (5.0, 26.7 / np.sqrt(2))
-    from vibss.plotting.design import plot_design_axes
+    from vibss.design import plot_design_axes
 
     plot_design_axes(pt).savefig(folder / "design_axes.png", dpi=100)
     certificate(pt, purity=0.9, windows=win, frame="tra").plot().savefig(folder / "design_certificate.png", dpi=110)
     sens = sensitivity(pt, ["engine.k3", "gearbox.k3", "torque-strut.k1", "engine.z", "engine.rx"], frame="tra")
     sens.plot(quantity="purity").savefig(folder / "design_sensitivity.png", dpi=110)
     model, variables, options = benchmark_case()
-    opt = optimise(model, variables, **options)
+    opt = optimize(model, variables, **options)
     opt.plot().savefig(folder / "design_optimisation.png", dpi=110)
     tol = {f"{m.name}.k{j}": 0.15 for m in opt.model.mounts for j in (1, 2, 3)}
     mc = monte_carlo(opt.model, tol, n=20_000, sampling="lhs", purity=0.9, windows=win, frame="tra")
@@ -145,23 +144,22 @@ def figures() -> None:
     mc.plot(kind="tornado").savefig(folder / "design_tornado.png", dpi=100)
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--quick", action="store_true")
-    args = ap.parse_args()
-    n, loop = (5_000, 50) if args.quick else (100_000, 500)
-    if not args.quick:                  # the figures of docs/analyses/design.md: the full run only
+def bench(quick: bool) -> dict:
+    """Monte Carlo, optimization and the Dask grid study (small sizes with ``quick``)."""
+    n, loop = (5_000, 50) if quick else (100_000, 500)
+    if not quick:                       # the figures of docs/analyses/design.md: the full run only
         figures()
-    out = {"machine": machine(), "quick": args.quick, "monte_carlo": bench_monte_carlo(n, loop)}
-    opt = bench_optimise(args.quick)
+    out = {"machine": machine(), "quick": quick, "monte_carlo": bench_monte_carlo(n, loop)}
+    opt = bench_optimise(quick)
     if opt is not None:
         out["optimise"] = opt
-    dk = bench_dask(500 if args.quick else 10_000)
+    dk = bench_dask(500 if quick else 10_000)
     if dk is not None:
         out["dask"] = dk
-    RESULTS.mkdir(exist_ok=True)
-    (RESULTS / "design.json").write_text(json.dumps(out, indent=1, default=float))
+    return out
 
 
 if __name__ == "__main__":
-    main()
+    from run_all import main_one
+
+    main_one("design")

@@ -92,24 +92,40 @@ def modal_matrix(kind: str) -> np.ndarray:
     return seen["a"]
 
 
-print(f"load average at start: {os.getloadavg()[0]:.1f}", flush=True)
-with threadpool_limits(1):
-    for kind in (sys.argv[1:] or ["grid", "tree"]):
-        A = modal_matrix(kind)
-        res = {}
-        def tm(name, f, rep=2):
-            best = 1e9
-            for _ in range(rep):
-                t = time.process_time(); out = f(); best = min(best, time.process_time() - t)
-            res[name] = best; return out
-        lam0, _ = tm("dgeev (sl.eig, right)", lambda: sl.eig(A, check_finite=False))
-        tm("eigenvalues only (dgeev N,N)", lambda: sl.eig(A, right=False, check_finite=False))
-        for b in "NPSB":
-            lam, vr = tm(f"dgeevx balanc={b}", lambda: geevx(A, b))
-        T = {}
-        tm("split, trevc back-transformed", lambda: split(A, True, T))
-        parts = dict(T)
-        tm("split, trevc without back-transform", lambda: split(A, False))
-        print(kind, A.shape)
-        for k, v in res.items(): print(f"  {k:40s} {v:.3f} s  ({v / res['dgeev (sl.eig, right)']:.2f})")
-        print("  parts of the split:", "  ".join(f"{k} {v:.3f}" for k, v in parts.items()))
+def bench(quick: bool) -> dict:
+    """The modal matrices of the 100-body grid and tree (``quick`` changes nothing; run_all leaves
+    this benchmark out of quick runs)."""
+    out: dict = {}
+    print(f"load average at start: {os.getloadavg()[0]:.1f}", flush=True)
+    with threadpool_limits(1):
+        for kind in ("grid", "tree"):
+            A = modal_matrix(kind)
+            res = {}
+
+            def tm(name, f, rep=2):
+                best = 1e9
+                for _ in range(rep):
+                    t = time.process_time(); out_ = f(); best = min(best, time.process_time() - t)
+                res[name] = best
+                return out_
+
+            lam0, _ = tm("dgeev (sl.eig, right)", lambda: sl.eig(A, check_finite=False))
+            tm("eigenvalues only (dgeev N,N)", lambda: sl.eig(A, right=False, check_finite=False))
+            for b in "NPSB":
+                lam, vr = tm(f"dgeevx balanc={b}", lambda: geevx(A, b))
+            T = {}
+            tm("split, trevc back-transformed", lambda: split(A, True, T))
+            parts = dict(T)
+            tm("split, trevc without back-transform", lambda: split(A, False))
+            print(kind, A.shape)
+            for k, v in res.items():
+                print(f"  {k:40s} {v:.3f} s  ({v / res['dgeev (sl.eig, right)']:.2f})")
+            print("  parts of the split:", "  ".join(f"{k} {v:.3f}" for k, v in parts.items()))
+            out[kind] = {"states": A.shape[0], "seconds": res, "split_parts": parts}
+    return out
+
+
+if __name__ == "__main__":
+    from run_all import main_one
+
+    main_one("eig_variants")

@@ -12,7 +12,6 @@ Run: ``OPENBLAS_NUM_THREADS=1 python benchmarks/bench_free_motions.py [--quick]`
 
 from __future__ import annotations
 
-import sys
 import time
 
 from threadpoolctl import threadpool_limits
@@ -42,8 +41,10 @@ def refusal(model: Model) -> tuple[float, str]:
     raise AssertionError("no refusal")
 
 
-def main() -> None:
-    sizes = [200, 500] if "--quick" in sys.argv else [200, 500, 1000]
+def bench(quick: bool) -> dict:
+    """Rows of 200, 500 and 1,000 bodies (200 and 500 with ``quick``)."""
+    sizes = [200, 500] if quick else [200, 500, 1000]
+    rows = []
     print(f"{'bodies':>6}  {'DOFs':>5}  {'sparse [s]':>10}  {'dense [s]':>9}  {'ratio':>6}  same message")
     with threadpool_limits(1):
         for n in sizes:
@@ -57,7 +58,12 @@ def main() -> None:
                 st.NULL_DENSE_MAX = default
             print(f"{n:>6}  {6 * n:>5}  {t_sparse:>10.2f}  {t_dense:>9.2f}  {t_dense / t_sparse:>6.1f}  "
                   f"{m_sparse == m_dense}")
+            rows.append({"bodies": n, "dofs": 6 * n, "sparse_s": t_sparse, "dense_s": t_dense,
+                         "ratio": t_dense / t_sparse, "same_message": m_sparse == m_dense})
+    return {"rows": rows}
 
 
 if __name__ == "__main__":
-    main()
+    from run_all import main_one
+
+    main_one("free_motions")

@@ -14,7 +14,8 @@ both sides of the headline ratio; ``direct`` once); every vibss call gets a fres
 so nothing it caches (sparse forms, factorisations, the band structure) carries over between calls.
 ``auto_method`` is what ``frequency_response(method="auto")`` would pick, and why. Error: max over frequencies of
 ||H - H_ref||_F / ||H_ref||_F against ``direct``. Results are printed and
-written to ``benchmarks/results/frf.json``. Run: ``python benchmarks/bench_frf.py [n_bodies] [--quick]`` (quick: 40 bodies, 200 frequencies).
+written to ``benchmarks/results/frf.json``. Run: ``python benchmarks/bench_frf.py [--quick]`` (quick: 40 bodies, 200 frequencies; other
+sizes: ``run(n_bodies, n_freq)``).
 """
 
 from __future__ import annotations
@@ -51,6 +52,11 @@ def _stock(plant, omega):
 def _err(h, ref):
     num = np.linalg.norm(h - ref, axis=(0, 1))
     return float(np.max(num / np.linalg.norm(ref, axis=(0, 1))))
+
+
+def bench(quick: bool) -> dict:
+    """100 bodies and 1,000 frequencies (40 and 200 with ``quick``)."""
+    return run(40 if quick else 100, n_freq=200 if quick else 1000)
 
 
 def run(n_bodies: int = 100, n_freq: int = 1000) -> dict:
@@ -97,11 +103,6 @@ def run(n_bodies: int = 100, n_freq: int = 1000) -> dict:
 
 
 if __name__ == "__main__":
-    quick = "--quick" in sys.argv                  # make bench-quick: 40 bodies, 200 frequencies
-    args = [a for a in sys.argv[1:] if a != "--quick"]
-    nb = int(args[0]) if args else (40 if quick else 100)
-    result = run(nb, n_freq=200 if quick else 1000)
-    path = Path(__file__).resolve().parent / "results" / "frf.json"
-    path.parent.mkdir(exist_ok=True)
-    path.write_text(json.dumps(result, indent=2))
-    print(f"wrote {path}")
+    from run_all import main_one
+
+    main_one("frf")

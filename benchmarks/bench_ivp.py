@@ -22,7 +22,7 @@ from benchmarks.models import chain_model  # noqa: E402
 import vibss  # noqa: E402
 
 
-def main() -> dict:
+def bench(quick: bool) -> dict:
     with threadpool_limits(1):
         m = chain_model(100, zeta=0.01)
         u = {"b0.fz": lambda t: np.sin(30 * t)}
@@ -49,4 +49,6 @@ def main() -> dict:
 
 
 if __name__ == "__main__":
-    main()
+    from run_all import main_one
+
+    main_one("ivp")

@@ -25,7 +25,6 @@ Run: ``python benchmarks/bench_large.py [--quick | --huge]`` (quick: 2,000 bodie
 
 from __future__ import annotations
 
-import argparse
 import resource
 import sys
 import time
@@ -52,7 +51,7 @@ def peak_gb() -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1e6
 
 
-def main(quick: bool = False) -> dict:
+def bench(quick: bool) -> dict:
     n_bodies = 2000 if quick else 10000
     out: dict = {}
     with threadpool_limits(1):
@@ -158,8 +157,9 @@ def huge(n_bodies: int = 100_000) -> dict:
 
 
 if __name__ == "__main__":
-    parser = argparse.ArgumentParser()
-    parser.add_argument("--quick", action="store_true")
-    parser.add_argument("--huge", action="store_true", help="100,000 bodies: assembly and 20 modes only")
-    args = parser.parse_args()
-    huge() if args.huge else main(args.quick)
+    from run_all import main_one
+
+    if "--huge" in sys.argv:            # 100,000 bodies: assembly and 20 modes only, by hand
+        huge()
+    else:
+        main_one("large")

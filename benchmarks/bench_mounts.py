@@ -26,18 +26,17 @@ over):
   same state space on smaller chains (5 bodies every ground mount Zener; 20 bodies the engine
   variant).
 
-The FRF part runs ``--rounds`` rounds (default 3) of every timing and reports each time's best
+The FRF part runs ``rounds`` rounds (default 3) of every timing and reports each time's best
 sample in the run (the least disturbed by the other jobs) as a table beside the zgbsv floor, with
 every round's own ratios and load listed (the shared VM's load moves the ratios by tens of percent).
 
-Run: ``python benchmarks/bench_mounts.py [--quick] [--time | --frf] [--rounds N]`` (``--time``: the time
-response only, the FRF kept from the last run; ``--frf`` the other way round); results in
+Run: ``python benchmarks/bench_mounts.py [--quick]`` (one part alone: ``run(..., frf=False)`` or
+``run(..., time_part=False)``); results in
 ``benchmarks/results/mounts.json``, the printed tables in ``benchmarks/results/mounts.txt``.
 """
 
 from __future__ import annotations
 
-import argparse
 import json
 import os
 import sys
@@ -206,6 +205,23 @@ def _frf(out: dict, p0, p1, p2, f: np.ndarray, s: np.ndarray, n_freq: int, round
               flush=True)
 
 
+def bench(quick: bool) -> dict:
+    """100 bodies, 1,000 frequencies, 2,000 steps (20, 200 and 1,000 with ``quick``), and the time
+    response's error against solve_ivp."""
+    n_bodies, n_freq, steps = (20, 200, 1000) if quick else (100, 1000, 2000)
+    result = run(n_bodies, n_freq, steps)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        steps_ivp = 400 if quick else 2000         # solve_ivp (Radau, rtol 1e-10) is the slow side
+        err, how = time_accuracy(steps=steps_ivp)
+        err2, how2 = time_accuracy(20, steps=steps_ivp, engine=True)  # 20 bodies: auto takes the structured path
+    result["time"]["error_vs_solve_ivp_5_bodies"] = err
+    result["time"]["engine_error_vs_solve_ivp_20_bodies"] = err2
+    print(f"time response of a 5-body Zener chain vs solve_ivp of its state space: {err:.1e} ({how}); "
+          f"a 20-body chain with only its two middle bodies' ground mounts Zener: {err2:.1e} ({how2})")
+    return result
+
+
 def run(n_bodies: int, n_freq: int, steps: int, frf: bool = True, rounds: int = 3, time_part: bool = True) -> dict:
     base = chain_model(n_bodies, damping="classical", zeta=1e-3)
     step = max(1, n_bodies // 6)
@@ -298,31 +314,6 @@ def time_accuracy(n_bodies: int = 5, steps: int = 2000, engine: bool = False) ->
 
 
 if __name__ == "__main__":
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--quick", action="store_true")
-    ap.add_argument("--time", action="store_true", help="the time response only (the FRF kept from the last run)")
-    ap.add_argument("--frf", action="store_true", help="the FRF only (the time response kept from the last run)")
-    ap.add_argument("--rounds", type=int, default=3, help="FRF rounds; the best same-run ratio is reported")
-    args = ap.parse_args()
-    n_bodies, n_freq, steps = (20, 200, 1000) if args.quick else (100, 1000, 2000)
-    path = Path(__file__).resolve().parent / "results" / "mounts.json"
-    result = run(n_bodies, n_freq, steps, frf=not args.time, rounds=args.rounds, time_part=not args.frf)
-    last = json.loads(path.read_text()) if path.exists() else {}
-    if args.time and last:
-        result = {**last, "time": result["time"], "machine": result["machine"]}
-    if args.frf and last:
-        result = {**last, "frf": result["frf"], "machine": result["machine"]}
-        print("time response: kept from the last run in mounts.json (benchmarks/bench_mounts.py --time)")
-    if not args.frf:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            steps_ivp = 400 if args.quick else 2000         # solve_ivp (Radau, rtol 1e-10) is the slow side
-            err, how = time_accuracy(steps=steps_ivp)
-            err2, how2 = time_accuracy(20, steps=steps_ivp, engine=True)  # 20 bodies: auto takes the structured path
-        result["time"]["error_vs_solve_ivp_5_bodies"] = err
-        result["time"]["engine_error_vs_solve_ivp_20_bodies"] = err2
-        print(f"time response of a 5-body Zener chain vs solve_ivp of its state space: {err:.1e} ({how}); "
-              f"a 20-body chain with only its two middle bodies' ground mounts Zener: {err2:.1e} ({how2})")
-    path.parent.mkdir(exist_ok=True)
-    path.write_text(json.dumps(result, indent=2))
-    print(f"wrote {path}")
+    from run_all import main_one
+
+    main_one("mounts")

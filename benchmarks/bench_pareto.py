@@ -29,8 +29,6 @@ Run: ``python benchmarks/bench_pareto.py [--quick]`` (``make bench`` runs all).
 
 from __future__ import annotations
 
-import argparse
-import json
 import sys
 from dataclasses import replace
 from pathlib import Path
@@ -61,7 +59,6 @@ from vibss.time.api import simulate  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 FIG = ROOT / "docs" / "figures"
-OUT = Path(__file__).parent / "results" / "pareto.json"
 IVP = ("RK45", "DOP853", "Radau", "BDF", "LSODA")
 
 
@@ -443,26 +440,16 @@ def scaling(quick: bool) -> dict[str, Any]:
             "direct_limit_bodies": DIRECT_LIMIT_BODIES}
 
 
-def main(quick: bool = False, parts: tuple[str, ...] = ("time", "frf", "eigen", "scaling")) -> dict[str, Any]:
+def bench(quick: bool) -> dict[str, Any]:
+    """The time, FRF, eigen and scaling studies (small sizes with ``quick``)."""
     FIG.mkdir(parents=True, exist_ok=True)
     res: dict[str, Any] = {"machine": machine(), "quick": quick}
-    everything = ("time", "frf", "eigen", "scaling")
-    if set(parts) != set(everything) and OUT.exists():
-        # a partial run updates its parts of the previous results (same size only)
-        old = json.loads(OUT.read_text())
-        if old.get("quick") == quick:
-            res = {**old, **res}
     for name, fn in (("time", time_pareto), ("frf", frf_pareto), ("eigen", eigen_bench), ("scaling", scaling)):
-        if name in parts:
-            res[name] = fn(quick)
-    OUT.parent.mkdir(exist_ok=True)
-    OUT.write_text(json.dumps(res, indent=1, default=float))
+        res[name] = fn(quick)
     return res
 
 
 if __name__ == "__main__":
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="small sizes (a minute)")
-    ap.add_argument("--only", nargs="*", default=["time", "frf", "eigen", "scaling"])
-    args = ap.parse_args()
-    main(args.quick, tuple(args.only))
+    from run_all import main_one
+
+    main_one("pareto")

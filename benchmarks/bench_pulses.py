@@ -44,7 +44,7 @@ def reference(pulse, ts: np.ndarray) -> np.ndarray:
     return out
 
 
-def main() -> dict:
+def bench(quick: bool) -> dict:
     res: dict = {}
     with threadpool_limits(1):
         for pulse in (HalfSine(30 * 9.80665, duration=0.011), Haversine(30 * 9.80665, duration=0.011)):
@@ -82,4 +82,6 @@ def main() -> dict:
 
 
 if __name__ == "__main__":
-    main()
+    from run_all import main_one
+
+    main_one("pulses")

@@ -28,9 +28,6 @@ from vibss.linear.statespace import statespace  # noqa: E402
 from vibss.random import PSD, random_response  # noqa: E402
 
 SPEC = PSD([5.0, 20.0, 500.0, 2000.0], [0.01, 0.04, 0.04, 0.01])
-QUICK = "--quick" in sys.argv
-N_BODIES = 20 if QUICK else 100
-OUTPUTS = [f"b{i}.z.acc" for i in ((0, 4, 8, 12, 16, 19) if QUICK else (0, 20, 40, 60, 80, 99))]
 
 
 def stock(plant, n: int) -> tuple[np.ndarray, float]:
@@ -43,10 +40,14 @@ def stock(plant, n: int) -> tuple[np.ndarray, float]:
     return np.sqrt(ms), time.perf_counter() - t
 
 
-def main() -> None:
+def bench(quick: bool) -> dict:
+    """The chain of the module docstring (20 bodies and grids up to 16,000 points with ``quick``)."""
+    n_bodies = 20 if quick else 100
+    outputs = [f"b{i}.z.acc" for i in ((0, 4, 8, 12, 16, 19) if quick else (0, 20, 40, 60, 80, 99))]
+    res: dict = {"dofs": 6 * n_bodies, "outputs": len(outputs), "stock": []}
     with threadpool_limits(1):
-        model = chain_model(N_BODIES, zeta=0.01)
-        plant = build_plant(model, ["ground.z.acc"], OUTPUTS)
+        model = chain_model(n_bodies, zeta=0.01)
+        plant = build_plant(model, ["ground.z.acc"], outputs)
         ref = random_response(plant, {"ground.z.acc": SPEC}, rtol=1e-8).rms
         best = np.inf
         for _ in range(2):
@@ -54,12 +55,14 @@ def main() -> None:
             r = random_response(plant, {"ground.z.acc": SPEC}, rtol=1e-6)
             best = min(best, time.perf_counter() - t)
         err = np.max(np.abs(r.rms - ref) / ref)
-        print(f"{6 * N_BODIES} DOF, {len(OUTPUTS)} outputs, PSD {SPEC.band[0]:g}-{SPEC.band[1]:g} Hz, zeta 0.01")
+        res.update(vibss_s=best, vibss_frequencies=int(r.frequency_hz.size), vibss_max_rel_rms_error=float(err))
+        print(f"{6 * n_bodies} DOF, {len(outputs)} outputs, PSD {SPEC.band[0]:g}-{SPEC.band[1]:g} Hz, zeta 0.01")
         print(f"vibss.random_response rtol 1e-6: {best:7.3f} s, {r.frequency_hz.size} frequencies, max rel. RMS error {err:.1e}")
         chosen = None
-        for n in (2000, 4000, 8000, 16000) + (() if QUICK else (32000, 64000)):
+        for n in (2000, 4000, 8000, 16000) + (() if quick else (32000, 64000)):
             rms, ts = stock(plant, n)
             e = np.max(np.abs(rms - ref) / ref)
+            res["stock"].append({"points": n, "s": ts, "max_rel_rms_error": float(e)})
             print(f"stock control.frequency_response + trapezoid, {n:6d} log-spaced: {ts:7.3f} s, max rel. RMS error {e:.1e}")
             if chosen is None and e <= err:
                 chosen = (n, ts, e)
@@ -69,7 +72,11 @@ def main() -> None:
         n, ts, e = chosen or last
         tag = "at least as accurate" if chosen else "still less accurate"
         print(f"ratio: stock {n} points ({tag}) / vibss = {ts / best:.1f}x")
+        res.update(stock_points=n, stock_at_least_as_accurate=chosen is not None, ratio_stock_over_vibss=ts / best)
+    return res
 
 
 if __name__ == "__main__":
-    main()
+    from run_all import main_one
+
+    main_one("random")

@@ -7,7 +7,7 @@ reduce(model, scope, "krylov") (its own sparse assembly included) + the same ana
 plant, single thread. The errors are relative per output (vibss.reduction.relative_error).
 Writes benchmarks/results/reduction.json.
 
-Run: ``OPENBLAS_NUM_THREADS=1 .venv/bin/python benchmarks/bench_reduction.py [n_bodies] [--quick]``
+Run: ``.venv/bin/python benchmarks/bench_reduction.py [--quick]`` (other sizes: ``main(n_bodies)``)
 (``--quick``: a 100-body chain, 60 frequencies). Deterministic: the model is seeded and every
 sparse eigen-solve starts from a seeded vector (ARPACK's default start is random), so two runs give
 the same basis sizes (:func:`quick_basis_sizes`, checked by ``tests/test_benchmarks.py``); only the
@@ -40,7 +40,6 @@ from vibss.linear.plant.build import build_plant  # noqa: E402
 from vibss.time.api import simulate  # noqa: E402
 from vibss.model.timefunctions import HalfSine  # noqa: E402
 
-OUT = Path(__file__).resolve().parent / "results" / "reduction.json"
 
 
 def lowest_w2(a, k: int, seed: int = 0) -> np.ndarray:
@@ -139,6 +138,15 @@ def main(n_bodies: int = 1000, n_modes_band: int = 36, tol: float = 1e-6, nf: in
     return out
 
 
+def bench(quick: bool) -> dict:
+    """A 1,000-body chain, 36 modes in band, 200 frequencies (100 bodies, 12 modes, 60 with ``quick``)."""
+    res = main(100, n_modes_band=12, nf=60) if quick else main(1000)
+    res["quick"] = quick
+    print(res["report"])
+    print(res["report_time"])
+    return res
+
+
 def quick_basis_sizes(n_bodies: int = 100, n_modes_band: int = 12, tol: float = 1e-6) -> tuple[int, int]:
     """The reduced sizes (FRF scope, time scope) of the quick run's Krylov reductions, untimed: two
     calls must return the same pair (the benchmark is deterministic)."""
@@ -156,13 +164,6 @@ def quick_basis_sizes(n_bodies: int = 100, n_modes_band: int = 12, tol: float = 
 
 
 if __name__ == "__main__":
-    quick = "--quick" in sys.argv[1:]
-    numbers = [a for a in sys.argv[1:] if not a.startswith("--")]
-    n = int(numbers[0]) if numbers else (100 if quick else 1000)
-    res = main(n, n_modes_band=12, nf=60) if quick else main(n)
-    res["quick"] = quick
-    OUT.parent.mkdir(exist_ok=True)
-    OUT.write_text(json.dumps(res, indent=2))
-    print(json.dumps({k: v for k, v in res.items() if not k.startswith("report")}, indent=2))
-    print(res["report"])
-    print(res["report_time"])
+    from run_all import main_one
+
+    main_one("reduction")

@@ -33,11 +33,11 @@ sys.path.insert(0, str(ROOT / "tests"))
 
 import mp_reference as ref  # noqa: E402
 import vibss  # noqa: E402
+from run_all import best  # noqa: E402
 from scaled_cases import graded_chain, hanging_chain, instrument, stiff_links  # noqa: E402
 from vibss.frequency.kernels import METHODS  # noqa: E402
 from vibss.linear.plant.build import build_plant  # noqa: E402
 
-OUT = Path(__file__).parent / "results" / "scaled.json"
 CASES: dict[str, Callable[[], vibss.Model]] = {
     "graded chain": lambda: graded_chain(damped=True),
     "hanging chain": hanging_chain,
@@ -46,15 +46,6 @@ CASES: dict[str, Callable[[], vibss.Model]] = {
     "instrument": instrument,
 }
 POLES = ("stiff links 1e10", "instrument")      # 60-digit eig of 2n x 2n: seconds for these, minutes for 96
-
-
-def best(f: Callable[[], Any], n: int = 3) -> tuple[float, Any]:
-    out, t = None, np.inf
-    for _ in range(n):
-        t0 = time.perf_counter()
-        out = f()
-        t = min(t, time.perf_counter() - t0)
-    return t, out
 
 
 def modes_row(m: vibss.Model) -> dict[str, float]:
@@ -119,7 +110,8 @@ def poles_row(m: vibss.Model) -> dict[str, float]:
     return {"vibss_err": err(np.asarray(dm.poles)), "stock_err": err(lam), "vibss_s": tv, "stock_s": ts}
 
 
-def main() -> dict[str, Any]:
+def bench(quick: bool) -> dict[str, Any]:
+    """One size (``quick`` changes nothing)."""
     res: dict[str, Any] = {}
     print(f"{'case':18s} {'path':7s} {'vibss err':>10s} {'stock err':>10s} {'vibss s':>9s} {'stock s':>9s}")
     for name, build in CASES.items():
@@ -134,10 +126,10 @@ def main() -> dict[str, Any]:
                 continue
             print(f"{name:18s} {path:7s} {r['vibss_err']:10.1e} {r['stock_err']:10.1e} "
                   f"{r['vibss_s']:9.2e} {r['stock_s']:9.2e}" + ("" if r.get("bound_holds", True) else "  BOUND FAILS"))
-    OUT.parent.mkdir(exist_ok=True)
-    OUT.write_text(json.dumps(res, indent=1))
     return res
 
 
 if __name__ == "__main__":
-    main()
+    from run_all import main_one
+
+    main_one("scaled")

@@ -16,7 +16,6 @@ Run: ``python benchmarks/bench_small.py [--quick]``.
 
 from __future__ import annotations
 
-import argparse
 import sys
 import time
 from pathlib import Path
@@ -116,7 +115,7 @@ def _verdict(ratio: float, target: float, higher_is_better: bool) -> str:
     return "target met" if ok else "TARGET NOT MET"
 
 
-def main(quick: bool = False) -> dict:
+def bench(quick: bool) -> dict:
     repeat = 40 if quick else 200
     out: dict[str, Any] = {}
     f = np.linspace(1.0, 100.0, 200)
@@ -187,6 +186,6 @@ def main(quick: bool = False) -> dict:
 
 
 if __name__ == "__main__":
-    parser = argparse.ArgumentParser()
-    parser.add_argument("--quick", action="store_true")
-    main(parser.parse_args().quick)
+    from run_all import main_one
+
+    main_one("small")

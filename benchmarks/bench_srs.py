@@ -22,7 +22,7 @@ import vibss  # noqa: E402
 from vibss.shock.srs import _coefficients  # noqa: E402
 
 
-def main() -> dict:
+def bench(quick: bool) -> dict:
     rng = np.random.default_rng(0)
     dt, n = 1e-5, 1_000_000
     t = np.arange(n) * dt
@@ -57,4 +57,6 @@ def main() -> dict:
 
 
 if __name__ == "__main__":
-    main()
+    from run_all import main_one
+
+    main_one("srs")

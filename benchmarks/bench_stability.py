@@ -23,8 +23,6 @@ Run: ``python benchmarks/bench_stability.py [--quick]``.
 
 from __future__ import annotations
 
-import argparse
-import json
 import re
 import sys
 from fractions import Fraction
@@ -54,7 +52,6 @@ from vibss.time.api import simulate  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 FIG = ROOT / "docs" / "figures"
-OUT = Path(__file__).parent / "results" / "stability.json"
 
 
 def _save(fig: Any, name: str) -> None:
@@ -450,19 +447,17 @@ def statics_case(quick: bool) -> dict[str, Any]:
     return {"rows": rows}
 
 
-def main(quick: bool = False) -> dict[str, Any]:
+def bench(quick: bool) -> dict[str, Any]:
     FIG.mkdir(parents=True, exist_ok=True)
     res: dict[str, Any] = {"machine": machine(), "quick": quick}
     for name, fn in (("central_difference", central_difference_case), ("stiff_rk", stiff_case),
                      ("short_pulse", short_pulse_case), ("lever_arm", lever_case), ("units", units_case),
                      ("damping", damping_case), ("statics", statics_case)):
         res[name] = fn(quick)
-    OUT.parent.mkdir(exist_ok=True)
-    OUT.write_text(json.dumps(res, indent=1, default=float))
     return res
 
 
 if __name__ == "__main__":
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true")
-    main(ap.parse_args().quick)
+    from run_all import main_one
+
+    main_one("stability")

@@ -31,14 +31,20 @@ def best(cmd: list[str]) -> float:
     return min(times)
 
 
-def main() -> None:
+def bench(quick: bool) -> dict:
+    """Each command's best of RUNS cold starts (``quick`` changes nothing)."""
+    res: dict = {}
     base = None
     print(f"{'command':<52} {'best of 7 [s]':>14} {'/ import numpy':>15}")
     for label, cmd in CASES:
         t = best(cmd)
         base = base or t
         print(f"{label:<52} {t:14.3f} {t / base:15.1f}")
+        res[label] = {"best_s": t, "over_import_numpy": t / base}
+    return res
 
 
 if __name__ == "__main__":
-    main()
+    from run_all import main_one
+
+    main_one("startup")

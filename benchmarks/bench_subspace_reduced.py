@@ -31,7 +31,9 @@ from vibss.linear.plant.build import build_plant  # noqa: E402
 from vibss.linear.solve.exact import response  # noqa: E402
 
 
-def main() -> None:
+def bench(quick: bool) -> dict:
+    """One size (``quick`` changes nothing; run_all leaves this benchmark out of quick runs)."""
+    res: dict = {"load_1min_at_start": os.getloadavg()[0]}
     f = np.linspace(1.0, 50.0, 200)
     base = grid_model(200, damping="general", seed=5)
     lossy = Model(base.bodies, [replace(m, type=replace(m.type, loss_factor=0.05)) for m in base.mounts])
@@ -52,6 +54,7 @@ def main() -> None:
         exact = response(plant, s, backend="sparse")
         t_exact = time.process_time() - t
         print(f"exact sparse solve of the {plant.n}-DOF plant at {f.size} frequencies: {t_exact:.2f} s", flush=True)
+        res.update(dofs=int(plant.n), frequencies=int(f.size), exact_sparse_s=t_exact)
         for name, backend in (("SuperLU (before)", "sparse"), ("auto: dense LU", "auto")):
             spent["reduced"] = 0.0
             sub.reduced_response = lambda red, s, b=backend: timed_reduced(red, s, b)
@@ -62,10 +65,15 @@ def main() -> None:
             finally:
                 sub.reduced_response = original
             err = float((np.abs(h - exact) / np.abs(exact).max(axis=2, keepdims=True)).max())
+            res[name] = {"subspace_s": total, "reduced_solves_s": spent["reduced"], "max_rel_error": err}
             print(f"subspace, reduced plants by {name:17s} {total:6.2f} s (reduced solves {spent['reduced']:6.2f} s), "
                   f"error {err:.1e}; {note.split(' (')[0]}", flush=True)
     print(f"load average at end: {os.getloadavg()[0]:.1f}", flush=True)
+    res["load_1min_at_end"] = os.getloadavg()[0]
+    return res
 
 
 if __name__ == "__main__":
-    main()
+    from run_all import main_one
+
+    main_one("subspace_reduced")

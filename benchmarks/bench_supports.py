@@ -19,7 +19,6 @@ Run: ``python benchmarks/bench_supports.py [--quick]``; results in ``benchmarks/
 
 from __future__ import annotations
 
-import argparse
 import json
 import sys
 from dataclasses import replace
@@ -49,6 +48,12 @@ def on_supports(model: Model, groups: int) -> Model:
 
 def _err(h: np.ndarray, ref: np.ndarray) -> float:
     return float(np.max(np.linalg.norm(h - ref, axis=0) / np.linalg.norm(ref, axis=0)))
+
+
+def bench(quick: bool) -> dict:
+    """100 bodies, 1,000 frequencies, 2,000 steps (20, 200 and 1,000 with ``quick``)."""
+    n_bodies, n_freq, steps = (20, 200, 1000) if quick else (100, 1000, 2000)
+    return run(n_bodies, n_freq, steps)
 
 
 def run(n_bodies: int, n_freq: int, steps: int) -> dict:
@@ -110,12 +115,6 @@ def run(n_bodies: int, n_freq: int, steps: int) -> dict:
 
 
 if __name__ == "__main__":
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--quick", action="store_true")
-    args = ap.parse_args()
-    n_bodies, n_freq, steps = (20, 200, 1000) if args.quick else (100, 1000, 2000)
-    result = run(n_bodies, n_freq, steps)
-    path = Path(__file__).resolve().parent / "results" / "supports.json"
-    path.parent.mkdir(exist_ok=True)
-    path.write_text(json.dumps(result, indent=2))
-    print(f"wrote {path}")
+    from run_all import main_one
+
+    main_one("supports")

@@ -21,7 +21,6 @@ Run: ``OPENBLAS_NUM_THREADS=1 .venv/bin/python benchmarks/bench_time.py [--quick
 
 from __future__ import annotations
 
-import argparse
 import json
 import platform
 import sys
@@ -112,39 +111,37 @@ def case(kind: str, n_bodies: int, damping: str, run_reference: bool, repeat: in
     return out
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--quick", action="store_true", help="50 bodies (300 DOF), no 6000-DOF run, no floors, one repeat")
-    parser.add_argument("--topology", choices=TOPOLOGIES, action="append",
-                        help="run only these topologies (repeatable)")
-    parser.add_argument("--damping", choices=("classical", "general"), action="append")
-    parser.add_argument("--repeat", type=int, default=3, help="best of this many cold runs (modal)")
-    parser.add_argument("--skip-large", action="store_true", help="skip the 6000-DOF run")
-    args = parser.parse_args()
-    repeat = 1 if args.quick else args.repeat
+def bench(quick: bool) -> dict:
+    """Every topology and damping at 100 bodies, best of 3, and a 6000-DOF chain (``quick``: 50
+    bodies (300 DOF), no 6000-DOF run, no floors, one repeat)."""
+    return run(quick)
+
+
+def run(quick: bool = False, topologies: tuple[str, ...] = TOPOLOGIES,
+        dampings: tuple[str, ...] = ("classical", "general"), repeat: int = 3, skip_large: bool = False) -> dict:
+    """:func:`bench` with a choice of topologies and dampings, repeats, and the 6000-DOF run."""
+    repeat = 1 if quick else repeat
     results = {"python": platform.python_version(), "machine": platform.processor() or platform.machine(),
                "cases": []}
     print(f"{'topology':8s} {'damping':9s} {'DOF':>5s} {'forced_response':>16s} {'modal':>8s} "
           f"{'ratio':>7s} {'max rel. diff':>14s} {'eig':>7s} {'recursion':>9s} {'floor ratio':>11s}")
-    for kind in args.topology or TOPOLOGIES:
-        for damping in args.damping or ("classical", "general"):
-            r = case(kind, 50 if args.quick else 100, damping, run_reference=True, repeat=repeat, floors=not args.quick)
+    for kind in topologies:
+        for damping in dampings:
+            r = case(kind, 50 if quick else 100, damping, run_reference=True, repeat=repeat, floors=not quick)
             floor = (f"{r['eig_s']:5.3f} s {r['recursion_s']:7.3f} s {r['floor_speedup']:10.1f}x"
                      if "floor_s" in r else "(floors not timed with --quick)")
             results["cases"].append(r)
             print(f"{kind:8s} {damping:9s} {r['dof']:5d} {r['forced_response_s']:14.2f} s "
                   f"{r['modal_s']:6.3f} s {r['speedup']:6.1f}x {r['max_rel_diff']:14.1e} "
                   f"{floor}", flush=True)
-    if not (args.quick or args.skip_large or args.topology):
+    if not (quick or skip_large or tuple(topologies) != tuple(TOPOLOGIES)):
         r = case("chain", 1000, "classical", run_reference=False, repeat=1, floors=False)
         results["cases"].append(r)
         print(f"6000-DOF chain, classical: modal {r['modal_s']:.2f} s (build_plant {r['build_plant_s']:.2f} s)")
-    path = Path(__file__).resolve().parent / "results" / "time.json"
-    path.parent.mkdir(exist_ok=True)
-    if not args.topology and not args.damping:
-        path.write_text(json.dumps(results, indent=2) + "\n")
-        print(f"written {path}")
+    return results
 
 
 if __name__ == "__main__":
-    main()
+    from run_all import main_one
+
+    main_one("time")

@@ -30,7 +30,6 @@ Run: ``OPENBLAS_NUM_THREADS=1 .venv/bin/python benchmarks/bench_time_expm.py [--
 
 from __future__ import annotations
 
-import argparse
 import json
 import os
 import sys
@@ -156,15 +155,16 @@ def case(name: str, model, m: int, repeat: int) -> dict:
     return out
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--quick", action="store_true", help="the grid only")
-    parser.add_argument("--block", type=int, default=64, help="steps per block (a power of 2)")
-    parser.add_argument("--repeat", type=int, default=3, help="best of this many cold runs of each route")
-    args = parser.parse_args()
+def bench(quick: bool) -> dict:
+    """The four 100-body cases (``quick``: the grid only), 64 steps per block, best of 3."""
+    return run(quick)
+
+
+def run(quick: bool = False, block: int = 64, repeat: int = 3) -> dict:
+    """:func:`bench` with the steps per block (a power of 2) and the repeats of each route."""
     cases = [(k, topology_model(k, 100, damping="general")) for k in ("chain", "grid", "tree")]
     cases.append(("chain, badly scaled", chain_model(100, "general", scale="bad")))
-    if args.quick:
+    if quick:
         cases = cases[1:2]
     load = os.getloadavg()[0]
     results = {"load_1min_at_start": load, "cases": []}
@@ -172,7 +172,7 @@ def main() -> None:
     print(f"{'case':20s} {'forced_resp.':>12s} {'expm':>7s} {'blocked':>8s} {'eig':>7s} {'modal':>7s} "
           f"{'fr/blk':>7s} {'fr/modal':>8s} {'err blk-fr':>10s} {'blk-modal':>10s} {'modal-fr':>9s}")
     for name, model in cases:
-        r = case(name, model, args.block, args.repeat)
+        r = case(name, model, block, repeat)
         results["cases"].append(r)
         fr = r["forced_response_s"]
         print(f"{name:20s} {fr:10.2f} s {r['expm_s']:5.2f} s {r['blocked_s']:6.2f} s {r['eig_s']:5.2f} s "
@@ -181,11 +181,10 @@ def main() -> None:
               f"   (|A dt|_1 {r['norm1_A_dt']:.1e}; powers {r['powers_s']:.2f} s, boundary "
               f"{r['boundary_s']:.2f} s, outputs {r['outputs_s']:.2f} s)", flush=True)
     results["load_1min_at_end"] = os.getloadavg()[0]
-    if not args.quick:
-        path = Path(__file__).resolve().parent / "results" / "time_expm.json"
-        path.write_text(json.dumps(results, indent=2) + "\n")
-        print(f"written {path}")
+    return results
 
 
 if __name__ == "__main__":
-    main()
+    from run_all import main_one
+
+    main_one("time_expm")

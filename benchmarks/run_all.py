@@ -1,15 +1,22 @@
-"""Run every benchmark, then write the figures and the generated tables of docs/performance.md.
+"""The benchmark harness: run every benchmark, then write the figures and the generated tables of
+docs/performance.md.
 
-``make bench`` runs this. Each ``benchmarks/bench_*.py`` runs in its own process with one BLAS
-thread (``OPENBLAS_NUM_THREADS=1`` etc. set here, and ``threadpoolctl`` inside the timed calls),
-its output saved to ``benchmarks/results/<name>.txt``; a failing benchmark is reported and the
-others still run. Figures go to ``docs/figures/`` (written by the benchmarks), and the section
+``make bench`` runs this. The harness owns what every benchmark shares (airspeed velocity's
+shape): each ``benchmarks/bench_<name>.py`` defines ``bench(quick: bool) -> dict`` (its figures:
+ratios, errors, timings of the calls it compares) and nothing else; this module runs it in its own
+process (``run_all.py --one NAME``) with one BLAS thread (``OPENBLAS_NUM_THREADS=1`` etc. set in
+the environment here, and ``threadpoolctl.threadpool_limits(1)`` around the call), times it, writes
+its dict to ``benchmarks/results/<name>.json`` and prints its table, the process' output saved to
+``benchmarks/results/<name>.txt``; a failing benchmark is reported and the others still run.
+:func:`best` is the one timing helper of the calls a benchmark compares. Figures go to ``docs/figures/`` (written by the benchmarks), and the section
 between the markers of ``docs/performance.md`` is regenerated from ``benchmarks/results/*.json``
 with the machine line on top. The hand-written text around the markers is kept.
 
-Usage: ``python benchmarks/run_all.py [--quick] [--only NAME ...] [--no-run]``
+Usage: ``python benchmarks/run_all.py [--quick] [--only NAME ...] [--no-run]``, or
+``python benchmarks/run_all.py --one NAME [--quick]`` (the same as ``python benchmarks/bench_NAME.py
+[--quick]``) for one benchmark in this process.
 
-- ``--quick``: small sizes (under 5 minutes; passed on to the benchmarks that accept it, and the
+- ``--quick``: small sizes (under 5 minutes; ``bench(quick=True)``, which one-size benchmarks ignore, and the
   one-model studies of :data:`FULL_ONLY` left out; ``make bench QUICK=1`` or ``make bench-quick``). Every run is seeded: two quick runs give the
   same counts (basis sizes, frequencies, errors to their printed digits), only timings differ;
 - ``--only``: run these benchmarks (e.g. ``pareto stability``), tabulate all results present;
@@ -19,11 +26,13 @@ Usage: ``python benchmarks/run_all.py [--quick] [--only NAME ...] [--no-run]``
 from __future__ import annotations
 
 import argparse
+import importlib
 import json
 import os
 import subprocess
 import sys
 import time
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -50,10 +59,46 @@ def benchmarks() -> list[tuple[str, Path]]:
     return [(n, found[n]) for n in names]
 
 
+def best(f: Callable[[], Any], repeat: int = 3) -> tuple[float, Any]:
+    """The shortest of ``repeat`` timed calls of ``f`` [s], and ``f``'s last result."""
+    times, out = [], None
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        out = f()
+        times.append(time.perf_counter() - t0)
+    return min(times), out
+
+
+def run_one(name: str, quick: bool) -> dict[str, Any]:
+    """Benchmark ``name`` in this process: ``bench_<name>.bench(quick)`` with one BLAS thread,
+    timed; its figures written to ``results/<name>.json`` and printed as a table."""
+    for p in (str(ROOT), str(HERE)):
+        if p not in sys.path:
+            sys.path.insert(0, p)
+    from threadpoolctl import threadpool_limits
+
+    module = importlib.import_module(f"bench_{name}")
+    with threadpool_limits(1):
+        t0 = time.perf_counter()
+        res = module.bench(quick)
+        wall = time.perf_counter() - t0
+    RESULTS.mkdir(exist_ok=True)
+    (RESULTS / f"{name}.json").write_text(json.dumps(res, indent=1, default=float) + "\n")
+    print("\n".join(generic_table(name, res)))
+    print(f"[harness] {name}{' --quick' if quick else ''}: {wall:.1f} s, 1 BLAS thread; "
+          f"wrote benchmarks/results/{name}.json", flush=True)
+    return res
+
+
+def main_one(name: str) -> None:
+    """A benchmark's ``__main__``: ``python benchmarks/bench_NAME.py [--quick]``."""
+    ap = argparse.ArgumentParser(description=f"benchmarks/bench_{name}.py through the harness")
+    ap.add_argument("--quick", action="store_true", help="small sizes")
+    run_one(name, ap.parse_args().quick)
+
+
 def run(name: str, path: Path, quick: bool, timeout: float) -> dict[str, Any]:
-    args = [sys.executable, str(path.relative_to(ROOT))]
-    if quick and "--quick" in path.read_text():
-        args.append("--quick")
+    args = [sys.executable, str((HERE / "run_all.py").relative_to(ROOT)), "--one", name] + (["--quick"] if quick else [])
     env = {**os.environ, **THREAD_ENV, "PYTHONPATH": os.pathsep.join([str(ROOT), str(HERE)])}
     t0 = time.perf_counter()
     try:
@@ -267,7 +312,11 @@ def main() -> int:
     ap.add_argument("--only", nargs="*", help="benchmarks to run (names without bench_)")
     ap.add_argument("--no-run", action="store_true", help="only regenerate the tables")
     ap.add_argument("--timeout", type=float, default=900.0, help="per benchmark [s]")
+    ap.add_argument("--one", metavar="NAME", help="run one benchmark in this process (what each process runs)")
     args = ap.parse_args()
+    if args.one:
+        run_one(args.one, args.quick)
+        return 0
     log = []
     if not args.no_run:
         for name, path in benchmarks():

@@ -214,7 +214,7 @@ tolerance."""),
 import numpy as np
 import vibss
 from vibss import design
-from vibss.plotting.design import plot_design_axes
+from vibss.design import plot_design_axes
 
 pt = vibss.load_example("powertrain")
 windows = (5.0, 26.7 / np.sqrt(2))
@@ -226,16 +226,16 @@ The TRA is the direction of J⁻¹e (e the crank axis). The static rotation unde
     ("code", """cert = design.certificate(pt, purity=0.9, windows=windows, frame="tra")
 print(cert.summary())
 cert.plot()"""),
-    ("md", """## 3. Optimisation with exact gradients
+    ("md", """## 3. Optimization with exact gradients
 
 Fifteen variables: the three rates of the engine-mount pair (kept symmetric), of the gearbox mount
 and of the torque strut (×0.5 ... ×2), the height and spread of the engine pair, the V angle, the
 gearbox mount's x and z and the strut's z (±30 mm, ±20°). SLSQP with the analytic gradients of
 the purities and frequencies."""),
-    ("code", """from vibss.design.optimise import benchmark_case
+    ("code", """from vibss.design.optimize import benchmark_case
 
 model, variables, options = benchmark_case()
-opt = design.optimise(model, variables, **options)
+opt = design.optimize(model, variables, **options)
 print(opt.comparison())
 opt.plot()"""),
     ("md", """## 4. Tolerance check: ±15 % on every rate
@@ -248,7 +248,7 @@ mc.plot()"""),
     ("md", """The optimum put the first mode on the 5 Hz edge of its window, and three modes just above
 90 %: under tolerance only about 28 % of the variants meet every target. A robust layout asks for
 margins: optimise again for 5.5 ... 18 Hz and a 93 % purity floor, then check."""),
-    ("code", """robust = design.optimise(model, variables, frame="tra", windows=(5.5, 18.0), purity=0.93)
+    ("code", """robust = design.optimize(model, variables, frame="tra", windows=(5.5, 18.0), purity=0.93)
 mc2 = design.monte_carlo(robust.model, tol, n=20_000, purity=0.9, windows=windows, frame="tra")
 print(f"P(all targets) {mc.probability['all']:.2f} -> {mc2.probability['all']:.2f}")"""),
 ]

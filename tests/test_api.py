@@ -15,21 +15,21 @@ PACKAGE = Path(vibss.__file__).parent
 
 # Layers, lowest first: a module may import only from its own layer or below.
 LAYERS = [
-    {"errors", "_validate", "results", "methods", "model.units", "model.geometry", "model.limits", "io.tomlwriter",
-     "linear.plant.memo", "linear.eigen.small"},
+    {"_version", "_deprecated", "errors", "_validate", "results", "methods", "model.units", "model.geometry", "model.limits", "io.tomlwriter",
+     "linear.plant.memo", "linear.eigen.small", "linear.plant.labels"},
     {"model", "linear.plant.plant", "linear.plant.terms", "linear.plant.branches", "linear.plant.assemble",
      "io.filetable"},
     {"io", "examples", "linear.eigen.directions", "linear.eigen.undamped", "linear.eigen.checks",
      "linear.eigen.jacobi", "linear.eigen.basis", "linear.solve.mass",
-     "linear.plant.hysteresis"},
+     "linear.plant.hysteresis", "frequency.compare", "frequency.result", "time.result"},
     {"linear.eigen.complex_modes", "linear.eigen.branch_modes", "linear.solve.banded", "linear.plant.names", "linear.plant.build",
      "linear.plant.mountform", "linear.solve.exact",
      "linear.solve.backends", "linear.solve.certified", "linear.solve.static", "linear.project.krylov", "linear.project.subspace", "statics", "time.integrators",
      "time.phi", "time.recursion", "diagnostics"},
     {"linear", "modal"},
-    {"frequency.kernels", "frequency.lowrank", "frequency.terms", "frequency.grid", "frequency.result",
+    {"frequency.kernels", "frequency.lowrank", "frequency.terms", "frequency.grid",
      "frequency.statespace_kernels",
-     "time.kernels", "time.branched", "time.result", "time.inputs", "studies"},
+     "time.kernels", "time.branched", "time.inputs", "studies"},
     {"frequency", "time", "reduction", "design", "shock", "orders", "random", "control"},
     {"plotting", "report"},
     {"commands", "cli", "__main__"},
@@ -57,26 +57,89 @@ def _modules():
             yield ".".join(parts), path
 
 
+FIGURE_METHODS = {"campbell", "tripartite"}
+"""Result methods that draw a figure under another name than ``plot*`` (a Campbell diagram, a
+tripartite SRS chart): like ``plot*``, they may hand their result to vibss.plotting."""
+
+CLIMBS: dict[tuple[str, str], str] = {}
+"""Late imports that climb the layers, each with its reason; nothing else may climb."""
+
+
+def _imports(module: str, path: Path):
+    """Every import of a vibss module in ``path``, late ones (inside functions) included: yields
+    ``(target, function or None, type_checking_only, line)``."""
+    tree = ast.parse(path.read_text())
+    package_parts = module.split(".") if path.name == "__init__.py" else module.split(".")[:-1]
+
+    def walk(node, func, typing_only):
+        for child in ast.iter_child_nodes(node):
+            targets = []
+            if isinstance(child, ast.ImportFrom) and child.level > 0:
+                base = package_parts[: len(package_parts) - (child.level - 1)]
+                target = ".".join(base + ([child.module] if child.module else []))
+                targets = [target] if target else [a.name for a in child.names]
+            elif isinstance(child, ast.ImportFrom) and (child.module or "").split(".")[0] == "vibss":
+                target = child.module.partition(".")[2]
+                targets = [target] if target else [a.name for a in child.names]
+            elif isinstance(child, ast.Import):
+                targets = [a.name.partition(".")[2] for a in child.names if a.name.split(".")[0] == "vibss"]
+            for t in targets:
+                yield t, func, typing_only, child.lineno
+            inner = child.name if isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef)) else func
+            typing = typing_only or (isinstance(child, ast.If) and "TYPE_CHECKING" in ast.unparse(child.test))
+            yield from walk(child, inner, typing)
+
+    yield from walk(tree, None, False)
+
+
 @pytest.mark.parametrize("module,path", list(_modules()), ids=lambda x: str(x))
 def test_imports_only_go_down(module, path):
     """The one-way data flow of style.md: model -> assemble -> analyses -> results -> CLI.
 
-    Module-level imports only: the style allows late imports of optional dependencies (plotting)
-    inside ``.plot()`` and ``.to_pandas()``.
+    Late imports (inside functions) are walked too. By rule a result may hand itself to a figure
+    (a ``plot*`` function or a FIGURE_METHODS method importing vibss.plotting); optional
+    dependencies are not vibss modules, so they never climb. CLIMBS lists the rest, with reasons.
     """
     mine = _layer(module)
-    tree = ast.Module(body=[n for n in ast.parse(path.read_text()).body], type_ignores=[])
-    package_parts = module.split(".") if path.name == "__init__.py" else module.split(".")[:-1]
-    for node in tree.body:
-        if isinstance(node, ast.ImportFrom) and node.level > 0:
-            base = package_parts[: len(package_parts) - (node.level - 1)]
-            target = ".".join(base + ([node.module] if node.module else []))
-            if not target:
-                targets = [a.name for a in node.names]
-            else:
-                targets = [target]
-            for t in targets:
-                assert _layer(t) <= mine, f"vibss.{module} imports vibss.{t}, a higher layer"
+    for t, func, _, line in _imports(module, path):
+        if _layer(t) <= mine:
+            continue
+        if t.split(".")[0] == "plotting" and func is not None and \
+                (func.startswith("plot") or func in FIGURE_METHODS):
+            continue
+        assert (module, t) in CLIMBS, f"vibss.{module}:{line} imports vibss.{t}, a higher layer"
+
+
+FIGURE_INPUTS = {"errors", "_validate", "_deprecated", "results", "model", "plotting"}
+"""What a figure may import: it draws computed results and never computes or reads files."""
+
+FIGURE_EXCEPTIONS = {
+    ("plotting._scene", "linear.eigen.small"):
+        "the principal axes of a body's 3x3 inertia tensor size and orient the box drawn for it: "
+        "geometry of the drawing, through the one small-eigenproblem call",
+    ("plotting.frequency", "frequency.compare"):
+        "the FRAC of two given responses for the overlay's legend: it reads arrays, solves nothing",
+    ("plotting.design", "design.axes"):
+        "the deprecated alias vibss.plotting.design.plot_design_axes (one release), which computes",
+}
+"""Imports of figures outside FIGURE_INPUTS, each with its reason."""
+
+
+@pytest.mark.parametrize("module,path", [(m, p) for m, p in _modules() if m.split(".")[0] == "plotting"],
+                         ids=lambda x: str(x))
+def test_figures_never_compute(module, path):
+    """plotting/ imports no analysis and no file code, late imports included (type-only imports
+    excepted: a figure may name the result type it draws)."""
+    for t, _, typing_only, line in _imports(module, path):
+        if typing_only or t.split(".")[0] in FIGURE_INPUTS or (module, t) in FIGURE_EXCEPTIONS:
+            continue
+        raise AssertionError(f"vibss.{module}:{line} imports vibss.{t}: figures receive computed results")
+
+
+def test_allow_lists_are_live():
+    """Every allow-list entry still names an import that exists (a fixed one is deleted)."""
+    found = {(m, t) for m, p in _modules() for t, *_ in _imports(m, p)}
+    assert not set(CLIMBS) - found and not set(FIGURE_EXCEPTIONS) - found
 
 
 def _public_callables():

@@ -66,3 +66,19 @@ def test_krylov_numerical_failure_is_a_vibss_error(monkeypatch):
     p = kr.sparse_plant(vibss.load_example("two_mass"), ["body1.fz"], ["body2.z"])
     with pytest.raises(AnalysisError, match="krylov: a linear-algebra step failed"):
         kr.krylov(p, (0.1, 100.0), 1e-6)
+
+
+def test_every_benchmark_has_the_harness_shape():
+    """Issue 28 item 7: each benchmarks/bench_*.py defines ``bench(quick: bool) -> dict`` and leaves
+    threads, JSON and tables to run_all.py (airspeed velocity's shape): no benchmark writes its own
+    results file, and each one's ``__main__`` goes through the harness."""
+    import ast
+
+    for path in sorted((ROOT / "benchmarks").glob("bench_*.py")):
+        text = path.read_text()
+        tree = ast.parse(text)
+        funcs = {n.name: n for n in tree.body if isinstance(n, ast.FunctionDef)}
+        assert "bench" in funcs, f"{path.name} defines no bench(quick)"
+        assert [a.arg for a in funcs["bench"].args.args] == ["quick"], path.name
+        assert "write_text(json" not in text and "json.dump(" not in text, f"{path.name} writes its own JSON"
+        assert f'main_one("{path.stem[len("bench_"):]}")' in text, f"{path.name}: __main__ bypasses the harness"

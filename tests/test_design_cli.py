@@ -24,7 +24,7 @@ def test_certificate_text_and_json(capsys):
 def test_optimise_writes_a_better_model_and_checks_tolerances(tmp_path, capsys):
     path = tmp_path / "opt.toml"
     assert main(["design", "--example", "powertrain", "--frame", "tra", "--window", "5", "18.9",
-                 "--optimise", "--output", str(path), "--tolerance", "0.15", "--samples", "500"]) == 0
+                 "--optimize", "--output", str(path), "--tolerance", "0.15", "--samples", "500"]) == 0
     out = capsys.readouterr().out
     assert "Optimised layout" in out and "Tolerance study" in out
     before = certificate(vibss.load_example("powertrain"), frame="tra")
@@ -40,7 +40,7 @@ def test_study_command_csv_and_json(capsys):
     assert main(["study", "--example", "powertrain", "--vary", "engine.k3=2e5,3e5", "--vary", "gearbox.z=0,0.01",
                  "--analysis", "certificate"]) == 0
     df = pd.read_csv(io.StringIO(capsys.readouterr().out), index_col="variant")
-    direct = vibss.study(vibss.load_example("powertrain"), "certificate",
+    direct = vibss.grid_study(vibss.load_example("powertrain"), "certificate",
                          grid={"engine.k3": [2e5, 3e5], "gearbox.z": [0.0, 0.01]})
     np.testing.assert_allclose(df["purity6"], direct["purity6"], rtol=1e-12)
     assert main(["study", "--example", "powertrain", "--vary", "engine.k3=2e5", "--format", "json"]) == 0

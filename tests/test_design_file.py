@@ -98,7 +98,7 @@ def test_design_command_uses_the_file(text, tmp_path, capsys):
     data = json.loads(capsys.readouterr().out)
     expected = certificate(vibss.load_model(src), purity=0.85, frame="tra", windows=(5.0, 18.9))
     np.testing.assert_allclose(data["ke_matrix"], expected.ke_matrix, atol=1e-12)
-    assert main(["design", str(src), "--optimise", "--output", str(out), "--tolerance"]) == 0
+    assert main(["design", str(src), "--optimize", "--output", str(out), "--tolerance"]) == 0
     text_out = capsys.readouterr().out
     assert "engine.k1/k3" in text_out and "gearbox.rx" in text_out and "Tolerance study" in text_out
     assert "300 variants (sobol" in text_out
@@ -136,12 +136,12 @@ def test_scheduler_address_equals_in_process():
     grid = {"engine.k3": [2e5, 3e5], "gearbox.z": [0.0, 0.01]}
     with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
                                   dashboard_address=None) as cluster:
-        remote = vibss.study(pt, grid=grid, scheduler=cluster.scheduler_address)
+        remote = vibss.grid_study(pt, grid=grid, scheduler=cluster.scheduler_address)
     import pandas as pd
 
-    pd.testing.assert_frame_equal(remote, vibss.study(pt, grid=grid))
+    pd.testing.assert_frame_equal(remote, vibss.grid_study(pt, grid=grid))
     with pytest.raises(ArgumentError, match="client= or scheduler="):
-        vibss.study(pt, grid=grid, client="local", scheduler="tcp://127.0.0.1:1")
+        vibss.grid_study(pt, grid=grid, client="local", scheduler="tcp://127.0.0.1:1")
 
 
 def test_packaged_powertrain_design_passes_after_optimisation(capsys):
@@ -154,6 +154,6 @@ def test_packaged_powertrain_design_passes_after_optimisation(capsys):
     assert len(spec.variables) == 15 and spec.frame == "tra" and spec.windows == [5.0, 18.88]
     run = run_design(pt, tolerance=False)
     assert not run.certificate.passed
-    again = vibss.loads_model(vibss.dumps_model(run.optimisation.model))
+    again = vibss.loads_model(vibss.dumps_model(run.optimization.model))
     after = certificate(again, purity=0.9, frame="tra", windows=(5.0, 18.88))
     assert after.passed and after.purity.min() >= 0.9 - 1e-9

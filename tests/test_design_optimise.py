@@ -1,4 +1,4 @@
-"""vibss.design.optimise: a layout built to have a known optimum (mounts symmetric about the TRA
+"""vibss.design.optimize: a layout built to have a known optimum (mounts symmetric about the TRA
 decouple roll completely), constraints honoured, the optimum written as a model file."""
 
 from __future__ import annotations
@@ -8,7 +8,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 import vibss
-from vibss.design import Parameter, certificate, optimise, torque_roll_axis
+from vibss.design import Parameter, certificate, optimize, torque_roll_axis
 from vibss.errors import ArgumentError
 
 Q = Rotation.from_euler("ZYX", [0.5, -0.3, 0.2]).as_matrix()
@@ -33,7 +33,7 @@ def test_symmetric_about_the_tra_gives_full_roll_decoupling():
     before = certificate(model, frame="tra", axis=Q[:, 0])
     roll = before.dominant.index("b.rx'")
     assert before.purity[roll] < 0.95
-    opt = optimise(model, {height: (-0.2, 0.2)}, modes=["rx"], frame="tra", axis=Q[:, 0])
+    opt = optimize(model, {height: (-0.2, 0.2)}, modes=["rx"], frame="tra", axis=Q[:, 0])
     assert opt.success
     assert opt.x[0] == pytest.approx(-Z0, abs=1e-5)
     assert opt.after.purity[opt.after.dominant.index("b.rx'")] == pytest.approx(1.0, abs=1e-8)
@@ -43,8 +43,8 @@ def test_symmetric_about_the_tra_gives_full_roll_decoupling():
 def test_exact_and_finite_difference_gradients_reach_the_same_optimum(method):
     model, height = tilted_layout()
     kw = dict(modes=["rx"], frame="tra", axis=Q[:, 0], method=method)
-    exact = optimise(model, {height: (-0.2, 0.2)}, gradient="exact", **kw)
-    fd = optimise(model, {height: (-0.2, 0.2)}, gradient="finite-difference", **kw)
+    exact = optimize(model, {height: (-0.2, 0.2)}, gradient="exact", **kw)
+    fd = optimize(model, {height: (-0.2, 0.2)}, gradient="finite-difference", **kw)
     assert exact.x[0] == pytest.approx(-Z0, abs=1e-4)
     assert fd.x[0] == pytest.approx(exact.x[0], abs=1e-4)
 
@@ -52,7 +52,7 @@ def test_exact_and_finite_difference_gradients_reach_the_same_optimum(method):
 def test_windows_and_purity_constraints_hold_and_the_model_file_round_trips(tmp_path):
     pt = vibss.load_example("powertrain")
     win = (5.5, 18.0)
-    opt = optimise(pt, {"torque-strut.k1": (5e4, 2e5), "gearbox.k3": (7.5e4, 3e5), "engine.xz.k3": (1.2e5, 4e5),
+    opt = optimize(pt, {"torque-strut.k1": (5e4, 2e5), "gearbox.k3": (7.5e4, 3e5), "engine.xz.k3": (1.2e5, 4e5),
                         "engine.k3": (1.2e5, 4e5), "gearbox.z": (-0.03, 0.03)},
                    windows=win, frame="tra", starts=3)
     f = opt.after.frequency_hz
@@ -70,14 +70,14 @@ def test_windows_and_purity_constraints_hold_and_the_model_file_round_trips(tmp_
 def test_bad_bounds_are_refused():
     pt = vibss.load_example("powertrain")
     with pytest.raises(ArgumentError, match="bounds"):
-        optimise(pt, {"engine.k3": (0.0, 1e5)})
+        optimize(pt, {"engine.k3": (0.0, 1e5)})
     with pytest.raises(ArgumentError, match="method"):
-        optimise(pt, {"engine.k3": (1e5, 2e5)}, method="nelder")
+        optimize(pt, {"engine.k3": (1e5, 2e5)}, method="nelder")
 
 
 def test_global_option_finds_the_known_optimum_from_the_far_corner():
     model, height = tilted_layout()
-    opt = optimise(model, {height: (-0.2, 0.2)}, modes=["rx"], frame="tra", axis=Q[:, 0], method="global",
+    opt = optimize(model, {height: (-0.2, 0.2)}, modes=["rx"], frame="tra", axis=Q[:, 0], method="global",
                    maxiter=20)
     assert opt.method.startswith("differential evolution")
     assert opt.x[0] == pytest.approx(-Z0, abs=1e-5)
@@ -89,13 +89,13 @@ def test_catalogue_rates_are_catalogue_values_and_the_rest_is_reoptimised():
     pt = vibss.load_example("powertrain")
     var = {"torque-strut.k1": (5e4, 2e5), "gearbox.k3": (7.5e4, 3e5), "gearbox.z": (-0.03, 0.03)}
     cat = {"torque-strut.k1": [6e4, 8e4, 1e5, 1.25e5, 1.5e5], "gearbox.k3": [1e5, 1.5e5, 2e5, 2.5e5, 3e5]}
-    free = optimise(pt, var, frame="tra", windows=(5.5, 18.0))
-    opt = optimise(pt, var, frame="tra", windows=(5.5, 18.0), catalogue=cat)
+    free = optimize(pt, var, frame="tra", windows=(5.5, 18.0))
+    opt = optimize(pt, var, frame="tra", windows=(5.5, 18.0), catalogue=cat)
     assert opt.x[0] in cat["torque-strut.k1"] and opt.x[1] in cat["gearbox.k3"]
     assert opt.objective <= free.objective + 1e-9 and opt.success
     # the same as fixing those rates by hand and optimising the free variable alone
     fixed = apply(pt, parameters_of(pt, ["torque-strut.k1", "gearbox.k3"]), opt.x[:2])
-    alone = optimise(fixed, {"gearbox.z": (-0.03, 0.03)}, frame="tra", windows=(5.5, 18.0))
+    alone = optimize(fixed, {"gearbox.z": (-0.03, 0.03)}, frame="tra", windows=(5.5, 18.0))
     assert alone.objective == pytest.approx(opt.objective, abs=1e-6)
     with pytest.raises(ArgumentError, match="not a design variable"):
-        optimise(pt, var, catalogue={"engine.k3": [1e5]})
+        optimize(pt, var, catalogue={"engine.k3": [1e5]})

@@ -76,11 +76,11 @@ def test_reliable_optimum_keeps_its_windows_under_tolerance(powertrain):
     and P(all targets) rises; the margins are the sampled quantile distances."""
     from scipy.special import ndtr
 
-    from vibss.design import optimise
+    from vibss.design import optimize
     from vibss.design.filespec import design_spec
 
     spec = design_spec(powertrain)
-    opt = optimise(powertrain, spec.variables, frame="tra", windows=spec.windows,
+    opt = optimize(powertrain, spec.variables, frame="tra", windows=spec.windows,
                    tolerances=spec.tolerances, beta=2.0, samples=4000)
     rel = opt.reliability
     p0, p1 = rel.deterministic.probability, rel.reliable.probability

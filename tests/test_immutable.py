@@ -22,7 +22,7 @@ import scipy.sparse as sp
 import vibss
 from vibss import (Body, Excitation, Model, Mount, MountType, Scope, damped_modes, frequency_response,
                    modes, reduce, simulate, static, sweep_envelope, symmetric)
-from vibss.design import (certificate, elastic_axes, monte_carlo, optimise, sensitivity,
+from vibss.design import (certificate, design_axes, elastic_axes, monte_carlo, optimize, sensitivity,
                           torque_response)
 from vibss.linear.plant.build import build_plant
 from vibss.model.excitation import SineSweep, Step
@@ -65,9 +65,10 @@ def objects() -> dict[str, Any]:
         "certificate": certificate(pt),
         "sensitivity": sensitivity(pt, ["engine.k3"]),
         "monte carlo": monte_carlo(pt, {"engine.k3": 0.1}, n=8, sampling="random", seed=1),
-        "optimisation": optimise(m, {"m.k3": (1e4, 3e4)}, modes=["z"], purity=0.5, maxiter=2),
+        "optimisation": optimize(m, {"m.k3": (1e4, 3e4)}, modes=["z"], purity=0.5, maxiter=2),
         "elastic axes": elastic_axes(m),
         "torque response": torque_response(m, "b", "x"),
+        "design axes": design_axes(m),
         "orders": order_response(m, Unbalance("u", "b", 0.01, 0.05, axis="x"), [600.0, 1200.0], ["b.z"]),
         "random": vibss.random_response(m, {"b.fz": ([1.0, 100.0], [1.0, 1.0])}, ["b.z"]),
         "srs": vibss.srs(t, np.sin(2 * np.pi * 50 * t), [20.0, 50.0]),
@@ -150,7 +151,7 @@ def writable_handles(obj: Any) -> list[str]:
 
 KINDS = ["static", "modes", "damped", "frequency", "time", "peaks", "sweep", "reduction", "assembly",
          "sparse assembly", "plant", "certificate", "sensitivity", "monte carlo", "optimisation",
-         "elastic axes", "torque response", "orders", "random", "srs", "envelope", "shock study", "closed loop",
+         "elastic axes", "torque response", "design axes", "orders", "random", "srs", "envelope", "shock study", "closed loop",
          "demand", "semi-active", "control study"]
 
 

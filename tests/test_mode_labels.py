@@ -56,7 +56,7 @@ def test_pulses_need_a_duration():
 def test_no_negative_zeros_in_tables():
     """Issue 16: '-0.0' and 'zeta -0.00000' in tables. Cells that round to zero lose the sign;
     genuine small negatives keep it."""
-    from vibss.results import Table
+    from vibss.results import TextTable as Table
 
     t = Table(["a", "b"], [["-0.0", "-0.00000 mm"], ["-0.01", "-0e+00"], ["-1e-06", "x-0.0"]])
     assert t.rows == [["0.0", "0.00000 mm"], ["-0.01", "0e+00"], ["-1e-06", "x-0.0"]]

@@ -174,12 +174,12 @@ def test_model_drawing_keeps_body_outlines_apart_from_the_mount_axis_colours(two
     """The first body's colour (C0) was the mount axis 3 colour (tab:blue) in the model drawing."""
     from matplotlib.colors import same_color
 
-    from vibss.plotting.layout import AXIS_COLOURS
+    from vibss.plotting.layout import AXIS_COLORS
 
     fig = plot_model(two_modes.model, view="xz")
     lines = [ln for ln in fig.axes[0].get_lines() if ln.get_linewidth() == 1.6]    # the outlines
     assert len(lines) == len(two_modes.model.bodies)
     for ln in lines:
-        assert not any(same_color(ln.get_color(), c) for c in AXIS_COLOURS)
+        assert not any(same_color(ln.get_color(), c) for c in AXIS_COLORS)
     legend = {t.get_text(): h for t, h in zip(fig.legends[0].get_texts(), fig.legends[0].legend_handles)}
-    assert not any(same_color(legend["body outline"].get_color(), c) for c in AXIS_COLOURS)
+    assert not any(same_color(legend["body outline"].get_color(), c) for c in AXIS_COLORS)

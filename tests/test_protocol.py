@@ -22,7 +22,7 @@ from vibss import (Body, Excitation, Model, Mount, MountType, Scope, damped_mode
                    modes, reduce, simulate, static, sweep_envelope, symmetric)
 from vibss.errors import MissingDependencyError, SignalError, VibssError
 from vibss.model.excitation import SineSweep, Step
-from vibss.results import Result, Table, jsonable
+from vibss.results import Result, TextTable as Table, jsonable
 
 MASS, KZ, CZ, G = 10.0, 1e4, 20.0, 9.81
 

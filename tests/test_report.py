@@ -17,7 +17,7 @@ from vibss.commands import example as example_command
 from vibss.commands import report as report_command
 from vibss.io import example_names, load_example
 from vibss.report import html_table, study
-from vibss.results import Table
+from vibss.results import TextTable as Table
 
 
 def run(argv: list[str]) -> int:

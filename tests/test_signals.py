@@ -7,7 +7,8 @@ import pytest
 
 from vibss import Body, ControlPoint, Model, ModelError, Mount, MountType, Orientation, assemble
 from vibss.linear.plant.build import build_plant
-from vibss.linear.plant.names import control_name, default_outputs
+from vibss.linear.plant.labels import control_name
+from vibss.linear.plant.names import default_outputs
 
 
 def two_body() -> Model:

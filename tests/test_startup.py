@@ -47,7 +47,7 @@ def test_every_public_name_resolves():
 
 def test_command_line_choices_match_the_library():
     from vibss.commands import study, time
-    from vibss.design.study import ANALYSES
+    from vibss.design.grid import ANALYSES
     from vibss.time.api import METHODS
 
     assert sorted(study.ANALYSES) == sorted(ANALYSES)

@@ -65,7 +65,7 @@ _LAZY: dict[str, str] = {
     "StudyDefaults": ".studies", "study_defaults": ".studies", "causal_loss": ".studies",
     "TimeResponse": ".time.result", "simulate": ".time.api",
     "SweepEnvelope": ".time.sweep", "sweep_envelope": ".time.sweep",
-    "study": ".design.study",
+    "grid_study": ".design.grid",
     "srs": ".shock", "ShockResponseSpectrum": ".shock.srs",
     "random_response": ".random", "PSD": ".random",
     # subpackages
@@ -78,7 +78,15 @@ _LAZY: dict[str, str] = {
 _MODULES = {"design", "shock", "orders", "random", "control"}
 
 
+_RENAMED = {"study": "grid_study"}
+"""Old public names, kept for one release with a DeprecationWarning (issue 28)."""
+
+
 def __getattr__(name: str) -> Any:
+    if name in _RENAMED:
+        from ._deprecated import warn
+        warn(f"vibss.{name}", f"vibss.{_RENAMED[name]}")
+        return __getattr__(_RENAMED[name])
     module = _LAZY.get(name)
     if module is None:                     # a subpackage (vibss.io, vibss.linear, vibss.plotting ...)
         if name.startswith("_") or importlib.util.find_spec(f"{__name__}.{name}") is None:
@@ -98,7 +106,7 @@ if TYPE_CHECKING:                          # what static checkers and IDEs see
     from . import control, design, orders, random, shock
     from .model.actuation import Actuator, Sensor
     from .shock.srs import ShockResponseSpectrum
-    from .design.study import study
+    from .design.grid import grid_study
     from .frequency.api import frequency_response
     from .frequency.grid import FrequencyGrid, frequency_grid
     from .frequency.result import FrequencyResponse
@@ -126,7 +134,7 @@ if TYPE_CHECKING:                          # what static checkers and IDEs see
     from .time.result import TimeResponse
     from .time.sweep import SweepEnvelope, sweep_envelope
 
-__version__ = "0.1.0"
+from ._version import __version__  # noqa: E402  (written once, in vibss/_version.py)
 
 __all__ = [
     "HalfSine", "Haversine", "Ramp", "Rectangular", "Sawtooth", "Sine", "SineSweep", "Step", "Sum", "Table",
@@ -135,5 +143,5 @@ __all__ = [
     "FrequencyGrid", "FrequencyResponse", "GROUND", "Load", "MissingDependencyError", "Model", "ModelError", "ModelFileError", "Modes", "Mount", "MountType", "NamedStateSpace",
     "Orientation", "PSD", "Plant", "Reduction", "Scope", "SignalError", "StaticResult", "StudyDefaults", "Support", "SweepEnvelope", "TimeResponse", "VibssError", "VibssWarning", "assemble", "build_plant", "damped_modes", "dump_model",
     "dumps_model", "example_names", "frequency_grid", "frequency_response", "load_example", "load_model", "loads_model", "modes", "orders", "random", "random_response", "reduce", "shock", "simulate", "srs", "static",
-    "statespace", "study", "study_defaults", "causal_loss", "sweep_envelope", "sweep_response", "symmetric", "transmissibility",
+    "statespace", "grid_study", "study_defaults", "causal_loss", "sweep_envelope", "sweep_response", "symmetric", "transmissibility",
 ]

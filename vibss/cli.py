@@ -14,7 +14,7 @@ import sys
 import traceback
 from collections.abc import Sequence
 
-from . import __version__
+from ._version import __version__
 from .commands import COMMANDS
 from .errors import AnalysisError, ArgumentError, ModelError, VibssError
 

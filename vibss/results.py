@@ -6,7 +6,7 @@
 :class:`~vibss.reduction.Reduction`. Each result has
 
 - ``report()`` and ``str(result)``: the same engineer's text;
-- ``_repr_html_()``: its summary :class:`Table` as an escaped HTML table (notebooks);
+- ``_repr_html_()``: its summary :class:`TextTable` as an escaped HTML table (notebooks);
 - ``to_dict()`` (JSON-ready data, SI, non-finite numbers as None, by :func:`jsonable`) and
   ``to_json()`` (strict JSON: ``allow_nan=False``);
 - ``to_pandas()`` (pandas is optional: :func:`require_pandas` names the extra when it is missing);
@@ -36,7 +36,7 @@ import numpy as np
 from ._validate import name_index
 from .errors import ArgumentTypeError, MissingDependencyError, SignalError
 
-__all__ = ["Table", "Result", "jsonable", "require_pandas", "freeze", "read_only", "freeze_fields", "ReadOnly"]
+__all__ = ["TextTable", "Result", "jsonable", "require_pandas", "freeze", "read_only", "freeze_fields", "ReadOnly"]
 
 
 _NEGATIVE_ZERO = re.compile(r"^(\s*)-(0(?:\.0*)?(?:[eE][-+]?\d+)?)(\s.*)?$")
@@ -63,7 +63,7 @@ def number_text(value: float, spec: str = ".4f") -> str:
 
 
 @dataclass(frozen=True)
-class Table:
+class TextTable:
     """A titled table of strings that renders as aligned text.
 
     Parameters
@@ -107,7 +107,7 @@ class Table:
 
         Examples
         --------
-        >>> print(Table(["a<b"], [["1"]], title="T & U").to_html())
+        >>> print(TextTable(["a<b"], [["1"]], title="T & U").to_html())
         <table><caption>T &amp; U</caption><thead><tr><th>a&lt;b</th></tr></thead><tbody><tr><td>1</td></tr></tbody></table>
         """
         e = html.escape
@@ -293,7 +293,7 @@ def require_pandas() -> Any:
 class Result(ReadOnly):
     """Base of every public result: the shared half of the protocol (see the module docstring).
 
-    A subclass provides ``report()``, ``summary()`` (a :class:`Table`), ``to_dict()``,
+    A subclass provides ``report()``, ``summary()`` (a :class:`TextTable`), ``to_dict()``,
     ``to_pandas()``, ``plot(ax=None)``, ``output_labels``, ``input_labels``, ``units``,
     ``method``, ``note`` and ``_item(i, j)`` (the data of output ``i``, input ``j`` or None).
     """
@@ -311,7 +311,7 @@ class Result(ReadOnly):
         """Engineer's text report."""
         raise NotImplementedError
 
-    def summary(self) -> Table:
+    def summary(self) -> TextTable:
         """The headline table (what ``_repr_html_`` shows)."""
         raise NotImplementedError
 
@@ -387,3 +387,12 @@ class Result(ReadOnly):
             raise SignalError(f"{what}: this result has no {what}s (got {key!r})", argument=what,
                               received=key)
         return name_index(key, labels, what)
+
+
+def __getattr__(name: str) -> Any:
+    # ``Table`` was this module's name for TextTable (vibss.Table is a time function): kept one release
+    if name == "Table":
+        from ._deprecated import warn
+        warn("vibss.results.Table", "vibss.results.TextTable")
+        return TextTable
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

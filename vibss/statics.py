@@ -25,7 +25,7 @@ from .linear.solve.static import SINGULAR_RCOND, static_solve
 from .errors import AnalysisError, ModelError, did_you_mean
 from .model.geometry import point_transfer
 from .model.model import DOF_NAMES, GROUND, Model
-from .results import Result, Table, jsonable, number_text, require_pandas
+from .results import Result, TextTable, jsonable, number_text, require_pandas
 
 __all__ = ["StaticResult", "static", "centre_of_rotation", "SINGULAR_RCOND"]
 
@@ -192,7 +192,7 @@ class StaticResult(Result):
                          **({"reactions": self.reactions} if self.model.support_names else {}),
                          "free_motions": self.free_motions, "method": self.method, "note": self.note})
 
-    def summary(self) -> Table:
+    def summary(self) -> TextTable:
         """Body deflections [mm, mrad] and centres of rotation [m]."""
         rows = []
         for b in self.model.bodies:
@@ -200,7 +200,7 @@ class StaticResult(Result):
             c = self.centre_of_rotation(b.name)
             rows.append([b.name] + [f"{1e3 * v:.4f}" for v in d[:3]] + [f"{1e3 * v:.4f}" for v in d[3:]]
                         + ["pure translation" if c is None else "(" + ", ".join(number_text(v) for v in c) + ")"])
-        return Table(["body", "x [mm]", "y [mm]", "z [mm]", "rx [mrad]", "ry [mrad]", "rz [mrad]",
+        return TextTable(["body", "x [mm]", "y [mm]", "z [mm]", "rx [mrad]", "ry [mrad]", "rz [mrad]",
                       "centre of rotation [m]"], rows, title="Bodies (COG)")
 
     def plot(self, ax: Any = None) -> Any:
@@ -225,7 +225,7 @@ class StaticResult(Result):
                  self.summary().render()]
         if self.model.control_points:
             rows = [[k] + [f"{1e3 * x:.4f}" for x in v] for k, v in self.control_points.items()]
-            parts.append(Table(["point", "x [mm]", "y [mm]", "z [mm]"], rows, title="Control points").render())
+            parts.append(TextTable(["point", "x [mm]", "y [mm]", "z [mm]"], rows, title="Control points").render())
         if self.model.mounts:
             rows = []
             for p, m in enumerate(self.model.mounts):
@@ -233,7 +233,7 @@ class StaticResult(Result):
                             + [f"{1e3 * v:.4f}" for v in self.mount_deflection[p]]
                             + [f"{1e3 * v:.4f}" for v in self.mount_deflection_local[p]]
                             + [f"{v:.2f}" for v in self.mount_force[p]])
-            parts.append(Table(["mount", "joins", "dx [mm]", "dy [mm]", "dz [mm]", "d1 [mm]", "d2 [mm]",
+            parts.append(TextTable(["mount", "joins", "dx [mm]", "dy [mm]", "dz [mm]", "d1 [mm]", "d2 [mm]",
                                 "d3 [mm]", "Fx [N]", "Fy [N]", "Fz [N]"], rows,
                                title="Mounts (deflection = body side minus other side; force into the "
                                      "other side)").render())
@@ -245,7 +245,7 @@ class StaticResult(Result):
                      + ") N, M about origin = (" + ", ".join(number_text(v, ".2f") for v in r[3:]) + ") N m")
         if self.model.support_names:
             rows = [[k] + [number_text(v, ".2f") for v in x] for k, x in per_support.items()]
-            parts.append(Table(["into", "Fx [N]", "Fy [N]", "Fz [N]", "Mx [N m]", "My [N m]", "Mz [N m]"], rows,
+            parts.append(TextTable(["into", "Fx [N]", "Fy [N]", "Fz [N]", "Mx [N m]", "My [N m]", "Mz [N m]"], rows,
                                title="Reaction per support (moments about the global origin)").render())
         if self.free_motions:
             parts.append("Unrestrained (not loaded, deflection set to zero): " + "; ".join(self.free_motions))
@@ -253,13 +253,13 @@ class StaticResult(Result):
             parts.append("Note: " + _left_out_text(self.cases_left_out))
         return "\n\n".join(parts)
 
-    def moment_table(self) -> Table:
+    def moment_table(self) -> TextTable:
         """Relative rotations [mrad] and moments [N m] of the 6x6 mounts (global axes)."""
         rows = [[m.name, f"{m.body}->{m.support or m.to}"] + [f"{1e3 * v:.4f}" for v in self.mount_rotation[p]]
                 + [f"{v:.3f}" for v in self.mount_moment[p]]
                 for p, m in enumerate(self.model.mounts) if m.type.rotational] \
             if self.mount_moment is not None and self.mount_rotation is not None else []
-        return Table(["mount", "joins", "rx [mrad]", "ry [mrad]", "rz [mrad]", "Mx [N m]", "My [N m]",
+        return TextTable(["mount", "joins", "rx [mrad]", "ry [mrad]", "rz [mrad]", "Mx [N m]", "My [N m]",
                       "Mz [N m]"], rows, title="6x6 mounts (rotation = body side minus other side; "
                                               "moment into the other side)")
 

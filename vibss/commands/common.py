@@ -3,18 +3,69 @@
 from __future__ import annotations
 
 import argparse
+import importlib
 import sys
-from typing import Any
+from collections.abc import Iterator, Sequence
+from typing import TYPE_CHECKING, Any
 
 from ..errors import ModelError
-from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
     from ..model.model import Model
 
-__all__ = ["add_model_arguments", "load_from_args", "emit", "finite_json", "add_save_argument", "check_save", "save"]
+__all__ = ["add_model_arguments", "load_from_args", "emit", "finite_json", "add_save_argument", "check_save", "save",
+           "RegistryNames", "add_method_argument"]
 
 SAVE_FORMATS = {".csv": "CSV", ".uff": "UFF", ".unv": "UFF"}
+
+
+class RegistryNames(Sequence[str]):
+    """The names of an analysis' ``METHODS`` registry (and ``extra`` names such as ``"auto"``), read
+    from the registry on first use: the command line offers what the library has, and building the
+    parser (``vibss --help``) imports no analysis.
+
+    Parameters
+    ----------
+    module : str
+        The module holding the registry (``"vibss.time.methods"``).
+    extra : sequence of str
+        Names the analysis accepts besides its registry's, listed first.
+    attribute : str
+        The registry's name in ``module``.
+    """
+
+    def __init__(self, module: str, extra: Sequence[str] = (), attribute: str = "METHODS") -> None:
+        self.module, self.extra, self.attribute = module, tuple(extra), attribute
+        self._names: tuple[str, ...] | None = None
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        """The names, the registry imported on first use."""
+        if self._names is None:
+            registry = getattr(importlib.import_module(self.module), self.attribute)
+            self._names = (*self.extra, *registry)
+        return self._names
+
+    def __getitem__(self, i: Any) -> Any:
+        return self.names[i]
+
+    def __len__(self) -> int:
+        return len(self.names)
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self.names)
+
+    def __contains__(self, name: object) -> bool:
+        return name in self.names
+
+    def __repr__(self) -> str:
+        return f"RegistryNames({self.module}.{self.attribute})"
+
+
+def add_method_argument(parser: argparse.ArgumentParser, module: str, what: str) -> None:
+    """``--method NAME``: ``auto`` (default) or a name of ``module``'s ``METHODS`` registry."""
+    parser.add_argument("--method", default="auto", metavar="METHOD", choices=RegistryNames(module, ("auto",)),
+                        help=f"{what}: one of %(choices)s (default auto)")
 
 
 def add_model_arguments(parser: argparse.ArgumentParser) -> None:

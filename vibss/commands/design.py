@@ -8,11 +8,22 @@ import dataclasses
 import sys
 from typing import Any
 
+from .._deprecated import warn
 from ..errors import ArgumentError
 from .common import add_model_arguments, emit, load_from_args
 
 
 _FROM_FILE = -1.0      # --tolerance given without a value: the file's [design.tolerances]
+
+
+class _Optimize(argparse.Action):
+    """``--optimize``; ``--optimise``, the old spelling, still works for one release with a warning."""
+
+    def __call__(self, parser: argparse.ArgumentParser, namespace: argparse.Namespace, values: Any,
+                 option_string: str | None = None) -> None:
+        if option_string == "--optimise":
+            warn("vibss design --optimise", "--optimize", stacklevel=2)
+        setattr(namespace, self.dest, True)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -22,7 +33,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                                    "from the full mass matrix, purity of each rigid-body mode against a "
                                    "target, frequency windows, sag under weight and drive torque. With "
                                    "--tolerance: a Monte Carlo study of every mount rate. With "
-                                   "--optimise: the rates of each mount type (x0.5 ... x2) that maximise "
+                                   "--optimize: the rates of each mount type (x0.5 ... x2) that maximise "
                                    "the mean purity within the windows.")
     add_model_arguments(p)
     p.add_argument("--purity", type=float, help="purity target (default: the file's [design] purity, else 0.9)")
@@ -37,10 +48,10 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="Monte Carlo: every mount rate +-REL (e.g. 0.15), uniform, Latin hypercube; "
                         "without REL: the file's [design.tolerances]")
     p.add_argument("--samples", type=int, help="Monte Carlo variants (default: [design] samples, else 10000)")
-    p.add_argument("--optimise", action="store_true",
-                   help="optimise the file's [design.variables] (without them: the rates of each "
+    p.add_argument("--optimize", "--optimise", dest="optimize", action=_Optimize, nargs=0, default=False,
+                   help="optimize the file's [design.variables] (without them: the rates of each "
                         "mount type between x0.5 and x2)")
-    p.add_argument("--output", metavar="FILE", help="with --optimise: write the optimised model here")
+    p.add_argument("--output", metavar="FILE", help="with --optimize: write the optimized model here")
     p.set_defaults(func=run)
 
 
@@ -59,13 +70,13 @@ def run(args: argparse.Namespace) -> int:
         raise ArgumentError("--tolerance without a value needs a [design.tolerances] table in the "
                             "model file; give a relative tolerance (e.g. --tolerance 0.15)", argument="tolerance")
     tolerance = {None: False, _FROM_FILE: True}.get(args.tolerance, args.tolerance)
-    run_ = run_design(model, spec, optimise_layout=args.optimise, damped=args.damped, samples=args.samples,
+    run_ = run_design(model, spec, optimize_layout=args.optimize, damped=args.damped, samples=args.samples,
                       tolerance=tolerance)
     emit(run_.certificate, args.format)
-    if run_.optimisation is not None:
-        emit(run_.optimisation, args.format)
+    if run_.optimization is not None:
+        emit(run_.optimization, args.format)
         if args.output:
-            run_.optimisation.write(args.output)
+            run_.optimization.write(args.output)
             print(f"optimised model written to {args.output}", file=sys.stderr)
     if run_.tolerance is not None:
         emit(run_.tolerance, args.format)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 
 from ..errors import ModelError
-from .common import add_model_arguments, add_save_argument, check_save, emit, load_from_args, save
+from .common import add_method_argument, add_model_arguments, add_save_argument, check_save, emit, load_from_args, save
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -30,7 +30,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--spacing", choices=("log", "linear"), help="base grid spacing (default log)")
     p.add_argument("--quantity", choices=("receptance", "mobility", "accelerance"), default="receptance",
                    help="outputs as named (default), or their first or second time derivative")
-    p.add_argument("--method", default="auto", help="auto (default), direct, modal, complex_modal, sparse, statespace")
+    add_method_argument(p, "vibss.frequency.methods", "frequency-response method (auto: chosen per model, "
+                        "the reason in the result's note)")
     p.add_argument("--plot", metavar="PNG", help="also save a Bode plot of the response")
     add_save_argument(p, "frequency response")
     p.set_defaults(func=run)

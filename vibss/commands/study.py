@@ -6,10 +6,11 @@ import argparse
 import sys
 
 from ..errors import ArgumentError
-from .common import load_from_args
+from .common import RegistryNames, load_from_args
 
-ANALYSES = ("certificate", "modes")
-"""Names of :data:`vibss.design.study.ANALYSES` (written out: the parser must not import the analyses)."""
+ANALYSES = RegistryNames("vibss.design.grid", attribute="ANALYSES")
+"""Names of :data:`vibss.design.grid.ANALYSES`, read from it when first needed (building the parser
+imports no analysis)."""
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -24,8 +25,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--vary", action="append", metavar="PARAM=V1,V2,...",
                    help="a parameter and its values in SI (repeatable: every combination is run); "
                         "default: the model file's [study] table")
-    p.add_argument("--analysis", choices=ANALYSES,
-                   help="analysis (default: the file's [study] analysis, else modes)")
+    p.add_argument("--analysis", choices=ANALYSES, metavar="ANALYSIS",
+                   help="analysis: one of %(choices)s (default: the file's [study] analysis, else modes)")
     p.add_argument("--client", metavar="ADDRESS",
                    help="run on Dask: a scheduler address, or 'local' for a 2-worker LocalCluster")
     p.add_argument("--format", choices=("csv", "json"), default="csv", help="table format (default csv)")
@@ -49,7 +50,7 @@ def _grid(items: list[str]) -> dict[str, list[float]]:
 
 def run(args: argparse.Namespace) -> int:
     """Print the study's table."""
-    from ..design.study import study
+    from ..design.grid import grid_study
 
     model = load_from_args(args)
     spec = dict(model.settings.get("study", {}))       # the file's [study] table (SI)
@@ -59,7 +60,7 @@ def run(args: argparse.Namespace) -> int:
     if grid is None and table is None:
         raise ArgumentError("vibss study: nothing to vary: give --vary PARAM=V1,V2,... or a [study] table "
                             "in the model file (docs/model-file.md)", argument="vary")
-    df = study(model, analysis, grid=grid, table=table, client=args.client, progress=bool(args.progress))
+    df = grid_study(model, analysis, grid=grid, table=table, client=args.client, progress=bool(args.progress))
     if args.format == "json":
         sys.stdout.write(df.to_json(orient="records", indent=2) + "\n")
     else:

@@ -6,10 +6,12 @@ import argparse
 import sys
 
 from ..errors import ModelError
-from .common import add_model_arguments, add_save_argument, check_save, emit, load_from_args, save
+from .common import (RegistryNames, add_method_argument, add_model_arguments, add_save_argument, check_save, emit,
+                     load_from_args, save)
 
-METHODS = ("modal", "forced_response", "ivp", "newmark", "central_difference")
-"""Names of :data:`vibss.time.api.METHODS` (written out: the parser must not import the analyses)."""
+METHODS = RegistryNames("vibss.time.methods")
+"""Names of :data:`vibss.time.methods.METHODS`, read from the registry when first needed (building
+the parser imports no analysis)."""
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -27,8 +29,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--end", type=float, metavar="T", help="end time [s] (default: file, else excitations' end + slowest decay)")
     p.add_argument("--step", type=float, metavar="DT", help="sample interval [s] (default: file, else from the modes and excitations)")
     p.add_argument("--record-from", type=float, metavar="T", help="first recorded time [s]")
-    p.add_argument("--method", default="auto", choices=["auto", *METHODS],
-                   help="simulation method (default auto = exact modal)")
+    add_method_argument(p, "vibss.time.methods", "simulation method (auto = exact modal)")
     p.add_argument("--output", action="append", metavar="SIGNAL",
                    help="an output signal (repeatable), e.g. engine.z, sensor.x.acc, mount.front.fz; "
                         "default as in the report: under ground motion the mount deflections and body "

@@ -16,8 +16,8 @@ from typing import Any
 import numpy as np
 
 from ..errors import ModelError
-from ..linear.plant.names import control_name
-from ..results import Result, Table
+from ..linear.plant.labels import control_name
+from ..results import Result, TextTable
 from .plant import vibss_name
 
 __all__ = ["Demand", "demand"]
@@ -56,10 +56,10 @@ class Demand(Result):
     def _item(self, i: int, j: int | None) -> float:
         return float(self.value[i])
 
-    def summary(self) -> Table:
+    def summary(self) -> TextTable:
         """One row per output."""
         rows = [(y, u, f"{v:.4g}") for y, u, v in zip(self.outputs, self.units, self.value)]
-        return Table(("output", "unit", f"{self.statistic}"), rows, title=f"{self.name}: {self.environment}")
+        return TextTable(("output", "unit", f"{self.statistic}"), rows, title=f"{self.name}: {self.environment}")
 
     def report(self) -> str:
         """The table as text."""

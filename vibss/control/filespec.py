@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import ModelError
-from ..results import Result, Table
+from ..results import Result, TextTable
 from .designs import integral_force, skyhook, velocity_feedback
 from .loop import ClosedLoop, close
 from .plant import plant
@@ -59,11 +59,11 @@ class ControlStudy(Result):
                          "reduction_db": float(20 * np.log10(tp[j, k] / ta))})
         return rows
 
-    def summary(self) -> Table:
+    def summary(self) -> TextTable:
         """Transmissibility reduction at each output's passive peak."""
         rows = [(r["output"], r["input"], f"{r['frequency_hz']:.4g}", f"{r['passive']:.4g}", f"{r['active']:.4g}",
                  f"{r['reduction_db']:.1f}") for r in self.reductions()]
-        return Table(("output", "disturbance", "passive peak [Hz]", "passive |T| [-]", "active |T| [-]",
+        return TextTable(("output", "disturbance", "passive peak [Hz]", "passive |T| [-]", "active |T| [-]",
                       "reduction [dB]"), rows, title=f"{self.loop.name}: transmissibility at the passive peaks")
 
     def report(self) -> str:

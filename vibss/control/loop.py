@@ -23,9 +23,9 @@ from typing import Any
 import numpy as np
 
 from ..errors import ControlDesignError, ModelError, SignalError, did_you_mean
-from ..linear.plant.names import control_name
+from ..linear.plant.labels import control_name
 from ..linear.statespace import NamedStateSpace
-from ..results import Result, Table
+from ..results import Result, TextTable
 from .plant import vibss_name
 
 __all__ = ["close", "ClosedLoop", "Controller", "LoopMargins", "interconnect_indices"]
@@ -248,19 +248,19 @@ class ClosedLoop(Result):
         passive, active = self.transmissibility(inputs, outputs, frequencies)
         return plot_transmissibility(passive, active, ax=ax, title=self.name)
 
-    def summary(self) -> Table:
+    def summary(self) -> TextTable:
         """Poles with frequency [Hz] and damping ratio, one per oscillating pair."""
         keep = self.poles.imag >= 0
         rows = [(f"{f:.4g}", f"{z:.4f}", f"{p.real:.4g}{p.imag:+.4g}j")
                 for p, f, z in zip(self.poles[keep], self.frequency_hz[keep], self.damping[keep])]
-        return Table(("frequency [Hz]", "damping ratio [-]", "pole [rad/s]"), rows,
+        return TextTable(("frequency [Hz]", "damping ratio [-]", "pole [rad/s]"), rows,
                      title=f"{self.name}: closed-loop poles")
 
-    def margin_table(self) -> Table:
+    def margin_table(self) -> TextTable:
         """Gain, phase and disk margins per loop."""
         rows = [(m.loop, _fmt(m.gain_margin_db), _fmt(m.phase_margin_deg), f"{m.disk_margin:.3g}",
                  _fmt(m.disk_gain_margin_db), _fmt(m.disk_phase_margin_deg)) for m in self.margins]
-        return Table(("loop", "gain margin [dB]", "phase margin [deg]", "disk margin [-]",
+        return TextTable(("loop", "gain margin [dB]", "phase margin [deg]", "disk margin [-]",
                       "disk gain [dB]", "disk phase [deg]"), rows, title=f"{self.name}: loop margins")
 
     def report(self) -> str:

@@ -53,7 +53,7 @@ from ..errors import ControlDesignError, ModelError
 from ..linear.plant.assemble import Assembly, assemble
 from ..linear.plant.plant import Plant
 from ..linear.plant.build import build_plant
-from ..linear.plant.names import control_name
+from ..linear.plant.labels import control_name
 from ..linear.solve.exact import SingularMatrixError, lu_solver
 from ..linear.statespace import NamedStateSpace, statespace
 from ..model.geometry import point_transfer
@@ -331,16 +331,7 @@ def plant(model: Model | Assembly, disturbances: Sequence[str] | None = None,
                          f"'{mdl.body_names[0]}.fz'")
     acts = _actuators(mdl, actuators)
     z = _names(performance, "performance")
-    states_y = isinstance(measurements, str) and measurements == "states"
-    if states_y:
-        y: list[str] = []
-    elif measurements is None:
-        y = [s.signal for s in mdl.sensors]
-        if not y:
-            raise ModelError("measurements: the model has no sensors; name output signals or add "
-                             "Sensor(...) elements (or measurements='states')")
-    else:
-        y = _names(measurements, "measurements")
+    y, states_y = _measurements(mdl, measurements)
     commands = {a.command: k for k, a in enumerate(acts)}
     bad = [s for s in y if s in commands]
     if bad:
@@ -355,52 +346,16 @@ def plant(model: Model | Assembly, disturbances: Sequence[str] | None = None,
     rel = relative_plant(mech, mdl)
     core = statespace(rel)
     nw, na = len(w), len(acts)
-    A, B, C, D = core.A, core.B, core.C, core.D
-    states = list(core.state_labels)
-    # actuator dynamics in series: command -> force
-    for k, a in enumerate(acts):
-        dyn = None if ideal_actuators else _dynamics(a)
-        if dyn is None:
-            continue
-        col = nw + k
-        na_ = dyn.nstates
-        n0 = A.shape[0]
-        A = np.block([[A, B[:, [col]] @ dyn.C], [np.zeros((na_, n0)), dyn.A]])
-        bcol = np.vstack([B[:, [col]] @ dyn.D, dyn.B])
-        B = np.vstack([B, np.zeros((na_, B.shape[1]))])
-        B[:, [col]] = bcol
-        C = np.hstack([C, D[:, [col]] @ dyn.C])
-        D = D.copy()
-        D[:, [col]] = D[:, [col]] @ dyn.D
-        states += [f"actuator:{a.name}:force" if na_ == 1 else f"actuator:{a.name}:x{i + 1}" for i in range(na_)]
+    A, B, C, D, states = _actuator_dynamics(core.A, core.B, core.C, core.D, list(core.state_labels), acts, nw,
+                                            ideal_actuators)
     ns = A.shape[0]
-    # outputs: z rows (mechanical or command), y rows (mechanical or states)
-    rows, drows = [], []
-    for s in z:
-        if s in commands:
-            rows.append(np.zeros(ns))
-            d = np.zeros(nw + na)
-            d[nw + commands[s]] = 1.0
-            drows.append(d)
-        else:
-            i = mech_out.index(s)
-            rows.append(C[i])
-            drows.append(D[i])
     y_labels = [vibss_name(s) for s in states] if states_y else y
-    for s in y:
-        i = mech_out.index(s)
-        rows.append(C[i])
-        drows.append(D[i])
-    if states_y:
-        rows += list(np.eye(ns))
-        drows += [np.zeros(nw + na)] * ns
-    Cg = np.array(rows).reshape(len(rows), ns)
-    Dg = np.array(drows).reshape(len(rows), nw + na)
+    Cg, Dg = _output_rows(C, D, z, y, mech_out, commands, nw + na, states_y)
     # measurement noise inputs
     noise_names: list[str] = []
     if noise is not None:
         scales = _noise_scales(noise, y_labels)
-        Dn = np.zeros((len(rows), len(y_labels)))
+        Dn = np.zeros((Cg.shape[0], len(y_labels)))
         Dn[len(z):, :] = np.diag(scales)
         noise_names = [f"{s}.noise" for s in y_labels]
         Dg = np.hstack([Dg[:, :nw], Dn, Dg[:, nw:]])
@@ -417,6 +372,68 @@ def plant(model: Model | Assembly, disturbances: Sequence[str] | None = None,
     P.model = mdl
     P.actuator_elements = acts
     return P
+
+
+def _measurements(model: Model, measurements: Sequence[str] | str | None) -> tuple[list[str], bool]:
+    """The measured output signals ``y``, and whether the plant's states are measured instead."""
+    if isinstance(measurements, str) and measurements == "states":
+        return [], True
+    if measurements is None:
+        y = [s.signal for s in model.sensors]
+        if not y:
+            raise ModelError("measurements: the model has no sensors; name output signals or add "
+                             "Sensor(...) elements (or measurements='states')")
+        return y, False
+    return _names(measurements, "measurements"), False
+
+
+def _actuator_dynamics(A: np.ndarray, B: np.ndarray, C: np.ndarray, D: np.ndarray, states: list[str],
+                       acts: Sequence[Any], nw: int, ideal: bool) -> tuple[Any, Any, Any, Any, list[str]]:
+    """Each actuator's command -> force dynamics in series with its input column ``nw + k`` (none
+    for ``ideal`` actuators), its states appended."""
+    for k, a in enumerate(acts):
+        dyn = None if ideal else _dynamics(a)
+        if dyn is None:
+            continue
+        col = nw + k
+        na_ = dyn.nstates
+        n0 = A.shape[0]
+        A = np.block([[A, B[:, [col]] @ dyn.C], [np.zeros((na_, n0)), dyn.A]])
+        bcol = np.vstack([B[:, [col]] @ dyn.D, dyn.B])
+        B = np.vstack([B, np.zeros((na_, B.shape[1]))])
+        B[:, [col]] = bcol
+        C = np.hstack([C, D[:, [col]] @ dyn.C])
+        D = D.copy()
+        D[:, [col]] = D[:, [col]] @ dyn.D
+        states = states + [f"actuator:{a.name}:force" if na_ == 1 else f"actuator:{a.name}:x{i + 1}"
+                           for i in range(na_)]
+    return A, B, C, D, states
+
+
+def _output_rows(C: np.ndarray, D: np.ndarray, z: Sequence[str], y: Sequence[str], mech_out: list[str],
+                 commands: Mapping[str, int], n_in: int, states_y: bool) -> tuple[np.ndarray, np.ndarray]:
+    """``(Cg, Dg)``: the z rows (mechanical outputs, or actuator commands fed through), then the y
+    rows (mechanical outputs, or every state)."""
+    ns, nw = C.shape[1], n_in - len(commands)
+    rows, drows = [], []
+    for s in z:
+        if s in commands:
+            rows.append(np.zeros(ns))
+            d = np.zeros(n_in)
+            d[nw + commands[s]] = 1.0
+            drows.append(d)
+        else:
+            i = mech_out.index(s)
+            rows.append(C[i])
+            drows.append(D[i])
+    for s in y:
+        i = mech_out.index(s)
+        rows.append(C[i])
+        drows.append(D[i])
+    if states_y:
+        rows += list(np.eye(ns))
+        drows += [np.zeros(n_in)] * ns
+    return np.array(rows).reshape(len(rows), ns), np.array(drows).reshape(len(rows), n_in)
 
 
 def _noise_scales(noise: Any, y: Sequence[str]) -> np.ndarray:

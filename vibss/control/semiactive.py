@@ -21,8 +21,8 @@ from typing import Any
 import numpy as np
 
 from ..errors import ControlDesignError, ModelError
-from ..linear.plant.names import control_name
-from ..results import Result, Table
+from ..linear.plant.labels import control_name
+from ..results import Result, TextTable
 from .designs import _find_pairs, _sign
 from .plant import vibss_name
 
@@ -68,11 +68,11 @@ class SemiActiveResponse(Result):
     def _item(self, i: int, j: int | None) -> np.ndarray:
         return self.outputs[i]
 
-    def summary(self) -> Table:
+    def summary(self) -> TextTable:
         """Peak of every output and of the damper forces."""
         rows = [(lab, f"{np.abs(y).max():.4g}") for lab, y in zip(self.labels, self.outputs)]
         rows += [(f"{d} force [N]", f"{np.abs(f).max():.4g}") for d, f in zip(self.dampers, self.force)]
-        return Table(("signal", "peak |value|"), rows, title=f"{self.name}: peaks")
+        return TextTable(("signal", "peak |value|"), rows, title=f"{self.name}: peaks")
 
     def report(self) -> str:
         """Peaks and the largest damper power (passivity check)."""

@@ -25,7 +25,7 @@ Examples
 >>> body = vibss.Body("b", 100.0, [2.0, 4.0, 5.0])
 >>> m = vibss.Model([body], vibss.symmetric(vibss.Mount("m", t, "b", at=[0.3, 0.2, -0.1])))
 >>> ea = elastic_axes(m)
->>> ea.exists, ea.centre.round(6).tolist()
+>>> ea.exists, ea.center.round(6).tolist()
 (True, [0.0, 0.0, -0.1])
 """
 
@@ -37,14 +37,15 @@ from typing import Any
 import numpy as np
 
 from ..linear.eigen.small import symmetric_eigen
-from ..results import ReadOnly
+from .._deprecated import renamed_attribute
+from ..results import ReadOnly, Result, TextTable, jsonable, require_pandas
 from ..linear.plant.assemble import Assembly
 from ..linear.solve.static import static_solve
 from ..model.model import Model
 from ._common import body_blocks, body_name, unit_axis
 
-__all__ = ["torque_roll_axis", "principal_axes", "elastic_axes", "torque_response", "ElasticAxes",
-           "TorqueResponse", "EXIST_RTOL"]
+__all__ = ["torque_roll_axis", "principal_axes", "elastic_axes", "torque_response", "design_axes",
+           "plot_design_axes", "ElasticAxes", "TorqueResponse", "DesignAxes", "EXIST_RTOL"]
 
 EXIST_RTOL = 1e-6
 """Elastic centre / axes exist when the residual screw (and axis mismatch) is below this, relative."""
@@ -131,9 +132,9 @@ class ElasticAxes(ReadOnly):
     ----------
     body : str
         The body.
-    centre : (3,) ndarray
+    center : (3,) ndarray
         Elastic centre relative to the COG [m] (least-squares point where none exists).
-    centre_global : (3,) ndarray
+    center_global : (3,) ndarray
         The same in global coordinates [m].
     axes : (3, 3) ndarray
         Principal directions of the rotational stiffness about ``centre`` (columns, global axes).
@@ -157,8 +158,8 @@ class ElasticAxes(ReadOnly):
     """
 
     body: str
-    centre: np.ndarray
-    centre_global: np.ndarray
+    center: np.ndarray
+    center_global: np.ndarray
     axes: np.ndarray
     rotational_stiffness: np.ndarray
     translational_axes: np.ndarray
@@ -168,6 +169,9 @@ class ElasticAxes(ReadOnly):
     exists: bool
     axes_exist: bool
     note: str
+
+    centre = renamed_attribute("centre", "center", "ElasticAxes")
+    centre_global = renamed_attribute("centre_global", "center_global", "ElasticAxes")
 
 
 def elastic_axes(model: Model | Assembly, body: str | None = None) -> ElasticAxes:
@@ -208,7 +212,7 @@ def elastic_axes(model: Model | Assembly, body: str | None = None) -> ElasticAxe
     else:
         note = (f"no elastic centre: a torque gives a screw (rotation plus translation along the axis); "
                 f"residual {screw:.3g}; the centre given is the least-squares point")
-    return ElasticAxes(body=name, centre=c, centre_global=c + a.model.bodies[i].cog, axes=vr,
+    return ElasticAxes(body=name, center=c, center_global=c + a.model.bodies[i].cog, axes=vr,
                        rotational_stiffness=kr, translational_axes=vt, translational_stiffness=kt,
                        screw=screw, mismatch=mismatch, exists=exists, axes_exist=axes_exist, note=note)
 
@@ -277,3 +281,162 @@ def torque_response(model: Model | Assembly, body: str | None = None, axis: Any 
     return TorqueResponse(body=a.model.bodies[i].name, torque=float(torque) * e, displacement=q,
                           rotation_axis=rot, tra=tra, misalignment=angle)
 
+
+
+_XYZ = ("x", "y", "z")
+
+
+@dataclass(frozen=True, eq=False)
+class DesignAxes(Result):
+    """The axes of one body on its mounts, computed together so a figure can draw them
+    (scikit-learn's Display objects: the result computes, :meth:`plot` only draws).
+
+    Attributes
+    ----------
+    model : Model
+        The system.
+    torque : TorqueResponse
+        Static response to a unit torque about the crank axis, with its torque-roll axis.
+    elastic : ElasticAxes
+        Elastic centre and axes of the body's mounts.
+    principal_moments : (3,) ndarray
+        Principal moments of inertia, ascending [kg m^2].
+    principal_axes : (3, 3) ndarray
+        Principal axes of inertia as columns (global axes), right-handed [-].
+    """
+
+    model: Model
+    torque: TorqueResponse
+    elastic: ElasticAxes
+    principal_moments: np.ndarray
+    principal_axes: np.ndarray
+
+    signal_kind = "axis"
+
+    @property
+    def _vectors(self) -> dict[str, np.ndarray]:
+        return {"tra": self.torque.tra, "rotation_axis": self.torque.rotation_axis,
+                "elastic_centre": self.elastic.center_global,
+                **{f"principal_{k + 1}": self.principal_axes[:, k] for k in range(3)},
+                **{f"elastic_{k + 1}": self.elastic.axes[:, k] for k in range(3)}}
+
+    @property
+    def output_labels(self) -> tuple[str, ...]:
+        """``"<axis>.x"`` ... for the torque-roll axis, the static rotation axis, the elastic centre,
+        the principal and the elastic axes."""
+        return tuple(f"{k}.{c}" for k in self._vectors for c in _XYZ)
+
+    @property
+    def units(self) -> tuple[str, ...]:
+        """``m`` for the elastic centre, ``-`` for the unit directions."""
+        return tuple("m" if k == "elastic_centre" else "-" for k in self._vectors for _ in _XYZ)
+
+    @property
+    def method(self) -> str:
+        """How the axes were computed."""
+        return "exact"
+
+    @property
+    def note(self) -> str:
+        """Whether an elastic centre and axes exist, and why."""
+        return self.elastic.note
+
+    def _item(self, i: int, j: int | None) -> Any:
+        return float(np.concatenate(list(self._vectors.values()))[i])
+
+    def summary(self) -> TextTable:
+        """One row per axis: its x, y, z components."""
+        rows = [[k] + [f"{v:+.4f}" for v in vec] for k, vec in self._vectors.items()]
+        return TextTable(["axis", "x", "y", "z"], rows, title=f"Axes of {self.torque.body!r} (global, unit "
+                     f"directions; elastic centre [m])", notes=[self.note])
+
+    def report(self) -> str:
+        """Text: the axes, the TRA's angle to the static rotation axis, the elastic centre's verdict."""
+        return "\n\n".join([self.summary().render(),
+                             f"TRA {self.torque.misalignment_deg:.1f} deg from the static rotation axis"])
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready axes (SI)."""
+        return jsonable({"body": self.torque.body, **self._vectors,
+                         "principal_moments": self.principal_moments,
+                         "misalignment": self.torque.misalignment, "elastic_centre_exists": self.elastic.exists,
+                         "note": self.note})
+
+    def to_pandas(self) -> Any:
+        """DataFrame: one row per axis, columns x, y, z."""
+        pd = require_pandas()
+        return pd.DataFrame(np.array(list(self._vectors.values())), columns=list(_XYZ),
+                            index=pd.Index(list(self._vectors), name="axis"))
+
+    def plot(self, ax: Any = None, view: str = "three", length: float | None = None) -> Any:
+        """The axes drawn on the layout: :func:`vibss.plotting.design.plot_axes`.
+
+        Parameters
+        ----------
+        ax : None
+            Not supported (the figure has one panel per view); kept for the result protocol.
+        view : {"three", "iso", "xz", "yz", "xy"}
+            As :func:`vibss.plotting.plot_model`.
+        length : float or None
+            Half-length of the drawn axes [m]; default: half the largest mount distance from the COG.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+        """
+        from ..plotting.design import plot_axes
+
+        if ax is not None:
+            from ..errors import ArgumentError
+            raise ArgumentError("DesignAxes.plot draws a figure of its own (one panel per view): ax must be None",
+                                argument="ax", received=ax)
+        return plot_axes(self, view=view, length=length)
+
+
+def design_axes(model: Model | Assembly, body: str | None = None, axis: Any = "x") -> DesignAxes:
+    """Torque-roll axis, static rotation axis, elastic centre and axes, and principal axes of inertia
+    of ``body``, together (what :meth:`DesignAxes.plot` draws).
+
+    Parameters
+    ----------
+    model : Model or Assembly
+        The system (the other bodies held fixed).
+    body : str or None
+        The body (None: the only body).
+    axis : {"x", "y", "z"} or (3,) array_like
+        Crank axis [-].
+
+    Returns
+    -------
+    DesignAxes
+    """
+    m = model.model if isinstance(model, Assembly) else model
+    moments, axes = principal_axes(model, body)
+    return DesignAxes(model=m, torque=torque_response(model, body, axis), elastic=elastic_axes(model, body),
+                      principal_moments=moments, principal_axes=axes)
+
+
+def plot_design_axes(model: Model | Assembly, body: str | None = None, axis: Any = "x", view: str = "three",
+                     length: float | None = None) -> Any:
+    """``design_axes(model, body, axis).plot(view=view, length=length)``: the layout with the
+    torque-roll axis, the static rotation axis under a torque about ``axis``, the elastic centre and
+    its axes, and the principal axes of inertia drawn through the body.
+
+    Parameters
+    ----------
+    model : Model or Assembly
+        The model.
+    body : str or None
+        The body (None: the only body).
+    axis : {"x", "y", "z"} or (3,) array_like
+        Crank axis [-].
+    view : {"three", "iso", "xz", "yz", "xy"}
+        As :func:`vibss.plotting.plot_model`.
+    length : float or None
+        Half-length of the drawn axes [m]; default: half the largest mount distance from the COG.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    return design_axes(model, body, axis).plot(view=view, length=length)

@@ -33,7 +33,7 @@ from ..linear.solve.static import static_solve
 from ..modal.api import damped_modes, modes as undamped_modes
 from ..model.model import DOF_NAMES, Model
 from ..model.units import G
-from ..results import Result, Table, jsonable, number_text, require_pandas
+from ..results import Result, TextTable, jsonable, number_text, require_pandas
 from ._common import body_name, frame_axes, frame_rotation, ke_fractions, unit_axis
 
 __all__ = ["Certificate", "certificate", "windows_for", "in_windows", "STANDARD_GRAVITY", "WINDOW_RTOL"]
@@ -185,7 +185,7 @@ class Certificate(Result):
         i = self.model.body_index(self.body)
         return q[6 * i:6 * i + 6]
 
-    def summary(self) -> Table:
+    def summary(self) -> TextTable:
         """One row per mode: frequency, window, dominant coordinate, purity, verdict."""
         rows = []
         for k in range(len(self.frequency_hz)):
@@ -197,15 +197,15 @@ class Certificate(Result):
                         + ([] if self.damping_ratio is None or self.purity_damped is None else
                            [f"{100 * self.purity_damped[k]:.1f}", f"{100 * self.damping_ratio[k]:.2f}"]))
         damped = [] if self.damping_ratio is None else ["damped purity [%]", "zeta [%]"]
-        return Table(["mode", "f [Hz]", "window [Hz]", "in window", "dominant", "purity [%]",
+        return TextTable(["mode", "f [Hz]", "window [Hz]", "in window", "dominant", "purity [%]",
                       f">= {100 * self.target:.0f} %"] + damped, rows,
                      title=f"Decoupling certificate ({self.frame_name} frame)")
 
-    def ke_table(self) -> Table:
+    def ke_table(self) -> TextTable:
         """The KE matrix [%]."""
         rows = [[f"{k + 1}", f"{self.frequency_hz[k]:.3f}"] + [f"{100 * e:.1f}" for e in self.ke_matrix[k]]
                 for k in range(len(self.frequency_hz))]
-        return Table(["mode", "f [Hz]"] + list(self.coordinates), rows,
+        return TextTable(["mode", "f [Hz]"] + list(self.coordinates), rows,
                      title="Modal kinetic energy [%] (full mass matrix, products of inertia included)")
 
     def report(self) -> str:

@@ -3,7 +3,7 @@
 run it through :func:`run_design`.
 
 A model without a ``[design]`` table gets the defaults: purity target 0.9, global axes, crank axis
-x, no windows; ``--optimise`` then varies every rate of every mount type between ×0.5 and ×2.
+x, no windows; ``--optimize`` then varies every rate of every mount type between ×0.5 and ×2.
 """
 
 from __future__ import annotations
@@ -12,11 +12,12 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
+from .._deprecated import renamed_attribute, renamed_keywords
 from ..errors import ArgumentError
 from ..model.model import Model
 from .certificate import Certificate, certificate
 from .montecarlo import MonteCarlo, monte_carlo
-from .optimise import Optimisation, optimise
+from .optimize import Optimization, optimize
 from .parameters import Parameter
 
 __all__ = ["DesignSpec", "design_spec", "type_rate_variables", "run_design", "DesignRun"]
@@ -39,7 +40,7 @@ class DesignSpec:
     variables : mapping or None
         Design variable to bounds (rates [N/m], shifts [m], angles [rad], ratios [-]).
     options : mapping
-        Further keywords of :func:`~vibss.design.optimise` (modes, max_sag, method, starts,
+        Further keywords of :func:`~vibss.design.optimize` (modes, max_sag, method, starts,
         catalogue).
     tolerances : mapping or None
         Parameter to tolerance (relative for rates and ratios, absolute [m, rad] otherwise).
@@ -66,7 +67,7 @@ class DesignSpec:
 
     @property
     def targets(self) -> dict[str, Any]:
-        """Keywords shared by certificate, optimise and monte_carlo."""
+        """Keywords shared by certificate, optimize and monte_carlo."""
         return {"windows": self.windows, "frame": self.frame, "axis": self.axis}
 
 
@@ -115,11 +116,14 @@ class DesignRun:
     """What :func:`run_design` computed (None where not asked)."""
 
     certificate: Certificate
-    optimisation: Optimisation | None = None
+    optimization: Optimization | None = None
     tolerance: MonteCarlo | None = None
 
+    optimisation = renamed_attribute("optimisation", "optimization", "DesignRun")
 
-def run_design(model: Model, spec: DesignSpec | None = None, *, optimise_layout: bool | None = None,
+
+@renamed_keywords(optimise_layout="optimize_layout")
+def run_design(model: Model, spec: DesignSpec | None = None, *, optimize_layout: bool | None = None,
                tolerance: float | bool | None = None, damped: bool = False,
                samples: int | None = None) -> DesignRun:
     """Certificate, and the optimisation and tolerance study a ``[design]`` table asks for.
@@ -130,8 +134,9 @@ def run_design(model: Model, spec: DesignSpec | None = None, *, optimise_layout:
         The layout.
     spec : DesignSpec or None
         The targets (None: :func:`design_spec` of the model).
-    optimise_layout : bool or None
-        Optimise (None: when the spec has variables).
+    optimize_layout : bool or None
+        Optimize (None: when the spec has variables; ``optimise_layout=``, the old spelling, is
+        accepted with a DeprecationWarning for one release).
     tolerance : float, bool or None
         The tolerance study: a relative tolerance of every mount rate; True: the spec's
         tolerances; False: none; None: the spec's tolerances if it has any.
@@ -148,11 +153,11 @@ def run_design(model: Model, spec: DesignSpec | None = None, *, optimise_layout:
     spec = spec or design_spec(model)
     cert = certificate(model, purity=spec.purity, damped=damped, **spec.targets)
     opt = None
-    if optimise_layout or (optimise_layout is None and spec.variables):
+    if optimize_layout or (optimize_layout is None and spec.variables):
         variables = dict(spec.variables) if spec.variables else type_rate_variables(model)
         reliable: dict[str, Any] = {"tolerances": spec.tolerances, "beta": spec.beta, "samples": spec.samples} \
             if spec.beta is not None and spec.tolerances else {}
-        opt = optimise(model, variables, purity=spec.purity if spec.purity_given else None,
+        opt = optimize(model, variables, purity=spec.purity if spec.purity_given else None,
                        **spec.targets, **spec.options, **reliable)
         model = opt.model
     tol = None

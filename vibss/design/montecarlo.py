@@ -27,7 +27,7 @@ from ..errors import AnalysisError, ArgumentError
 from ..linear.plant.assemble import assemble
 from ..model.geometry import point_transfer
 from ..model.model import DOF_NAMES, Model
-from ..results import Result, Table, jsonable, require_pandas
+from ..results import Result, TextTable, jsonable, require_pandas
 from ._common import body_name, frame_axes, frame_rotation, ke_fractions
 from .certificate import in_windows, windows_for
 from .parameters import (_ANGLE, _RATE, _RATIO, _SHIFT, Parameter, current_values, parameters_of, ratio_axes,
@@ -248,7 +248,7 @@ class MonteCarlo(Result):
         ys = (y - y.mean(0)) / np.maximum(y.std(0), 1e-300)
         return xs.T @ ys / len(xs)
 
-    def summary(self) -> Table:
+    def summary(self) -> TextTable:
         """Per mode: nominal-free statistics (mean, 5 and 95 % of frequency and purity) and the
         probabilities."""
         p = self.probability
@@ -258,7 +258,7 @@ class MonteCarlo(Result):
             rows.append([f"{i + 1}", f"{f.mean():.3f}", f"{np.percentile(f, 5):.3f} ... {np.percentile(f, 95):.3f}",
                          f"{100 * u.mean():.1f}", f"{100 * np.percentile(u, 5):.1f}",
                          f"{p[f'window {i + 1}']:.3f}", f"{p[f'pure {i + 1}']:.3f}"])
-        return Table(["mode", "mean f [Hz]", "f 5-95 % [Hz]", "mean purity [%]", "purity 5 % [%]",
+        return TextTable(["mode", "mean f [Hz]", "f 5-95 % [Hz]", "mean purity [%]", "purity 5 % [%]",
                       "P(in window)", f"P(purity >= {100 * self.target:.0f} %)"], rows,
                      title=f"Monte Carlo: {self.n} variants ({self.sampling}, {self.distribution}); "
                            f"P(all targets) = {p['all']:.4f}")
@@ -268,7 +268,7 @@ class MonteCarlo(Result):
         r = self.ranking("purity")
         order = np.argsort(-np.abs(r).max(axis=1))
         rows = [[self.parameters[j], f"{self.tolerances[j]:.4g}"] + [f"{x:+.2f}" for x in r[j]] for j in order]
-        rank = Table(["parameter", "tolerance"] + [f"mode {i + 1}" for i in range(r.shape[1])], rows,
+        rank = TextTable(["parameter", "tolerance"] + [f"mode {i + 1}" for i in range(r.shape[1])], rows,
                      title="Correlation of each parameter with each mode's purity (ranked)")
         return "\n\n".join([f"Tolerance study of {self.model.name!r}", self.summary().render(),
                             rank.render(), self.note])

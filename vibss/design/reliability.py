@@ -1,4 +1,4 @@
-"""Reliability-based mount-layout optimisation: targets that still hold under production tolerances.
+"""Reliability-based mount-layout optimization: targets that still hold under production tolerances.
 
 A deterministic optimum sits on its constraints (a mode exactly at a window edge), so half of the
 production variants miss them. Here each frequency-window constraint keeps a margin: the distance
@@ -28,13 +28,14 @@ from typing import Any
 import numpy as np
 from scipy import special
 
+from .._deprecated import module_aliases
 from .._validate import integer, number
 from ..errors import ArgumentError
 from ..model.model import Model
-from ..results import ReadOnly, Table
+from ..results import ReadOnly, TextTable
 from .montecarlo import MonteCarlo, monte_carlo
 
-__all__ = ["Reliability", "reliable_optimise", "quantile_margins"]
+__all__ = ["Reliability", "reliable_optimize", "quantile_margins"]
 
 
 @dataclass(frozen=True)
@@ -59,11 +60,11 @@ class Reliability(ReadOnly):
     deterministic: MonteCarlo
     reliable: MonteCarlo
 
-    def table(self) -> Table:
+    def table(self) -> TextTable:
         """P(each target) before and after, and the margins kept."""
         p0, p1 = self.deterministic.probability, self.reliable.probability
         rows = [[key, f"{p0[key]:.3f}", f"{p1[key]:.3f}"] for key in p1]
-        return Table(["target", "P deterministic optimum", "P reliable optimum"], rows,
+        return TextTable(["target", "P deterministic optimum", "P reliable optimum"], rows,
                      title=f"Reliability (beta = {self.beta:g}, {self.iterations} optimisations; "
                            f"Monte Carlo {self.reliable.n} variants)")
 
@@ -77,19 +78,19 @@ def quantile_margins(study: MonteCarlo, alpha: float) -> dict[str, np.ndarray]:
             "upper": np.maximum(np.quantile(f, 1.0 - alpha, axis=0) - f0, 0.0)}
 
 
-def reliable_optimise(model: Model, variables: Mapping[Any, Any], tolerances: Mapping[Any, float], *,
+def reliable_optimize(model: Model, variables: Mapping[Any, Any], tolerances: Mapping[Any, float], *,
                       beta: float = 2.0, samples: int = 10_000, iterations: int = 6, **options: Any) -> Any:
-    """:func:`~vibss.design.optimise` with its constraints kept ``beta`` standard deviations inside
-    their limits under ``tolerances`` (see the module docstring); keywords as ``optimise``.
+    """:func:`~vibss.design.optimize` with its constraints kept ``beta`` standard deviations inside
+    their limits under ``tolerances`` (see the module docstring); keywords as ``optimize``.
 
     Returns
     -------
-    Optimisation
-        With :attr:`~vibss.design.optimise.Optimisation.reliability` set.
+    Optimization
+        With :attr:`~vibss.design.optimize.Optimization.reliability` set.
     """
-    from .optimise import optimise
+    from .optimize import optimize
 
-    who = "optimise"
+    who = "optimize"
     beta = number(beta, "beta", who=who, minimum=0.0)
     samples = integer(samples, "samples", who=who)
     if not isinstance(tolerances, Mapping) or not tolerances:
@@ -106,11 +107,11 @@ def reliable_optimise(model: Model, variables: Mapping[Any, Any], tolerances: Ma
     def sampled(m: Model) -> MonteCarlo:
         return monte_carlo(m, tolerances, n=samples, **target)
 
-    first = optimise(model, variables, **options)
+    first = optimize(model, variables, **options)
     mc0 = mc = sampled(first.model)
     best, margins, done = first, quantile_margins(mc0, alpha), 1
     while done <= iterations:
-        best = optimise(model, variables, margins=margins, **options)
+        best = optimize(model, variables, margins=margins, **options)
         done += 1
         mc = sampled(best.model)
         new = quantile_margins(mc, alpha)
@@ -122,3 +123,7 @@ def reliable_optimise(model: Model, variables: Mapping[Any, Any], tolerances: Ma
                                note=best.note + f"; reliability-based (beta = {beta:g}): margins from "
                                     f"{samples} variants of {len(tolerances)} tolerances, P(all targets) "
                                     f"{mc0.probability['all']:.3f} -> {mc.probability['all']:.3f}")
+
+
+__getattr__ = module_aliases(__name__, {
+    "reliable_optimise": ("vibss.design.reliability.reliable_optimize", lambda: reliable_optimize)})

@@ -28,7 +28,8 @@ from ..linear.plant.assemble import assemble
 from ..linear.solve.static import static_solve
 from ..modal.api import modes as undamped_modes
 from ..model.model import Model
-from ..results import Result, Table, jsonable, require_pandas
+from .._deprecated import renamed_attribute
+from ..results import Result, TextTable, jsonable, require_pandas
 from ._common import body_name, frame_axes, frame_rotation, ke_fractions
 from .certificate import STANDARD_GRAVITY
 from .parameters import Parameter, _angles, apply, current_values, parameters_of, stiffness_derivatives
@@ -133,7 +134,7 @@ class Sensitivity(Result):
     def _item(self, i: int, j: int | None) -> Any:
         return self.jacobian[i] if j is None else float(self.jacobian[i, j])
 
-    def normalised(self, quantity: str = "frequency") -> np.ndarray:
+    def normalized(self, quantity: str = "frequency") -> np.ndarray:
         """(k, p) change of each mode's frequency or purity [%] per 1 % of a rate, 1 mm of shift,
         1 degree of angle."""
         step = np.array([0.01 * v if u == "N/m" else (1e-3 if u == "m" else np.pi / 180)
@@ -141,20 +142,22 @@ class Sensitivity(Result):
         d, y = (self.d_frequency, self.frequency_hz) if quantity == "frequency" else (self.d_purity, self.purity)
         return 100 * d * step[None, :] / y[:, None]
 
-    def summary(self) -> Table:
-        """Frequency derivatives, normalised (see :meth:`normalised`)."""
-        d = self.normalised("frequency")
+    normalised = renamed_attribute("normalised", "normalized", "Sensitivity")
+
+    def summary(self) -> TextTable:
+        """Frequency derivatives, normalized (see :meth:`normalized`)."""
+        d = self.normalized("frequency")
         rows = [[p, f"{v:.4g} {u}"] + [f"{x:+.3f}" for x in d[:, j]]
                 for j, (p, v, u) in enumerate(zip(self.parameters, self.values, self.parameter_units))]
-        return Table(["parameter", "value"] + [f"f{i + 1} {self.frequency_hz[i]:.2f} Hz"
+        return TextTable(["parameter", "value"] + [f"f{i + 1} {self.frequency_hz[i]:.2f} Hz"
                                                 for i in range(len(self.frequency_hz))], rows,
                      title="Frequency change [%] per 1 % rate, 1 mm shift, 1 deg rotation")
 
     def report(self) -> str:
         """Text: frequency and purity sensitivities."""
-        dp = self.normalised("purity")
+        dp = self.normalized("purity")
         rows = [[p] + [f"{x:+.3f}" for x in dp[:, j]] for j, p in enumerate(self.parameters)]
-        purity = Table(["parameter"] + [f"mode {i + 1} ({100 * self.purity[i]:.0f} %)"
+        purity = TextTable(["parameter"] + [f"mode {i + 1} ({100 * self.purity[i]:.0f} %)"
                                         for i in range(len(self.purity))], rows,
                        title="Purity change [% of its value] per 1 % rate, 1 mm shift, 1 deg rotation")
         return "\n\n".join([f"Exact sensitivities of {self.model.name!r} ({len(self.parameters)} parameters, "
@@ -180,7 +183,7 @@ class Sensitivity(Result):
         return pd.DataFrame(data, index=pd.Index(list(self.parameters), name="parameter"))
 
     def plot(self, ax: Any = None, **kwargs: Any) -> Any:
-        """Tornado of the normalised sensitivities: :func:`vibss.plotting.design.plot_sensitivity`.
+        """Tornado of the normalized sensitivities: :func:`vibss.plotting.design.plot_sensitivity`.
 
         Parameters
         ----------

@@ -11,8 +11,8 @@ import numpy as np
 
 from .._validate import name_index
 from ..errors import ArgumentError, ModelError
-from ..linear.plant.names import control_name
-from ..results import Result, Table, jsonable, require_pandas
+from ..linear.plant.labels import control_name
+from ..results import Result, TextTable, jsonable, require_pandas
 
 __all__ = ["FrequencyResponse"]
 
@@ -247,7 +247,7 @@ class FrequencyResponse(Result):
                                  f"{f:>12.4f} {a}  {self.channel_unit(i, j)}" + (edge if k == 0 else ""))
         return "\n".join(lines)
 
-    def summary(self) -> Table:
+    def summary(self) -> TextTable:
         """The largest peak of every channel: frequency [Hz], amplitude and unit."""
         rows = []
         for i, y in enumerate(self.outputs):
@@ -255,7 +255,7 @@ class FrequencyResponse(Result):
                 pk = self.peaks(y, u, 1)
                 f, a = pk[0] if pk else (float("nan"), float("nan"))
                 rows.append([y, u, f"{f:.4f}", f"{a:.4e}", self.channel_unit(i, j)])
-        return Table(["output", "input", "peak f [Hz]", "amplitude", "unit"], rows,
+        return TextTable(["output", "input", "peak f [Hz]", "amplitude", "unit"], rows,
                      title=f"{self.quantity}, method {self.method}")
 
     def plot(self, outputs: Sequence[str] | None = None, inputs: Sequence[str] | None = None,

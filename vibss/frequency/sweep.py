@@ -115,7 +115,7 @@ def _system_transmissibility(system: Any, inputs: Sequence[str], outputs: Sequen
     import control
 
     from ..frequency.statespace_response import evaluate
-    from ..linear.plant.names import control_name
+    from ..linear.plant.labels import control_name
 
     if not isinstance(system, control.StateSpace):
         raise ModelError(f"system: expected a Model, an Assembly or a python-control StateSpace, got "

@@ -94,7 +94,7 @@ def _tied(e: Entry) -> dict[str, Any]:
 
 
 def read_design(e: Entry) -> dict[str, Any]:
-    """The ``[design]`` table as keyword arguments of :func:`vibss.design.optimise` /
+    """The ``[design]`` table as keyword arguments of :func:`vibss.design.optimize` /
     :func:`~vibss.design.certificate` / :func:`~vibss.design.monte_carlo` (SI)."""
     e.check_keys(DESIGN_KEYS)
     out: dict[str, Any] = {}

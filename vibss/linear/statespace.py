@@ -72,7 +72,7 @@ from .plant.hysteresis import dropped_hysteresis
 from ..model.model import Model
 from .plant.plant import Plant
 from .plant.build import build_plant
-from .plant.names import control_name
+from .plant.labels import control_name
 from .solve.mass import mass_solver
 
 __all__ = ["statespace", "NamedStateSpace", "REALIZATIONS"]

@@ -12,7 +12,7 @@ import numpy as np
 
 from ..linear.eigen.directions import direction_shares, dominant_direction
 from ..model.model import DOF_NAMES, Model
-from ..results import Result, Table, freeze, jsonable, require_pandas
+from ..results import Result, TextTable, freeze, jsonable, require_pandas
 from .kernels import rigid_influence
 
 __all__ = ["Modes", "DampedModes", "CPM_PER_HZ"]
@@ -170,7 +170,7 @@ class Modes(Result):
         return jsonable({"model": self.model.name, "method": self.method, "note": self.note,
                          "frequencies_hz": self.frequency_hz, "modes": modes})
 
-    def summary(self) -> Table:
+    def summary(self) -> TextTable:
         """The frequency table (:meth:`frequency_table`)."""
         return self.frequency_table()
 
@@ -180,11 +180,11 @@ class Modes(Result):
             return None
         return float(self.error_estimate[k])
 
-    def energy_table(self) -> Table:
+    def energy_table(self) -> TextTable:
         """Kinetic-energy distribution [%]: one row per mode, one column per body DOF."""
         rows = [[f"{k + 1}", f"{self.frequency_hz[k]:.3f}", self.labels[k]]
                 + [f"{100 * e:.1f}" for e in self.energy[k]] for k in range(len(self))]
-        return Table(["mode", "f [Hz]", "dir"] + list(self.dofs), rows,
+        return TextTable(["mode", "f [Hz]", "dir"] + list(self.dofs), rows,
                      title="Modal kinetic-energy distribution [%]")
 
     @cached_property
@@ -194,7 +194,7 @@ class Modes(Result):
         total = sum(np.diag(r[i].T @ b.mass_matrix @ r[i]) for i, b in enumerate(self.model.bodies))
         return _read_only(self.effective_mass / total)
 
-    def frequency_table(self) -> Table:
+    def frequency_table(self) -> TextTable:
         """Frequencies, CPM, direction, modal mass and effective masses [% of total]."""
         rows = []
         frac = 100 * self.effective_mass_fraction
@@ -206,11 +206,11 @@ class Modes(Result):
                         + [("-" if self._estimate(k) is None else f"{self._estimate(k):.1e}")])
         head = ["mode", "f [Hz]", "CPM", "w [rad/s]", "direction", "modal mass"] + \
                [f"eff. {d} [%]" for d in DOF_NAMES] + ["rel. error"]
-        return Table(head, rows, title="Undamped natural frequencies (modal mass of the relative shape; "
+        return TextTable(head, rows, title="Undamped natural frequencies (modal mass of the relative shape; "
                                        "effective mass in % of the total mass and of the inertia about "
                                        "the system COG; rel. error: bound of the frequency's relative error)")
 
-    def shape_table(self) -> Table:
+    def shape_table(self) -> TextTable:
         """Relative eigenvector values (largest component = 1), per mode and body."""
         rel = self.relative_shapes
         rows = []
@@ -218,7 +218,7 @@ class Modes(Result):
             for i, b in enumerate(self.model.body_names):
                 rows.append([f"{k + 1}" if i == 0 else "", f"{self.frequency_hz[k]:.3f}" if i == 0 else "",
                              b] + [f"{v:.4f}" for v in rel[6 * i:6 * i + 6, k]])
-        return Table(["mode", "f [Hz]", "body"] + list(DOF_NAMES), rows,
+        return TextTable(["mode", "f [Hz]", "body"] + list(DOF_NAMES), rows,
                      title="Relative eigenvectors (largest component = 1)")
 
     def report(self) -> str:
@@ -350,7 +350,7 @@ class DampedModes(Result):
         return jsonable({"model": self.undamped.model.name, "method": self.method, "note": self.note,
                          "modes": out})
 
-    def table(self) -> Table:
+    def table(self) -> TextTable:
         """Frequencies, damping ratios and the paired undamped modes."""
         rows = []
         for k in range(len(self)):
@@ -359,10 +359,10 @@ class DampedModes(Result):
                          f"{self.damping_ratio[k]:.5f}", f"{self.poles[k].real:.5g}",
                          f"{self.poles[k].imag:.5g}", f"{j + 1} ({self.undamped.frequency_hz[j]:.3f} Hz, "
                          f"{self.undamped.labels[j]})"])
-        return Table(["mode", "fn [Hz]", "fd [Hz]", "zeta", "Re p [1/s]", "Im p [rad/s]", "undamped mode"],
+        return TextTable(["mode", "fn [Hz]", "fd [Hz]", "zeta", "Re p [1/s]", "Im p [rad/s]", "undamped mode"],
                      rows, title=f"Damped modes ({self.method})")
 
-    def summary(self) -> Table:
+    def summary(self) -> TextTable:
         """The table of poles (:meth:`table`)."""
         return self.table()
 

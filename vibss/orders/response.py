@@ -25,7 +25,7 @@ import numpy as np
 from .. import _validate as v
 from ..errors import ArgumentError
 from ..model.model import Model
-from ..results import Result, Table, jsonable, require_pandas
+from ..results import Result, TextTable, jsonable, require_pandas
 from .sources import OrderForce, Source, Unbalance, generalised_forces
 
 __all__ = ["OrderResponse", "order_response", "run_up", "critical_speeds"]
@@ -134,7 +134,7 @@ class OrderResponse(Result):
         """``(order, mode, f_n [Hz], rpm)`` crossings inside the speed range (Campbell diagram)."""
         return critical_speeds(self.natural_hz, self.orders, self.rpm)
 
-    def summary(self) -> Table:
+    def summary(self) -> TextTable:
         """Peak amplitude of each output and order, and the speed where it occurs."""
         rows = []
         for i, out in enumerate(self.outputs):
@@ -143,14 +143,14 @@ class OrderResponse(Result):
                 n = int(np.argmax(a))
                 rows.append([out, f"{k:g}", f"{a[n]:.4g}", self.units[i], f"{self.rpm[n]:.0f}",
                              f"{self.frequency_hz[j, n]:.3f}"])
-        return Table(["output", "order", "peak amplitude", "unit", "at [rpm]", "f [Hz]"], rows,
+        return TextTable(["output", "order", "peak amplitude", "unit", "at [rpm]", "f [Hz]"], rows,
                      title=f"Order response over {self.rpm[0]:.0f} ... {self.rpm[-1]:.0f} rpm "
                            f"({', '.join(self.sources)})")
 
-    def critical_table(self) -> Table:
+    def critical_table(self) -> TextTable:
         """Critical speeds: where each order crosses each natural frequency."""
         rows = [[f"{k:g}", str(i), f"{fn:.3f}", f"{r:.0f}"] for k, i, fn, r in self.critical_speeds()]
-        return Table(["order", "mode", "f_n [Hz]", "speed [rpm]"], rows,
+        return TextTable(["order", "mode", "f_n [Hz]", "speed [rpm]"], rows,
                      title="Critical speeds (order line crosses a natural frequency)")
 
     def report(self) -> str:

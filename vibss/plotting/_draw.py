@@ -24,7 +24,7 @@ if TYPE_CHECKING:
     from mpl_toolkits.mplot3d import Axes3D
 
 __all__ = ["VIEWS", "VIEW_TITLES", "Drawing", "add_view_axes", "set_limits", "legend_handles",
-           "check_view", "body_colour", "place_labels"]
+           "check_view", "body_color", "place_labels"]
 
 VIEWS = ("iso", "xz", "yz", "xy")
 VIEW_TITLES = {"iso": "isometric", "xz": "front (x-z)", "yz": "side (y-z)", "xy": "top (x-y)"}
@@ -36,7 +36,7 @@ SPRING: dict[str, Any] = {"color": "0.2", "lw": 1.0}
 SPRING_UNDEFORMED: dict[str, Any] = {"color": "0.7", "lw": 0.8}
 
 
-def body_colour(i: int) -> str:
+def body_color(i: int) -> str:
     """Colour of body ``i`` in every figure."""
     return f"C{i % 10}"
 
@@ -197,7 +197,7 @@ class Drawing:
         self.boxes: list[Any] = []
         self.cogs: list[Any] = []
         for i, c in enumerate(moved.corners):
-            style = ({"color": outline or body_colour(i), "lw": 1.6} if deformed else UNDEFORMED)
+            style = ({"color": outline or body_color(i), "lw": 1.6} if deformed else UNDEFORMED)
             self.boxes.append(self.p.line(self._edges(c), **style))
             self.cogs.append(self.p.line(moved.cogs[i], marker="o", ms=4 if deformed else 3, ls="none",
                                          color=style["color"]))
@@ -256,7 +256,7 @@ class Drawing:
         model = self.scene.model
         items = self.label_items
         for i, b in enumerate(model.bodies):
-            items.append((moved.cogs[i], b.name, {"color": body_colour(i), "fontsize": 9, "weight": "bold"}))
+            items.append((moved.cogs[i], b.name, {"color": body_color(i), "fontsize": 9, "weight": "bold"}))
         for k, c in enumerate(model.control_points):
             items.append((moved.control_points[k], c.name, {"color": "k", "fontsize": 7, "style": "italic"}))
         for k, m in enumerate(model.mounts):

@@ -7,10 +7,11 @@ from typing import Any
 import numpy as np
 from matplotlib.figure import Figure
 
+from .._deprecated import module_aliases
 from ..errors import ArgumentError
 from ._draw import new_figure
 
-__all__ = ["plot_certificate", "plot_sensitivity", "plot_monte_carlo", "plot_optimisation", "plot_design_axes"]
+__all__ = ["plot_certificate", "plot_sensitivity", "plot_monte_carlo", "plot_optimization", "plot_axes"]
 
 
 def _axes(ax: Any, width: float, height: float) -> tuple[Figure, Any]:
@@ -75,7 +76,7 @@ def plot_sensitivity(sens: Any, quantity: str = "frequency", ax: Any = None) -> 
     -------
     Figure
     """
-    d = sens.normalised(quantity)                       # (k, p)
+    d = sens.normalized(quantity)                       # (k, p)
     k, p = d.shape
     fig, ax = _axes(ax, 6.5, 1.5 + 0.28 * p)
     y = np.arange(p)
@@ -159,13 +160,13 @@ def _tornado(mc: Any, ax: Any, mode: int | None) -> Figure:
     return fig
 
 
-def plot_optimisation(opt: Any, ax: Any = None) -> Figure:
-    """Purity [%] of every mode before and after an optimisation, with the target.
+def plot_optimization(opt: Any, ax: Any = None) -> Figure:
+    """Purity [%] of every mode before and after an optimization, with the target.
 
     Parameters
     ----------
-    opt : vibss.design.Optimisation
-        The optimisation.
+    opt : vibss.design.Optimization
+        The optimization.
     ax : Axes or None
         Draw into these axes; default: a new figure.
 
@@ -190,20 +191,15 @@ def plot_optimisation(opt: Any, ax: Any = None) -> Figure:
     return fig
 
 
-def plot_design_axes(model: Any, body: str | None = None, axis: Any = "x", view: str = "three",
-                     length: float | None = None) -> Figure:
+def plot_axes(result: Any, view: str = "three", length: float | None = None) -> Figure:
     """The layout (:func:`vibss.plotting.plot_model`) with the torque-roll axis, the static rotation
-    axis under a torque about ``axis``, the elastic centre and its axes, and the principal axes of
-    inertia drawn through the body.
+    axis under a torque, the elastic centre and its axes, and the principal axes of inertia drawn
+    through the body, from computed :class:`vibss.design.DesignAxes` (this draws, it computes nothing).
 
     Parameters
     ----------
-    model : Model
-        The model.
-    body : str or None
-        The body (None: the only body).
-    axis : {"x", "y", "z"} or (3,) array_like
-        Crank axis [-].
+    result : vibss.design.DesignAxes
+        The computed axes (:func:`vibss.design.design_axes`).
     view : {"three", "iso", "xz", "yz", "xy"}
         As :func:`vibss.plotting.plot_model`.
     length : float or None
@@ -213,13 +209,10 @@ def plot_design_axes(model: Any, body: str | None = None, axis: Any = "x", view:
     -------
     Figure
     """
-    from ..design import elastic_axes, principal_axes, torque_response
     from .layout import plot_model
 
+    model, tr, ea, pa = result.model, result.torque, result.elastic, result.principal_axes
     fig = plot_model(model, view=view, labels=False)
-    tr = torque_response(model, body, axis)
-    ea = elastic_axes(model, body)
-    _, pa = principal_axes(model, body)
     b = model.body(tr.body)
     if length is None:
         pts = np.array([model.mount_point(m) for m in model.mounts if m.body == b.name]) - b.cog
@@ -228,7 +221,7 @@ def plot_design_axes(model: Any, body: str | None = None, axis: Any = "x", view:
         (b.cog, tr.tra, "k", "--", "torque-roll axis"),
         (b.cog, tr.rotation_axis, "tab:orange", "-", "static rotation under torque")]
     lines += [(b.cog, pa[:, j], "0.55", ":", "principal axes of inertia" if j == 0 else None) for j in range(3)]
-    lines += [(ea.centre_global, ea.axes[:, j], "tab:purple", "-.",
+    lines += [(ea.center_global, ea.axes[:, j], "tab:purple", "-.",
                ("elastic axes" if ea.exists else "rotational axes at the least-squares centre") if j == 0 else None)
               for j in range(3)]
     views = ["xz", "yz", "xy"] if view == "three" else [view]
@@ -240,7 +233,7 @@ def plot_design_axes(model: Any, body: str | None = None, axis: Any = "x", view:
             else:
                 i0, i1 = {"xz": (0, 2), "yz": (1, 2), "xy": (0, 1)}[v]
                 ax.plot(seg[:, i0], seg[:, i1], color=colour, ls=style, lw=1.4, label=label)
-        c = ea.centre_global
+        c = ea.center_global
         if v == "iso":
             ax.scatter(c[0], c[1], c[2], color="tab:purple", marker="x")
         else:
@@ -251,3 +244,14 @@ def plot_design_axes(model: Any, body: str | None = None, axis: Any = "x", view:
     fig.suptitle(f"TRA {np.degrees(tr.misalignment):.1f} deg from the static rotation axis; "
                  f"{'elastic centre exists' if ea.exists else 'no elastic centre'}", fontsize=10, x=0.4)
     return fig
+
+
+def _plot_design_axes() -> Any:
+    from ..design.axes import plot_design_axes      # computes: a figure no longer does
+    return plot_design_axes
+
+
+__getattr__ = module_aliases(__name__, {
+    "plot_optimisation": ("vibss.plotting.design.plot_optimization", lambda: plot_optimization),
+    "plot_design_axes": ("vibss.design.plot_design_axes (or vibss.design.design_axes(...).plot())",
+                         _plot_design_axes)})

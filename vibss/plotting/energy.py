@@ -3,15 +3,18 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.patches import Patch
 
 from ..errors import ModelError
-from ..modal.result import Modes
 from ..model.model import DOF_NAMES
 from ._draw import fitted_title, new_figure
+
+if TYPE_CHECKING:      # a figure is handed computed modes; it imports no analysis
+    from ..modal.result import Modes
 
 __all__ = ["plot_energy"]
 

@@ -10,6 +10,7 @@ from matplotlib.figure import Figure
 
 from .._validate import name_index
 from ..errors import ArgumentError
+from ..frequency.compare import frac
 from ._draw import new_figure, plain_frequency_axis
 
 __all__ = ["plot_frequency_response", "mark_resonances_on"]
@@ -268,7 +269,7 @@ def plot_transmissibility_set(motion: Any, force: Any, bodies: Any) -> Any:
 
 def plot_test_overlay(measured: Any, computed: Any, channels: Sequence[str] | None = None) -> Figure:
     """Measured FRFs (markers) over computed ones (lines), magnitude and phase, with each channel's
-    FRAC (:func:`vibss.io.frac`) in the legend.
+    FRAC (:func:`vibss.frequency.compare.frac`) in the legend.
 
     Parameters
     ----------
@@ -282,8 +283,6 @@ def plot_test_overlay(measured: Any, computed: Any, channels: Sequence[str] | No
     -------
     Figure
     """
-    from ..io.uff import frac
-
     scores = frac(measured, computed)
     # by default the channels that carry something (an identically zero one has no FRAC)
     names = list(channels) if channels is not None else [c for c in scores if np.isfinite(scores[c])][:6]

@@ -7,14 +7,15 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
+from .._deprecated import module_aliases
 from ..model.model import Model
 from ._draw import (VIEW_TITLES, VIEWS, Drawing, add_view_axes, check_view, legend_handles,
                     new_figure, set_limits)
 from ._scene import Scene
 
-__all__ = ["plot_model", "AXIS_COLOURS"]
+__all__ = ["plot_model", "AXIS_COLORS"]
 
-AXIS_COLOURS = ("tab:red", "tab:green", "tab:blue")
+AXIS_COLORS = ("tab:red", "tab:green", "tab:blue")
 """Colours of a mount's local axes 1, 2, 3."""
 
 OUTLINE = "0.15"
@@ -29,13 +30,13 @@ def _axes_arrows(ax: Axes, view: str, scene: Scene, length: float) -> None:
         for j in range(3):
             d = length * m.orientation.matrix[:, j]
             if view == "iso":
-                ax.quiver(*p, *d, color=AXIS_COLOURS[j], lw=1.2, arrow_length_ratio=0.3)
+                ax.quiver(*p, *d, color=AXIS_COLORS[j], lw=1.2, arrow_length_ratio=0.3)
             else:
                 i0, i1 = {"xz": (0, 2), "yz": (1, 2), "xy": (0, 1)}[view]
                 if np.hypot(d[i0], d[i1]) < 0.05 * length:
                     continue
                 ax.annotate("", xy=(p[i0] + d[i0], p[i1] + d[i1]), xytext=(p[i0], p[i1]),
-                            arrowprops={"arrowstyle": "->", "color": AXIS_COLOURS[j], "lw": 1.2})
+                            arrowprops={"arrowstyle": "->", "color": AXIS_COLORS[j], "lw": 1.2})
 
 
 def plot_model(model: Model, view: str = "iso", labels: bool = True,
@@ -94,7 +95,7 @@ def plot_model(model: Model, view: str = "iso", labels: bool = True,
                  f"{len(model.mounts)} mounts", fontsize=11)
     handles = legend_handles(deformed=False, control_points=bool(model.control_points))[1:]
     handles = [Line2D([], [], color=OUTLINE, lw=1.6, label="body outline")] + handles
-    handles += [Line2D([], [], color=c, lw=1.5, label=f"mount axis {j + 1}") for j, c in enumerate(AXIS_COLOURS)]
+    handles += [Line2D([], [], color=c, lw=1.5, label=f"mount axis {j + 1}") for j, c in enumerate(AXIS_COLORS)]
     # a single panel is half as wide: two legend rows instead of one clipped row
     fig.legend(handles=handles, loc="outside lower center", ncols=min(len(handles), 7 if len(views) > 1 else 4),
                fontsize=8, frameon=False)
@@ -103,3 +104,6 @@ def plot_model(model: Model, view: str = "iso", labels: bool = True,
     for d in drawings:          # names last: their places depend on the final layout
         d.place_labels(avoid=tips)
     return fig
+
+
+__getattr__ = module_aliases(__name__, {"AXIS_COLOURS": ("vibss.plotting.layout.AXIS_COLORS", lambda: AXIS_COLORS)})

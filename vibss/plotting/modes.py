@@ -4,17 +4,19 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any, cast, overload
+from typing import TYPE_CHECKING, Any, cast, overload
 
 import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure, SubFigure
 
 from ..errors import ModelError
-from ..modal.result import Modes
 from ._draw import (VIEW_TITLES, VIEWS, Drawing, add_view_axes, check_view, legend_handles,
                     new_figure, set_limits)
 from ._scene import Scene
+
+if TYPE_CHECKING:      # a figure is handed computed modes; it imports no analysis
+    from ..modal.result import Modes
 
 __all__ = ["plot_modes", "animate_mode", "mode_title", "mode_motion"]
 

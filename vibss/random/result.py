@@ -8,7 +8,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from ..results import Result, Table, jsonable, require_pandas
+from ..results import Result, TextTable, jsonable, require_pandas
 from .psd import G
 
 __all__ = ["RandomResponse"]
@@ -73,7 +73,7 @@ class RandomResponse(Result):
         """Units of the output PSDs."""
         return tuple(f"({u})^2/Hz" if ("/" in u or " " in u) else f"{u}^2/Hz" for u in self.units)
 
-    def summary(self) -> Table:
+    def summary(self) -> TextTable:
         """RMS, 3 sigma, peak of the PSD and Miles's estimate per output."""
         rows = []
         for i, (o, u) in enumerate(zip(self.outputs, self.units)):
@@ -83,7 +83,7 @@ class RandomResponse(Result):
                 f" ({self.miles[i] / G:.4g} g)" if u == "m/s^2" else "")
             rows.append([o, u, f"{self.rms[i]:.5g}{g}", f"{self.three_sigma[i]:.5g}",
                          f"{self.psd[i, k]:.4g} at {self.frequency_hz[k]:.4g} Hz", miles])
-        return Table(["output", "unit", "RMS", "3 sigma", "peak PSD [unit^2/Hz]", "Miles"], rows,
+        return TextTable(["output", "unit", "RMS", "3 sigma", "peak PSD [unit^2/Hz]", "Miles"], rows,
                      title=f"Random response to {', '.join(self.inputs)}")
 
     def report(self) -> str:

@@ -18,7 +18,7 @@ import numpy as np
 
 from ..errors import AnalysisError
 from ..linear.plant.plant import Plant
-from ..linear.plant.names import control_name
+from ..linear.plant.labels import control_name
 from ..linear.statespace import NamedStateSpace, statespace
 from ..methods import Method, callable_name, resolve
 from .krylov import as_sparse, krylov, prune_sparse

@@ -14,7 +14,7 @@ from ..linear.plant.plant import Plant
 from ..linear.solve.exact import statespace_plant
 from ..linear.statespace import NamedStateSpace, statespace
 from ..model.model import Model
-from ..results import Result, Table, jsonable, require_pandas
+from ..results import Result, TextTable, jsonable, require_pandas
 from .methods import Reduced, _floor, check_grid
 from .prune import Removal, frf
 from .scope import Scope
@@ -189,14 +189,14 @@ class Reduction(Result):
         w = check_grid(self.scope, n_points, self.kept_hz * 2 * np.pi)
         return w / (2 * np.pi), frf(self.full, 1j * w), self.response(1j * w)
 
-    def summary(self) -> Table:
+    def summary(self) -> TextTable:
         """Sizes, error estimate and timing as a two-column table."""
         rows = [["method", self.method], ["DOFs", f"{self.dofs_before} -> {self.dofs_after}"],
                 ["states", f"{self.states_before} -> {self.states_after}"],
                 ["estimate", f"{self.estimate:.3g} ({self.estimate_kind})"],
                 ["measured", "-" if self.measured is None else f"{self.measured:.3g}"],
                 ["tolerance", f"{self.scope.tolerance:g}"], ["reduction [s]", f"{self.reduce_s:.3g}"]]
-        return Table(["quantity", "value"], rows, title="Model reduction")
+        return TextTable(["quantity", "value"], rows, title="Model reduction")
 
     def to_pandas(self) -> Any:
         """DataFrame of what was removed: one row per removal (what, names, reason, exact)."""

@@ -16,7 +16,7 @@ import numpy as np
 
 from .. import _validate as v
 from ..errors import ArgumentError
-from ..results import Result, Table
+from ..results import Result, TextTable
 
 __all__ = ["EnvelopeCheck", "check_envelope", "spec_level"]
 
@@ -65,7 +65,7 @@ class EnvelopeCheck(Result):
     def _item(self, i: int, j: int | None) -> np.ndarray:
         return self.margin_db
 
-    def summary(self) -> Table:
+    def summary(self) -> TextTable:
         """Worst margins and the verdict."""
         lo, hi = int(np.argmin(self.margin_db)), int(np.argmax(self.margin_db))
         rows = [["verdict", "PASS" if self.passed else "FAIL"],
@@ -73,7 +73,7 @@ class EnvelopeCheck(Result):
                 ["lowest margin", f"{self.margin_db[lo]:+.2f} dB at {self.frequency_hz[lo]:.4g} Hz"],
                 ["highest margin", f"{self.margin_db[hi]:+.2f} dB at {self.frequency_hz[hi]:.4g} Hz"],
                 ["frequencies outside", str(int(np.sum((self.margin_db < self.lower_db) | (self.margin_db > self.upper_db))))]]
-        return Table(["check", "result"], rows, title=self.name)
+        return TextTable(["check", "result"], rows, title=self.name)
 
     def report(self) -> str:
         """The summary and every frequency."""

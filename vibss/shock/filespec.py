@@ -9,7 +9,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import ModelError
-from ..results import Result, Table
+from ..results import Result, TextTable
 from .envelope import EnvelopeCheck, check_envelope
 from .srs import ShockResponseSpectrum, srs
 
@@ -43,14 +43,14 @@ class ShockStudy(Result):
     def _item(self, i: int, j: int | None) -> np.ndarray:
         return list(self.spectra.values())[i].response
 
-    def summary(self) -> Table:
+    def summary(self) -> TextTable:
         """Peak of every spectrum, and the spec verdicts."""
         rows = []
         for name, s in self.spectra.items():
             k = int(np.argmax(s.response))
             verdict = ("PASS" if self.checks[name].passed else "FAIL") if name in self.checks else "-"
             rows.append([name, f"{s.response[k]:.5g}", f"{s.frequency_hz[k]:.4g}", verdict])
-        return Table(["signal", "peak SRS [SI]", "at [Hz]", "spec"], rows,
+        return TextTable(["signal", "peak SRS [SI]", "at [Hz]", "spec"], rows,
                      title=f"Shock response spectra ({self.note})")
 
     def report(self) -> str:

@@ -21,7 +21,7 @@ import scipy.signal
 
 from .. import _validate as v
 from ..errors import ArgumentError
-from ..results import Result, Table, require_pandas
+from ..results import Result, TextTable, require_pandas
 
 KINDS = ("maximax", "positive", "negative", "primary", "residual")
 RESPONSES = ("acceleration", "pseudo_velocity", "displacement")
@@ -81,10 +81,10 @@ class ShockResponseSpectrum(Result):
     def _item(self, i: int, j: int | None) -> Any:
         return self.response
 
-    def summary(self) -> Table:
+    def summary(self) -> TextTable:
         """Kind, quantity, Q and the peak."""
         k = int(np.argmax(np.abs(self.response)))
-        return Table(["quantity", "value"],
+        return TextTable(["quantity", "value"],
                      [["kind", self.kind], ["response", self.quantity], ["Q", f"{self.q:g}"],
                       ["peak", f"{self.response[k]:.6g} at {self.frequency_hz[k]:.6g} Hz"]])
 

@@ -11,7 +11,7 @@ import numpy as np
 
 from .._validate import name_index
 from ..errors import ArgumentError
-from ..results import ReadOnly, Result, Table, jsonable, require_pandas
+from ..results import ReadOnly, Result, TextTable, jsonable, require_pandas
 
 __all__ = ["TimeResponse", "PeakTable"]
 
@@ -167,13 +167,13 @@ class TimeResponse(Result):
                          f"their unit not listed: {', '.join(n for n in self.output_names if n in quiet)})")
         return "\n".join(lines)
 
-    def summary(self) -> Table:
+    def summary(self) -> TextTable:
         """Peak value, its time and RMS of every output but the :meth:`negligible` ones."""
         pk = self.peaks()
         quiet = set(_negligible(pk))
         rows = [[n, f"{v:.5e}", f"{t:.5f}", f"{r:.5e}", u]
                 for n, u, v, t, r in zip(self.output_names, self.units, pk.value, pk.time, pk.rms) if n not in quiet]
-        return Table(["output", "peak", "at [s]", "RMS", "unit"], rows, title=f"method {self.method}"
+        return TextTable(["output", "peak", "at [s]", "RMS", "unit"], rows, title=f"method {self.method}"
                      + (f"; {len(quiet)} outputs below 1e-9 of the largest of their unit not listed" if quiet else ""))
 
     def to_dict(self) -> dict[str, Any]:

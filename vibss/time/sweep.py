@@ -20,7 +20,7 @@ from ..errors import ArgumentError, ModelError
 from ..model.model import Model
 from ..linear.plant.build import build_plant
 from ..linear.solve.exact import response, without_hysteresis
-from ..results import Result, Table, jsonable, require_pandas
+from ..results import Result, TextTable, jsonable, require_pandas
 from .api import simulate
 from .result import TimeResponse
 
@@ -88,7 +88,7 @@ class SweepEnvelope(Result):
         """(p,) largest envelope over largest steady-state amplitude (< 1 for a fast sweep)."""
         return self.envelope.max(axis=1) / self.steady.max(axis=1)
 
-    def summary(self) -> Table:
+    def summary(self) -> TextTable:
         """Per output: largest envelope and steady-state amplitude, their frequencies and ratio."""
         rows = []
         ratio = self.peak_ratio()
@@ -97,7 +97,7 @@ class SweepEnvelope(Result):
             rows.append([y, f"{self.envelope[i, ke]:.4e}", f"{self.frequency_hz[ke]:.4f}",
                          f"{self.steady[i, ks]:.4e}", f"{self.frequency_hz[ks]:.4f}", f"{ratio[i]:.3f}",
                          self.units[i]])
-        return Table(["output", "envelope peak", "at [Hz]", "steady peak", "at [Hz]", "ratio", "unit"], rows,
+        return TextTable(["output", "envelope peak", "at [Hz]", "steady peak", "at [Hz]", "ratio", "unit"], rows,
                      title="Sweep envelope against the steady state (ratio < 1: the sweep is too fast "
                            "to build up the resonance)")
 

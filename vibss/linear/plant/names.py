@@ -85,7 +85,7 @@ from ...model.actuation import resolve
 from ...model.model import DOF_NAMES, GROUND, Model
 from .plant import INPUT_KINDS
 
-__all__ = ["control_name", "default_outputs", "INPUT_FORMS", "OUTPUT_FORMS", "parse_input", "output_row",
+__all__ = ["default_outputs", "INPUT_FORMS", "OUTPUT_FORMS", "parse_input", "output_row",
            "actuator_wrench", "actuator_reactions"]
 
 INPUT_FORMS = ("<body>.fx|fy|fz", "<body>.mx|my|mz", "<point>.fx|fy|fz",
@@ -109,17 +109,6 @@ _MOUNT = {"dx": ("d", "g", 0), "dy": ("d", "g", 1), "dz": ("d", "g", 2),
           "r1": ("r", "l", 0), "r2": ("r", "l", 1), "r3": ("r", "l", 2),
           "mx": ("m", "g", 0), "my": ("m", "g", 1), "mz": ("m", "g", 2),
           "m1": ("m", "l", 0), "m2": ("m", "l", 1), "m3": ("m", "l", 2)}
-
-
-def control_name(name: str) -> str:
-    """The python-control spelling of a vibss signal name (``.`` -> ``:``).
-
-    Examples
-    --------
-    >>> control_name("mount.front.xz.f3")
-    'mount:front:xz:f3'
-    """
-    return name.replace(".", ":")
 
 
 def default_outputs(model: Model) -> tuple[str, ...]:

@@ -1,4 +1,4 @@
-"""Study runner: a grid or a table of variants of a model -> any analysis -> one tidy table.
+"""Parameter-grid runner (:func:`grid_study`): a grid or a table of variants of a model -> any analysis -> one tidy table.
 
 Variants change mount rates, positions and angles by name (:mod:`vibss.design.parameters`), or
 anything else through a ``build(model, values) -> Model`` function. The analysis is a name from
@@ -30,7 +30,7 @@ from ..model.model import Model
 from ..results import require_pandas
 from .parameters import Parameter, apply, parameters_of
 
-__all__ = ["study", "ANALYSES"]
+__all__ = ["grid_study", "ANALYSES"]
 
 Progress = Callable[[int, int], None]
 
@@ -96,7 +96,7 @@ def _client(client: Any) -> tuple[Any, Any]:
     try:
         import distributed
     except ImportError:
-        raise MissingDependencyError("study(client=...) needs dask.distributed, an optional dependency: "
+        raise MissingDependencyError("grid_study(client=...) needs dask.distributed, an optional dependency: "
                                      "pip install 'vibss[dask]'", argument="client") from None
     if isinstance(client, distributed.Client):
         return client, None
@@ -106,14 +106,14 @@ def _client(client: Any) -> tuple[Any, Any]:
     if isinstance(client, str):
         made = distributed.Client(client)
         return made, made
-    raise ArgumentError(f"study: client: expected a distributed.Client, a scheduler address or 'local', "
+    raise ArgumentError(f"grid_study: client: expected a distributed.Client, a scheduler address or 'local', "
                         f"got {client!r}", argument="client", received=client)
 
 
-def study(model: Model, analysis: Any = "modes", *, grid: Mapping[Any, Sequence[float]] | None = None,
-          table: Mapping[Any, Sequence[float]] | None = None, build: Callable[[Model, dict[str, float]], Model] | None = None,
-          client: Any = None, scheduler: str | None = None, chunk: int | None = None,
-          progress: bool | Progress = False) -> Any:
+def grid_study(model: Model, analysis: Any = "modes", *, grid: Mapping[Any, Sequence[float]] | None = None,
+               table: Mapping[Any, Sequence[float]] | None = None, build: Callable[[Model, dict[str, float]], Model] | None = None,
+               client: Any = None, scheduler: str | None = None, chunk: int | None = None,
+               progress: bool | Progress = False) -> Any:
     """Run an analysis on every variant of a model; one row per variant.
 
     Parameters
@@ -152,26 +152,26 @@ def study(model: Model, analysis: Any = "modes", *, grid: Mapping[Any, Sequence[
     Examples
     --------
     >>> import vibss
-    >>> df = study(vibss.load_example("powertrain"), grid={"engine.k3": [2e5, 3e5], "gearbox.k3": [1e5, 2e5]})
+    >>> df = grid_study(vibss.load_example("powertrain"), grid={"engine.k3": [2e5, 3e5], "gearbox.k3": [1e5, 2e5]})
     >>> df.shape, df["f1_hz"].round(3).tolist()
     ((4, 9), [5.513, 5.614, 5.517, 5.621])
     """
     pd = require_pandas()
     if scheduler is not None:
         if client is not None:
-            raise ArgumentError("study: give client= or scheduler=, not both", argument="scheduler",
+            raise ArgumentError("grid_study: give client= or scheduler=, not both", argument="scheduler",
                                 received=scheduler)
         if not isinstance(scheduler, str) or not scheduler:
-            raise ArgumentError(f"study: scheduler: expected a scheduler address such as "
+            raise ArgumentError(f"grid_study: scheduler: expected a scheduler address such as "
                                 f"'tcp://127.0.0.1:8786', got {scheduler!r}", argument="scheduler",
                                 received=scheduler)
         client = scheduler
     if (grid is None) == (table is None):
-        raise ArgumentError("study: give exactly one of grid= (every combination) and table= (one "
+        raise ArgumentError("grid_study: give exactly one of grid= (every combination) and table= (one "
                             "variant per row)", argument="grid")
     spec = grid if grid is not None else table
     if not isinstance(spec, Mapping) or not spec:
-        raise ArgumentError(f"study: grid/table: expected a mapping of parameter to values, got {spec!r}",
+        raise ArgumentError(f"grid_study: grid/table: expected a mapping of parameter to values, got {spec!r}",
                             argument="grid" if grid is not None else "table", received=spec)
     params = parameters_of(model, list(spec)) if build is None else None
     names = [p.name if isinstance(p, Parameter) else str(p) for p in spec]
@@ -180,17 +180,17 @@ def study(model: Model, analysis: Any = "modes", *, grid: Mapping[Any, Sequence[
         rows = list(itertools.product(*[c.tolist() for c in columns]))
     else:
         if len({len(c) for c in columns}) != 1:
-            raise ArgumentError("study: table: every column must have the same length, got "
+            raise ArgumentError("grid_study: table: every column must have the same length, got "
                                 f"{[len(c) for c in columns]}", argument="table")
         rows = list(zip(*[c.tolist() for c in columns]))
     if isinstance(analysis, str):
         if analysis not in ANALYSES:
-            raise ArgumentError(f"study: analysis: unknown {analysis!r}; expected one of {list(ANALYSES)} "
+            raise ArgumentError(f"grid_study: analysis: unknown {analysis!r}; expected one of {list(ANALYSES)} "
                                 "or a function" + did_you_mean(analysis, ANALYSES), argument="analysis",
                                 received=analysis, expected=list(ANALYSES))
         analysis = ANALYSES[analysis]
     elif not callable(analysis):
-        raise ArgumentError(f"study: analysis: expected a name or a function, got {analysis!r}",
+        raise ArgumentError(f"grid_study: analysis: expected a name or a function, got {analysis!r}",
                             argument="analysis", received=analysis)
     report: Progress | None = _stderr_bar if progress is True else (progress or None)
     total = len(rows)

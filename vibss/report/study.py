@@ -1,0 +1,97 @@
+"""The engineer's report of a model: every analysis that applies, as text, PNG figures and HTML.
+
+:func:`study` runs, in order, the model summary, the static deflection (under the model's loads
+and, where the model sets it, gravity), the undamped modes with their kinetic-energy table, the
+damped modes, the design checks, the closed loop of an active model, the steady-state response to
+the model's sine-sweep excitations (with the transmissibility from each swept input; without a
+sweep, the isolator's own motion and force transmissibility), the order analysis and the time response to its transient excitations, over
+the window and band of :mod:`vibss.studies` (the ones ``vibss time`` and ``vibss frf`` use). An
+analysis that does not apply (no loads, no damping, no excitation of that kind) or whose module is
+not installed is skipped with a one-line note; one that fails is reported with its error message
+and the others still run. :meth:`Report.text` is the text report, :func:`write_report` writes the
+PNG figures and one self-contained ``index.html`` (figures embedded as base64) into a folder.
+
+This module imports matplotlib (through :mod:`vibss.plotting`) only when figures are asked for.
+
+Examples
+--------
+>>> import vibss, tempfile
+>>> from vibss.report import study
+>>> t = vibss.MountType("t", [1e4, 2e4, 3e4])
+>>> m = vibss.Model([vibss.Body("b", 1000.0, [10, 20, 30])],
+...                 vibss.symmetric(vibss.Mount("m", t, "b", at=[1, 2, 0])), name="prism")
+>>> r = study(m, figures=False)
+>>> [s.key for s in r.sections if not s.skipped]
+['model', 'modes', 'design', 'frequency']
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from ..errors import VibssError
+from ..model.model import Model
+from .section import STEPS, TITLES, Progress, Report, Section
+from .sections.control import _control_section
+from .sections.design import _design_section
+from .sections.frequency import _frequency_section
+from .sections.model import _model_section
+from .sections.modes import _damped_section, _modes_section
+from .sections.orders import _orders_section
+from .sections.static import _static_section
+from .sections.time import _time_section
+
+__all__ = ["study", "SECTION_ERRORS"]
+
+
+SECTION_ERRORS: tuple[type[BaseException], ...] = (
+    VibssError, np.linalg.LinAlgError, ValueError, ArithmeticError, RuntimeError, MemoryError)
+"""Failures of the analysis itself (a refusal, a singular solve, an overflow, a solver that gave
+up): the section's note says ``failed: <error>``. Any other exception (a bug in vibss) fails its
+section too, with ``failed: internal error, please report: <error>``: one section never takes the
+others down (:func:`study`)."""
+
+
+def _failure(key: str, exc: Exception) -> Section:
+    what = "" if isinstance(exc, SECTION_ERRORS) else "internal error, please report: "
+    return Section(key, TITLES[key], skipped=True, failed=True, note=f"failed: {what}{type(exc).__name__}: {exc}")
+
+
+_RUNNERS = {"static": _static_section, "modes": _modes_section, "damped": _damped_section,
+            "design": _design_section, "control": _control_section, "frequency": _frequency_section,
+            "orders": _orders_section, "time": _time_section}
+
+
+def study(model: Model, figures: bool = True, progress: Progress | None = None,
+          source: str = "") -> Report:
+    """Run every analysis that applies to ``model``.
+
+    Parameters
+    ----------
+    model : Model
+        The model (its loads, gravity, excitations and ``settings`` drive the studies).
+    figures : bool
+        Make the matplotlib figures too (needs matplotlib).
+    progress : callable or None
+        ``progress(step, total, label)`` called before each analysis (the command line prints
+        ``[3/6] damped modes ...`` on stderr).
+    source : str
+        Where the model came from, for the heading.
+
+    Returns
+    -------
+    Report
+    """
+    results: dict[str, Any] = {}
+    sections = []
+    for n, key in enumerate(STEPS, start=1):
+        if progress is not None:
+            progress(n, len(STEPS), TITLES[key].lower())
+        try:
+            runner = _RUNNERS.get(key)
+            sections.append(_model_section(model, figures) if runner is None else runner(model, figures, results))
+        except Exception as exc:        # one failed analysis is that section's note, not the report's end
+            sections.append(_failure(key, exc))
+    return Report(model, tuple(sections), source, results)
