@@ -31,9 +31,9 @@ import scipy.linalg as sl
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests"))
 
-import mp_reference as ref  # noqa: E402
+from cases import mp_reference as ref  # noqa: E402
 import vibss  # noqa: E402
-from scaled_cases import graded_chain, hanging_chain, instrument, stiff_links  # noqa: E402
+from cases.scaled import graded_chain, hanging_chain, instrument, stiff_links  # noqa: E402
 from vibss.frequency.kernels import METHODS  # noqa: E402
 from vibss.linear.plant.signals import build_plant  # noqa: E402
 

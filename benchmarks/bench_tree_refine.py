@@ -41,7 +41,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "tests"))
 from benchmarks.models import topology_model  # noqa: E402
-from mp_reference import extended_precision_frf  # noqa: E402
+from cases.mp_reference import extended_precision_frf  # noqa: E402
 import vibss.linear.eigen.complex_modes as cmm  # noqa: E402
 from vibss.frequency.kernels import METHODS  # noqa: E402
 from vibss.linear.eigen.undamped import modal_basis  # noqa: E402
@@ -212,8 +212,8 @@ def tree() -> list[dict]:
 
 
 def graded() -> list[dict]:
-    import mp_reference as mpr
-    import scaled_cases as sc
+    from cases import mp_reference as mpr
+    from cases import scaled as sc
 
     model = sc.graded_chain(damped=True)
     dofs = [f"{b.name}.{d}" for b in model.bodies for d in ("x", "y", "z", "rx", "ry", "rz")]

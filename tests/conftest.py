@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from cases import asymmetric_model, prism_model, two_mass_model
+from cases.models import asymmetric_model, prism_model, two_mass_model
 from vibss import Model
 
 

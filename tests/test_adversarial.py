@@ -42,8 +42,8 @@ hypothesis = pytest.importorskip("hypothesis")
 from hypothesis import HealthCheck, Phase, event, given, seed, settings  # noqa: E402
 from hypothesis.control import currently_in_test_context  # noqa: E402
 
-import fuzzing  # noqa: E402
-import mp_reference  # noqa: E402
+from cases import fuzzing  # noqa: E402
+from cases import mp_reference  # noqa: E402
 import vibss  # noqa: E402
 from vibss.linear.eigen import complex_modes  # noqa: E402
 from vibss.cli import main  # noqa: E402

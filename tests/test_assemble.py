@@ -9,7 +9,7 @@ import scipy.sparse as sp
 from vibss import Body, Model, Mount, MountType, assemble
 from vibss.modal.undamped import rigid_influence
 
-from reference_impl import loop_assemble, loop_mass
+from cases.reference_impl import loop_assemble, loop_mass
 
 
 def test_matrices_match_independent_loop(asym):

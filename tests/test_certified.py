@@ -22,10 +22,10 @@ from vibss.linear.solve import backends, certified  # noqa: E402
 from vibss.linear.plant.signals import build_plant  # noqa: E402
 from vibss.linear.solve.exact import forcing, states, statespace_plant, zfactor  # noqa: E402
 
-from cases import asymmetric_model  # noqa: E402
-from mp_reference import extended_precision_frf  # noqa: E402
-from scaled_cases import FAMILY  # noqa: E402
-from small_cases import chain, sdof  # noqa: E402
+from cases.models import asymmetric_model  # noqa: E402
+from cases.mp_reference import extended_precision_frf  # noqa: E402
+from cases.scaled import FAMILY  # noqa: E402
+from cases.small import chain, sdof  # noqa: E402
 
 EPS = np.finfo(float).eps
 

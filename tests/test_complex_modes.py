@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from mp_reference import extended_precision_frf
+from cases.mp_reference import extended_precision_frf
 from vibss.linear.eigen.complex_modes import complex_modes
 
 

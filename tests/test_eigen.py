@@ -11,8 +11,8 @@ import json
 import numpy as np
 import pytest
 
-import mp_reference as mr
-import scaled_cases as sc
+from cases import mp_reference as mr
+from cases import scaled as sc
 from vibss import Body, Model, Mount, MountType, Orientation, assemble, modes
 from vibss.errors import ModelError
 from vibss.linear.eigen.undamped import JACOBI_MAX, modal_basis, rigid_mask, undamped

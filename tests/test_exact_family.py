@@ -12,9 +12,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import mp_reference as ref
+from cases import mp_reference as ref
 import vibss
-from scaled_cases import graded_chain, hanging_chain, instrument, stiff_links
+from cases.scaled import graded_chain, hanging_chain, instrument, stiff_links
 from vibss.model.excitation import Excitation, Step
 
 TOL = 1e-8

@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import small_cases as sc
+from cases import small as sc
 from vibss import AnalysisError, Body, Model, ModelError, Mount, MountType, assemble, symmetric
 from vibss.frequency.api import FrequencyGrid, frequency_grid, frequency_response
 from vibss.frequency.sweep import sweep_response, transmissibility
@@ -186,7 +186,7 @@ def test_plot_all_and_by_body() -> None:
     import matplotlib
 
     matplotlib.use("Agg")
-    from cases import two_mass_model
+    from cases.models import two_mass_model
 
     r = frequency_response(two_mass_model(), ["body1.fx"], ["body1.x", "body2.x", "body2.z"],
                            frequencies=np.linspace(0.1, 3.0, 50))
@@ -242,7 +242,7 @@ def test_undamped_exactly_at_resonance_is_infinite_not_an_error(quantity: str, p
 
 def test_json_with_several_inputs_keeps_the_spec_outputs_key() -> None:
     """Found in review: several inputs dropped the spec's top-level "outputs"."""
-    from cases import two_mass_model
+    from cases.models import two_mass_model
 
     r = frequency_response(two_mass_model(), ["body1.fx", "body2.fx"], ["body2.x"], frequencies=[0.3, 1.0])
     d = json.loads(json.dumps(r.to_dict()))
@@ -256,7 +256,7 @@ def test_json_with_several_inputs_keeps_the_spec_outputs_key() -> None:
 
 def test_report_gives_the_band_edge_maximum_when_no_peak_is_inside() -> None:
     """Found in review: the text said amplitude 0 when the largest response sat at a band edge."""
-    from cases import two_mass_model
+    from cases.models import two_mass_model
 
     r = frequency_response(two_mass_model(), ["body1.fx"], ["body2.x"], frequencies=np.linspace(0.1, 0.3, 21),
                            method="direct")

@@ -8,8 +8,8 @@ import pytest
 from vibss import Body, Model, modes
 from vibss.modal.undamped import rigid_influence
 
-from cases import asymmetric_model
-from reference_impl import loop_assemble, loop_mass
+from cases.models import asymmetric_model
+from cases.reference_impl import loop_assemble, loop_mass
 
 TWO_PI = 2 * np.pi
 

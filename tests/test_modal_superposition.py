@@ -10,8 +10,8 @@ from functools import lru_cache
 import numpy as np
 import pytest
 
-import mp_reference as mpr
-import scaled_cases as sc
+from cases import mp_reference as mpr
+from cases import scaled as sc
 from vibss.frequency.kernels import METHODS
 from vibss.linear.eigen.complex_modes import complex_modes
 from vibss.linear.plant.signals import build_plant

@@ -17,14 +17,14 @@ from vibss.plotting._scene import Scene, box_half_sides
 
 @pytest.fixture(scope="module")
 def prism_modes(request):
-    from cases import prism_model
+    from cases.models import prism_model
 
     return vibss.modes(prism_model())
 
 
 @pytest.fixture(scope="module")
 def two_modes():
-    from cases import two_mass_model
+    from cases.models import two_mass_model
 
     return vibss.modes(two_mass_model())
 
@@ -86,7 +86,7 @@ def test_energy_and_model_figures(two_modes):
 
 
 def test_model_marks_control_points():
-    from cases import asymmetric_model
+    from cases.models import asymmetric_model
 
     model = asymmetric_model()
     body = model.bodies[0].name

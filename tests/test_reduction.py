@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import small_cases as sc
-from cases import asymmetric_model, prism_model, two_mass_model
+from cases import small as sc
+from cases.models import asymmetric_model, prism_model, two_mass_model
 from vibss import Body, Model, ModelError, Mount, MountType, AnalysisError, load_example
 from vibss.reduction.api import reduce, relative_error
 from vibss.reduction.kernels import frf

@@ -14,8 +14,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import scipy.sparse as sp
-from cases import asymmetric_model, prism_model, two_mass_model
-from scaled_cases import graded_chain, hanging_chain, instrument, stiff_links
+from cases.models import asymmetric_model, prism_model, two_mass_model
+from cases.scaled import graded_chain, hanging_chain, instrument, stiff_links
 
 import vibss
 from vibss import Body, Model, Mount, MountType

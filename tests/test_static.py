@@ -8,7 +8,7 @@ import pytest
 from vibss import AnalysisError, Body, Load, Model, ModelError, Mount, MountType, assemble, static, symmetric
 from vibss.statics import centre_of_rotation
 
-from reference_impl import loop_assemble
+from cases.reference_impl import loop_assemble
 
 
 @pytest.mark.parametrize("n_side", [1, 2, 3])

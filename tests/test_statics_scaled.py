@@ -9,8 +9,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import mp_reference as mr
-import scaled_cases as sc
+from cases import mp_reference as mr
+from cases import scaled as sc
 from vibss import assemble, static
 from vibss.model.model import Model
 

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-import small_cases as sc
+from cases import small as sc
 from vibss import Body, Model, Mount, MountType, VibssWarning, assemble, symmetric
 from vibss.errors import AnalysisError, ModelError
 from vibss.io import loads_model

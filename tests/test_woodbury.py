@@ -9,8 +9,8 @@ from functools import lru_cache
 import numpy as np
 import pytest
 
-import mp_reference as mpr
-import scaled_cases as sc
+from cases import mp_reference as mpr
+from cases import scaled as sc
 from vibss import Body, Model, Mount, MountType
 from vibss.frequency.api import frequency_response
 from vibss.frequency.kernels import METHODS

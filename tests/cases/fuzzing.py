@@ -27,7 +27,7 @@ import numpy as np
 import scipy.linalg as sl
 from scipy.spatial.transform import Rotation
 
-from reference_impl import loop_assemble, loop_mass
+from cases.reference_impl import loop_assemble, loop_mass
 from vibss import GROUND, Body, Model, Mount, MountType
 
 LONG = bool(os.environ.get("VIBSS_FUZZ"))
@@ -160,7 +160,7 @@ def mp_solve(model: Model, f_hz: float, rhs: np.ndarray) -> np.ndarray:
     """``(K + iH + sC + s^2 M)^-1 rhs`` at ``s = 2 pi i f_hz`` in 60-digit arithmetic."""
     import mpmath as mp
 
-    from mp_reference import DPS, mass, matrices
+    from cases.mp_reference import DPS, mass, matrices
 
     lossy = _lossy(model)
     rhs = np.asarray(rhs, float).reshape(6 * len(model.bodies), -1)
@@ -176,7 +176,7 @@ def mp_solve(model: Model, f_hz: float, rhs: np.ndarray) -> np.ndarray:
 
 def mp_static(model: Model, load: np.ndarray) -> np.ndarray:
     """``K^-1 f`` in 60-digit arithmetic (K nonsingular)."""
-    from mp_reference import static
+    from cases.mp_reference import static
 
     return static(model, load)
 
