@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 
 import vibss
+from cases.models import box
 from vibss.errors import ArgumentError, ModelError, VibssWarning
 from vibss.studies import causal_loss, causal_loss_fit
 
@@ -22,9 +23,7 @@ ETA, K, MASS = 0.1, 4e4, 10.0          # f_n = sqrt(K / MASS) / 2 pi = 10.07 Hz
 
 
 def _sdof(eta: float = ETA) -> vibss.Model:
-    body = vibss.Body("b", MASS, [1.0, 1.0, 1.0])
-    rubber = vibss.MountType("rubber", [K, K, K], loss_factor=eta)
-    return vibss.Model([body], vibss.symmetric(vibss.Mount("m", rubber, "b", at=[0.1, 0.1, 0.0])))
+    return box(MASS, [1.0, 1.0, 1.0], K, at=[0.1, 0.1, 0.0], loss_factor=eta, type_name="rubber")
 
 
 def test_the_ladder_is_passive_causal_and_as_near_as_kramers_kronig_allows():

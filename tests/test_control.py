@@ -12,6 +12,7 @@ import pytest
 import control
 
 import vibss
+import cases.models as cases
 import vibss.control as vc
 from vibss import Body, Model, Mount, MountType
 from vibss.errors import ControlDesignError, ModelError, SignalError
@@ -24,14 +25,12 @@ WN = np.sqrt(K_ / M_)
 
 
 def sdof(zeta: float, **extra: object) -> Model:
-    c = 2 * zeta * M_ * WN
-    t = MountType("iso", [K_] * 3, [c] * 3)
-    return Model([Body("b", M_, [1, 1, 1])], [Mount("m", t, "b")],
-                 actuators=[Actuator("a", mount="m", axis=3, **extra)],
-                 sensors=[Sensor("v", "velocity", body="b", direction=[0, 0, 1]),
-                          Sensor("rv", "relative_velocity", mount="m", axis=3),
-                          Sensor("f", "mount_force", mount="m", axis=3),
-                          Sensor("s", "relative_displacement", mount="m", axis=3)])
+    return cases.sdof(M_, K_, 2 * zeta * M_ * WN, type_name="iso",
+                      actuators=[Actuator("a", mount="m", axis=3, **extra)],
+                      sensors=[Sensor("v", "velocity", body="b", direction=[0, 0, 1]),
+                               Sensor("rv", "relative_velocity", mount="m", axis=3),
+                               Sensor("f", "mount_force", mount="m", axis=3),
+                               Sensor("s", "relative_displacement", mount="m", axis=3)])
 
 
 # -- the plant ---------------------------------------------------------------------------------

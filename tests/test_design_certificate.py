@@ -15,11 +15,6 @@ from vibss.design import certificate
 from vibss.errors import ArgumentError
 
 
-@pytest.fixture(scope="module")
-def powertrain():
-    return vibss.load_example("powertrain")
-
-
 def _independent_ke(model):
     a = vibss.assemble(model)
     M, K = np.asarray(a.M), np.asarray(a.K)

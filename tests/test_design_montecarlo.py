@@ -13,11 +13,6 @@ from vibss.design.parameters import apply, current_values, parameters_of
 from vibss.errors import ArgumentError
 
 
-@pytest.fixture(scope="module")
-def powertrain():
-    return vibss.load_example("powertrain")
-
-
 TOL = {"engine.k1": 0.2, "engine.k3": 0.15, "engine.xz.k2": 0.15, "gearbox.k3": 0.2,
        "torque-strut.k1": 0.15, "engine.x": 0.01, "gearbox.z": 0.02, "engine.rx": 0.1,
        "engine.ry": 0.05, "torque-strut.rz": 0.1,

@@ -16,11 +16,6 @@ from vibss.design.sensitivity import evaluate
 from vibss.errors import ArgumentError
 
 
-@pytest.fixture(scope="module")
-def powertrain():
-    return vibss.load_example("powertrain")
-
-
 def test_apply_sets_the_ratio_on_the_final_denominator(powertrain):
     params = parameters_of(powertrain, ["engine.k1/k3", "engine.k3"])
     model = apply(powertrain, params, [0.5, 3e5])

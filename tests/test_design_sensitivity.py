@@ -19,11 +19,6 @@ PARAMS = ["engine.k1", "engine.k3", "gearbox.k2", "torque-strut.k1", "engine.x",
           Parameter("engine pair spread", [("engine", "y", 1.0), ("engine.xz", "y", -1.0)])]
 
 
-@pytest.fixture(scope="module")
-def powertrain():
-    return vibss.load_example("powertrain")
-
-
 def _quantities(model, frame):
     md = vibss.modes(model)
     a = vibss.assemble(model)

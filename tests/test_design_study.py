@@ -12,11 +12,6 @@ from vibss.design.parameters import apply, parameters_of
 from vibss.errors import ArgumentError
 
 
-@pytest.fixture(scope="module")
-def powertrain():
-    return vibss.load_example("powertrain")
-
-
 def test_grid_rows_equal_direct_analyses(powertrain):
     df = vibss.study(powertrain, grid={"engine.k3": [2e5, 3e5], "gearbox.z": [-0.01, 0.0, 0.01]})
     assert len(df) == 6 and df["error"].isna().all()

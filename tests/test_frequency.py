@@ -16,15 +16,14 @@ from vibss.frequency.sweep import sweep_response, transmissibility
 from vibss.frequency.kernels import METHODS
 from vibss.linear.plant.signals import build_plant
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from test_signals import two_body  # noqa: E402
+import cases.models as cases  # noqa: E402
+from cases.models import two_body  # noqa: E402
 
 
 def sdof(zeta: float = 0.05, fn: float = 1.0, mass: float = 1.0) -> Model:
     """A point mass on one mount at its COG: z is a single DOF (rotations decouple)."""
     k = mass * (2 * np.pi * fn) ** 2
-    c = 2 * zeta * np.sqrt(k * mass)
-    return Model([Body("m", mass, [1.0, 1.0, 1.0])], [Mount("s", MountType("t", [k] * 3, [c] * 3), "m")])
+    return cases.sdof(mass, k, 2 * zeta * np.sqrt(k * mass), body="m", mount="s")
 
 
 def closed_form_t(r, zeta):

@@ -19,9 +19,10 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
+import cases.models as cases
 import vibss
 from vibss import (Body, Excitation, Model, Mount, MountType, Scope, damped_modes, frequency_response,
-                   modes, reduce, simulate, static, sweep_envelope, symmetric)
+                   modes, reduce, simulate, static, sweep_envelope)
 from vibss.design import (certificate, elastic_axes, monte_carlo, optimise, sensitivity,
                           torque_response)
 from vibss.linear.plant.signals import build_plant
@@ -37,9 +38,8 @@ its own tests), methods; nested results are walked as results of their own."""
 
 
 def box() -> Model:
-    t = MountType("t", [1e4, 1.2e4, 2e4], [20.0, 20.0, 20.0])
-    return Model([Body("b", 10.0, [1.0, 1.2, 1.5])], symmetric(Mount("m", t, "b", at=[0.3, 0.2, 0.1])),
-                 gravity=[0.0, 0.0, -9.81], name="box")
+    return cases.box(10.0, [1.0, 1.2, 1.5], [1e4, 1.2e4, 2e4], 20.0, at=[0.3, 0.2, 0.1],
+                     gravity=[0.0, 0.0, -9.81], name="box")
 
 
 @pytest.fixture(scope="module")

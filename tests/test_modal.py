@@ -210,7 +210,7 @@ def test_generalized_eigh_block_path_matches_scipy():
 
     from vibss.linear.eigen.undamped import _inverse_cholesky, generalized_eigh
     from vibss.linear.plant.signals import build_plant
-    from test_signals import two_body
+    from cases.models import two_body
 
     p = build_plant(two_body(), ["frame.rz.disp", "engine.fz"], ["engine.z"])   # frame rz prescribed
     assert p.n == 11

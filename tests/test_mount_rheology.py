@@ -12,6 +12,7 @@ from scipy.integrate import solve_ivp
 
 import vibss
 from vibss import Body, Model, Mount, MountType
+from cases.models import sdof
 from vibss.errors import AnalysisError, ModelError, VibssWarning
 from vibss.linear.plant.signals import build_plant
 from vibss.linear.solve.exact import response
@@ -28,7 +29,7 @@ def _zener_type(name: str = "rubber", damping: float = C) -> MountType:
 
 def _sdof(damping: float = C) -> Model:
     """A body on one mount at its COG: x, y, z are the same single-DOF isolator; rotations free."""
-    return Model([Body("b", M, [1.0, 1.0, 1.0])], [Mount("m", _zener_type(damping=damping), "b")])
+    return sdof(M, mount_type=_zener_type(damping=damping))
 
 
 def _kstar(s: np.ndarray, damping: float = C) -> np.ndarray:

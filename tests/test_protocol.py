@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 from matplotlib.figure import Figure
 
+import cases.models as cases
 import vibss
 from vibss import (Body, Excitation, Model, Mount, MountType, Scope, damped_modes, frequency_response,
                    modes, reduce, simulate, static, sweep_envelope, symmetric)
@@ -28,9 +29,7 @@ MASS, KZ, CZ, G = 10.0, 1e4, 20.0, 9.81
 
 
 def box() -> Model:
-    t = MountType("t", [KZ, KZ, KZ], [CZ, CZ, CZ])
-    return Model([Body("b", MASS, [1.0, 1.2, 1.5])], symmetric(Mount("m", t, "b", at=[0.3, 0.2, 0.0])),
-                 gravity=[0.0, 0.0, -G], name="box")
+    return cases.box(MASS, [1.0, 1.2, 1.5], KZ, CZ, at=[0.3, 0.2, 0.0], gravity=[0.0, 0.0, -G], name="box")
 
 
 @pytest.fixture(scope="module")

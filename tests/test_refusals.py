@@ -12,7 +12,7 @@ import pytest
 
 import vibss
 
-from test_signals import two_body
+from cases.models import two_body
 from vibss import (Body, DefectiveModesError, Excitation, Model, Mount, MountType, Step, frequency_response,
                    simulate, symmetric)
 from vibss.frequency.kernels import METHODS as FREQUENCY_METHODS

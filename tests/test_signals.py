@@ -5,28 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from vibss import Body, ControlPoint, Model, ModelError, Mount, MountType, Orientation, assemble
+from vibss import ModelError, assemble
 from vibss.linear.plant.signals import build_plant, control_name, default_outputs
 
-
-def two_body() -> Model:
-    t1 = MountType("soft", [2e4, 3e4, 5e4], [40.0, 10.0, 80.0])
-    t2 = MountType("stiff", [8e4, 6e4, 9e4], [5.0, 60.0, 20.0])
-    inertia = [[12.0, -1.5, 0.8], [-1.5, 20.0, 0.6], [0.8, 0.6, 25.0]]
-    b1 = Body("frame", 300.0, inertia, cog=[0.1, -0.05, 0.3])
-    b2 = Body("engine", 120.0, [3.0, 5.0, 6.0], cog=[0.4, 0.2, 0.9],
-              principal_axes=Orientation.from_euler([20, 10, -5], degrees=True))
-    tilt = Orientation.from_euler([30, 15, 0], degrees=True)
-    mounts = [Mount("g1", t1, "frame", at=[0.8, 0.6, -0.3], orientation=tilt),
-              Mount("g2", t1, "frame", at=[-0.7, 0.5, -0.2]),
-              Mount("g3", t1, "frame", at=[0.6, -0.6, -0.35], orientation=Orientation.from_euler([-40, 0, 20], degrees=True)),
-              Mount("g4", t1, "frame", at=[-0.5, -0.7, -0.3]),
-              Mount("e1", t2, "engine", at=[0.3, 0.3, -0.2], to="frame", orientation=tilt),
-              Mount("e2", t2, "engine", at=[-0.3, 0.25, -0.25], to="frame"),
-              Mount("e3", t2, "engine", at=[0.0, -0.3, -0.2], to="frame",
-                    orientation=Orientation.from_euler([0, 45, 0], degrees=True))]
-    cps = [ControlPoint("sensor", "engine", [0.2, 0.1, 0.3])]
-    return Model([b1, b2], mounts, cps, name="two body")
+from cases.models import two_body
 
 
 def test_names_units_and_shapes():

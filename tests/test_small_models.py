@@ -14,6 +14,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import scipy.sparse as sp
+import cases.models as cases
 from cases.models import asymmetric_model, prism_model, two_mass_model
 from cases.scaled import graded_chain, hanging_chain, instrument, stiff_links
 
@@ -89,10 +90,8 @@ def test_modes_of_the_dense_path_are_the_sparse_paths(name: str) -> None:
 
 
 def box() -> Model:
-    t = MountType("t", [1e4, 1.2e4, 2e4], [20.0, 30.0, 15.0])
-    return Model([Body("b", 10.0, [1.0, 1.2, 1.5], cog=[0.0, 0.0, 0.1])],
-                 [Mount(f"m{i}", t, "b", at=[x, y, 0.0]) for i, (x, y) in
-                  enumerate([(0.3, 0.2), (-0.3, 0.2), (0.3, -0.2), (-0.25, -0.2)])], name="box")
+    return cases.box(10.0, [1.0, 1.2, 1.5], [1e4, 1.2e4, 2e4], [20.0, 30.0, 15.0], cog=[0.0, 0.0, 0.1],
+                     at=[(0.3, 0.2, 0.0), (-0.3, 0.2, 0.0), (0.3, -0.2, 0.0), (-0.25, -0.2, 0.0)], name="box")
 
 
 def test_the_same_model_is_remembered_and_another_is_not() -> None:

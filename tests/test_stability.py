@@ -15,6 +15,8 @@ import pytest
 import scipy.linalg as sl
 from scipy.spatial.transform import Rotation
 
+import cases.models as cases
+
 from vibss import AnalysisError, Body, Model, Mount, MountType, assemble, damped_modes, modes, static
 from vibss.errors import ModelError
 from vibss.model.excitation import Excitation, Rectangular, SineSweep, Step
@@ -31,8 +33,7 @@ WN = np.sqrt(KZ / MASS)
 
 
 def sdof(c: float = 0.0) -> Model:
-    t = MountType("t", [KZ, KZ, KZ], [c, c, c])
-    return Model([Body("b", MASS, [1.0, 1.0, 1.0])], [Mount("m", t, "b")], name="sdof")
+    return cases.sdof(MASS, KZ, c, name="sdof")
 
 
 def step_response(t: np.ndarray, f: float, t0: float) -> np.ndarray:

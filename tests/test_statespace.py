@@ -14,8 +14,7 @@ from vibss.frequency.kernels import direct
 from vibss.linear.plant.signals import build_plant
 from vibss.linear.statespace import statespace
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from test_signals import two_body  # noqa: E402
+from cases.models import two_body  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 from benchmarks.models import chain_model  # noqa: E402

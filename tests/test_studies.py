@@ -13,8 +13,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import cases.models as cases
 import vibss
-from vibss import Body, Excitation, Model, Mount, MountType, symmetric
+from vibss import Body, Excitation, Model
 from vibss.cli import main
 from vibss.model.timefunctions import HalfSine, Sine, SineSweep
 from vibss.report import study
@@ -26,9 +27,8 @@ MASS, INERTIA, K, C, A, B = 50.0, (4.0, 6.0, 8.0), 2e4, 100.0, 0.4, 0.3
 
 
 def box(excitations=(), c: float = C, settings=None) -> Model:
-    t = MountType("iso", [K] * 3, [c] * 3)
-    return Model([Body("b", MASS, list(INERTIA))], symmetric(Mount("m", t, "b", at=[A, B, 0.0])),
-                 name="box", excitations=list(excitations), settings=settings)
+    return cases.box(MASS, list(INERTIA), K, c, at=[A, B, 0.0], type_name="iso", name="box",
+                     excitations=list(excitations), settings=settings)
 
 
 def closed_form(c: float = C) -> tuple[np.ndarray, np.ndarray]:

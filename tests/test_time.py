@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
+import cases.models as cases
 from cases import small as sc
 from vibss import Body, Model, Mount, MountType, VibssWarning, assemble, symmetric
 from vibss.errors import AnalysisError, ModelError
@@ -23,8 +24,7 @@ WN = np.sqrt(K / M)
 
 def sdof(c: float = 0.0) -> Model:
     """One body on one mount at its COG: x, y, z are single DOFs (rotations are free rigid modes)."""
-    t = MountType("t", [K, K, K], [c, c, c])
-    return Model([Body("b", M, [1.0, 1.0, 1.0])], [Mount("m", t, "b")], name="sdof")
+    return cases.sdof(M, K, c, name="sdof")
 
 
 def free(t: np.ndarray, x0: float, v0: float, c: float) -> np.ndarray:
@@ -327,7 +327,7 @@ def test_auto_falls_back_to_forced_response_when_complex_modes_refuse(monkeypatc
     auto runs forced_response and says so; an explicit method='modal' raises."""
     import vibss.time.kernels as tm
     from vibss import DefectiveModesError
-    from test_signals import two_body
+    from cases.models import two_body
 
     def refuse(*args, **kwargs):
         raise DefectiveModesError("complex modes: the eigenvectors are nearly dependent (test)")

@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
+import cases.models as cases
 import vibss
 from vibss.model.timefunctions import HalfSine, Haversine, Sine
 
@@ -21,9 +22,8 @@ M, K, C = 20.0, 8.0e4, 252.0                      # the box's vertical isolator:
 
 
 def box(damping: float = C) -> vibss.Model:
-    iso = vibss.MountType("iso", stiffness=(1.5e4, 1.5e4, K / 4), damping=(40.0, 40.0, damping / 4))
-    return vibss.Model([vibss.Body("box", M, (0.25, 0.30, 0.35))],
-                       vibss.symmetric(vibss.Mount("iso", iso, "box", at=(0.15, 0.10, 0.0))))
+    return cases.box(M, (0.25, 0.30, 0.35), (1.5e4, 1.5e4, K / 4), (40.0, 40.0, damping / 4), at=(0.15, 0.10, 0.0),
+                     body="box", mount="iso", type_name="iso")
 
 
 def integrate(rhs, edges, ts, y0):

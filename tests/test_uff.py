@@ -7,6 +7,7 @@ import pytest
 
 pyuff = pytest.importorskip("pyuff")
 
+import cases.models as cases  # noqa: E402
 import vibss  # noqa: E402
 from vibss.io import frac, read_uff, write_uff  # noqa: E402
 
@@ -123,8 +124,7 @@ def test_frequency_shift_finds_a_stiffness_error() -> None:
     from vibss.io import frequency_shift
 
     def sdof(k: float) -> vibss.Model:
-        t = vibss.MountType("t", [k] * 3, [0.5] * 3)
-        return vibss.Model([vibss.Body("b", 5.0, [0.1, 0.1, 0.1])], [vibss.Mount("m", t, "b")])
+        return cases.sdof(5.0, k, 0.5, inertia=[0.1, 0.1, 0.1])
 
     f_meas = np.linspace(5.0, 20.0, 301)
     measured = vibss.frequency_response(sdof(0.96 * 2e4), ["b.fz"], ["b.z"], f_meas)

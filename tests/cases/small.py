@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from cases.models import sdof as _sdof
 from vibss import Body, Model, Mount, MountType
 
 K, M, C = 1e4, 10.0, 20.0
@@ -14,7 +15,7 @@ WN = np.sqrt(K / M)
 
 def sdof(c: float = C) -> Model:
     """One 10 kg body on one mount at its COG: w_n = sqrt(K / M) in x, y and z; rotations free."""
-    return Model([Body("b", M, [1, 1, 1])], [Mount("m", MountType("t", [K] * 3, [c] * 3), "b")])
+    return _sdof(M, K, c)
 
 
 def chain() -> Model:
