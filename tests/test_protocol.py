@@ -20,7 +20,7 @@ from matplotlib.figure import Figure
 import cases.models as cases
 import vibss
 from vibss import (Body, Excitation, Model, Mount, MountType, Scope, damped_modes, frequency_response,
-                   modes, reduce, simulate, static, sweep_envelope, symmetric)
+                   modes, reduce, simulate, static, sweep_envelope)
 from vibss.errors import MissingDependencyError, SignalError, VibssError
 from vibss.model.excitation import SineSweep, Step
 from vibss.results import Result, Table, jsonable
