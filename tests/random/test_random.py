@@ -8,6 +8,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from cases import ROOT
 import vibss
 from vibss.errors import ArgumentError
 from vibss.random import G, PSD, random_response
@@ -90,7 +91,7 @@ def test_random_guide(capsys):
     import re
     from pathlib import Path
 
-    text = (Path(__file__).parents[1] / "docs/analyses/shock-and-random.md").read_text()
+    text = (ROOT / "docs/analyses/shock-and-random.md").read_text()
     block = re.findall(r"```python\n(.*?)```", text.split("## Random vibration", 1)[1], re.S)[0]
     scope: dict = {}
     exec(compile(block, "shock-and-random.md", "exec"), scope)

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
+from cases import ROOT
 import vibss
 from vibss.errors import ArgumentError, ModelError
 from vibss.orders import OrderForce, Unbalance, order_response, run_up
@@ -145,7 +146,7 @@ def test_orders_guide(capsys):
     import re
     from pathlib import Path
 
-    text = (Path(__file__).parents[1] / "docs/analyses/orders.md").read_text()
+    text = (ROOT / "docs/analyses/orders.md").read_text()
     scope: dict = {}
     for block in re.findall(r"```python\n(.*?)```", text, re.S):
         exec(compile(block, "orders.md", "exec"), scope)

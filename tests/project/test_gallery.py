@@ -6,16 +6,16 @@ from __future__ import annotations
 
 import importlib.util
 import re
-from pathlib import Path
 
 import matplotlib
 import pytest
 
+from cases import ROOT
 import vibss
 from vibss.commands.example import describe
 
 matplotlib.use("Agg")
-DOCS = Path(__file__).parents[1] / "docs"
+DOCS = ROOT / "docs"
 spec = importlib.util.spec_from_file_location("make_gallery", DOCS / "make_gallery.py")
 make_gallery = importlib.util.module_from_spec(spec)
 spec.loader.exec_module(make_gallery)

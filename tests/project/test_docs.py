@@ -3,17 +3,17 @@
 from __future__ import annotations
 
 import re
-from pathlib import Path
 
 import matplotlib
 import numpy as np
 import pytest
 
+from cases import ROOT
 import vibss
 
 matplotlib.use("Agg")
 
-DOCS = Path(__file__).parents[1] / "docs"
+DOCS = ROOT / "docs"
 
 
 def _blocks(name: str) -> list[str]:

@@ -6,14 +6,14 @@ error, not a skip, so CI cannot pass without running the notebooks.
 
 from __future__ import annotations
 
-from pathlib import Path
 
 import ipykernel  # noqa: F401  (the kernel the notebooks run in)
 import nbclient
 import nbformat
 import pytest
+from cases import ROOT
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = ROOT / "examples"
 
 NOTEBOOKS = ["active_isolation.ipynb", "frf_transmissibility.ipynb", "mount_design.ipynb",
              "mount_stiffness_study.ipynb", "shock_study.ipynb"]

@@ -6,11 +6,11 @@ from __future__ import annotations
 
 import sys
 from dataclasses import replace
-from pathlib import Path
 
 import numpy as np
 import pytest
 
+from cases import ROOT
 import vibss
 import vibss.frequency.api as fa
 from vibss import Model, Mount, MountType
@@ -20,7 +20,7 @@ from vibss.linear.plant.signals import build_plant
 from vibss.linear.solve.exact import response
 from vibss.linear.project.subspace import CHECK_SAFETY, TOLERANCE, channel_subspace
 
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "benchmarks"))
+sys.path.insert(0, str(ROOT / "benchmarks"))
 from models import chain_model, grid_model  # noqa: E402
 
 F = np.linspace(1.0, 50.0, 200)

@@ -11,6 +11,7 @@ import pytest
 
 from cases import mp_reference as mpr
 from cases import scaled as sc
+from cases import ROOT
 from vibss import Body, Model, Mount, MountType
 from vibss.errors import AnalysisError
 from vibss.frequency.kernels import METHODS
@@ -308,7 +309,7 @@ def test_an_undamped_banded_solve_runs_in_real_arithmetic(monkeypatch):
     import sys
     from pathlib import Path
 
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    sys.path.insert(0, str(ROOT / "benchmarks"))
     from models import chain_model
 
     import vibss
@@ -361,7 +362,7 @@ def test_a_full_dense_plant_above_dense_max_takes_the_dense_lu() -> None:
 
     from vibss.linear.solve import exact as sv
 
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    sys.path.insert(0, str(ROOT / "benchmarks"))
     from models import grid_model
 
     plant = build_plant(grid_model(100, damping="general", seed=2), ["b0.fz", "b7.fx"], ["b3.z", "b9.y"])

@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 from cases.mp_reference import extended_precision_frf
+from cases import ROOT
 from vibss.linear.eigen.complex_modes import complex_modes
 
 
@@ -124,7 +125,7 @@ def test_frf_screen_refines_only_the_poles_that_are_off(monkeypatch):
     from vibss.frequency.kernels import METHODS
     from vibss.linear.plant.signals import build_plant
 
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    sys.path.insert(0, str(ROOT / "benchmarks"))
     from models import tree_model
 
     model = tree_model(30, damping="general")

@@ -11,6 +11,7 @@ import pytest
 
 from cases import mp_reference as mpr
 from cases import scaled as sc
+from cases import ROOT
 from vibss import Body, Model, Mount, MountType
 from vibss.frequency.api import frequency_response
 from vibss.frequency.kernels import METHODS
@@ -163,7 +164,7 @@ def test_damping_rank_counts_the_factor_columns_without_forming_them(damping: st
 
     from vibss.linear.eigen.projection import damping_rank
 
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    sys.path.insert(0, str(ROOT / "benchmarks"))
     from models import tree_model
 
     model = tree_model(12, damping=damping)

@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
+from cases import ROOT
 import vibss
 from vibss import Body, Model, Mount, MountType
 from vibss.errors import ModelError, ModelFileError
@@ -268,7 +269,7 @@ def test_the_model_file_guide_example_loads_in_si():
     import re
     from pathlib import Path
 
-    text = (Path(__file__).parents[1] / "docs" / "model-file.md").read_text()
+    text = (ROOT / "docs" / "model-file.md").read_text()
     block = next(b for b in re.findall(r"```toml\n(.*?)```", text, re.S) if "stiffness_matrix" in b)
     model = vibss.loads_model('[model]\nunits = { length = "mm" }\n[[body]]\nname = "b"\nmass = 4.0\n'
                               'inertia = [2.5e5, 3e5, 3.5e5]\n' + block + '[[mount]]\ntype = "block"\nbody = "b"\n')

@@ -12,6 +12,7 @@ import pytest
 from scipy.integrate import solve_ivp
 from scipy.spatial.transform import Rotation
 
+from cases import ROOT
 import vibss
 from vibss import Body, Model, Mount, MountType, Support
 from vibss.errors import ModelError, ModelFileError, SignalError
@@ -318,7 +319,7 @@ def test_the_model_file_guide_example_of_supports_loads():
     import re
     from pathlib import Path
 
-    text = (Path(__file__).parents[1] / "docs" / "model-file.md").read_text()
+    text = (ROOT / "docs" / "model-file.md").read_text()
     block = next(b for b in re.findall(r"```toml\n(.*?)```", text, re.S) if "[[support]]" in b)
     model = vibss.loads_model('[model]\nunits = { length = "mm" }\n[[body]]\nname = "bar"\nmass = 40.0\n'
                               'inertia = [2e6, 6e6, 6.5e6]\n[[mount_type]]\nname = "spring"\n'

@@ -8,15 +8,14 @@ Every number the docs quote from a computation is checked here: the quick start
 from __future__ import annotations
 
 import importlib.util
-from pathlib import Path
 
 import numpy as np
 import pytest
 
+from cases import ROOT
 import vibss
 from vibss.io import load_example
 
-ROOT = Path(__file__).resolve().parents[1]
 
 
 def _quickstart():

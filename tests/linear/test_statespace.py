@@ -3,12 +3,12 @@
 from __future__ import annotations
 
 import sys
-from pathlib import Path
 
 import control
 import numpy as np
 import pytest
 
+from cases import ROOT
 from vibss import AnalysisError, Body, Model
 from vibss.frequency.kernels import direct
 from vibss.linear.plant.signals import build_plant
@@ -16,7 +16,7 @@ from vibss.linear.statespace import statespace
 
 from cases.models import two_body  # noqa: E402
 
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+sys.path.insert(0, str(ROOT))
 from benchmarks.models import chain_model  # noqa: E402
 
 

@@ -6,11 +6,11 @@ from __future__ import annotations
 
 import sys
 import warnings
-from pathlib import Path
 
 import numpy as np
 import pytest
 
+from cases import ROOT
 import vibss.time.api as time_api
 from vibss import simulate
 from vibss.errors import AnalysisError, VibssWarning
@@ -18,7 +18,7 @@ from vibss.model.excitation import Excitation
 from vibss.model.timefunctions import HalfSine
 from vibss.time.large import input_spectrum
 
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "benchmarks"))
+sys.path.insert(0, str(ROOT / "benchmarks"))
 from models import chain_model  # noqa: E402
 
 

@@ -4,12 +4,12 @@ from __future__ import annotations
 
 import json
 import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 from cases import small as sc
+from cases import ROOT
 from vibss import AnalysisError, Body, Model, ModelError, Mount, MountType, assemble, symmetric
 from vibss.frequency.api import FrequencyGrid, frequency_grid, frequency_response
 from vibss.frequency.sweep import sweep_response, transmissibility
@@ -348,7 +348,7 @@ def test_auto_is_exact_on_badly_scaled_models_and_avoids_complex_modes_on_undamp
     modes of a badly scaled model (1e-6 error, or a false 'zero eigenvalue' raise). Complex modes now
     screen and refine those poles, so ``auto`` may take them there, costed with the refinement;
     whichever it takes must meet the dense solve."""
-    sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "benchmarks"))
+    sys.path.insert(0, str(ROOT / "benchmarks"))
     from models import chain_model
 
     m = chain_model(10, "general", scale="bad")

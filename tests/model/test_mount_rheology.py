@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
+from cases import ROOT
 import vibss
 from vibss import Body, Model, Mount, MountType
 from cases.models import sdof
@@ -338,7 +339,7 @@ def test_mounts_guide_runs_and_its_numbers_hold(capsys):
     import re
     from pathlib import Path
 
-    text = (Path(__file__).parents[1] / "docs" / "analyses" / "mounts.md").read_text()
+    text = (ROOT / "docs" / "analyses" / "mounts.md").read_text()
     scope: dict = {}
     with warnings.catch_warnings():
         warnings.simplefilter("error", VibssWarning)

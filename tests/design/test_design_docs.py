@@ -3,14 +3,14 @@
 from __future__ import annotations
 
 import re
-from pathlib import Path
 
 import matplotlib
 import pytest
+from cases import ROOT
 
 matplotlib.use("Agg")
 
-DOCS = Path(__file__).parents[1] / "docs"
+DOCS = ROOT / "docs"
 
 
 def test_design_guide(capsys, tmp_path, monkeypatch):

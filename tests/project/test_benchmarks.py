@@ -5,12 +5,11 @@ process (where ARPACK's unseeded start vector would move on between calls); no t
 from __future__ import annotations
 
 import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
+from cases import ROOT
 
-ROOT = Path(__file__).resolve().parents[1]
 
 
 @pytest.fixture(scope="module")

@@ -8,13 +8,8 @@ recomputed here in long double from the assembled ``K + iH + sC + s^2 M``, or th
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
-
-sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import vibss  # noqa: E402
 from vibss import Body, Model, Mount, MountType, Orientation  # noqa: E402
