@@ -71,7 +71,7 @@ def test_base_acceleration_pulses_against_solve_ivp(pulse):
     assert np.abs(r["box.z.acc"] - acc).max() <= 1e-10 * np.abs(acc).max()
 
 
-def test_a_ground_velocity_sine_and_the_old_sampled_error():
+def test_a_ground_velocity_sine_is_exact_and_a_plain_callable_is_linear_between_samples():
     """The same half-sine as a ground velocity; and a plain callable (no declared piece) is what it
     was: linear between samples, with the error the issue measured, and says so."""
     pulse = HalfSine(0.5, start=0.001, duration=0.011)
