@@ -1,6 +1,6 @@
 """The adversarial suite's machinery: random models, an independent reference, mutated files.
 
-Used by ``tests/test_adversarial.py`` (a short, seeded run in every test run) and by ``make fuzz``
+Used by ``tests/robustness/test_random_models.py`` (a short, seeded run in every test run) and by ``make fuzz``
 (the same tests, longer: ``VIBSS_FUZZ=1``; see docs/robustness.md for the figures of the last run).
 
 - :func:`model_spec` / :func:`build` — a random model from plain numbers: 1–6 bodies, masses over

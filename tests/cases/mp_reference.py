@@ -191,7 +191,7 @@ def step_response(model: Model, load: np.ndarray, dt: float, steps: int, rows: i
 def extended_precision_frf(plant: Any, s: np.ndarray) -> np.ndarray:
     """Receptance ``Oq (K + s^2 M + s C)^-1 F`` of a plant, (p, m, nf): a dense LU refined three
     times with the residual formed in long double (80-bit on x86), independent of any
-    eigen-decomposition (the tree's reference in tests/test_complex_modes.py and
+    eigen-decomposition (the tree's reference in tests/linear/test_complex_modes.py and
     benchmarks/bench_tree_refine.py)."""
     import scipy.linalg as sl
     import scipy.sparse as sps

@@ -1,7 +1,7 @@
 """The certified complex-mode solutions of a small plant's exact solve (vibss/linear/solve/certified.py).
 
 Every number asserted comes from outside the code under test: an LU refined with the residual in
-long double (tests/mp_reference.extended_precision_frf, no eigen-decomposition), the backward error
+long double (tests/cases/mp_reference.extended_precision_frf, no eigen-decomposition), the backward error
 recomputed here in long double from the assembled ``K + iH + sC + s^2 M``, or the batched LU itself
 (``certify=False``), bit for bit where the certificate sends a frequency there.
 """

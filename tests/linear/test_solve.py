@@ -272,7 +272,7 @@ EIGEN_FAILS = {"statespace": {"graded_chain"}}
 'modal' and 'complex_modal' on the graded chain too (2.5e-9, 4.0e-9: static term in the mounts'
 forces, refined slow poles, the mass-residual form above the modes). 'statespace' on the graded
 chain stays at 1.5e-8 at 1.01 omega_max: its first-order realization sums r/(s - lam) + conj terms
-that cancel by |s| / omega_1 = 2e7 (tests/test_modal_superposition.py)."""
+that cancel by |s| / omega_1 = 2e7 (tests/modal/test_modal_superposition.py)."""
 
 
 def _method_cases() -> list:

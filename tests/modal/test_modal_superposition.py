@@ -78,7 +78,7 @@ def test_a_slow_lightly_damped_pole_is_exact_beside_a_fast_one(zeta: float) -> N
 def test_the_statespace_limit_is_measured() -> None:
     """'statespace' (python-control TB05AD on the first-order modal realization) keeps the
     cancellation above the modes: it misses 1e-8 at 1.01 omega_max on the graded chain (xfail in
-    tests/test_solve.py), while complex_modal meets it at the same point."""
+    tests/linear/test_solve.py), while complex_modal meets it at the same point."""
     _, _, el = _graded(True)
     w = np.array([1.01]) * el.max()
     assert _error("statespace", True, w).max() > TOL >= _error("complex_modal", True, w).max()

@@ -41,7 +41,7 @@ def _layer(module: str) -> int:
         for i, names in enumerate(LAYERS):
             if head in names:
                 return i
-    raise AssertionError(f"module vibss.{module} is not placed in a layer in tests/test_api.py")
+    raise AssertionError(f"module vibss.{module} is not placed in a layer in tests/project/test_api.py")
 
 
 def _modules():

@@ -27,7 +27,7 @@ def test_layer_table_matches_the_layering_test() -> None:
     rows = re.findall(r"^\| (\d+) \| (.*?) \|", DOC.read_text(), re.M)
     table = {int(n): {m.strip("`/").replace("/", ".") for m in re.findall(r"`[^`]+`", cells)}
              for n, cells in rows}
-    assert sorted(table) == list(range(len(LAYERS))), "one row per layer of tests/test_api.py"
+    assert sorted(table) == list(range(len(LAYERS))), "one row per layer of tests/project/test_api.py"
     for i, names in enumerate(LAYERS):
         missing = set(names) - table[i]
         assert not missing, f"docs/architecture.md layer {i} does not name {sorted(missing)}"

@@ -7,8 +7,8 @@ time); ``make fuzz`` runs the same tests longer (``VIBSS_FUZZ=1``: 1,000 models 
 models (deterministic per seed). Random models come from
 :func:`fuzzing.model_specs` (1-6 bodies, masses over seven decades, full inertia tensors, inclined
 mounts, zero-stiffness axes, links from soft to 1e16 N/m, non-proportional viscous and hysteretic
-damping, rigid modes); the reference is ``tests/mp_reference.py`` (60 digits) and
-``tests/reference_impl.py`` (loops per mount), which share no code with vibss.
+damping, rigid modes); the reference is ``tests/cases/mp_reference.py`` (60 digits) and
+``tests/cases/reference_impl.py`` (loops per mount), which share no code with vibss.
 
 Stated tolerances (the figures the long run is held to):
 
