@@ -303,6 +303,7 @@ def test_preflight_messages() -> None:
 
 
 # -- semi-active ------------------------------------------------------------------------------------
+@pytest.mark.slow
 def test_clipped_skyhook_never_injects_power_and_equals_passive_at_fixed_damping() -> None:
     m = sdof(0.0)
     P = vc.plant(m, ["ground.z.vel"], performance=["b.z.vel"], measurements=["sensor.v", "sensor.rv"], dofs=["b.z"])

@@ -13,6 +13,7 @@ matplotlib.use("Agg")
 DOCS = ROOT / "docs"
 
 
+@pytest.mark.slow
 def test_design_guide(capsys, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)               # the guide writes powertrain-optimised.toml
     scope: dict = {}

@@ -51,6 +51,7 @@ def test_refusals(powertrain):
         vibss.study(powertrain, table={"engine.k3": [1e5, 2e5], "gearbox.k3": [1e5]})
 
 
+@pytest.mark.slow
 def test_dask_local_cluster_gives_the_same_table(powertrain):
     distributed = pytest.importorskip("distributed")
     grid = {"engine.k3": [2e5, 2.5e5, 3e5], "torque-strut.k1": [8e4, -1.0, 1.2e5], "gearbox.z": [0.0, 0.01]}
@@ -63,6 +64,7 @@ def test_dask_local_cluster_gives_the_same_table(powertrain):
     assert remote["error"].notna().sum() == 6
 
 
+@pytest.mark.slow
 def test_client_local_starts_and_closes_its_own_cluster(powertrain):
     pytest.importorskip("distributed")
     grid = {"engine.k3": [2e5, 3e5]}

@@ -36,7 +36,7 @@ def _stated(note: str) -> float:
     return float(note.split("checked error ")[1].split(" ")[0])
 
 
-@pytest.mark.parametrize("damping, method", [("none", "auto"), ("general", "subspace")])
+@pytest.mark.parametrize("damping, method", [("none", "auto"), pytest.param("general", "subspace", marks=pytest.mark.slow)])
 def test_the_subspace_on_a_large_chain_matches_the_exact_solve(monkeypatch, damping, method) -> None:
     """A 300-body chain (1,800 DOF) above a lowered LARGE_DOFS, 200 frequencies on 3 x 1 channels:
     undamped, ``auto`` takes the subspace (cheaper than 200 banded LUs); its note states the basis,
@@ -53,6 +53,7 @@ def test_the_subspace_on_a_large_chain_matches_the_exact_solve(monkeypatch, damp
     assert _channel_error(r.response, exact.response) < TOLERANCE
 
 
+@pytest.mark.slow
 def test_grid_with_loss_factors_and_dampers_matches_the_exact_solve() -> None:
     """A 10-wide grid (SuperLU factorisations, not a band) whose mounts carry dampers and a loss
     factor: C and H projected with the same basis; the explicit method on a sparse plant agrees

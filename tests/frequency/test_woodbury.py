@@ -40,7 +40,7 @@ def _scaled(name: str) -> tuple:
     return model, build_plant(model, _forces(model), _dofs(model)), wn[wn > 0]
 
 
-@pytest.mark.parametrize("name", ["graded_chain", "stiff_links", "instrument"])
+@pytest.mark.parametrize("name", [pytest.param("graded_chain", marks=pytest.mark.slow), "stiff_links", "instrument"])
 def test_matches_the_60_digit_receptance_on_the_scaled_family(name: str) -> None:
     """Below the modes (the static part in the mounts' forces), beside the slowest and the fastest
     resonance, between two and above all: every column of the receptance to 1e-8 (normwise)."""

@@ -36,6 +36,7 @@ def _error(method: str, damped: bool, w: np.ndarray) -> np.ndarray:
     return (np.linalg.norm(h - ref, axis=0) / np.linalg.norm(ref, axis=0)).max(axis=0)
 
 
+@pytest.mark.slow
 def test_below_the_modes_the_static_term_is_exact() -> None:
     """Below omega_1 the mode-acceleration form carries K^-1 R; by a Cholesky of the assembled K it
     was off by 5.5e-5 (the soft mounts' round-off), in the mounts' forces it is exact."""
@@ -44,6 +45,7 @@ def test_below_the_modes_the_static_term_is_exact() -> None:
     assert _error("complex_modal", True, np.array([0.3]) * el.min()).max() <= TOL
 
 
+@pytest.mark.slow
 def test_near_the_slowest_resonance_complex_modes_are_exact() -> None:
     """At 1.001 and 1.003 omega_1 (damping ratio 4e-7) eig's pole error eps max|lam| made 8.9e-6.
     (Closer in, the error is that of omega_1^2 itself over 2 |w / omega_1 - 1|: the Jacobi SVD's
@@ -52,6 +54,7 @@ def test_near_the_slowest_resonance_complex_modes_are_exact() -> None:
     assert _error("complex_modal", True, np.array([1.001, 1.003]) * el.min()).max() <= TOL
 
 
+@pytest.mark.slow
 def test_above_the_modes_complex_modes_are_exact() -> None:
     """Above omega_max the first-order terms of the low modes cancel by |s| / omega_1 ~ 2e7;
     the mass-residual form keeps 1e-8 up to 10 omega_max."""
@@ -75,6 +78,7 @@ def test_a_slow_lightly_damped_pole_is_exact_beside_a_fast_one(zeta: float) -> N
     np.testing.assert_allclose(cm.solve(a @ cm.vectors), np.diag(cm.lam), atol=1e-9 * np.abs(cm.lam).max())
 
 
+@pytest.mark.slow
 def test_the_statespace_limit_is_measured() -> None:
     """'statespace' (python-control TB05AD on the first-order modal realization) keeps the
     cancellation above the modes: it misses 1e-8 at 1.01 omega_max on the graded chain (xfail in

@@ -234,6 +234,7 @@ def test_orders_command(tmp_path, capsys):
     assert "no [orders] table" in capsys.readouterr().err
 
 
+@pytest.mark.slow
 def test_report_has_an_orders_section(tmp_path):
     from vibss.report import study, write_report
 

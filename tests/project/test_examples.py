@@ -81,6 +81,7 @@ def _blocks(doc: str, lang: str) -> list[str]:
     return [b.split("```", 1)[0] for b in text.split(f"```{lang}\n")[1:]]
 
 
+@pytest.mark.slow
 def test_getting_started_code_runs_and_matches_quickstart(tmp_path, monkeypatch, capsys):
     import matplotlib
 

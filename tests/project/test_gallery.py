@@ -22,6 +22,7 @@ spec.loader.exec_module(make_gallery)
 
 
 @pytest.mark.parametrize("name", vibss.example_names())
+@pytest.mark.slow
 def test_gallery_entry_is_current(name):
     text = (DOCS / "gallery.md").read_text(encoding="utf-8")
     title, description = describe(name)

@@ -32,6 +32,7 @@ def test_notebooks_are_stored_without_outputs():
 
 
 @pytest.mark.parametrize("name", NOTEBOOKS)
+@pytest.mark.slow
 def test_notebook_runs(name, monkeypatch):
     monkeypatch.setenv("MPLBACKEND", "Agg")
     nb = nbformat.read(EXAMPLES / name, as_version=4)

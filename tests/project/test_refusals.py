@@ -78,6 +78,7 @@ def _row(n: int, free_z: int | None, gravity: bool) -> Model:
     return Model(bodies, mounts, gravity=[0.0, 0.0, -9.81] if gravity else None)
 
 
+@pytest.mark.slow
 def test_free_motions_of_a_large_model_are_found_without_dense_work(monkeypatch: pytest.MonkeyPatch) -> None:
     """Issue 18: `static` on a 1,000-body model with a free motion took 76 s and 1.6 GB (a dense
     eigendecomposition and a dense M) before naming it. Above NULL_DENSE_MAX free DOFs the free

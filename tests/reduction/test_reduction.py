@@ -164,6 +164,7 @@ def _dense_check(model, ins, outs, f2: float, r) -> np.ndarray:
     return np.unique(np.r_[np.linspace(f2 * 1e-3, f2, 150), side[(side > 0) & (side <= f2)]])
 
 
+@pytest.mark.slow
 def test_krylov_meets_tolerance_against_direct_frf(chain100) -> None:
     from vibss.frequency.api import frequency_response
 
@@ -184,6 +185,7 @@ def test_krylov_meets_tolerance_against_direct_frf(chain100) -> None:
     assert "Krylov basis" in r.report() and r.to_dict()["details"]["shifts_hz"]
 
 
+@pytest.mark.slow
 def test_krylov_reduced_plant_simulates_like_full_model(chain100) -> None:
     from vibss.model.excitation import Excitation
     from vibss.time.api import simulate

@@ -36,6 +36,7 @@ def written(request, tmp_path_factory):
     return request.param, out
 
 
+@pytest.mark.slow
 def test_report_writes_html_and_figures(written, capfd):
     name, out = written
     html = (out / "index.html").read_text(encoding="utf-8")
@@ -133,6 +134,7 @@ def test_report_survives_a_numerical_failure_in_one_section(monkeypatch: pytest.
     assert "FAILED: internal error, please report: TypeError: a programming error" in rep.text()
 
 
+@pytest.mark.slow
 def test_command_writes_every_good_section_and_exits_3(monkeypatch: pytest.MonkeyPatch, tmp_path, capsys) -> None:
     """The issue's case: a section that raises anything still leaves the others written, in the text,
     the HTML and on disk; the exit status is 3 and stderr names the failed sections."""
@@ -152,6 +154,7 @@ def test_command_writes_every_good_section_and_exits_3(monkeypatch: pytest.Monke
         assert (out / png).stat().st_size > 1000
 
 
+@pytest.mark.slow
 def test_a_figure_that_fails_to_save_is_noted(monkeypatch: pytest.MonkeyPatch, tmp_path) -> None:
     from vibss import report
 

@@ -153,6 +153,7 @@ def test_python_api_skips_steady_sweeps_like_the_cli() -> None:
     np.testing.assert_allclose(t_cli["outputs"]["powertrain.z"], r.output("powertrain.z"), rtol=1e-12, atol=0)
 
 
+@pytest.mark.slow
 def test_report_without_a_time_setting_writes_every_section(tmp_path: Path) -> None:
     """The reported bug: packaged_item without ``time =`` made ``vibss report`` crash, writing nothing."""
     path = tmp_path / "x.toml"

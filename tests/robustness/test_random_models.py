@@ -915,6 +915,7 @@ np.float64(-0.99999)),
 0.0)))
 
 
+@pytest.mark.slow
 def test_time_methods_agree_where_python_control_is_the_one_off() -> None:
     """Found after the sixth long run by the same property under another draw: a one-rigid-mode
     model (36 DOF, modes 1.7 rad/s up), ``modal`` and ``forced_response`` differ by 1.77e-8 of the

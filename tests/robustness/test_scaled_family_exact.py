@@ -68,7 +68,7 @@ def test_statespace_poles_and_response(damped_case):
 
 @pytest.mark.parametrize("build,body", [(lambda: instrument(damped=False), "sensor"),
                                         (lambda: stiff_links(1e10), "b"),
-                                        (graded_chain, "b7")])
+                                        pytest.param(graded_chain, "b7", marks=pytest.mark.slow)])
 def test_modal_step_response(build, body):
     model = build()
     i = model.body_names.index(body)

@@ -151,9 +151,9 @@ def _ivp(model: Model, inp: str, outs: list[str], u, knots: np.ndarray, times: n
 
 @pytest.mark.parametrize("n_bodies,zener,ratio,damping", [
     (1, ("g0_0", "g0_3"), 2.0, 0.002),          # one body, two Zener mounts
-    (3, ("g1_0", "g1_1", "g1_2", "g1_3"), 2.0, 0.0),   # no dashpots at all (undamped modes)
+    pytest.param(3, ("g1_0", "g1_1", "g1_2", "g1_3"), 2.0, 0.0, marks=pytest.mark.slow),   # no dashpots at all (undamped modes)
     (3, ("g1_0", "g1_1", "g1_2", "g1_3"), 2.0, 0.002),
-    (5, ("g2_0", "g2_2"), 12.0, 0.002),         # strongly coupled: k_inf = 12 k_0, roots move far
+    pytest.param(5, ("g2_0", "g2_2"), 12.0, 0.002, marks=pytest.mark.slow),   # strongly coupled: k_inf = 12 k_0, roots move far
 ])
 def test_time_response_matches_solve_ivp_of_the_augmented_system(n_bodies, zener, ratio, damping):
     model = _model(n_bodies, zener, ratio=ratio, damping=damping)

@@ -226,6 +226,7 @@ def test_classical_and_general_paths_agree() -> None:
     np.testing.assert_allclose(a.outputs, b.outputs, atol=1e-9 * np.abs(b.outputs).max())
 
 
+@pytest.mark.slow
 def test_displacement_velocity_acceleration_inputs_give_the_same_response() -> None:
     A, W = 2.0, 2 * np.pi * 15.0                      # starts at rest: a = A sin(W t)
     motion = {"acc": lambda t: A * np.sin(W * t),
