@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
+import vibss
 from vibss.errors import AnalysisError, ModelError
 from vibss.model.excitation import (FUNCTIONS, Excitation, HalfSine, Haversine, Ramp, Rectangular,
                               Sawtooth, Sine, SineSweep, Step, Sum, Table, Triangle,
@@ -247,3 +248,21 @@ def test_excitation_validation(kwargs, words):
 def test_window_end_must_follow_start(make, kind):
     with pytest.raises(ModelError, match=rf"{kind} function: end: must be after start"):
         make()
+
+
+def test_pulses_need_a_duration():
+    """Issue 16: HalfSine(amplitude) used to be a silent 1 s 'shock'; the duration is now required, in
+    Python and in files (the message names the function and the key)."""
+    import pytest
+
+    from vibss import HalfSine, ModelError
+
+    with pytest.raises(ModelError, match="half_sine function: duration: missing"):
+        HalfSine(100.0)
+    assert HalfSine(100.0, 0.0, 0.011).end_time == pytest.approx(0.011)
+    text = ('[[body]]\nname = "b"\nmass = 1.0\ninertia = [1, 1, 1]\n[[mount_type]]\nname = "t"\n'
+            'stiffness = [1e4, 1e4, 1e4]\n[[mount]]\nname = "m"\ntype = "t"\nbody = "b"\n'
+            '[[excitation]]\nname = "shock"\nkind = "acceleration"\ntarget = "ground"\ndof = "z"\n'
+            'function = { type = "half_sine", amplitude = 100.0 }\n')
+    with pytest.raises(ModelError, match=r"excitation\[1\] \('shock'\).*duration: missing"):
+        vibss.loads_model(text)

@@ -232,3 +232,18 @@ def test_results_are_still_frozen_dataclasses(objects: dict[str, Any]) -> None:
         name = dataclasses.fields(obj)[0].name
         with pytest.raises(dataclasses.FrozenInstanceError):
             setattr(obj, name, None)
+
+
+def test_assembly_matrices_cannot_be_changed_from_outside():
+    """Issue 18: `K = asm.dense('K'); K *= 4` doubled every later frequency of modes(asm)."""
+    import pytest
+
+    asm = vibss.assemble(vibss.load_example("two_mass"), sparse=True)
+    before = vibss.modes(asm).frequency_hz
+    K = asm.dense("K")
+    with pytest.raises(ValueError, match="read-only"):
+        K *= 4
+    np.testing.assert_array_equal(vibss.modes(asm).frequency_hz, before)
+    mine = asm.dense("K").copy()
+    mine *= 4                                           # a copy is the user's to change
+    assert np.allclose(mine, 4 * asm.dense("K"))

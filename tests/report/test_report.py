@@ -165,3 +165,29 @@ def test_a_figure_that_fails_to_save_is_noted(monkeypatch: pytest.MonkeyPatch, t
     sec = written.section("modes")
     assert sec.failed and "figure modes.png failed: OSError: disk full" in sec.note
     assert index.exists() and (tmp_path / "energy.png").exists() and not (tmp_path / "modes.png").exists()
+
+
+def test_no_negative_zeros_in_tables():
+    """Issue 16: '-0.0' and 'zeta -0.00000' in tables. Cells that round to zero lose the sign;
+    genuine small negatives keep it."""
+    from vibss.results import Table
+
+    t = Table(["a", "b"], [["-0.0", "-0.00000 mm"], ["-0.01", "-0e+00"], ["-1e-06", "x-0.0"]])
+    assert t.rows == [["0.0", "0.00000 mm"], ["-0.01", "0e+00"], ["-1e-06", "x-0.0"]]
+    # the powertrain's energy table printed "-0.0" for a tiny negative share before
+    m = vibss.modes(vibss.load_example("powertrain"))
+    assert np.any((m.energy < 0) & (m.energy > -5e-4)) and " -0.0" not in m.energy_table().render()
+
+
+def test_no_negative_zeros_outside_tables():
+    """The static reaction line and the certificate's sag printed '-0.00' (an exactly balanced
+    moment comes out of the solve as -1e-13): the powertrain's reaction about z is zero by its
+    symmetry, and its sign must not show."""
+    import re
+
+    r = vibss.static(vibss.load_example("powertrain"))
+    assert abs(r.reaction[5]) < 1e-6 and r.reaction[5] != 0.0
+    line = next(x for x in r.report().splitlines() if x.startswith("Total reaction"))
+    assert not re.search(r"(^|[ (,])-0\.0+([^0-9]|$)", line), line
+    assert not re.search(r"(^|[ (,])-0\.0+([^0-9]|$)", vibss.design.certificate(
+        vibss.load_example("powertrain")).report())
