@@ -6,7 +6,7 @@ STAMP := $(VENV)/.installed
 export OPENBLAS_NUM_THREADS ?= 1
 export MPLBACKEND ?= Agg
 
-.PHONY: demo test bench bench-quick fuzz venv clean
+.PHONY: demo test test-quick bench bench-quick fuzz venv clean
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -24,10 +24,14 @@ test: $(STAMP)
 	$(BIN)/python -m mypy
 	$(BIN)/python -m pytest -n 2 -q vibss tests
 
-# The adversarial suite of tests/test_adversarial.py, long (1,000 random models per property, 10,000
+# Everything but the tests marked slow (over about 4 s each); one room: pytest tests/frequency -m "not slow"
+test-quick: $(STAMP)
+	$(BIN)/python -m pytest -n 2 -q -m "not slow" vibss tests
+
+# The adversarial suite of tests/robustness/test_random_models.py, long (1,000 random models per property, 10,000
 # mutated model files; VIBSS_FUZZ_MODELS / VIBSS_FUZZ_FILES override); figures in docs/robustness.md
 fuzz: $(STAMP)
-	VIBSS_FUZZ=1 $(BIN)/python -m pytest -q -s -p no:cacheprovider --durations=0 tests/test_adversarial.py
+	VIBSS_FUZZ=1 $(BIN)/python -m pytest -q -s -p no:cacheprovider --durations=0 tests/robustness/test_random_models.py
 
 # `make bench QUICK=1` (or `make bench-quick`): small sizes, a few minutes; seeded like the full run
 bench: $(STAMP)

@@ -13,7 +13,7 @@ model builder itself needs no eigen-analysis), one BLAS thread:
 - ``vibss.simulate(model, half-sine force, 3 outputs)`` for two pulse lengths: kept sparse and
   projected on a subspace built for the channels and the input's spectrum (:mod:`vibss.time.large`),
   its time, the basis and the error estimate it states (no stock path runs at this size:
-  python-control would need a dense 2n-state system; tests/test_time_large.py checks the path
+  python-control would need a dense 2n-state system; tests/time/test_time_large.py checks the path
   against the exact dense modal one on 1,800 DOF).
 
 ``--huge``: 100,000 bodies (600,000 DOF): building the Model, assembly and ``modes(n_modes=20)``,

@@ -10,7 +10,7 @@ Writes benchmarks/results/reduction.json.
 Run: ``.venv/bin/python benchmarks/bench_reduction.py [--quick]`` (other sizes: ``main(n_bodies)``)
 (``--quick``: a 100-body chain, 60 frequencies). Deterministic: the model is seeded and every
 sparse eigen-solve starts from a seeded vector (ARPACK's default start is random), so two runs give
-the same basis sizes (:func:`quick_basis_sizes`, checked by ``tests/test_benchmarks.py``); only the
+the same basis sizes (:func:`quick_basis_sizes`, checked by ``tests/project/test_benchmarks.py``); only the
 timings move.
 """
 

@@ -1,7 +1,7 @@
 """Exact on badly scaled models: vibss's one eigen path and one exact solve against the stock SciPy
 calls on the assembled matrices, both measured against a 60-digit reference, in the same run.
 
-The family is the tests' (``tests/scaled_cases.py``): a graded chain (1 g ... 10 t, stiffnesses
+The family is the tests' (``tests/cases/scaled.py``): a graded chain (1 g ... 10 t, stiffnesses
 over 7 decades), a hanging chain (0.005 Hz suspension beside rigid rotations), two 100 kg bodies
 joined by stiff links (1e10 and 1e16 N/m beside 1e4 N/m isolators) and a 50 g / 2 kg / 300 kg
 instrument with mm offsets. For each case and path: the worst relative error of vibss and of the
@@ -31,10 +31,10 @@ import scipy.linalg as sl
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests"))
 
-import mp_reference as ref  # noqa: E402
+from cases import mp_reference as ref  # noqa: E402
 import vibss  # noqa: E402
 from run_all import best  # noqa: E402
-from scaled_cases import graded_chain, hanging_chain, instrument, stiff_links  # noqa: E402
+from cases.scaled import graded_chain, hanging_chain, instrument, stiff_links  # noqa: E402
 from vibss.frequency.kernels import METHODS  # noqa: E402
 from vibss.linear.plant.build import build_plant  # noqa: E402
 

@@ -5,7 +5,7 @@ and ``frequency_response`` / ``simulate`` at least as fast as python-control on 
 (target 3x faster). Each call is timed as the best of 25 short loops in CPU time of the process,
 the two sides of each ratio interleaved (:func:`per_call_each`; seeded models, one BLAS thread); errors are against an independent reference (``eigh`` on matrices assembled inline here
 for the modes; python-control's own answers for the FRF and the time response, and for the FRF
-also an LU refined with the residual in long double, ``tests/mp_reference.extended_precision_frf``).
+also an LU refined with the residual in long double, ``tests/cases/mp_reference.extended_precision_frf``).
 
 Two vibss figures per call: **same model** (the loop of the issue: one model asked again, so its
 assembly, plant and factorisations are remembered, :mod:`vibss.linear.plant.memo`) and **new model**
@@ -32,7 +32,7 @@ import control  # noqa: E402
 import vibss  # noqa: E402
 from vibss.linear.plant.memo import forget  # noqa: E402
 from vibss.linear.plant.build import build_plant  # noqa: E402
-from mp_reference import extended_precision_frf  # noqa: E402
+from cases.mp_reference import extended_precision_frf  # noqa: E402
 
 
 def models(seed: int = 7) -> dict[str, vibss.Model]:

@@ -1,6 +1,6 @@
 """Where methods fail: each failure mode measured, the check in :mod:`vibss.stability` that predicts
 it, and what vibss does instead. One figure per case in ``docs/figures/stability_*.png``; the same
-cases are guarded by ``tests/test_stability.py``.
+cases are guarded by ``tests/robustness/test_method_failures.py``.
 
 1. ``central_difference`` — explicit central difference blows up beyond ``dt = 2 / omega_max``.
 2. ``stiff_rk`` — explicit Runge-Kutta on a model with one stiff mount: the step count explodes;

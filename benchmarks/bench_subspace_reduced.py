@@ -1,7 +1,7 @@
 """The channel subspace's reduced plants: SuperLU against the batched dense LU (issue 17, same run).
 
 A 200-body 10-wide grid (1,200 DOF), every mount damped with its own beta and a loss factor 0.05, 2
-inputs x 3 outputs x 200 frequencies (tests/test_frequency_subspace.py's grid case), built sparse.
+inputs x 3 outputs x 200 frequencies (tests/frequency/test_frequency_subspace.py's grid case), built sparse.
 The subspace (:mod:`vibss.linear.project.subspace`) projects the plant on 160-656 Ritz vectors, whose ``C``
 and ``H`` are full; each reduced plant's response at the 200 frequencies is an exact solve of it.
 Timed, one BLAS thread, CPU seconds (the machine is shared): the subspace with its reduced plants

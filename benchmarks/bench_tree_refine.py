@@ -18,8 +18,8 @@ overdamped modes (``max|lam|`` 2.5e7 rad/s) beside lightly damped ones, so the a
 References, independent of any eigen-decomposition: (tree) the dense solve with three steps of
 iterative refinement whose residuals are formed in long double, at the damped frequency of every
 flagged mode and every tenth of the benchmark's 1,000 frequencies; (graded chain of
-``tests/scaled_cases.py``) ``tests/mp_reference.py``'s 60-digit receptance at the points of
-``tests/test_modal_superposition.py``. Error: max over frequencies of ||H - H_ref||_F / ||H_ref||_F.
+``tests/cases/scaled.py``) ``tests/cases/mp_reference.py``'s 60-digit receptance at the points of
+``tests/modal/test_modal_superposition.py``. Error: max over frequencies of ||H - H_ref||_F / ||H_ref||_F.
 One BLAS thread. Run: ``python benchmarks/bench_tree_refine.py`` (about 1-2 minutes).
 """
 
@@ -42,7 +42,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "tests"))
 from benchmarks.models import topology_model  # noqa: E402
-from mp_reference import extended_precision_frf  # noqa: E402
+from cases.mp_reference import extended_precision_frf  # noqa: E402
 import vibss.linear.eigen.complex_modes as cmm  # noqa: E402
 from vibss.frequency.kernels import METHODS  # noqa: E402
 from vibss.linear.eigen.basis import modal_basis  # noqa: E402
@@ -213,8 +213,8 @@ def tree() -> list[dict]:
 
 
 def graded() -> list[dict]:
-    import mp_reference as mpr
-    import scaled_cases as sc
+    from cases import mp_reference as mpr
+    from cases import scaled as sc
 
     model = sc.graded_chain(damped=True)
     dofs = [f"{b.name}.{d}" for b in model.bodies for d in ("x", "y", "z", "rx", "ry", "rz")]
@@ -244,7 +244,7 @@ def bench(quick: bool) -> dict:
     res: dict = {"load_1min_at_start": os.getloadavg()[0]}
     print(f"load average at start: {res['load_1min_at_start']:.1f}", flush=True)
     res["tree"] = tree()
-    print("graded chain (60-digit reference, tests/test_modal_superposition.py's points):", flush=True)
+    print("graded chain (60-digit reference, tests/modal/test_modal_superposition.py's points):", flush=True)
     res["graded"] = graded()
     res["load_1min_at_end"] = os.getloadavg()[0]
     print(f"load average at end: {res['load_1min_at_end']:.1f}", flush=True)

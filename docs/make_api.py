@@ -1,6 +1,6 @@
 """Write docs/api.md, the API reference, from the docstrings of ``vibss.__all__``.
 
-Run ``python docs/make_api.py``; ``tests/test_docs.py`` fails when the file is stale or a public
+Run ``python docs/make_api.py``; ``tests/project/test_docs.py`` fails when the file is stale or a public
 object has no docstring (the "docs build without warnings" check).
 """
 

@@ -1,7 +1,7 @@
 """Write docs/gallery.md and its figures (docs/gallery/<example>/*.png): every built-in example run
 through ``vibss report``, with the command that made it and every figure the report draws.
 
-Run ``python docs/make_gallery.py`` (about a minute); ``tests/test_gallery.py`` checks that the page
+Run ``python docs/make_gallery.py`` (about a minute); ``tests/project/test_gallery.py`` checks that the page
 lists every example with its command and that every figure it shows exists and is what the report
 of that example draws today (by name), without drawing them again.
 """

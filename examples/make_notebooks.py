@@ -1,7 +1,7 @@
 """Write the example notebooks (outputs empty) from the cells below: ``python examples/make_notebooks.py``.
 
 The notebooks are generated so that their text and code stay reviewable as plain Python; run them
-in Jupyter, or let ``tests/test_notebooks.py`` execute them.
+in Jupyter, or let ``tests/project/test_notebooks.py`` execute them.
 """
 
 from __future__ import annotations

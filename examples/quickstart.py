@@ -2,7 +2,7 @@
 
 Run it with ``python examples/quickstart.py`` (add a folder name to also write the HTML report,
 e.g. ``python examples/quickstart.py quickstart-report``). The numbers it prints are pinned by
-``tests/test_examples.py`` against their closed forms:
+``tests/project/test_examples.py`` against their closed forms:
 
 - the mounts lie in the plane of the centre of gravity and along the principal axes, so the six
   modes uncouple: f = sqrt(k_total / m) / 2 pi for translations, sqrt(sum k r^2 / I) / 2 pi for

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import pytest
 
-from cases import asymmetric_model, prism_model, two_mass_model
+from cases import models
+from cases.models import asymmetric_model, prism_model, two_mass_model
 from vibss import Model
 
 
@@ -21,3 +22,9 @@ def two_mass() -> Model:
 @pytest.fixture
 def asym() -> Model:
     return asymmetric_model()
+
+
+@pytest.fixture(scope="module")
+def powertrain() -> Model:
+    """The bundled powertrain example, once per test module (it is frozen data)."""
+    return models.powertrain()

@@ -24,7 +24,7 @@ from .errors import (AnalysisError, ArgumentError, ControlDesignError, Defective
 
 # Public names, loaded on first use (PEP 562) so that ``import vibss`` stays light: python-control,
 # matplotlib, pandas and the heavy SciPy submodules load only when a function needs them.
-# A new public name: one line here (name -> module) and one in __all__ (tests/test_startup.py
+# A new public name: one line here (name -> module) and one in __all__ (tests/project/test_startup.py
 # checks that every name resolves).
 _LAZY: dict[str, str] = {
     "Assembly": ".linear.plant.assemble", "assemble": ".linear.plant.assemble",

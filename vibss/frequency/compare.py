@@ -4,7 +4,7 @@ assurance criterion per channel (:func:`frac`) and the frequency scale that best
 
 Both take two :class:`~vibss.frequency.api.FrequencyResponse` (e.g. :func:`vibss.io.read_uff` of a
 test and :func:`vibss.frequency_response` of the model) and read only their arrays and labels: they
-solve nothing, so a figure may show their scores (``tests/test_api.py`` places this module low).
+solve nothing, so a figure may show their scores (``tests/project/test_api.py`` places this module low).
 """
 
 from __future__ import annotations

@@ -147,7 +147,7 @@ def poles_with_branches(a: Assembly, und: Modes, chat: np.ndarray | None) -> Pol
     :func:`vibss.statespace`, whose states include every mount's Maxwell branches (the same ladder
     as the FRF and the time response). The branches add real relaxation poles; shapes are the
     DOF displacements of the eigenvectors."""
-    # python-control is heavy at start-up (tests/test_startup.py): only models with branches need it
+    # python-control is heavy at start-up (tests/project/test_startup.py): only models with branches need it
     from ..linear.statespace import statespace
 
     plant = without_hysteresis(build_plant(a, [f"{a.model.body_names[0]}.fx"]))   # every DOF out

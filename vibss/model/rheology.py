@@ -616,7 +616,7 @@ def fit_ladder(target: Any, band: npt.ArrayLike, static: np.ndarray | None = Non
     >>> round(fit_ladder(lambda w: np.full((np.size(w), 3), 1e4 * (1 + 0.05j)), [1.0, 100.0]).fit_error, 2)
     0.05
     """
-    from scipy.optimize import nnls      # heavy at start-up (tests/test_startup.py); only fits need it
+    from scipy.optimize import nnls      # heavy at start-up (tests/project/test_startup.py); only fits need it
 
     b = np.asarray(band, dtype=float)
     w1, w2 = 2 * np.pi * b[0], 2 * np.pi * b[1]

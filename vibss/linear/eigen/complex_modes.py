@@ -332,7 +332,7 @@ def _screen_poles(lam: np.ndarray, v: np.ndarray, todo: np.ndarray, scale: np.nd
     ``x`` (:func:`_rayleigh_roots`): that root is accurate to second order in the vector's error,
     and ``Q``'s entries are exact, so the distance is ``eig``'s own pole error to first order. Measured
     against the inverse iteration's pole on the tree of benchmarks/models.py (220 modes at risk,
-    up to 2.3e-6 by the a-priori bound) and on the graded chain of tests/scaled_cases.py: the estimate
+    up to 2.3e-6 by the a-priori bound) and on the graded chain of tests/cases/scaled.py: the estimate
     was 0.73 to 1.5 times the true error on every mode. A mode whose estimate is within ``bound`` of
     its decay rate ``|Re lam|`` (the relative error it makes at its resonance peak) takes that root
     as its pole, in place in ``lam``, and keeps ``eig``'s vector; the others (and any whose root is

@@ -164,7 +164,7 @@ def shift_solver(p: Plant, w: float, w2: float, banded: bool = True) -> tuple[Ca
     when it bands, ``banded`` is true and ``sigma > 0``; else SuperLU (:func:`vibss.linear.solve.exact.lu_solver`): a static
     shift's ``K`` may be singular to round-off, which SuperLU's pivoting reports as exactly singular
     (the shift is then nudged below zero) where the banded LU answered with a basis too poor for the
-    reduction's tolerance (measured: 8.4e-9 against 1e-9 in tests/test_reduction.py).
+    reduction's tolerance (measured: 8.4e-9 against 1e-9 in tests/reduction/test_reduction.py).
     """
     st = p.cached("band structure", lambda: structure(p)) if banded else None
     sigma = w * w

@@ -68,7 +68,7 @@ def dynamic_stiffness(k0: np.ndarray, c: np.ndarray, m: np.ndarray, s: np.ndarra
     ``Re k0 - w^2 M`` and imaginary part ``Im k0 + w C`` in real arithmetic: the same bits as the
     complex expression (whose ``s C`` and ``s^2 M`` have exactly zero real and imaginary parts
     there, so each entry is the same one rounding of the same operands) at about half the work;
-    ``tests/test_small_models.py`` compares the two.
+    ``tests/linear/test_small_model_overhead.py`` compares the two.
 
     Parameters
     ----------

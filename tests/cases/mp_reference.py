@@ -1,0 +1,213 @@
+"""Extended-precision (mpmath, 60 digits) reference answers for small models.
+
+Assembles M, K, C from the model's fields with a loop per mount (the formulation of
+shared/spec/formulation.md, sharing no code with vibss), then solves in 60-digit arithmetic:
+undamped eigenvalues, static deflections and receptances. Float inputs are taken exactly, so the
+only rounding is mpmath's own.
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+from typing import Any
+
+import mpmath as mp
+import numpy as np
+
+from vibss import GROUND, Model
+
+DPS = 60
+
+
+def _lever(r) -> mp.matrix:
+    """3x6 map from (u, theta) to u + theta x r."""
+    x, y, z = r
+    return mp.matrix([[1, 0, 0, 0, z, -y], [0, 1, 0, -z, 0, x], [0, 0, 1, y, -x, 0]])
+
+
+def matrices(model: Model, key: str = "stiffness") -> mp.matrix:
+    """K (or C with key='damping') as an mpmath matrix, summed mount by mount."""
+    names = model.body_names
+    n = 6 * len(names)
+    out = mp.zeros(n, n)
+    cog = {b.name: [mp.mpf(float(v)) for v in b.cog] for b in model.bodies}
+    for m in model.mounts:
+        at = [mp.mpf(float(v)) for v in m.at]
+        p = [at[k] + cog[m.body][k] for k in range(3)] if m.frame == "body" else at
+        t = mp.matrix([[mp.mpf(float(v)) for v in row] for row in m.orientation.matrix])
+        d = mp.diag([mp.mpf(float(v)) for v in getattr(m.type, key)])
+        kp = t * d * t.T
+        b = mp.zeros(3, n)
+        i = names.index(m.body)
+        li = _lever([p[k] - cog[m.body][k] for k in range(3)])
+        for r in range(3):
+            for c in range(6):
+                b[r, 6 * i + c] += li[r, c]
+        if m.to != GROUND:
+            j = names.index(m.to)
+            lj = _lever([p[k] - cog[m.to][k] for k in range(3)])
+            for r in range(3):
+                for c in range(6):
+                    b[r, 6 * j + c] -= lj[r, c]
+        out += b.T * kp * b
+    return out
+
+
+def mass(model: Model) -> mp.matrix:
+    """Block-diagonal mass matrix in mpmath."""
+    n = 6 * len(model.bodies)
+    out = mp.zeros(n, n)
+    for i, b in enumerate(model.bodies):
+        for k in range(3):
+            out[6 * i + k, 6 * i + k] = mp.mpf(float(b.masses[k]))
+        for r in range(3):
+            for c in range(3):
+                out[6 * i + 3 + r, 6 * i + 3 + c] = mp.mpf(float(b.tensor[r, c]))
+    return out
+
+
+@lru_cache(maxsize=None)
+def _omega2(model: Model) -> tuple:
+    with mp.workdps(DPS):
+        M, K = mass(model), matrices(model)
+        L = mp.cholesky(M)
+        Li = mp.inverse(L)
+        A = Li * K * Li.T
+        A = (A + A.T) / 2
+        w2 = mp.eigsy(A, eigvals_only=True)
+        return tuple(sorted(w2[i] for i in range(A.rows)))
+
+
+def omega2(model: Model) -> np.ndarray:
+    """(n,) undamped eigenvalues w^2 [rad^2/s^2], ascending, to 60 digits then rounded to float.
+
+    Rigid-body modes come out as |w^2| at the 1e-50 level (relative to the largest).
+    """
+    return np.array([float(v) for v in _omega2(model)])
+
+
+def natural_frequencies(model: Model) -> np.ndarray:
+    """(n,) undamped natural frequencies [rad/s]; rigid modes (|w^2| below 1e-40 of the top) as 0."""
+    w2 = _omega2(model)
+    top = max(abs(v) for v in w2)
+    return np.array([0.0 if abs(v) <= mp.mpf(10) ** -40 * top else float(mp.sqrt(v)) for v in w2])
+
+
+def static(model: Model, load: np.ndarray) -> np.ndarray:
+    """K^-1 f for a (n,) generalised load [N, N m] (K must be nonsingular)."""
+    with mp.workdps(DPS):
+        K = matrices(model)
+        x = mp.lu_solve(K, mp.matrix([mp.mpf(float(v)) for v in load]))
+        return np.array([float(x[i]) for i in range(K.rows)])
+
+
+def receptance(model: Model, s: complex) -> np.ndarray:
+    """(n, n) complex receptance (K + s C + s^2 M)^-1 at the Laplace variable s [1/s]."""
+    with mp.workdps(DPS):
+        K, C, M = matrices(model), matrices(model, "damping"), mass(model)
+        sm = mp.mpc(s.real, s.imag)
+        D = K + sm * C + sm * sm * M
+        X = mp.inverse(D)
+        return np.array([[complex(X[i, j]) for j in range(D.cols)] for i in range(D.rows)])
+
+
+@lru_cache(maxsize=None)
+def _poles(model: Model) -> tuple:
+    with mp.workdps(DPS):
+        K, C, M = matrices(model), matrices(model, "damping"), mass(model)
+        n = K.rows
+        Mi = mp.inverse(M)
+        A = mp.zeros(2 * n, 2 * n)
+        for i in range(n):
+            A[i, n + i] = 1
+        MK, MC = Mi * K, Mi * C
+        for i in range(n):
+            for j in range(n):
+                A[n + i, j] = -MK[i, j]
+                A[n + i, n + j] = -MC[i, j]
+        lam = mp.eig(A, left=False, right=False)
+        return tuple(complex(v) for v in lam)
+
+
+def poles(model: Model) -> np.ndarray:
+    """(2n,) poles [1/s] of ``M q'' + C q' + K q = 0`` (eigenvalues of the first-order matrix),
+    computed in 60 digits, sorted by imaginary part then real part."""
+    lam = np.array(_poles(model))
+    return lam[np.lexsort((lam.real, lam.imag))]
+
+
+def step_response_undamped(model: Model, load: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """(len(t), n) response of an undamped model at rest to a step load [N, N m] applied at t = 0:
+    ``q(t) = sum_k phi_k phi_k^T f (1 - cos w_k t) / w_k^2`` with 60-digit modes (no rigid modes)."""
+    with mp.workdps(DPS):
+        M, K = mass(model), matrices(model)
+        Li = mp.inverse(mp.cholesky(M))
+        A = Li * K * Li.T
+        w2, U = mp.eigsy((A + A.T) / 2)
+        phi = Li.T * U
+        f = mp.matrix([mp.mpf(float(v)) for v in load])
+        n = K.rows
+        out = np.zeros((len(t), n))
+        for k in range(n):
+            col = phi[:, k]
+            g = (col.T * f)[0] / w2[k]
+            wk = mp.sqrt(w2[k])
+            for it, tt in enumerate(t):
+                a = g * (1 - mp.cos(wk * mp.mpf(float(tt))))
+                for i in range(n):
+                    out[it, i] += float(col[i] * a)
+        return out
+
+
+def step_response(model: Model, load: np.ndarray, dt: float, steps: int, rows: int = 6,
+                  dps: int = 40) -> np.ndarray:
+    """(rows, steps + 1) response of ``M q'' + C q' + K q = f`` at rest to a step load ``f``
+    [N, N m] applied at t = 0, first ``rows`` DOFs at ``t = k dt`` [s]: the state advanced by
+    ``expm`` of the first-order matrix augmented with the constant load, in ``dps`` digits (rigid
+    modes and non-proportional damping included; no hysteresis, as in the time domain)."""
+    with mp.workdps(dps):
+        K, C, M = matrices(model), matrices(model, "damping"), mass(model)
+        n = K.rows
+        Mi = mp.inverse(M)
+        MK, MC = Mi * K, Mi * C
+        mf = Mi * mp.matrix([mp.mpf(float(v)) for v in load])
+        A = mp.zeros(2 * n + 1, 2 * n + 1)
+        for i in range(n):
+            A[i, n + i] = 1
+            A[n + i, 2 * n] = mf[i]
+            for j in range(n):
+                A[n + i, j] = -MK[i, j]
+                A[n + i, n + j] = -MC[i, j]
+        E = mp.expm(A * mp.mpf(float(dt)))
+        x = mp.zeros(2 * n + 1, 1)
+        x[2 * n] = 1
+        out = np.zeros((rows, steps + 1))
+        for k in range(steps + 1):
+            out[:, k] = [float(x[i]) for i in range(rows)]
+            x = E * x
+        return out
+
+
+def extended_precision_frf(plant: Any, s: np.ndarray) -> np.ndarray:
+    """Receptance ``Oq (K + s^2 M + s C)^-1 F`` of a plant, (p, m, nf): a dense LU refined three
+    times with the residual formed in long double (80-bit on x86), independent of any
+    eigen-decomposition (the tree's reference in tests/linear/test_complex_modes.py and
+    benchmarks/bench_tree_refine.py)."""
+    import scipy.linalg as sl
+    import scipy.sparse as sps
+
+    def dense(x: Any) -> np.ndarray:
+        return np.asarray(x.toarray() if sps.issparse(x) else x, dtype=float)
+
+    M, C, K, F, O = (dense(x) for x in (plant.M, plant.C, plant.K, plant.F, plant.Oq))
+    Ml, Cl, Kl, Fl, Ol = (x.astype(np.longdouble) for x in (M, C, K, F, O))
+    out = []
+    for sk in s:
+        lu = sl.lu_factor(K + sk * sk * M + sk * C)
+        x = sl.lu_solve(lu, F.astype(complex)).astype(np.clongdouble)
+        z = np.clongdouble(sk)
+        a = Kl + z * z * Ml + z * Cl
+        for _ in range(3):
+            x = x + sl.lu_solve(lu, (Fl - a @ x).astype(complex)).astype(np.clongdouble)
+        out.append((Ol @ x).astype(complex))
+    return np.stack(out, axis=-1)

@@ -1,0 +1,116 @@
+"""The FRF of large models through a subspace built for the channels (issue 17 item 4,
+:mod:`vibss.linear.project.subspace`), checked against the exact per-frequency solve (``method="sparse"``,
+banded or SuperLU LU at every frequency) on models small enough for both."""
+
+from __future__ import annotations
+
+import sys
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from cases import ROOT
+import vibss
+import vibss.frequency.methods as fa
+from vibss import Model, Mount, MountType
+from vibss.errors import AnalysisError
+from vibss.frequency.kernels import subspace
+from vibss.linear.plant.build import build_plant
+from vibss.linear.solve.exact import response
+from vibss.linear.project.subspace import CHECK_SAFETY, TOLERANCE, channel_subspace
+
+sys.path.insert(0, str(ROOT / "benchmarks"))
+from models import chain_model, grid_model  # noqa: E402
+
+F = np.linspace(1.0, 50.0, 200)
+OUT = ["b0.z", "b1.z", "b2.x"]
+
+
+def _channel_error(h: np.ndarray, exact: np.ndarray) -> float:
+    """Largest error of any channel at any frequency, relative to that channel's peak (the note's measure)."""
+    return float((np.abs(h - exact) / np.abs(exact).max(axis=2, keepdims=True)).max())
+
+
+def _stated(note: str) -> float:
+    return float(note.split("checked error ")[1].split(" ")[0])
+
+
+@pytest.mark.parametrize("damping, method", [("none", "auto"), pytest.param("general", "subspace", marks=pytest.mark.slow)])
+def test_the_subspace_on_a_large_chain_matches_the_exact_solve(monkeypatch, damping, method) -> None:
+    """A 300-body chain (1,800 DOF) above a lowered LARGE_DOFS, 200 frequencies on 3 x 1 channels:
+    undamped, ``auto`` takes the subspace (cheaper than 200 banded LUs); its note states the basis,
+    shifts and checked error, and at every one of the 200 frequencies it equals the exact solve
+    within the tolerance. Non-proportionally damped (C projected, the small plant solved densely per
+    frequency, so ``auto`` keeps the exact solve at this size), asked by name: the same."""
+    monkeypatch.setattr(fa, "LARGE_DOFS", 100)
+    model = chain_model(300, damping=damping, seed=3)
+    r = vibss.frequency_response(model, ["b0.fz"], OUT, frequencies=F, method=method)
+    exact = vibss.frequency_response(model, ["b0.fz"], OUT, frequencies=F, method="sparse")
+    assert r.method == "subspace" and exact.method == "sparse"
+    assert "channel subspace of" in r.note and "real shifts at" in r.note and "kept sparse" in r.note
+    assert _stated(r.note) <= CHECK_SAFETY * TOLERANCE
+    assert _channel_error(r.response, exact.response) < TOLERANCE
+
+
+@pytest.mark.slow
+def test_grid_with_loss_factors_and_dampers_matches_the_exact_solve() -> None:
+    """A 10-wide grid (SuperLU factorisations, not a band) whose mounts carry dampers and a loss
+    factor: C and H projected with the same basis; the explicit method on a sparse plant agrees
+    with the exact complex solve at every frequency."""
+    base = grid_model(200, damping="general", seed=5)
+    lossy = Model(base.bodies, [replace(m, type=replace(m.type, loss_factor=0.05)) for m in base.mounts])
+    p = build_plant(lossy, ["b0.fz", "b5.fx"], OUT, sparse=True)
+    s = 2j * np.pi * F
+    h, note = subspace(p, s)
+    exact = response(p, s, backend="sparse")
+    assert "channel subspace" in note
+    assert _channel_error(h, exact) < TOLERANCE
+
+
+def test_the_greedy_adds_frequencies_where_its_checks_fail() -> None:
+    """Two real shifts and one moment cannot hold a 300-body chain's response over 1-50 Hz: the
+    checks between them fail, their exact solutions join the basis until every check passes, and
+    the answer then holds at all 200 frequencies (against the exact solve, not the checks)."""
+    p = build_plant(chain_model(300, damping="none", seed=3), ["b0.fz"], OUT, sparse=True)
+    w = 2 * np.pi * F
+    sub = channel_subspace(p, w, n_shifts=2, moments=1)
+    assert sub.converged and sub.added_hz.size >= 3 and sub.shifts_hz.size == 2
+    assert sub.error <= CHECK_SAFETY * TOLERANCE
+    exact = response(p, 1j * w)
+    assert _channel_error(sub.response, exact) < TOLERANCE
+    # the checked error is what the checks say: recomputed here from the exact solve at them
+    at = np.searchsorted(F, sub.check_hz)
+    peak = np.abs(exact).max(axis=2, keepdims=True)
+    np.testing.assert_allclose(sub.check_error / peak, np.abs(sub.response[:, :, at] - exact[:, :, at]) / peak,
+                               rtol=0, atol=1e-10)      # the two exact solves agree to ~1e-11 here
+
+
+def test_when_the_greedy_falls_short_the_exact_solve_answers_and_says_so(monkeypatch) -> None:
+    """An unreachable tolerance in one round: not converged, and the kernel answers by the exact
+    solve at every frequency, saying why."""
+    import vibss.linear.project.subspace as subspace_module
+
+    monkeypatch.setattr(subspace_module, "MAX_ROUNDS", 0)
+    p = build_plant(chain_model(40, damping="classical", seed=2), ["b0.fz"], ["b0.z"], sparse=True)
+    s = 2j * np.pi * np.linspace(1.0, 30.0, 50)
+    assert not channel_subspace(p, s.imag, tol=1e-30).converged
+    h, note = subspace(p, s, tol=1e-30)
+    assert "did not reach 1e-30" in note and "exact sparse solve" in note
+    np.testing.assert_allclose(h, response(p, s, backend="sparse"), rtol=1e-12)
+
+
+def test_frequency_dependent_mounts_are_refused_by_name() -> None:
+    """Their Maxwell branches are not projected: the method is refused, naming the ones that hold them."""
+    t = MountType("z", damping=[5.0] * 3, rheology={"type": "zener", "k_0": 1e5, "k_inf": 2e5, "tau": 1e-3})
+    m = Model(chain_model(3, damping="none", seed=1).bodies, [Mount("g", t, "b0"), Mount("h", t, "b1"),
+                                                             Mount("j", t, "b2"), Mount("k", t, "b1", to="b0")])
+    with pytest.raises(AnalysisError, match="subspace"):
+        vibss.frequency_response(m, ["b0.fz"], ["b0.z"], frequencies=F, method="subspace")
+
+
+def test_few_frequencies_keep_the_exact_solve() -> None:
+    """``auto`` by cost: 5 frequencies are cheaper solved exactly than by building a basis."""
+    p = build_plant(chain_model(300, damping="none", seed=3), ["b0.fz"], OUT, sparse=True)
+    r = vibss.frequency_response(p, frequencies=F[:5])
+    assert r.method == "sparse" and "channel subspace" in r.note
