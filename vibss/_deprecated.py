@@ -13,12 +13,15 @@ Examples
 (4, 'DeprecationWarning')
 """
 
+
 from __future__ import annotations
 
 import functools
 import warnings
 from collections.abc import Callable, Mapping
 from typing import Any, TypeVar
+
+from .errors import ArgumentTypeError
 
 __all__ = ["renamed_attribute", "renamed_keywords", "module_aliases", "warn"]
 
@@ -50,7 +53,8 @@ def renamed_keywords(**old_to_new: str) -> Callable[[F], F]:
                 if old in kwargs:
                     warn(f"{func.__name__}({old}=...)", f"{func.__name__}({new}=...)")
                     if new in kwargs:
-                        raise TypeError(f"{func.__name__}: give {new}= (not both {old}= and {new}=)")
+                        raise ArgumentTypeError(f"{func.__name__}: give {new}= (not both {old}= and {new}=)",
+                                                argument=old, received=kwargs[old], expected=new)
                     kwargs[new] = kwargs.pop(old)
             return func(*args, **kwargs)
 
