@@ -26,7 +26,7 @@ from typing import Any
 
 __all__ = ["VibssError", "ModelError", "ArgumentError", "SignalError", "SignalIndexError",
            "ArgumentTypeError", "AnalysisError",
-           "DefectiveModesError", "ControlDesignError", "ModelFileError", "MissingDependencyError", "VibssWarning",
+           "DefectiveModesError", "ControlDesignError", "ResourceError", "ModelFileError", "MissingDependencyError", "VibssWarning",
            "did_you_mean"]
 
 
@@ -106,6 +106,11 @@ class DefectiveModesError(AnalysisError):
 class ControlDesignError(AnalysisError):
     """A control plant, design or closed loop is refused: an uncontrollable or unobservable unstable
     mode, a rank-deficient channel, an ill-posed or unstable loop. The message names the channel."""
+
+
+class ResourceError(AnalysisError, MemoryError):
+    """A method would need more memory (or time) than its guard allows; raised before allocating,
+    with the estimate in the message and a method that fits."""
 
 
 class MissingDependencyError(VibssError, ImportError):
