@@ -18,7 +18,7 @@ Frequency-dependent mounts add ``g_tau(s) K_tau`` per relaxation time (:func:`vi
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from functools import partial
 from typing import Any
 
@@ -28,12 +28,13 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spl
 from scipy.linalg.lapack import dgbsv, zgbsv
 
+from ...methods import Method
 from .banded import structure
 from ..plant.branches import groups
 from .certified import CERTIFY_TOL, applies, certified_states, modal_inverse
 from ..plant.plant import Plant
 
-__all__ = ["SOLVERS", "MOUNTS_DENSE_MAX", "dynamic_stiffness", "certified_note"]
+__all__ = ["SOLVERS", "SolveBackend", "MOUNTS_DENSE_MAX", "dynamic_stiffness", "certified_note"]
 
 MOUNTS_DENSE_MAX = 300
 """The mounts' system (n + 3 q unknowns) is solved by dense LU up to this size, else by SuperLU."""
@@ -330,4 +331,29 @@ def _equilibrate(form: Any, rows: Any, top: np.ndarray, sk: complex) -> np.ndarr
     return np.concatenate([dx, np.sqrt(zd)])
 
 
-SOLVERS = {"dense": _dense, "banded": _banded, "superlu": _superlu, "mounts": _mounts}
+@dataclass(frozen=True)
+class SolveBackend(Method):
+    """A way of factorising the dynamic stiffness per frequency: ``kernel(plant, s, rhs, keep) -> (x, bad)``.
+
+    Attributes
+    ----------
+    sparse_ok : bool
+        Takes a plant with sparse matrices.
+    form : str
+        The form it solves: ``"assembled"`` (``K + iH + sC + s^2 M``) or ``"mounts"`` (the mounts
+        kept apart, :class:`~vibss.linear.plant.plant.MountForm`).
+    """
+
+    sparse_ok: bool = False
+    form: str = "assembled"
+
+
+SOLVERS: dict[str, SolveBackend] = {b.name: b for b in (
+    SolveBackend("dense", _dense, exact=True, summary="batched dense LU of the assembled matrix"),
+    SolveBackend("banded", _banded, exact=True, sparse_ok=True,
+                 summary="banded LU in a bandwidth-reducing order (LAPACK gbsv)"),
+    SolveBackend("superlu", _superlu, exact=True, sparse_ok=True, summary="sparse LU (SuperLU) per frequency"),
+    SolveBackend("mounts", _mounts, exact=True, sparse_ok=True, form="mounts",
+                 summary="the mounts' form, equilibrated: stiff links beside soft mounts keep their digits"),
+)}
+"""The exact solve's back-ends as Method objects (the choice among them: :func:`vibss.linear.solve.exact.states`)."""
