@@ -41,7 +41,8 @@ def renamed_attribute(old: str, new: str, owner: str) -> property:
         warn(f"{owner}.{old}", f"{owner}.{new}")
         return getattr(self, new)
 
-    return property(get, doc=f"Deprecated alias of :attr:`{new}` (one release).")
+    get.__doc__ = f"Deprecated alias of :attr:`{new}` (one release)."
+    return property(get, doc=get.__doc__)
 
 
 def renamed_keywords(**old_to_new: str) -> Callable[[F], F]:

@@ -22,14 +22,15 @@ import scipy.sparse as sp
 from .linear.plant.assemble import Assembly, assemble
 from ._validate import number, vector
 from .linear.solve.static import SINGULAR_RCOND, static_solve
+from ._deprecated import module_aliases, renamed_attribute
 from .errors import AnalysisError, ModelError, did_you_mean
 from .model.geometry import point_transfer
 from .model.model import DOF_NAMES, GROUND, Model
 from .results import Result, TextTable, jsonable, number_text, require_pandas
 
-__all__ = ["StaticResult", "static", "centre_of_rotation", "SINGULAR_RCOND"]
+__all__ = ["StaticResult", "static", "center_of_rotation", "SINGULAR_RCOND"]
 
-def centre_of_rotation(deflection: np.ndarray, cog: np.ndarray,
+def center_of_rotation(deflection: np.ndarray, cog: np.ndarray,
                        rtol: float = 1e-9) -> np.ndarray | None:
     """Point of a rigid body whose small displacement is smallest: on the instantaneous screw axis.
 
@@ -135,9 +136,11 @@ class StaticResult(Result):
         """(n_bodies, 6) deflections, one row per body."""
         return self.q.reshape(-1, 6)
 
-    def centre_of_rotation(self, name: str) -> np.ndarray | None:
+    centre_of_rotation = renamed_attribute("centre_of_rotation", "center_of_rotation", "StaticResult")
+
+    def center_of_rotation(self, name: str) -> np.ndarray | None:
         """Centre of rotation of body ``name`` in global coordinates [m], None for translation."""
-        return centre_of_rotation(self.body(name), self.model.body(name).cog)
+        return center_of_rotation(self.body(name), self.model.body(name).cog)
 
     def point(self, body: str, at: Any, frame: str = "body") -> np.ndarray:
         """(3,) displacement of a point of ``body`` [m]."""
@@ -174,7 +177,7 @@ class StaticResult(Result):
         """The spec's JSON structure (SI)."""
         bodies = {}
         for b in self.model.bodies:
-            c = self.centre_of_rotation(b.name)
+            c = self.center_of_rotation(b.name)
             bodies[b.name] = {"deflection": self.body(b.name).tolist(),
                               "centre_of_rotation": None if c is None else c.tolist()}
         mounts = [{"name": m.name, "body": m.body, "to": m.to,
@@ -197,7 +200,7 @@ class StaticResult(Result):
         rows = []
         for b in self.model.bodies:
             d = self.body(b.name)
-            c = self.centre_of_rotation(b.name)
+            c = self.center_of_rotation(b.name)
             rows.append([b.name] + [f"{1e3 * v:.4f}" for v in d[:3]] + [f"{1e3 * v:.4f}" for v in d[3:]]
                         + ["pure translation" if c is None else "(" + ", ".join(number_text(v) for v in c) + ")"])
         return TextTable(["body", "x [mm]", "y [mm]", "z [mm]", "rx [mrad]", "ry [mrad]", "rz [mrad]",
@@ -399,3 +402,7 @@ def _vector(v: Any, n: int, what: str) -> np.ndarray:
 
 def _mul(K: Any, x: np.ndarray) -> np.ndarray:
     return np.asarray(K @ x).ravel()
+
+
+__getattr__ = module_aliases("vibss.statics", {
+    "centre_of_rotation": ("vibss.statics.center_of_rotation", lambda: center_of_rotation)})

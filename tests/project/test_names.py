@@ -67,3 +67,19 @@ def test_old_keyword_and_option_warn() -> None:
         run_design(m, optimise_layout=False, optimize_layout=False)
     with pytest.warns(DeprecationWarning, match="--optimize"):
         assert main(["design", "--example", "powertrain", "--optimise", "--format", "json"]) == 0
+
+
+def test_center_spellings_and_their_old_names() -> None:
+    model = vibss.load_example("powertrain")
+    with pytest.warns(DeprecationWarning, match="Model.centre_of_gravity is deprecated"):
+        old = model.centre_of_gravity
+    np.testing.assert_array_equal(old, model.center_of_gravity)
+    r = vibss.static(model)
+    name = model.bodies[0].name
+    with pytest.warns(DeprecationWarning, match="StaticResult.centre_of_rotation is deprecated"):
+        got = r.centre_of_rotation(name)
+    want = r.center_of_rotation(name)
+    assert (got is None and want is None) or np.array_equal(got, want)
+    import vibss.statics as st
+    with pytest.warns(DeprecationWarning, match="vibss.statics.centre_of_rotation"):
+        assert st.centre_of_rotation is st.center_of_rotation

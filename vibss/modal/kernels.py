@@ -48,7 +48,7 @@ def rigid_influence(model: Model, about: np.ndarray | None = None) -> np.ndarray
 
     Rotations are about ``about`` [m] (default: the system's centre of gravity).
     """
-    c = model.centre_of_gravity if about is None else np.asarray(about, float)
+    c = model.center_of_gravity if about is None else np.asarray(about, float)
     nb = len(model.bodies)
     out = np.zeros((nb, 6, 6))
     out[:, :3, :3] = np.eye(3)

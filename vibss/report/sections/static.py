@@ -13,7 +13,7 @@ def _static_tables(r: StaticResult) -> tuple[TextTable, ...]:
     under = f" under load case {r.case!r}" if r.case else (" under the unnamed loads" if r.model.load_cases else "")
     rows = []
     for b in r.model.bodies:
-        d, c = r.body(b.name), r.centre_of_rotation(b.name)
+        d, c = r.body(b.name), r.center_of_rotation(b.name)
         rows.append([b.name] + [f"{1e3 * v:.4f}" for v in d]
                     + ["pure translation" if c is None else "(" + ", ".join(number_text(v) for v in c) + ")"])
     out = [TextTable(["body", "x [mm]", "y [mm]", "z [mm]", "rx [mrad]", "ry [mrad]", "rz [mrad]",
