@@ -36,6 +36,10 @@ Examples
 20000.0
 """
 
+# Over 600 lines on purpose (issue 28): the rheological models and the one Maxwell-ladder fit every
+# model reduces to; each model's parameters, its exact dynamic stiffness and its ladder are read
+# together.
+
 from __future__ import annotations
 
 import warnings

@@ -48,6 +48,10 @@ critically damped ones (a Jordan block of their own) are refused before any Newt
 overdamped mode gives two real poles, each a root of its own.
 """
 
+# Over 600 lines on purpose (issue 28): one algorithm: the r x r secular equation of classically
+# damped modes plus Maxwell branches, its root bracketing, refinement and certificate; its steps
+# share private state and are not used elsewhere.
+
 from __future__ import annotations
 
 from collections.abc import Callable

@@ -181,6 +181,10 @@ class Spectrum(ReadOnly):
     method: str
 
 
+# Over 80 code lines on purpose: the one eigen path's decision in one place: the route
+# (Jacobi, dense, shift-invert, a user's solver), the rigid-mode test, the error bounds and the
+# refinement must be read together to see what each mode's bound means (issue 28: at most 3
+# functions over 80 lines).
 def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
              method: "str | Solver" = "auto",
              also: "Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray] | None" = None) -> Spectrum:

@@ -38,6 +38,10 @@ links, whatever the LU or a diagonal scaling of ``A``). ``form="mounts"`` (chose
 their forces too: 1e-12 ... 1e-16 on the same cases (:func:`_mounts`).
 """
 
+# Over 600 lines on purpose (issue 28): the one exact solve's entry points (states, response, the
+# zero-frequency limit, singular frequencies) and the form/back-end choice they share; the back-ends
+# themselves live in backends.py.
+
 from __future__ import annotations
 
 from collections.abc import Callable
