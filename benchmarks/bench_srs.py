@@ -19,7 +19,7 @@ from threadpoolctl import threadpool_limits
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 import vibss  # noqa: E402
-from vibss.shock.srs import _coefficients  # noqa: E402
+from vibss.shock.kernels import _coefficients  # noqa: E402
 
 
 def bench(quick: bool) -> dict:

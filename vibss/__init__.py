@@ -66,7 +66,7 @@ _LAZY: dict[str, str] = {
     "TimeResponse": ".time.result", "simulate": ".time.api",
     "SweepEnvelope": ".time.sweep", "sweep_envelope": ".time.sweep",
     "grid_study": ".design.grid",
-    "srs": ".shock", "ShockResponseSpectrum": ".shock.srs",
+    "srs": ".shock.api", "ShockResponseSpectrum": ".shock.result",
     "random_response": ".random", "PSD": ".random",
     # subpackages
     "design": ".design",            # vibss.design.*: mount-system design
@@ -105,7 +105,7 @@ def __dir__() -> list[str]:
 if TYPE_CHECKING:                          # what static checkers and IDEs see
     from . import control, design, orders, random, shock
     from .model.actuation import Actuator, Sensor
-    from .shock.srs import ShockResponseSpectrum
+    from .shock.result import ShockResponseSpectrum
     from .design.grid import grid_study
     from .frequency.api import frequency_response
     from .frequency.grid import FrequencyGrid, frequency_grid
@@ -127,7 +127,7 @@ if TYPE_CHECKING:                          # what static checkers and IDEs see
     from .reduction.result import Reduction
     from .reduction.scope import Scope
     from .random import PSD, random_response
-    from .shock import srs  # type: ignore[no-redef]  # the function, not the module vibss.shock.srs
+    from .shock.api import srs
     from .statics import StaticResult, static
     from .studies import StudyDefaults, causal_loss, study_defaults
     from .time.api import simulate

@@ -4,7 +4,9 @@ run-up in the time domain."""
 
 from __future__ import annotations
 
-from .response import OrderResponse, critical_speeds, order_response, run_up
+from .api import order_response, run_up
+from .kernels import critical_speeds
+from .result import OrderResponse
 from .sources import OrderForce, Unbalance
 
 __all__ = ["OrderForce", "OrderResponse", "Unbalance", "critical_speeds", "order_response", "run_up"]

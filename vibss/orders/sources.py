@@ -24,11 +24,12 @@ from typing import Any
 import numpy as np
 
 from .. import _validate as v
+from .._deprecated import module_aliases
 from ..errors import ArgumentError, ModelError, did_you_mean
 from ..model.geometry import skew
 from ..model.model import Model
 
-__all__ = ["Unbalance", "OrderForce", "Source", "generalised_forces", "sources_from_settings"]
+__all__ = ["Unbalance", "OrderForce", "Source", "generalized_forces", "sources_from_settings"]
 
 _AXES = {"x": np.eye(3)[0], "y": np.eye(3)[1], "z": np.eye(3)[2]}
 
@@ -202,7 +203,7 @@ def _interp(x: np.ndarray, xp: np.ndarray, fp: np.ndarray) -> np.ndarray:
 Source = Unbalance | OrderForce
 
 
-def generalised_forces(model: Model, sources: Sequence[Source], rpm: np.ndarray) -> dict[tuple[str, float], np.ndarray]:
+def generalized_forces(model: Model, sources: Sequence[Source], rpm: np.ndarray) -> dict[tuple[str, float], np.ndarray]:
     """Phasors grouped by (body, order): ``{(body, order): (6, n) complex}`` [N, N m]."""
     out: dict[tuple[str, float], np.ndarray] = {}
     for s in sources:
@@ -217,3 +218,7 @@ def sources_from_settings(model: Model) -> list[Source]:
     spec = (model.settings or {}).get("orders", {})
     return ([Unbalance(**d) for d in spec.get("unbalance", [])]
             + [OrderForce(**d) for d in spec.get("force", [])])
+
+
+__getattr__ = module_aliases("vibss.orders.sources", {
+    "generalised_forces": ("vibss.orders.sources.generalized_forces", lambda: generalized_forces)})

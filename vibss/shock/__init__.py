@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 from .pulses import G, haversine, half_sine, sawtooth, trapezoid
-from .envelope import EnvelopeCheck, check_envelope
-from .srs import ShockResponseSpectrum, srs
+from .api import check_envelope, srs
+from .result import EnvelopeCheck, ShockResponseSpectrum
 
 __all__ = ["G", "ShockResponseSpectrum", "half_sine", "haversine", "sawtooth", "srs", "trapezoid",
            "check_envelope", "EnvelopeCheck"]

@@ -10,8 +10,8 @@ import numpy as np
 
 from ..errors import ModelError
 from ..results import Result, TextTable
-from .envelope import EnvelopeCheck, check_envelope
-from .srs import ShockResponseSpectrum, srs
+from .api import check_envelope, srs
+from .result import EnvelopeCheck, ShockResponseSpectrum
 
 __all__ = ["ShockStudy", "run_shock"]
 

@@ -9,11 +9,17 @@ second-order recursion whose coefficients are exact for an input linear between 
 
 The residual part (after the input ends) is obtained by running the filter on appended zeros
 for one period of the lowest natural frequency (plus the record's own step).
+
+:func:`check_envelope` holds a spectrum against a specification envelope (a test tolerance band,
+or an allowable). A specification is a table of (frequency [Hz], level) points, log-log interpolated as shock specs are
+written (MIL-STD-810, NASA-STD-7003); the check gives, at every frequency of the spectrum inside the
+spec's band, the level, the margin in dB (``20 log10(SRS / spec)``) and whether it lies inside
+``[lower_db, upper_db]`` (a test's tolerance band, e.g. -3/+6 dB; ``lower_db = -inf`` for an
+allowable that must not be exceeded).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -21,108 +27,11 @@ import scipy.signal
 
 from .. import _validate as v
 from ..errors import ArgumentError
-from ..results import Result, TextTable, require_pandas
+from .kernels import _coefficients, spec_level
+from .result import EnvelopeCheck, ShockResponseSpectrum
 
 KINDS = ("maximax", "positive", "negative", "primary", "residual")
 RESPONSES = ("acceleration", "pseudo_velocity", "displacement")
-_UNITS = {"acceleration": "unit of signal", "pseudo_velocity": "unit of signal x s",
-          "displacement": "unit of signal x s^2"}
-
-
-def _coefficients(fn: float, zeta: float, dt: float) -> tuple[np.ndarray, np.ndarray]:
-    w = 2.0 * np.pi * fn
-    wd = w * np.sqrt(1.0 - zeta * zeta)
-    e = np.exp(-zeta * w * dt)
-    k = wd * dt
-    c, s = e * np.cos(k), e * np.sin(k)
-    sp = s / k
-    return np.array([1.0 - sp, 2.0 * (sp - c), e * e - sp]), np.array([1.0, -2.0 * c, e * e])
-
-
-@dataclass(frozen=True)
-class ShockResponseSpectrum(Result):
-    """Shock response spectrum of one signal.
-
-    Attributes
-    ----------
-    frequency_hz : (n,) ndarray
-        Natural frequencies [Hz].
-    response : (n,) ndarray
-        The spectrum (absolute acceleration in the signal's unit by default).
-    q : float
-        Quality factor (inf for undamped).
-    kind, quantity : str
-        Which extremum and which response quantity.
-    name : str
-        The signal's name (the one output label; ``"srs"`` when not given).
-    """
-
-    frequency_hz: np.ndarray
-    response: np.ndarray
-    q: float
-    kind: str
-    quantity: str
-    name: str = "srs"
-
-    method = "ramp-invariant recursive filter (Smallwood; ISO 18431-4)"
-    note = ""
-
-    @property
-    def output_labels(self) -> tuple[str, ...]:
-        """One output: the spectrum of the named signal."""
-        return (self.name,)
-
-    @property
-    def units(self) -> tuple[str, ...]:
-        """Unit of the spectrum (the signal's unit, times s or s^2 for the pseudo quantities);
-        frequencies are in Hz."""
-        return (_UNITS[self.quantity],)
-
-    def _item(self, i: int, j: int | None) -> Any:
-        return self.response
-
-    def summary(self) -> TextTable:
-        """Kind, quantity, Q and the peak."""
-        k = int(np.argmax(np.abs(self.response)))
-        return TextTable(["quantity", "value"],
-                     [["kind", self.kind], ["response", self.quantity], ["Q", f"{self.q:g}"],
-                      ["peak", f"{self.response[k]:.6g} at {self.frequency_hz[k]:.6g} Hz"]])
-
-    def report(self) -> str:
-        """The spectrum as a text table."""
-        lines = [f"Shock response spectrum ({self.kind} {self.quantity}, Q = {self.q:g})",
-                 f"{'f [Hz]':>12} {'response':>14}"]
-        lines += [f"{f:12.6g} {r:14.6g}" for f, r in zip(self.frequency_hz, self.response)]
-        return "\n".join(lines)
-
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready data (``q`` is null for the undamped spectrum)."""
-        return {"frequency_hz": self.frequency_hz.tolist(), "response": self.response.tolist(),
-                "q": self.q if np.isfinite(self.q) else None,  # undamped: null (strict JSON)
-                "kind": self.kind, "quantity": self.quantity, "name": self.name,
-                "units": {"frequency_hz": "Hz", "response": _UNITS[self.quantity]}}
-
-    def tripartite(self, unit: str = "m/s^2", ax: Any = None) -> Any:
-        """Four-coordinate plot (:func:`vibss.plotting.shock.plot_tripartite`); ``unit`` of the signal."""
-        from ..plotting.shock import plot_tripartite
-
-        return plot_tripartite(self, unit, ax)
-
-    def check(self, frequency_hz: Any, level: Any, lower_db: float = -3.0, upper_db: float = 6.0) -> Any:
-        """Against a specification envelope (:func:`vibss.shock.envelope.check_envelope`)."""
-        from .envelope import check_envelope
-
-        return check_envelope(self, frequency_hz, level, lower_db, upper_db)
-
-    def plot(self, ax: Any = None, unit: str = "m/s^2") -> Any:
-        """The spectrum on four-coordinate (tripartite) axes; ``unit`` is the signal's unit."""
-        return self.tripartite(unit, ax)
-
-    def to_pandas(self) -> Any:
-        """The spectrum as a DataFrame indexed by frequency [Hz], one column named for the signal."""
-        pd = require_pandas()
-        return pd.DataFrame({self.name: self.response},
-                            index=pd.Index(self.frequency_hz, name="frequency_hz"))
 
 
 def srs(time: Any, signal: Any, frequencies: Any, q: float = 10.0, kind: str = "maximax", *,
@@ -215,4 +124,51 @@ def srs(time: Any, signal: Any, frequencies: Any, q: float = 10.0, kind: str = "
     return ShockResponseSpectrum(f, out, qv, kind, quantity, name)
 
 
-__all__ = ["KINDS", "ShockResponseSpectrum", "srs"]
+__all__ = ["KINDS", "RESPONSES", "srs", "check_envelope"]
+
+
+def check_envelope(result: Any, frequency_hz: Any, level: Any, lower_db: float = -3.0,
+                   upper_db: float = 6.0) -> EnvelopeCheck:
+    """Compare a :class:`~vibss.shock.result.ShockResponseSpectrum` with a specification.
+
+    Parameters
+    ----------
+    result : ShockResponseSpectrum
+        The spectrum (same unit as ``level``).
+    frequency_hz, level : (k,) array_like
+        The spec's breakpoints [Hz] (increasing) and levels (> 0).
+    lower_db, upper_db : float
+        Tolerance band [dB] (``-inf`` / ``inf`` for one-sided checks).
+
+    Returns
+    -------
+    EnvelopeCheck
+        Over the spectrum's frequencies inside the spec's band.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from vibss.shock import srs
+    >>> t = np.arange(0, 0.05, 1e-5)
+    >>> r = srs(t, np.where(t < 0.011, 30 * np.sin(np.pi * t / 0.011), 0.0), [50, 100, 200, 400])
+    >>> check_envelope(r, [10, 1000], [60, 60], lower_db=-np.inf, upper_db=0.0).passed   # below 2 x 30
+    True
+    """
+    fp = v.array(frequency_hz, "frequency_hz", (None,), who="check_envelope")
+    lp = v.array(level, "level", (fp.size,), who="check_envelope")
+    if fp.size < 2 or np.any(np.diff(fp) <= 0) or np.any(fp <= 0) or np.any(lp <= 0):
+        raise ArgumentError("check_envelope: the spec needs >= 2 increasing frequencies > 0 [Hz] and levels > 0",
+                            argument="frequency_hz", received=fp.tolist())
+    if not lower_db < upper_db:
+        raise ArgumentError(f"check_envelope: need lower_db < upper_db, got {lower_db}, {upper_db}",
+                            argument="lower_db", received=lower_db)
+    f = np.asarray(result.frequency_hz, dtype=float)
+    spec = spec_level(fp, lp, f)
+    keep = np.isfinite(spec)
+    if not np.any(keep):
+        raise ArgumentError(f"check_envelope: no spectrum frequency lies in the spec's band {fp[0]:g} .. {fp[-1]:g} Hz",
+                            argument="frequency_hz", received=fp.tolist())
+    s = np.abs(np.asarray(result.response, dtype=float))[keep]
+    with np.errstate(divide="ignore"):
+        margin = 20 * np.log10(s / spec[keep])
+    return EnvelopeCheck(f[keep], s, spec[keep], margin, float(lower_db), float(upper_db))
