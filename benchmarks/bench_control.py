@@ -35,7 +35,7 @@ import vibss  # noqa: E402
 import vibss.control as vc  # noqa: E402
 from vibss import Actuator, Sensor  # noqa: E402
 from vibss.frequency.statespace_response import evaluate  # noqa: E402
-from vibss.linear.plant.signals import build_plant  # noqa: E402
+from vibss.linear.plant.build import build_plant  # noqa: E402
 
 GAIN = 2000.0
 

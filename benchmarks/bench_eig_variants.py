@@ -74,7 +74,7 @@ def modal_matrix(kind: str) -> np.ndarray:
     from benchmarks.models import topology_model
     import vibss.linear.eigen.complex_modes as cm
     from vibss.frequency.kernels import METHODS
-    from vibss.linear.plant.signals import build_plant
+    from vibss.linear.plant.build import build_plant
 
     plant = build_plant(topology_model(kind, 100, damping="general"), ["b0.fx"], ["b0.x"])
     seen = {}

@@ -18,7 +18,7 @@ import time
 from threadpoolctl import threadpool_limits
 
 import vibss
-import vibss.statics as st
+import vibss.linear.solve.static as st
 from vibss import Body, Model, Mount, MountType, symmetric
 
 

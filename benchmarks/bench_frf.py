@@ -34,8 +34,8 @@ from benchmarks.models import chain_model  # noqa: E402
 from benchmarks.machine import timed  # noqa: E402
 from vibss.frequency.methods import choose as _choose  # noqa: E402
 from vibss.frequency.kernels import METHODS  # noqa: E402
-from vibss.linear.eigen.undamped import modal_basis  # noqa: E402
-from vibss.linear.plant.signals import build_plant  # noqa: E402
+from vibss.linear.eigen.basis import modal_basis  # noqa: E402
+from vibss.linear.plant.build import build_plant  # noqa: E402
 
 
 def _stock(plant, omega):

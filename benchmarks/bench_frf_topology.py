@@ -46,9 +46,9 @@ from benchmarks.models import TOPOLOGIES, topology_model  # noqa: E402
 from vibss import Mount, MountType  # noqa: E402
 from vibss.frequency.api import frequency_response  # noqa: E402
 from vibss.frequency.kernels import METHODS  # noqa: E402
-from vibss.linear.eigen.undamped import modal_basis  # noqa: E402
-from vibss.linear.eigen.projection import damping_factors  # noqa: E402
-from vibss.linear.plant.signals import build_plant  # noqa: E402
+from vibss.linear.eigen.basis import modal_basis  # noqa: E402
+from vibss.linear.eigen.basis import damping_factors  # noqa: E402
+from vibss.linear.plant.build import build_plant  # noqa: E402
 
 CANDIDATES = {"classical": ("modal", "sparse"), "general": ("complex_modal", "sparse"),
               "dampers": ("woodbury", "sparse")}

@@ -60,7 +60,7 @@ from vibss import Model, MountType, frequency_response, simulate, statespace  # 
 from vibss.frequency.kernels import METHODS  # noqa: E402
 from vibss.linear.solve.banded import structure  # noqa: E402
 from vibss.linear.plant.branches import groups  # noqa: E402
-from vibss.linear.plant.signals import build_plant  # noqa: E402
+from vibss.linear.plant.build import build_plant  # noqa: E402
 
 
 def zener_twin(model: Model, tau: float, only: tuple[str, ...] | None = None) -> Model:

@@ -55,7 +55,7 @@ from vibss.time import kernels as tm  # noqa: E402
 from vibss.model.excitation import Excitation, Rectangular, SineSweep  # noqa: E402
 from vibss.time.integrators import central_difference_method, critical_step, newmark_method  # noqa: E402
 from vibss.reduction.krylov import sparse_plant  # noqa: E402
-from vibss.linear.plant.signals import build_plant  # noqa: E402
+from vibss.linear.plant.build import build_plant  # noqa: E402
 from vibss.linear.statespace import statespace  # noqa: E402
 from vibss.time.api import simulate  # noqa: E402
 

@@ -34,7 +34,7 @@ from vibss.model.excitation import Excitation  # noqa: E402
 from vibss.reduction.api import reduce, relative_error  # noqa: E402
 from vibss.reduction.kernels import exact_response, frf, sparse_plant  # noqa: E402
 from vibss.reduction.scope import Scope  # noqa: E402
-from vibss.linear.plant.signals import build_plant  # noqa: E402
+from vibss.linear.plant.build import build_plant  # noqa: E402
 from vibss.time.api import simulate  # noqa: E402
 from vibss.model.timefunctions import HalfSine  # noqa: E402
 

@@ -35,7 +35,7 @@ import mp_reference as ref  # noqa: E402
 import vibss  # noqa: E402
 from scaled_cases import graded_chain, hanging_chain, instrument, stiff_links  # noqa: E402
 from vibss.frequency.kernels import METHODS  # noqa: E402
-from vibss.linear.plant.signals import build_plant  # noqa: E402
+from vibss.linear.plant.build import build_plant  # noqa: E402
 
 OUT = Path(__file__).parent / "results" / "scaled.json"
 CASES: dict[str, Callable[[], vibss.Model]] = {

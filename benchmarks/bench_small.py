@@ -32,7 +32,7 @@ import control  # noqa: E402
 
 import vibss  # noqa: E402
 from vibss.linear.plant.memo import forget  # noqa: E402
-from vibss.linear.plant.signals import build_plant  # noqa: E402
+from vibss.linear.plant.build import build_plant  # noqa: E402
 from mp_reference import extended_precision_frf  # noqa: E402
 
 

@@ -46,7 +46,7 @@ from models import chain_model  # noqa: E402
 from vibss import AnalysisError, Body, Model, Mount, MountType, assemble, damped_modes, modes, static  # noqa: E402
 from vibss.model.excitation import Excitation, HalfSine, Rectangular  # noqa: E402
 from vibss.time.integrators import central_difference, critical_step  # noqa: E402
-from vibss.linear.plant.signals import build_plant  # noqa: E402
+from vibss.linear.plant.build import build_plant  # noqa: E402
 from vibss.diagnostics import (check_central_difference, check_explicit_rk, check_sampling,  # noqa: E402
                              check_static, conditioning, equilibrate)
 from vibss.linear.statespace import statespace  # noqa: E402

@@ -27,7 +27,7 @@ from benchmarks.models import grid_model  # noqa: E402
 import vibss.linear.project.subspace as sub  # noqa: E402
 from vibss import Model  # noqa: E402
 from vibss.frequency.kernels import subspace  # noqa: E402
-from vibss.linear.plant.signals import build_plant  # noqa: E402
+from vibss.linear.plant.build import build_plant  # noqa: E402
 from vibss.linear.solve.exact import response  # noqa: E402
 
 

@@ -32,7 +32,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 from benchmarks.machine import machine, timed  # noqa: E402
 from benchmarks.models import chain_model  # noqa: E402
 from vibss import Model, Support, assemble, frequency_response, simulate, statespace  # noqa: E402
-from vibss.linear.plant.signals import build_plant  # noqa: E402
+from vibss.linear.plant.build import build_plant  # noqa: E402
 
 
 def on_supports(model: Model, groups: int) -> Model:

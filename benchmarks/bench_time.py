@@ -37,7 +37,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from models import TOPOLOGIES, topology_model  # noqa: E402
 
-from vibss.linear.plant.signals import build_plant  # noqa: E402
+from vibss.linear.plant.build import build_plant  # noqa: E402
 from vibss.time.api import simulate  # noqa: E402
 
 DT, STEPS = 2e-4, 10_000

@@ -46,7 +46,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from models import chain_model, topology_model  # noqa: E402
 
-from vibss.linear.plant.signals import build_plant  # noqa: E402
+from vibss.linear.plant.build import build_plant  # noqa: E402
 from vibss.time import kernels as tk  # noqa: E402
 from vibss.time.api import simulate  # noqa: E402
 

@@ -44,8 +44,8 @@ from benchmarks.models import topology_model  # noqa: E402
 from mp_reference import extended_precision_frf  # noqa: E402
 import vibss.linear.eigen.complex_modes as cmm  # noqa: E402
 from vibss.frequency.kernels import METHODS  # noqa: E402
-from vibss.linear.eigen.undamped import modal_basis  # noqa: E402
-from vibss.linear.plant.signals import build_plant  # noqa: E402
+from vibss.linear.eigen.basis import modal_basis  # noqa: E402
+from vibss.linear.plant.build import build_plant  # noqa: E402
 
 EPS = np.finfo(float).eps
 

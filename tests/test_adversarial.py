@@ -422,7 +422,7 @@ def test_one_sweep_mixes_the_forms_by_frequency_and_keeps_the_exact_resonance() 
     ``sqrt(inertia_w2 / MOUNTS_RATIO)`` (``inertia_w2 = k / m``: 0.032 Hz) its sweep is solved in the
     mounts' form, above it in the assembled form, whose exact zero pivot at 1 Hz is an unbounded
     response. Both parts against the closed form ``1 / (k - m w^2)``."""
-    from vibss.linear.plant.signals import build_plant
+    from vibss.linear.plant.build import build_plant
     from vibss.linear.solve.exact import _mounts_at
 
     k = (2 * np.pi) ** 2

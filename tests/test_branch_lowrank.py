@@ -14,7 +14,7 @@ from vibss import Body, Model, Mount, MountType
 from vibss.frequency.kernels import METHODS
 from vibss.frequency.lowrank import woodbury
 from vibss.frequency.methods import choose_without_modes
-from vibss.linear.plant.signals import build_plant
+from vibss.linear.plant.build import build_plant
 from vibss.linear.solve.exact import states
 
 ZENER = {"type": "zener", "k_0": [2e4, 3e4, 5e4], "k_inf": [4e4, 5e4, 1.2e5], "tau": 2e-3}

@@ -17,7 +17,7 @@ from benchmarks.models import chain_model
 from vibss import Body, Model, Mount, MountType
 from vibss.errors import DefectiveModesError
 from vibss.linear.eigen.branch_modes import branch_modes
-from vibss.linear.plant.signals import build_plant
+from vibss.linear.plant.build import build_plant
 from vibss.linear.solve.exact import response
 from vibss.model.timefunctions import Sine
 
@@ -174,8 +174,7 @@ def test_strong_coupling_moves_the_roots_far_and_is_still_certified():
     """k_inf = 12 k_0 at tau near the modes' periods: some roots move by much more than the modes'
     spacing, and the structured solve finds them all (checked against LAPACK on the dense matrix)."""
     p = build_plant(_model(5, ("g2_0", "g2_2"), ratio=12.0), ["b2.fz"], ["b2.z"])
-    from vibss.linear.eigen.undamped import modal_basis
-    from vibss.linear.eigen.projection import projected_damping
+    from vibss.linear.eigen.basis import modal_basis, projected_damping
 
     mb = modal_basis(p)
     c = np.diag(projected_damping(p, mb)[0])
@@ -223,8 +222,7 @@ def test_long_sine_steady_state_equals_the_frf(zener, method):
     w = 2 * np.pi * 12.0
     outs = ["b1.z", "mount.g1_0.fz", "b2.rx"]
     p = build_plant(model, ["b1.fz"], outs)
-    from vibss.linear.eigen.undamped import modal_basis
-    from vibss.linear.eigen.projection import projected_damping
+    from vibss.linear.eigen.basis import modal_basis, projected_damping
 
     mb = modal_basis(p)
     bm = branch_modes(np.sqrt(mb.omega2), np.diag(projected_damping(p, mb)[0]), p.branches.B @ mb.phi,

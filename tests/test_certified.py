@@ -19,7 +19,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import vibss  # noqa: E402
 from vibss import Body, Model, Mount, MountType, Orientation  # noqa: E402
 from vibss.linear.solve import backends, certified  # noqa: E402
-from vibss.linear.plant.signals import build_plant  # noqa: E402
+from vibss.linear.plant.build import build_plant  # noqa: E402
 from vibss.linear.solve.exact import forcing, states, statespace_plant, zfactor  # noqa: E402
 
 from cases import asymmetric_model  # noqa: E402

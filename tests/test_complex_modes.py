@@ -122,7 +122,7 @@ def test_frf_screen_refines_only_the_poles_that_are_off(monkeypatch):
 
     import vibss.linear.eigen.complex_modes as cmm
     from vibss.frequency.kernels import METHODS
-    from vibss.linear.plant.signals import build_plant
+    from vibss.linear.plant.build import build_plant
 
     sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
     from models import tree_model

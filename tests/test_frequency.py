@@ -14,7 +14,7 @@ from vibss import AnalysisError, Body, Model, ModelError, Mount, MountType, asse
 from vibss.frequency.api import FrequencyGrid, frequency_grid, frequency_response
 from vibss.frequency.sweep import sweep_response, transmissibility
 from vibss.frequency.kernels import METHODS
-from vibss.linear.plant.signals import build_plant
+from vibss.linear.plant.build import build_plant
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from test_signals import two_body  # noqa: E402

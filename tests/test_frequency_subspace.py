@@ -16,7 +16,7 @@ import vibss.frequency.api as fa
 from vibss import Model, Mount, MountType
 from vibss.errors import AnalysisError
 from vibss.frequency.kernels import subspace
-from vibss.linear.plant.signals import build_plant
+from vibss.linear.plant.build import build_plant
 from vibss.linear.solve.exact import response
 from vibss.linear.project.subspace import CHECK_SAFETY, TOLERANCE, channel_subspace
 

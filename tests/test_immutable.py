@@ -24,7 +24,7 @@ from vibss import (Body, Excitation, Model, Mount, MountType, Scope, damped_mode
                    modes, reduce, simulate, static, sweep_envelope, symmetric)
 from vibss.design import (certificate, elastic_axes, monte_carlo, optimise, sensitivity,
                           torque_response)
-from vibss.linear.plant.signals import build_plant
+from vibss.linear.plant.build import build_plant
 from vibss.model.excitation import SineSweep, Step
 from vibss.orders import Unbalance, order_response
 from vibss.results import Result, read_only

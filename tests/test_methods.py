@@ -16,8 +16,8 @@ import pytest
 from vibss import Body, Model, Mount, MountType, VibssError
 from vibss.errors import AnalysisError, ModelError, VibssWarning
 from vibss.frequency import METHODS as FREQ, FrequencyMethod, frequency_response
-from vibss.linear.eigen.undamped import ModalBasis
-from vibss.linear.plant.signals import build_plant
+from vibss.linear.eigen.basis import ModalBasis
+from vibss.linear.plant.build import build_plant
 from vibss.methods import Method
 from vibss.model.excitation import Excitation
 from vibss.model.timefunctions import Ramp, Rectangular
@@ -116,8 +116,7 @@ def test_sparse_plants_take_only_sparse_capable_methods(reference) -> None:
 
 
 def test_damping_projection_is_computed_once_per_plant(plant) -> None:
-    from vibss.linear.eigen.undamped import modal_basis
-    from vibss.linear.eigen.projection import projected_damping
+    from vibss.linear.eigen.basis import modal_basis, projected_damping
 
     fresh = build_plant(_model(), INPUTS, OUTPUTS)
     basis = modal_basis(fresh)

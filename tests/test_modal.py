@@ -209,7 +209,7 @@ def test_generalized_eigh_block_path_matches_scipy():
     import scipy.linalg as sl
 
     from vibss.linear.eigen.undamped import _inverse_cholesky, generalized_eigh
-    from vibss.linear.plant.signals import build_plant
+    from vibss.linear.plant.build import build_plant
     from test_signals import two_body
 
     p = build_plant(two_body(), ["frame.rz.disp", "engine.fz"], ["engine.z"])   # frame rz prescribed

@@ -14,7 +14,7 @@ import mp_reference as mpr
 import scaled_cases as sc
 from vibss.frequency.kernels import METHODS
 from vibss.linear.eigen.complex_modes import complex_modes
-from vibss.linear.plant.signals import build_plant
+from vibss.linear.plant.build import build_plant
 
 TOL = 1e-8
 

@@ -18,7 +18,7 @@ import vibss
 from vibss import Body, Model, Mount, MountType
 from vibss.errors import ModelError
 from vibss.io.modelfile import dumps_model, loads_model
-from vibss.linear.plant.signals import build_plant
+from vibss.linear.plant.build import build_plant
 from vibss.linear.solve.exact import response
 
 M, KR, CR, KB, MF, CF = 20.0, 2.0e5, 60.0, 3.0e5, 4.0, 150.0

@@ -14,7 +14,7 @@ from scipy.spatial.transform import Rotation
 import vibss
 from vibss import Body, Model, Mount, MountType
 from vibss.errors import ModelError, ModelFileError
-from vibss.linear.plant.signals import build_plant
+from vibss.linear.plant.build import build_plant
 from vibss.linear.solve.exact import response
 
 ORIENT = Rotation.from_euler("xyz", [15, -25, 40], degrees=True).as_matrix()

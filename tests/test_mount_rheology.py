@@ -13,7 +13,7 @@ from scipy.integrate import solve_ivp
 import vibss
 from vibss import Body, Model, Mount, MountType
 from vibss.errors import AnalysisError, ModelError, VibssWarning
-from vibss.linear.plant.signals import build_plant
+from vibss.linear.plant.build import build_plant
 from vibss.linear.solve.exact import response
 from vibss.model.rheology import FractionalZener, fit_ladder
 

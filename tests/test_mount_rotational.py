@@ -12,7 +12,7 @@ from vibss import Body, Model, Mount, MountType
 from vibss.design.montecarlo import batch_modes
 from vibss.design.parameters import apply, current_values, parameters_of, stiffness_derivatives
 from vibss.errors import ModelError
-from vibss.linear.plant.signals import build_plant
+from vibss.linear.plant.build import build_plant
 from vibss.linear.solve.exact import response
 
 KR, CR = 500.0, 2.0

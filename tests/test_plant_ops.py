@@ -18,7 +18,7 @@ import scipy.sparse as sp
 from vibss import Body, Model, Mount, MountType, VibssError
 from vibss.errors import AnalysisError, ModelError
 from vibss.linear.plant.plant import FIELD_ROLES, Plant
-from vibss.linear.plant.signals import build_plant
+from vibss.linear.plant.build import build_plant
 
 
 def _frf(p: Plant, w: np.ndarray) -> np.ndarray:

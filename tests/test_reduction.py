@@ -11,7 +11,7 @@ from vibss import Body, Model, ModelError, Mount, MountType, AnalysisError, load
 from vibss.reduction.api import reduce, relative_error
 from vibss.reduction.kernels import frf
 from vibss.reduction.scope import Scope
-from vibss.linear.plant.signals import build_plant
+from vibss.linear.plant.build import build_plant
 
 from benchmarks.models import chain_model
 

@@ -83,7 +83,7 @@ def test_free_motions_of_a_large_model_are_found_without_dense_work(monkeypatch:
     eigendecomposition and a dense M) before naming it. Above NULL_DENSE_MAX free DOFs the free
     motions are found per connected component and by sparse shift-invert; the answer is the dense
     path's."""
-    import vibss.statics as st
+    import vibss.linear.solve.static as st
     from vibss import AnalysisError, static
 
     n = 130                                              # 780 DOFs > NULL_DENSE_MAX

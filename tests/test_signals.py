@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from vibss import Body, ControlPoint, Model, ModelError, Mount, MountType, Orientation, assemble
-from vibss.linear.plant.signals import build_plant, control_name, default_outputs
+from vibss.linear.plant.build import build_plant
+from vibss.linear.plant.names import control_name, default_outputs
 
 
 def two_body() -> Model:

@@ -21,9 +21,9 @@ import vibss
 from vibss import Body, Model, Mount, MountType
 from vibss.linear.plant import memo
 from vibss.linear.plant.assemble import _assemble, assemble
-from vibss.linear.eigen.undamped import _sparse_order_product
+from vibss.linear.eigen.jacobi import _sparse_order_product
 from vibss.linear.eigen.checks import _inverse_cholesky
-from vibss.linear.plant.signals import build_plant
+from vibss.linear.plant.build import build_plant
 
 MODELS = {
     "prism": prism_model, "two_mass": two_mass_model, "asymmetric": asymmetric_model,

@@ -14,7 +14,7 @@ import scaled_cases as sc
 from vibss import Body, Model, Mount, MountType
 from vibss.errors import AnalysisError
 from vibss.frequency.kernels import METHODS
-from vibss.linear.plant.signals import build_plant
+from vibss.linear.plant.build import build_plant
 from vibss.linear.solve import backends
 from vibss.linear.solve.exact import observe, observed_dofs, response, states, zero_frequency_limit, zfactor
 

@@ -19,7 +19,7 @@ from vibss import AnalysisError, Body, Model, Mount, MountType, assemble, damped
 from vibss.errors import ModelError
 from vibss.model.excitation import Excitation, Rectangular, SineSweep, Step
 from vibss.time.integrators import central_difference, critical_step, newmark, newmark_method
-from vibss.linear.plant.signals import build_plant
+from vibss.linear.plant.build import build_plant
 from vibss.diagnostics import (Finding, VibssWarning, check_central_difference, check_damping_resolution,
                              check_excitations, check_explicit_rk, check_repeated, check_sampling,
                              check_static, conditioning, equilibrate, natural_frequencies,

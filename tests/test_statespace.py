@@ -11,7 +11,7 @@ import pytest
 
 from vibss import AnalysisError, Body, Model
 from vibss.frequency.kernels import direct
-from vibss.linear.plant.signals import build_plant
+from vibss.linear.plant.build import build_plant
 from vibss.linear.statespace import statespace
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))

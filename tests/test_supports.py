@@ -15,7 +15,7 @@ from scipy.spatial.transform import Rotation
 import vibss
 from vibss import Body, Model, Mount, MountType, Support
 from vibss.errors import ModelError, ModelFileError, SignalError
-from vibss.linear.plant.signals import build_plant
+from vibss.linear.plant.build import build_plant
 from vibss.linear.solve.exact import response
 
 DOFS = ("x", "y", "z", "rx", "ry", "rz")

@@ -13,7 +13,7 @@ from vibss import Body, Model, Mount, MountType, VibssWarning, assemble, symmetr
 from vibss.errors import AnalysisError, ModelError
 from vibss.io import loads_model
 from vibss.model.excitation import Excitation, HalfSine, Rectangular, Sine, SineSweep, Step, Triangle
-from vibss.linear.plant.signals import build_plant
+from vibss.linear.plant.build import build_plant
 from vibss.time.api import METHODS, TimeResponse, simulate
 from vibss.time.sweep import _frf, sweep_envelope
 

@@ -15,9 +15,8 @@ from vibss import Body, Model, Mount, MountType
 from vibss.frequency.api import frequency_response
 from vibss.frequency.kernels import METHODS
 from vibss.frequency.lowrank import woodbury
-from vibss.linear.eigen.undamped import modal_basis
-from vibss.linear.eigen.projection import damping_factors, projected_damping
-from vibss.linear.plant.signals import build_plant
+from vibss.linear.eigen.basis import modal_basis, damping_factors, projected_damping
+from vibss.linear.plant.build import build_plant
 
 TOL = 1e-8          # as the other modal superpositions on the scaled family (test_modal_superposition)
 
@@ -161,7 +160,7 @@ def test_damping_rank_counts_the_factor_columns_without_forming_them(damping: st
     import sys
     from pathlib import Path
 
-    from vibss.linear.eigen.projection import damping_rank
+    from vibss.linear.eigen.basis import damping_rank
 
     sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
     from models import tree_model

@@ -59,7 +59,7 @@ _LAZY: dict[str, str] = {
     "Plant": ".linear.plant.plant",
     "Reduction": ".reduction.api", "reduce": ".reduction.api",
     "Scope": ".reduction.scope",
-    "build_plant": ".linear.plant.signals",
+    "build_plant": ".linear.plant.build",
     "NamedStateSpace": ".linear.statespace", "statespace": ".linear.statespace",
     "StaticResult": ".statics", "static": ".statics",
     "StudyDefaults": ".studies", "study_defaults": ".studies", "causal_loss": ".studies",
@@ -104,7 +104,7 @@ if TYPE_CHECKING:                          # what static checkers and IDEs see
     from .io.modelfile import dump_model, dumps_model, example_names, load_example, load_model, loads_model
     from .linear.plant.assemble import Assembly, assemble
     from .linear.plant.plant import Plant
-    from .linear.plant.signals import build_plant
+    from .linear.plant.build import build_plant
     from .linear.statespace import NamedStateSpace, statespace
     from .modal.damped import DampedModes, damped_modes
     from .modal.undamped import Modes, modes

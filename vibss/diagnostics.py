@@ -42,11 +42,11 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-import scipy.linalg as sl
 from threadpoolctl import threadpool_info
 
 from .linear.eigen.directions import cluster_slices
 from .linear.eigen.undamped import symmetric_eigen, undamped
+from .linear.solve.mass import mass_solver
 from .errors import VibssWarning
 
 __all__ = ["VibssWarning", "Finding", "Conditioning", "natural_frequencies",
@@ -489,8 +489,8 @@ def check_damping_resolution(M: Any, K: Any, C: Any, zeta_tol: float = 1e-3) -> 
     keep = ~spec.rigid
     w = np.sqrt(w2[keep])
     zeta = np.diag(phi.T @ C @ phi)[keep] / (2 * w)
-    cho = sl.cho_factor(M)
-    norm_a = max(1.0, np.abs(sl.cho_solve(cho, K)).sum(0).max(), np.abs(sl.cho_solve(cho, C)).sum(0).max())
+    solve = mass_solver(M)
+    norm_a = max(1.0, np.abs(solve(K)).sum(0).max(), np.abs(solve(C)).sum(0).max())
     with np.errstate(divide="ignore"):
         err = np.finfo(float).eps * norm_a / (np.abs(zeta) * w)
     worst = float(err.max()) if err.size else 0.0

@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import ModelError
-from ..linear.plant.signals import control_name
+from ..linear.plant.names import control_name
 from ..results import Result, Table
 from .plant import vibss_name
 

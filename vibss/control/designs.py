@@ -25,7 +25,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import ControlDesignError, ModelError
-from ..linear.plant.signals import control_name
+from ..linear.plant.names import control_name
 from ..model.actuation import resolve
 from .loop import Controller, controller
 from .plant import vibss_name

@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import ControlDesignError, ModelError, SignalError, did_you_mean
-from ..linear.plant.signals import control_name
+from ..linear.plant.names import control_name
 from ..linear.statespace import NamedStateSpace
 from ..results import Result, Table
 from .plant import vibss_name

@@ -10,7 +10,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Any
 
-from ..linear.plant.signals import control_name
+from ..linear.plant.names import control_name
 from ..linear.statespace import NamedStateSpace
 
 __all__ = ["interconnect", "feedback"]

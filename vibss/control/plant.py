@@ -52,7 +52,8 @@ import numpy as np
 from ..errors import ControlDesignError, ModelError
 from ..linear.plant.assemble import Assembly, assemble
 from ..linear.plant.plant import Plant
-from ..linear.plant.signals import build_plant, control_name
+from ..linear.plant.build import build_plant
+from ..linear.plant.names import control_name
 from ..linear.solve.exact import SingularMatrixError, lu_solver
 from ..linear.statespace import NamedStateSpace, statespace
 from ..model.geometry import point_transfer
@@ -187,7 +188,7 @@ def relative_plant(mech: Plant, model: Model) -> Plant:
     Parameters
     ----------
     mech : Plant
-        From :func:`~vibss.linear.plant.signals.build_plant` (possibly restricted to some DOFs).
+        From :func:`~vibss.linear.plant.build.build_plant` (possibly restricted to some DOFs).
     model : Model
         Its model (for the rigid motion of ground).
 
@@ -300,7 +301,7 @@ def plant(model: Model | Assembly, disturbances: Sequence[str] | None = None,
         Keep only these free DOFs (e.g. ``["body.z", "wheel.z"]`` for a vertical model); exact when the
         others are not coupled to them.
     modal_damping : float or None
-        Extra modal damping ratio (as :func:`~vibss.linear.plant.signals.build_plant`).
+        Extra modal damping ratio (as :func:`~vibss.linear.plant.build.build_plant`).
     ideal_actuators : bool
         Leave out the actuators' bandwidths (force = command): a design model for synthesis when the
         actuator poles are far above the loop's band; close the loop on the full plant to check it.

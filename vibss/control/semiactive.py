@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import ControlDesignError, ModelError
-from ..linear.plant.signals import control_name
+from ..linear.plant.names import control_name
 from ..results import Result, Table
 from .designs import _find_pairs, _sign
 from .plant import vibss_name

@@ -39,6 +39,7 @@ import numpy as np
 from ..linear.eigen.undamped import symmetric_eigen
 from ..results import ReadOnly
 from ..linear.plant.assemble import Assembly
+from ..linear.solve.static import static_solve
 from ..model.model import Model
 from ._common import body_blocks, body_name, unit_axis
 
@@ -267,7 +268,7 @@ def torque_response(model: Model | Assembly, body: str | None = None, axis: Any 
     e = unit_axis(axis, "axis", "torque_response")
     a, i, M, K = body_blocks(model, body, "torque_response")
     load = np.concatenate([np.zeros(3), float(torque) * e])
-    q = np.linalg.solve(K, load)
+    q = static_solve(a, load, free=np.arange(6 * i, 6 * i + 6), kff=K).x   # the others held fixed
     rot = q[3:] / np.linalg.norm(q[3:])
     rot = rot if rot @ e >= 0 else -rot
     tra = np.linalg.solve(M[3:, 3:], e)

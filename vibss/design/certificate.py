@@ -29,9 +29,11 @@ import numpy as np
 from .._validate import array, number
 from ..errors import AnalysisError, ArgumentError
 from ..linear.plant.assemble import assemble
+from ..linear.solve.static import static_solve
 from ..modal.damped import damped_modes
 from ..modal.undamped import modes as undamped_modes
 from ..model.model import DOF_NAMES, Model
+from ..model.units import G
 from ..results import Result, Table, jsonable, number_text, require_pandas
 from ._common import body_name, frame_axes, frame_rotation, ke_fractions, unit_axis
 
@@ -41,8 +43,9 @@ WINDOW_RTOL = 1e-6
 """A frequency within this (relative) of a window's edge counts as inside (optimisers meet
 constraints to about this accuracy)."""
 
-STANDARD_GRAVITY = (0.0, 0.0, -9.80665)
-"""Gravity used for the sag under weight when the model defines none [m/s^2]."""
+STANDARD_GRAVITY = (0.0, 0.0, -G)
+"""Gravity used for the sag under weight when the model defines none [m/s^2]: standard gravity
+(:data:`vibss.model.units.STANDARD_GRAVITY`) along -z."""
 
 
 def in_windows(frequency_hz: np.ndarray, windows: np.ndarray) -> np.ndarray:
@@ -313,7 +316,7 @@ def certificate(model: Model, body: str | None = None, *, purity: float = 0.9, w
     if np.any(md.rigid):
         raise AnalysisError(f"{who}: the model has {int(md.rigid.sum())} rigid-body (zero-frequency) "
                             "modes; the mounts must restrain every body", argument="model")
-    M, K = a.dense("M"), a.dense("K")
+    M = a.dense("M")
     R = frame_rotation(a.n, axes)
     E = ke_fractions(md.shapes, M, R)
     prime = "" if frame_name == "global" else "'"
@@ -329,7 +332,7 @@ def certificate(model: Model, body: str | None = None, *, purity: float = 0.9, w
     i = model.body_index(name)
     drive = np.zeros(a.n)
     drive[6 * i + 3:6 * i + 6] = float(torque) * e
-    sag = np.linalg.solve(K, np.column_stack([weight, drive]))
+    sag = static_solve(a, np.column_stack([weight, drive])).x     # exact on badly scaled K
     ke_damped = zeta = None
     if damped and a.has_damping:
         dm = damped_modes(a, undamped=md)

@@ -25,6 +25,7 @@ import numpy as np
 
 from ..errors import AnalysisError
 from ..linear.plant.assemble import assemble
+from ..linear.solve.static import static_solve
 from ..modal.undamped import modes as undamped_modes
 from ..model.model import Model
 from ..results import Result, Table, jsonable, require_pandas
@@ -241,7 +242,7 @@ def evaluate(base: Model, parameters: Sequence[Parameter], values: Any, body: st
                             "(e.g. a slightly different rate) or study another parameter set",
                             argument="model")
     phi = md.shapes
-    M, K = a.dense("M"), a.dense("K")
+    M = a.dense("M")
     G = np.einsum("ik,pij,jl->pkl", phi, dK, phi)                     # phi^T dK phi, (p, k, k)
     dlam = np.einsum("pkk->kp", G)
     f = md.frequency_hz
@@ -273,8 +274,8 @@ def evaluate(base: Model, parameters: Sequence[Parameter], values: Any, body: st
         dE = np.full((k, a.n, len(parameters)), np.nan)
     g = model.gravity if model.gravity is not None else np.array(STANDARD_GRAVITY)
     weight = np.concatenate([np.concatenate([b.masses * g, np.zeros(3)]) for b in model.bodies])
-    x = np.linalg.solve(K, weight)
-    dx = -np.linalg.solve(K, np.einsum("pij,j->ip", dK, x))
+    x = static_solve(a, weight).x                                     # exact on badly scaled K
+    dx = -static_solve(a, np.einsum("pij,j->ip", dK, x)).x
     return Sensitivity(model=model, parameters=tuple(p.name for p in parameters), values=values,
                        parameter_units=tuple(p.unit for p in parameters), dofs=a.dofs,
                        frequency_hz=f.copy(), d_frequency=dfreq, shapes=phi, d_shapes=dphi,

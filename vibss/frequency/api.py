@@ -37,16 +37,16 @@ import scipy.sparse as sp
 from ..linear.plant.assemble import Assembly
 from .._validate import choice, integer, name_index, number
 from ..errors import AnalysisError, ArgumentError, DefectiveModesError, ModelError
-from .kernels import COMPLEX_MODE_RISK, METHODS, complex_mode_risk, project_damping, zero_frequency_limit
+from .kernels import COMPLEX_MODE_RISK, METHODS, complex_mode_risk, zero_frequency_limit
 from ..linear.plant.branches import require_none
 from ..linear.solve.exact import response
 from .methods import choose, choose_without_modes, resolve_method
 from ..model.model import Model
 from ..linear.plant.plant import Plant
-from ..linear.plant.signals import build_plant, control_name
+from ..linear.plant.build import build_plant
+from ..linear.plant.names import control_name
 from ..linear.eigen.directions import dof_labels, energy_fractions
-from ..linear.eigen.undamped import ModalBasis, modal_basis
-from ..linear.eigen.projection import projected_damping
+from ..linear.eigen.basis import ModalBasis, modal_basis, projected_damping
 from ..results import Result, Table, jsonable, require_pandas
 
 __all__ = ["FrequencyResponse", "FrequencyGrid", "frequency_grid", "frequency_response", "QUANTITIES"]
@@ -590,7 +590,7 @@ def frequency_response(system: Model | Assembly | Plant, inputs: Sequence[Any] |
     method : {"auto", "direct", "modal", "complex_modal", "woodbury", "sparse", "subspace", "statespace"}, FrequencyMethod or callable
         Method (:data:`vibss.frequency.kernels.METHODS`), or a kernel ``f(plant, s, basis) -> (p, m, nf)``
         with the built-ins' signature (``s`` Laplace points ``i w``, ``basis`` the undamped
-        :class:`~vibss.linear.eigen.undamped.ModalBasis`, None for a sparse plant; ``f(plant, s)`` is
+        :class:`~vibss.linear.eigen.basis.ModalBasis`, None for a sparse plant; ``f(plant, s)`` is
         accepted too).
 
     Returns
@@ -665,7 +665,7 @@ def frequency_response(system: Model | Assembly | Plant, inputs: Sequence[Any] |
             raw = chosen.kernel(plant, s, basis)
         else:
             if method == "auto" and chosen.fallback is not None and chosen.name == "complex_modal" and basis is not None \
-                    and complex_mode_risk(basis, project_damping(plant, basis)) > COMPLEX_MODE_RISK:
+                    and complex_mode_risk(basis, projected_damping(plant, basis)) > COMPLEX_MODE_RISK:
                 err, where = _check(plant, s, raw)
                 if not err <= AUTO_CHECK_TOL:
                     chosen = METHODS[chosen.fallback]

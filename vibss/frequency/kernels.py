@@ -10,7 +10,7 @@ with ``O(s) = Oq + i Oh + s Ov + s^2 Oa``, ``P(s) = Pz + i Ph + s Pv + s^2 Pa`` 
 (for ``w > 0``). Kernels return a ``(p, m, nf)`` complex array.
 
 - ``direct``: one complex solve per frequency (batched). The accurate reference.
-- ``modal``: undamped modes (:func:`vibss.linear.eigen.undamped.modal_basis`) and modal superposition; only for classical damping (``Phi^T C Phi`` and
+- ``modal``: undamped modes (:func:`vibss.linear.eigen.basis.modal_basis`) and modal superposition; only for classical damping (``Phi^T C Phi`` and
   ``Phi^T H Phi`` diagonal). Rigid-body modes are exact (omega = 0 double integrators).
 - ``complex_modal``: eigen-decomposition of the well-scaled first-order modal form
   ``[[0, S], [-(Omega^2 + i Phi^T H Phi) S^-1, -Phi^T C Phi]]`` (general viscous damping).
@@ -47,16 +47,16 @@ import numpy as np
 from ..linear.eigen.complex_modes import complex_modes
 from ..errors import AnalysisError
 from ..linear.plant.plant import Plant
-from ..linear.eigen.undamped import ModalBasis, damping_coupling, modal_basis, symmetric_eigen
-from ..linear.eigen.projection import projected_damping
+from ..linear.eigen.undamped import symmetric_eigen
+from ..linear.eigen.basis import ModalBasis, classical_damping, modal_basis, projected_damping
 from ..linear.solve.exact import response, zero_frequency_limit, zfactor
 from ..linear.project.subspace import TOLERANCE, channel_subspace
 from ..methods import Method, callable_name
 from .lowrank import woodbury
 from .terms import feedthrough as _feedthrough, mass_solve as _mass_solve, static as _static, terms as _terms
 
-__all__ = ["METHODS", "FrequencyMethod", "custom_method", "direct", "modal", "complex_modal", "woodbury", "sparse", "via_statespace", "classical_damping",
-           "complex_mode_risk", "mode_risks", "project_damping", "COMPLEX_MODE_RISK", "REFINE_PREDICT",
+__all__ = ["METHODS", "FrequencyMethod", "custom_method", "direct", "modal", "complex_modal", "woodbury", "sparse", "via_statespace",
+           "complex_mode_risk", "mode_risks", "COMPLEX_MODE_RISK", "REFINE_PREDICT",
            "zero_frequency_limit"]
 
 
@@ -216,24 +216,6 @@ def _superpose(plant: Plant, s: np.ndarray, left: list[_Factors],
     return np.moveaxis(out, 0, -1)
 
 
-def project_damping(plant: Plant, basis: ModalBasis) -> tuple[np.ndarray, np.ndarray]:
-    """``Phi^T C Phi`` and ``Phi^T H Phi`` on the undamped modes (zeros when absent).
-
-    Parameters
-    ----------
-    plant : Plant
-    basis : ModalBasis
-        Undamped modes of the plant.
-
-    Returns
-    -------
-    gamma, eta : (n, n) ndarray
-        Projected viscous [1/s] and hysteretic [1/s^2] damping, symmetrised, read-only; computed
-        once per plant and basis (:func:`vibss.linear.eigen.projection.projected_damping`).
-    """
-    return projected_damping(plant, basis)
-
-
 COMPLEX_MODE_RISK = 1e-9
 """Above this :func:`complex_mode_risk` ``eig``'s poles are not trusted as they stand: complex modes
 screen and refine the slow ones (:mod:`vibss.linear.eigen.complex_modes`), and ``auto`` counts that cost."""
@@ -258,7 +240,7 @@ def mode_risks(basis: ModalBasis, projected: tuple[np.ndarray, np.ndarray]) -> n
     basis : ModalBasis
         Undamped modes.
     projected : (Phi^T C Phi, Phi^T H Phi)
-        From :func:`project_damping`.
+        From :func:`~vibss.linear.eigen.basis.projected_damping`.
 
     Returns
     -------
@@ -284,7 +266,7 @@ def complex_mode_risk(basis: ModalBasis, projected: tuple[np.ndarray, np.ndarray
     basis : ModalBasis
         Undamped modes.
     projected : (Phi^T C Phi, Phi^T H Phi)
-        From :func:`project_damping`.
+        From :func:`~vibss.linear.eigen.basis.projected_damping`.
 
     Returns
     -------
@@ -292,37 +274,6 @@ def complex_mode_risk(basis: ModalBasis, projected: tuple[np.ndarray, np.ndarray
     """
     risks = mode_risks(basis, projected)
     return float(risks.max()) if risks.size else 0.0
-
-
-def classical_damping(plant: Plant, basis: ModalBasis | None = None,
-                      projected: tuple[np.ndarray, np.ndarray] | None = None) -> tuple[bool, str]:
-    """Whether ``Phi^T C Phi`` and ``Phi^T H Phi`` are diagonal (classical damping), and why not.
-
-    Parameters
-    ----------
-    plant : Plant
-    basis : ModalBasis or None
-        Undamped modes (computed if None).
-    projected : (Phi^T C Phi, Phi^T H Phi) or None
-        The projected damping matrices, if already computed.
-
-    Returns
-    -------
-    ok : bool
-    reason : str
-    """
-    basis = basis or modal_basis(plant)
-    projected = projected or project_damping(plant, basis)
-    for name, g in zip(("viscous damping", "hysteretic damping"), projected):
-        if not np.any(g):
-            continue
-        excess = damping_coupling(g)
-        if np.any(excess > 0):
-            i, j = np.unravel_index(np.argmax(excess), excess.shape)
-            return False, (f"{name} is not classical: modes {i + 1} and {j + 1} are coupled "
-                           f"(Phi^T C Phi off-diagonal {abs(g[i, j]):.3g} vs diagonal {abs(g[i, i]):.3g}, "
-                           f"{abs(g[j, j]):.3g})")
-    return True, "classical damping (Phi^T C Phi and Phi^T H Phi diagonal)"
 
 
 def modal(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) -> np.ndarray:
@@ -335,7 +286,7 @@ def modal(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) -> np.nd
     """
     s = np.asarray(s, dtype=complex)
     basis = basis or modal_basis(plant)
-    projected = project_damping(plant, basis)
+    projected = projected_damping(plant, basis)
     ok, why = classical_damping(plant, basis, projected)
     if not ok:
         raise AnalysisError(f"method 'modal' needs classical damping: {why}; use 'complex_modal' or 'direct'")
@@ -373,7 +324,7 @@ def complex_modal(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) 
     s = np.asarray(s, dtype=complex)
     basis = basis or modal_basis(plant)
     phi, sc = basis.phi, basis.scale
-    gam, hys = project_damping(plant, basis)
+    gam, hys = projected_damping(plant, basis)
     rid = np.flatnonzero(basis.rigid)
     if rid.size:
         # rotate the rigid subspace so its damping block is diagonal: undamped combinations of rigid
@@ -451,7 +402,7 @@ class FrequencyMethod(Method):
     """A frequency-response method: ``kernel(plant, s, basis=None) -> (p, m, nf)`` complex.
 
     ``s`` (nf,) are Laplace points (``i w``, w > 0), ``basis`` the plant's undamped
-    :class:`~vibss.linear.eigen.undamped.ModalBasis` (computed once per analysis; None for a sparse plant).
+    :class:`~vibss.linear.eigen.basis.ModalBasis` (computed once per analysis; None for a sparse plant).
 
     Attributes
     ----------

@@ -5,7 +5,7 @@ In the undamped modes (``Phi^T M Phi = I``, ``Phi^T K Phi = Omega^2``) the dynam
     A(s) = D(s) + U Z(s) U^T,    D(s) = Omega^2 + s^2 (diagonal),    Z(s) = s Zc + i Zh  (r x r)
 
 where ``U`` (k x r) holds the modes' deflections at the dampers and ``Zc``, ``Zh`` their viscous and
-hysteretic blocks (:func:`vibss.linear.eigen.projection.damping_factors`): the damping of any model,
+hysteretic blocks (:func:`vibss.linear.eigen.basis.damping_factors`): the damping of any model,
 classical or not, has rank ``r <= 3 x`` (damped mounts). Classical damping (``Phi^T C Phi`` and
 ``Phi^T H Phi`` diagonal) stays in ``D(s) = Omega^2 + s Gamma + i Eta + s^2`` instead. The Maxwell
 branches of frequency-dependent mounts (:mod:`vibss.linear.plant.branches`) join ``U`` with their
@@ -42,9 +42,9 @@ from typing import Any
 import numpy as np
 
 from ..linear.plant.branches import groups
-from ..linear.eigen.undamped import ModalBasis, damping_coupling, modal_basis
+from ..linear.eigen.basis import ModalBasis, damping_coupling, modal_basis
 from ..linear.plant.plant import Plant
-from ..linear.eigen.projection import damping_factors, projected_damping
+from ..linear.eigen.basis import damping_factors, projected_damping
 from ..linear.solve.exact import response, zfactor
 from .terms import elastic_static, feedthrough, mass_solve, terms
 
@@ -103,7 +103,7 @@ def _update(plant: Plant, basis: ModalBasis, s: np.ndarray) -> tuple[np.ndarray,
     Returns ``D`` (nf, k), ``U`` (k, r), ``Z`` as a function of frequency indices -> (len, r, r), and
     ``|diag(U Z(s) U^T)|`` (nf, k). Classical damping (``Phi^T C Phi`` and ``Phi^T H Phi`` diagonal)
     stays in ``D``; other damping joins ``U`` as its mounts' deflections
-    (:func:`vibss.linear.eigen.projection.damping_factors`); every Maxwell branch of a frequency-dependent
+    (:func:`vibss.linear.eigen.basis.damping_factors`); every Maxwell branch of a frequency-dependent
     mount adds its deflection ``Phi^T B_i^T`` with ``k_i g_i(s)`` (:meth:`Branches.dynamic`).
     """
     omega2 = basis.omega2

@@ -15,14 +15,12 @@ import numpy as np
 
 from ..linear.solve.backends import certified_note
 from ..linear.solve.banded import seconds_floor, structure
-from ..linear.eigen.undamped import ModalBasis
+from ..linear.eigen.basis import ModalBasis, classical_damping, damping_rank, projected_damping
 from ..linear.plant.plant import Plant
-from ..linear.eigen.projection import damping_rank
 from ..linear.solve.exact import mounts_form_possible
 from ..linear.project.subspace import MOMENTS, N_SHIFTS, TWO_SIDED_MAX
 from ..methods import resolve
-from .kernels import (COMPLEX_MODE_RISK, METHODS, REFINE_PREDICT, FrequencyMethod, classical_damping,
-                      custom_method, mode_risks, project_damping)
+from .kernels import COMPLEX_MODE_RISK, METHODS, REFINE_PREDICT, FrequencyMethod, custom_method, mode_risks
 
 __all__ = ["METHODS", "FrequencyMethod", "resolve_method", "choose", "choose_without_modes", "estimates"]
 
@@ -63,8 +61,8 @@ def estimates(plant: Plant, nf: int, basis: ModalBasis, rank: int, refine: int |
     """``auto``'s cost model: estimated seconds of each modal method for a non-classical plant.
 
     Counts the inputs ``m``, outputs ``p``, frequencies ``nf``, modes ``n`` and the damper rank ``r``
-    (:func:`vibss.linear.eigen.projection.damping_rank`, the columns of
-    :func:`~vibss.linear.eigen.projection.damping_factors`' ``U``):
+    (:func:`vibss.linear.eigen.basis.damping_rank`, the columns of
+    :func:`~vibss.linear.eigen.basis.damping_factors`' ``U``):
 
     - ``woodbury``: ``nf n (p m + r (p + m) + r^2 / 2)`` weighted-sum GEMM work plus ``nf (r + 2)^3``
       for the bordered LUs;
@@ -139,7 +137,7 @@ def choose(plant: Plant, nf: int, basis: ModalBasis | None) -> tuple[str, str]:
     if not np.any(plant.C) and not np.any(plant.H):
         return "sparse", ("undamped: sparse direct solve (a modal sum of an undamped model loses "
                           "digits next to each resonance, where its eigenvalue errors are not damped)")
-    projected = project_damping(plant, basis)
+    projected = projected_damping(plant, basis)
     ok, why = classical_damping(plant, basis, projected)
     if ok:
         return "modal", f"{why}: modal superposition is the fastest"
@@ -218,7 +216,7 @@ def _choose_branches(plant: Plant, nf: int, basis: ModalBasis) -> tuple[str, str
     if quick is not None:
         return quick
     note = br.note()
-    projected = project_damping(plant, basis)
+    projected = projected_damping(plant, basis)
     classical, _ = classical_damping(plant, basis, projected)
     rank = br.r + (0 if classical else damping_rank(plant))
     cost = {"woodbury": estimates(plant, nf, basis, rank, None)["woodbury"]}

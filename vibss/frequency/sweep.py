@@ -9,7 +9,7 @@ import numpy as np
 
 from ..errors import AnalysisError, ModelError, SignalError, did_you_mean
 from ..linear.plant.assemble import Assembly
-from ..linear.plant.signals import build_plant
+from ..linear.plant.build import build_plant
 from ..model.model import Model
 from .api import FrequencyGrid, FrequencyResponse, frequency_response
 
@@ -113,7 +113,7 @@ def _system_transmissibility(system: Any, inputs: Sequence[str], outputs: Sequen
     import control
 
     from ..frequency.statespace_response import evaluate
-    from ..linear.plant.signals import control_name
+    from ..linear.plant.names import control_name
 
     if not isinstance(system, control.StateSpace):
         raise ModelError(f"system: expected a Model, an Assembly or a python-control StateSpace, got "

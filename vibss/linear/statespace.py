@@ -35,14 +35,14 @@ physical one divided by a power of 2 (``StateSpace.vibss_state_scale`` holds the
 
 Integrator states of motion inputs are named ``<input>:z`` and ``<input>:zdot``. Signal names are
 the vibss names with ``.`` replaced by ``:`` (python-control reserves ``.``;
-:func:`vibss.linear.plant.signals.control_name`). Hysteretic damping (``H``) is frequency-domain only and is
+:func:`vibss.linear.plant.names.control_name`). Hysteretic damping (``H``) is frequency-domain only and is
 left out of every time-domain realization, with a :class:`~vibss.errors.VibssWarning` naming the mounts
 (:func:`vibss.linear.plant.hysteresis.dropped_hysteresis`).
 
 Examples
 --------
 >>> from vibss import Body, Model, Mount, MountType
->>> from vibss.linear.plant.signals import build_plant
+>>> from vibss.linear.plant.build import build_plant
 >>> t = MountType("t", [1e4, 1e4, 1e4], [10.0, 10.0, 10.0])
 >>> m = Model([Body("b", 10.0, [1, 1, 1])], [Mount("m", t, "b")])
 >>> sys = statespace(build_plant(m, ["ground.z.disp"], ["b.z"]))
@@ -67,12 +67,13 @@ from .._validate import choice
 from ..errors import (AnalysisError, ArgumentError, ArgumentTypeError, ModelError, SignalError,
                       SignalIndexError, did_you_mean)
 from .plant.branches import close
-from .eigen.undamped import modal_basis
+from .eigen.basis import modal_basis, projected_damping
 from .plant.hysteresis import dropped_hysteresis
 from ..model.model import Model
 from .plant.plant import Plant
-from .eigen.projection import projected_damping
-from .plant.signals import build_plant, control_name
+from .plant.build import build_plant
+from .plant.names import control_name
+from .solve.mass import mass_solver
 
 __all__ = ["statespace", "NamedStateSpace", "REALIZATIONS"]
 
@@ -289,13 +290,13 @@ def _modal(plant: Plant) -> _Basis:
 
 def _physical(plant: Plant) -> _Basis:
     try:
-        cho = sl.cho_factor(plant.M)
+        solve = mass_solver(plant)
     except np.linalg.LinAlgError:
         raise ModelError("mass matrix of the free DOFs is not positive definite") from None
     eye = np.eye(plant.n)
     dofs = [control_name(d) for d in plant.dofs]
-    return _Basis(Tw=eye, Tv=eye, R=eye, Kt=sl.cho_solve(cho, plant.K), Ct=sl.cho_solve(cho, plant.C),
-                  lm=lambda x: sl.cho_solve(cho, x), names=(dofs, [f"{d}:vel" for d in dofs]))
+    return _Basis(Tw=eye, Tv=eye, R=eye, Kt=solve(plant.K), Ct=solve(plant.C),
+                  lm=solve, names=(dofs, [f"{d}:vel" for d in dofs]))
 
 
 def _improper(plant: Plant, coef: np.ndarray, scale: np.ndarray, cols: np.ndarray, what: str) -> None:
@@ -318,7 +319,7 @@ def statespace(plant: Plant | Model | Assembly, realization: str = "modal", bala
     Parameters
     ----------
     plant : Plant, Model or Assembly
-        From :func:`vibss.linear.plant.signals.build_plant`; or a model, with ``inputs`` and ``outputs``, to
+        From :func:`vibss.linear.plant.build.build_plant`; or a model, with ``inputs`` and ``outputs``, to
         build the study's system in one call.
     realization : {"modal", "physical"}
         State coordinates (see the module docstring). ``"modal"`` (default) is well scaled for
@@ -347,7 +348,7 @@ def statespace(plant: Plant | Model | Assembly, realization: str = "modal", bala
     Examples
     --------
     >>> from vibss import Body, Model, Mount, MountType
-    >>> from vibss.linear.plant.signals import build_plant
+    >>> from vibss.linear.plant.build import build_plant
     >>> m = Model([Body("b", 10.0, [1, 1, 1])], [Mount("m", MountType("t", [1e4] * 3), "b")])
     >>> sys = statespace(build_plant(m, ["b.fz"], ["b.z"]))
     >>> sys.nstates, sys.state_labels[:2], sys.output_labels

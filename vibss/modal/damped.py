@@ -29,9 +29,9 @@ from ..linear.plant.assemble import Assembly, assemble
 from ..errors import ArgumentError
 from ..model.model import Model
 from ..linear.eigen.complex_modes import eigenpairs
-from ..linear.eigen.undamped import damping_coupling
+from ..linear.eigen.basis import damping_coupling
 from ..linear.plant.hysteresis import dropped_hysteresis
-from ..linear.plant.signals import build_plant
+from ..linear.plant.build import build_plant
 from ..linear.solve.exact import without_hysteresis
 from .undamped import Modes, modes
 from ..results import Result, Table, freeze, jsonable, require_pandas

@@ -30,7 +30,7 @@ import numpy.typing as npt
 
 from ..errors import ModelError
 
-__all__ = ["BASE_UNITS", "QUANTITIES", "Units", "STANDARD_GRAVITY", "times_s", "input_unit", "ratio_unit"]
+__all__ = ["BASE_UNITS", "QUANTITIES", "Units", "STANDARD_GRAVITY", "G", "times_s", "input_unit", "ratio_unit"]
 
 BASE_UNITS: dict[str, dict[str, float]] = {
     "length": {"m": 1.0, "cm": 0.01, "mm": 0.001, "in": 0.0254, "ft": 0.3048},
@@ -66,7 +66,12 @@ QUANTITIES: dict[str, dict[str, int]] = {
 """Each quantity as powers of the base dimensions."""
 
 STANDARD_GRAVITY = 9.80665
-"""Standard gravity [m/s^2]: the ``g`` acceleration unit (``units = { acceleration = "g" }``)."""
+"""Standard gravity [m/s^2]: the ``g`` acceleration unit (``units = { acceleration = "g" }``), the
+``g`` of shock and random specifications, and the default gravity of the design measures. Written
+here once; everything else imports it."""
+
+G = STANDARD_GRAVITY
+"""Standard gravity [m/s^2] by its short name (``vibss.shock.G``, ``vibss.random.G``)."""
 
 _ORDER = ("force", "mass", "length", "angle", "time")  # how labels are written: N s/mm
 

@@ -228,7 +228,7 @@ def order_response(model: Model, sources: Any, rpm: Any, outputs: Sequence[str] 
     ((1.0,), (1, 1, 50))
     """
     from ..frequency.api import frequency_response
-    from ..linear.plant.signals import build_plant
+    from ..linear.plant.build import build_plant
     from ..modal.undamped import modes
 
     who = "order_response"

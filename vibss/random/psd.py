@@ -15,11 +15,9 @@ import numpy as np
 
 from .. import _validate as v
 from ..errors import ArgumentError, did_you_mean
+from ..model.units import G
 
 __all__ = ["PSD", "G", "UNITS", "as_psd"]
-
-G = 9.80665
-"""Standard gravity [m/s^2]."""
 
 UNITS: dict[str, float] = {"g^2/Hz": G * G, "(m/s^2)^2/Hz": 1.0, "N^2/Hz": 1.0, "(N m)^2/Hz": 1.0,
                            "m^2/Hz": 1.0, "(m/s)^2/Hz": 1.0, "rad^2/Hz": 1.0, "(rad/s^2)^2/Hz": 1.0,

@@ -181,7 +181,7 @@ def random_response(system: Any, inputs: Mapping[str, Any], outputs: Sequence[st
     """
     from ..frequency.api import frequency_response
     from ..linear.plant.plant import Plant
-    from ..linear.plant.signals import build_plant
+    from ..linear.plant.build import build_plant
     from ..modal.undamped import modes
 
     who = "random_response"

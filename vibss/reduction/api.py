@@ -66,7 +66,7 @@ from .methods import (BALANCED_MAX_STATES, KRYLOV_MIN_DOF, METHODS, MODE_PRUNE_M
                       ReductionMethod, _floor, _states, check_grid, choose, resolve_method)
 from ..results import Result, Table, jsonable, require_pandas
 from .scope import Scope
-from ..linear.plant.signals import build_plant
+from ..linear.plant.build import build_plant
 from ..linear.solve.exact import statespace_plant
 from ..linear.statespace import NamedStateSpace, statespace
 
@@ -342,7 +342,7 @@ def reduce(model_or_plant: Model | Plant, scope: Scope, method: Any = "auto", *,
     ----------
     model_or_plant : Model or Plant
         The full system; a Model is turned into the scope's Plant by
-        :func:`vibss.linear.plant.signals.build_plant`; a Plant is cut to the scope's inputs and outputs.
+        :func:`vibss.linear.plant.build.build_plant`; a Plant is cut to the scope's inputs and outputs.
     scope : Scope
         Inputs, outputs, band [Hz] and relative tolerance.
     method : {"auto", "prune", "modal", "balanced", "krylov"}, ReductionMethod or callable

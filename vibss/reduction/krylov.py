@@ -46,7 +46,7 @@ import scipy.sparse as sp
 from ..errors import AnalysisError
 from ..model.model import Model
 from ..linear.plant.plant import FIELD_ROLES, Plant
-from ..linear.plant.signals import build_plant
+from ..linear.plant.build import build_plant
 from ..linear.project.krylov import DEFLATE_RTOL, Basis as _Basis, exact_response, forcing_columns as _forcing, \
     observing_columns as _observing, project, shift_solver as _shift_lu
 from .prune import Removal, _components, _dof_names, _touched_rows, frf
@@ -114,7 +114,7 @@ class KrylovBasis:
 def sparse_plant(model: Model, inputs: Sequence[Any], outputs: Sequence[str]) -> Plant:
     """The scope's plant with ``M, C, K, H`` as scipy.sparse CSR matrices (no dense n x n).
 
-    :func:`vibss.linear.plant.signals.build_plant` with ``sparse=True``.
+    :func:`vibss.linear.plant.build.build_plant` with ``sparse=True``.
 
     Parameters
     ----------

@@ -18,7 +18,7 @@ import numpy as np
 
 from ..errors import AnalysisError
 from ..linear.plant.plant import Plant
-from ..linear.plant.signals import control_name
+from ..linear.plant.names import control_name
 from ..linear.statespace import NamedStateSpace, statespace
 from ..methods import Method, callable_name, resolve
 from .kernels import Removal, as_sparse, frf, krylov, prune_dofs, prune_modes, prune_sparse, truncate

@@ -1,8 +1,8 @@
 """Standard shock pulses (IEC 60068-2-27, MIL-STD-810 516) as vibss time functions.
 
-Amplitudes are given in g (standard gravity, ``G`` = 9.80665 m/s^2) and returned in m/s^2, so
-the time function can drive a base-acceleration input of :func:`vibss.simulate` directly. The
-duration has no default: a specification always states it.
+Amplitudes are given in g (standard gravity ``G``, :data:`vibss.model.units.STANDARD_GRAVITY`) and
+returned in m/s^2, so the time function can drive a base-acceleration input of :func:`vibss.simulate`
+directly. The duration has no default: a specification always states it.
 """
 
 from __future__ import annotations
@@ -10,9 +10,7 @@ from __future__ import annotations
 from .. import _validate as v
 from ..errors import ArgumentError
 from ..model.timefunctions import HalfSine, Haversine, Sawtooth, Table
-
-G = 9.80665
-"""Standard gravity [m/s^2] (the ``g`` of shock and random specifications)."""
+from ..model.units import G
 
 
 def _args(amplitude_g: float, duration: float, start: float, who: str) -> tuple[float, float, float]:

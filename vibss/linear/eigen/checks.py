@@ -19,6 +19,8 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spl
 from scipy.sparse.csgraph import connected_components
 
+from ..solve.mass import mass_solver
+
 __all__ = ["rigid_mask", "error_estimate", "RIGID_RTOL", "ROUNDOFF_LEVERS", "fast_matrix", "stiffness_solver"]
 
 RIGID_RTOL = 1e-10
@@ -271,7 +273,7 @@ def error_estimate(w2: np.ndarray, phi: np.ndarray, M: Any, K: Any = None, facto
         e = np.linalg.norm(np.asarray(li @ r), axis=0)
     else:
         md = M.toarray() if sp.issparse(M) else np.asarray(M, float)
-        e = np.sqrt(np.abs(np.einsum("ij,ij->j", r, sl.cho_solve(sl.cho_factor(md), r))))
+        e = np.sqrt(np.abs(np.einsum("ij,ij->j", r, mass_solver(md)(r))))
     e = e / np.sqrt(norm2)
     lam = np.asarray(w2, float)
     gap = np.full(lam.shape, np.inf)

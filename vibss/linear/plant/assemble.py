@@ -376,6 +376,43 @@ def assemble(model: Model, sparse: bool | None = None) -> Assembly:
 
 
 def _assemble(model: Model, sparse: bool) -> Assembly:
+    """The assembly in named steps: where the mounts sit, their matrices in global axes, the
+    pattern of their 6x6 blocks, the mass, and K, C, H summed over the mounts."""
+    at = _mount_points(model)
+    mm = _mount_matrices(model, at.t)
+    pattern = _block_pattern(at)
+    mass = _mass(model, sparse)
+    mats, couplings = {}, {}
+    for key, pm, rm, cm in (("K", mm.kp, mm.krp, mm.kcp), ("C", mm.cp, mm.crp, mm.ccp), ("H", mm.hp, None, None)):
+        mats[key], couplings[key] = _summed(model, pattern, key, pm, rm, cm, sparse)
+    return Assembly(
+        model=model,
+        dofs=dof_labels(model.body_names),
+        M=mass,
+        K=mats["K"], C=mats["C"], H=mats["H"],
+        Kg=couplings["K"], Cg=couplings["C"], Hg=couplings["H"],
+        kp=mm.kp, cp=mm.cp, hp=mm.hp,
+        b_index=at.b_index, a_index=at.a_index, r_b=at.r_b, r_a=at.r_a,
+        sparse=bool(sparse), krp=mm.krp, crp=mm.crp, kcp=mm.kcp, ccp=mm.ccp,
+    )
+
+
+@dataclass(frozen=True)
+class _MountPoints:
+    """Where each mount acts: ``b_index``/``a_index`` its two nodes (bodies, then the rigid ground
+    and each support), ``r_b``/``r_a`` (nm, 3) its point from each node's reference point [m], ``t``
+    (nm, 3, 3) its local axes; ``n`` body DOFs and ``nz`` ground DOFs."""
+
+    b_index: np.ndarray
+    a_index: np.ndarray
+    r_b: np.ndarray
+    r_a: np.ndarray
+    t: np.ndarray
+    n: int
+    nz: int
+
+
+def _mount_points(model: Model) -> _MountPoints:
     nb = len(model.bodies)
     n = 6 * nb
     names = {b.name: i for i, b in enumerate(model.bodies)}
@@ -391,6 +428,26 @@ def _assemble(model: Model, sparse: bool) -> Assembly:
     p = at + np.where(body_frame[:, None], cogs[b_index], 0.0)
     r_b, r_a = p - cogs[b_index], p - cogs[a_index]
     t = np.array([m.orientation.matrix for m in model.mounts]).reshape(nm, 3, 3)
+    return _MountPoints(b_index, a_index, r_b, r_a, t, n, nz)
+
+
+@dataclass(frozen=True)
+class _MountMatrices:
+    """Every mount's 3x3 matrices in global axes, (nm, 3, 3) each: translational stiffness ``kp``
+    [N/m], damping ``cp`` [N s/m], hysteretic stiffness ``hp`` [N/m]; rotational ``krp`` [N m/rad],
+    ``crp`` [N m s/rad]; the coupling blocks ``kcp``, ``ccp`` of full 6x6 matrices."""
+
+    kp: np.ndarray
+    cp: np.ndarray
+    hp: np.ndarray
+    krp: np.ndarray
+    crp: np.ndarray
+    kcp: np.ndarray
+    ccp: np.ndarray
+
+
+def _mount_matrices(model: Model, t: np.ndarray) -> _MountMatrices:
+    nm = len(model.mounts)
 
     def principal(key: str, scale: str | None = None) -> np.ndarray:
         d = np.array([getattr(m.type, key) for m in model.mounts]).reshape(nm, 3)
@@ -410,75 +467,90 @@ def _assemble(model: Model, sparse: bool) -> Assembly:
                 continue                     # diagonal: the rates' own (bit-identical) path above
             tm = t[im]
             tt[im], rr[im], tr[im] = tm @ k6[:3, :3] @ tm.T, tm @ k6[3:, 3:] @ tm.T, tm @ k6[:3, 3:] @ tm.T
-    lb, la = point_transfer(r_b), point_transfer(r_a)
+    return _MountMatrices(kp, cp, hp, krp, crp, kcp, ccp)
+
+
+@dataclass(frozen=True)
+class _BlockPattern:
+    """The COO pattern of the four 6x6 blocks of every mount, shared by K, C and H: ``rows``,
+    ``cols`` into ``[q; q_ground]``; ``lb``, ``la`` (nm, 3, 6) the point transfers from each node;
+    ``rot`` (nm, 3, 6) the relative rotation ``theta_body - theta_to``."""
+
+    rows: np.ndarray
+    cols: np.ndarray
+    lb: np.ndarray
+    la: np.ndarray
+    rot: np.ndarray
+    n: int
+    nz: int
+
+
+def _block_pattern(at: _MountPoints) -> _BlockPattern:
+    nm = at.b_index.size
+    lb, la = point_transfer(at.r_b), point_transfer(at.r_a)
     rot = np.zeros((nm, 3, 6))
     rot[:, :, 3:] = np.eye(3)                              # relative rotation: theta_body - theta_to
-
-    # COO pattern of the four 6x6 blocks of every mount, shared by K, C and H.
-    ib = 6 * b_index[:, None] + np.arange(6)
-    ia = 6 * a_index[:, None] + np.arange(6)
+    ib = 6 * at.b_index[:, None] + np.arange(6)
+    ia = 6 * at.a_index[:, None] + np.arange(6)
     blocks = ((ib, ib), (ia, ia), (ib, ia), (ia, ib))
     rows = np.concatenate([np.broadcast_to(r[:, :, None], (nm, 6, 6)).ravel() for r, _ in blocks])
     cols = np.concatenate([np.broadcast_to(c[:, None, :], (nm, 6, 6)).ravel() for _, c in blocks])
+    return _BlockPattern(rows, cols, lb, la, rot, at.n, at.nz)
 
+
+def _global(model: Model, pat: _BlockPattern, kmat: np.ndarray, rotational: np.ndarray | None = None,
+            coupling: np.ndarray | None = None) -> sp.csr_matrix:
+    """The (n + nz) square matrix of the mounts' ``kmat`` (and 6x6 parts) over ``[q; q_ground]``."""
+    nm = pat.lb.shape[0]
+    lb, la, rot = pat.lb, pat.la, pat.rot
     lbt, lat = lb.transpose(0, 2, 1), la.transpose(0, 2, 1)
+    kb, ka = kmat @ lb, kmat @ la                       # (nm, 3, 6) each
+    with np.errstate(over="ignore", invalid="ignore"):
+        vals = np.concatenate([(lbt @ kb).ravel(), (lat @ ka).ravel(),
+                               -(lbt @ ka).ravel(), -(lat @ kb).ravel()])
+        if rotational is not None:                  # 6x6 mounts: the same four blocks
+            rr = rot.transpose(0, 2, 1) @ rotational @ rot
+            vals = vals + np.concatenate([rr.ravel(), rr.ravel(), -rr.ravel(), -rr.ravel()])
+        if coupling is not None:                    # delta^T kc theta + theta^T kc^T delta
+            cr = coupling @ rot                     # (nm, 3, 6)
+            bb, aa = lbt @ cr, lat @ cr
+            ba = lambda x: x + x.transpose(0, 2, 1)  # noqa: E731
+            vals = vals + np.concatenate([ba(bb).ravel(), ba(aa).ravel(),
+                                          -(bb + aa.transpose(0, 2, 1)).ravel(),
+                                          -(aa + bb.transpose(0, 2, 1)).ravel()])
+    if not np.all(np.isfinite(vals)):
+        bad = int(np.flatnonzero((~np.isfinite(vals.reshape(4, nm, 36))).any(axis=(0, 2)))[0])
+        raise ModelError(f"mount {model.mounts[bad].name!r}: its stiffness or damping about the COG "
+                         "overflows (an extreme value or position); check its point and type")
+    size = pat.n + pat.nz
+    return sp.csr_matrix((vals, (pat.rows, pat.cols)), shape=(size, size))
 
-    def full(kmat: np.ndarray, rotational: np.ndarray | None = None,
-             coupling: np.ndarray | None = None) -> sp.csr_matrix:
-        kb, ka = kmat @ lb, kmat @ la                       # (nm, 3, 6) each
-        with np.errstate(over="ignore", invalid="ignore"):
-            vals = np.concatenate([(lbt @ kb).ravel(), (lat @ ka).ravel(),
-                                   -(lbt @ ka).ravel(), -(lat @ kb).ravel()])
-            if rotational is not None:                  # 6x6 mounts: the same four blocks
-                rr = rot.transpose(0, 2, 1) @ rotational @ rot
-                vals = vals + np.concatenate([rr.ravel(), rr.ravel(), -rr.ravel(), -rr.ravel()])
-            if coupling is not None:                    # delta^T kc theta + theta^T kc^T delta
-                cr = coupling @ rot                     # (nm, 3, 6)
-                bb, aa = lbt @ cr, lat @ cr
-                ba = lambda x: x + x.transpose(0, 2, 1)  # noqa: E731
-                vals = vals + np.concatenate([ba(bb).ravel(), ba(aa).ravel(),
-                                              -(bb + aa.transpose(0, 2, 1)).ravel(),
-                                              -(aa + bb.transpose(0, 2, 1)).ravel()])
-        if not np.all(np.isfinite(vals)):
-            bad = int(np.flatnonzero((~np.isfinite(vals.reshape(4, nm, 36))).any(axis=(0, 2)))[0])
-            raise ModelError(f"mount {model.mounts[bad].name!r}: its stiffness or damping about the COG "
-                             "overflows (an extreme value or position); check its point and type")
-        return sp.csr_matrix((vals, (rows, cols)), shape=(n + nz, n + nz))
 
+def _mass(model: Model, sparse: bool) -> np.ndarray | sp.csr_matrix:
     if sparse:
-        mass: np.ndarray | sp.csr_matrix = sp.block_diag([b.mass_matrix for b in model.bodies], format="csr")
-    else:                                           # the same numbers, no sparse bookkeeping
-        mass = np.zeros((n, n))
-        for i, b in enumerate(model.bodies):
-            mass[6 * i:6 * i + 6, 6 * i:6 * i + 6] = b.mass_matrix
-    mats = {}
-    couplings = {}
-    for key, pm, rm, cm in (("K", kp, krp, kcp), ("C", cp, crp, ccp), ("H", hp, None, None)):
-        if key != "K" and not np.any(pm) and not np.any(rm) and not np.any(cm):   # no dampers / no hysteresis
-            mats[key] = sp.csr_matrix((n, n)) if sparse else np.zeros((n, n))
-            couplings[key] = np.zeros((n, nz))
-            continue
-        # the COO triplets summed by scipy (its order of summation is part of the answer)
-        f = full(pm, rm if rm is not None and np.any(rm) else None, cm if cm is not None and np.any(cm) else None)
-        if sparse:
-            body_part = f[:n, :n]
-            body_part = 0.5 * (body_part + body_part.T)  # exact symmetry despite summation order
-            mats[key] = body_part.tocsr()
-            couplings[key] = f[:n, n:].toarray()
-        else:
-            # the same arithmetic on the dense array (one sum per entry, zeros as the sparse path
-            # leaves them): bit for bit the sparse path's matrix, without its slicing and adding
-            fd = f.toarray()
-            body = fd[:n, :n]
-            mats[key] = 0.5 * (body + body.T) + 0.0
-            couplings[key] = fd[:n, n:].copy()
-    return Assembly(
-        model=model,
-        dofs=dof_labels(model.body_names),
-        M=mass,
-        K=mats["K"], C=mats["C"], H=mats["H"],
-        Kg=couplings["K"], Cg=couplings["C"], Hg=couplings["H"],
-        kp=kp, cp=cp, hp=hp,
-        b_index=b_index, a_index=a_index, r_b=r_b, r_a=r_a,
-        sparse=bool(sparse), krp=krp, crp=crp, kcp=kcp, ccp=ccp,
-    )
+        return sp.block_diag([b.mass_matrix for b in model.bodies], format="csr")
+    n = 6 * len(model.bodies)
+    mass = np.zeros((n, n))                         # the same numbers, no sparse bookkeeping
+    for i, b in enumerate(model.bodies):
+        mass[6 * i:6 * i + 6, 6 * i:6 * i + 6] = b.mass_matrix
+    return mass
+
+
+def _summed(model: Model, pat: _BlockPattern, key: str, pm: np.ndarray, rm: np.ndarray | None,
+            cm: np.ndarray | None, sparse: bool) -> tuple[np.ndarray | sp.csr_matrix, np.ndarray]:
+    """``key``'s (``"K"``, ``"C"`` or ``"H"``) body-DOF matrix and its (n, nz) coupling to ground."""
+    n, nz = pat.n, pat.nz
+    if key != "K" and not np.any(pm) and not np.any(rm) and not np.any(cm):   # no dampers / no hysteresis
+        return (sp.csr_matrix((n, n)) if sparse else np.zeros((n, n))), np.zeros((n, nz))
+    # the COO triplets summed by scipy (its order of summation is part of the answer)
+    f = _global(model, pat, pm, rm if rm is not None and np.any(rm) else None,
+                cm if cm is not None and np.any(cm) else None)
+    if sparse:
+        body_part = f[:n, :n]
+        body_part = 0.5 * (body_part + body_part.T)  # exact symmetry despite summation order
+        return body_part.tocsr(), f[:n, n:].toarray()
+    # the same arithmetic on the dense array (one sum per entry, zeros as the sparse path
+    # leaves them): bit for bit the sparse path's matrix, without its slicing and adding
+    fd = f.toarray()
+    body = fd[:n, :n]
+    return 0.5 * (body + body.T) + 0.0, fd[:n, n:].copy()

@@ -27,7 +27,7 @@ takes the same ladder:
 Examples
 --------
 >>> from ... import Body, Model, Mount, MountType
->>> from .signals import build_plant
+>>> from .build import build_plant
 >>> t = MountType("rubber", rheology={"type": "zener", "k_0": 1e4, "k_inf": 3e4, "tau": 1e-2})
 >>> p = build_plant(Model([Body("b", 1.0, [1, 1, 1])], [Mount("m", t, "b")]), ["b.fz"], ["b.z"])
 >>> p.branches.labels
@@ -143,7 +143,7 @@ def build_branches(model: Any, deflection: Any, free: np.ndarray, motion: np.nda
     free : (n_free,) int ndarray
         Free body DOFs.
     motion : (n + nz, m) ndarray
-        Prescribed coordinates per input (:func:`vibss.linear.plant.signals.input_maps`).
+        Prescribed coordinates per input (:func:`vibss.linear.plant.build.input_maps`).
     force_rows : (p, 3 n_mounts) ndarray
         Each output per unit force of each mount into its ``to`` side (global axes).
 

@@ -17,7 +17,7 @@ each kind gets an exact realization (see :mod:`vibss.statespace`).
 
 Frequency-domain-only hysteretic stiffness enters as ``K + i H`` and ``Kz + i Hz``.
 
-The plant is built by :func:`vibss.linear.plant.signals.build_plant`; analyses take a Plant, never re-derive it.
+The plant is built by :func:`vibss.linear.plant.build.build_plant`; analyses take a Plant, never re-derive it.
 """
 
 from __future__ import annotations
@@ -204,7 +204,7 @@ class Plant(ReadOnly):
         ``Kf[:, dofs]`` only when the dropped DOFs are prescribed (not condensed).
     mounts : MountForm or None
         ``K, C, H`` kept as a sum over the mounts, for the exact solve on badly scaled models
-        (:func:`vibss.linear.plant.signals.build_plant` sets it; None: only the assembled matrices).
+        (:func:`vibss.linear.plant.build.build_plant` sets it; None: only the assembled matrices).
     branches : Branches or None
         Maxwell branches of frequency-dependent mounts (internal states; ``K`` and ``C`` hold their
         static stiffness and dashpots only): :mod:`vibss.linear.plant.branches`. None: no such mount.
@@ -313,7 +313,7 @@ class Plant(ReadOnly):
         Examples
         --------
         >>> from ... import Body, Model, Mount, MountType
-        >>> from .signals import build_plant
+        >>> from .build import build_plant
         >>> m = Model([Body("b", 1.0, [1, 1, 1])], [Mount("m", MountType("t", [1e3] * 3), "b")])
         >>> p = build_plant(m, ["b.fz", "b.fx"], ["b.x", "b.z"]).select(["b.fz"], ["b.z"])
         >>> p.inputs, p.outputs, p.F.shape, p.Oq.shape
@@ -366,7 +366,7 @@ class Plant(ReadOnly):
         Examples
         --------
         >>> from ... import Body, Model, Mount, MountType
-        >>> from .signals import build_plant
+        >>> from .build import build_plant
         >>> m = Model([Body("b", 1.0, [1, 1, 1])], [Mount("m", MountType("t", [1e3] * 3), "b")])
         >>> build_plant(m, ["b.fz"], ["b.z"]).restrict(["b.z"]).K
         array([[1000.]])
@@ -433,7 +433,7 @@ class Plant(ReadOnly):
         --------
         >>> import numpy as np
         >>> from ... import Body, Model, Mount, MountType
-        >>> from .signals import build_plant
+        >>> from .build import build_plant
         >>> m = Model([Body("b", 2.0, [1, 1, 1])], [Mount("m", MountType("t", [1e3] * 3), "b")])
         >>> p = build_plant(m, ["b.fz"], ["b.z"])
         >>> p.project(np.eye(6)[:, [2]], ["z"]).M      # the z row and column

@@ -243,7 +243,7 @@ def channel_subspace(plant: Plant, omega: np.ndarray, tol: float = TOLERANCE, we
     Examples
     --------
     >>> from ... import Body, Model, Mount, MountType
-    >>> from ..plant.signals import build_plant
+    >>> from ..plant.build import build_plant
     >>> t = MountType("t", [1e5, 2e5, 3e5])
     >>> bodies = [Body(f"b{i}", 10.0 + i, [1, 1, 1], cog=[i, 0, 0]) for i in range(20)]
     >>> mounts = [Mount(f"g{i}", t, f"b{i}", at=[i, 0.1, -0.2]) for i in range(20)]

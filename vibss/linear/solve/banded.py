@@ -106,7 +106,7 @@ def structure(plant: Plant) -> Structure:
     A chain of three bodies on mounts couples each body to its neighbours only:
 
     >>> from ... import Body, Model, Mount, MountType
-    >>> from ..plant.signals import build_plant
+    >>> from ..plant.build import build_plant
     >>> t = MountType("t", [1e5, 1e5, 1e5], [10.0, 10.0, 10.0])
     >>> bodies = [Body(f"b{i}", 10.0, [1, 1, 1], cog=[i, 0, 0]) for i in range(3)]
     >>> mounts = [Mount("g", t, "b0", at=[0.2, 0.1, -0.3])] + [

@@ -47,9 +47,9 @@ import scipy.linalg as sl
 from ...errors import VibssError
 from ...results import ReadOnly
 from ..eigen.complex_modes import COND_MAX, eigenpairs, factor_vectors
-from ..eigen.undamped import modal_basis
+from ..eigen.basis import modal_basis
 from ..plant.plant import Plant
-from ..eigen.projection import projected_damping
+from ..eigen.basis import projected_damping
 
 __all__ = ["CERTIFY_MAX_DOFS", "CERTIFY_MIN_DOFS", "CERTIFY_MIN_FREQUENCIES", "CERTIFY_TOL", "ModalInverse", "modal_inverse",
            "applies", "certified_states"]

@@ -53,7 +53,7 @@ from ...errors import AnalysisError, ModelError
 from .backends import SOLVERS
 from .banded import structure
 from ..plant.branches import groups
-from ..eigen.undamped import modal_basis
+from ..eigen.basis import modal_basis
 from ..plant.plant import Plant
 from ..plant.terms import plant_terms
 
@@ -289,7 +289,7 @@ def states(plant: Plant, s: np.ndarray, rhs: np.ndarray | None = None,
     Examples
     --------
     >>> from ... import Body, Model, Mount, MountType
-    >>> from ..plant.signals import build_plant
+    >>> from ..plant.build import build_plant
     >>> m = Model([Body("b", 1.0, [1, 1, 1])], [Mount("m", MountType("t", [1e4, 1e4, 1e4]), "b")])
     >>> x, bad = states(build_plant(m, ["b.fz"], ["b.z"]), [50j, 100j])
     >>> float(x[0, 2, 0].real) * 7500, bool(bad[1])     # 1 / (k - m w^2); singular at w_n = 100 rad/s
@@ -388,7 +388,7 @@ def response(plant: Plant, s: np.ndarray, backend: str = "auto", form: str = "au
     at 100 rad/s, and the closed form ``1 / (k - m w^2)`` elsewhere:
 
     >>> from ... import Body, Model, Mount, MountType
-    >>> from ..plant.signals import build_plant
+    >>> from ..plant.build import build_plant
     >>> m = Model([Body("b", 1.0, [1, 1, 1])], [Mount("m", MountType("t", [1e4, 1e4, 1e4]), "b")])
     >>> y = response(build_plant(m, ["b.fz"], ["b.z"]), [0j, 100j, 200j])[0, 0]
     >>> y.real.round(8).tolist()
@@ -466,7 +466,7 @@ def zero_frequency_limit(plant: Plant, power: int = 0, n_points: int = 32, backe
     ``s = 0`` itself (the static deflection; ``s^power Y -> 0`` for ``power > 0``). Otherwise it
     comes from the Laurent series of the exact response about ``s = 0`` (trapezoidal rule on two
     small circles of radius a twentieth of the lowest elastic frequency of
-    :func:`vibss.linear.eigen.undamped.modal_basis`; ``i H`` is held at its ``w > 0`` value), so rigid-body
+    :func:`vibss.linear.eigen.basis.modal_basis`; ``i H`` is held at its ``w > 0`` value), so rigid-body
     modes, velocity and acceleration inputs and mobility/accelerance are all handled exactly.
 
     Parameters
@@ -490,7 +490,7 @@ def zero_frequency_limit(plant: Plant, power: int = 0, n_points: int = 32, backe
     Examples
     --------
     >>> from ... import Body, Model, Mount, MountType
-    >>> from ..plant.signals import build_plant
+    >>> from ..plant.build import build_plant
     >>> m = Model([Body("b", 1.0, [1, 1, 1])], [Mount("m", MountType("t", [1e4, 1e4, 1e4]), "b")])
     >>> zero_frequency_limit(build_plant(m, ["b.fz", "ground.z.vel"], ["b.z"])).real.round(8).tolist()
     [[0.0001, inf]]
