@@ -26,8 +26,8 @@ from ..linear.plant.assemble import Assembly, assemble
 from ..model.model import Model
 from ..model.mounts import Mount, MountType
 from ..results import Result, Table
+from ..linear.solve.static import static_solve
 from ..statics import StaticResult, static
-from ..statics import _solve as _static_solve
 
 __all__ = ["OperatingPoint", "operating_point", "nonlinear_mounts", "tangent_model", "TOLERANCE", "MAX_ITERATIONS"]
 
@@ -275,7 +275,7 @@ def operating_point(model: Model, load: np.ndarray | None = None, *, gravity: bo
     for steps in range(1, MAX_ITERATIONS + 1):
         r = f_ext - f_int
         at = assemble(tangent_model(model, d, laws.mounts, floor=_FLOOR))
-        dq, _ = _static_solve(at, at.K, r, np.arange(at.n))
+        dq = static_solve(at, r).x
         slope = float(r @ dq)                             # -dPi/dalpha at alpha = 0 (> 0: descent)
         work = max(abs(float(f_ext @ q)), abs(slope), np.finfo(float).tiny)
         residual = abs(slope) / work
