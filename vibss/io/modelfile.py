@@ -137,8 +137,8 @@ def _matrix6(e: Entry, key: str, kind: str) -> np.ndarray | None:
 
 def _mount_type(e: Entry) -> MountType:
     e.check_keys(("name", "stiffness", "damping", "loss_factor", "rheology", "rotational_stiffness",
-                  "rotational_damping", "stiffness_matrix", "damping_matrix"),
-                 ("name",) if "rheology" in e or "stiffness_matrix" in e else ("name", "stiffness"))
+                  "rotational_damping", "stiffness_matrix", "damping_matrix", "stops", "curve"),
+                 ("name",) if "rheology" in e or "stiffness_matrix" in e or "curve" in e else ("name", "stiffness"))
     try:
         return MountType(e.string("name"),
                          e.array("stiffness", [(3,)], "stiffness", None, nonnegative=True),
@@ -149,9 +149,48 @@ def _mount_type(e: Entry) -> MountType:
                                  nonnegative=True),
                          e.array("rotational_damping", [(3,)], "rotational_damping", np.zeros(3),
                                  nonnegative=True),
-                         _matrix6(e, "stiffness_matrix", "stiffness"), _matrix6(e, "damping_matrix", "damping"))
+                         _matrix6(e, "stiffness_matrix", "stiffness"), _matrix6(e, "damping_matrix", "damping"),
+                         stops=_stops(e), curve=_curve(e))
     except ModelError as exc:
         raise _wrap(e, exc) from None
+
+
+def _stops(e: Entry) -> dict[str, Any] | None:
+    """``stops = {z = {clearance = c or [c-, c+], stiffness = k}}`` (or ``z = [c, k]``) in SI: the
+    clearance in the file's length unit, the stiffness in its stiffness unit; the model checks the rest."""
+    table = e.table("stops")
+    if table is None:
+        return None
+    out: dict[str, Any] = {}
+    for axis, spec in table.items():
+        if isinstance(spec, Mapping):
+            clearance, stiffness = spec.get("clearance"), spec.get("stiffness")
+            extra = sorted(set(spec) - {"clearance", "stiffness"})
+            if extra:
+                raise e.fail(f"stops.{axis}", f"unknown key(s) {extra}; expected clearance and stiffness")
+        elif isinstance(spec, (list, tuple)) and len(spec) == 2:
+            clearance, stiffness = spec
+        else:
+            raise e.fail(f"stops.{axis}", f"expected {{clearance = ..., stiffness = ...}}, got {spec!r}")
+        c, k = numbers(clearance), numbers(stiffness)
+        if c is None or k is None:
+            raise e.fail(f"stops.{axis}", f"expected numbers, got clearance {clearance!r}, stiffness {stiffness!r}")
+        out[axis] = (c * e.units.factor("length"), k * e.units.factor("stiffness"))
+    return out
+
+
+def _curve(e: Entry) -> dict[str, Any] | None:
+    """``curve = {z = [[deflection, force], ...]}`` in SI (the file's length and force units)."""
+    table = e.table("curve")
+    if table is None:
+        return None
+    out: dict[str, Any] = {}
+    for axis, pts in table.items():
+        a = numbers(pts)
+        if a is None or a.ndim != 2 or a.shape[1] != 2:
+            raise e.fail(f"curve.{axis}", f"expected [[deflection, force], ...] pairs, got {pts!r}")
+        out[axis] = a * np.array([e.units.factor("length"), e.units.factor("force")])
+    return out
 
 
 def _rheology(e: Entry) -> dict[str, Any] | None:
@@ -627,6 +666,9 @@ def _si_dict(model: Model) -> dict[str, Any]:
                                                          "rotational_damping": t.rotational_damping.tolist()})
                          | {key: m.tolist() for key in ("stiffness_matrix", "damping_matrix")
                             if (m := getattr(t, key)) is not None}
+                         | ({} if t.stops is None else {"stops": {ax: {"clearance": list(c), "stiffness": k}
+                                                                  for ax, (c, k) in t.stops.items()}})
+                         | ({} if t.curve is None else {"curve": {ax: a.tolist() for ax, a in t.curve.items()}})
                          for t in model.mount_types.values()]
     out["mount"] = []
     for m in model.mounts:

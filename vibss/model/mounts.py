@@ -19,6 +19,7 @@ from .limits import check_range
 from ..errors import ModelError
 from ._common import GROUND, _frame, _freeze, _orientation, _signal_safe, _vec
 from .geometry import MIRRORS
+from .nonlinearity import SLOPE_RTOL, AxisLaw, parse_curve, parse_stops
 from .rheology import Ladder, Rheology, parse_rheology
 
 __all__ = ["MountType", "Mount", "Support", "symmetric", "SYMMETRIES"]
@@ -70,6 +71,17 @@ class MountType:
     damping_matrix : (6, 6) array_like or None
         The same for viscous damping [N s/m, N m s/rad, N s/rad]; its diagonal is ``damping`` and
         ``rotational_damping``.
+    stops : mapping or None
+        Bump stops per local axis, ``{"z": (clearance, stiffness)}``: past the clearance [m] (one
+        number, or ``(negative side, positive side)``, both >= 0) the stop's stiffness [N/m] adds to
+        the mount's own (:mod:`vibss.model.nonlinearity`).
+    curve : mapping or None
+        Force-deflection curves per local axis, ``{"z": [(deflection [m], force [N]), ...]}``: a
+        monotone PCHIP curve through the points, which include (0, 0), continued with its end
+        slopes. The axis's ``stiffness`` is the curve's slope at zero (given or not).
+
+    A type with stops or curves is nonlinear (:attr:`nonlinear`): :func:`vibss.operating_point` finds
+    where it sits under load, and the linear analyses use its tangent there.
 
     Examples
     --------
@@ -89,7 +101,10 @@ class MountType:
     rotational_damping: Any = (0.0, 0.0, 0.0)
     stiffness_matrix: Any = None
     damping_matrix: Any = None
+    stops: Any = None
+    curve: Any = None
     _ladder: Any = field(default=None, init=False, repr=False)
+    _laws: Any = field(default=None, init=False, repr=False)
 
     def __post_init__(self) -> None:
         if not isinstance(self.name, str) or not self.name:
@@ -111,6 +126,10 @@ class MountType:
                 mat = _symmetric_psd(getattr(self, key), who, key)
                 object.__setattr__(self, key, mat)
                 _fill_diagonal(self, mat, diag, who, key)
+        stops = parse_stops(self.stops, who) if self.stops is not None else {}
+        curves = parse_curve(self.curve, who) if self.curve is not None else {}
+        if stops or curves:
+            self._nonlinear_axes(stops, curves, who)
         if self.stiffness is None:
             raise ModelError(f"{who}: stiffness: give the 3 principal stiffnesses [N/m] (or a rheology "
                              "or a stiffness_matrix)")
@@ -151,6 +170,42 @@ class MountType:
             # and damping (a parallel dashpot adds to a Zener or Prony rheology)
             object.__setattr__(self, "_ladder", Ladder(self.stiffness, self.damping, ladder.k, ladder.tau,
                                                        ladder.fit_error, ladder.band, ladder.mu))
+
+    def _nonlinear_axes(self, stops: dict[int, Any], curves: dict[int, np.ndarray], who: str) -> None:
+        """Validate stops and curves against the rest of the type; set the curved axes' stiffness to
+        the curve's slope at zero; keep the axis laws."""
+        for key in ("rheology", "stiffness_matrix"):
+            if getattr(self, key) is not None:
+                raise ModelError(f"{who}: stops/curve and {key}: a nonlinear type is given by its principal "
+                                 "rates, stops and curves only", argument=key)
+        given = None if self.stiffness is None else _vec(self.stiffness, 3, who, "stiffness")
+        k = np.zeros(3) if given is None else given.copy()
+        laws = []
+        for j in range(3):
+            law = AxisLaw.build(k[j], stops.get(j), curves.get(j))
+            if j in curves:
+                if given is not None and given[j] and not np.isclose(given[j], law.stiffness, rtol=SLOPE_RTOL, atol=0):
+                    raise ModelError(f"{who}: stiffness[{j}] = {given[j]:.6g} N/m differs from the slope at zero of "
+                                     f"curve[{'xyz'[j]!r}], {law.stiffness:.6g} N/m; omit it (0) or give the same",
+                                     argument="stiffness", received=float(given[j]), expected=law.stiffness)
+                k[j] = law.stiffness
+            laws.append(law)
+        object.__setattr__(self, "stiffness", k)
+        object.__setattr__(self, "stops", {"xyz"[j]: v for j, v in stops.items()} or None)
+        object.__setattr__(self, "curve", {"xyz"[j]: _freeze(v) for j, v in curves.items()} or None)
+        object.__setattr__(self, "_laws", tuple(laws))
+
+    @property
+    def nonlinear(self) -> bool:
+        """Whether any axis has a stop or a force-deflection curve."""
+        return self._laws is not None
+
+    @property
+    def laws(self) -> tuple[AxisLaw, AxisLaw, AxisLaw]:
+        """The elastic force law of each local axis (linear ones too)."""
+        if self._laws is not None:
+            return self._laws    # type: ignore[no-any-return]
+        return tuple(AxisLaw(float(k)) for k in self.stiffness)  # type: ignore[return-value]
 
     @property
     def ladder(self) -> Ladder | None:

@@ -1,0 +1,1 @@
+"""Nonlinear mounts: the operating point under static load and its tangent model."""
