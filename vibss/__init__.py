@@ -62,6 +62,7 @@ _LAZY: dict[str, str] = {
     "build_plant": ".linear.plant.build",
     "NamedStateSpace": ".linear.statespace", "statespace": ".linear.statespace",
     "StaticResult": ".statics", "static": ".statics",
+    "operating_point": ".nonlinear.api", "OperatingPoint": ".nonlinear.result",
     "StudyDefaults": ".studies", "study_defaults": ".studies", "causal_loss": ".studies",
     "TimeResponse": ".time.result", "simulate": ".time.api",
     "SweepEnvelope": ".time.sweep", "sweep_envelope": ".time.sweep",
@@ -128,6 +129,8 @@ if TYPE_CHECKING:                          # what static checkers and IDEs see
     from .reduction.scope import Scope
     from .random import PSD, random_response
     from .shock.api import srs
+    from .nonlinear.api import operating_point
+    from .nonlinear.result import OperatingPoint
     from .statics import StaticResult, static
     from .studies import StudyDefaults, causal_loss, study_defaults
     from .time.api import simulate
@@ -142,6 +145,6 @@ __all__ = [
     "AnalysisError", "ArgumentError", "Assembly", "DefectiveModesError", "Body", "ControlPoint", "DOF_NAMES", "DampedModes", "Excitation",
     "FrequencyGrid", "FrequencyResponse", "GROUND", "Load", "MissingDependencyError", "Model", "ModelError", "ModelFileError", "Modes", "Mount", "MountType", "NamedStateSpace",
     "Orientation", "PSD", "Plant", "Reduction", "Scope", "SignalError", "StaticResult", "StudyDefaults", "Support", "SweepEnvelope", "TimeResponse", "VibssError", "VibssWarning", "assemble", "build_plant", "damped_modes", "dump_model",
-    "dumps_model", "example_names", "frequency_grid", "frequency_response", "load_example", "load_model", "loads_model", "modes", "orders", "random", "random_response", "reduce", "shock", "simulate", "srs", "static",
+    "dumps_model", "example_names", "frequency_grid", "frequency_response", "load_example", "load_model", "loads_model", "modes", "operating_point", "OperatingPoint", "orders", "random", "random_response", "reduce", "shock", "simulate", "srs", "static",
     "statespace", "grid_study", "study_defaults", "causal_loss", "sweep_envelope", "sweep_response", "symmetric", "transmissibility",
 ]

@@ -21,6 +21,7 @@ import scipy.sparse as sp
 
 from .linear.plant.assemble import Assembly, assemble
 from ._validate import number, vector
+from .nonlinear.kernels import equilibrium, nonlinear_mounts
 from .linear.solve.static import SINGULAR_RCOND, static_solve
 from ._deprecated import module_aliases, renamed_attribute
 from .errors import AnalysisError, ModelError, did_you_mean
@@ -94,6 +95,9 @@ class StaticResult(Result):
         Why (and what was left out: unrestrained motions, named load cases not applied).
     cases_left_out : tuple of str
         The model's named load cases this solve did not apply (named cases are opt-in).
+    iterations : int
+        Newton steps of the operating point of a model with nonlinear mounts (stops, curves); 0 for
+        a linear model (one solve).
     """
 
     signal_kind: ClassVar[str] = "DOF"
@@ -112,6 +116,7 @@ class StaticResult(Result):
     method: str = "direct"
     note: str = ""
     cases_left_out: tuple[str, ...] = field(default=())
+    iterations: int = 0
 
     @property
     def output_labels(self) -> tuple[str, ...]:
@@ -370,6 +375,8 @@ def _solved(a: Assembly, f: np.ndarray, prescribed: Mapping[str, float] | None, 
             i = a.dof_index(label)
             q[i], fixed[i] = value, True
     free = np.flatnonzero(~fixed)
+    if nonlinear_mounts(a.model):
+        return _nonlinear(a, f, q, qg, fixed, case)
     K = a.K
     rhs = f[free] - _mul(K, q)[free] - a.Kg[free] @ qg
     kff = K[np.ix_(free, free)] if not sp.issparse(K) else K[free][:, free]
@@ -394,6 +401,35 @@ def _solved(a: Assembly, f: np.ndarray, prescribed: Mapping[str, float] | None, 
                         mount_rotation=rotation, mount_moment=moment,
                         case=case or "", method=method,
                         note="unrestrained, not loaded: " + "; ".join(notes) if notes else "")
+
+
+def _nonlinear(a: Assembly, f: np.ndarray, q: np.ndarray, qg: np.ndarray, fixed: np.ndarray,
+               case: str | None) -> StaticResult:
+    """The operating point of a model with nonlinear mounts (:func:`vibss.nonlinear.kernels.equilibrium`):
+    the mount forces from each axis's law."""
+    if np.any(fixed) or np.any(qg):
+        raise ModelError("prescribed: prescribed displacements with nonlinear mounts (stops, curves) are not "
+                         "supported; apply the motion as a load, or linearise at the operating point "
+                         "(vibss.operating_point(model).tangent)", argument="prescribed")
+    eq = equilibrium(a, f, "static")
+    q = eq.q
+    delta = (a.deflection_matrix()[:, :a.n] @ q).reshape(-1, 3)
+    t = np.array([m.orientation.matrix for m in a.model.mounts]).reshape(-1, 3, 3)
+    local = np.einsum("pji,pj->pi", t, delta)
+    force = np.einsum("pij,pj->pi", a.kp, delta)
+    for i, p in enumerate(eq.laws.mounts):
+        law = a.model.mounts[p].type.laws
+        force[p] = t[p] @ np.array([float(law[j].force(eq.d[i, j])) for j in range(3)])
+    rotation = moment = None
+    if np.any(a.krp):
+        rotation = (a.rotation_matrix()[:, :a.n] @ q).reshape(-1, 3)
+        moment = np.einsum("pij,pj->pi", a.krp, rotation)
+    names = [a.model.mounts[p].name for p in eq.laws.mounts]
+    return StaticResult(model=a.model, q=q, ground=qg[:6], load=f, mount_deflection=delta,
+                        mount_deflection_local=local, mount_force=force, mount_rotation=rotation,
+                        mount_moment=moment, case=case or "", method="Newton on the mounts' laws",
+                        note=f"nonlinear mounts {names}: the operating point by Newton ({eq.steps} steps)",
+                        iterations=eq.steps)
 
 
 def _vector(v: Any, n: int, what: str) -> np.ndarray:

@@ -10,7 +10,7 @@ import pytest
 import vibss
 from vibss import Body, Model, Mount, MountType, symmetric
 from vibss.errors import ModelError
-from vibss.nonlinear.operating import operating_point
+from vibss.nonlinear import operating_point
 
 G = 9.81
 MASS = 120.0
@@ -84,3 +84,27 @@ def test_bad_stops_and_curves_name_the_type_and_axis(kwargs: dict, match: str) -
     with pytest.raises(ModelError, match=match) as info:
         MountType("bad", [1e5, 1e5, 1e5], **kwargs)
     assert "mount type 'bad'" in str(info.value)
+
+
+def test_static_and_modes_of_the_nonlinear_model_are_the_operating_point() -> None:
+    k, ks, c = 1.5e5, 2e6, 1e-3        # 294 N per mount, 150 N in the free travel: on the stops
+    t = MountType("snub", [k, k, k], stops={"z": (c, ks)})
+    model = _box(t)
+    op = vibss.operating_point(model)
+    st = vibss.static(model)
+    assert np.array_equal(st.q, op.q) and st.iterations == op.iterations > 1
+    md = vibss.modes(model)
+    assert "modes of the tangent model at the operating point" in md.note
+    bounce = np.sqrt(4 * (k + ks) / MASS) / (2 * np.pi)          # every mount on its stop
+    assert np.min(np.abs(md.frequency_hz - bounce)) < 1e-9 * bounce
+    np.testing.assert_allclose(md.frequency_hz, vibss.modes(op.tangent).frequency_hz, rtol=1e-12)
+
+
+def test_linear_analyses_refuse_the_nonlinear_model_and_name_the_tangent() -> None:
+    model = _box(MountType("snub", [1.5e5, 1.5e5, 1.5e5], stops={"z": (2e-3, 2e6)}))
+    for call in (lambda: vibss.frequency_response(model, ["b.fz"], ["b.z"], [1.0, 10.0]),
+                 lambda: vibss.damped_modes(model),
+                 lambda: vibss.simulate(model, inputs={"b.fz": lambda t: 0 * t}, t_end=0.1, dt=1e-3)):
+        with pytest.raises(ModelError, match=r"mounts \['m', 'm.xz', 'm.yz', 'm.xz.yz'\] have stops .* "
+                                             r"vibss.operating_point\(model\).tangent"):
+            call()

@@ -74,6 +74,9 @@ def objects() -> dict[str, Any]:
         "srs": vibss.srs(t, np.sin(2 * np.pi * 50 * t), [20.0, 50.0]),
         "envelope": vibss.srs(t, np.sin(2 * np.pi * 50 * t), [20.0, 50.0]).check([20.0, 50.0], [1.0, 1.0]),
         "shock study": run_shock(vibss.load_example("packaged_item")),
+        "operating point": vibss.operating_point(Model([Body("b", 10.0, [1.0, 1.2, 1.5])], vibss.symmetric(Mount(
+            "m", MountType("snub", [1e4, 1.2e4, 2e4], stops={"z": (1e-3, 1e6)}), "b", at=[0.3, 0.2, 0.1])),
+            gravity=[0.0, 0.0, -9.81])),
         **control_objects(),
     }
 
@@ -152,7 +155,7 @@ def writable_handles(obj: Any) -> list[str]:
 KINDS = ["static", "modes", "damped", "frequency", "time", "peaks", "sweep", "reduction", "assembly",
          "sparse assembly", "plant", "certificate", "sensitivity", "monte carlo", "optimisation",
          "elastic axes", "torque response", "design axes", "orders", "random", "srs", "envelope", "shock study", "closed loop",
-         "demand", "semi-active", "control study"]
+         "demand", "semi-active", "control study", "operating point"]
 
 
 def test_every_public_result_type_is_in_the_walk(objects: dict[str, Any]) -> None:

@@ -47,6 +47,9 @@ def results() -> dict[str, Result]:
         "sweep": sweep_envelope(m, sweep, outputs=["b.z"], points=50),
         "reduction": reduce(m, Scope(["b.fz"], ["b.z"], 0.0, 20.0, 1e-6), method="modal"),
         "srs": _half_sine_srs(),
+        "operating": vibss.operating_point(Model([Body("b", MASS, [1.0, 1.2, 1.5])], vibss.symmetric(Mount(
+            "m", MountType("snub", [KZ, KZ, KZ], [CZ, CZ, CZ], stops={"z": (1e-3, 1e6)}), "b", at=[0.3, 0.2, 0.0])),
+            gravity=[0.0, 0.0, -G], name="box")),
     }
 
 
@@ -57,7 +60,7 @@ def _half_sine_srs() -> Result:
                      q=np.inf, name="b.z")
 
 
-KINDS = ["static", "modes", "damped", "frequency", "time", "sweep", "reduction", "srs"]
+KINDS = ["static", "modes", "damped", "frequency", "time", "sweep", "reduction", "srs", "operating"]
 
 
 def test_every_public_result_type_is_walked(results: dict[str, Result]) -> None:
@@ -65,7 +68,7 @@ def test_every_public_result_type_is_walked(results: dict[str, Result]) -> None:
               and issubclass(getattr(vibss, name), Result)}
     assert {type(r).__name__ for r in results.values()} == public
     assert public == {"StaticResult", "Modes", "DampedModes", "FrequencyResponse", "TimeResponse",
-                      "SweepEnvelope", "Reduction", "ShockResponseSpectrum"}
+                      "SweepEnvelope", "Reduction", "ShockResponseSpectrum", "OperatingPoint"}
 
 
 @pytest.mark.parametrize("kind", KINDS)

@@ -34,6 +34,8 @@ from .._validate import integer
 from ..errors import AnalysisError, ArgumentError, ModelError
 from ..linear.eigen.directions import align_cluster, cluster_slices, energy_fractions
 from ..linear.eigen.undamped import Solver, undamped
+from ..model.nonlinearity import refuse_nonlinear
+from ..nonlinear.kernels import equilibrium, nonlinear_mounts, tangent_model
 from ..linear.plant.assemble import Assembly, assemble
 from ..linear.plant.hysteresis import dropped_hysteresis
 from ..model.model import Model
@@ -74,6 +76,9 @@ def modes(model: Model | Assembly, n_modes: int | None = None,
     (array([1.0066, 1.4235, 1.7435]), ['x', 'y', 'z'])
     """
     a = model if isinstance(model, Assembly) else assemble(model)
+    tangent_note = ""
+    if nonlinear_mounts(a.model):         # stops or curves: the modes of the tangent at the operating point
+        a, tangent_note = _tangent(a)
     n = a.n
     if n_modes is not None:
         if not isinstance(n_modes, (int, np.integer)):      # 6.0 modes is a mistake, not a count
@@ -106,8 +111,19 @@ def modes(model: Model | Assembly, n_modes: int | None = None,
     energy = energy_fractions(phi, M)
     gamma = phi.T @ (M @ rigid_influence(a.model))
     return Modes(model=a.model, dofs=a.dofs, omega=omega, shapes=phi, energy=energy,
-                 effective_mass=gamma ** 2, rigid=rigid, method=name, note=auto_note(method, name),
+                 effective_mass=gamma ** 2, rigid=rigid, method=name,
+                 note="; ".join(x for x in (tangent_note, auto_note(method, name)) if x),
                  error_estimate=spec.error)
+
+
+def _tangent(a: Assembly) -> tuple[Assembly, str]:
+    """The assembly of the tangent model at the operating point under the model's unnamed loads and
+    self-weight (as :func:`vibss.static` solves it), and the note that says so."""
+    eq = equilibrium(a, a.load_vector(include_gravity=True, case=""), "modes")
+    tangent = tangent_model(a.model, eq.d, eq.laws.mounts)
+    names = [a.model.mounts[p].name for p in eq.laws.mounts]
+    return assemble(tangent), (f"nonlinear mounts {names}: modes of the tangent model at the operating point "
+                               f"under self-weight and the unnamed loads ({eq.steps} Newton steps)")
 
 
 def _spectrum(a: Assembly, n_modes: int | None, method: str | Solver) -> Any:
@@ -149,6 +165,7 @@ def damped_modes(model: Model | Assembly, undamped: Modes | None = None) -> Damp
     array([0.1, 0.1, 0.1])
     """
     a = model if isinstance(model, Assembly) else assemble(model)
+    refuse_nonlinear(a.model, "damped_modes")
     und = undamped if undamped is not None else modes(a)
     if len(und) != a.n:
         raise ArgumentError(f"damped_modes: undamped: needs all {a.n} undamped modes (modes(model, "

@@ -31,12 +31,11 @@ from typing import Any
 
 import numpy as np
 import numpy.typing as npt
-from scipy.interpolate import PchipInterpolator
 
 from .._validate import is_numeric
 from ..errors import ModelError
 
-__all__ = ["AXES", "AxisLaw", "parse_stops", "parse_curve"]
+__all__ = ["AXES", "AxisLaw", "parse_stops", "parse_curve", "refuse_nonlinear"]
 
 AXES = ("x", "y", "z")
 """Local axes a stop or a curve may name (the mount type's principal axes 1, 2, 3)."""
@@ -76,6 +75,7 @@ class AxisLaw:
         ``(k, 2)`` [m, N] (already validated, :func:`parse_curve`)."""
         curve, span, k = None, (0.0, 0.0), float(stiffness)
         if points is not None:
+            from scipy.interpolate import PchipInterpolator   # heavy at start-up (scipy.optimize); curves only
             curve = PchipInterpolator(points[:, 0], points[:, 1], extrapolate=False)
             span = (float(points[0, 0]), float(points[-1, 0]))
             k = float(curve(0.0, 1))
@@ -227,3 +227,20 @@ def parse_curve(value: Any, who: str) -> dict[int, np.ndarray]:
                              f"{a[i + 1, 0]:.6g} m", argument="curve", received=a.tolist(), expected="monotone")
         out[j] = a
     return out
+
+
+def refuse_nonlinear(model: Any, where: str) -> None:
+    """Refuse a linear analysis of a model whose mounts have stops or curves, naming them and the
+    linear model that answers instead: the tangent at the operating point.
+
+    Raises
+    ------
+    ModelError
+        The model has nonlinear mounts.
+    """
+    names = [m.name for m in getattr(model, "mounts", ()) if getattr(m.type, "nonlinear", False)]
+    if names:
+        raise ModelError(f"{where}: mounts {names} have stops or force-deflection curves, and this analysis is "
+                         "linear: analyse the tangent model at the operating point, "
+                         "vibss.operating_point(model).tangent (vibss.modes and vibss.static take the model "
+                         "itself)", argument="model", received=names)

@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
+from ...model.nonlinearity import refuse_nonlinear
 from .assemble import Assembly, assemble
 from ...errors import ModelError
 from ..eigen.undamped import undamped
@@ -135,6 +136,7 @@ def _build_plant(model_or_assembly: Model | Assembly, inputs: Sequence[Any], out
     asm = (model_or_assembly if isinstance(model_or_assembly, Assembly)
            else assemble(model_or_assembly, sparse=True if sparse else None))
     model = asm.model
+    refuse_nonlinear(model, "build_plant")
     if sparse and modal_damping is not None:
         raise ModelError("modal_damping: needs the dense plant (sparse=False): it adds a full matrix to C")
     if isinstance(inputs, str) or not hasattr(inputs, "__iter__"):
