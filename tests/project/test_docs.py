@@ -120,3 +120,13 @@ def test_the_two_first_studies(tmp_path, monkeypatch, capsys):
     fn, q = np.sqrt(k / m) / (2 * np.pi), np.sqrt(k * m) / c
     box = vibss.srs(tt, a(tt), [fn], q=q).response[0]
     assert box == pytest.approx(np.abs(acc).max(), rel=2e-3)
+
+
+def test_nonlinear_guide(capsys):
+    scope: dict = {}
+    for block in _blocks("analyses/nonlinear.md"):
+        exec(compile(block, "nonlinear.md", "exec"), scope)
+    out = capsys.readouterr().out
+    sag, closed = re.search(r"sag ([\d.]+) mm \(closed form ([\d.]+) mm\)", out).groups()
+    assert sag == closed                                   # to the 4 printed decimals
+    assert "modes of the tangent model at the operating point" in out
