@@ -12,7 +12,9 @@ from __future__ import annotations
 import argparse
 import sys
 import traceback
+import warnings
 from collections.abc import Sequence
+from typing import Any
 
 from ._version import __version__
 from .commands import COMMANDS
@@ -55,7 +57,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         parser.print_help()
         return 1
     try:
-        return int(args.func(args) or 0)
+        with warnings.catch_warnings():
+            warnings.showwarning = _one_line          # no source line, no package path
+            return int(args.func(args) or 0)
     except Exception as exc:
         if getattr(args, "debug", False):
             traceback.print_exc()
@@ -63,6 +67,15 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("vibss: interrupted", file=sys.stderr)
         return 130
+
+
+def _one_line(message: Warning | str, category: type[Warning], filename: str, lineno: int,
+              file: Any = None, line: str | None = None) -> None:
+    """A warning as one line on stderr, ``vibss: warning: ...``: what a user of the command line reads,
+    without the Python source line and the installed package's path that the default format shows."""
+    text = " ".join(str(message).split())
+    kind = "" if issubclass(category, (UserWarning,)) else f"{category.__name__}: "
+    print(f"vibss: warning: {kind}{text}", file=sys.stderr if file is None else file)
 
 
 def _status(exc: Exception) -> int:

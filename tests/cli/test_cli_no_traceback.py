@@ -70,3 +70,16 @@ def test_the_campaigns_files_exit_2_in_one_line(tmp_path: Path, capsys: pytest.C
     assert main(["modes", str(path)]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and err.startswith(f"vibss: error in model: {path}")
+
+
+def test_a_warning_is_one_line_without_source_or_path(tmp_path, capsys) -> None:
+    """Issue 33 item 6: a warning printed the Python source line and the installed package's path."""
+    path = tmp_path / "mm.toml"
+    path.write_text('[model]\nname = "mm"\nunits = { length = "mm" }\ngravity = [0, 0, -9.81]\n'
+                    '[[body]]\nname = "b"\nmass = 10.0\ninertia = [1e5, 1e5, 1e5]\n'
+                    '[[mount_type]]\nname = "t"\nstiffness = [10, 10, 20]\n'
+                    '[[mount]]\nname = "m"\ntype = "t"\nbody = "b"\nat = [0, 0, 0]\n')
+    assert main(["modes", str(path)]) == 0
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("vibss: warning: ") and "gravity 9.81 is read in mm/s^2" in err[0]
+    assert ".py" not in err[0] and "warnings.warn" not in err[0]
