@@ -6,6 +6,8 @@ MATLAB's active-suspension example), python-control's own margins, invariants (p
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 
@@ -458,3 +460,22 @@ def test_lqg_closed_loop_poles_are_the_regulator_and_filter_poles() -> None:
     np.testing.assert_allclose(got, np.sort_complex(expected), rtol=1e-7, atol=1e-9 * np.abs(expected).max())
     Ps = vc.plant(quarter_car(), ["ground.z.disp"], performance=perf, measurements="states", dofs=["body.z", "wheel.z"])
     np.testing.assert_allclose(K, vc.lqr(Ps, wts).design["K"], rtol=1e-9)
+
+
+def test_a_fragile_loop_warns_with_python_controls_margins() -> None:
+    """Issue 33 item 7: a loop with a 9.7 deg phase margin and a disk margin of 0.17 closed silently."""
+    m = sdof(0.02, bandwidth=15.0)
+    P = vc.plant(m, ["ground.z.disp"], performance=["b.z"], measurements=["sensor.s"], dofs=["b.z"])
+    K = vc.pid(P, {"a": "sensor.s"}, kp=2e4, kd=300.0, tau=1e-3)
+    L = -(K * P["sensor.s", "actuator.a.u"])
+    pm = control.stability_margins(L)[1]
+    assert pm < 30.0                                       # fragile by python-control's own numbers
+    with pytest.warns(vibss.VibssWarning, match=rf"loop 'actuator.a.u'.*phase margin {pm:.3g} deg.*disk margin") as rec:
+        vc.close(P, K)
+    assert len(rec) == 1
+    robust = vc.pid(P, {"a": "sensor.s"}, kp=5e4, kd=30.0, tau=1e-3)
+    gm, pm2, *_ = control.stability_margins(-(robust * P["sensor.s", "actuator.a.u"]))
+    assert abs(20 * np.log10(gm)) > 6 and abs(pm2) > 30   # robust: no word
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", vibss.VibssWarning)
+        vc.close(P, robust)

@@ -16,13 +16,15 @@ the balanced disk margin of all loops at once, bounded from below by ``1 / max s
 
 from __future__ import annotations
 
+import warnings
+
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
-from ..errors import ControlDesignError, ModelError, SignalError, did_you_mean
+from ..errors import ControlDesignError, ModelError, SignalError, VibssWarning, did_you_mean
 from ..linear.plant.labels import control_name
 from ..linear.statespace import NamedStateSpace
 from ..results import Result, TextTable
@@ -424,8 +426,39 @@ def close(plant: Any, controller: Any, *, margins: bool = True, allow_unstable: 
         for i, lab in enumerate(controller.output_labels):
             loops.append(_margins(lp.loop(i, q), omega, lambda w, i=i: lp.at(i, w), lab))
         dm, peak = _mimo(q)
+        _warn_fragile(nm, loops, dm)
     return ClosedLoop(sys, plant, controller, poles, tuple(loops), dm, peak, nm,
                       tuple(vibss_name(o) for o in outs))
+
+
+FRAGILE_DISK = 0.5
+"""A loop whose balanced disk margin is below this is fragile: it tolerates less than about +/-4.4 dB
+and 28 deg together (``alpha = 0.5``), less than plant tolerances and actuator lags take away."""
+
+FRAGILE_GAIN_DB = 6.0
+"""Classical gain margin below which a loop is fragile [dB] (either sign: a gain decrease too)."""
+
+FRAGILE_PHASE_DEG = 30.0
+"""Classical phase margin below which a loop is fragile [deg]."""
+
+
+def _warn_fragile(name: str, loops: list[LoopMargins], mimo: float) -> None:
+    """One VibssWarning naming every fragile loop and its margins (an H-infinity design closed on the
+    full plant once had a 2.66 dB gain margin and a disk margin of 0.3, and nothing said so)."""
+    bad = []
+    for lm in loops:
+        why = [f"gain margin {lm.gain_margin_db:.3g} dB" if abs(lm.gain_margin_db) < FRAGILE_GAIN_DB else "",
+               f"phase margin {lm.phase_margin_deg:.3g} deg" if abs(lm.phase_margin_deg) < FRAGILE_PHASE_DEG else "",
+               f"disk margin {lm.disk_margin:.3g}" if lm.disk_margin < FRAGILE_DISK else ""]
+        why = [w for w in why if w]
+        if why:
+            bad.append(f"loop {lm.loop!r}: {', '.join(why)}")
+    if len(loops) > 1 and mimo < FRAGILE_DISK:
+        bad.append(f"all loops at once: disk margin {mimo:.3g}")
+    if bad:
+        warnings.warn(f"close: {name}: a fragile loop ({'; '.join(bad)}; fragile below {FRAGILE_GAIN_DB:g} dB, "
+                      f"{FRAGILE_PHASE_DEG:g} deg or a disk margin of {FRAGILE_DISK:g}): lower the gains, add "
+                      "phase lead, or check it against the plant's tolerances", VibssWarning, stacklevel=3)
 
 
 def _mimo(q: np.ndarray) -> tuple[float, float]:
