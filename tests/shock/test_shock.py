@@ -135,3 +135,20 @@ def test_srs_takes_a_damping_ratio_instead_of_q():
         shock.srs(t, x, f, q=5.0, zeta=0.1)
     with pytest.raises(vibss.ModelError, match=r"zeta must be in \[0, 1\)"):
         shock.srs(t, x, f, zeta=1.5)
+
+
+def test_a_spectrum_of_an_input_in_g_is_drawn_at_its_true_level() -> None:
+    """Issue 33 item 1: an input in g was drawn 9.81 x too low on the tripartite axes."""
+    from vibss.model.units import STANDARD_GRAVITY
+
+    t = np.arange(0.0, 0.03, 1e-5)
+    pulse_g = np.where(t < 0.011, 30.0 * np.sin(np.pi * t / 0.011), 0.0)     # 30 g, 11 ms
+    f = [10.0, 45.0, 200.0]
+    in_g = shock.srs(t, pulse_g, f, unit="g")
+    in_si = shock.srs(t, pulse_g * STANDARD_GRAVITY, f)
+    assert in_g.units == ("g",) and in_si.units == ("m/s^2",)
+    # the filter is linear: the same spectrum to the rounding of its recursion over 3,000 samples
+    np.testing.assert_allclose(in_g.response * STANDARD_GRAVITY, in_si.response, rtol=1e-10)
+    drawn = [fig.axes[0].lines[0].get_ydata() for fig in (in_g.tripartite(), in_si.tripartite())]
+    np.testing.assert_allclose(drawn[0], drawn[1], rtol=1e-10)           # pseudo-velocity [m/s] both
+    np.testing.assert_allclose(drawn[1], in_si.response / (2 * np.pi * np.asarray(f)), rtol=1e-12)

@@ -32,10 +32,13 @@ from .result import EnvelopeCheck, ShockResponseSpectrum
 
 KINDS = ("maximax", "positive", "negative", "primary", "residual")
 RESPONSES = ("acceleration", "pseudo_velocity", "displacement")
+SIGNAL_UNITS = ("m/s^2", "g")
+"""Units an SRS's input may be given in (the spectrum keeps it)."""
 
 
 def srs(time: Any, signal: Any, frequencies: Any, q: float = 10.0, kind: str = "maximax", *,
-        quantity: str = "acceleration", name: str = "srs", zeta: float | None = None) -> ShockResponseSpectrum:
+        quantity: str = "acceleration", name: str = "srs", zeta: float | None = None,
+        unit: str = "m/s^2") -> ShockResponseSpectrum:
     """Shock response spectrum of a uniformly sampled base acceleration.
 
     Parameters
@@ -43,7 +46,7 @@ def srs(time: Any, signal: Any, frequencies: Any, q: float = 10.0, kind: str = "
     time : (N,) array_like
         Uniformly spaced sample times [s].
     signal : (N,) array_like
-        Base acceleration [any unit; the spectrum has the same unit].
+        Base acceleration in ``unit`` (the spectrum has the same unit).
     frequencies : (n,) array_like
         Natural frequencies [Hz], > 0 and below the Nyquist frequency.
     q : float
@@ -58,6 +61,9 @@ def srs(time: Any, signal: Any, frequencies: Any, q: float = 10.0, kind: str = "
         Name of the signal, the result's one output label (e.g. ``"table.az"``).
     zeta : float or None
         Damping ratio instead of ``q`` (``Q = 1 / (2 zeta)``; 0 is undamped); give one of the two.
+    unit : {"m/s^2", "g"}
+        The signal's unit, kept on the result: its ``units`` and its tripartite plot (whose lines are
+        in m and g) read it, so a spectrum of an input in g is drawn at its true level.
 
     Returns
     -------
@@ -76,6 +82,7 @@ def srs(time: Any, signal: Any, frequencies: Any, q: float = 10.0, kind: str = "
     f = np.atleast_1d(v.array(frequencies, "frequencies", None, who="srs")).astype(float).ravel()
     kind = v.choice(kind, "kind", KINDS, who="srs")
     quantity = v.choice(quantity, "quantity", RESPONSES, who="srs")
+    unit = v.choice(unit, "unit", SIGNAL_UNITS, who="srs")
     if zeta is not None:
         z = v.number(zeta, "zeta", who="srs", minimum=0.0)
         if q != 10.0:
@@ -121,10 +128,10 @@ def srs(time: Any, signal: Any, frequencies: Any, q: float = 10.0, kind: str = "
         out = out / (w * w)
     if not isinstance(name, str) or not name:
         raise ArgumentError(f"srs: name must be a non-empty string, got {name!r}", argument="name", received=name)
-    return ShockResponseSpectrum(f, out, qv, kind, quantity, name)
+    return ShockResponseSpectrum(f, out, qv, kind, quantity, name, unit)
 
 
-__all__ = ["KINDS", "RESPONSES", "srs", "check_envelope"]
+__all__ = ["KINDS", "RESPONSES", "SIGNAL_UNITS", "srs", "check_envelope"]
 
 
 def check_envelope(result: Any, frequency_hz: Any, level: Any, lower_db: float = -3.0,

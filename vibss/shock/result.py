@@ -28,6 +28,8 @@ class ShockResponseSpectrum(Result):
         Which extremum and which response quantity.
     name : str
         The signal's name (the one output label; ``"srs"`` when not given).
+    unit : str
+        The signal's unit, ``"m/s^2"`` or ``"g"`` (the spectrum's acceleration unit).
     """
 
     frequency_hz: np.ndarray
@@ -36,6 +38,7 @@ class ShockResponseSpectrum(Result):
     kind: str
     quantity: str
     name: str = "srs"
+    unit: str = "m/s^2"
 
     method = "ramp-invariant recursive filter (Smallwood; ISO 18431-4)"
     note = ""
@@ -49,7 +52,7 @@ class ShockResponseSpectrum(Result):
     def units(self) -> tuple[str, ...]:
         """Unit of the spectrum (the signal's unit, times s or s^2 for the pseudo quantities);
         frequencies are in Hz."""
-        return (_UNITS[self.quantity],)
+        return (_unit(self.quantity, self.unit),)
 
     def _item(self, i: int, j: int | None) -> Any:
         return self.response
@@ -73,13 +76,14 @@ class ShockResponseSpectrum(Result):
         return {"frequency_hz": self.frequency_hz.tolist(), "response": self.response.tolist(),
                 "q": self.q if np.isfinite(self.q) else None,  # undamped: null (strict JSON)
                 "kind": self.kind, "quantity": self.quantity, "name": self.name,
-                "units": {"frequency_hz": "Hz", "response": _UNITS[self.quantity]}}
+                "units": {"frequency_hz": "Hz", "response": _unit(self.quantity, self.unit)}}
 
-    def tripartite(self, unit: str = "m/s^2", ax: Any = None) -> Any:
-        """Four-coordinate plot (:func:`vibss.plotting.shock.plot_tripartite`); ``unit`` of the signal."""
+    def tripartite(self, unit: str | None = None, ax: Any = None) -> Any:
+        """Four-coordinate plot (:func:`vibss.plotting.shock.plot_tripartite`); ``unit`` of the signal,
+        by default the one the spectrum was taken in (:attr:`unit`)."""
         from ..plotting.shock import plot_tripartite
 
-        return plot_tripartite(self, unit, ax)
+        return plot_tripartite(self, self.unit if unit is None else unit, ax)
 
     def check(self, frequency_hz: Any, level: Any, lower_db: float = -3.0, upper_db: float = 6.0) -> Any:
         """Against a specification envelope (:func:`vibss.shock.api.check_envelope`)."""
@@ -87,7 +91,7 @@ class ShockResponseSpectrum(Result):
 
         return check_envelope(self, frequency_hz, level, lower_db, upper_db)
 
-    def plot(self, ax: Any = None, unit: str = "m/s^2") -> Any:
+    def plot(self, ax: Any = None, unit: str | None = None) -> Any:
         """The spectrum on four-coordinate (tripartite) axes; ``unit`` is the signal's unit."""
         return self.tripartite(unit, ax)
 
@@ -155,5 +159,9 @@ class EnvelopeCheck(Result):
                 "margin_db": self.margin_db.tolist()}
 
 
-_UNITS = {"acceleration": "unit of signal", "pseudo_velocity": "unit of signal x s",
-          "displacement": "unit of signal x s^2"}
+def _unit(quantity: str, signal: str) -> str:
+    """The spectrum's unit: the signal's acceleration unit, times s (pseudo-velocity) or s^2
+    (relative displacement)."""
+    if signal == "m/s^2":
+        return {"acceleration": "m/s^2", "pseudo_velocity": "m/s", "displacement": "m"}[quantity]
+    return {"acceleration": signal, "pseudo_velocity": f"{signal} s", "displacement": f"{signal} s^2"}[quantity]
