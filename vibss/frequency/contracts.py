@@ -31,7 +31,7 @@ from ..methods import Check, Claim, Cost, Decision, decide
 
 __all__ = ["settle", "EXACT", "MODAL", "COMPLEX_MODAL", "WOODBURY", "SUBSPACE", "STATESPACE", "check", "backward_error",
            "against_exact", "check_frequencies", "limit", "BASIS_ERROR", "LIGHT_CAP", "cost_direct", "cost_sparse", "cost_modal", "cost_complex_modal",
-           "cost_woodbury", "cost_subspace", "cost_statespace", "woodbury_rank"]
+           "cost_woodbury", "cost_subspace", "subspace_size", "cost_statespace", "woodbury_rank"]
 
 EXACT = Claim(1e-10, exact=True, conditions="the plant's matrices as assembled (backward error of the solve)")
 """``direct`` and ``sparse``: LU with partial pivoting, backward stable; its backward error is of the
@@ -69,7 +69,10 @@ LIGHT_CAP = 1e-4
 """The most a modal method's check allows for its lightly damped (or undamped) modes [-]."""
 
 CHECK_POINTS = 3
-"""Frequencies of a check: both ends of the band and the largest response."""
+"""Frequencies of a check besides its peaks: both ends of the band and the largest response."""
+
+CHECK_PEAKS = 8
+"""Most resonance peaks a check visits besides (:func:`check_frequencies`)."""
 
 # cost model [s] (one core), measured by benchmarks/bench_frf.py and benchmarks/bench_contracts.py
 K_DENSE_LU = 3e-10    # [s] per n^3 of one complex dense LU and solve
@@ -88,15 +91,31 @@ _F8 = 8.0             # [B] per float
 
 
 def check_frequencies(s: np.ndarray, raw: np.ndarray | None) -> np.ndarray:
-    """Indices of the check frequencies: both ends of ``s`` and the largest response of ``raw``."""
+    """Indices of the check frequencies: both ends of ``s``, the largest response of ``raw``, its
+    :data:`CHECK_PEAKS` sharpest peaks (a local maximum over its lower neighbour: where a lightly
+    damped mode amplifies a modal method's pole error) and as many deepest valleys (where a modal sum
+    cancels: a penalty link's 12-DOF model, complex modes 4e-8 off at 32 kHz while the band's ends
+    and largest response were within 1e-11)."""
     if raw is None:
         return np.unique([0, s.size // 2, s.size - 1])
     size = np.linalg.norm(np.where(np.isfinite(raw), raw, 0.0), axis=(0, 1))
-    return np.unique([0, int(np.argmax(size)), s.size - 1])
+    idx = [0, int(np.argmax(size)), s.size - 1]
+    if s.size > 2:
+        mid = size[1:-1]
+        tiny = np.finfo(float).tiny
+        for sign in (1.0, -1.0):            # peaks, then valleys (a modal sum cancels there)
+            near = np.minimum(size[:-2], size[2:]) if sign > 0 else np.maximum(size[:-2], size[2:])
+            at = np.flatnonzero((sign * (mid - size[:-2]) >= 0) & (sign * (mid - size[2:]) >= 0) & (mid > 0))
+            if at.size:
+                ratio = (mid[at] / np.maximum(near[at], tiny)) ** sign
+                idx += (at[np.argsort(-ratio)[:CHECK_PEAKS]] + 1).tolist()
+    return np.unique(idx)
 
 
 def _where(s: np.ndarray) -> str:
-    return f"{s.size} check frequencies ({', '.join(f'{abs(x) / (2 * np.pi):.4g}' for x in s)} Hz)"
+    hz = np.abs(s) / (2 * np.pi)
+    return f"{s.size} check frequencies ({', '.join(f'{x:.4g}' for x in hz)} Hz)" if s.size <= CHECK_POINTS else \
+        f"{s.size} check frequencies from {hz.min():.4g} to {hz.max():.4g} Hz (band ends, largest response, peaks, valleys)"
 
 
 def against_exact(plant: Plant, s: np.ndarray, raw: np.ndarray, limit: float, every: bool = False) -> Check:
@@ -129,7 +148,7 @@ def against_exact(plant: Plant, s: np.ndarray, raw: np.ndarray, limit: float, ev
     with np.errstate(invalid="ignore"):
         err = np.linalg.norm(diff, axis=(0, 1)) / np.maximum(size, np.finfo(float).tiny)
     err = np.where(np.isnan(err), np.inf, err)
-    where = f"every one of the {s.size} frequencies" if every and s.size > CHECK_POINTS else _where(s[idx])
+    where = f"every one of the {s.size} frequencies" if every and s.size > CHECK_POINTS + CHECK_PEAKS else _where(s[idx])
     return Check(float(err.max()), limit, where + " against the exact solve")
 
 
@@ -308,14 +327,20 @@ def cost_woodbury(plant: Plant, nf: int, basis: ModalBasis | None = None) -> Cos
     return Cost(seconds, peak)
 
 
+def subspace_size(plant: Plant) -> int:
+    """Vectors of the channel subspace's starting basis: ``N_SHIFTS MOMENTS`` times the input
+    vectors and, when there are at most ``TWO_SIDED_MAX`` outputs, the output vectors too."""
+    p, m = _pm(plant)
+    return N_SHIFTS * MOMENTS * (m + (p if p <= TWO_SIDED_MAX else 0))
+
+
 def cost_subspace(plant: Plant, nf: int, basis: ModalBasis | None = None) -> Cost:
     """About ``3 N_SHIFTS`` exact solves (a factorisation per shift, as many checks) plus the basis
     work ``n r^2`` (``r = N_SHIFTS MOMENTS`` times the input and output vectors) and, damped, ``nf
     r^3`` for the small plant's dense solves; memory the basis (n, r) and a factorisation per shift."""
     st = plant.cached("band structure", lambda: structure(plant))
     p, m = _pm(plant)
-    cols = m + (p if p <= TWO_SIDED_MAX else 0)
-    r = N_SHIFTS * MOMENTS * cols
+    r = subspace_size(plant)
     seconds = 3 * N_SHIFTS * st.seconds_per_frequency + K_BASIS * plant.n * r * r
     if _nonzero(plant.C) or _nonzero(plant.H):
         seconds += K_REDUCED * nf * float(r) ** 3
