@@ -137,11 +137,12 @@ def test_subspace_with_42_channels_at_600_dof_answers_up_front_by_the_exact_solv
     m = _chain(100, {4, 17})
     ins = [f"b{i}.fz" for i in range(42)]
     p = build_plant(m, ins, ["b99.z", "b50.x"])
-    assert subspace_size(p) >= p.n and cost_subspace(p, 200).seconds > 100
+    assert subspace_size(p) >= p.n and cost_subspace(p, 200, projection=True).seconds > 100
+    assert cost_subspace(p, 200).seconds < 1          # what it costs: the sparse solve
     f = np.geomspace(1, 100, 200)
     r = vibss.frequency_response(m, ins, ["b99.z", "b50.x"], f, method="subspace")
     ref = vibss.frequency_response(m, ins, ["b99.z", "b50.x"], f, method="sparse")
-    assert "no reduction" in r.note and "exact sparse solve at every frequency instead" in r.note
+    assert "no reduction (estimated ~2.8e+03 s" in r.note and "exact sparse solve at every frequency instead" in r.note
     assert np.allclose(r.response, ref.response, rtol=1e-12, atol=0)
 
 

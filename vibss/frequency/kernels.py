@@ -115,7 +115,7 @@ def _subspace_checked(plant: Plant, s: np.ndarray, tol: float = TOLERANCE) -> tu
     r = subspace_size(plant)
     if r >= plant.n:
         nf = np.asarray(s).size
-        mine, exact = cost_subspace(plant, nf), cost_sparse(plant, nf)
+        mine, exact = cost_subspace(plant, nf, projection=True), cost_sparse(plant, nf)
         return sparse(plant, s), (f"the channel subspace would start with about {r} vectors for {plant.n} DOFs "
                                   f"({len(plant.inputs)} inputs, {len(plant.outputs)} outputs), no reduction "
                                   f"(estimated {mine.text()}): exact sparse solve at every frequency instead "
