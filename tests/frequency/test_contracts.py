@@ -137,7 +137,7 @@ def test_subspace_with_42_channels_at_600_dof_answers_up_front_by_the_exact_solv
     m = _chain(100, {4, 17})
     ins = [f"b{i}.fz" for i in range(42)]
     p = build_plant(m, ins, ["b99.z", "b50.x"])
-    assert subspace_size(p) >= p.n and cost_subspace(p, 200, projection=True).seconds > 100
+    assert 2 * subspace_size(p) >= p.n and cost_subspace(p, 200, projection=True).seconds > 100
     assert cost_subspace(p, 200).seconds < 1          # what it costs: the sparse solve
     f = np.geomspace(1, 100, 200)
     r = vibss.frequency_response(m, ins, ["b99.z", "b50.x"], f, method="subspace")

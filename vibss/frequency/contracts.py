@@ -362,10 +362,10 @@ def cost_subspace(plant: Plant, nf: int, basis: ModalBasis | None = None, projec
     """About ``3 N_SHIFTS`` exact solves (a factorisation per shift, as many checks) plus the basis
     work ``n r^2`` (``r = N_SHIFTS MOMENTS`` times the input and output vectors) and, damped, ``nf
     r^3`` for the small plant's dense solves; memory the basis (n, r) and a factorisation per shift.
-    Where that basis would hold as many vectors as the plant has DOFs the sparse solve answers
+    Where that basis would hold half as many vectors as the plant has DOFs the sparse solve answers
     instead (:func:`vibss.frequency.kernels.subspace`), and so is its cost, unless ``projection``."""
     r = subspace_size(plant)
-    if r >= plant.n and not projection:  # no reduction: the exact sparse solve answers instead
+    if 2 * r >= plant.n and not projection:  # no reduction: the exact sparse solve answers instead
         return cost_sparse(plant, nf)
     st = plant.cached("band structure", lambda: structure(plant))
     p, m = _pm(plant)

@@ -107,20 +107,25 @@ def _subspace_checked(plant: Plant, s: np.ndarray, tol: float = TOLERANCE) -> tu
     """:func:`subspace` and the error it checked (None where the exact sparse solve answered).
 
     When its starting basis alone, ``N_SHIFTS MOMENTS`` blocks of the channels' vectors, would hold
-    as many vectors as the plant has DOFs, it is no reduction and costs a dense ``r^3`` per
-    frequency (42 inputs at 600 DOFs: 2,016 vectors, estimated 2,800 s against 0.07 s; it once ran
-    past 100 s and its projected mass then lost definiteness): the exact sparse solve answers up
-    front instead, and the note gives both estimates.
+    half as many vectors as the plant has DOFs or more, it is no reduction and costs a dense ``r^3``
+    per frequency (42 inputs at 600 DOFs: 2,112 vectors, estimated 2,800 s against 0.07 s; it once
+    ran past 100 s; 8 channels at 600 DOFs, 384 vectors: its projected mass lost definiteness and
+    eigh raised): the exact sparse solve answers up front instead, and the note gives both
+    estimates. A basis that still becomes dependent is answered the same way.
     """
     r = subspace_size(plant)
-    if r >= plant.n:
+    if 2 * r >= plant.n:
         nf = np.asarray(s).size
         mine, exact = cost_subspace(plant, nf, projection=True), cost_sparse(plant, nf)
         return sparse(plant, s), (f"the channel subspace would start with about {r} vectors for {plant.n} DOFs "
                                   f"({len(plant.inputs)} inputs, {len(plant.outputs)} outputs), no reduction "
                                   f"(estimated {mine.text()}): exact sparse solve at every frequency instead "
                                   f"(estimated {exact.text()})"), None
-    sub = channel_subspace(plant, np.abs(np.asarray(s).imag), tol)
+    try:
+        sub = channel_subspace(plant, np.abs(np.asarray(s).imag), tol)
+    except np.linalg.LinAlgError as exc:     # its projected mass lost definiteness: a dependent basis
+        return sparse(plant, s), (f"the channel subspace's basis of about {r} vectors became dependent ({exc}): "
+                                  "exact sparse solve at every frequency instead"), None
     if sub.converged:
         return sub.response, sub.describe(), sub.error
     return sparse(plant, s), (f"the channel subspace did not reach {tol:g} ({sub.describe()}): exact sparse "
