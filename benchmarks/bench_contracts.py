@@ -1,18 +1,19 @@
 """Contracts of the frequency-response methods, measured: claim, check, estimated against measured cost.
 
-For every method of :data:`vibss.frequency.kernels.METHODS` on three models (a chain with general
-damping, the same chain classically damped for ``modal``, and the 12-DOF penalty-link model of
+For every method of :data:`vibss.frequency.kernels.METHODS` on four models (a large chain kept sparse
+with one input and two outputs, for ``subspace`` and ``sparse``; a chain with general damping, the
+same chain classically damped for ``modal``, and the 12-DOF penalty-link model of
 tests/frequency/test_contracts.py), single BLAS thread:
 
 - its cost estimate ``cost(plant, nf, basis)`` (seconds, peak bytes) against the kernel's measured
   wall time and its peak of traced allocations (``tracemalloc``: NumPy reports its buffers there);
 - its a-posteriori check (:func:`vibss.frequency.contracts.check`): the error it states, its limit,
   and the check's own time, against the true error at every frequency against ``direct``
-  (max over frequencies of ||H - H_ref||_F / ||H_ref||_F).
+  (max over frequencies of ||H - H_ref||_F / ||H_ref||_F; against ``sparse`` on the sparse plant).
 
 Written to benchmarks/results/contracts.json; docs/methods.md quotes it. Run:
-``python benchmarks/bench_contracts.py [--quick]`` (quick: 20 bodies, 100 frequencies; full: 100
-bodies, 400 frequencies).
+``python benchmarks/bench_contracts.py [--quick]`` (quick: 20 bodies, 100 frequencies, a 600-DOF
+sparse chain; full: 100 bodies, 400 frequencies, a 6,000-DOF sparse chain).
 """
 
 from __future__ import annotations
@@ -50,7 +51,10 @@ def _models(quick: bool) -> dict:
     step = max(1, nb // 3)
     ins = [f"b{i * step}.f{'xyz'[i % 3]}" for i in range(2)]
     outs = [f"b{i * step}.{d}" for i in range(3) for d in ("x", "z")]
-    return {f"chain {6 * nb} DOF, general damping": (chain_model(nb, damping="general", zeta=1e-3), ins, outs),
+    big = 100 if quick else 1000
+    return {f"sparse chain {6 * big} DOF, 1 x 2 channels": (chain_model(big, damping="general", zeta=1e-3),
+                                                          ["b0.fz"], [f"b{big - 1}.z", f"b{big // 2}.x"]),
+            f"chain {6 * nb} DOF, general damping": (chain_model(nb, damping="general", zeta=1e-3), ins, outs),
             f"chain {6 * nb} DOF, classical damping": (chain_model(nb, damping="classical", zeta=1e-3), ins, outs),
             "penalty link 12 DOF (seed 93)": (penalty_model(93), ["a.fz", "b.fx"],
                                               [f"{b}.{d}" for b in ("a", "b") for d in ("x", "y", "z", "rx")])}
@@ -61,16 +65,22 @@ def bench(quick: bool) -> dict:
     nf = 100 if quick else 400
     out: dict = {"frequencies": nf, "threads": 1, "cases": {}}
     for label, (model, ins, outs) in _models(quick).items():
-        plant = build_plant(model, ins, outs)
-        basis = modal_basis(plant)
-        w = np.sqrt(np.maximum(basis.omega2[~basis.rigid], 1e-12))
-        f = np.geomspace(0.5 * w.min(), 1.5 * w.max(), nf) / (2 * np.pi)
+        large = label.startswith("sparse")
+        plant = build_plant(model, ins, outs, sparse=large)
+        basis = None if large else modal_basis(plant)
+        if basis is None:
+            f = np.geomspace(1.0, 100.0, nf)
+        else:
+            w = np.sqrt(np.maximum(basis.omega2[~basis.rigid], 1e-12))
+            f = np.geomspace(0.5 * w.min(), 1.5 * w.max(), nf) / (2 * np.pi)
         s = 2j * np.pi * f
         rows = {}
         with threadpool_limits(1), warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            ref = METHODS["direct"](plant, s, basis)
+            ref = METHODS["sparse" if large else "direct"](plant, s, basis)
             for name, m in METHODS.items():
+                if large and not m.sparse_ok:
+                    continue
                 est = m.cost(plant, nf, basis) if m.cost is not None else None
                 if est is not None and (est.seconds > 120 or not _fits(est)):
                     rows[name] = {"skipped": f"estimated {est.text()}: past 120 s or the memory guard"}

@@ -276,7 +276,7 @@ def _evaluated(plant: Plant, s: np.ndarray, basis: ModalBasis | None, chosen: Fr
         raise DefectiveModesError(f"frequency_response: method {chosen.name!r} refused: {exc}; use an "
                                   f"exact method: {exact} (or 'auto')", argument="method",
                                   received=chosen.name, expected=exact) from None
-    chosen, raw = dec.method, dec.answer
+    chosen, raw = next(m for m in order if m is dec.method), dec.answer
     if dec.attempts[:-1]:
         reason = f"{reason}; {dec.method.name}: {chosen.summary}" if reason else chosen.summary
     parts = [reason]

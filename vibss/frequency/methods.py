@@ -22,7 +22,7 @@ from ..linear.plant.plant import Plant
 from ..linear.solve.exact import mounts_form_possible
 from ..linear.project.subspace import MOMENTS, N_SHIFTS, TWO_SIDED_MAX
 from ..linear.plant.assemble import Assembly
-from ..methods import LARGE_DOFS, Method, resolve
+from ..methods import LARGE_DOFS, SMALL_DOFS, Method, resolve
 from ..model.model import Model
 from . import statespace_kernels
 from .grid import FrequencyGrid
@@ -157,7 +157,7 @@ def choose(plant: Plant, nf: int, basis: ModalBasis | None) -> tuple[str, str]:
         return _choose_sparse(plant, nf)
     if plant.branches is not None:
         return _choose_branches(plant, nf, basis)
-    if plant.n <= 12:
+    if plant.n <= SMALL_DOFS:
         how = "" if mounts_form_possible(plant) else certified_note(plant, nf)
         return "direct", f"small model ({plant.n} DOF): direct solve is exact and cheap{'; ' + how if how else ''}"
     if not np.any(plant.C) and not np.any(plant.H):
@@ -219,7 +219,7 @@ def choose_without_modes(plant: Plant, nf: int) -> tuple[str, str] | None:
     if br is None:
         return None
     note = br.note()
-    if plant.n + br.r <= 12:
+    if plant.n + br.r <= SMALL_DOFS:
         return "direct", f"{note}: small model, exact solve with them as DOFs"
     st = plant.cached("band structure", lambda: structure(plant))
     band = nf * st.seconds_per_frequency
