@@ -25,7 +25,7 @@ from ..linear.eigen.basis import ModalBasis, classical_damping, damping_rank, pr
 from ..linear.plant.plant import Plant
 from ..linear.project.subspace import MOMENTS, N_SHIFTS, TWO_SIDED_MAX
 from ..linear.solve.backends import _CHUNK_BYTES
-from ..linear.solve.banded import seconds_floor, structure
+from ..linear.solve.banded import _K_BAND, _T_FREQ, structure
 from ..linear.solve.exact import MOUNTS_RATIO, forcing, response, states, zfactor
 from ..methods import Check, Claim, Cost, Decision, decide
 
@@ -261,6 +261,11 @@ def woodbury_rank(plant: Plant, basis: ModalBasis | None) -> int:
     return r
 
 
+def _floor(n: int) -> float:
+    """:func:`vibss.linear.solve.banded.seconds_floor`, from its constants (no call down a layer)."""
+    return _T_FREQ + _K_BAND * n
+
+
 def _mounts(plant: Plant) -> int:
     """Unknowns the solve in the mounts' forces adds (3 per mount), 0 where the assembled matrices
     are solved (:func:`vibss.linear.solve.exact.states`' ``form="auto"``)."""
@@ -289,7 +294,7 @@ def cost_direct(plant: Plant, nf: int, basis: ModalBasis | None = None) -> Cost:
     if mounts:
         return Cost(nf * (T_MOUNTS + K_DENSE_LU * float(n + mounts) ** 3),
                     _C16 * (2 * (n + mounts) ** 2 + nf * n * m + nf * p * m))
-    return Cost(nf * (seconds_floor(n) + K_DENSE_LU * float(n) ** 3),
+    return Cost(nf * (_floor(n) + K_DENSE_LU * float(n) ** 3),
                 _C16 * (2 * chunk * n * n + nf * n * m + nf * p * m))
 
 
@@ -314,7 +319,7 @@ def cost_modal(plant: Plant, nf: int, basis: ModalBasis | None = None) -> Cost:
     """The superposition ``nf k p m`` over ``k`` modes; its (nf, k) transfer functions twice."""
     k = _modes(plant, basis)
     p, m = _pm(plant)
-    return Cost(T_CALL + nf * seconds_floor(0) + K_SUPERPOSE * nf * k * p * m,
+    return Cost(T_CALL + nf * _floor(0) + K_SUPERPOSE * nf * k * p * m,
                 _C16 * (3 * nf * k + k * p * m + nf * p * m))
 
 
@@ -325,7 +330,7 @@ def cost_complex_modal(plant: Plant, nf: int, basis: ModalBasis | None = None) -
     k = _modes(plant, basis)
     p, m = _pm(plant)
     big = 2 * k
-    return Cost(T_CALL + nf * seconds_floor(0) + 4 * K_EIG * float(big) ** 3 + K_SUPERPOSE * nf * big * p * m,
+    return Cost(T_CALL + nf * _floor(0) + 4 * K_EIG * float(big) ** 3 + K_SUPERPOSE * nf * big * p * m,
                 _C16 * (4 * big * big + 3 * nf * big + big * p * m + nf * p * m))
 
 
@@ -342,7 +347,7 @@ def cost_woodbury(plant: Plant, nf: int, basis: ModalBasis | None = None) -> Cos
     p, m = _pm(plant)
     r = woodbury_rank(plant, basis)
     pm = p * m
-    seconds = (T_CALL + nf * seconds_floor(0) + K_GEMM * nf * k * (pm + r * (p + m) + r * r / 2)
+    seconds = (T_CALL + nf * _floor(0) + K_GEMM * nf * k * (pm + r * (p + m) + r * r / 2)
                + K_BORDER * nf * (r + NEAR_GUESS) ** 3)
     chunk = min(nf, CHUNK)
     q = r + NEAR_GUESS
