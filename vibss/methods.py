@@ -31,7 +31,7 @@ from typing import Any, Generic, TypeVar
 from ._validate import choice
 from .errors import AnalysisError, ArgumentError, ResourceError, VibssWarning
 
-__all__ = ["Method", "resolve", "LARGE_DOFS", "SIMULATE_LARGE_DOFS", "Claim", "Check", "Cost", "Attempt", "Decision",
+__all__ = ["Method", "resolve", "LARGE_DOFS", "SIMULATE_LARGE_DOFS", "SMALL_DOFS", "Claim", "Check", "Cost", "Attempt", "Decision",
            "decide", "guard", "available_memory", "MEMORY_FRACTION"]
 
 
@@ -124,6 +124,11 @@ modes is O(n^3) (a 20-frequency FRF at 6,000 DOF took 203 s, and the sparse path
 answer; docs/performance.md), while below a few thousand DOF the dense modes cost seconds and buy the
 grid around the modes, the resonance marks and the modal methods. The frequency response's sparse
 path is exact, so :func:`vibss.frequency_response` switches here (:func:`vibss.frequency.methods.stays_sparse`)."""
+
+SMALL_DOFS = 12
+"""The small-model threshold [DOF] of :func:`vibss.frequency_response`'s ``auto``: up to it the
+dense exact solve is taken without a cost model (a 12 x 12 complex LU per frequency costs less than
+computing which modal method would be cheaper; two bodies on mounts)."""
 
 SIMULATE_LARGE_DOFS = 2 * LARGE_DOFS
 """The threshold of :func:`vibss.simulate` [DOF], twice :data:`LARGE_DOFS` for a measured reason: the time

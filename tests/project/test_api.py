@@ -27,7 +27,7 @@ LAYERS = [
      "linear.solve.backends", "linear.solve.certified", "linear.solve.static", "nonlinear.kernels", "linear.project.krylov", "linear.project.subspace", "statics", "time.integrators",
      "time.phi", "time.recursion", "diagnostics"},
     {"linear", "modal"},
-    {"frequency.kernels", "frequency.lowrank", "frequency.terms", "frequency.grid",
+    {"frequency.kernels", "frequency.contracts", "frequency.lowrank", "frequency.terms", "frequency.grid",
      "frequency.statespace_kernels",
      "time.kernels", "time.branched", "time.inputs", "studies"},
     {"frequency", "time", "reduction", "design", "shock", "orders", "random", "control", "nonlinear"},

@@ -248,3 +248,40 @@ def test_krylov_undamped_from_zero_hz() -> None:
     h = frf(p, np.array([1j * sc.WN, 0.5j * sc.WN]))[0, 0]
     assert np.isinf(h[0])
     np.testing.assert_allclose(h[1].real, 1 / (sc.K - sc.M * (0.5 * sc.WN) ** 2), rtol=1e-12)
+
+
+def _mechanism_chain(n: int) -> Model:
+    """Bodies in a chain on one ground mount; every third link has zero stiffness (its dampers carry
+    the load): mechanism modes, rigid-body modes inside the chain."""
+    bodies = [Body(f"b{i}", 10.0, [0.2, 0.3, 0.4], cog=[0.6 * i, 0, 0]) for i in range(n)]
+    mounts = [Mount("g0", MountType("g", [1e4] * 3, [5.0] * 3), "b0")]
+    for i in range(1, n):
+        k = [0.0] * 3 if i % 3 == 0 else [1e5] * 3
+        mounts.append(Mount(f"l{i}", MountType(f"l{i}", k, [2.0] * 3), f"b{i}", to=f"b{i - 1}",
+                            at=[-0.3, 0.1 * (i % 2), 0]))
+        mounts.append(Mount(f"m{i}", MountType(f"m{i}", k, [0.0] * 3), f"b{i}", to=f"b{i - 1}",
+                            at=[-0.3, -0.1, 0.05]))
+    return Model(bodies, mounts, name="mechanism_chain")
+
+
+def test_auto_on_a_chain_with_mechanism_modes_answers_without_overflow(monkeypatch) -> None:
+    """Issue 29: reduce(method="auto") on a chain with mechanism modes once took more than 7 minutes
+    with an overflow warning in reduction/truncation.py. The overflow came from dividing by the
+    mechanism modes' zero eigenvalues (1e-300) when ranking; the time from solving every candidate
+    (23 of them, 304 checks each at 300 DOF) one after the other while the damper-coupled mechanism
+    needs nearly every mode. Now no warning (RuntimeWarning is an error in this suite), the
+    candidates are found by galloping and bisection, and the answer meets its tolerance."""
+    import vibss.reduction.truncation as tr
+
+    calls: list[int] = []
+    real = tr.frf
+
+    def counting(p, s):
+        calls.append(p.n)
+        return real(p, s)
+
+    monkeypatch.setattr(tr, "frf", counting)
+    n = 20
+    r = reduce(_mechanism_chain(n), Scope(["b0.fz"], [f"b{n - 1}.z", "b5.x"], 0.0, 50.0, 1e-6), "auto", verify=True)
+    assert r.method == "modal" and r.measured <= 1e-6
+    assert len(calls) <= 12, calls                # 1 reference + galloping and bisection over ~20 candidates

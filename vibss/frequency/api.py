@@ -35,11 +35,10 @@ import scipy.sparse as sp
 from ..linear.plant.assemble import Assembly
 from .._validate import choice
 from ..errors import AnalysisError, DefectiveModesError, ModelError
-from .kernels import COMPLEX_MODE_RISK, METHODS, complex_mode_risk, zero_frequency_limit
-from ..linear.eigen.basis import projected_damping
+from .contracts import settle
+from .kernels import METHODS, zero_frequency_limit
 from ..linear.plant.branches import require_none
-from ..linear.solve.exact import response
-from .methods import FrequencyMethod, choose, choose_without_modes, resolve_method, stays_sparse
+from .methods import FrequencyMethod, applies, candidates, choose, choose_without_modes, resolve_method, stays_sparse
 from ..methods import LARGE_DOFS
 from ..model.model import Model
 from ..linear.plant.plant import Plant
@@ -138,32 +137,6 @@ def _input_units(plant: Plant) -> tuple[str, ...]:
     from ..model.units import input_unit
 
     return plant.cached("input units", lambda: tuple(input_unit(u, k) for u, k in zip(plant.inputs, plant.kinds)))
-
-
-def _check(plant: Plant, s: np.ndarray, raw: np.ndarray) -> tuple[float, str]:
-    """Largest error of ``raw`` against the one exact solve at the frequency of the largest response
-    and at both ends of the band (relative to each frequency's response), and where [Hz]."""
-    size = np.linalg.norm(raw, axis=(0, 1))
-    idx = np.unique([0, int(np.argmax(size)), s.size - 1])
-    exact = response(plant, s[idx])
-    err = np.linalg.norm(raw[:, :, idx] - exact, axis=(0, 1)) / np.maximum(np.linalg.norm(exact, axis=(0, 1)),
-                                                                         np.finfo(float).tiny)
-    return float(err.max()), f"{idx.size} check frequencies ({', '.join(f'{abs(x) / (2 * np.pi):.4g}' for x in s[idx])} Hz)"
-
-
-def _checked(plant: Plant, s: np.ndarray, raw: np.ndarray, name: str) -> str:
-    """The note of a method that is neither exact nor built on the certified modal basis
-    (``statespace``, a user's kernel): its error against the exact solve (:func:`_check`)."""
-    err, where = _check(plant, s, raw)
-    return f"{name!r} is not an exact method: relative error {err:.1e} against the exact solve at {where}"
-
-
-AUTO_CHECK_TOL = 1e-9
-"""Where ``auto`` takes complex modes although ``eig``'s a-priori pole bound exceeds
-:data:`~vibss.frequency.kernels.COMPLEX_MODE_RISK` (their screen refines the slow poles), it checks the
-result against the exact solve (:func:`_check`) and takes the exact fallback above this: the bound
-also marks models whose modal sum cancels by many orders in a far channel (a 30-body chain every
-mount damped: 5.7e-7 at 100 Hz, the slow poles right)."""
 
 
 def frequency_response(system: Model | Assembly | Plant, inputs: Sequence[Any] | None = None,
@@ -284,37 +257,42 @@ def _settled(plant: Plant, chosen: FrequencyMethod | None, pick: tuple[str, str]
 
 def _evaluated(plant: Plant, s: np.ndarray, basis: ModalBasis | None, chosen: FrequencyMethod, method: Any,
                reason: str) -> tuple[Any, FrequencyMethod, str]:
-    """The kernel's answer at the Laplace points ``s``, the method that gave it (``auto``'s fallback
-    where its pick refused or missed the exact solve) and the note with its checks."""
+    """The kernel's answer at the Laplace points ``s``, the method that gave it and the note with its
+    check, settled by the one decider (:func:`vibss.methods.decide`).
+
+    ``auto`` tries its pick, then the exact fallback (:func:`~vibss.frequency.methods.candidates`),
+    and keeps only an answer whose check passed (:func:`vibss.frequency.contracts.check`); a named
+    method is held to its estimate by the memory guard before it runs, and a miss of its claim is a
+    :class:`~vibss.errors.VibssWarning` whose note carries the error measured at every frequency.
+    """
+    auto = isinstance(method, str) and method == "auto"
+    order = candidates(plant, chosen, s.size, basis) if auto else [chosen]
+    others = [] if auto else [m for m in METHODS.values() if m is not chosen and m.cost is not None
+                              and (basis is not None or m.sparse_ok) and applies(m, plant, basis)]
     try:
-        raw = chosen.kernel(plant, s, basis)
+        dec, own = settle(plant, s, basis, order, auto, others)
     except DefectiveModesError as exc:
-        if method != "auto" or chosen.fallback is None:
-            exact = [n for n, m in METHODS.items() if m.exact]
-            raise DefectiveModesError(f"frequency_response: method {chosen.name!r} refused: {exc}; use an "
-                                      f"exact method: {exact} (or 'auto')", argument="method",
-                                      received=chosen.name, expected=exact) from None
-        refused, chosen = chosen, METHODS[chosen.fallback]
-        what = "complex modes" if refused.name == "complex_modal" else f"method {refused.name!r}"
-        reason = f"{reason}; {what} refused ({exc}): {chosen.summary}"
-        raw = chosen.kernel(plant, s, basis)
+        exact = [n for n, m in METHODS.items() if m.exact]
+        raise DefectiveModesError(f"frequency_response: method {chosen.name!r} refused: {exc}; use an "
+                                  f"exact method: {exact} (or 'auto')", argument="method",
+                                  received=chosen.name, expected=exact) from None
+    chosen, raw = next(m for m in order if m is dec.method), dec.answer
+    if dec.attempts[:-1]:
+        reason = f"{reason}; {dec.method.name}: {chosen.summary}" if reason else chosen.summary
+    parts = [reason]
+    if chosen.name in own:
+        parts.append(own[chosen.name][0])
+    if dec.check is not None and (chosen.claim is None or not (chosen.exact or chosen.needs_basis
+                                                               or chosen.self_checked)):
+        before = "; ".join(a.text() for a in dec.attempts[:-1])
+        c = dec.check
+        assert c is not None
+        parts += [f"tried {before}" if before else "",
+                  f"{chosen.name!r} is not an exact method: relative error {c.error:.1e} at {c.where}"
+                  + (f" ({c.text()})" if chosen.claim is not None else "")]
     else:
-        if method == "auto" and chosen.fallback is not None and chosen.name == "complex_modal" and basis is not None \
-                and complex_mode_risk(basis, projected_damping(plant, basis)) > COMPLEX_MODE_RISK:
-            err, where = _check(plant, s, raw)
-            if not err <= AUTO_CHECK_TOL:
-                chosen = METHODS[chosen.fallback]
-                reason = (f"{reason}; complex modes missed the exact solve by {err:.1e} at {where}: "
-                          f"{chosen.summary}")
-                raw = chosen.kernel(plant, s, basis)
-            else:
-                reason = f"{reason}; checked: {err:.1e} against the exact solve at {where}"
-    if chosen.self_checked:             # (response, the note of its own exact checks)
-        raw, own = raw
-        reason = "; ".join(x for x in (reason, own) if x)
-    elif not chosen.exact and not chosen.needs_basis:
-        reason = "; ".join(x for x in (reason, _checked(plant, s, raw, chosen.name)) if x)
-    return raw, chosen, reason
+        parts.append(dec.note())
+    return raw, chosen, "; ".join(x for x in parts if x)
 
 
 def _resonances(plant: Plant, basis: ModalBasis | None, lo: float,

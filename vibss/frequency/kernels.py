@@ -51,7 +51,10 @@ from ..linear.eigen.small import symmetric_eigen
 from ..linear.eigen.basis import ModalBasis, classical_damping, modal_basis, projected_damping
 from ..linear.solve.exact import response, zero_frequency_limit, zfactor
 from ..linear.project.subspace import TOLERANCE, channel_subspace
-from ..methods import Method, callable_name
+from ..methods import Cost, Method, callable_name
+from .contracts import (COMPLEX_MODAL, EXACT, MODAL, STATESPACE, SUBSPACE, WOODBURY, cost_complex_modal, cost_direct,
+                        cost_modal, cost_sparse, cost_statespace, cost_subspace, cost_woodbury,
+                        subspace_size)
 from .lowrank import woodbury
 from .terms import feedthrough as _feedthrough, mass_solve as _mass_solve, static as _static, terms as _terms
 
@@ -96,11 +99,37 @@ def subspace(plant: Plant, s: np.ndarray, tol: float = TOLERANCE) -> tuple[np.nd
     interpolation points shows an error above the tolerance. When it does not reach ``tol`` the
     exact sparse solve (:func:`sparse`) answers every frequency instead, and the note says so.
     """
-    sub = channel_subspace(plant, np.abs(np.asarray(s).imag), tol)
+    h, note, _ = _subspace_checked(plant, s, tol)
+    return h, note
+
+
+def _subspace_checked(plant: Plant, s: np.ndarray, tol: float = TOLERANCE) -> tuple[np.ndarray, str, float | None]:
+    """:func:`subspace` and the error it checked (None where the exact sparse solve answered).
+
+    When its starting basis alone, ``N_SHIFTS MOMENTS`` blocks of the channels' vectors, would hold
+    half as many vectors as the plant has DOFs or more, it is no reduction and costs a dense ``r^3``
+    per frequency (42 inputs at 600 DOFs: 2,112 vectors, estimated 2,800 s against 0.07 s; it once
+    ran past 100 s; 8 channels at 600 DOFs, 384 vectors: its projected mass lost definiteness and
+    eigh raised): the exact sparse solve answers up front instead, and the note gives both
+    estimates. A basis that still becomes dependent is answered the same way.
+    """
+    r = subspace_size(plant)
+    if 2 * r >= plant.n:
+        nf = np.asarray(s).size
+        mine, exact = cost_subspace(plant, nf, projection=True), cost_sparse(plant, nf)
+        return sparse(plant, s), (f"the channel subspace would start with about {r} vectors for {plant.n} DOFs "
+                                  f"({len(plant.inputs)} inputs, {len(plant.outputs)} outputs), no reduction "
+                                  f"(estimated {mine.text()}): exact sparse solve at every frequency instead "
+                                  f"(estimated {exact.text()})"), None
+    try:
+        sub = channel_subspace(plant, np.abs(np.asarray(s).imag), tol)
+    except np.linalg.LinAlgError as exc:     # its projected mass lost definiteness: a dependent basis
+        return sparse(plant, s), (f"the channel subspace's basis of about {r} vectors became dependent ({exc}): "
+                                  "exact sparse solve at every frequency instead"), None
     if sub.converged:
-        return sub.response, sub.describe()
+        return sub.response, sub.describe(), sub.error
     return sparse(plant, s), (f"the channel subspace did not reach {tol:g} ({sub.describe()}): exact sparse "
-                              "solve at every frequency instead")
+                              "solve at every frequency instead"), None
 
 
 def _times_left(o: np.ndarray, blocks: list[_Factors]) -> np.ndarray:
@@ -411,12 +440,17 @@ class FrequencyMethod(Method):
     sparse_ok : bool
         Accepts a plant whose ``M, C, K, H`` are scipy.sparse matrices.
     self_checked : bool
-        The kernel returns ``(response, note)`` and checks itself against the exact solve.
+        The kernel returns ``(response, note, error)`` and checks itself against the exact solve
+        (``error`` the relative error it measured, None where it answered by the exact solve).
+    cost : callable or None
+        ``cost(plant, nf, basis) -> Cost``: its estimated seconds and peak bytes
+        (:mod:`vibss.frequency.contracts`); None for a user's kernel.
     """
 
     needs_basis: bool = False
     sparse_ok: bool = False
     self_checked: bool = False
+    cost: Callable[..., Cost] | None = None
 
 
 def _direct(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) -> np.ndarray:
@@ -431,26 +465,32 @@ def _statespace(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) ->
     return via_statespace(plant, s)
 
 
-def _subspace(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) -> tuple[np.ndarray, str]:
-    return subspace(plant, s)
+def _subspace(plant: Plant, s: np.ndarray, basis: ModalBasis | None = None) -> tuple[np.ndarray, str, float | None]:
+    return _subspace_checked(plant, s)
 
 
 METHODS: dict[str, FrequencyMethod] = {m.name: m for m in (
-    FrequencyMethod("direct", _direct, exact=True, internal_states=True,
+    FrequencyMethod("direct", _direct, exact=True, internal_states=True, claim=EXACT,
+                    cost=cost_direct,
                     summary="one dense complex solve per frequency (the reference)"),
-    FrequencyMethod("modal", modal, needs_basis=True,
+    FrequencyMethod("modal", modal, needs_basis=True, claim=MODAL, cost=cost_modal,
                     summary="undamped modal superposition (classical damping only)"),
     FrequencyMethod("complex_modal", complex_modal, needs_basis=True, fallback="sparse",
+                    claim=COMPLEX_MODAL, cost=cost_complex_modal,
                     summary="complex modes of the scaled modal first-order form (any damping)"),
-    FrequencyMethod("woodbury", woodbury, needs_basis=True, internal_states=True,
+    FrequencyMethod("woodbury", woodbury, needs_basis=True, internal_states=True, claim=WOODBURY,
+                    cost=cost_woodbury,
                     summary="undamped modes + the dampers and frequency-dependent mounts as a low-rank update, "
                             "bordered solve per frequency (any damping)"),
-    FrequencyMethod("sparse", _sparse, exact=True, sparse_ok=True, internal_states=True,
+    FrequencyMethod("sparse", _sparse, exact=True, sparse_ok=True, internal_states=True, claim=EXACT,
+                    cost=cost_sparse,
                     summary="banded or SuperLU complex solve per frequency"),
-    FrequencyMethod("subspace", _subspace, sparse_ok=True, self_checked=True,
+    FrequencyMethod("subspace", _subspace, sparse_ok=True, self_checked=True, claim=SUBSPACE,
+                    cost=cost_subspace,
                     summary="projection on a rational Krylov basis built for the channels, checked by exact "
                             "solves between its shifts (large models, many frequencies, few channels)"),
-    FrequencyMethod("statespace", _statespace, internal_states=True,
+    FrequencyMethod("statespace", _statespace, internal_states=True, claim=STATESPACE,
+                    cost=cost_statespace,
                     summary="control.frequency_response of the modal state space (viscous only)"),
 )}
 """Frequency-response methods by name (:class:`FrequencyMethod`; ``"auto"`` is chosen by

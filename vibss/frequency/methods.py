@@ -22,13 +22,17 @@ from ..linear.plant.plant import Plant
 from ..linear.solve.exact import mounts_form_possible
 from ..linear.project.subspace import MOMENTS, N_SHIFTS, TWO_SIDED_MAX
 from ..linear.plant.assemble import Assembly
-from ..methods import LARGE_DOFS, Method, resolve
+from ..methods import LARGE_DOFS, SMALL_DOFS, Method, resolve
 from ..model.model import Model
 from . import statespace_kernels
 from .grid import FrequencyGrid
+from .contracts import (K_BASIS as _K_BASIS, K_BORDER as _K_BORDER, K_EIG as _K_EIG,
+                        K_GEMM as _K_GEMM, K_REDUCED as _K_REDUCED, K_REFINE as _K_REFINE,
+                        K_SUPERPOSE as _K_SUPERPOSE, NEAR_GUESS as _NEAR_GUESS)
 from .kernels import COMPLEX_MODE_RISK, METHODS, REFINE_PREDICT, FrequencyMethod, custom_method, mode_risks
 
 __all__ = ["METHODS", "FrequencyMethod", "resolve_method", "choose", "choose_without_modes", "estimates",
+           "candidates", "applies",
            "stays_sparse", "STATESPACE_METHODS", "StateSpaceMethod", "choose_statespace"]
 
 
@@ -77,14 +81,6 @@ def stays_sparse(system: Any, frequencies: Any, chosen: Any) -> bool:
     except (TypeError, ValueError):
         return False
     return bool(f.size) and bool(np.all(np.isfinite(f))) and bool(np.all(f > 0))
-
-
-_K_EIG = 4.6e-10     # [s] per N^3 of the complex-mode eig (N = 2n states)
-_K_SUPERPOSE = 4e-10  # [s] per frequency x mode x channel of the superposition
-_K_REFINE = 3.5e-10   # [s] per nk^3 of one complex mode's inverse iteration (two dense solves)
-_K_GEMM = 4e-10       # [s] per frequency x mode x column of woodbury's weighted sums
-_K_BORDER = 2e-9      # [s] per frequency x (r + 2)^3 of woodbury's bordered LU
-_NEAR_GUESS = 2       # near-resonant modes solved with the dampers per frequency, for the estimate
 
 
 def estimates(plant: Plant, nf: int, basis: ModalBasis, rank: int, refine: int | None) -> dict[str, float]:
@@ -161,7 +157,7 @@ def choose(plant: Plant, nf: int, basis: ModalBasis | None) -> tuple[str, str]:
         return _choose_sparse(plant, nf)
     if plant.branches is not None:
         return _choose_branches(plant, nf, basis)
-    if plant.n <= 12:
+    if plant.n <= SMALL_DOFS:
         how = "" if mounts_form_possible(plant) else certified_note(plant, nf)
         return "direct", f"small model ({plant.n} DOF): direct solve is exact and cheap{'; ' + how if how else ''}"
     if not np.any(plant.C) and not np.any(plant.H):
@@ -223,7 +219,7 @@ def choose_without_modes(plant: Plant, nf: int) -> tuple[str, str] | None:
     if br is None:
         return None
     note = br.note()
-    if plant.n + br.r <= 12:
+    if plant.n + br.r <= SMALL_DOFS:
         return "direct", f"{note}: small model, exact solve with them as DOFs"
     st = plant.cached("band structure", lambda: structure(plant))
     band = nf * st.seconds_per_frequency
@@ -262,8 +258,6 @@ def _choose_branches(plant: Plant, nf: int, basis: ModalBasis) -> tuple[str, str
                   f"{other} {cost[other]:.2g} s")
 
 
-_K_BASIS = 1.5e-9     # [s] per n r^2 of the channel subspace's Gram-Schmidt and projection (60,000 DOF chain)
-_K_REDUCED = 1.5e-9   # [s] per nf r^3 of its damped reduced responses (about four per call, dense LU)
 
 
 def _nonzero(a: Any) -> bool:
@@ -299,6 +293,36 @@ def _choose_sparse(plant: Plant, nf: int) -> tuple[str, str]:
                             f"exact solve per frequency ({how})")
     return "sparse", (f"sparse plant: exact sparse solve per frequency ({how}), estimated {exact:.2g} s "
                       f"against {sub:.2g} s for a channel subspace")
+
+
+def applies(method: FrequencyMethod, plant: Plant, basis: ModalBasis | None) -> bool:
+    """Whether ``method`` can answer for ``plant`` at all (named in a refusal's list of methods
+    that work): a sparse plant takes the sparse-capable ones, branches the ones with internal
+    states, ``modal`` classical damping, ``statespace`` viscous damping only."""
+    if basis is None and method.needs_basis:
+        return False
+    if plant.branches is not None and not method.internal_states:
+        return False
+    if method is METHODS["modal"]:
+        assert basis is not None
+        return classical_damping(plant, basis, projected_damping(plant, basis))[0]
+    if method is METHODS["statespace"]:
+        return not _nonzero(plant.H) and not _nonzero(plant.Hz)
+    return True
+
+
+def candidates(plant: Plant, chosen: FrequencyMethod, nf: int, basis: ModalBasis | None) -> list[FrequencyMethod]:
+    """``auto``'s order: its pick (:func:`choose`), then, when the pick is not exact, the exact
+    fallback: the method's own (``complex_modal``: ``sparse``), else the cheaper exact solve by
+    the cost model (``sparse`` on a sparse plant)."""
+    if chosen.exact:
+        return [chosen]
+    if chosen.fallback is not None:
+        return [chosen, METHODS[chosen.fallback]]
+    exact = [m for m in METHODS.values() if m.exact and m.cost is not None and applies(m, plant, basis)
+             and (m.sparse_ok or basis is not None)]
+    exact.sort(key=lambda m: m.cost(plant, nf, basis).seconds if m.cost is not None else 0.0)
+    return [chosen, *exact[:1]]
 
 
 @dataclass(frozen=True)
