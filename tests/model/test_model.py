@@ -248,3 +248,17 @@ def test_table_takes_the_file_spelling_and_the_old_one():
         Table(time=t, times=t, value=v)
     with pytest.raises(ModelError, match="value: missing"):
         Table(time=t)
+
+
+def test_model_shows_its_bodies_and_mounts_in_a_notebook() -> None:
+    """Issue 33 item 9: Model had no _repr_html_."""
+    import re
+
+    import vibss
+
+    m = vibss.load_example("powertrain")
+    page = m._repr_html_()
+    assert page.count("<table>") == 2
+    rows = re.findall(r"<tr><td>([^<]*)</td>", page)
+    assert rows == [b.name for b in m.bodies] + [mt.name for mt in m.mounts]
+    assert f"total mass {m.total_mass:.6g} kg" in page and "&#x27;" in page     # the name's quotes escaped

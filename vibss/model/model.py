@@ -498,6 +498,23 @@ class Model:
 
     centre_of_gravity = renamed_attribute("centre_of_gravity", "center_of_gravity", "Model")
 
+    def _repr_html_(self) -> str:
+        """The model in a notebook: its bodies and its mounts as two escaped HTML tables [kg, m, N/m]."""
+        import html
+
+        from ..results import TextTable
+
+        bodies = TextTable(["body", "mass [kg]", "COG [m]", "inertia [kg m^2]"],
+                           [[b.name, f"{b.mass:.6g}", ", ".join(f"{x:.4g}" for x in b.cog),
+                             ", ".join(f"{x:.4g}" for x in np.ravel(b.inertia))] for b in self.bodies])
+        mounts = TextTable(["mount", "type", "body", "to", "at [m]", "stiffness [N/m]", "nonlinear"],
+                           [[m.name, m.type.name, m.body, m.to, ", ".join(f"{x:.4g}" for x in m.at),
+                             ", ".join(f"{k:.4g}" for k in m.type.stiffness),
+                             "stops/curve" if getattr(m.type, "nonlinear", False) else ""] for m in self.mounts])
+        head = (f"Model {self.name!r}: {len(self.bodies)} bodies, {len(self.mounts)} mounts, "
+                f"{6 * len(self.bodies)} DOFs, total mass {self.total_mass:.6g} kg")
+        return f"<div><strong>{html.escape(head)}</strong>{bodies.to_html()}{mounts.to_html()}</div>"
+
     # -- copies ----------------------------------------------------------------------------
     def replace(self, **changes: Any) -> Model:
         """Copy with fields replaced (see :func:`dataclasses.replace`).
