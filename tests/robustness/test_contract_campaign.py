@@ -341,6 +341,9 @@ ANALYSES: dict[str, tuple[Callable[[str, Tally, contract_models.Case], None], li
 }
 """Each analysis: its runner, its methods (every registry entry and ``auto``), its largest model."""
 
+SLOW = {("simulate", "ivp")}
+"""Over ~4 s at the small size (Radau through the penalty links' 1e7 rad/s modes)."""
+
 KNOWN: dict[tuple[str, str], str] = {}
 """Silent misses found today, (analysis, method) -> why (strict xfail: fixing one turns its test red
 until the entry is removed)."""
@@ -352,6 +355,7 @@ def _params() -> list[Any]:
         for name in names:
             marks = [pytest.mark.xfail(strict=True, reason=KNOWN[(analysis, name)])] \
                 if (analysis, name) in KNOWN else []
+            marks += [pytest.mark.slow] if (analysis, name) in SLOW else []
             out.append(pytest.param(analysis, name, marks=marks, id=f"{analysis}-{name}"))
     return out
 
