@@ -113,6 +113,7 @@ class Tally:
     unchecked: int = 0         # answers without a reference (free motions of a static solve)
     silent: list[str] = field(default_factory=list)
     largest: float = 0.0       # the largest error measured [-]
+    by_family: dict[str, float] = field(default_factory=dict)    # the largest per family [-]
 
     def row(self) -> dict[str, Any]:
         out = asdict(self)
@@ -205,6 +206,8 @@ def judge(tally: Tally, case: str, out: Outcome, error: float | None, claim: Cla
         tally.unchecked += 1
         return
     tally.largest = max(tally.largest, error) if not math.isnan(error) else math.inf
+    fam = case.rsplit("-", 1)[0]
+    tally.by_family[fam] = max(tally.by_family.get(fam, 0.0), error) if not math.isnan(error) else math.inf
     if claim is None:
         tally.no_claim += 1
         return
@@ -368,7 +371,7 @@ def scope_of(case: contract_models.Case) -> tuple[Scope, np.ndarray]:
     outputs = [f"{first}.z", f"{last}.z"] if last != first else [f"{first}.z", f"{first}.rx"]
     scope = Scope([f"{first}.fz"], outputs, 0.0, top, 1e-3)
     inside = f[f < top]
-    check = np.unique(np.concatenate([np.linspace(top / 20, top, 6), inside * (1 + 1e-3), inside * (1 - 1e-3)]))
+    check = np.unique(np.concatenate([np.linspace(top / 20, top, 4), inside * (1 + 1e-3)]))
     return scope, check
 
 
