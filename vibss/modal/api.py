@@ -22,8 +22,8 @@ unit-independent test of whether each mode's stiffness cancels to round-off on t
 not depend on ``n_modes``. Rigid modes are reported with frequency 0. Every mode carries a relative
 error bound of its frequency (:attr:`Modes.error_estimate`, Kato-Temple). That bound is the routes'
 a-posteriori check: each route claims every elastic frequency within
-:data:`~vibss.modal.methods.FREQUENCY_CLAIM` (1e-8, relative), the note carries the largest bound
-(``"checked: error 3.0e-12 <= 1e-08 ..."``), and a bound past the claim is a
+:data:`~vibss.modal.methods.FREQUENCY_CLAIM` (1e-6, relative), the note carries the largest bound
+(``"checked: error 3.0e-12 <= 1e-06 ..."``), and a bound past the claim is a
 :class:`~vibss.errors.VibssWarning` that states it (decided by :func:`vibss.methods.decide`). Repeated frequencies (symmetric layouts, free bodies) are split into
 clean directions by :func:`vibss.linear.eigen.directions.align_cluster`.
 """

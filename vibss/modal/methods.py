@@ -26,13 +26,15 @@ from .kernels import poles_classical, poles_general, poles_undamped, poles_with_
 __all__ = ["EigenRoute", "METHODS", "auto_note", "DampedRoute", "DAMPED_ROUTES", "damped_route",
            "FREQUENCY_CLAIM", "check_frequencies"]
 
-FREQUENCY_CLAIM = 1e-8
+FREQUENCY_CLAIM = 1e-6
 """What every eigen route promises [-]: each elastic natural frequency within this relative error,
-held to by its a-posteriori Kato-Temple bound (:func:`check_frequencies`). The 60-digit campaign
-(tests/robustness/test_contract_campaign.py) measured errors of 1e-15 and bounds under 1e-8 on all
-but the models with penalty links 1e9-1e10 times their mounts, whose softest modes' bounds reach
-1e-6-5e-5 (the round-off of ``G phi`` beside the links; the measured error stays 1e-15); those
-answers carry a :class:`~vibss.errors.VibssWarning` with the bound."""
+held to by its a-posteriori Kato-Temple bound (:func:`check_frequencies`). The measured errors are
+far smaller (the 60-digit campaign, tests/robustness/test_contract_campaign.py: 9.6e-11 at most,
+2.2e-14 by Jacobi), but the claim is what the *check* can certify: the bound stays under 1e-8 on
+ordinary models, reaches 2.4e-8 on the graded chain (masses over 7 decades), 1e-6-5e-5 on the
+softest modes beside penalty links 1e9-1e10 times their mounts and 1e-3 beside 1e16 N/m links (the
+round-off of ``G phi`` beside the links; the error itself stays ~1e-14). 1e-6 keeps the word for
+those, where the bound cannot certify the answer: a :class:`~vibss.errors.VibssWarning` with the bound."""
 
 
 @dataclass(frozen=True)
@@ -104,7 +106,7 @@ def check_frequencies(error: np.ndarray, rigid: np.ndarray, limit: float = FREQU
     Examples
     --------
     >>> check_frequencies(np.array([np.nan, 2e-15, 3e-12]), np.array([True, False, False])).text()
-    'checked: error 3.0e-12 <= 1e-08 at the Kato-Temple bound of 2 elastic frequencies'
+    'checked: error 3.0e-12 <= 1e-06 at the Kato-Temple bound of 2 elastic frequencies'
     """
     elastic = np.asarray(error, float)[~np.asarray(rigid, bool)]
     worst = float(np.max(elastic, initial=0.0)) if not np.any(np.isnan(elastic)) else float("inf")
