@@ -160,7 +160,7 @@ def attempt(call: Callable[[], Any]) -> Outcome:
     """Run ``call``: its answer and the bounds of its VibssWarnings, or its refusal (a VibssError),
     or its crash (anything else: ``crash`` set, counted as a silent miss), or ``"over time"``
     (stopped after :data:`CALL_SECONDS`: counted apart, see :class:`Tally`)."""
-    timed = threading.current_thread() is threading.main_thread()
+    timed = hasattr(signal, "SIGALRM") and threading.current_thread() is threading.main_thread()
     with warnings.catch_warnings(record=True) as seen:
         warnings.simplefilter("always", VibssWarning)
         before = signal.signal(signal.SIGALRM, _alarm) if timed else None
