@@ -29,9 +29,14 @@ test-quick: $(STAMP)
 	$(BIN)/python -m pytest -n 2 -q -m "not slow" vibss tests
 
 # The adversarial suite of tests/robustness/test_random_models.py, long (1,000 random models per property, 10,000
-# mutated model files; VIBSS_FUZZ_MODELS / VIBSS_FUZZ_FILES override); figures in docs/robustness.md
+# mutated model files; VIBSS_FUZZ_MODELS / VIBSS_FUZZ_FILES override), and the contract campaign of
+# tests/robustness/test_contract_campaign.py at full size (40 models per family, up to 4 bodies;
+# VIBSS_CAMPAIGN_MODELS overrides; its figures per method in campaign.jsonl); figures in docs/robustness.md
 fuzz: $(STAMP)
 	VIBSS_FUZZ=1 $(BIN)/python -m pytest -q -s -p no:cacheprovider --durations=0 tests/robustness/test_random_models.py
+	rm -f campaign.jsonl
+	VIBSS_FUZZ=1 VIBSS_CAMPAIGN_OUT=campaign.jsonl $(BIN)/python -m pytest -q -s -p no:cacheprovider --durations=0 \
+		tests/robustness/test_contract_campaign.py
 
 # `make bench QUICK=1` (or `make bench-quick`): small sizes, a few minutes; seeded like the full run
 bench: $(STAMP)

@@ -20,7 +20,11 @@ pass a callable ``f(K, M, n_modes) -> (w2, shapes)``):
 Zero-frequency (rigid-body) modes are found by :func:`~vibss.linear.eigen.undamped.rigid_mask`, a
 unit-independent test of whether each mode's stiffness cancels to round-off on the factor; it does
 not depend on ``n_modes``. Rigid modes are reported with frequency 0. Every mode carries a relative
-error bound of its frequency (:attr:`Modes.error_estimate`). Repeated frequencies (symmetric layouts, free bodies) are split into
+error bound of its frequency (:attr:`Modes.error_estimate`, Kato-Temple). That bound is the routes'
+a-posteriori check: each route claims every elastic frequency within
+:data:`~vibss.modal.methods.FREQUENCY_CLAIM` (1e-6, relative), the note carries the largest bound
+(``"checked: error 3.0e-12 <= 1e-06 ..."``), and a bound past the claim is a
+:class:`~vibss.errors.VibssWarning` that states it (decided by :func:`vibss.methods.decide`). Repeated frequencies (symmetric layouts, free bodies) are split into
 clean directions by :func:`vibss.linear.eigen.directions.align_cluster`.
 """
 
@@ -38,9 +42,10 @@ from ..model.nonlinearity import refuse_nonlinear
 from ..nonlinear.kernels import equilibrium, nonlinear_mounts, tangent_model
 from ..linear.plant.assemble import Assembly, assemble
 from ..linear.plant.hysteresis import dropped_hysteresis
+from ..methods import Check, Claim, Method, callable_name, decide
 from ..model.model import Model
 from .kernels import projected_c, rigid_influence
-from .methods import auto_note, damped_route
+from .methods import FREQUENCY_CLAIM, METHODS, auto_note, check_frequencies, damped_route
 from .result import DampedModes, Modes
 
 __all__ = ["modes", "damped_modes"]
@@ -86,7 +91,9 @@ def modes(model: Model | Assembly, n_modes: int | None = None,
                                 argument="n_modes", received=n_modes, expected="a positive integer")
         n_modes = min(integer(n_modes, "n_modes", who="modes"), n)
     try:
-        spec = _spectrum(a, n_modes, method)
+        decision = decide([_route_of(method)], lambda m: _spectrum(a, n_modes, method), where="modes",
+                          auto=False, check=_check)
+        spec = decision.answer
     except (np.linalg.LinAlgError, ValueError) as exc:
         if isinstance(exc, ModelError):
             raise
@@ -110,10 +117,34 @@ def modes(model: Model | Assembly, n_modes: int | None = None,
     omega = np.sqrt(w2)
     energy = energy_fractions(phi, M)
     gamma = phi.T @ (M @ rigid_influence(a.model))
+    bound = check_frequencies(spec.error, rigid)
+    note = "; ".join(x for x in (auto_note(method, name), bound.text()) if x)
     return Modes(model=a.model, dofs=a.dofs, omega=omega, shapes=phi, energy=energy,
                  effective_mass=gamma ** 2, rigid=rigid, method=name,
-                 note="; ".join(x for x in (tangent_note, auto_note(method, name)) if x),
+                 note="; ".join(x for x in (tangent_note, note) if x),
                  error_estimate=spec.error)
+
+
+AUTO = Method("auto", lambda *args: None, claim=Claim(
+    FREQUENCY_CLAIM, conditions="each elastic frequency (relative), by the Kato-Temple bound; the eigen path "
+    "has already fallen back (dense eigh, refinement, the Jacobi SVD), so a bound above the claim is a warning"))
+"""``modes(method="auto")`` as the decider sees it: the eigen path settles the route and its fallbacks
+(:func:`vibss.linear.eigen.undamped.undamped`), and the answer is held to the routes' claim."""
+
+
+def _route_of(method: str | Solver) -> Method:
+    """The Method the decider runs for ``method``: a route of :data:`METHODS`, :data:`AUTO`, or a
+    user callable (no claim: its bound goes to the note, never a warning)."""
+    if callable(method):
+        return Method(callable_name(method), method)
+    if method == "auto":
+        return AUTO
+    return METHODS[method] if method in METHODS else Method(str(method), lambda *args: None)   # the eigen path names the valid ones
+
+
+def _check(route: Method, spec: Any) -> Check | None:
+    """The routes' a-posteriori check (:func:`check_frequencies`) held to the route's claim."""
+    return None if route.claim is None else check_frequencies(spec.error, spec.rigid, route.claim.tolerance)
 
 
 def _tangent(a: Assembly) -> tuple[Assembly, str]:
