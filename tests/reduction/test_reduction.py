@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import numpy as np
+
+import vibss
 import pytest
 
 from cases import small as sc
@@ -285,3 +287,17 @@ def test_auto_on_a_chain_with_mechanism_modes_answers_without_overflow(monkeypat
     r = reduce(_mechanism_chain(n), Scope(["b0.fz"], [f"b{n - 1}.z", "b5.x"], 0.0, 50.0, 1e-6), "auto", verify=True)
     assert r.method == "modal" and r.measured <= 1e-6
     assert len(calls) <= 12, calls                # 1 reference + galloping and bisection over ~20 candidates
+
+
+def test_a_reduction_past_its_scope_warns_and_auto_falls_back_to_the_exact_pruning() -> None:
+    """Issue 29: reduce(modal) was 1.4e3 off a 1e-3 scope, with its own estimate saying so, and no word."""
+    model = vibss.load_example("powertrain")
+    scope = vibss.Scope(["powertrain.fz", "powertrain.my"], ["powertrain.z", "powertrain.rx"], 0.0, 30.0, 1e-6)
+    with pytest.warns(vibss.VibssWarning, match=r"method 'modal' missed the scope's tolerance: estimated error"):
+        named = vibss.reduce(model, scope, method="modal", max_modes=1)
+    assert named.estimate > scope.tolerance and "missed the scope" in named.note
+    measured = named.verify().measured                   # the estimate is no flattery: the error is real
+    assert measured > scope.tolerance
+    auto = vibss.reduce(model, scope, max_modes=1, verify=True)
+    assert auto.method == "prune" and "tried modal estimated" in auto.note
+    assert auto.measured <= scope.tolerance

@@ -414,7 +414,12 @@ ANALYSES: dict[str, tuple[Callable[[str, Tally, contract_models.Case], None], li
 SLOW = {("simulate", "ivp")}
 """Over ~4 s at the small size (Radau through the penalty links' 1e7 rad/s modes)."""
 
-KNOWN: dict[tuple[str, str], tuple[str, tuple[str, ...]]] = {}
+KNOWN: dict[tuple[str, str], tuple[str, tuple[str, ...]]] = {
+    ("reduce", "krylov"): (
+        "its error estimate is a check at sampled frequencies, not a bound: through penalty links it "
+        "stated less than the scope's 1e-3 and the 60-digit error is 1.6e-3 (found once reductions "
+        "stated their claims)", ("penalty-0",)),
+}
 """Silent misses found today: (analysis, method) -> (why, the models that show it). A strict xfail
 where the run holds one of those models (fixing it turns the test red until the entry goes)."""
 

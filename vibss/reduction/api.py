@@ -49,6 +49,9 @@ Examples
 
 from __future__ import annotations
 
+import dataclasses
+import warnings
+
 import time
 from typing import Any, cast
 
@@ -56,7 +59,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .._validate import choice
-from ..errors import AnalysisError, ModelError
+from ..errors import AnalysisError, ModelError, VibssWarning
 from ..model.model import Model
 from ..linear.plant.plant import Plant
 from .krylov import sparse_plant
@@ -135,6 +138,7 @@ def reduce(model_or_plant: Model | Plant, scope: Scope, method: Any = "auto", *,
         raise ModelError(f"reduce: model_or_plant: expected a Model or a Plant, got {model_or_plant!r}")
     sparse_input = isinstance(model_or_plant, Plant) and sp.issparse(model_or_plant.K)
     note = ""
+    auto = chosen is None
     if chosen is None:
         name, note = choose(n, sparse_input)
         chosen = METHODS[name]
@@ -143,6 +147,35 @@ def reduce(model_or_plant: Model | Plant, scope: Scope, method: Any = "auto", *,
                             "(build_plant(..., sparse=True)) takes method="
                             + " or ".join(repr(k) for k, v in METHODS.items() if v.sparse) + " or 'auto'")
     choice(residual, "residual", ("vectors", "static"), who="reduce")
+    opts = ReduceOptions(max_modes=max_modes, order=order, residual=residual)
+    r = _run(model_or_plant, scope, chosen, opts, note)
+    if chosen.claim is None or _meets(r, scope):
+        pass
+    elif auto:                        # auto never keeps an answer past the scope: the exact pruning instead
+        missed = (f"{r.method} estimated {r.estimate:.3g} > the scope's {scope.tolerance:g} "
+                  f"({r.estimate_kind})")
+        exact = METHODS["prune"]
+        if sparse_input and not exact.sparse:
+            raise AnalysisError(f"reduce: auto: {missed}, and the exact pruning needs a dense plant; give a "
+                                "larger max_modes or order, or a looser tolerance")
+        r = _run(model_or_plant, scope, exact, opts, f"{note}; tried {missed}: the exact pruning answers")
+    else:
+        warnings.warn(f"reduce: method {chosen.name!r} missed the scope's tolerance: estimated error "
+                      f"{r.estimate:.3g} > {scope.tolerance:g} ({r.estimate_kind}); keep more (max_modes, "
+                      "order), use 'prune' (exact) or check with verify=True", VibssWarning, stacklevel=2)
+        r = dataclasses.replace(r, note="; ".join(x for x in (r.note, f"missed the scope: estimated error "
+                                                              f"{r.estimate:.3g} > {scope.tolerance:g}") if x))
+    return r.verify(n_check) if verify else r
+
+
+def _meets(r: Reduction, scope: Scope) -> bool:
+    """The reduction's own error estimate is within the scope's tolerance (the method's check)."""
+    return bool(r.estimate <= scope.tolerance)
+
+
+def _run(model_or_plant: Model | Plant, scope: Scope, chosen: ReductionMethod, opts: ReduceOptions,
+         note: str) -> Reduction:
+    """One method's reduction of the scope's plant, timed, as a :class:`Reduction`."""
     t0 = time.perf_counter()          # a sparse method counts its sparse assembly; the others start from the plant
     if isinstance(model_or_plant, Plant):
         full = select(model_or_plant, scope)
@@ -152,7 +185,7 @@ def reduce(model_or_plant: Model | Plant, scope: Scope, method: Any = "auto", *,
         full = build_plant(model_or_plant, list(scope.sources), list(scope.outputs))
     if not chosen.sparse:
         t0 = time.perf_counter()
-    out = chosen.kernel(full, scope, ReduceOptions(max_modes=max_modes, order=order, residual=residual))
+    out = chosen.kernel(full, scope, opts)
     if not isinstance(out, Reduced):
         raise AnalysisError(f"reduce: method {chosen.name!r} returned {type(out).__name__}, expected a "
                             "vibss.reduction.methods.Reduced")
@@ -160,7 +193,7 @@ def reduce(model_or_plant: Model | Plant, scope: Scope, method: Any = "auto", *,
     plant, system = out.plant, out.system
     if plant is None and system is None:
         raise AnalysisError(f"reduce: method {chosen.name!r} returned neither a plant nor a system")
-    r = Reduction(method=chosen.name, scope=scope, plant=plant, system=system, full=full,
+    return Reduction(method=chosen.name, scope=scope, plant=plant, system=system, full=full,
                   dofs_before=full.n, dofs_after=0 if plant is None else plant.n,
                   states_before=_states(full),
                   states_after=cast(Any, system).nstates if plant is None else _states(plant),
@@ -169,4 +202,3 @@ def reduce(model_or_plant: Model | Plant, scope: Scope, method: Any = "auto", *,
                   kept_hz=np.asarray(out.kept_hz, float), hsv=out.hsv, hsv_bound=out.hsv_bound,
                   io_scale=out.io_scale, reduce_s=took, notes=tuple(out.notes), details=dict(out.details),
                   note=note)
-    return r.verify(n_check) if verify else r

@@ -20,7 +20,7 @@ from ..errors import AnalysisError
 from ..linear.plant.plant import Plant
 from ..linear.plant.labels import control_name
 from ..linear.statespace import NamedStateSpace, statespace
-from ..methods import Method, callable_name, resolve
+from ..methods import Claim, Method, callable_name, resolve
 from .krylov import as_sparse, krylov, prune_sparse
 from .prune import Removal, frf, prune_dofs, prune_modes
 from .truncation import truncate
@@ -267,14 +267,18 @@ STATIC_NOTE = ("Pf/Pz feedthrough of the residual flexibility of the truncated m
                "(Ov, Oa) and damper/mass coupling of motion inputs (Cz, Mz) are not corrected")
 
 
+_SCOPE = Claim(1e-3, conditions="the scope's tolerance (1e-3 unless the scope says otherwise), by the method's "
+               "own estimate of the error over the band; reduce(verify=True) measures it")
+
 METHODS: dict[str, ReductionMethod] = {m.name: m for m in (
-    ReductionMethod("prune", _method_prune, exact=True,
+    ReductionMethod("prune", _method_prune, exact=True, claim=Claim(
+                        1e-12, exact=True, conditions="what it removes carries nothing in the scope"),
                     summary="remove what no input excites or no output sees (exact)"),
-    ReductionMethod("modal", _method_modal,
+    ReductionMethod("modal", _method_modal, claim=_SCOPE,
                     summary="pruning, then modal truncation with residual correction"),
-    ReductionMethod("balanced", _method_balanced, gives_plant=False,
+    ReductionMethod("balanced", _method_balanced, claim=_SCOPE, gives_plant=False,
                     summary="pruning, then balanced truncation of the modal state space"),
-    ReductionMethod("krylov", _method_krylov, sparse=True,
+    ReductionMethod("krylov", _method_krylov, claim=_SCOPE, sparse=True,
                     summary="sparse pruning, then a rational Krylov Galerkin projection"),
 )}
 """Reduction methods by name (``"auto"``: :func:`choose`)."""
