@@ -42,6 +42,7 @@ Examples
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -50,7 +51,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .._validate import choice, number
-from ..errors import AnalysisError, ArgumentError, DefectiveModesError, ModelError
+from ..errors import AnalysisError, ArgumentError, DefectiveModesError, ModelError, VibssWarning
 from .inputs import SignalInput, as_function, exact_terms, initial_state, summed
 from .methods import METHODS, SimulationJob, TimeMethod, settled, stays_sparse
 from ..model.model import Model
@@ -59,6 +60,7 @@ from ..linear.plant.hysteresis import dropped_hysteresis
 from ..linear.plant.plant import Plant
 from ..linear.plant.build import build_plant
 from ..linear.solve.exact import without_hysteresis
+from .sampling import PEAK_TOLERANCE, InputProbe, fine_input, output_sampling, probe_input
 from .large import Projected, projected_model, truncation_note
 from .result import PeakTable, TimeResponse
 from ..studies import causal_loss_fit, steady_sweeps, transient_excitations
@@ -166,7 +168,12 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
         finding.warn(stacklevel=3)
     if chosen.uses_solver and solver in EXPLICIT_RK:
         check_explicit_rk(plant.M, plant.K, t_end, rtol=rtol, solver=solver, C=plant.C).warn(stacklevel=3)
+    probes = _probes(job, sig, chosen)
+    for probe in probes:
+        if not probe.ok:
+            warnings.warn(probe.message(dt), VibssWarning, stacklevel=2)
     y, note, chosen = _run(job, chosen, auto, motions)
+    note = _sampling_note(note, job, sig, probes, y)
     if auto:
         note = f"auto -> {chosen.name}: " + (f"{chosen.auto_reason}; " if chosen.auto_reason else "") + note
     if truncated is not None:
@@ -180,6 +187,35 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
                         units=tuple(plant.units), inputs=u,
                         input_names=() if hidden else tuple(plant.inputs),
                         method=chosen.name, note=note, name=plant.name)
+
+
+def _probes(job: SimulationJob, sig: _Signals, chosen: TimeMethod) -> list[InputProbe]:
+    """Each sampled input (a plain callable, a time function not linear between its breakpoints)
+    probed between the samples of the method's grid (:func:`vibss.time.sampling.probe_input`)."""
+    bps = job.breakpoints if chosen.hits_edges else ()
+    return [probe_input(name, fn, job.time, bps) for name, fn in zip(job.plant.inputs, job.funcs)
+            if sig.sampled.get(name, False)]
+
+
+def _sampling_note(note: str, job: SimulationJob, sig: _Signals, probes: list[InputProbe],
+                   y: np.ndarray) -> str:
+    """The note with what the sampling loses: inputs departing from the line between their samples,
+    and peaks of the outputs between samples (warned here, :func:`vibss.time.sampling.output_sampling`)."""
+    dt = float(job.time[1] - job.time[0])
+    for p in probes:
+        if not p.ok:
+            note += f"; input {p.name!r} departs up to {p.departure:.0%} from the line between its samples"
+    own = {p.name: p.omega for p in probes}
+    inputs, freq = [], []
+    for name, fn, pieces in zip(job.plant.inputs, job.funcs, job.sinusoids or [()] * len(job.funcs)):
+        inputs.append(fine_input(fn, job.time, job.breakpoints, pieces))
+        freq.append(max([own.get(name, 0.0), *(float(s.omega) for s in pieces)]))
+    est = output_sampling(job.plant, job.time, inputs, freq, y, job.q0, job.v0)
+    if not est.ok:
+        warnings.warn(est.message(dt), VibssWarning, stacklevel=3)
+        note += (f"; peaks between samples may read up to {est.error:.1%} low ({est.frequency:.4g} Hz in "
+                 f"{est.output!r}; dt <= {est.step:.3g} s bounds it to {PEAK_TOLERANCE:.0%})")
+    return note
 
 
 def _window(dt: Any, t_end: Any, record_from: Any) -> tuple[float, float, float, np.ndarray]:
@@ -210,11 +246,12 @@ class _Signals:
     sources: dict[str, Any]
     pieces: dict[str, list[Any]]
     exact: dict[str, bool]
+    sampled: dict[str, bool]
 
 
 def _signals(excitations: Sequence[Any], inputs: Mapping[str, SignalInput] | None, ts: np.ndarray) -> _Signals:
     """The excitations and the named ``inputs`` gathered per signal (several on one signal add up)."""
-    sig = _Signals({}, {}, {}, {})
+    sig = _Signals({}, {}, {}, {}, {})
     for e in excitations:
         name = getattr(e, "signal", None)
         if name is None:
@@ -223,6 +260,7 @@ def _signals(excitations: Sequence[Any], inputs: Mapping[str, SignalInput] | Non
         sig.sources.setdefault(name, e)
         sig.pieces.setdefault(name, []).extend(e.function.sinusoids)
         sig.exact[name] = sig.exact.get(name, True) and exact_terms(e.function)
+        sig.sampled[name] = sig.sampled.get(name, False) or not exact_terms(e.function)
     for name, value in (inputs or {}).items():
         sig.terms.setdefault(name, []).append(as_function(value, ts, name))
         sig.sources.setdefault(name, name)
@@ -230,6 +268,8 @@ def _signals(excitations: Sequence[Any], inputs: Mapping[str, SignalInput] | Non
         fn = fn if isinstance(fn, TimeFunction) and (fn is value or value == fn.value) else None
         sig.pieces.setdefault(name, []).extend(fn.sinusoids if fn is not None else ())
         sig.exact[name] = sig.exact.get(name, True) and fn is not None and exact_terms(fn)
+        samples = not callable(value) and not isinstance(value, TimeFunction)    # data: linear between samples
+        sig.sampled[name] = sig.sampled.get(name, False) or not (samples or (fn is not None and exact_terms(fn)))
     return sig
 
 
