@@ -45,7 +45,7 @@ from __future__ import annotations
 import warnings
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 import scipy.sparse as sp
@@ -54,6 +54,7 @@ from .._validate import choice, number
 from ..errors import AnalysisError, ArgumentError, DefectiveModesError, ModelError, VibssWarning
 from .inputs import SignalInput, as_function, exact_terms, initial_state, summed
 from .methods import METHODS, SimulationJob, TimeMethod, settled, stays_sparse
+from ..methods import Check, Cost, Method, decide
 from ..model.model import Model
 from ..model.timefunctions import TimeFunction
 from ..linear.plant.hysteresis import dropped_hysteresis
@@ -328,26 +329,45 @@ def _job(plant: Plant, model: Model | None, sig: _Signals, initial: Any, hidden:
 
 def _run(job: SimulationJob, chosen: TimeMethod, auto: bool,
          motions: Sequence[str]) -> tuple[np.ndarray, str, TimeMethod]:
-    """The method's samples ``(ns, p)``, its note and the method that answered (its fallback when
-    ``auto``'s pick refused the modes)."""
+    """The method's samples ``(ns, p)``, its note and the method that answered, settled by the one
+    decider (:func:`vibss.methods.decide`): ``auto`` falls back (:attr:`TimeMethod.fallback`) when its
+    pick refuses the modes or fails its check; a named method is guarded, run and checked (a miss
+    warns with the measured bound, which the note carries)."""
     plant = job.plant
+    order = [chosen] + ([METHODS[chosen.fallback]] if auto and chosen.fallback else [])
+    others = [m for m in METHODS.values() if m is not chosen and not (m.forces_only and motions)
+              and (m.internal_states or plant.branches is None)]
+
+    def run(method: Method) -> tuple[np.ndarray, str]:
+        y, note = method.kernel(job)
+        y = np.asarray(y, float)
+        if y.shape != (job.time.size, len(plant.outputs)):
+            raise AnalysisError(f"simulate: method {method.name!r} returned shape {y.shape}, expected "
+                                f"{(job.time.size, len(plant.outputs))}")
+        return y, str(note)
+
+    def check(method: Method, answer: tuple[np.ndarray, str]) -> Check | None:
+        checker = getattr(method, "checker", None)
+        return checker(job, answer[0]) if checker is not None else None
+
+    def cost(method: Method) -> Cost | None:
+        coster = getattr(method, "coster", None)
+        return coster(job) if coster is not None else None
+
     try:
-        y, note = chosen.kernel(job)
+        d = decide(order, run, where="simulate", auto=auto, check=check, cost=cost,
+                   refusals=(DefectiveModesError,), others=others)
     except DefectiveModesError as exc:
-        if not auto or chosen.fallback is None:
-            others = [n for n, m in METHODS.items() if m is not chosen and not (m.forces_only and motions)
-                      and (m.internal_states or plant.branches is None)]
-            raise DefectiveModesError(f"simulate: method {chosen.name!r} refused: {exc}; use one of the "
-                                      f"methods simulate accepts: {others} (or 'auto')", argument="method",
-                                      received=chosen.name, expected=others) from None
-        refused, chosen = chosen, METHODS[chosen.fallback]
-        y, note = chosen.kernel(job)
-        note = f"{refused.name} refused ({exc}); {chosen.name}: " + note
-    y = np.asarray(y, float)
-    ns = job.time.size
-    if y.shape != (ns, len(plant.outputs)):
-        raise AnalysisError(f"simulate: method {chosen.name!r} returned shape {y.shape}, expected {(ns, len(plant.outputs))}")
-    return y, note, chosen
+        names = [m.name for m in others]
+        raise DefectiveModesError(f"simulate: method {chosen.name!r} refused: {exc}; use one of the "
+                                  f"methods simulate accepts: {names} (or 'auto')", argument="method",
+                                  received=chosen.name, expected=names) from None
+    y, note = d.answer
+    if len(d.attempts) > 1:
+        note = f"{d.note()}; {d.method.name}: " + note
+    elif d.check is not None:
+        note = f"{note}; {d.check.text()}"
+    return y, note, cast(TimeMethod, d.method)
 
 
 def _prefixed(note: str, *, hidden: bool, left_out: str, causal_note: str, branch_note: str,

@@ -40,7 +40,7 @@ from ..linear.plant.plant import Plant
 from ..linear.solve.exact import forcing, output_map, response, zfactor
 
 __all__ = ["PEAK_TOLERANCE", "INPUT_TOLERANCE", "OUTPUT_WARN", "PROBES_PER_STEP", "PROBE_BUDGET",
-           "InputProbe", "probe_input", "fine_input", "SamplingEstimate", "output_sampling", "peak_loss", "resolving_step"]
+           "InputProbe", "probe_input", "fine_input", "modal_amplitudes", "SamplingEstimate", "output_sampling", "peak_loss", "resolving_step"]
 
 PEAK_TOLERANCE = 0.01
 """Peak error [-] that the step named in a sampling warning bounds (1 % of the peak)."""
@@ -281,6 +281,49 @@ def _transform(t: np.ndarray, u: np.ndarray, w: np.ndarray) -> np.ndarray:
     return out
 
 
+def modal_amplitudes(plant: Plant, inputs: Sequence[tuple[np.ndarray, np.ndarray]], q0: np.ndarray,
+                     v0: np.ndarray, f_min: float = 0.0) -> list[tuple[float, np.ndarray]]:
+    """The undamped modes above ``f_min`` [Hz] with the amplitude the inputs and the initial
+    conditions leave in each output: ``|O(i w) phi| (sum_j |phi^T G_j(i w)| |U_j(w)| / w + |(q0, v0 / w)|_M)``.
+
+    Parameters
+    ----------
+    plant : Plant
+        The plant (at most :data:`MAX_MODES_DOFS` DOFs; an empty list above).
+    inputs : sequence of ((k,) ndarray, (k,) ndarray)
+        Per input, times [s] and values [SI], linear between them (:func:`fine_input`).
+    q0, v0 : (n,) ndarray
+        Initial displacement and velocity [m, rad, m/s, rad/s].
+    f_min : float
+        Lowest frequency weighed [Hz] (rigid modes never are).
+
+    Returns
+    -------
+    list of (float, (p,) ndarray)
+        Frequency [Hz] and amplitude per output [output units], ascending in frequency.
+    """
+    if not 0 < plant.n <= MAX_MODES_DOFS:
+        return []
+    spec = undamped(np.asarray(plant.K, float), np.asarray(plant.M, float))
+    w = np.sqrt(np.maximum(spec.omega2, 0.0))
+    sel = np.flatnonzero(~spec.rigid & (w / (2 * np.pi) > f_min))
+    points = max(1, sum(t.size for t, _ in inputs))
+    if sel.size * points > TRANSFORM_BUDGET:                  # keep it cheap: the highest modes
+        sel = sel[-max(1, TRANSFORM_BUDGET // points):]
+    if not sel.size:
+        return []
+    w, phi = w[sel], spec.phi[:, sel]
+    s = 1j * w
+    G = forcing(plant, s, zfactor(s, plant.order))                          # (r, n, m)
+    b = np.abs(np.einsum("nr,rnm->rm", phi, G))                               # modal force per unit input
+    U = np.array([_transform(t, u, w) for t, u in inputs]).T if inputs else np.zeros((w.size, 0))
+    drive = (b * U).sum(axis=1) / w                                           # modal amplitude
+    Mphi = np.asarray(plant.M, float) @ phi
+    drive = drive + np.hypot(Mphi.T @ q0, (Mphi.T @ v0) / w)
+    return [(float(wk / (2 * np.pi)), np.abs(output_map(plant, 1j * wk) @ phi[:, k]) * drive[k])
+            for k, wk in enumerate(w)]
+
+
 def output_sampling(plant: Plant, time: np.ndarray, inputs: Sequence[tuple[np.ndarray, np.ndarray]],
                     own: Sequence[float], y: np.ndarray, q0: np.ndarray, v0: np.ndarray) -> SamplingEstimate:
     """Expected peak error of outputs stored every ``dt`` (see the module docstring).
@@ -310,25 +353,7 @@ def output_sampling(plant: Plant, time: np.ndarray, inputs: Sequence[tuple[np.nd
     if not np.any(live):
         return SamplingEstimate(0.0)
     f_min = resolving_step(1.0, 1.0, PEAK_TOLERANCE) / dt        # f below it reads < 1 % low at any share
-    comps: list[tuple[float, np.ndarray, str]] = []               # (Hz, amplitude per output, source)
-    if 0 < plant.n <= MAX_MODES_DOFS:
-        spec = undamped(np.asarray(plant.K, float), np.asarray(plant.M, float))
-        w = np.sqrt(np.maximum(spec.omega2, 0.0))
-        sel = np.flatnonzero(~spec.rigid & (w / (2 * np.pi) > f_min))
-        if sel.size * sum(t.size for t, _ in inputs) > TRANSFORM_BUDGET:      # keep it cheap: the highest
-            sel = sel[-max(1, TRANSFORM_BUDGET // max(1, sum(t.size for t, _ in inputs))):]
-        if sel.size:
-            w, phi = w[sel], spec.phi[:, sel]
-            s = 1j * w
-            G = forcing(plant, s, zfactor(s, plant.order))                      # (r, n, m)
-            b = np.abs(np.einsum("nr,rnm->rm", phi, G))                           # modal force per unit input
-            U = np.array([_transform(t, u, w) for t, u in inputs]).T if inputs else np.zeros((w.size, 0))
-            drive = (b * U).sum(axis=1) / w                                       # modal amplitude [m sqrt(kg)]
-            Mphi = np.asarray(plant.M, float) @ phi
-            drive = drive + np.hypot(Mphi.T @ q0, (Mphi.T @ v0) / w)
-            for k, wk in enumerate(w):
-                seen = np.abs(output_map(plant, 1j * wk) @ phi[:, k])            # (p,)
-                comps.append((wk / (2 * np.pi), seen * drive[k], "mode"))
+    comps = [(f, amp, "mode") for f, amp in modal_amplitudes(plant, inputs, q0, v0, f_min)]
     for j, wj in enumerate(own):
         if wj / (2 * np.pi) > f_min and inputs:
             H = np.abs(response(plant, np.array([1j * wj]))[:, j, 0])
