@@ -34,8 +34,9 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
+import numpy.typing as npt
 
-from ..linear.eigen.undamped import undamped
+from ..linear.eigen.basis import modal_basis
 from ..linear.plant.plant import Plant
 from ..linear.solve.exact import forcing, output_map, response, zfactor
 
@@ -141,7 +142,7 @@ def _jumps(fn: Callable[[np.ndarray], np.ndarray], grid: np.ndarray, at: float, 
 
 
 def probe_input(name: str, fn: Callable[[np.ndarray], np.ndarray], ts: np.ndarray,
-                breakpoints: Sequence[float] = (), refine: int = 3) -> InputProbe:
+                breakpoints: npt.ArrayLike = (), refine: int = 3) -> InputProbe:
     """Probe one sampled input between its samples (see the module docstring).
 
     Parameters
@@ -162,7 +163,8 @@ def probe_input(name: str, fn: Callable[[np.ndarray], np.ndarray], ts: np.ndarra
     -------
     InputProbe
     """
-    grid = np.unique(np.concatenate([ts, [b for b in breakpoints if ts[0] <= b <= ts[-1]]]))
+    bps = np.asarray(breakpoints, float).ravel()
+    grid = np.unique(np.concatenate([ts, bps[(bps >= ts[0]) & (bps <= ts[-1])]]))
     dt = float(ts[1] - ts[0])
     tp = _probe_times(grid, PROBES_PER_STEP, PROBE_BUDGET)
     ug = np.broadcast_to(np.asarray(fn(grid), float), grid.shape)
@@ -237,7 +239,7 @@ class SamplingEstimate:
                 f"dt <= {self.step:.3g} s bounds it to {PEAK_TOLERANCE:.0%}")
 
 
-def fine_input(fn: Callable[[np.ndarray], np.ndarray], ts: np.ndarray, breakpoints: Sequence[float] = (),
+def fine_input(fn: Callable[[np.ndarray], np.ndarray], ts: np.ndarray, breakpoints: npt.ArrayLike = (),
                pieces: Sequence[object] = ()) -> tuple[np.ndarray, np.ndarray]:
     """Times [s] and values [SI] of one input fine enough to stand for it, linear between them: the
     samples, the breakpoints, :data:`PROBES_PER_STEP` points per step and 16 per period of each sine
@@ -255,7 +257,8 @@ def fine_input(fn: Callable[[np.ndarray], np.ndarray], ts: np.ndarray, breakpoin
         Its sine/cosine pieces (``t0``, ``t1``, ``omega``).
     """
     t0, t1 = float(ts[0]), float(ts[-1])
-    parts = [ts, np.array([b for b in breakpoints if t0 <= b <= t1], float)]
+    bps = np.asarray(breakpoints, float).ravel()
+    parts = [ts, bps[(bps >= t0) & (bps <= t1)]]
     parts.append(_probe_times(ts, PROBES_PER_STEP, PROBE_BUDGET))
     for p in pieces:
         a, b, w = max(float(getattr(p, "t0")), t0), min(float(getattr(p, "t1")), t1), float(getattr(p, "omega"))
@@ -304,7 +307,7 @@ def modal_amplitudes(plant: Plant, inputs: Sequence[tuple[np.ndarray, np.ndarray
     """
     if not 0 < plant.n <= MAX_MODES_DOFS:
         return []
-    spec = undamped(np.asarray(plant.K, float), np.asarray(plant.M, float))
+    spec = modal_basis(plant)                         # the modal path's own (cached on the plant)
     w = np.sqrt(np.maximum(spec.omega2, 0.0))
     sel = np.flatnonzero(~spec.rigid & (w / (2 * np.pi) > f_min))
     points = max(1, sum(t.size for t, _ in inputs))
@@ -357,8 +360,8 @@ def output_sampling(plant: Plant, time: np.ndarray, inputs: Sequence[tuple[np.nd
     for j, wj in enumerate(own):
         if wj / (2 * np.pi) > f_min and inputs:
             H = np.abs(response(plant, np.array([1j * wj]))[:, j, 0])
-            amp = float(np.abs(inputs[j][1]).max(initial=0.0))
-            comps.append((wj / (2 * np.pi), H * amp, plant.inputs[j]))
+            top = float(np.abs(inputs[j][1]).max(initial=0.0))
+            comps.append((wj / (2 * np.pi), H * top, plant.inputs[j]))
     best = SamplingEstimate(0.0)
     step = float("inf")
     for f, amp, source in comps:
