@@ -141,6 +141,11 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
     VibssWarning
         Mounts with a loss factor: it has no causal time-domain form and is left out (named in the
         warning and in ``note``; :func:`vibss.linear.plant.hysteresis.dropped_hysteresis`).
+        A sampled input (a plain callable) that departs from the line between its samples, naming
+        it and the step that resolves it; outputs stored coarser than the periods that carry the
+        response, with the expected peak error and the step that bounds it to 1 %
+        (:mod:`vibss.time.sampling`); a named method that misses its claim
+        (:attr:`TimeMethod.claim`), with the measured bound (also in ``note``).
     """
     dt, t_end, record_from, ts = _window(dt, t_end, record_from)
     rtol, atol, solver = _tolerances(rtol, atol, solver)
@@ -363,9 +368,9 @@ def _run(job: SimulationJob, chosen: TimeMethod, auto: bool,
                                   f"methods simulate accepts: {names} (or 'auto')", argument="method",
                                   received=chosen.name, expected=names) from None
     y, note = d.answer
-    if len(d.attempts) > 1:
-        note = f"{d.note()}; {d.method.name}: " + note
-    elif d.check is not None:
+    if len(d.attempts) > 1:           # "modal refused (...); forced_response: ..." (what auto tried first)
+        note = "; ".join(a.text() for a in d.attempts[:-1]) + f"; {d.method.name}: " + note
+    if d.check is not None:
         note = f"{note}; {d.check.text()}"
     return y, note, cast(TimeMethod, d.method)
 
