@@ -159,3 +159,16 @@ def test_bound_is_the_worst_phase_of_a_sampled_sinusoid():
                 for phase in np.linspace(0.0, dt, 2001))
     assert 1 - worst == pytest.approx(float(peak_loss(f, dt)), rel=1e-6)
     assert OUTPUT_WARN == pytest.approx(1 - np.cos(np.pi / 10), abs=2e-3)
+
+
+def test_a_time_function_is_reported_by_a_method_that_samples_it():
+    """forced_response takes every input linear between its samples: the half-sine at 2.75 ms (4 samples
+    per pulse) departs up to 1 - cos(pi / 8) = 7.6 % from its chords, and the message names the method and
+    the exact alternative; the modal path is exact for it and says nothing about the input."""
+    pulse = HalfSine(A, start=0.0, duration=T)
+    with pytest.warns(vibss.VibssWarning, match=r"input 'ground.z.acc' departs .* by up to [78]%.*method "
+                                                r"'forced_response' takes every input linear.*method='modal'"):
+        vibss.simulate(isolator(8.0), inputs={"ground.z.acc": pulse}, outputs=["b.z"], t_end=0.2, dt=T / 4,
+                       method="forced_response")
+    r = quiet(8.0, pulse, T / 4, 0.2)
+    assert "every input exact" in r.note and "departs" not in r.note

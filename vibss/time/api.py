@@ -177,7 +177,7 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
     probes = _probes(job, sig, chosen)
     for probe in probes:
         if not probe.ok:
-            warnings.warn(probe.message(dt), VibssWarning, stacklevel=2)
+            warnings.warn(probe.message(dt, "" if chosen.hits_edges else chosen.name), VibssWarning, stacklevel=2)
     y, note, chosen = _run(job, chosen, auto, motions)
     note = _sampling_note(note, job, sig, probes, y)
     if auto:
@@ -196,11 +196,14 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
 
 
 def _probes(job: SimulationJob, sig: _Signals, chosen: TimeMethod) -> list[InputProbe]:
-    """Each sampled input (a plain callable, a time function not linear between its breakpoints)
-    probed between the samples of the method's grid (:func:`vibss.time.sampling.probe_input`)."""
+    """Each sampled input probed between the samples of the method's grid
+    (:func:`vibss.time.sampling.probe_input`): a plain callable or a time function not linear between
+    its breakpoints for a method that hits the edges (modal, ivp); every input but data for the others,
+    which sample time functions too."""
     bps = job.breakpoints if chosen.hits_edges else ()
-    return [probe_input(name, fn, job.time, bps) for name, fn in zip(job.plant.inputs, job.funcs)
-            if sig.sampled.get(name, False)]
+    probed = ((lambda name: sig.sampled.get(name, False)) if chosen.hits_edges else   # the rest is exact
+              (lambda name: name in sig.terms and not sig.data.get(name, False)))     # all sampled but data
+    return [probe_input(name, fn, job.time, bps) for name, fn in zip(job.plant.inputs, job.funcs) if probed(name)]
 
 
 def _sampling_note(note: str, job: SimulationJob, sig: _Signals, probes: list[InputProbe],
@@ -246,18 +249,20 @@ def _window(dt: Any, t_end: Any, record_from: Any) -> tuple[float, float, float,
 class _Signals:
     """The input signals of a simulation by name: their terms ``(u(t), breakpoints)``, the source
     each was named by (an Excitation or the name), their sine/cosine pieces (exact in the modal
-    path) and whether every term is linear once those are removed."""
+    path), whether every term is linear once those are removed, whether some term is sampled even
+    by the modal path (a plain callable, a sweep), and whether every term is data (samples)."""
 
     terms: dict[str, Terms]
     sources: dict[str, Any]
     pieces: dict[str, list[Any]]
     exact: dict[str, bool]
     sampled: dict[str, bool]
+    data: dict[str, bool]
 
 
 def _signals(excitations: Sequence[Any], inputs: Mapping[str, SignalInput] | None, ts: np.ndarray) -> _Signals:
     """The excitations and the named ``inputs`` gathered per signal (several on one signal add up)."""
-    sig = _Signals({}, {}, {}, {}, {})
+    sig = _Signals({}, {}, {}, {}, {}, {})
     for e in excitations:
         name = getattr(e, "signal", None)
         if name is None:
@@ -267,6 +272,7 @@ def _signals(excitations: Sequence[Any], inputs: Mapping[str, SignalInput] | Non
         sig.pieces.setdefault(name, []).extend(e.function.sinusoids)
         sig.exact[name] = sig.exact.get(name, True) and exact_terms(e.function)
         sig.sampled[name] = sig.sampled.get(name, False) or not exact_terms(e.function)
+        sig.data[name] = False
     for name, value in (inputs or {}).items():
         sig.terms.setdefault(name, []).append(as_function(value, ts, name))
         sig.sources.setdefault(name, name)
@@ -276,6 +282,7 @@ def _signals(excitations: Sequence[Any], inputs: Mapping[str, SignalInput] | Non
         sig.exact[name] = sig.exact.get(name, True) and fn is not None and exact_terms(fn)
         samples = not callable(value) and not isinstance(value, TimeFunction)    # data: linear between samples
         sig.sampled[name] = sig.sampled.get(name, False) or not (samples or (fn is not None and exact_terms(fn)))
+        sig.data[name] = sig.data.get(name, True) and samples
     return sig
 
 

@@ -113,14 +113,28 @@ class InputProbe:
         """Linear between samples is a fair reading (departure at most :data:`INPUT_TOLERANCE`)."""
         return self.departure <= INPUT_TOLERANCE
 
-    def message(self, dt: float) -> str:
-        """One line naming the input, what it loses and the step that resolves it."""
-        fix = (f"use dt <= {self.step:.3g} s, or give it" if self.step > 0 else
-               "it jumps between samples, which no step resolves: give it")
+    def message(self, dt: float, method: str = "") -> str:
+        """One line naming the input, what it loses and the step that resolves it.
+
+        Parameters
+        ----------
+        dt : float
+            The step [s].
+        method : str
+            The method when it samples every input (one that does not hit edges); empty: the input
+            is a plain callable (or a sweep), sampled by every method.
+        """
+        if method:
+            why = f"method {method!r} takes every input linear between its samples"
+            alt = "or method='modal' (exact for time functions at any step)"
+        else:
+            why = "a plain callable is taken linear between samples"
+            alt = ("or give it as a TimeFunction (vibss.model.timefunctions), whose edges are hit and whose "
+                   "sine pieces are exact")
+        fix = (f"use dt <= {self.step:.3g} s, {alt}" if self.step > 0 else
+               f"it jumps between samples, which no step resolves: {alt.removeprefix('or ')}")
         return (f"simulate: input {self.name!r} departs from the line between its samples every {dt:g} s "
-                f"by up to {self.departure:.0%} of its peak (features shorter than the step: a plain "
-                f"callable is taken linear between samples); {fix} as a TimeFunction "
-                "(vibss.model.timefunctions), whose edges are hit and whose sine pieces are exact")
+                f"by up to {self.departure:.0%} of its peak (features shorter than the step: {why}); {fix}")
 
 
 def _probe_times(grid: np.ndarray, per_step: int, budget: int) -> np.ndarray:
