@@ -22,7 +22,7 @@ Two checks that :func:`vibss.time.simulate` makes on every run (issue 29 item 5)
 
 Examples
 --------
->>> round(peak_loss(8.0, 0.05), 3)          # an 8 Hz crest sampled every 50 ms: up to 69 % low
+>>> round(float(peak_loss(8.0, 0.05)), 3)   # an 8 Hz crest sampled every 50 ms: up to 69 % low
 0.691
 >>> round(resolving_step(8.0, 1.0), 5)      # the step that bounds it to 1 %
 0.00563
