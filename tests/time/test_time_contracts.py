@@ -122,3 +122,16 @@ def test_auto_and_exact_methods_have_no_check_to_fail():
     assert r.method == "modal" and "check" not in r.note
     assert np.abs(r["b.z"] - reference(r.time)).max() <= 1e-9 * np.abs(r["b.z"]).max()
     assert Check(0.0, 1e-9).ok
+
+
+def test_the_memory_guard_refuses_before_allocating(monkeypatch):
+    """A named method whose estimate passes the guard refuses with the estimate; auto, when every
+    candidate does, too (the machine's memory made tiny for the test)."""
+    import vibss.methods as vm
+    from vibss.errors import ResourceError
+
+    monkeypatch.setattr(vm, "available_memory", lambda: 1e3)
+    with pytest.raises(ResourceError, match=r"method 'modal' would allocate about .* more than 50% of the 1 kB"):
+        vibss.simulate(model(), inputs={"b.fz": PULSE}, outputs=["b.z"], t_end=T_END, dt=1e-3, method="modal")
+    with pytest.raises(ResourceError, match="every method would pass the memory guard"):
+        vibss.simulate(model(), inputs={"b.fz": PULSE}, outputs=["b.z"], t_end=T_END, dt=1e-3)
