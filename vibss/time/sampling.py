@@ -13,8 +13,9 @@ Two checks that :func:`vibss.time.simulate` makes on every run (issue 29 item 5)
   reads low: a sinusoid of frequency ``f`` sampled every ``dt`` reads up to ``1 - cos(pi f dt)``
   low (the worst phase puts the crest half a step from the nearest samples). The frequencies that
   carry response are estimated from the plant and the inputs: each undamped mode with the
-  amplitude the inputs leave in it (``|phi^T G(i w)| |U(w)| / w``, ``U`` the inputs' Fourier
-  transform over the window, plus the initial conditions), seen through the outputs; and each
+  oscillation the inputs leave in it (``|phi^T G(i w)| |u(0) + int u' e^(-i w t) dt| / w^2``, the
+  quasi-static part that follows the input left out, plus the initial conditions), seen through the
+  outputs; and each
   input's own content (its sine pieces, or the curvature of a sampled input) through the frequency
   response. A component's share of the output's peak times ``1 - cos(pi f dt)`` is the expected
   peak error; above :data:`OUTPUT_WARN` the run warns with it and with the step that bounds it to
@@ -63,7 +64,7 @@ PROBE_BUDGET = 200_000
 """Most probe evaluations of one input; beyond it a stride of the steps is probed."""
 
 TRANSFORM_BUDGET = 20_000_000
-"""Most (mode, input point) pairs of the inputs' Fourier transforms; beyond it only the highest
+"""Most (mode, input point) pairs of the inputs' transforms (:func:`modal_amplitudes`); beyond it only the highest
 modes are weighed (a cost cap: they lose most between samples)."""
 
 MAX_REFINED = 1_000_000
@@ -284,24 +285,28 @@ def fine_input(fn: Callable[[np.ndarray], np.ndarray], ts: np.ndarray, breakpoin
 
 
 def _transform(t: np.ndarray, u: np.ndarray, w: np.ndarray) -> np.ndarray:
-    """|U(w)| of the piecewise-linear interpolant of ``u`` on ``t`` (exact for each segment) [unit s]."""
+    """``|u(0) + int u'(s) e^(-i w s) ds| / w`` over the window [unit s]: the oscillation an undamped mode
+    of frequency ``w`` keeps from the input (per unit modal force ``b``, its amplitude is ``b`` times this
+    over ``w``), the quasi-static part that follows the input left out (it is the input's own content);
+    exact for the piecewise-linear interpolant of ``u`` on ``t`` (a step gives ``1 / w``, not the ``2 / w``
+    of the window's Fourier transform)."""
     out = np.zeros(w.size)
     h = np.diff(t)
     keep = h > 0
     ta, h = t[:-1][keep], h[keep]
-    ua, du = u[:-1][keep], np.diff(u)[keep]
+    slope = np.diff(u)[keep] / h
+    u0 = float(u[0]) if u.size else 0.0
     for k, wk in enumerate(w):
-        s = -1j * wk
-        ea, eb = np.exp(s * ta), np.exp(s * (ta + h))
-        seg = ua * (eb - ea) / s + (du / h) * (h * eb / s - (eb - ea) / s**2)
-        out[k] = abs(seg.sum())
+        ea, eb = np.exp(-1j * wk * ta), np.exp(-1j * wk * (ta + h))
+        out[k] = abs(u0 + (slope * (ea - eb)).sum() / (1j * wk)) / wk
     return out
 
 
 def modal_amplitudes(plant: Plant, inputs: Sequence[tuple[np.ndarray, np.ndarray]], q0: np.ndarray,
                      v0: np.ndarray, f_min: float = 0.0) -> list[tuple[float, np.ndarray]]:
     """The undamped modes above ``f_min`` [Hz] with the amplitude the inputs and the initial
-    conditions leave in each output: ``|O(i w) phi| (sum_j |phi^T G_j(i w)| |U_j(w)| / w + |(q0, v0 / w)|_M)``.
+    conditions leave in each output: ``|O(i w) phi| (sum_j |phi^T G_j(i w)| R_j(w) / w + |(q0, v0 / w)|_M)`` with
+    ``R_j = |u_j(0) + int u_j' e^(-i w t) dt| / w`` (the oscillation input ``j`` leaves in the mode).
 
     Parameters
     ----------
