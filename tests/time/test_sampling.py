@@ -172,3 +172,20 @@ def test_a_time_function_is_reported_by_a_method_that_samples_it():
                        method="forced_response")
     r = quiet(8.0, pulse, T / 4, 0.2)
     assert "every input exact" in r.note and "departs" not in r.note
+
+
+def test_ivp_evaluates_a_callable_itself_and_says_nothing_about_its_samples():
+    """solve_ivp calls u(t) where it steps: a pulse edge between samples is no departure for it
+    (the modal path, which takes the callable linear between samples, reports it)."""
+    pulse = HalfSine(A, start=0.0203, duration=T)
+    w = 2 * np.pi * 45.0
+    model = cases.sdof(1.0, w**2, 0.1 * w)
+    kw = dict(inputs={"ground.z.acc": lambda t: pulse.value(t)}, outputs=["b.z.acc"], t_end=0.2, dt=1e-3)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", vibss.VibssWarning)
+        r = vibss.simulate(model, method="ivp", rtol=1e-9, **kw)
+        ref = vibss.simulate(model, inputs={"ground.z.acc": pulse}, outputs=["b.z.acc"], t_end=0.2, dt=1e-3)
+    assert "departs" not in r.note
+    assert np.abs(r["b.z.acc"] - ref["b.z.acc"]).max() <= 1e-5 * np.abs(ref["b.z.acc"]).max()
+    with pytest.warns(vibss.VibssWarning, match="input 'ground.z.acc' departs"):
+        vibss.simulate(model, **kw)

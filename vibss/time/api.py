@@ -176,10 +176,10 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
         check_explicit_rk(plant.M, plant.K, t_end, rtol=rtol, solver=solver, C=plant.C).warn(stacklevel=3)
     probes = _probes(job, sig, chosen)
     for probe in probes:
-        if not probe.ok:
+        if not probe.ok and not chosen.uses_solver:      # solve_ivp evaluates the inputs themselves
             warnings.warn(probe.message(dt, "" if chosen.hits_edges else chosen.name), VibssWarning, stacklevel=2)
     y, note, chosen = _run(job, chosen, auto, motions)
-    note = _sampling_note(note, job, sig, probes, y)
+    note = _sampling_note(note, job, chosen, probes, y)
     if auto:
         note = f"auto -> {chosen.name}: " + (f"{chosen.auto_reason}; " if chosen.auto_reason else "") + note
     if truncated is not None:
@@ -206,13 +206,13 @@ def _probes(job: SimulationJob, sig: _Signals, chosen: TimeMethod) -> list[Input
     return [probe_input(name, fn, job.time, bps) for name, fn in zip(job.plant.inputs, job.funcs) if probed(name)]
 
 
-def _sampling_note(note: str, job: SimulationJob, sig: _Signals, probes: list[InputProbe],
+def _sampling_note(note: str, job: SimulationJob, chosen: TimeMethod, probes: list[InputProbe],
                    y: np.ndarray) -> str:
     """The note with what the sampling loses: inputs departing from the line between their samples,
     and peaks of the outputs between samples (warned here, :func:`vibss.time.sampling.output_sampling`)."""
     dt = float(job.time[1] - job.time[0])
     for p in probes:
-        if not p.ok:
+        if not p.ok and not chosen.uses_solver:
             note += f"; input {p.name!r} departs up to {p.departure:.0%} from the line between its samples"
     own = {p.name: p.omega for p in probes}
     inputs, freq = [], []
