@@ -42,23 +42,26 @@ Examples
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 import scipy.sparse as sp
 
 from .._validate import choice, number
-from ..errors import AnalysisError, ArgumentError, DefectiveModesError, ModelError
+from ..errors import AnalysisError, ArgumentError, DefectiveModesError, ModelError, VibssWarning
 from .inputs import SignalInput, as_function, exact_terms, initial_state, summed
 from .methods import METHODS, SimulationJob, TimeMethod, settled, stays_sparse
+from ..methods import Check, Cost, Method, decide
 from ..model.model import Model
 from ..model.timefunctions import TimeFunction
 from ..linear.plant.hysteresis import dropped_hysteresis
 from ..linear.plant.plant import Plant
 from ..linear.plant.build import build_plant
 from ..linear.solve.exact import without_hysteresis
+from .sampling import PEAK_TOLERANCE, InputProbe, fine_input, output_sampling, probe_input
 from .large import Projected, projected_model, truncation_note
 from .result import PeakTable, TimeResponse
 from ..studies import causal_loss_fit, steady_sweeps, transient_excitations
@@ -138,6 +141,11 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
     VibssWarning
         Mounts with a loss factor: it has no causal time-domain form and is left out (named in the
         warning and in ``note``; :func:`vibss.linear.plant.hysteresis.dropped_hysteresis`).
+        A sampled input (a plain callable) that departs from the line between its samples, naming
+        it and the step that resolves it; outputs stored coarser than the periods that carry the
+        response, with the expected peak error and the step that bounds it to 1 %
+        (:mod:`vibss.time.sampling`); a named method that misses its claim
+        (:attr:`TimeMethod.claim`), with the measured bound (also in ``note``).
     """
     dt, t_end, record_from, ts = _window(dt, t_end, record_from)
     rtol, atol, solver = _tolerances(rtol, atol, solver)
@@ -166,7 +174,12 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
         finding.warn(stacklevel=3)
     if chosen.uses_solver and solver in EXPLICIT_RK:
         check_explicit_rk(plant.M, plant.K, t_end, rtol=rtol, solver=solver, C=plant.C).warn(stacklevel=3)
+    probes = _probes(job, sig, chosen)
+    for probe in probes:
+        if not probe.ok and not chosen.uses_solver:      # solve_ivp evaluates the inputs themselves
+            warnings.warn(probe.message(dt, "" if chosen.hits_edges else chosen.name), VibssWarning, stacklevel=2)
     y, note, chosen = _run(job, chosen, auto, motions)
+    note = _sampling_note(note, job, chosen, probes, y)
     if auto:
         note = f"auto -> {chosen.name}: " + (f"{chosen.auto_reason}; " if chosen.auto_reason else "") + note
     if truncated is not None:
@@ -180,6 +193,38 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
                         units=tuple(plant.units), inputs=u,
                         input_names=() if hidden else tuple(plant.inputs),
                         method=chosen.name, note=note, name=plant.name)
+
+
+def _probes(job: SimulationJob, sig: _Signals, chosen: TimeMethod) -> list[InputProbe]:
+    """Each sampled input probed between the samples of the method's grid
+    (:func:`vibss.time.sampling.probe_input`): a plain callable or a time function not linear between
+    its breakpoints for a method that hits the edges (modal, ivp); every input but data for the others,
+    which sample time functions too."""
+    bps = job.breakpoints if chosen.hits_edges else ()
+    probed = ((lambda name: sig.sampled.get(name, False)) if chosen.hits_edges else   # the rest is exact
+              (lambda name: name in sig.terms and not sig.data.get(name, False)))     # all sampled but data
+    return [probe_input(name, fn, job.time, bps) for name, fn in zip(job.plant.inputs, job.funcs) if probed(name)]
+
+
+def _sampling_note(note: str, job: SimulationJob, chosen: TimeMethod, probes: list[InputProbe],
+                   y: np.ndarray) -> str:
+    """The note with what the sampling loses: inputs departing from the line between their samples,
+    and peaks of the outputs between samples (warned here, :func:`vibss.time.sampling.output_sampling`)."""
+    dt = float(job.time[1] - job.time[0])
+    for p in probes:
+        if not p.ok and not chosen.uses_solver:
+            note += f"; input {p.name!r} departs up to {p.departure:.0%} from the line between its samples"
+    own = {p.name: p.omega for p in probes}
+    inputs, freq = [], []
+    for name, fn, pieces in zip(job.plant.inputs, job.funcs, job.sinusoids or [()] * len(job.funcs)):
+        inputs.append(fine_input(fn, job.time, job.breakpoints, pieces))
+        freq.append(max([own.get(name, 0.0), *(float(s.omega) for s in pieces)]))
+    est = output_sampling(job.plant, job.time, inputs, freq, y, job.q0, job.v0)
+    if not est.ok:
+        warnings.warn(est.message(dt), VibssWarning, stacklevel=3)
+        note += (f"; peaks between samples may read up to {est.error:.1%} low ({est.frequency:.4g} Hz in "
+                 f"{est.output!r}; dt <= {est.step:.3g} s bounds it to {PEAK_TOLERANCE:.0%})")
+    return note
 
 
 def _window(dt: Any, t_end: Any, record_from: Any) -> tuple[float, float, float, np.ndarray]:
@@ -204,17 +249,20 @@ def _window(dt: Any, t_end: Any, record_from: Any) -> tuple[float, float, float,
 class _Signals:
     """The input signals of a simulation by name: their terms ``(u(t), breakpoints)``, the source
     each was named by (an Excitation or the name), their sine/cosine pieces (exact in the modal
-    path) and whether every term is linear once those are removed."""
+    path), whether every term is linear once those are removed, whether some term is sampled even
+    by the modal path (a plain callable, a sweep), and whether every term is data (samples)."""
 
     terms: dict[str, Terms]
     sources: dict[str, Any]
     pieces: dict[str, list[Any]]
     exact: dict[str, bool]
+    sampled: dict[str, bool]
+    data: dict[str, bool]
 
 
 def _signals(excitations: Sequence[Any], inputs: Mapping[str, SignalInput] | None, ts: np.ndarray) -> _Signals:
     """The excitations and the named ``inputs`` gathered per signal (several on one signal add up)."""
-    sig = _Signals({}, {}, {}, {})
+    sig = _Signals({}, {}, {}, {}, {}, {})
     for e in excitations:
         name = getattr(e, "signal", None)
         if name is None:
@@ -223,6 +271,8 @@ def _signals(excitations: Sequence[Any], inputs: Mapping[str, SignalInput] | Non
         sig.sources.setdefault(name, e)
         sig.pieces.setdefault(name, []).extend(e.function.sinusoids)
         sig.exact[name] = sig.exact.get(name, True) and exact_terms(e.function)
+        sig.sampled[name] = sig.sampled.get(name, False) or not exact_terms(e.function)
+        sig.data[name] = False
     for name, value in (inputs or {}).items():
         sig.terms.setdefault(name, []).append(as_function(value, ts, name))
         sig.sources.setdefault(name, name)
@@ -230,6 +280,9 @@ def _signals(excitations: Sequence[Any], inputs: Mapping[str, SignalInput] | Non
         fn = fn if isinstance(fn, TimeFunction) and (fn is value or value == fn.value) else None
         sig.pieces.setdefault(name, []).extend(fn.sinusoids if fn is not None else ())
         sig.exact[name] = sig.exact.get(name, True) and fn is not None and exact_terms(fn)
+        samples = not callable(value) and not isinstance(value, TimeFunction)    # data: linear between samples
+        sig.sampled[name] = sig.sampled.get(name, False) or not (samples or (fn is not None and exact_terms(fn)))
+        sig.data[name] = sig.data.get(name, True) and samples
     return sig
 
 
@@ -288,26 +341,45 @@ def _job(plant: Plant, model: Model | None, sig: _Signals, initial: Any, hidden:
 
 def _run(job: SimulationJob, chosen: TimeMethod, auto: bool,
          motions: Sequence[str]) -> tuple[np.ndarray, str, TimeMethod]:
-    """The method's samples ``(ns, p)``, its note and the method that answered (its fallback when
-    ``auto``'s pick refused the modes)."""
+    """The method's samples ``(ns, p)``, its note and the method that answered, settled by the one
+    decider (:func:`vibss.methods.decide`): ``auto`` falls back (:attr:`TimeMethod.fallback`) when its
+    pick refuses the modes or fails its check; a named method is guarded, run and checked (a miss
+    warns with the measured bound, which the note carries)."""
     plant = job.plant
+    order = [chosen] + ([METHODS[chosen.fallback]] if auto and chosen.fallback else [])
+    others = [m for m in METHODS.values() if m is not chosen and not (m.forces_only and motions)
+              and (m.internal_states or plant.branches is None)]
+
+    def run(method: Method) -> tuple[np.ndarray, str]:
+        y, note = method.kernel(job)
+        y = np.asarray(y, float)
+        if y.shape != (job.time.size, len(plant.outputs)):
+            raise AnalysisError(f"simulate: method {method.name!r} returned shape {y.shape}, expected "
+                                f"{(job.time.size, len(plant.outputs))}")
+        return y, str(note)
+
+    def check(method: Method, answer: tuple[np.ndarray, str]) -> Check | None:
+        checker = getattr(method, "checker", None)
+        return checker(job, answer[0]) if checker is not None else None
+
+    def cost(method: Method) -> Cost | None:
+        coster = getattr(method, "coster", None)
+        return coster(job) if coster is not None else None
+
     try:
-        y, note = chosen.kernel(job)
+        d = decide(order, run, where="simulate", auto=auto, check=check, cost=cost,
+                   refusals=(DefectiveModesError,), others=others)
     except DefectiveModesError as exc:
-        if not auto or chosen.fallback is None:
-            others = [n for n, m in METHODS.items() if m is not chosen and not (m.forces_only and motions)
-                      and (m.internal_states or plant.branches is None)]
-            raise DefectiveModesError(f"simulate: method {chosen.name!r} refused: {exc}; use one of the "
-                                      f"methods simulate accepts: {others} (or 'auto')", argument="method",
-                                      received=chosen.name, expected=others) from None
-        refused, chosen = chosen, METHODS[chosen.fallback]
-        y, note = chosen.kernel(job)
-        note = f"{refused.name} refused ({exc}); {chosen.name}: " + note
-    y = np.asarray(y, float)
-    ns = job.time.size
-    if y.shape != (ns, len(plant.outputs)):
-        raise AnalysisError(f"simulate: method {chosen.name!r} returned shape {y.shape}, expected {(ns, len(plant.outputs))}")
-    return y, note, chosen
+        names = [m.name for m in others]
+        raise DefectiveModesError(f"simulate: method {chosen.name!r} refused: {exc}; use one of the "
+                                  f"methods simulate accepts: {names} (or 'auto')", argument="method",
+                                  received=chosen.name, expected=names) from None
+    y, note = d.answer
+    if len(d.attempts) > 1:           # "modal refused (...); forced_response: ..." (what auto tried first)
+        note = "; ".join(a.text() for a in d.attempts[:-1]) + f"; {d.method.name}: " + note
+    if d.check is not None:
+        note = f"{note}; {d.check.text()}"
+    return y, note, cast(TimeMethod, d.method)
 
 
 def _prefixed(note: str, *, hidden: bool, left_out: str, causal_note: str, branch_note: str,
