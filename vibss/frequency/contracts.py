@@ -33,23 +33,29 @@ __all__ = ["settle", "EXACT", "MODAL", "COMPLEX_MODAL", "WOODBURY", "SUBSPACE", 
            "against_exact", "check_frequencies", "limit", "BASIS_ERROR", "LIGHT_CAP", "cost_direct", "cost_sparse", "cost_modal", "cost_complex_modal",
            "cost_woodbury", "cost_subspace", "subspace_size", "cost_statespace", "woodbury_rank"]
 
-EXACT = Claim(1e-10, exact=True, conditions="the plant's matrices as assembled (backward error of the solve)")
+EXACT = Claim(1e-8, exact=True, conditions="relative error of each response against 60 digits on models conditioned "
+                                           "up to mass ratios of 1e6 (7e-9 measured there by the contract campaign); "
+                                           "the solve's backward error is checked to 1e-10")
 """``direct`` and ``sparse``: LU with partial pivoting, backward stable; its backward error is of the
-order ``n eps`` (1e-12 at 6,000 DOF), checked to 1e-10."""
+order ``n eps`` (1e-12 at 6,000 DOF), checked to :data:`BACKWARD` -- the forward error is that times the
+problem's conditioning, which the claim's tolerance allows for (measured, not assumed)."""
+
+BACKWARD = 1e-10
+"""The backward error an exact solve is checked to (the check of the exact methods)."""
 
 LIGHT = ("; at a mode of damping ratio zeta below 3e-4 the undamped modes' relative error 3e-13 is "
          "amplified at its peak: within 3e-13 / (2 zeta) there, capped at 1e-4")
 
-MODAL = Claim(1e-9, exact=True, conditions="classical damping (Phi^T C Phi and Phi^T H Phi diagonal), "
+MODAL = Claim(1e-8, exact=True, conditions="classical damping (Phi^T C Phi and Phi^T H Phi diagonal), "
                                            "on the certified undamped modes" + LIGHT)
 """``modal``: no truncation, every mode; refuses non-classical damping."""
 
-COMPLEX_MODAL = Claim(1e-9, conditions="the damped eigenvectors well conditioned (no near-defective pair) "
+COMPLEX_MODAL = Claim(1e-8, conditions="the damped eigenvectors well conditioned (no near-defective pair) "
                                        "and the poles resolved next to the stiffest ones (penalty links "
                                        "and mass ratios of 1e6 lose digits)" + LIGHT)
 """``complex_modal``: one ``eig`` of the 2n-state modal form, its slow poles refined."""
 
-WOODBURY = Claim(1e-9, exact=True, conditions="on the certified undamped modes (no damped eigenproblem, no "
+WOODBURY = Claim(1e-8, exact=True, conditions="on the certified undamped modes (no damped eigenproblem, no "
                                               "truncation)" + LIGHT)
 """``woodbury``: the exact equations in the undamped modes, a bordered solve per frequency."""
 
@@ -248,7 +254,7 @@ def check(method: Any, plant: Plant, s: np.ndarray, raw: np.ndarray, own: float 
     if method.self_checked:
         return None if own is None else Check(own, allowed, "its own exact solves between the interpolation points")
     if method.exact:
-        return backward_error(plant, s[check_frequencies(s, raw)], allowed)
+        return backward_error(plant, s[check_frequencies(s, raw)], min(allowed, BACKWARD))
     return against_exact(plant, s, raw, allowed)
 
 
