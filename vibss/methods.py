@@ -368,15 +368,16 @@ def decide(order: Sequence[Method], run: Callable[[Method], A], *, where: str, a
     if not order:
         raise AnalysisError(f"{where}: no method applies to this problem")
     attempts: list[Attempt] = []
-    fits = [m.name for m in (*order, *others) if _fits(cost(m))]
+    budget = MEMORY_FRACTION * available_memory()          # read once: /proc/meminfo per candidate was waste
     for method in order:
         est = cost(method)
-        if auto and not _fits(est):
-            assert est is not None
-            attempts.append(Attempt(method.name, "over the memory guard", f"estimated {_size(est.bytes)}"))
-            continue
-        if not auto and est is not None:
-            guard(est, where=where, method=method.name, instead=[n for n in fits if n != method.name])
+        if est is not None and est.bytes > budget:
+            if auto:
+                attempts.append(Attempt(method.name, "over the memory guard", f"estimated {_size(est.bytes)}"))
+                continue
+            fits = [m.name for m in (*order, *others) if m is not method
+                    and ((c := cost(m)) is None or c.bytes <= budget)]        # only on the way to a refusal
+            guard(est, where=where, method=method.name, instead=fits)
         try:
             answer = run(method)
         except refusals as exc:
@@ -399,6 +400,3 @@ def decide(order: Sequence[Method], run: Callable[[Method], A], *, where: str, a
         raise ResourceError(f"{where}: every method would pass the memory guard: {tried}")
     raise AnalysisError(f"{where}: no method answered within its claim: {tried}")
 
-
-def _fits(est: Cost | None) -> bool:
-    return est is None or est.bytes <= MEMORY_FRACTION * available_memory()
