@@ -382,7 +382,20 @@ def _solved(a: Assembly, f: np.ndarray, prescribed: Mapping[str, float] | None, 
     kff = K[np.ix_(free, free)] if not sp.issparse(K) else K[free][:, free]
     solution = static_solve(a, rhs, free, kff)
     q[free], notes = solution.x, solution.free_motions
-    full = np.concatenate([q, qg])
+    delta, local, force, rotation, moment = _mount_fields(a, np.concatenate([q, qg]))
+    method = ("minimum norm on the restrained subspace" if notes
+              else "equilibrated sparse LU" if sp.issparse(kff) else "equilibrated Cholesky")
+    return StaticResult(model=a.model, q=q, ground=qg[:6], load=f, mount_deflection=delta,
+                        mount_deflection_local=local, mount_force=force, free_motions=notes,
+                        mount_rotation=rotation, mount_moment=moment,
+                        case=case or "", method=method,
+                        note="unrestrained, not loaded: " + "; ".join(notes) if notes else "")
+
+
+def _mount_fields(a: Assembly, full: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray | None, np.ndarray | None]:
+    """Mount deflections (global, local) [m], forces [N] and, for 6x6 mounts, relative rotations [rad]
+    and moments [N m] of the DOFs and ground motion ``full`` (linear rates; a nonlinear mount's
+    forces are replaced by its laws' by the caller)."""
     delta = (a.deflection_matrix() @ full).reshape(-1, 3)
     t = np.array([m.orientation.matrix for m in a.model.mounts]).reshape(-1, 3, 3)
     local = np.einsum("pji,pj->pi", t, delta)
@@ -394,13 +407,7 @@ def _solved(a: Assembly, f: np.ndarray, prescribed: Mapping[str, float] | None, 
         if a.has_coupling:                # a full 6x6 matrix: force kc theta, moment kc^T delta
             force = force + np.einsum("pij,pj->pi", a.kcp, rotation)
             moment = moment + np.einsum("pji,pj->pi", a.kcp, delta)
-    method = ("minimum norm on the restrained subspace" if notes
-              else "equilibrated sparse LU" if sp.issparse(kff) else "equilibrated Cholesky")
-    return StaticResult(model=a.model, q=q, ground=qg[:6], load=f, mount_deflection=delta,
-                        mount_deflection_local=local, mount_force=force, free_motions=notes,
-                        mount_rotation=rotation, mount_moment=moment,
-                        case=case or "", method=method,
-                        note="unrestrained, not loaded: " + "; ".join(notes) if notes else "")
+    return delta, local, force, rotation, moment
 
 
 def _nonlinear(a: Assembly, f: np.ndarray, q: np.ndarray, qg: np.ndarray, fixed: np.ndarray,
@@ -413,17 +420,10 @@ def _nonlinear(a: Assembly, f: np.ndarray, q: np.ndarray, qg: np.ndarray, fixed:
                          "(vibss.operating_point(model).tangent)", argument="prescribed")
     eq = equilibrium(a, f, "static")
     q = eq.q
-    delta = (a.deflection_matrix()[:, :a.n] @ q).reshape(-1, 3)
-    t = np.array([m.orientation.matrix for m in a.model.mounts]).reshape(-1, 3, 3)
-    local = np.einsum("pji,pj->pi", t, delta)
-    force = np.einsum("pij,pj->pi", a.kp, delta)
-    for i, p in enumerate(eq.laws.mounts):
+    delta, local, force, rotation, moment = _mount_fields(a, np.concatenate([q, qg]))
+    for i, p in enumerate(eq.laws.mounts):          # their elastic forces from each axis's law
         law = a.model.mounts[p].type.laws
-        force[p] = t[p] @ np.array([float(law[j].force(eq.d[i, j])) for j in range(3)])
-    rotation = moment = None
-    if np.any(a.krp):
-        rotation = (a.rotation_matrix()[:, :a.n] @ q).reshape(-1, 3)
-        moment = np.einsum("pij,pj->pi", a.krp, rotation)
+        force[p] = a.model.mounts[p].orientation.matrix @ np.array([float(law[j].force(eq.d[i, j])) for j in range(3)])
     names = [a.model.mounts[p].name for p in eq.laws.mounts]
     return StaticResult(model=a.model, q=q, ground=qg[:6], load=f, mount_deflection=delta,
                         mount_deflection_local=local, mount_force=force, mount_rotation=rotation,
