@@ -50,8 +50,6 @@ Examples
 from __future__ import annotations
 
 import dataclasses
-import warnings
-
 import time
 from typing import Any, cast
 
@@ -59,13 +57,14 @@ import numpy as np
 import scipy.sparse as sp
 
 from .._validate import choice
-from ..errors import AnalysisError, ModelError, VibssWarning
+from ..errors import AnalysisError, ModelError
+from ..methods import Check, decide
 from ..model.model import Model
 from ..linear.plant.plant import Plant
 from .krylov import sparse_plant
 from .prune import Removal
 from .methods import (BALANCED_MAX_STATES, KRYLOV_MIN_DOF, METHODS, MODE_PRUNE_MAX, Reduced, ReduceOptions,
-                      ReductionMethod, _states, choose, resolve_method)
+                      ReductionMethod, _states, choose, reduction_cost, resolve_method)
 from .result import Reduction
 from .scope import Scope
 from ..linear.plant.build import build_plant
@@ -139,38 +138,36 @@ def reduce(model_or_plant: Model | Plant, scope: Scope, method: Any = "auto", *,
     sparse_input = isinstance(model_or_plant, Plant) and sp.issparse(model_or_plant.K)
     note = ""
     auto = chosen is None
-    if chosen is None:
+    if chosen is None:                 # auto never keeps an answer past the scope: the exact pruning next
         name, note = choose(n, sparse_input)
-        chosen = METHODS[name]
-    if sparse_input and not chosen.sparse:
-        raise AnalysisError(f"reduce: method {chosen.name!r} needs a dense plant; a sparse plant "
+        candidates = [METHODS[name]] + ([METHODS["prune"]] if name != "prune" and not sparse_input else [])
+    else:
+        candidates = [chosen]
+    if sparse_input and not candidates[0].sparse:
+        raise AnalysisError(f"reduce: method {candidates[0].name!r} needs a dense plant; a sparse plant "
                             "(build_plant(..., sparse=True)) takes method="
                             + " or ".join(repr(k) for k, v in METHODS.items() if v.sparse) + " or 'auto'")
     choice(residual, "residual", ("vectors", "static"), who="reduce")
     opts = ReduceOptions(max_modes=max_modes, order=order, residual=residual)
-    r = _run(model_or_plant, scope, chosen, opts, note)
-    if chosen.claim is None or _meets(r, scope):
-        pass
-    elif auto:                        # auto never keeps an answer past the scope: the exact pruning instead
-        missed = (f"{r.method} estimated {r.estimate:.3g} > the scope's {scope.tolerance:g} "
-                  f"({r.estimate_kind})")
-        exact = METHODS["prune"]
-        if sparse_input and not exact.sparse:
-            raise AnalysisError(f"reduce: auto: {missed}, and the exact pruning needs a dense plant; give a "
-                                "larger max_modes or order, or a looser tolerance")
-        r = _run(model_or_plant, scope, exact, opts, f"{note}; tried {missed}: the exact pruning answers")
-    else:
-        warnings.warn(f"reduce: method {chosen.name!r} missed the scope's tolerance: estimated error "
-                      f"{r.estimate:.3g} > {scope.tolerance:g} ({r.estimate_kind}); keep more (max_modes, "
-                      "order), use 'prune' (exact) or check with verify=True", VibssWarning, stacklevel=2)
-        r = dataclasses.replace(r, note="; ".join(x for x in (r.note, f"missed the scope: estimated error "
-                                                              f"{r.estimate:.3g} > {scope.tolerance:g}") if x))
+    scope_n = len(scope.sources) + len(scope.outputs)
+    decision = decide(candidates, lambda m: _run(model_or_plant, scope, m, opts, note), where="reduce", auto=auto,
+                      check=lambda m, r: _check(m, r, scope), cost=lambda m: reduction_cost(m, n, scope_n),
+                      others=[m for m in METHODS.values() if m.sparse or not sparse_input])
+    r = decision.answer
+    said = "; ".join(x for x in (r.note, decision.note()) if x)
+    if decision.check is not None and not decision.check.ok:
+        said = f"{said}; missed the scope: estimated error {r.estimate:.3g} > {scope.tolerance:g}"
+    r = dataclasses.replace(r, note=said)
     return r.verify(n_check) if verify else r
 
 
-def _meets(r: Reduction, scope: Scope) -> bool:
-    """The reduction's own error estimate is within the scope's tolerance (the method's check)."""
-    return bool(r.estimate <= scope.tolerance)
+def _check(method: ReductionMethod, r: Reduction, scope: Scope) -> Check | None:
+    """The reduction's own error estimate against the scope's tolerance (None for an exact method,
+    whose claim is the exact solve's rounding, or a user's method without a claim)."""
+    if method.claim is None or method.claim.exact:
+        return None
+    kind = r.estimate_kind.split(":")[0]
+    return Check(float(r.estimate), scope.tolerance, f"the method's own estimate over the band ({kind})")
 
 
 def _run(model_or_plant: Model | Plant, scope: Scope, chosen: ReductionMethod, opts: ReduceOptions,

@@ -49,6 +49,7 @@ from ..linear.plant.plant import FIELD_ROLES, Plant
 from ..linear.plant.build import build_plant
 from ..linear.project.krylov import DEFLATE_RTOL, Basis as _Basis, exact_response, forcing_columns as _forcing, \
     observing_columns as _observing, project, shift_solver as _shift_lu
+from .scope import LOW_END, low_end, peak_checks
 from .prune import Removal, _components, _dof_names, _touched_rows, frf
 
 __all__ = ["KrylovBasis", "krylov", "sparse_plant", "as_sparse", "prune_sparse", "exact_response",
@@ -136,6 +137,8 @@ def sparse_plant(model: Model, inputs: Sequence[Any], outputs: Sequence[str]) ->
 def as_sparse(p: Plant) -> Plant:
     """The plant with ``M, C, K, H`` as CSR matrices (a no-op when they already are)."""
     square = [k for k, role in FIELD_ROLES.items() if role == "dof x dof"]
+    if all(sp.isspmatrix_csr(getattr(p, k)) for k in square if getattr(p, k) is not None):
+        return p                # the very arrays: the plant's mounts' form (MountForm.matches) still holds
     return replace(p, **{k: sp.csr_matrix(getattr(p, k)) for k in square})
 
 
@@ -172,8 +175,10 @@ def _midpoints(points: np.ndarray, lo: float, hi: float) -> np.ndarray:
 
 def _resonance_checks(red: Plant, row: np.ndarray, lo: float, hi: float, tol: float,
                       checked: np.ndarray) -> np.ndarray:
-    """In-band Ritz frequencies [rad/s] of significant modes with no check within their half-power
-    band: a pole slightly off shows as a large error there, between the other checks.
+    """Checks [rad/s] on the peaks and flanks of the in-band Ritz resonances of significant modes
+    (:func:`~vibss.reduction.scope.peak_checks`) not checked yet: a pole slightly off shows as a
+    large error there, between the other checks. ``checked`` holds the checks so far that are
+    not interpolation frequencies (where the error is zero by construction, whatever the pole).
 
     Significant: peak modal contribution ``|O t_k| |t_k^T B| / (w_k g_k)`` (``g_k = c_kk`` or
     ``h_kk / w_k``) above ``CHECK_SAFETY tol`` of the output's reference.
@@ -184,17 +189,16 @@ def _resonance_checks(red: Plant, row: np.ndarray, lo: float, hi: float, tol: fl
     if not inb.any():
         return np.zeros(0)
     g = np.abs(np.diag(red.C)) + np.abs(np.diag(red.H)) / np.maximum(wk, 1e-300)
-    g = np.maximum(g, 1e-6 * wk)                    # undamped: a narrow band of relative width 1e-6
     b = np.abs(np.hstack([red.F, red.Kz, red.Cz, red.Mz, red.Hz])).max(axis=1)
     o = np.abs(np.stack([red.Oq, red.Ov * wk[None, :], red.Oa * wk[None, :]**2])).max(axis=0)
-    contrib = (o * b[None, :] / np.maximum(wk * g, 1e-300)[None, :]) / row[:, None]
+    contrib = (o * b[None, :] / np.maximum(wk * np.maximum(g, 1e-6 * wk), 1e-300)[None, :]) / row[:, None]
     sig = inb & (contrib.max(axis=0) > CHECK_SAFETY * tol)
-    half = 0.5 * g                                  # half-power half-width [rad/s]
-    out = []
-    for w, hw, at in zip(wk[sig], half[sig], _off_undamped(red, wk)[sig]):
-        if checked.size == 0 or np.min(np.abs(checked - w)) > 0.25 * hw:
-            out.append(at)
-    return np.array(out)
+    pts = peak_checks(wk[sig], g[sig], lo, hi)
+    if checked.size == 0 or pts.size == 0:
+        return pts
+    half = np.min(np.maximum(0.5 * g[sig], 1e-6 * wk[sig]))
+    near = np.min(np.abs(pts[:, None] - checked[None, :]), axis=1) <= 1e-3 * half
+    return pts[~near]
 
 
 UNDAMPED_OFFSET = 5e-8
@@ -265,7 +269,7 @@ def _krylov(p: Plant, band: tuple[float, float], tol: float, n_shifts: int, mome
     ws = np.linspace(w1, w2, max(int(n_shifts), 1)) if n_shifts > 1 else np.array([0.5 * (w1 + w2)])
     basis, sigmas = _shifted_basis(p, ws, w2, block0, moments, timings)
     # check frequencies avoid 0 (a motion input of order > 0 diverges there)
-    lo = w1 if w1 > 0 else w2 * 1e-3
+    lo = w1 if w1 > 0 else w2 * LOW_END
     interp = np.clip(ws, lo, w2)
     checks = _midpoints(interp, lo, w2)
     seen = _Checks()
@@ -275,13 +279,14 @@ def _krylov(p: Plant, band: tuple[float, float], tol: float, n_shifts: int, mome
         red, sols, err, row = _checked_round(p, basis, checks, bool(two_sided), seen, lo, w2, timings)
         estimate = float(err.max())
         seen.history.append((basis.V.shape[1], int(checks.size), estimate))
-        res = _resonance_checks(red, row, lo, w2, tol, np.array(seen.every))
+        done = np.array(seen.every)
+        res = _resonance_checks(red, row, lo, w2, tol, done[~np.isin(done, np.asarray(added))])
         if (estimate <= CHECK_SAFETY * tol and res.size == 0) or rnd == max_rounds:
             break
         bad = _enriched(basis, sols, checks, err > CHECK_SAFETY * tol, added, timings)
         interp = np.r_[interp, checks[bad]]
         checks = _next_checks(np.unique(interp), checks[bad], res)
-    estimate = max(estimate, _earlier_checks(red, seen, added, row))
+    estimate = max(estimate, _earlier_checks(red, seen, added, row, lo, w2))
     if estimate > tol:
         notes.append(f"the requested tolerance {tol:g} was not reached in {max_rounds} rounds "
                      f"(sampled error {estimate:.3g} with {basis.V.shape[1]} vectors)")
@@ -341,13 +346,16 @@ def _checked_round(p: Plant, basis: _Basis, checks: np.ndarray, two_sided: bool,
     seen.w.append(checks)
     # reference per output: its largest response over the band (full at the checks so far,
     # reduced at its own in-band resonances)
-    wr = _off_undamped(red, np.sqrt(np.maximum(np.diag(red.K), 0.0)))
-    wr = wr[(wr >= lo) & (wr <= w2)]
-    peak = np.max([np.abs(h).max(axis=(1, 2)) for h in seen.h], axis=0)
+    ritz = np.sqrt(np.maximum(np.diag(red.K), 0.0))
+    start = _start(red, lo, w2)
+    wr = _off_undamped(red, ritz)
+    wr = wr[(wr >= start) & (wr <= w2)]
+    peak = np.max([np.abs(h[..., w >= start]).max(axis=(1, 2), initial=0.0) for h, w in zip(seen.h, seen.w)],
+                  axis=0)
     if wr.size:
         peak = np.maximum(peak, np.abs(frf(red, 1j * wr)).max(axis=(1, 2)))
     row = np.where(peak > 0, peak, max(float(peak.max()), 1e-300))
-    err = (np.abs(hr - hf) / row[:, None, None]).max(axis=(0, 1))        # per check
+    err = np.where(checks >= start, (np.abs(hr - hf) / row[:, None, None]).max(axis=(0, 1)), 0.0)   # per check
     timings["check_s"] += time.perf_counter() - t1
     seen.every.extend(checks.tolist())
     return red, sols, err, row
@@ -381,13 +389,21 @@ def _next_checks(pts: np.ndarray, just_added: np.ndarray, res: np.ndarray) -> np
     return np.unique(np.r_[new, res]) if new else res
 
 
-def _earlier_checks(red: Plant, seen: _Checks, added: list[float], row: np.ndarray) -> float:
+def _start(red: Plant, lo: float, w2: float) -> float:
+    """Where the scope's measure starts [rad/s] (:func:`~vibss.reduction.scope.low_end`, with the
+    reduced model's Ritz frequencies: its rigid-body modes are the full model's)."""
+    band = (lo, w2) if lo > w2 * LOW_END else (0.0, w2)
+    return low_end(band, np.sqrt(np.maximum(np.diag(red.K), 0.0)))
+
+
+def _earlier_checks(red: Plant, seen: _Checks, added: list[float], row: np.ndarray, lo: float,
+                    w2: float) -> float:
     """The earlier rounds' checks that were not added to the basis, against the final basis: a
     last round's checks sit only beside the frequencies just added and miss the rest of the band."""
     if len(seen.h) <= 1:
         return 0.0
     w_all, h_all = np.concatenate(seen.w[:-1]), np.concatenate(seen.h[:-1], axis=-1)
-    keep = ~np.isin(w_all, np.asarray(added))
+    keep = ~np.isin(w_all, np.asarray(added)) & (w_all >= _start(red, lo, w2))
     if not keep.any():
         return 0.0
     return float((np.abs(frf(red, 1j * w_all[keep]) - h_all[..., keep]) / row[:, None, None]).max())

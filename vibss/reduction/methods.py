@@ -20,13 +20,13 @@ from ..errors import AnalysisError
 from ..linear.plant.plant import Plant
 from ..linear.plant.labels import control_name
 from ..linear.statespace import NamedStateSpace, statespace
-from ..methods import Claim, Method, callable_name, resolve
+from ..methods import Claim, Cost, Method, callable_name, resolve
 from .krylov import as_sparse, krylov, prune_sparse
 from .prune import Removal, frf, prune_dofs, prune_modes
 from .truncation import truncate
 from .scope import Scope
 
-__all__ = ["ReductionMethod", "ReduceOptions", "Reduced", "METHODS", "choose", "resolve_method",
+__all__ = ["ReductionMethod", "ReduceOptions", "Reduced", "METHODS", "choose", "resolve_method", "reduction_cost",
            "BALANCED_MAX_STATES", "KRYLOV_MIN_DOF", "MODE_PRUNE_MAX"]
 
 BALANCED_MAX_STATES = 2000
@@ -139,10 +139,11 @@ def _floor(peak: np.ndarray) -> np.ndarray:
 def check_grid(scope: Scope, n_points: int, resonances: np.ndarray) -> np.ndarray:
     """Verification grid [rad/s]: ``n_points`` over the band plus points beside its resonances.
 
-    The resonances themselves are left out (an undamped response is infinite there).
+    The resonances themselves are left out (an undamped response is infinite there); the grid
+    starts at :meth:`Scope.low_end` (``resonances`` with zeros for rigid-body modes).
     """
     w1, w2 = scope.band_rad
-    lo = w1 if w1 > 0 else w2 * 1e-3
+    lo = scope.low_end(resonances)
     w = np.linspace(lo, w2, int(n_points))
     r = resonances[(resonances >= lo) & (resonances <= w2)]
     extra = np.concatenate([r * (1 - 2e-4), r * (1 + 2e-4), r * (1 - 1e-3), r * (1 + 1e-3)])
@@ -174,8 +175,7 @@ def _method_modal(p: Plant, scope: Scope, options: ReduceOptions) -> Reduced:
     if p1.n == 0:
         raise AnalysisError("nothing is left to reduce after pruning")
     w1, w2 = scope.band_rad
-    grid = np.linspace(w1 if w1 > 0 else w2 * 1e-3, w2, n_grid)
-    tr = truncate(p1, (w1, w2), scope.tolerance, grid, max_modes=max_modes, residual=residual)
+    tr = truncate(p1, scope, n_grid, max_modes=max_modes, residual=residual)
     if tr.n_kept < p1.n:
         why = "truncated, accounted for by the residual correction"
         if tr.dropped_in_band:
@@ -303,6 +303,35 @@ def choose(n: int, sparse_plant: bool) -> tuple[str, str]:
         return "krylov", "auto: sparse plant: krylov"
     name = "krylov" if n > KRYLOV_MIN_DOF else "modal"
     return name, f"auto: {n} DOFs {'>' if n > KRYLOV_MIN_DOF else '<='} {KRYLOV_MIN_DOF}: {name}"
+
+
+K_EIGH = 1.0e-10
+"""[s] per n^3 of the dense symmetric eigen solve (LAPACK dsyevd, one core), as the modal FRF's."""
+K_LU = 3e-10
+"""[s] per n^3 of one complex dense LU and solve (one check frequency of the full plant)."""
+CHECKS = 60
+"""Check frequencies a dense truncation or pruning solves the full plant at (24 + 5 over the band,
+and the flanks of a few resonances)."""
+
+
+def reduction_cost(method: ReductionMethod, n: int, channels: int) -> Cost | None:
+    """The estimated time [s] and peak memory [B] of a built-in method on ``n`` DOFs (None for a
+    user's method, whose cost is unknown).
+
+    Dense methods hold a few ``n x n`` matrices (the eigenvectors, the complex check LU) and pay
+    one eigen solve plus the check solves; ``"balanced"`` works on ``2n`` states (Gramians);
+    ``"krylov"`` keeps sparse factors and a basis of a few vectors per channel and shift.
+    """
+    dense = float(n) ** 2
+    if method.name in ("prune", "modal"):
+        return Cost(K_EIGH * n**3 + (CHECKS * K_LU * n**3 if method.name == "modal" else 0.0), 8.0 * 6 * dense)
+    if method.name == "balanced":
+        big = 2.0 * n
+        return Cost(30 * K_EIGH * big**3, 8.0 * 10 * big * big)
+    if method.name == "krylov":
+        vectors = 2 * channels * 8 * 4                 # shifts x moments x (real, imag), a few rounds
+        return Cost(CHECKS * 1e-6 * n * 40, 8.0 * n * (vectors + 200))
+    return None
 
 
 def _custom(fn: Callable[..., Any]) -> ReductionMethod:

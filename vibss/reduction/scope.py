@@ -37,7 +37,62 @@ import numpy.typing as npt
 from .._validate import number
 from ..errors import ModelError
 
-__all__ = ["Scope", "content_frequency"]
+__all__ = ["Scope", "content_frequency", "peak_checks", "low_end", "LOW_END", "RIGID_LOW_END"]
+
+
+LOW_END = 1e-3
+"""A band from 0 Hz is measured from this fraction of its top (0 Hz itself is a limit)."""
+
+RIGID_LOW_END = 0.1
+"""On a model with rigid-body modes, a band from 0 Hz is measured from this fraction of the lowest
+elastic frequency (where the rigid-body response is about the elastic peak at 2 % damping)."""
+
+PEAK_OFFSETS = (-1.0, -0.5, -0.25, 0.0, 0.25, 0.5, 1.0)
+"""Where a resonance is sampled, in half-power half-widths from its undamped frequency: the peak
+itself and both flanks, where a pole that is slightly off makes its largest error."""
+
+
+def low_end(band: tuple[float, float], natural: npt.ArrayLike = ()) -> float:
+    """:meth:`Scope.low_end` of a band ``(w1, w2)`` [rad/s]."""
+    w1, w2 = band
+    if w1 > 0:
+        return float(w1)
+    w = np.asarray(natural, float).ravel()
+    lo = w2 * LOW_END
+    if np.any(w <= 0) and np.any(w > 0):
+        lo = max(lo, min(RIGID_LOW_END * float(w[w > 0].min()), w2))
+    return float(lo)
+
+
+def peak_checks(w: npt.ArrayLike, g: npt.ArrayLike, lo: float, hi: float) -> np.ndarray:
+    """Check frequencies [rad/s] that sample each resonance's peak and flanks, inside ``[lo, hi]``.
+
+    A lightly damped resonance is narrower than any fixed relative offset: a check ``2e-4``
+    beside a mode of damping ratio 1e-5 sees neither its peak nor a pole that is slightly off, and
+    a relative error taken against the largest response sampled then understates that peak too.
+
+    Parameters
+    ----------
+    w : (r,) array_like
+        Undamped natural frequencies [rad/s].
+    g : (r,) array_like
+        Modal damping ``phi^T C phi`` (mass-normalised) plus ``phi^T H phi / w`` [rad/s]: the
+        half-power bandwidth. An undamped mode (``g = 0``) is sampled at ``w (1 +- 1e-6)``, not on
+        its pole.
+    lo, hi : float
+        The band [rad/s].
+
+    Returns
+    -------
+    (k,) ndarray
+        Sorted, unique frequencies [rad/s].
+    """
+    w, g = np.asarray(w, float).ravel(), np.abs(np.asarray(g, float).ravel())
+    half = np.where(g > 0, 0.5 * g, 1e-6 * w)
+    off = np.array(PEAK_OFFSETS)[None, :]
+    pts = w[:, None] + half[:, None] * np.where((g > 0)[:, None], off, np.where(off == 0, 1.0, off))
+    pts = pts.ravel()
+    return np.unique(pts[(pts >= lo) & (pts <= hi) & (pts > 0)])
 
 
 def _signal_name(item: Any) -> str:
@@ -128,6 +183,22 @@ class Scope:
     def band_rad(self) -> tuple[float, float]:
         """The band ``(w1, w2)`` [rad/s]."""
         return (2 * np.pi * self.f1, 2 * np.pi * self.f2)
+
+    def low_end(self, natural: npt.ArrayLike = ()) -> float:
+        """The lowest frequency [rad/s] the scope's error is measured from.
+
+        The band's lower end when it is above 0 Hz. A band from 0 Hz is measured from
+        :data:`LOW_END` of its top; on a model with rigid-body modes (``natural`` holds a 0) from
+        :data:`RIGID_LOW_END` of its lowest elastic frequency if that is higher: the rigid-body
+        response grows as ``1 / w^2`` toward 0 Hz and, sampled lower, would swamp the elastic
+        response the tolerance is about (every reduction keeps the rigid-body modes exactly).
+
+        Parameters
+        ----------
+        natural : (k,) array_like
+            Natural frequencies of the model or its reduction [rad/s], zeros for rigid-body modes.
+        """
+        return low_end(self.band_rad, natural)
 
     @classmethod
     def for_frequency_response(cls, inputs: Sequence[Any], outputs: Sequence[str],

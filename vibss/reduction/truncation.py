@@ -52,6 +52,7 @@ from ..linear.eigen.undamped import undamped
 from ..linear.eigen.small import symmetric_eigen
 from ..linear.plant.plant import Plant
 from .prune import DENSE_MAX, frf
+from .scope import Scope, peak_checks
 
 __all__ = ["truncate", "Truncation", "N_CHECK", "CHECK_SAFETY", "SPARSE_MODES_MAX"]
 
@@ -105,12 +106,15 @@ class _Static:
         return np.einsum("ij,ij->j", x, self.K @ x)
 
 
-def _lowest_modes(p: Plant, k: int, mats: dict) -> tuple[np.ndarray, np.ndarray]:
+def _lowest_modes(p: Plant, k: int, mats: dict) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The lowest ``k`` modes: ``w2`` [rad^2/s^2], shapes, and the eigen path's rigid flags (its
+    test on the stiffness factor: a 5 mHz mode of a body 1e6 times lighter than its neighbour is
+    elastic, though 1e-10 of the largest ``K_ii / M_ii``)."""
     if not mats or k >= p.n - 1:
         spec = undamped(p.K, p.M, p.Kf, n_modes=min(k, p.n))
     else:
         spec = undamped(mats["K"], mats["M"], p.Kf, n_modes=k, method="shift-invert")
-    return spec.omega2, spec.phi
+    return spec.omega2, spec.phi, np.asarray(spec.rigid, bool)
 
 
 def _gain_factors(w: np.ndarray, wr: np.ndarray, gr: np.ndarray, eta: float,
@@ -137,9 +141,7 @@ class _Modes:
     def __init__(self, p: Plant, nc: int, mats: dict, static: "_Static | None", vecs: np.ndarray):
         self.p = p
         self.score: np.ndarray | None = None
-        ev, phi = _lowest_modes(p, nc, mats)
-        scale = float(np.max(np.diag(p.K) / np.diag(p.M)))
-        self.rigid = ev <= 1e-10 * max(scale, 1e-300)
+        ev, phi, self.rigid = _lowest_modes(p, nc, mats)
         self.ev = np.where(self.rigid, 0.0, ev)
         self.phi = phi
         self.nc = phi.shape[1]
@@ -155,6 +157,8 @@ class _Modes:
         cm = phi.T @ mul("C")
         hm = phi.T @ mul("H") if np.any(p.H) else np.zeros((self.nc, self.nc))
         self.gam = np.diag(cm).copy()
+        # half-power bandwidth [rad/s] of each mode: viscous plus hysteretic (h / w)
+        self.width = np.abs(self.gam) + np.abs(np.diag(hm)) / np.sqrt(np.maximum(self.ev, 1e-300))
         # the plant on all nc modes; plant(k) restricts it to the first k (after _permute's order)
         self.modal = p.project(phi, tuple(f"mode{i + 1}" for i in range(self.nc)), M=np.eye(self.nc),
                                K=np.diag(self.ev), C=cm, H=hm)
@@ -190,7 +194,7 @@ class _Modes:
         return int(np.sum(self.score > 0))
 
     def _permute(self, order: np.ndarray) -> None:
-        for name in ("ev", "phi", "rigid", "inv", "c", "contrib", "gam"):
+        for name in ("ev", "phi", "rigid", "inv", "c", "contrib", "gam", "width"):
             a = getattr(self, name)
             setattr(self, name, a[:, order] if name == "phi" else a[order])
         self.modal = self.modal.restrict(order)
@@ -317,13 +321,15 @@ def _first_passing(ks: list[int], build: object, md: _Modes, wc: np.ndarray, h_r
     return at(hi)
 
 
-def truncate(p: Plant, band: tuple[float, float], tol: float, grid: np.ndarray,
-             max_modes: int | None = None, residual: str = "vectors") -> Truncation:
-    """Modal truncation of ``p`` for the band ``(w1, w2)`` [rad/s] to relative accuracy ``tol``.
+def truncate(p: Plant, scope: Scope, n_grid: int = 200, max_modes: int | None = None,
+             residual: str = "vectors") -> Truncation:
+    """Modal truncation of ``p`` for the scope's band to its relative accuracy.
 
-    ``grid`` (nf,) [rad/s] is where the estimate is evaluated (resonances in the band are added).
+    The a-priori estimate is evaluated on ``n_grid`` frequencies from :meth:`Scope.low_end` to the
+    band's top (resonances in the band added); the sampled error on the check frequencies.
     ``residual``: ``"static"`` (feedthrough) or ``"vectors"`` (residual vectors as extra DOFs).
     """
+    band, tol = scope.band_rad, scope.tolerance
     choice(residual, "residual", ("static", "vectors"))
     mats: dict[str, sp.csr_matrix]
     build = (lambda md, k: md.plant(k)) if residual == "static" else (lambda md, k: _ritz_plant(md, k, mats))
@@ -339,11 +345,13 @@ def truncate(p: Plant, band: tuple[float, float], tol: float, grid: np.ndarray,
         md = _Modes(p, min(n - 2, 2 * md.nc), mats, md.static, vecs)
     # exact response of the full plant at check frequencies: the band's top region and beside
     # the in-band resonances (sparse LU per frequency when large)
-    w_lo = max(float(np.min(grid)), 1e-300)
-    res = np.sqrt(md.ev[(md.ev > 0) & (md.ev <= w2b**2)])
+    w_lo = scope.low_end(np.sqrt(np.maximum(md.ev, 0.0)))
+    grid = np.linspace(w_lo, w2b, int(n_grid))
+    inb = (md.ev > 0) & (md.ev <= w2b**2)
+    res = np.sqrt(md.ev[inb])
     side = np.r_[res * (1 - 2e-4), res * (1 + 2e-4), res * (1 - 2e-3), res * (1 + 2e-3)]
     wc = np.unique(np.r_[np.linspace(w_lo, w2b, N_CHECK), np.linspace(0.9 * w2b, w2b, 5),
-                         side[(side >= w_lo) & (side <= w2b)]])
+                         side[(side >= w_lo) & (side <= w2b)], peak_checks(res, md.width[inb], w_lo, w2b)])
     h_ref = frf(p, 1j * wc)
     row = np.abs(h_ref).max(axis=(1, 2))
     best, history = None, []

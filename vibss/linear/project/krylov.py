@@ -208,7 +208,12 @@ def project(p: Plant, V: np.ndarray) -> Plant:
         g = V.T @ (a @ V)
         return 0.5 * (g + g.T)
 
-    mr, kr = sym(p.M), sym(p.K)
+    mr = sym(p.M)
+    if p.Kf is not None:              # (Kf V)^T (Kf V): no cancellation of penalty rates against soft ones
+        kv = np.asarray(p.Kf @ V)
+        kr = kv.T @ kv
+    else:
+        kr = sym(p.K)
     w2, t = projected_eigen(kr, mr)
     vt = V @ t
     top = max(float(np.abs(w2).max(initial=0.0)), 1e-300)
