@@ -135,3 +135,29 @@ def test_the_memory_guard_refuses_before_allocating(monkeypatch):
         vibss.simulate(model(), inputs={"b.fz": PULSE}, outputs=["b.z"], t_end=T_END, dt=1e-3, method="modal")
     with pytest.raises(ResourceError, match="every method would pass the memory guard"):
         vibss.simulate(model(), inputs={"b.fz": PULSE}, outputs=["b.z"], t_end=T_END, dt=1e-3)
+
+
+@pytest.mark.parametrize("rtol", [1e-6, 1e-8])
+def test_ivp_checks_itself_at_a_tenth_of_its_tolerance_and_keeps_the_claim_quietly(rtol):
+    """At its default tolerance (and a tighter one) ``ivp`` states its check, whose figure covers the
+    error against the independent reference, and both are within the claim (rtol)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", vibss.VibssWarning)
+        r = vibss.simulate(model(), inputs={"b.fz": PULSE}, outputs=["b.z"], t_end=T_END, dt=1e-3,
+                           method="ivp", rtol=rtol)
+    claimed = float(re.search(r"checked: error ([0-9.e+-]+)", r.note).group(1))
+    err = np.abs(r["b.z"] - reference(r.time)).max() / np.abs(r["b.z"]).max()
+    assert err <= rtol and claimed <= rtol
+
+
+def test_ivp_at_a_loose_tolerance_warns_with_what_it_measured():
+    """rtol 0.1 with RK23: the check re-solves the first eighth at 1e-2 and reports the difference;
+    the claim is rtol, so the run warns, with a figure within 2x of the true error in that window."""
+    with pytest.warns(vibss.VibssWarning, match=r"method 'ivp' missed its claim.*check failed: error ([0-9.e+-]+)") as rec:
+        r = vibss.simulate(model(), inputs={"b.fz": PULSE}, outputs=["b.z"], t_end=T_END, dt=1e-3,
+                           method="ivp", rtol=1e-1, solver="RK23")
+    bound = float(re.search(r"check failed: error ([0-9.e+-]+)", next(
+        str(w.message) for w in rec if "missed its claim" in str(w.message))).group(1))
+    ns = max(r.time.size // 8, 32)
+    err = np.abs(r["b.z"][:ns] - reference(r.time)[:ns]).max() / np.abs(r["b.z"]).max()
+    assert 0.5 * err <= bound <= 2 * err and bound > 1e-1
