@@ -14,7 +14,14 @@ from ..errors import ArgumentError, ModelError
 from ..linear.plant.labels import control_name
 from ..results import Result, TextTable, jsonable, require_pandas
 
-__all__ = ["FrequencyResponse"]
+__all__ = ["FrequencyResponse", "ZERO_RTOL", "ZERO_NOTE"]
+
+ZERO_RTOL = 1e-13
+"""A channel at most this fraction of the largest channel of its unit is identically zero (the
+round-off of an exact zero: a few ``eps`` of the solution's scale)."""
+
+ZERO_NOTE = "identically zero (symmetry or no path)"
+"""How tables and figures name a channel that is identically zero."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -112,6 +119,23 @@ class FrequencyResponse(Result):
     def magnitude(self) -> np.ndarray:
         """(p, m, nf) amplitude |H|."""
         return np.abs(self.response)
+
+    @property
+    def zero_channels(self) -> np.ndarray:
+        """(p, m) bool: channels identically zero over the band (symmetry, or no path from the input
+        to the output): every value exactly 0, or at most :data:`ZERO_RTOL` of the largest channel
+        of the same unit (the round-off of a solve whose exact answer is 0)."""
+        mag = np.where(np.isfinite(self.response), np.abs(self.response), np.inf)
+        top = mag.max(axis=2) if mag.size else np.zeros(mag.shape[:2])
+        units = np.array([[self.channel_unit(i, j) for j in range(top.shape[1])] for i in range(top.shape[0])],
+                         dtype=object).reshape(top.shape)
+        zero = top == 0
+        for u in set(units.ravel()):
+            same = units == u
+            ref = float(top[same].max()) if same.any() else 0.0
+            if np.isfinite(ref) and ref > 0:
+                zero |= same & (top <= ZERO_RTOL * ref)
+        return zero
 
     @property
     def phase(self) -> np.ndarray:
@@ -229,8 +253,12 @@ class FrequencyResponse(Result):
                  f"{self.frequency_hz.size} frequencies, {self.frequency_hz.min():.4g} to "
                  f"{self.frequency_hz.max():.4g} Hz",
                  f"{'output':<28} {'input':<22} {'peak f [Hz]':>12} {'amplitude':>12}  unit"]
+        zero = self.zero_channels
         for i, y in enumerate(self.outputs):
             for j, u in enumerate(self.inputs):
+                if zero[i, j]:
+                    lines.append(f"{y:<28} {u:<22} {'-':>12} {0.0:>12.4e}  {self.channel_unit(i, j)}  ({ZERO_NOTE})")
+                    continue
                 rows = [(f, f"{a:>12.4e}") for f, a in self.peaks(y, u, count)]
                 bad = np.flatnonzero(~np.isfinite(self.response[i, j]))
                 if bad.size:        # not a peak: say where the response is unbounded instead
@@ -250,8 +278,12 @@ class FrequencyResponse(Result):
     def summary(self) -> TextTable:
         """The largest peak of every channel: frequency [Hz], amplitude and unit."""
         rows = []
+        zero = self.zero_channels
         for i, y in enumerate(self.outputs):
             for j, u in enumerate(self.inputs):
+                if zero[i, j]:
+                    rows.append([y, u, "-", ZERO_NOTE, self.channel_unit(i, j)])
+                    continue
                 pk = self.peaks(y, u, 1)
                 f, a = pk[0] if pk else (float("nan"), float("nan"))
                 rows.append([y, u, f"{f:.4f}", f"{a:.4e}", self.channel_unit(i, j)])

@@ -90,9 +90,22 @@ def transmissibility(system: Any, inputs: Sequence[str], outputs: Sequence[str] 
         if any(u not in ("N", "N m") for u in plant.units):
             raise ModelError(f"outputs: force transmissibility needs force outputs, got units {list(plant.units)}")
     r = frequency_response(plant, frequencies=frequencies, method=method)
-    return FrequencyResponse(r.frequency_hz, r.response, r.outputs, r.inputs, r.units, "transmissibility",
-                             r.method, r.reason, r.natural_hz, r.name, r.input_units, r.mode_numbers,
-                             r.mode_labels)
+    # the names as the user wrote them (a ratio of accelerations is the ratio of their displacements)
+    outs_named = tuple(outputs) if outputs is not None and all(isinstance(o, str) for o in outputs) else r.outputs
+    ins_named = tuple(names) if all(motion) else r.inputs
+    return FrequencyResponse(r.frequency_hz, r.response, outs_named, ins_named,
+                             tuple(_of_order(u, y) for u, y in zip(r.units, outs_named)), "transmissibility",
+                             r.method, r.reason, r.natural_hz, r.name,
+                             tuple(_of_order(u, x) for u, x in zip(r.input_units, ins_named)),
+                             r.mode_numbers, r.mode_labels)
+
+
+def _of_order(unit: str, name: str) -> str:
+    """The unit of a motion signal named with a ``.vel`` or ``.acc`` suffix, from its displacement's."""
+    last = name.rsplit(".", 1)[-1]
+    if unit in ("m", "rad") and last in ("vel", "acc"):
+        return f"{unit}/s" if last == "vel" else f"{unit}/s^2"
+    return unit
 
 
 def _order(name: str, unit: str | None) -> int | None:

@@ -11,6 +11,7 @@ from matplotlib.figure import Figure
 from .._validate import name_index
 from ..errors import ArgumentError
 from ..frequency.compare import frac
+from ..frequency.result import ZERO_NOTE
 from ._draw import new_figure, plain_frequency_axis
 
 __all__ = ["plot_frequency_response", "mark_resonances_on"]
@@ -99,14 +100,25 @@ def plot_frequency_response(response: Any, outputs: Sequence[str] | None = None,
     pos = f > 0
     phase = r.phase_deg
     colours = _colours(len(pairs))          # one colour per channel, the same in every panel
+    zero = r.zero_channels
     for k, (i, j) in enumerate(pairs):
         u = r.channel_unit(i, j)
         label = r.output_labels[i] + (f" / {r.input_labels[j]}" if len(r.input_labels) > 1 else "")
         shared = sum(a is mag_ax[u] for a in mag_ax.values()) > 1
         if shared:
             label += f" [{u}]"
+        if zero[i, j]:        # nothing to draw on a log axis: named in the legend (and the panel, if alone)
+            mag_ax[u].plot([], [], ls="none", label=f"{label} \u2261 0")
+            continue
         mag_ax[u].loglog(f[pos], mag[i, j, pos], label=label, color=colours[k])
         axs[-1].semilogx(f[pos], phase[i, j, pos], color=colours[k])
+    for a in [*dict.fromkeys(mag_ax.values()), axs[-1]]:
+        if not any(len(line.get_xdata()) for line in a.get_lines()):      # only zero channels here
+            a.set_xscale("log")
+            if pos.any():
+                a.set_xlim(float(f[pos].min()), float(f[pos].max()))
+            a.set_yticks([])
+            a.text(0.5, 0.5, ZERO_NOTE, transform=a.transAxes, ha="center", va="center", color="0.35")
     if tuple(r.inputs) == ("sweep",):   # a sweep's amplitudes: only the swept band
         live = np.flatnonzero(np.any(np.abs(r.response[:, 0, :]) > 0, axis=0) & pos)
         if live.size > 1:
