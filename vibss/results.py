@@ -36,7 +36,10 @@ import numpy as np
 from ._validate import name_index
 from .errors import ArgumentTypeError, MissingDependencyError, SignalError
 
-__all__ = ["TextTable", "Result", "jsonable", "require_pandas", "freeze", "read_only", "freeze_fields", "ReadOnly"]
+__all__ = ["ZERO_NOTE", "TextTable", "Result", "jsonable", "require_pandas", "freeze", "read_only", "freeze_fields", "ReadOnly"]
+
+ZERO_NOTE = "identically zero (symmetry or no path)"
+"""How tables and figures name a channel that is identically zero (every result says it alike)."""
 
 
 _NEGATIVE_ZERO = re.compile(r"^(\s*)-(0(?:\.0*)?(?:[eE][-+]?\d+)?)(\s.*)?$")

@@ -179,15 +179,22 @@ class TimeOutputs:
         :func:`vibss.plotting.plot_time_groups`).
     base : bool
         True when every excitation is a prescribed ground motion.
+    relative : bool
+        The body motions are relative to the rigid ground (``<body>.<dof>.rel``).
     """
 
     outputs: tuple[str, ...]
     lead: tuple[str, ...]
     base: bool
+    relative: bool = False
 
 
-def time_outputs(model: Model, excitations: Sequence[Any] | None = None) -> TimeOutputs:
+def time_outputs(model: Model, excitations: Sequence[Any] | None = None, absolute: bool = False) -> TimeOutputs:
     """Default outputs of a time study, leading with what matters (see the module docstring).
+
+    Under prescribed motion of the rigid ground alone, the body motions are relative to the ground
+    (``<body>.<dof>.rel``): a ground acceleration that leaves the ground moving makes every absolute
+    motion a drift, which would hide the vibration.
 
     Parameters
     ----------
@@ -195,6 +202,8 @@ def time_outputs(model: Model, excitations: Sequence[Any] | None = None) -> Time
         The model.
     excitations : sequence of Excitation or None
         The excitations simulated (default: the model's transient ones).
+    absolute : bool
+        Absolute body motions under ground motion too.
 
     Examples
     --------
@@ -211,7 +220,10 @@ def time_outputs(model: Model, excitations: Sequence[Any] | None = None) -> Time
     motions = [f"{b}.{d}" for b in model.body_names for d in ("x", "y", "z", "rx", "ry", "rz")]
     forces = [f"mount.{m.name}.{d}" for m in model.mounts for d in ("fx", "fy", "fz")]
     if base:
-        return TimeOutputs(tuple(deflections + accelerations + motions), ("mount deflection", "acceleration"), True)
+        relative = not absolute and all(e.target == "ground" for e in transient)
+        moved = [f"{x}.rel" for x in motions] if relative else motions
+        return TimeOutputs(tuple(deflections + accelerations + moved), ("mount deflection", "acceleration"), True,
+                           relative)
     return TimeOutputs(tuple(motions + forces + accelerations + deflections), ("body translation", "mount force"),
                        False)
 

@@ -29,7 +29,7 @@ LAYERS = [
     {"linear", "modal"},
     {"frequency.kernels", "frequency.contracts", "frequency.lowrank", "frequency.terms", "frequency.grid",
      "frequency.statespace_kernels",
-     "time.kernels", "time.branched", "time.inputs", "time.sampling", "studies"},
+     "time.kernels", "time.branched", "time.inputs", "time.sampling", "time.drift", "studies"},
     {"frequency", "time", "reduction", "design", "shock", "orders", "random", "control", "nonlinear"},
     {"plotting", "report"},
     {"commands", "cli", "__main__"},

@@ -12,16 +12,13 @@ import numpy as np
 from .._validate import name_index
 from ..errors import ArgumentError, ModelError
 from ..linear.plant.labels import control_name
-from ..results import Result, TextTable, jsonable, require_pandas
+from ..results import ZERO_NOTE, Result, TextTable, jsonable, require_pandas
 
-__all__ = ["FrequencyResponse", "ZERO_RTOL", "ZERO_NOTE"]
+__all__ = ["FrequencyResponse", "ZERO_RTOL"]
 
 ZERO_RTOL = 1e-13
 """A channel at most this fraction of the largest channel of its unit is identically zero (the
 round-off of an exact zero: a few ``eps`` of the solution's scale)."""
-
-ZERO_NOTE = "identically zero (symmetry or no path)"
-"""How tables and figures name a channel that is identically zero."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -126,12 +123,12 @@ class FrequencyResponse(Result):
         to the output): every value exactly 0, or at most :data:`ZERO_RTOL` of the largest channel
         of the same unit (the round-off of a solve whose exact answer is 0)."""
         mag = np.where(np.isfinite(self.response), np.abs(self.response), np.inf)
-        top = mag.max(axis=2) if mag.size else np.zeros(mag.shape[:2])
-        units = np.array([[self.channel_unit(i, j) for j in range(top.shape[1])] for i in range(top.shape[0])],
-                         dtype=object).reshape(top.shape)
+        p, m = len(self.outputs), len(self.inputs)
+        top = mag.max(axis=2) if mag.size else np.zeros((p, m))
+        units = [[self.channel_unit(i, j) for j in range(m)] for i in range(p)]
         zero = top == 0
-        for u in set(units.ravel()):
-            same = units == u
+        for u in {x for row in units for x in row}:
+            same = np.array([[x == u for x in row] for row in units], dtype=bool).reshape(top.shape)
             ref = float(top[same].max()) if same.any() else 0.0
             if np.isfinite(ref) and ref > 0:
                 zero |= same & (top <= ZERO_RTOL * ref)

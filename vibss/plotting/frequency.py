@@ -11,7 +11,7 @@ from matplotlib.figure import Figure
 from .._validate import name_index
 from ..errors import ArgumentError
 from ..frequency.compare import frac
-from ..frequency.result import ZERO_NOTE
+from ..results import ZERO_NOTE
 from ._draw import new_figure, plain_frequency_axis
 
 __all__ = ["plot_frequency_response", "mark_resonances_on"]
@@ -113,12 +113,7 @@ def plot_frequency_response(response: Any, outputs: Sequence[str] | None = None,
         mag_ax[u].loglog(f[pos], mag[i, j, pos], label=label, color=colours[k])
         axs[-1].semilogx(f[pos], phase[i, j, pos], color=colours[k])
     for a in [*dict.fromkeys(mag_ax.values()), axs[-1]]:
-        if not any(len(line.get_xdata()) for line in a.get_lines()):      # only zero channels here
-            a.set_xscale("log")
-            if pos.any():
-                a.set_xlim(float(f[pos].min()), float(f[pos].max()))
-            a.set_yticks([])
-            a.text(0.5, 0.5, ZERO_NOTE, transform=a.transAxes, ha="center", va="center", color="0.35")
+        _say_if_zero(a, f[pos])
     if tuple(r.inputs) == ("sweep",):   # a sweep's amplitudes: only the swept band
         live = np.flatnonzero(np.any(np.abs(r.response[:, 0, :]) > 0, axis=0) & pos)
         if live.size > 1:
@@ -137,6 +132,17 @@ def plot_frequency_response(response: Any, outputs: Sequence[str] | None = None,
     plain_frequency_axis(axs[-1])
     axs[0].set_title(title or f"{r.name}: method {r.method}", fontsize=10)
     return fig
+
+
+def _say_if_zero(a: Any, f: np.ndarray) -> None:
+    """An axes that only zero channels went to: no log scale of nothing, the words instead."""
+    if any(len(line.get_xdata()) for line in a.get_lines()):
+        return
+    a.set_xscale("log")
+    if f.size:
+        a.set_xlim(float(f.min()), float(f.max()))
+    a.set_yticks([])
+    a.text(0.5, 0.5, ZERO_NOTE, transform=a.transAxes, ha="center", va="center", color="0.35")
 
 
 def _colours(n: int) -> list[Any]:

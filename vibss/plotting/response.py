@@ -13,7 +13,7 @@ from ._draw import new_figure
 
 __all__ = ["plot_time_groups", "quantity_of", "plot_time_response", "plot_sweep_envelope"]
 
-_ORDER = ("body translation", "body rotation", "acceleration", "angular acceleration", "velocity",
+_ORDER = ("body translation", "body rotation", "relative translation", "relative rotation", "acceleration", "angular acceleration", "velocity",
           "mount deflection", "mount force", "force into ground", "moment into ground", "force into bodies",
           "moment into bodies")
 
@@ -25,6 +25,8 @@ def quantity_of(name: str, unit: str) -> str:
     --------
     >>> quantity_of("engine.z", "m"), quantity_of("mount.front.dz", "m"), quantity_of("engine.x.acc", "m/s^2")
     ('body translation', 'mount deflection', 'acceleration')
+    >>> quantity_of("engine.z.rel", "m")
+    'relative translation'
     >>> quantity_of("ground.mx", "N m"), quantity_of("frame.into.fz", "N")
     ('moment into ground', 'force into bodies')
     """
@@ -39,6 +41,8 @@ def quantity_of(name: str, unit: str) -> str:
         return "angular acceleration" if unit.startswith("rad") else "acceleration"
     if name.endswith(".vel"):
         return "velocity"
+    if name.endswith(".rel"):
+        return "relative rotation" if unit == "rad" else "relative translation"
     return "body rotation" if unit == "rad" else "body translation"
 
 

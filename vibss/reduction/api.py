@@ -150,8 +150,9 @@ def reduce(model_or_plant: Model | Plant, scope: Scope, method: Any = "auto", *,
     choice(residual, "residual", ("vectors", "static"), who="reduce")
     opts = ReduceOptions(max_modes=max_modes, order=order, residual=residual)
     scope_n = len(scope.sources) + len(scope.outputs)
-    decision = decide(candidates, lambda m: _run(model_or_plant, scope, m, opts, note), where="reduce", auto=auto,
-                      check=lambda m, r: _check(m, r, scope), cost=lambda m: reduction_cost(m, n, scope_n),
+    decision = decide(candidates, lambda m: _run(model_or_plant, scope, cast(ReductionMethod, m), opts, note),
+                      where="reduce", auto=auto, check=lambda m, r: _check(cast(ReductionMethod, m), r, scope),
+                      cost=lambda m: reduction_cost(cast(ReductionMethod, m), n, scope_n),
                       others=[m for m in METHODS.values() if m.sparse or not sparse_input])
     r = decision.answer
     said = "; ".join(x for x in (r.note, decision.note()) if x)

@@ -87,10 +87,11 @@ def peak_checks(w: npt.ArrayLike, g: npt.ArrayLike, lo: float, hi: float) -> np.
     (k,) ndarray
         Sorted, unique frequencies [rad/s].
     """
-    w, g = np.asarray(w, float).ravel(), np.abs(np.asarray(g, float).ravel())
-    half = np.where(g > 0, 0.5 * g, 1e-6 * w)
+    wr: np.ndarray = np.asarray(w, float).ravel()
+    gr: np.ndarray = np.abs(np.asarray(g, float).ravel())
+    half = np.where(gr > 0, 0.5 * gr, 1e-6 * wr)
     off = np.array(PEAK_OFFSETS)[None, :]
-    pts = w[:, None] + half[:, None] * np.where((g > 0)[:, None], off, np.where(off == 0, 1.0, off))
+    pts = wr[:, None] + half[:, None] * np.where((gr > 0)[:, None], off, np.where(off == 0, 1.0, off))
     pts = pts.ravel()
     return np.unique(pts[(pts >= lo) & (pts <= hi) & (pts > 0)])
 

@@ -30,6 +30,8 @@ Outputs (``y``):
 ========================================  =====================================================
 ``<body>.<dof>``                          displacement of a body DOF [m, rad]
 ``<body>.<dof>.vel`` / ``.acc``           its velocity / acceleration
+``<body>.<dof>.rel``                      its displacement relative to the rigid ground at the
+                                          body's centre of gravity [m, rad]
 ``<point>.x|y|z`` (+ ``.vel``, ``.acc``)  motion of a control point, global axes
 ``mount.<name>.dx|dy|dz``                 mount deflection delta = d_body - d_to, global axes [m]
 ``mount.<name>.d1|d2|d3``                 the same in the mount's local (principal) axes
@@ -92,7 +94,7 @@ INPUT_FORMS = ("<body>.fx|fy|fz", "<body>.mx|my|mz", "<point>.fx|fy|fz",
                "<body|ground|support>.<x|y|z|rx|ry|rz>.disp|vel|acc", "actuator.<name>.f|m")
 """Valid input name forms (for messages)."""
 
-OUTPUT_FORMS = ("<body>.<x|y|z|rx|ry|rz>[.vel|.acc]", "<point>.x|y|z[.vel|.acc]",
+OUTPUT_FORMS = ("<body>.<x|y|z|rx|ry|rz>[.vel|.acc|.rel]", "<point>.x|y|z[.vel|.acc]",
                 "mount.<name>.dx|dy|dz|d1|d2|d3", "mount.<name>.fx|fy|fz|f1|f2|f3",
                 "mount.<name>.rx|ry|rz|r1|r2|r3", "mount.<name>.mx|my|mz|m1|m2|m3",
                 "<ground|support>.fx|fy|fz|mx|my|mz", "<body>.into.fx|fy|fz|mx|my|mz", "sensor.<name>")
@@ -420,6 +422,8 @@ def output_row(asm: Assembly, name: Any, cache: dict) -> tuple[_Rows, str]:
             g = cache[("wrench", target)] = _mount_wrench(asm, target)
         return _Rows(g["k"][k], g["c"][k], zero, g["h"][k], g["f"][k]), ("N" if k < 3 else "N m")
     base, _, suffix = name.rpartition(".")
+    if suffix == "rel":
+        return _relative_row(asm, name, base)
     order = _DERIV.get(suffix)
     if order is None or order == 0:
         base, order = name, 0
@@ -439,6 +443,23 @@ def output_row(asm: Assembly, name: Any, cache: dict) -> tuple[_Rows, str]:
     parts = [zero, zero, zero]
     parts[order] = row
     return _Rows(parts[0], parts[1], parts[2], zero), unit
+
+
+def _relative_row(asm: Assembly, name: str, base: str) -> tuple[_Rows, str]:
+    """``<body>.<dof>.rel``: the body DOF minus the rigid ground's motion at the body's centre of
+    gravity (a translation minus the ground point's translation there, a rotation minus the
+    ground's rotation) [m, rad]."""
+    model = asm.model
+    head, _, comp = base.rpartition(".")
+    if head not in model.body_names or comp not in DOF_NAMES:
+        raise _bad_output(model, name, " (relative motion is <body>.<x|y|z|rx|ry|rz>.rel)")
+    k = DOF_NAMES.index(comp)
+    row = np.zeros(asm.n + asm.nz)
+    row[6 * model.body_index(head) + k] = 1.0
+    g = asm.ground_offset(GROUND)
+    row[g:g + 6] -= point_transfer(model.body(head).cog)[k] if k < 3 else np.eye(6)[k]
+    zero = np.zeros_like(row)
+    return _Rows(row, zero, zero, zero), ("rad" if k >= 3 else "m")
 
 
 def _sensor_row(asm: Assembly, name: str) -> tuple[_Rows, str]:

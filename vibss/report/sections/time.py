@@ -7,6 +7,7 @@ from typing import Any
 from ...model.model import Model
 from ...results import TextTable
 from ...studies import time_outputs, time_window, transient_excitations
+from ...time.drift import ground_drifts
 from ..section import TITLES, Section, _available
 
 def _time_section(model: Model, figures: bool, results: dict[str, Any]) -> Section:
@@ -27,7 +28,8 @@ def _time_section(model: Model, figures: bool, results: dict[str, Any]) -> Secti
     summary = (r.in_g() if in_g else r).summary()
     table = TextTable(summary.header, summary.rows,
                   title=f"Peaks of the response to {', '.join(e.name for e in transient)} "
-                        "(body motions absolute; mount deflection = body side minus other side)"
+                        f"(body motions {'relative to the ground' if chosen.relative else 'absolute'}; "
+                        "mount deflection = body side minus other side)"
                         + summary.title.removeprefix(f"method {r.method}"))
     figs: list[tuple[str, Any]] = []
     if figures:
@@ -36,5 +38,6 @@ def _time_section(model: Model, figures: bool, results: dict[str, Any]) -> Secti
         figs.append(("time.png", plot_time_groups(r, order=list(chosen.lead), show_inputs=True,
                                                   acceleration="g" if in_g else "m/s^2")))
     head = "\n".join(r.report().split("\n")[:2])
-    return Section("time", TITLES["time"], f"{head}\n\n{table}", (table,), tuple(figs),
+    drifts = "".join(f"\nDrift: {d.text()}" for d in ground_drifts(transient, window.end))
+    return Section("time", TITLES["time"], f"{head}{drifts}\n\n{table}", (table,), tuple(figs),
                    note=f"0 to {window.end:g} s, step {window.step:g} s ({window.note}), method {r.method}")
