@@ -159,7 +159,7 @@ class EnergyDistribution(Result):
             df = pd.DataFrame(self.by_axis.reshape(len(self), -1), index=index, columns=cols)
         else:
             df = pd.DataFrame(self.fractions, index=index, columns=list(self.parts))
-        df.insert(0, "frequency_hz", self.frequency_hz)
+        df.insert(0, ("frequency_hz", "") if by_axis else "frequency_hz", self.frequency_hz)
         return df
 
     def plot(self, ax: Any = None, by_axis: bool = False) -> Any:
