@@ -114,11 +114,13 @@ class EnergyDistribution(Result):
         Parameters
         ----------
         by_axis : bool
-            One column per part and coordinate.
+            One column per part and coordinate (those that hold energy in some mode).
         """
-        if by_axis:
+        if by_axis:     # the coordinates no mode loads (rotations of 3-DOF mounts) left out
             data = self.by_axis.reshape(len(self), -1)
             cols = [f"{p}.{a}" for p in self.parts for a in self.axes]
+            used = np.flatnonzero(np.nan_to_num(np.abs(data)).max(axis=0, initial=0.0) > 0) if len(self) else []
+            data, cols = data[:, used], [cols[i] for i in used]
         else:
             data, cols = self.fractions, list(self.parts)
         rows = [[f"{k + 1}", f"{self.frequency_hz[k]:.3f}", self.dominant[k]]
