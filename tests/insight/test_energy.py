@@ -145,3 +145,18 @@ def test_table_pandas_and_heat_map():
     fig = e.plot()
     assert fig.axes[0].get_xlabel() == "mount (local axis)"
     assert e.to_json()
+
+
+def test_rotational_stiffness_is_shared_to_the_rotation_axes():
+    """A 6x6 mount at the COG with rotational rates kr: the rx mode loads only its r1 axis (closed
+    form: all of that mode's strain energy), a translation mode only its 1, 2, 3 axes."""
+    t = MountType("r", [1e4, 2e4, 3e4], rotational_stiffness=[100.0, 200.0, 300.0])
+    m = Model([Body("b", 10.0, [1.0, 1.5, 2.0])], [Mount("m", t, "b")])
+    e = vibss.energy_distribution(m, "strain")
+    und = vibss.modes(m)
+    for k, d in enumerate(und.directions):
+        want = np.zeros(6)
+        want[["x", "y", "z", "rx", "ry", "rz"].index(d)] = 1.0
+        assert e.by_axis[k, 0] == pytest.approx(want, abs=1e-12)
+    rx = und.directions.index("rx")
+    assert e.energy[rx] == pytest.approx(0.5 * 100.0 / 1.0, rel=1e-12)     # w^2 / 2 = kr / (2 J)

@@ -114,3 +114,22 @@ def test_refusals():
     zener = MountType("z", rheology={"type": "zener", "k_0": [1e4] * 3, "k_inf": [3e4] * 3, "tau": 1e-3})
     with pytest.raises(AnalysisError, match="frequency-dependent"):
         vibss.modal_contributions(cases.sdof(10.0, mount_type=zener), ["b.fz"], ["b.z"], [1.0])
+
+
+def test_the_check_catches_a_lost_mode(monkeypatch):
+    """The kernel's self-check is not decoration: a term dropped is a warning that states the error."""
+    import dataclasses
+
+    import vibss.insight.api as api
+
+    real = api.classical_terms
+
+    def lossy(*args):
+        mt = real(*args)
+        terms = mt.terms.copy()
+        terms[int(np.abs(terms).sum(axis=(1, 2, 3)).argmax())] = 0.0
+        return dataclasses.replace(mt, terms=terms)
+
+    monkeypatch.setattr(api, "classical_terms", lossy)
+    with pytest.warns(vibss.VibssWarning, match="missed its claim"):
+        api.modal_contributions(cases.sdof(10.0, 1e4, 20.0), ["b.fz"], ["b.z"], F)

@@ -50,28 +50,44 @@ AXES = ("1", "2", "3", "r1", "r2", "r3")
 """A mount's six local coordinates: deflections along its principal axes 1, 2, 3, rotations about them."""
 
 
-def mount_coordinates(a: Assembly, phi: np.ndarray) -> np.ndarray:
-    """(nm, 6, k) local deflections [m] and rotations [rad] of every mount in every shape.
+def _axes(a: Assembly) -> np.ndarray:
+    """(nm, 3, 3) every mount's principal axes (columns) in global axes."""
+    nm = len(a.model.mounts)
+    return np.array([m.orientation.matrix for m in a.model.mounts]).reshape(nm, 3, 3)
+
+
+def _rotational(a: Assembly, which: str) -> bool:
+    """Whether any mount resists or damps rotation (``which`` ``"K"`` or ``"C"``), or couples."""
+    mats = (a.krp, a.kcp) if which == "K" else (a.crp, a.ccp) if which == "C" else ()
+    return any(m.shape[0] and np.any(m) for m in mats)
+
+
+def mount_coordinates(a: Assembly, phi: np.ndarray, rotations: bool = True) -> np.ndarray:
+    """(nm, 6, k) local deflections [m] and rotations [rad] of every mount in every shape
+    ((nm, 3, k) deflections only without ``rotations``).
 
     Parameters
     ----------
     a : Assembly
     phi : (n, k) ndarray
         Shapes in the body DOFs (ground fixed).
+    rotations : bool
+        Also the relative rotations.
     """
     nm, k = len(a.model.mounts), phi.shape[1]
-    d = np.asarray(a.deflection_matrix()[:, :a.n] @ phi).reshape(nm, 3, k)
+    tt = _axes(a).transpose(0, 2, 1)
+    d = tt @ np.asarray(a.deflection_matrix()[:, :a.n] @ phi).reshape(nm, 3, k)
+    if not rotations:
+        return d
     r = np.asarray(a.rotation_matrix()[:, :a.n] @ phi).reshape(nm, 3, k)
-    t = np.array([m.orientation.matrix for m in a.model.mounts]).reshape(nm, 3, 3)
-    tt = t.transpose(0, 2, 1)
-    return np.concatenate([tt @ d, tt @ r], axis=1)
+    return np.concatenate([d, tt @ r], axis=1)
 
 
 def local_blocks(a: Assembly, which: str) -> np.ndarray:
     """(nm, 6, 6) every mount's matrix in its local coordinates: ``"K"`` stiffness, ``"C"``
     damping, ``"H"`` hysteretic stiffness (translational only, as the assembly holds it)."""
     nm = len(a.model.mounts)
-    t = np.array([m.orientation.matrix for m in a.model.mounts]).reshape(nm, 3, 3)
+    t = _axes(a)
     tt = t.transpose(0, 2, 1)
     tr, rr, cp = {"K": (a.kp, a.krp, a.kcp), "C": (a.cp, a.crp, a.ccp), "H": (a.hp, None, None)}[which]
     out = np.zeros((nm, 6, 6))
@@ -84,15 +100,25 @@ def local_blocks(a: Assembly, which: str) -> np.ndarray:
     return out
 
 
-def _split(x: np.ndarray, k6: np.ndarray) -> np.ndarray:
-    """(nm, 6, k) ``x_i (K6 x)_i``: the quadratic form of each mount split over its coordinates."""
-    return x * (k6 @ x)
+def _form(a: Assembly, phi: np.ndarray, which: str) -> np.ndarray:
+    """(k, nm, 6) ``x_i (K6 x)_i`` of the mounts' ``which`` matrix (``"K"``, ``"C"``, ``"H"``): its
+    quadratic form split over each mount's coordinates. Without rotational parts only the three
+    deflections are formed (the rotations' shares are zeros)."""
+    k6 = local_blocks(a, which)
+    if _rotational(a, which):
+        x = mount_coordinates(a, phi)
+        e = x * (k6 @ x)
+    else:
+        x = mount_coordinates(a, phi, rotations=False)
+        e = np.zeros((x.shape[0], 6, x.shape[2]))
+        e[:, :3] = x * (k6[:, :3, :3] @ x)
+    return e.transpose(2, 0, 1)
 
 
 def strain_energy(a: Assembly, phi: np.ndarray) -> np.ndarray:
     """(k, nm, 6) strain energy of each mount per local coordinate [J per unit modal amplitude],
     ``x_i (K6 x)_i / 2``."""
-    return 0.5 * _split(mount_coordinates(a, phi), local_blocks(a, "K")).transpose(2, 0, 1)
+    return 0.5 * _form(a, phi, "K")
 
 
 def dissipated_energy(a: Assembly, phi: np.ndarray, omega: np.ndarray) -> np.ndarray:
@@ -107,9 +133,7 @@ def dissipated_energy(a: Assembly, phi: np.ndarray, omega: np.ndarray) -> np.nda
     omega : (k,) ndarray
         Natural frequencies [rad/s] (the viscous loss grows with the frequency).
     """
-    x = mount_coordinates(a, phi)
-    e = omega[None, None, :] * _split(x, local_blocks(a, "C")) + _split(x, local_blocks(a, "H"))
-    return np.pi * e.transpose(2, 0, 1)
+    return np.pi * (omega[:, None, None] * _form(a, phi, "C") + _form(a, phi, "H"))
 
 
 @dataclass(frozen=True)
