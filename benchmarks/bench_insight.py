@@ -19,7 +19,6 @@ Run: ``python benchmarks/bench_insight.py [--quick]``.
 from __future__ import annotations
 
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
@@ -27,6 +26,7 @@ from threadpoolctl import threadpool_limits
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 from benchmarks.models import chain_model  # noqa: E402
+from benchmarks.run_all import best  # noqa: E402
 import vibss  # noqa: E402
 
 
@@ -40,15 +40,6 @@ def per_mount_loop(model: vibss.Model, shapes: np.ndarray) -> np.ndarray:
         local = m.orientation.matrix.T @ d
         out[:, p] = 0.5 * (np.asarray(m.type.stiffness)[:, None] * local**2).sum(axis=0)
     return out / out.sum(axis=1, keepdims=True)
-
-
-def best(f, repeat: int = 3):
-    t, out = np.inf, None
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        out = f()
-        t = min(t, time.perf_counter() - t0)
-    return t, out
 
 
 def bench(quick: bool) -> dict:

@@ -143,7 +143,7 @@ def test_table_pandas_and_heat_map():
     assert e.to_pandas(by_axis=True).shape == (12, 1 + 6 * 7)
     assert np.array_equal(e["m1"], e.fractions[:, 4], equal_nan=True)
     fig = e.plot()
-    assert fig.axes[0].get_xlabel() == "mount (local axis)"
+    assert fig.axes[0].get_xlabel() == "mount" and e.plot(by_axis=True).axes[0].get_xlabel() == "mount (local axis)"
     assert e.to_json()
 
 

@@ -108,6 +108,22 @@ class EnergyDistribution(Result):
         return tuple("-" if not np.isfinite(row).any() else self.parts[int(np.nanargmax(row))]
                      for row in self.fractions)
 
+    def columns(self, by_axis: bool = False) -> tuple[np.ndarray, list[str]]:
+        """The shares as (k, columns) and the column labels: one per part, or per part and coordinate
+        (``"front.3"``) leaving out the coordinates no mode loads (the rotations of 3-DOF mounts).
+
+        Parameters
+        ----------
+        by_axis : bool
+            One column per part and coordinate.
+        """
+        if not by_axis:
+            return np.asarray(self.fractions), list(self.parts)
+        data = self.by_axis.reshape(len(self), -1)
+        cols = [f"{p}.{a}" for p in self.parts for a in self.axes]
+        used = np.flatnonzero(np.nan_to_num(np.abs(data)).max(axis=0, initial=0.0) > 0) if len(self) else np.zeros(0, int)
+        return data[:, used], [cols[i] for i in used]
+
     def table(self, by_axis: bool = False) -> TextTable:
         """Shares [%]: one row per mode, one column per part (per part and axis with ``by_axis``).
 
@@ -116,13 +132,7 @@ class EnergyDistribution(Result):
         by_axis : bool
             One column per part and coordinate (those that hold energy in some mode).
         """
-        if by_axis:     # the coordinates no mode loads (rotations of 3-DOF mounts) left out
-            data = self.by_axis.reshape(len(self), -1)
-            cols = [f"{p}.{a}" for p in self.parts for a in self.axes]
-            used = np.flatnonzero(np.nan_to_num(np.abs(data)).max(axis=0, initial=0.0) > 0) if len(self) else []
-            data, cols = data[:, used], [cols[i] for i in used]
-        else:
-            data, cols = self.fractions, list(self.parts)
+        data, cols = self.columns(by_axis)
         rows = [[f"{k + 1}", f"{self.frequency_hz[k]:.3f}", self.dominant[k]]
                 + ["-" if not np.isfinite(v) else f"{100 * v:.1f}" for v in data[k]] for k in range(len(self))]
         what = "mount" if self.kind != "kinetic" else "body"

@@ -29,17 +29,14 @@ def plot_energy_distribution(result: EnergyDistribution, ax: Any = None, by_axis
     ax : Axes or None
         Axes to draw in; default: a new figure.
     by_axis : bool
-        One column per part and coordinate.
+        One column per part and coordinate (those some mode loads).
 
     Returns
     -------
     Figure
     """
-    if by_axis:
-        data = 100 * result.by_axis.reshape(len(result), -1)
-        cols = [f"{p}.{a}" for p in result.parts for a in result.axes]
-    else:
-        data, cols = 100 * result.fractions, list(result.parts)
+    shares, cols = result.columns(by_axis)
+    data = 100 * shares
     k = len(result)
     if ax is None:
         fig = new_figure(2.4 + 0.5 * len(cols), 1.4 + 0.32 * k)
@@ -54,7 +51,8 @@ def plot_energy_distribution(result: EnergyDistribution, ax: Any = None, by_axis
                         color="w" if data[i, j] > 60 else "k")
     ax.set_xticks(range(len(cols)), cols, rotation=90 if len(cols) > 6 or by_axis else 0, fontsize=8)
     ax.set_yticks(range(k), [f"{i + 1}: {result.frequency_hz[i]:.3g} Hz" for i in range(k)], fontsize=8)
-    ax.set_xlabel("mount (local axis)" if result.kind != "kinetic" else "body (DOF)")
+    part = "mount" if result.kind != "kinetic" else "body"
+    ax.set_xlabel(f"{part} ({'local axis' if result.kind != 'kinetic' else 'DOF'})" if by_axis else part)
     ax.set_ylabel("mode: natural frequency")
     fig.colorbar(im, ax=ax, label=f"{_TITLES[result.kind]} [%]", shrink=0.9)
     fitted_title(ax, f"Modal {_TITLES[result.kind]} distribution of {result.model.name!r}")
