@@ -79,4 +79,6 @@ def bench(quick: bool) -> dict:
 
 
 if __name__ == "__main__":
-    bench("--quick" in sys.argv)
+    from benchmarks.run_all import main_one
+
+    main_one("insight")

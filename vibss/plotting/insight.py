@@ -109,7 +109,8 @@ def plot_modal_contributions(result: ModalContributions, ax: Any = None, output:
     rest = [k for k in range(len(result)) if k not in best]
     unit = f"{result.units[output]}/{result.input_labels[input]}"
     up.loglog(f, np.abs(h), "k", lw=2.0, label="response")
-    colors = list(mpl.colormaps["tab10"].colors)
+    tab = mpl.colormaps["tab10"]
+    colors = [tab(i) for i in range(10)]
     labels, parts = [], []
     for c, k in enumerate(best):
         lab = f"mode {k + 1} ({result.mode_frequency_hz[k]:.3g} Hz)"
