@@ -120,8 +120,9 @@ def energy_distribution(model_or_modes: Model | Assembly | Modes, kind: str = "s
                 raise AnalysisError("energy_distribution: kind='dissipative': no mount of the model has viscous "
                                     "damping or a loss factor: nothing is dissipated")
             e = dissipated_energy(a, phi, w)
-            cp, hp = phi.T @ (a.dense("C") @ phi), phi.T @ (a.dense("H") @ phi)
-            reference = np.pi * (w * np.diag(cp) + np.diag(hp))
+            cp = np.einsum("ik,ik->k", phi, np.asarray(a.C @ phi))      # diag(phi^T C phi), sparse or dense C
+            hp = np.einsum("ik,ik->k", phi, np.asarray(a.H @ phi))
+            reference = np.pi * (w * cp + hp)
         total = e.sum(axis=(1, 2))
         usable = ~rigid & (np.abs(total) > 0)
         with np.errstate(divide="ignore", invalid="ignore"):
