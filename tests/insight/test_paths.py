@@ -15,13 +15,14 @@ F = np.array([1.5, 4.0, 7.7, 12.0, 30.0])
 
 
 def one_body() -> Model:
-    """One body, COG off the origin, four inclined mounts of two types with dashpots and a loss factor."""
+    """One body, COG off the origin, four inclined mounts with dashpots, a loss factor and one 6x6 mount."""
     ta = MountType("A", [2e5, 1.5e5, 4e5], [40.0, 30.0, 80.0], loss_factor=0.08)
     tb = MountType("B", [5e4, 8e4, 1.2e5], [300.0, 50.0, 100.0])
+    tc = MountType("C", [5e4, 8e4, 1.2e5], [300.0, 50.0, 100.0], rotational_stiffness=[800.0, 500.0, 300.0])
     b = Body("b", 200.0, [[20.0, -1.0, 0.5], [-1.0, 35.0, 0.2], [0.5, 0.2, 40.0]], cog=[0.1, -0.05, 0.4])
     mounts = [Mount("fl", ta, "b", at=[0.6, 0.4, -0.3], orientation=Orientation.from_euler([0, 30, 0], degrees=True)),
               Mount("fr", ta, "b", at=[0.6, -0.45, -0.3], orientation=Orientation.from_euler([0, -25, 10], degrees=True)),
-              Mount("rl", tb, "b", at=[-0.7, 0.5, -0.35]),
+              Mount("rl", tc, "b", at=[-0.7, 0.5, -0.35], orientation=Orientation.from_euler([10, 20, 0], degrees=True)),
               Mount("rr", tb, "b", at=[-0.65, -0.5, -0.3], orientation=Orientation.from_euler([45, 0, 0], degrees=True))]
     return Model([b], mounts, name="one body")
 
@@ -67,7 +68,8 @@ def test_each_path_matches_a_per_mount_loop():
             z = k * (1 + 1j * np.asarray(mt.type.loss_factor)) + 1j * w * np.asarray(mt.type.damping, float)
             force = t @ (z * (t.T @ u))
             point = cog + r
-            ref = np.concatenate([force, np.cross(point, force)])
+            own = t @ (np.asarray(mt.type.rotational_stiffness, float) * (t.T @ x[3:]))   # a 6x6 mount's moment
+            ref = np.concatenate([force, np.cross(point, force) + own])
             assert np.abs(p.forces[q, :, 0, i] - ref).max() < 1e-10 * np.abs(ref).max()
 
 
@@ -91,3 +93,12 @@ def test_receivers_are_named_precisely():
         vibss.path_contributions(m, ["body2.fz"], F, receiver="body3")
     with pytest.raises(SignalError, match="no mount has 'body2'"):
         vibss.path_contributions(m, ["body2.fz"], F, receiver="body2")
+
+
+def test_an_actuator_into_the_receiver_is_named_not_a_path():
+    from vibss.model.actuation import Actuator
+
+    t = MountType("iso", [1e4] * 3, [20.0] * 3)
+    m = Model([Body("b", 10.0, [1, 1, 1])], [Mount("m", t, "b")], actuators=[Actuator("a", mount="m", axis=3)])
+    p = vibss.path_contributions(m, ["b.fz"], F)
+    assert p.paths == ("m",) and "actuators ['a'] act into 'ground'" in p.note

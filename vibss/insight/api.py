@@ -28,6 +28,7 @@ from ..frequency.grid import FrequencyGrid, frequency_grid
 from ..linear.eigen.basis import classical_damping, modal_basis, projected_damping
 from ..linear.plant.assemble import Assembly, assemble
 from ..linear.plant.build import build_plant
+from ..linear.plant.names import actuator_wrench
 from ..linear.plant.plant import Plant
 from ..linear.solve.exact import observe, states, zfactor
 from ..methods import Check, Claim, Method, decide
@@ -364,7 +365,7 @@ def path_contributions(model: Model | Assembly, inputs: Sequence[Any], frequenci
             forces[q, 3:] += h[row + 3:row + 6]
         row += 6 if mo else 3
     into = h[-6:]
-    acting = [a.name for a in getattr(mdl, "actuators", ()) if getattr(a, "to", None) == receiver]
+    acting = [a.name for a in mdl.actuators if actuator_wrench(mdl, a)[1] == receiver]
     notes = [f"method {fr.method}"]
     if acting:
         notes.append(f"actuators {acting} act into {receiver!r}: their reactions are not paths (not checked)")
