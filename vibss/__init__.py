@@ -67,6 +67,8 @@ _LAZY: dict[str, str] = {
     "TimeResponse": ".time.result", "simulate": ".time.api",
     "SweepEnvelope": ".time.sweep", "sweep_envelope": ".time.sweep",
     "grid_study": ".design.grid",
+    "energy_distribution": ".insight.api", "modal_contributions": ".insight.api",
+    "path_contributions": ".insight.api",
     "srs": ".shock.api", "ShockResponseSpectrum": ".shock.result",
     "random_response": ".random", "PSD": ".random",
     # subpackages
@@ -108,6 +110,7 @@ if TYPE_CHECKING:                          # what static checkers and IDEs see
     from .model.actuation import Actuator, Sensor
     from .shock.result import ShockResponseSpectrum
     from .design.grid import grid_study
+    from .insight.api import energy_distribution, modal_contributions, path_contributions
     from .frequency.api import frequency_response
     from .frequency.grid import FrequencyGrid, frequency_grid
     from .frequency.result import FrequencyResponse
@@ -145,6 +148,6 @@ __all__ = [
     "AnalysisError", "ArgumentError", "Assembly", "DefectiveModesError", "Body", "ControlPoint", "DOF_NAMES", "DampedModes", "Excitation",
     "FrequencyGrid", "FrequencyResponse", "GROUND", "Load", "MissingDependencyError", "Model", "ModelError", "ModelFileError", "Modes", "Mount", "MountType", "NamedStateSpace",
     "Orientation", "PSD", "Plant", "Reduction", "Scope", "SignalError", "StaticResult", "StudyDefaults", "Support", "SweepEnvelope", "TimeResponse", "VibssError", "VibssWarning", "assemble", "build_plant", "damped_modes", "dump_model",
-    "dumps_model", "example_names", "frequency_grid", "frequency_response", "load_example", "load_model", "loads_model", "modes", "operating_point", "OperatingPoint", "orders", "random", "random_response", "reduce", "shock", "simulate", "srs", "static",
+    "dumps_model", "energy_distribution", "example_names", "frequency_grid", "frequency_response", "load_example", "load_model", "loads_model", "modal_contributions", "modes", "operating_point", "OperatingPoint", "orders", "path_contributions", "random", "random_response", "reduce", "shock", "simulate", "srs", "static",
     "statespace", "grid_study", "study_defaults", "causal_loss", "sweep_envelope", "sweep_response", "symmetric", "transmissibility",
 ]

@@ -30,7 +30,7 @@ LAYERS = [
     {"frequency.kernels", "frequency.contracts", "frequency.lowrank", "frequency.terms", "frequency.grid",
      "frequency.statespace_kernels",
      "time.kernels", "time.branched", "time.inputs", "time.sampling", "time.drift", "studies"},
-    {"frequency", "time", "reduction", "design", "shock", "orders", "random", "control", "nonlinear"},
+    {"frequency", "time", "reduction", "design", "shock", "orders", "random", "control", "nonlinear", "insight"},
     {"plotting", "report"},
     {"commands", "cli", "__main__"},
 ]

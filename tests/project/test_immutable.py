@@ -78,6 +78,16 @@ def objects() -> dict[str, Any]:
             "m", MountType("snub", [1e4, 1.2e4, 2e4], stops={"z": (1e-3, 1e6)}), "b", at=[0.3, 0.2, 0.1])),
             gravity=[0.0, 0.0, -9.81])),
         **control_objects(),
+        **insight_objects(m),
+    }
+
+
+def insight_objects(m: Model) -> dict[str, Any]:
+    """The energy distribution, modal and path contributions of the box."""
+    return {
+        "energy": vibss.energy_distribution(m, "strain"),
+        "modal contributions": vibss.modal_contributions(m, ["b.fz"], ["b.z"], [1.0, 3.0, 9.0]),
+        "paths": vibss.path_contributions(m, ["b.fz"], [1.0, 3.0]),
     }
 
 
@@ -155,14 +165,15 @@ def writable_handles(obj: Any) -> list[str]:
 KINDS = ["static", "modes", "damped", "frequency", "time", "peaks", "sweep", "reduction", "assembly",
          "sparse assembly", "plant", "certificate", "sensitivity", "monte carlo", "optimisation",
          "elastic axes", "torque response", "design axes", "orders", "random", "srs", "envelope", "shock study", "closed loop",
-         "demand", "semi-active", "control study", "operating point"]
+         "demand", "semi-active", "control study", "operating point", "energy", "modal contributions", "paths"]
 
 
 def test_every_public_result_type_is_in_the_walk(objects: dict[str, Any]) -> None:
     public = set()
     import vibss.control
+    import vibss.insight
 
-    for module in (vibss, vibss.design, vibss.orders, vibss.random, vibss.shock, vibss.control):
+    for module in (vibss, vibss.design, vibss.orders, vibss.random, vibss.shock, vibss.control, vibss.insight):
         public |= {getattr(module, n) for n in module.__all__
                    if isinstance(getattr(module, n), type) and issubclass(getattr(module, n), Result)}
     walked = {type(o) for o in objects.values()}

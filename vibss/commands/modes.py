@@ -16,6 +16,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_model_arguments(p)
     p.add_argument("-n", "--modes", type=int, default=None, metavar="N",
                    help="only the lowest N modes (default: all, 6 per body)")
+    p.add_argument("--energy", choices=("strain", "kinetic", "dissipative"), default=None,
+                   help="print the modes' energy shared among the mounts (strain, dissipative) or bodies "
+                        "(kinetic), per part and per local axis, instead of the modes' report")
     add_save_argument(p, "mode shapes (UFF datasets 2411 and 55)")
     p.set_defaults(func=run_modes)
     d = sub.add_parser("damped", help="damped modes: poles, damping ratios, complex shapes",
@@ -31,7 +34,12 @@ def run_modes(args: argparse.Namespace) -> int:
     from ..modal.api import modes
 
     result = modes(load_from_args(args), n_modes=args.modes)
-    emit(result, args.format)
+    if getattr(args, "energy", None):
+        from ..insight.api import energy_distribution
+
+        emit(energy_distribution(result, args.energy), args.format)
+    else:
+        emit(result, args.format)
     save(result, args.save, (".uff", ".unv"))
     return 0
 

@@ -1,4 +1,5 @@
-"""The modal sections: undamped modes with their kinetic-energy table, and the damped modes."""
+"""The modal sections: undamped modes with their kinetic-energy table and, beside it, the mounts' share of
+each mode's strain energy (:func:`vibss.insight.energy_distribution`); and the damped modes."""
 
 from __future__ import annotations
 
@@ -6,6 +7,7 @@ from typing import Any
 
 import numpy as np
 
+from ...insight.api import energy_distribution
 from ...modal.api import damped_modes
 from ...modal.api import modes
 from ...model.model import Model
@@ -14,6 +16,8 @@ from ..section import MAX_MODE_PANELS, TITLES, Section
 def _modes_section(model: Model, figures: bool, results: dict[str, Any]) -> Section:
     m = modes(model)
     results["modes"] = m
+    strain = energy_distribution(m, "strain")
+    results["strain energy"] = strain
     figs: list[tuple[str, Any]] = []
     note = ""
     if figures:
@@ -24,9 +28,10 @@ def _modes_section(model: Model, figures: bool, results: dict[str, Any]) -> Sect
             note = f"figures show the lowest {MAX_MODE_PANELS} of {len(m)} modes"
         figs = [("modes.png", plot_modes(m, which=which)),
                 ("modes_views.png", plot_modes(m, which=which[:6], view="three")),
-                ("energy.png", plot_energy(m, which=which))]
-    return Section("modes", TITLES["modes"], m.report(),
-                   (m.frequency_table(), m.shape_table(), m.energy_table()), tuple(figs), note)
+                ("energy.png", plot_energy(m, which=which)),
+                ("strain_energy.png", strain.plot())]
+    return Section("modes", TITLES["modes"], m.report() + "\n\n" + strain.table().render(),
+                   (m.frequency_table(), m.shape_table(), m.energy_table(), strain.table()), tuple(figs), note)
 
 
 def _damped_section(model: Model, figures: bool, results: dict[str, Any]) -> Section:
