@@ -26,6 +26,7 @@ Examples
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
@@ -34,7 +35,7 @@ import scipy.sparse as sp
 
 from ..linear.plant.assemble import Assembly
 from .._validate import choice
-from ..errors import AnalysisError, DefectiveModesError, ModelError
+from ..errors import AnalysisError, DefectiveModesError, ModelError, VibssWarning
 from .contracts import settle
 from .kernels import METHODS, zero_frequency_limit
 from ..linear.plant.branches import require_none
@@ -180,6 +181,7 @@ def frequency_response(system: Model | Assembly | Plant, inputs: Sequence[Any] |
     chosen = resolve_method(method)
     plant, basis, f, pick, large = _plant_and_modes(system, inputs, outputs, frequencies, chosen)
     chosen, reason = _settled(plant, chosen, pick, basis, f.size)
+    _warn_implausible_band(plant, basis, f)
     if basis is None and not large and not sp.issparse(plant.K):
         reason = f"{reason}; resonances not marked: {_NO_MODES}"
     large_note = (f"{plant.n} DOFs above {LARGE_DOFS} with explicit frequencies: kept sparse, no dense "
@@ -206,6 +208,30 @@ def frequency_response(system: Model | Assembly | Plant, inputs: Sequence[Any] |
     fr, numbers, labels = _resonances(plant, basis, float(f.min()), float(f.max()))
     return FrequencyResponse(f, h, plant.outputs, plant.inputs, units, quantity, chosen.name, reason,
                              fr, plant.name, _input_units(plant), numbers, labels)
+
+
+BAND_ABOVE = 100.0
+"""A band that starts this many times above every natural frequency is implausible: the response
+there is the mass line, and the frequencies were most likely meant in another unit."""
+
+
+def _warn_implausible_band(plant: Plant, basis: ModalBasis | None, f: np.ndarray) -> None:
+    """Warn when every asked frequency lies over :data:`BAND_ABOVE` times the highest natural
+    frequency (the modes' when known, else the Gershgorin bound ``max_i sum_j |K_ij| / M_ii``,
+    which is above it for a diagonal ``M``: a warning it gives is never a false alarm by much)."""
+    if f.size == 0 or float(f.min()) <= 0:
+        return
+    if basis is not None and basis.omega.size:
+        top = float(np.max(basis.omega)) / (2 * np.pi)
+    else:
+        k = abs(plant.K).sum(axis=1) if sp.issparse(plant.K) else np.abs(plant.K).sum(axis=1)
+        m = plant.M.diagonal() if sp.issparse(plant.M) else np.diag(plant.M)
+        ratio = np.asarray(k).ravel() / np.where(m > 0, m, np.inf)
+        top = float(np.sqrt(ratio.max(initial=0.0))) / (2 * np.pi)
+    if top > 0 and float(f.min()) > BAND_ABOVE * top:
+        warnings.warn(f"frequency_response: the band starts at {float(f.min()):.4g} Hz, over {BAND_ABOVE:g} "
+                      f"times every natural frequency (the highest is about {top:.3g} Hz): only the mass line "
+                      "is left there; were the frequencies meant in another unit?", VibssWarning, stacklevel=3)
 
 
 def _plant_and_modes(system: Model | Assembly | Plant, inputs: Any, outputs: Any, frequencies: Any,

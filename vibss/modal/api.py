@@ -30,12 +30,13 @@ clean directions by :func:`vibss.linear.eigen.directions.align_cluster`.
 
 from __future__ import annotations
 
+import warnings
 from typing import Any
 
 import numpy as np
 
 from .._validate import integer
-from ..errors import AnalysisError, ArgumentError, ModelError
+from ..errors import AnalysisError, ArgumentError, ModelError, VibssWarning
 from ..linear.eigen.directions import align_cluster, cluster_slices, energy_fractions
 from ..linear.eigen.undamped import Solver, undamped
 from ..model.nonlinearity import refuse_nonlinear
@@ -118,11 +119,42 @@ def modes(model: Model | Assembly, n_modes: int | None = None,
     energy = energy_fractions(phi, M)
     gamma = phi.T @ (M @ rigid_influence(a.model))
     bound = check_frequencies(spec.error, rigid)
+    _warn_implausible_geometry(a.model, omega, rigid)
     note = "; ".join(x for x in (auto_note(method, name), bound.text()) if x)
     return Modes(model=a.model, dofs=a.dofs, omega=omega, shapes=phi, energy=energy,
                  effective_mass=gamma ** 2, rigid=rigid, method=name,
                  note="; ".join(x for x in (tangent_note, note) if x),
                  error_estimate=spec.error)
+
+
+IMPLAUSIBLE_HZ = 1000.0
+"""[Hz] Rigid bodies on mounts above this are suspect ..."""
+LEVER_RATIO = 20.0
+"""... when a mount also sits this many radii of gyration of its body away from the body's centre
+of gravity (and over :data:`LEVER_M`): the mark of positions given in mm (a 200 mm lever read as
+200 m puts the rocking modes at tens of kHz)."""
+LEVER_M = 10.0
+"""[m] The lever arm below which no position is called implausible."""
+
+
+def _warn_implausible_geometry(model: Model, omega: np.ndarray, rigid: np.ndarray) -> None:
+    """A :class:`~vibss.errors.VibssWarning` naming the mounts whose lever arms look like lengths in
+    mm, when the highest elastic mode is over :data:`IMPLAUSIBLE_HZ`."""
+    top = float(np.max(omega[~rigid], initial=0.0)) / (2 * np.pi)
+    if top <= IMPLAUSIBLE_HZ:
+        return
+    far = []
+    for m in model.mounts:
+        b = model.body(m.body)
+        gyration = float(np.sqrt(np.max(np.linalg.eigvalsh(b.tensor)) / np.max(b.masses)))
+        arm = float(np.linalg.norm(model.point(m.body, m.at, m.frame)))
+        if arm > LEVER_M and arm > LEVER_RATIO * gyration:
+            far.append(f"mount {m.name!r} {arm:.3g} m from body {m.body!r}'s centre of gravity "
+                       f"(radius of gyration {gyration:.3g} m)")
+    if far:
+        warnings.warn(f"modes: natural frequencies up to {top:.3g} Hz, and {'; '.join(far[:3])}"
+                      f"{f' and {len(far) - 3} more' if len(far) > 3 else ''}: positions in mm where m "
+                      "were meant?", VibssWarning, stacklevel=3)
 
 
 AUTO = Method("auto", lambda *args: None, claim=Claim(

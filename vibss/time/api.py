@@ -52,6 +52,7 @@ import scipy.sparse as sp
 
 from .._validate import choice, number
 from ..errors import AnalysisError, ArgumentError, DefectiveModesError, ModelError, VibssWarning
+from .drift import implausible_motions
 from .inputs import SignalInput, as_function, exact_terms, initial_state, summed
 from .methods import METHODS, SimulationJob, TimeMethod, settled, stays_sparse
 from ..methods import Check, Cost, Method, decide
@@ -172,6 +173,8 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
                          "are prescribed motions (use method='modal')")
     for finding in check_excitations(excitations, dt, inserts_breakpoints=chosen.hits_edges):
         finding.warn(stacklevel=3)
+    for text in implausible_motions(excitations, t_end):
+        warnings.warn(f"simulate: {text}", VibssWarning, stacklevel=2)
     if chosen.uses_solver and solver in EXPLICIT_RK:
         check_explicit_rk(plant.M, plant.K, t_end, rtol=rtol, solver=solver, C=plant.C).warn(stacklevel=3)
     probes = _probes(job, sig, chosen)
