@@ -275,8 +275,10 @@ class StaticResult(Result):
         """DataFrame of body deflections (one row per body)."""
         pd = require_pandas()
 
-        return pd.DataFrame(self.deflections, index=pd.Index(self.model.body_names, name="body"),
-                            columns=list(DOF_NAMES))
+        df = pd.DataFrame(self.deflections, index=pd.Index(self.model.body_names, name="body"),
+                          columns=list(DOF_NAMES))
+        df.attrs["units"] = {d: ("rad" if d.startswith("r") else "m") for d in DOF_NAMES}
+        return df
 
 
 def static(model: Model | Assembly, loads: np.ndarray | None = None, *,

@@ -76,7 +76,7 @@ def test_two_orders_kept_apart_and_overall_rms():
     np.testing.assert_allclose(r.overall[0] ** 2, 0.5 * (np.abs(r.response[0, 0]) ** 2 + np.abs(r.response[1, 0]) ** 2),
                                rtol=1e-14)
     df = r.to_pandas()
-    assert df.shape == (50, 2) and df.attrs["units"] == {"box.z": "m"}
+    assert df.shape == (50, 2) and df.attrs["units"] == {"by output": {"box.z": "m"}}
     assert r.to_json()
 
 

@@ -262,3 +262,20 @@ def test_assembly_matrices_cannot_be_changed_from_outside():
     mine = asm.dense("K").copy()
     mine *= 4                                           # a copy is the user's to change
     assert np.allclose(mine, 4 * asm.dense("K"))
+
+
+@pytest.mark.parametrize("kind", ["static", "modes", "damped", "frequency", "time", "peaks", "sweep", "reduction",
+                                  "certificate", "sensitivity", "monte carlo", "optimisation", "design axes",
+                                  "orders", "random", "srs", "energy", "modal contributions", "paths"])
+def test_every_table_carries_its_units(objects: dict[str, Any], kind: str) -> None:
+    """Issue 33: every ``to_pandas()`` says the unit of each column in ``attrs["units"]`` (a column
+    whose rows each have their own unit is covered by a ``"by row"`` or ``"by output"`` entry)."""
+    pytest.importorskip("pandas")
+    df = objects[kind].to_pandas()
+    units = df.attrs.get("units")
+    assert isinstance(units, dict) and units, kind
+    flat = [c if isinstance(c, str) else c[0] for c in df.columns]
+    covered = set(units) | {"unit"}
+    grouped = {"by row", "by output", "shares", "df", "dpurity"} & set(units)
+    missing = [c for c in flat if c not in covered and not grouped]
+    assert not missing, (kind, missing)

@@ -365,8 +365,10 @@ class DesignAxes(Result):
     def to_pandas(self) -> Any:
         """DataFrame: one row per axis, columns x, y, z."""
         pd = require_pandas()
-        return pd.DataFrame(np.array(list(self._vectors.values())), columns=list(_XYZ),
-                            index=pd.Index(list(self._vectors), name="axis"))
+        df = pd.DataFrame(np.array(list(self._vectors.values())), columns=list(_XYZ),
+                          index=pd.Index(list(self._vectors), name="axis"))
+        df.attrs["units"] = {c: "-" for c in _XYZ}          # unit vectors, global axes
+        return df
 
     def plot(self, ax: Any = None, view: str = "three", length: float | None = None) -> Any:
         """The axes drawn on the layout: :func:`vibss.plotting.design.plot_axes`.

@@ -248,6 +248,7 @@ class Certificate(Result):
         for j, c in enumerate(self.coordinates):
             df[f"ke_{c}"] = self.ke_matrix[:, j]
         df.index = pd.RangeIndex(1, len(df) + 1, name="mode")
+        df.attrs["units"] = {c: ("Hz" if c.endswith("_hz") else "-") for c in df.columns}
         return df
 
     def plot(self, ax: Any = None, **kwargs: Any) -> Any:

@@ -293,7 +293,10 @@ class MonteCarlo(Result):
             data[f"f{i + 1}_hz"] = self.frequency_hz[:, i]
         for i in range(self.frequency_hz.shape[1]):
             data[f"purity{i + 1}"] = self.purity[:, i]
-        return pd.DataFrame(data, index=pd.RangeIndex(self.n, name="variant"))
+        df = pd.DataFrame(data, index=pd.RangeIndex(self.n, name="variant"))
+        units = dict(zip(self.parameters, self.units))
+        df.attrs["units"] = {c: units.get(c, "Hz" if c.endswith("_hz") else "-") for c in df.columns}
+        return df
 
     def plot(self, ax: Any = None, **kwargs: Any) -> Any:
         """Histograms of frequencies and purities: :func:`vibss.plotting.design.plot_monte_carlo`.

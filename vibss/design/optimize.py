@@ -155,9 +155,10 @@ class Optimization(Result):
     def to_pandas(self) -> Any:
         """DataFrame: one row per design variable."""
         pd = require_pandas()
-        return pd.DataFrame({"unit": list(self.units), "lower": self.bounds[:, 0], "upper": self.bounds[:, 1],
-                             "before": self.x0, "after": self.x},
-                            index=pd.Index(list(self.variables), name="variable"))
+        df = pd.DataFrame({"unit": list(self.units), "lower": self.bounds[:, 0], "upper": self.bounds[:, 1],
+                           "before": self.x0, "after": self.x}, index=pd.Index(list(self.variables), name="variable"))
+        df.attrs["units"] = {"by row": dict(zip(self.variables, self.units))}     # each variable in its own unit
+        return df
 
     def plot(self, ax: Any = None, **kwargs: Any) -> Any:
         """Purity per mode before and after: :func:`vibss.plotting.design.plot_optimization`.

@@ -180,7 +180,11 @@ class Sensitivity(Result):
             data[f"df{i + 1}"] = self.d_frequency[i]
         for i in range(len(self.frequency_hz)):
             data[f"dpurity{i + 1}"] = self.d_purity[i]
-        return pd.DataFrame(data, index=pd.Index(list(self.parameters), name="parameter"))
+        df = pd.DataFrame(data, index=pd.Index(list(self.parameters), name="parameter"))
+        per = dict(zip(self.parameters, self.parameter_units))
+        df.attrs["units"] = {"value": "the row's unit", "df": "Hz per the row's unit",
+                             "dpurity": "1 per the row's unit", "by row": per}
+        return df
 
     def plot(self, ax: Any = None, **kwargs: Any) -> Any:
         """Tornado of the normalized sensitivities: :func:`vibss.plotting.design.plot_sensitivity`.

@@ -172,6 +172,7 @@ class EnergyDistribution(Result):
         else:
             df = pd.DataFrame(self.fractions, index=index, columns=list(self.parts))
         df.insert(0, ("frequency_hz", "") if by_axis else "frequency_hz", self.frequency_hz)
+        df.attrs["units"] = {"frequency_hz": "Hz", "shares": "-"}
         return df
 
     def plot(self, ax: Any = None, by_axis: bool = False) -> Any:
@@ -321,7 +322,11 @@ class ModalContributions(Result):
         sh = np.concatenate([projection_share(self.residual, self.total)[None], self.share])
         idx = pd.MultiIndex.from_product([range(k + 1), self.output_names, self.input_names, self.frequency],
                                          names=["mode", "output", "input", "frequency_hz"])
-        return pd.DataFrame({"real": full.real.ravel(), "imag": full.imag.ravel(), "share": sh.ravel()}, index=idx)
+        df = pd.DataFrame({"real": full.real.ravel(), "imag": full.imag.ravel(), "share": sh.ravel()}, index=idx)
+        df.attrs["units"] = {"real": "the channel's unit", "imag": "the channel's unit", "share": "-",
+                             "by output": dict(zip(self.output_names, self.output_units)),
+                             "per unit of": "the input's unit"}
+        return df
 
     def plot(self, ax: Any = None, output: int | str = 0, input: int | str = 0, top: int = 4) -> Any:
         """Magnitudes of the response and its ``top`` terms, and their stacked shares:
@@ -463,8 +468,10 @@ class PathContributions(Result):
         pd = require_pandas()
         idx = pd.MultiIndex.from_product([self.paths, self.components, self.input_names, self.frequency],
                                          names=["path", "component", "input", "frequency_hz"])
-        return pd.DataFrame({"real": self.forces.real.ravel(), "imag": self.forces.imag.ravel(),
-                             "share": self.share.ravel()}, index=idx)
+        df = pd.DataFrame({"real": self.forces.real.ravel(), "imag": self.forces.imag.ravel(),
+                           "share": self.share.ravel()}, index=idx)
+        df.attrs["units"] = {"real": "N (forces) or N m (moments) per unit input", "imag": "the same", "share": "-"}
+        return df
 
     def plot(self, ax: Any = None, component: int | str | None = None, input: int | str = 0) -> Any:
         """Each path's force beside the total, and their shares:

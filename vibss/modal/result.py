@@ -237,6 +237,9 @@ class Modes(Result):
         for j, d in enumerate(DOF_NAMES):
             df[f"effective_mass_{d}"] = self.effective_mass[:, j]
         df.index = pd.RangeIndex(1, len(self) + 1, name="mode")
+        df.attrs["units"] = {"frequency_hz": "Hz", "cpm": "1/min", "omega": "rad/s", "direction": "-",
+                             "rigid": "-", "modal_mass": "kg",
+                             **{f"effective_mass_{d}": ("kg m^2" if d.startswith("r") else "kg") for d in DOF_NAMES}}
         return df
 
     def plot(self, ax: Any = None, **kwargs: Any) -> Any:
@@ -390,8 +393,11 @@ class DampedModes(Result):
         """DataFrame: one row per damped mode."""
         pd = require_pandas()
 
-        return pd.DataFrame({
+        df = pd.DataFrame({
             "frequency_hz": self.frequency_hz, "damped_frequency_hz": self.damped_frequency_hz,
             "damping_ratio": self.damping_ratio, "pole_real": self.poles.real,
             "pole_imag": self.poles.imag, "undamped_mode": self.paired + 1,
         }, index=pd.RangeIndex(1, len(self) + 1, name="mode"))
+        df.attrs["units"] = {"frequency_hz": "Hz", "damped_frequency_hz": "Hz", "damping_ratio": "-",
+                             "pole_real": "rad/s", "pole_imag": "rad/s", "undamped_mode": "-"}
+        return df

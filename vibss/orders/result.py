@@ -124,7 +124,7 @@ class OrderResponse(Result):
                 for j, k in enumerate(self.orders) for i, o in enumerate(self.outputs)}
         df = pd.DataFrame(data, index=pd.Index(self.rpm, name="rpm"))
         df.columns.names = ["order", "output"]
-        df.attrs["units"] = dict(zip(self.outputs, self.units))
+        df.attrs["units"] = {"by output": dict(zip(self.outputs, self.units))}
         return df
 
     def plot(self, ax: Any = None, **kwargs: Any) -> Any:

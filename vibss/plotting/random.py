@@ -38,17 +38,25 @@ def plot_random(result: Any, ax: Any = None) -> Figure:
     for a, unit in zip(axes, units):
         for i, (o, u) in enumerate(zip(result.outputs, result.units)):
             if u == unit:
-                a.loglog(f, np.maximum(result.psd[i], 1e-300), color=f"C{i % 10}",
+                a.loglog(f, _positive(result.psd[i]), color=f"C{i % 10}",
                          label=f"{o}: {result.rms[i]:.4g} {u} RMS")
         a.set_ylabel(f"PSD [{psd_units[unit]}]")
         a.grid(True, which="both", alpha=0.3)
         a.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     a = axes[-1]
+    levels, given = result.input_levels()             # as the spec was given: g^2/Hz stays g^2/Hz
+    one = len(set(given)) == 1
     for j, name in enumerate(result.inputs):
-        a.loglog(f, np.maximum(result.input_psd[j], 1e-300), color="0.3", ls=("-", "--", ":")[j % 3], label=name)
-    a.set_ylabel("input PSD [SI unit^2/Hz]")
+        a.loglog(f, _positive(levels[j]), color="0.3", ls=("-", "--", ":")[j % 3],
+                 label=name if one else f"{name} [{given[j]}]")
+    a.set_ylabel(f"input PSD [{given[0]}]" if one else "input PSD (units in the legend)")
     a.set_xlabel("frequency [Hz]")
     a.grid(True, which="both", alpha=0.3)
     a.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     axes[0].set_title("Random response (output PSDs and RMS)", fontsize=10)
     return fig
+
+
+def _positive(y: np.ndarray) -> np.ndarray:
+    """Zeros (outside an input's band) left out of a log axis, not drawn as 1e-300."""
+    return np.where(y > 0, y, np.nan)

@@ -113,4 +113,5 @@ def random_response(system: Any, inputs: Mapping[str, Any], outputs: Sequence[st
                           miles(plant.outputs, names, f, g_y, g_in, habs), ", ".join(sorted(used)),
                           note=f"adaptive quadrature in ln f: {f.size} frequencies over {band[0]:g} ... "
                                f"{band[1]:g} Hz, rtol {rtol:g}; exact FRF; inputs "
-                               + ("correlated as given" if correlation else "uncorrelated"))
+                               + ("correlated as given" if correlation else "uncorrelated"),
+                          input_units=tuple(p.unit for p in psds))

@@ -24,6 +24,10 @@ UNITS: dict[str, float] = {"g^2/Hz": G * G, "(m/s^2)^2/Hz": 1.0, "N^2/Hz": 1.0, 
                            "(rad/s)^2/Hz": 1.0, "mm^2/Hz": 1e-6}
 """Accepted level units and their factor to SI."""
 
+EDGE_RTOL = 1e-12
+"""A frequency this close (relative) to a band edge is on it: a grid built in ln f meets the edges
+only to rounding, and the first point of the band read 0."""
+
 
 @dataclass(frozen=True)
 class PSD:
@@ -79,9 +83,12 @@ class PSD:
         return float(self.frequency_hz[0]), float(self.frequency_hz[-1])
 
     def __call__(self, f: Any) -> np.ndarray:
-        """Level in SI at frequencies ``f`` [Hz]: log-log between breakpoints, 0 outside."""
+        """Level in SI at frequencies ``f`` [Hz]: log-log between breakpoints, 0 outside (a band
+        edge met to within :data:`EDGE_RTOL`, e.g. ``exp(log(20))``, counts as the edge)."""
         f = np.asarray(f, dtype=float)
         fp, lp = self.frequency_hz, self.si
+        f = np.where(np.abs(f - fp[0]) <= EDGE_RTOL * fp[0], fp[0],
+                     np.where(np.abs(f - fp[-1]) <= EDGE_RTOL * fp[-1], fp[-1], f))
         out = np.zeros(f.shape)
         inside = (f >= fp[0]) & (f <= fp[-1])
         if fp.size == 1:

@@ -3,7 +3,7 @@ Miles's estimate per output, with the result protocol of :mod:`vibss.results`)."
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, ClassVar
 
 import numpy as np
@@ -38,6 +38,9 @@ class RandomResponse(Result):
         Miles's single-mode estimate of the RMS (NaN where it does not apply).
     method, note : str
         FRF method and how the integral went.
+    input_units : tuple of str
+        The unit each input's PSD was given in (``"g^2/Hz"`` ...); figures and tables show the
+        inputs in it. Empty: SI.
     """
 
     signal_kind: ClassVar[str] = "output"
@@ -52,6 +55,7 @@ class RandomResponse(Result):
     miles: np.ndarray
     method: str = ""
     note: str = ""
+    input_units: tuple[str, ...] = ()
 
     @property
     def output_labels(self) -> tuple[str, ...]:
@@ -68,6 +72,25 @@ class RandomResponse(Result):
     def three_sigma(self) -> np.ndarray:
         """(p,) 3 x RMS [output unit]: exceeded about 0.27 % of the time by a Gaussian response."""
         return 3.0 * self.rms
+
+    def input_levels(self) -> tuple[np.ndarray, tuple[str, ...]]:
+        """The input PSDs in the units they were given in (``(m, nf)``, and those units): a spec in
+        g^2/Hz is shown in g^2/Hz."""
+        from .psd import UNITS
+
+        units = self.input_units or tuple(_si_psd_unit(n) for n in self.inputs)
+        factor = np.array([UNITS.get(u, 1.0) for u in units])
+        return self.input_psd / factor[:, None], units
+
+    def in_g(self) -> RandomResponse:
+        """The same response with translational accelerations (outputs in m/s^2) in g: their PSDs
+        in g^2/Hz, RMS and Miles's estimate in g."""
+        acc = np.array([u == "m/s^2" for u in self.units])
+        if not acc.any():
+            return self
+        return replace(self, psd=np.where(acc[:, None], self.psd / G**2, self.psd),
+                       rms=np.where(acc, self.rms / G, self.rms), miles=np.where(acc, self.miles / G, self.miles),
+                       units=tuple("g" if a else u for a, u in zip(acc, self.units)))
 
     def psd_units(self) -> tuple[str, ...]:
         """Units of the output PSDs."""
@@ -111,3 +134,12 @@ class RandomResponse(Result):
         from ..plotting.random import plot_random
 
         return plot_random(self, ax=ax, **kwargs)
+
+
+def _si_psd_unit(name: str) -> str:
+    """The SI PSD unit of an input signal, from its name's suffix (a force otherwise)."""
+    last = name.rsplit(".", 1)[-1]
+    unit = {"acc": "(m/s^2)^2/Hz", "vel": "(m/s)^2/Hz", "disp": "m^2/Hz"}.get(last)
+    if unit is None:
+        unit = "(N m)^2/Hz" if last.startswith("m") else "N^2/Hz"
+    return unit

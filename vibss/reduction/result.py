@@ -201,9 +201,10 @@ class Reduction(Result):
     def to_pandas(self) -> Any:
         """DataFrame of what was removed: one row per removal (what, names, reason, exact)."""
         pd = require_pandas()
-        return pd.DataFrame([{"what": r.what, "names": ", ".join(r.names), "reason": r.reason,
-                              "exact": r.exact} for r in self.removed],
-                            columns=["what", "names", "reason", "exact"])
+        df = pd.DataFrame([{"what": r.what, "names": ", ".join(r.names), "reason": r.reason,
+                            "exact": r.exact} for r in self.removed], columns=["what", "names", "reason", "exact"])
+        df.attrs["units"] = {c: "-" for c in df.columns}                  # words, not quantities
+        return df
 
     def plot(self, ax: Any = None) -> Any:
         """Full against reduced response over the band: :func:`vibss.plotting.plot_reduction`.

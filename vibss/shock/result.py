@@ -98,8 +98,9 @@ class ShockResponseSpectrum(Result):
     def to_pandas(self) -> Any:
         """The spectrum as a DataFrame indexed by frequency [Hz], one column named for the signal."""
         pd = require_pandas()
-        return pd.DataFrame({self.name: self.response},
-                            index=pd.Index(self.frequency_hz, name="frequency_hz"))
+        df = pd.DataFrame({self.name: self.response}, index=pd.Index(self.frequency_hz, name="frequency_hz"))
+        df.attrs["units"] = {self.name: self.unit, "frequency_hz": "Hz"}
+        return df
 
 
 @dataclass(frozen=True, eq=False)

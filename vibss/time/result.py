@@ -44,8 +44,11 @@ class PeakTable(ReadOnly):
         """DataFrame indexed by output, columns peak, time, rms, unit."""
         pd = require_pandas()
 
-        return pd.DataFrame({"peak": self.value, "time": self.time, "rms": self.rms,
-                             "unit": self.units}, index=list(self.outputs))
+        df = pd.DataFrame({"peak": self.value, "time": self.time, "rms": self.rms,
+                           "unit": self.units}, index=list(self.outputs))
+        df.attrs["units"] = {"peak": "the row's unit", "time": "s", "rms": "the row's unit",
+                             "by row": dict(zip(self.outputs, self.units))}
+        return df
 
 
 @dataclass(frozen=True, eq=False)
@@ -190,7 +193,10 @@ class TimeResponse(Result):
         cols = {"time": self.time}
         cols.update({n: row for n, row in zip(self.output_names, self.outputs)})
         cols.update({n: row for n, row in zip(self.input_names, self.inputs)})
-        return pd.DataFrame(cols)
+        df = pd.DataFrame(cols)
+        df.attrs["units"] = {"time": "s", **dict(zip(self.output_names, self.units)),
+                             **{n: _input_unit(n) for n in self.input_names}}
+        return df
 
     def plot(self, outputs: Sequence[str] | None = None, by: str = "body", ax: Any = None,
              inputs: bool | None = None) -> Any:
@@ -223,3 +229,12 @@ def _negligible(pk: PeakTable, rel: float = 1e-9) -> tuple[str, ...]:
     for u, v in zip(family, pk.value):
         largest[u] = max(largest.get(u, 0.0), abs(float(v)))
     return tuple(n for n, u, v in zip(pk.outputs, family, pk.value) if not abs(v) > rel * largest[u])
+
+
+def _input_unit(name: str) -> str:
+    """The SI unit of an input signal from its name: ``.disp|.vel|.acc`` a motion, else a force or
+    a moment (:func:`vibss.model.units.input_unit`)."""
+    from ..model.units import input_unit
+
+    kind = {"disp": "displacement", "vel": "velocity", "acc": "acceleration"}.get(name.rsplit(".", 1)[-1], "force")
+    return input_unit(name, kind)

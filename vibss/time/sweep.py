@@ -122,7 +122,9 @@ class SweepEnvelope(Result):
         for i, y in enumerate(self.outputs):
             cols[f"{y}/envelope"] = self.envelope[i]
             cols[f"{y}/steady"] = self.steady[i]
-        return pd.DataFrame(cols, index=pd.Index(self.frequency_hz, name="frequency_hz"))
+        df = pd.DataFrame(cols, index=pd.Index(self.frequency_hz, name="frequency_hz"))
+        df.attrs["units"] = {f"{y}/{k}": u for y, u in zip(self.outputs, self.units) for k in ("envelope", "steady")}
+        return df
 
     def plot(self, outputs: Any = None, ax: Any = None) -> Any:
         """Envelope and steady state against frequency: :func:`vibss.plotting.plot_sweep_envelope`.
