@@ -355,9 +355,13 @@ class Result(ReadOnly):
         return self.report()
 
     def _repr_html_(self) -> str:
-        """The summary table as HTML, under the result's name (escaped)."""
+        """The result's tables (:meth:`html_tables`) as HTML, under its name (escaped)."""
         title = html.escape(self.report().split("\n", 1)[0])
-        return f"<div><strong>{title}</strong>{self.summary().to_html()}</div>"
+        return f"<div><strong>{title}</strong>" + "".join(t.to_html() for t in self.html_tables()) + "</div>"
+
+    def html_tables(self) -> list[TextTable]:
+        """The tables a notebook shows: the summary (a result with more to show lists more)."""
+        return [self.summary()]
 
     def to_json(self, indent: int | None = None) -> str:
         """Strict JSON of :meth:`to_dict` (non-finite numbers are null; never NaN or Infinity).

@@ -235,16 +235,7 @@ class StaticResult(Result):
             rows = [[k] + [f"{1e3 * x:.4f}" for x in v] for k, v in self.control_points.items()]
             parts.append(TextTable(["point", "x [mm]", "y [mm]", "z [mm]"], rows, title="Control points").render())
         if self.model.mounts:
-            rows = []
-            for p, m in enumerate(self.model.mounts):
-                rows.append([m.name, f"{m.body}->{m.support or m.to}"]
-                            + [f"{1e3 * v:.4f}" for v in self.mount_deflection[p]]
-                            + [f"{1e3 * v:.4f}" for v in self.mount_deflection_local[p]]
-                            + [f"{v:.2f}" for v in self.mount_force[p]])
-            parts.append(TextTable(["mount", "joins", "dx [mm]", "dy [mm]", "dz [mm]", "d1 [mm]", "d2 [mm]",
-                                "d3 [mm]", "Fx [N]", "Fy [N]", "Fz [N]"], rows,
-                               title="Mounts (deflection = body side minus other side; force into the "
-                                     "other side)").render())
+            parts.append(self.mount_table().render())
             if self.mount_moment is not None:
                 parts.append(self.moment_table().render())
         per_support = self.reactions
@@ -260,6 +251,27 @@ class StaticResult(Result):
         if self.cases_left_out:
             parts.append("Note: " + _left_out_text(self.cases_left_out))
         return "\n\n".join(parts)
+
+    def mount_table(self) -> TextTable:
+        """Mount deflections [mm] in global and local axes, and forces [N] into the other side."""
+        rows = []
+        for p, m in enumerate(self.model.mounts):
+            rows.append([m.name, f"{m.body}->{m.support or m.to}"]
+                        + [f"{1e3 * v:.4f}" for v in self.mount_deflection[p]]
+                        + [f"{1e3 * v:.4f}" for v in self.mount_deflection_local[p]]
+                        + [f"{v:.2f}" for v in self.mount_force[p]])
+        return TextTable(["mount", "joins", "dx [mm]", "dy [mm]", "dz [mm]", "d1 [mm]", "d2 [mm]",
+                          "d3 [mm]", "Fx [N]", "Fy [N]", "Fz [N]"], rows,
+                         title="Mounts (deflection = body side minus other side; force into the other side)")
+
+    def html_tables(self) -> list[TextTable]:
+        """Bodies, mounts (deflections and forces) and the 6x6 mounts' rotations and moments."""
+        out = [self.summary()]
+        if self.model.mounts:
+            out.append(self.mount_table())
+            if self.mount_moment is not None:
+                out.append(self.moment_table())
+        return out
 
     def moment_table(self) -> TextTable:
         """Relative rotations [mrad] and moments [N m] of the 6x6 mounts (global axes)."""

@@ -174,6 +174,10 @@ class Modes(Result):
         """The frequency table (:meth:`frequency_table`)."""
         return self.frequency_table()
 
+    def html_tables(self) -> list[TextTable]:
+        """Frequencies with effective masses, and the kinetic-energy distribution."""
+        return [self.frequency_table(), self.energy_table()]
+
     def _estimate(self, k: int) -> float | None:
         """Relative error bound of mode k as JSON (None: rigid or not estimated)."""
         if self.error_estimate is None or not np.isfinite(self.error_estimate[k]):
