@@ -48,6 +48,7 @@ _LAZY: dict[str, str] = {
     "dump_model": ".io.modelfile", "dumps_model": ".io.modelfile", "example_names": ".io.modelfile",
     "load_example": ".io.modelfile", "load_model": ".io.modelfile", "loads_model": ".io.modelfile",
     "Modes": ".modal.result", "modes": ".modal.api",
+    "track_modes": ".modal.tracking",
     "DOF_NAMES": ".model.model", "GROUND": ".model.model", "Body": ".model.model",
     "ControlPoint": ".model.model", "Load": ".model.model", "Model": ".model.model",
     "Mount": ".model.model", "MountType": ".model.model", "Support": ".model.model",
@@ -122,6 +123,7 @@ if TYPE_CHECKING:                          # what static checkers and IDEs see
     from .linear.statespace import NamedStateSpace, statespace
     from .modal.api import damped_modes, modes
     from .modal.result import DampedModes, Modes
+    from .modal.tracking import track_modes
     from .model.excitation import Excitation
     from .model.timefunctions import (HalfSine, Haversine, Ramp, Rectangular, Sawtooth, Sine, SineSweep, Step,
                                       Sum, Table, TimeFunction, Triangle)
@@ -148,6 +150,6 @@ __all__ = [
     "AnalysisError", "ArgumentError", "Assembly", "DefectiveModesError", "Body", "ControlPoint", "DOF_NAMES", "DampedModes", "Excitation",
     "FrequencyGrid", "FrequencyResponse", "GROUND", "Load", "MissingDependencyError", "Model", "ModelError", "ModelFileError", "Modes", "Mount", "MountType", "NamedStateSpace",
     "Orientation", "PSD", "Plant", "Reduction", "Scope", "SignalError", "StaticResult", "StudyDefaults", "Support", "SweepEnvelope", "TimeResponse", "VibssError", "VibssWarning", "assemble", "build_plant", "damped_modes", "dump_model",
-    "dumps_model", "energy_distribution", "example_names", "frequency_grid", "frequency_response", "load_example", "load_model", "loads_model", "modal_contributions", "modes", "operating_point", "OperatingPoint", "orders", "path_contributions", "random", "random_response", "reduce", "shock", "simulate", "srs", "static",
+    "dumps_model", "energy_distribution", "example_names", "frequency_grid", "frequency_response", "load_example", "load_model", "loads_model", "modal_contributions", "modes", "operating_point", "OperatingPoint", "orders", "path_contributions", "random", "random_response", "reduce", "shock", "simulate", "srs", "static", "track_modes",
     "statespace", "grid_study", "study_defaults", "causal_loss", "sweep_envelope", "sweep_response", "symmetric", "transmissibility",
 ]

@@ -18,7 +18,7 @@ from ._scene import Scene
 if TYPE_CHECKING:      # a figure is handed computed modes; it imports no analysis
     from ..modal.result import Modes
 
-__all__ = ["plot_modes", "animate_mode", "mode_title", "mode_motion"]
+__all__ = ["plot_modes", "animate_mode", "mode_title", "mode_motion", "plot_mode_tracks"]
 
 AUTO_SCALE = 0.12
 """Default largest drawn displacement, as a fraction of the drawing's size."""
@@ -229,3 +229,39 @@ def animate_mode(modes: Modes, k: int, path: str | Path, frames: int = 24, view:
     out = Path(path)
     anim.save(out, writer=PillowWriter(fps=fps))
     return out
+
+
+def plot_mode_tracks(tracks: Any, x: Any = None, xlabel: str = "step", ax: Any = None) -> Figure:
+    """Tracked natural frequencies against the swept parameter: one colour and legend entry per
+    track (its label at the first step), weak matches (MAC below 0.5) ringed.
+
+    Parameters
+    ----------
+    tracks : vibss.modal.tracking.ModeTracks
+    x : (steps,) array_like or None
+        The swept parameter's values (default the step number).
+    xlabel : str
+        Its axis label, with its unit (``"V-angle [deg]"``).
+    ax : Axes or None
+        Draw into it; default a new figure.
+    """
+    f = np.asarray(tracks.frequency_hz)
+    xs = np.arange(f.shape[0]) if x is None else np.asarray(x, dtype=float)
+    if ax is None:
+        fig = new_figure(7.5, 4.2)
+        ax = fig.subplots()
+    fig = ax.figure
+    colours = [f"C{j % 10}" for j in range(f.shape[1])]
+    for j, lab in enumerate(tracks.labels):
+        ax.plot(xs, f[:, j], "o-", ms=3, color=colours[j], label=f"{j + 1}: {lab} ({f[0, j]:.3g} Hz first)")
+    weak = np.zeros_like(f, dtype=bool)
+    weak[1:] = np.asarray(tracks.mac) < 0.5
+    if weak.any():
+        s, k = np.nonzero(weak)
+        ax.plot(xs[s], f[s, k], "o", mfc="none", mec="k", ms=8, label="MAC < 0.5 (mode changed)")
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel("natural frequency [Hz]")
+    ax.grid(True, alpha=0.3)
+    ax.legend(title="tracked by MAC", fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0),
+              borderaxespad=0.0)
+    return fig
