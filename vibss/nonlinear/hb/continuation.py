@@ -1,0 +1,217 @@
+"""The harmonic-balance equations and their pseudo-arclength continuation in frequency.
+
+The equations on the stacked real coefficients ``X`` of the local deflections (:mod:`.aft`) are
+
+    R(X, omega) = X - U(omega) + G(omega) F(X) = 0,
+
+``G`` the condensed compliance, ``U`` the local linear response to the inputs and ``F`` the AFT
+coefficients of the forces beyond the tangent (:mod:`.condensed`). ``dR/dX = I + G dF/dX``;
+``dR/domega`` is a forward difference (only the linear part depends on ``omega``).
+
+The branch is followed in the scaled unknowns ``v = (X / x_s, omega / w_s)`` (``x_s`` the largest
+linear local amplitude, ``w_s`` the frequency range) by Keller's pseudo-arclength method: an Euler
+predictor along the unit tangent, a Newton corrector on the plane normal to it, step halving when
+the corrector fails or the tangent turns by more than :data:`MAX_TURN`, growth after easy steps.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ...errors import AnalysisError
+from .aft import Basis, LocalLaws, aft, to_real
+from .condensed import Condensed
+
+__all__ = ["Problem", "Branch", "follow", "NEWTON_TOL", "MAX_TURN"]
+
+NEWTON_TOL = 1e-11
+"""Newton's corrector stops when its step and the residual are below this, relative to ``x_s``."""
+
+MAX_TURN = 0.2
+"""Largest angle [rad] between consecutive tangents before the step is halved (so the predictor
+cannot jump onto another part of the branch at a fold)."""
+
+_MAX_NEWTON = 12
+_DOMEGA = 1e-7          # relative forward-difference step in omega
+
+
+@dataclass(frozen=True, eq=False)
+class Problem:
+    """One harmonic-balance problem: the condensed linear part, the local laws and the AFT basis."""
+
+    linear: Condensed
+    laws: LocalLaws
+    basis: Basis
+
+    @property
+    def size(self) -> int:
+        return self.basis.size * self.linear.m
+
+    def residual(self, X: np.ndarray, omega: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``R`` ((2H+1) m,) [m], ``dR/dX`` and ``dR/domega`` [m s/rad] at ``(X, omega)``."""
+        F, J, _ = aft(self.laws, self.basis, X)
+        assert J is not None
+        lin = self.linear.at(omega)
+        R = self._r(X, F, omega)
+        h = _DOMEGA * omega
+        dw = (self._r(X, F, omega + h) - R) / h
+        return R, np.eye(X.size) + lin.Greal @ J, dw
+
+    def _r(self, X: np.ndarray, F: np.ndarray, omega: float) -> np.ndarray:
+        lin = self.linear.at(omega)
+        U = np.zeros((self.basis.harmonics + 1, self.linear.m), dtype=complex)
+        U[1] = lin.U
+        return X - to_real(U) + lin.Greal @ F
+
+    def start(self, omega: float) -> np.ndarray:
+        """The linear solution at ``omega``: the first guess of Newton's method."""
+        U = np.zeros((self.basis.harmonics + 1, self.linear.m), dtype=complex)
+        U[1] = self.linear.at(omega).U
+        return to_real(U)
+
+    def solve(self, X: np.ndarray, omega: float, scale: float) -> tuple[np.ndarray, bool]:
+        """Newton's method at fixed ``omega`` from ``X``; returns the solution and whether it converged."""
+        for _ in range(4 * _MAX_NEWTON):
+            R, J, _ = self.residual(X, omega)
+            dX = np.linalg.solve(J, -R)
+            X = X + dX
+            if np.linalg.norm(dX) <= NEWTON_TOL * scale:
+                return X, True
+        return X, False
+
+
+@dataclass
+class Branch:
+    """Points along the branch: frequency [rad/s], coefficients, and the tangent's omega part."""
+
+    omega: list[float] = field(default_factory=list)
+    X: list[np.ndarray] = field(default_factory=list)
+    path: list[float] = field(default_factory=list)      # omega of every continuation point
+    slope: list[float] = field(default_factory=list)     # their d omega / d s (sign changes at folds)
+    near: list[int] = field(default_factory=list)        # the last recorded point at each
+    steps: int = 0
+    rejected: int = 0
+    complete: bool = True
+
+
+def _tangent(J: np.ndarray, dw: np.ndarray, prev: np.ndarray) -> np.ndarray:
+    A = np.vstack([np.column_stack([J, dw]), prev[None]])
+    rhs = np.zeros(A.shape[0])
+    rhs[-1] = 1.0
+    t = np.linalg.solve(A, rhs)
+    return t / np.linalg.norm(t)
+
+
+def follow(problem: Problem, w0: float, w1: float, points: int, targets: Sequence[float] | None,
+           max_steps: int) -> Branch:
+    """Follow the branch from ``w0`` to ``w1`` [rad/s].
+
+    ``targets`` None records every continuation point (the last one at ``w1`` exactly); else the
+    branch's crossings of each target frequency [rad/s] (Newton at fixed frequency from the
+    interpolated neighbours), every crossing, so a frequency with three solutions gives three points.
+    """
+    xs = max(float(np.max(np.abs(problem.start(w))) if problem.size else 0.0)
+             for w in np.linspace(w0, w1, 41)) or 1.0
+    ws = w1 - w0
+    X, ok = problem.solve(problem.start(w0), w0, xs)
+    if not ok:
+        raise AnalysisError(f"harmonic_balance: Newton's method did not converge at the first frequency "
+                            f"{w0 / (2 * np.pi):.6g} Hz; start the range where the response is nearly linear")
+    out = Branch()
+    R, J, dw = problem.residual(X, w0)
+    e = np.zeros(X.size + 1)
+    e[-1] = 1.0
+    t = _tangent(J, dw * ws / xs, e)
+    targets_left = None if targets is None else sorted(targets)
+    _record(out, w0, X)
+    _walk(out, w0, t[-1])
+    if targets_left is not None:
+        targets_left = [f for f in targets_left if f > w0 * (1 + 1e-14)]
+    ds0 = np.sqrt(2.0) / points
+    ds, ds_min, ds_max = ds0, ds0 * 1e-4, 2 * ds0
+    v = np.append(X / xs, w0 / ws)
+    while out.steps < max_steps:
+        out.steps += 1
+        step = _corrected(problem, v, t, ds, xs, ws)
+        if step is None:
+            out.rejected += 1
+            ds /= 2
+            if ds < ds_min:
+                raise AnalysisError(f"harmonic_balance: continuation stalled near "
+                                    f"{v[-1] * ws / (2 * np.pi):.6g} Hz (step below {ds_min:.1e})")
+            continue
+        v_new, t_new, iters = step
+        if float(t_new @ t) < np.cos(MAX_TURN) and ds > ds_min * 4:
+            out.rejected += 1
+            ds /= 2
+            continue
+        wa, wb = v[-1] * ws, v_new[-1] * ws
+        if targets_left is not None:
+            _crossings(problem, out, targets_left, v, v_new, wa, wb, xs, ws)
+        elif wb >= w1:
+            frac = (w1 - wa) / (wb - wa)
+            Xe, ok = problem.solve(xs * (v[:-1] + frac * (v_new[:-1] - v[:-1])), w1, xs)
+            _record(out, w1, Xe if ok else xs * v_new[:-1])
+        else:
+            _record(out, wb, xs * v_new[:-1])
+        _walk(out, wb, t_new[-1])
+        v, t = v_new, t_new
+        if wb >= w1 or wb < w0 - 0.05 * ws:
+            return out
+        ds = min(ds * 1.5, ds_max) if iters <= 3 else ds if iters <= 6 else ds / 2
+    out.complete = False
+    return out
+
+
+def _record(out: Branch, omega: float, X: np.ndarray) -> None:
+    out.omega.append(float(omega))
+    out.X.append(X)
+
+
+def _walk(out: Branch, omega: float, slope: float) -> None:
+    out.path.append(float(omega))
+    out.slope.append(float(slope))
+    out.near.append(len(out.omega) - 1)
+
+
+def _crossings(problem: Problem, out: Branch, targets: list[float], v: np.ndarray, v_new: np.ndarray,
+               wa: float, wb: float, xs: float, ws: float) -> None:
+    """Record the branch's solution at every target frequency between ``wa`` and ``wb`` [rad/s]
+    (either direction: a target on a part of the branch that runs backwards is recorded too)."""
+    lo, hi = min(wa, wb), max(wa, wb)
+    for f in targets:
+        if lo < f <= hi:
+            frac = (f - wa) / (wb - wa)
+            X, ok = problem.solve(xs * (v[:-1] + frac * (v_new[:-1] - v[:-1])), f, xs)
+            if not ok:
+                raise AnalysisError(f"harmonic_balance: Newton's method did not converge at "
+                                    f"{f / (2 * np.pi):.6g} Hz on the branch")
+            _record(out, f, X)
+
+
+def _corrected(problem: Problem, v: np.ndarray, t: np.ndarray, ds: float, xs: float,
+               ws: float) -> tuple[np.ndarray, np.ndarray, int] | None:
+    """Predictor-corrector step of length ``ds``: the new point, its tangent and Newton's iterations
+    (None when the corrector fails)."""
+    pred = v + ds * t
+    w = pred.copy()
+    for it in range(1, _MAX_NEWTON + 1):
+        omega = w[-1] * ws
+        if omega <= 0:
+            return None
+        R, J, dw = problem.residual(xs * w[:-1], omega)
+        A = np.vstack([np.column_stack([J, dw * ws / xs]), t[None]])
+        b = -np.append(R / xs, t @ (w - pred))
+        try:
+            dv = np.linalg.solve(A, b)
+        except np.linalg.LinAlgError:
+            return None
+        w = w + dv
+        if np.linalg.norm(dv) <= NEWTON_TOL:
+            R, J, dw = problem.residual(xs * w[:-1], w[-1] * ws)
+            tn = _tangent(J, dw * ws / xs, t)
+            return w, tn, it
+    return None

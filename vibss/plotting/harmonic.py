@@ -1,0 +1,61 @@
+"""The harmonic-balance response curve: first-harmonic amplitude against frequency, unstable parts dashed."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+from matplotlib.figure import Figure
+
+from ._draw import new_figure
+
+__all__ = ["plot_harmonic_balance"]
+
+
+def plot_harmonic_balance(result: Any, outputs: Sequence[str] | None = None, ax: Any = None) -> Figure:
+    """First-harmonic amplitude of each output along the branch, stable solid, unstable dashed,
+    the turning points marked.
+
+    Parameters
+    ----------
+    result : vibss.nonlinear.result.HarmonicBalanceResult
+        The branch.
+    outputs : sequence of str or None
+        Outputs to draw (default all; one axes per unit).
+    ax : Axes or None
+        Axes to draw on (all outputs on it); default a new figure.
+
+    Returns
+    -------
+    Figure
+    """
+    names = list(result.output_labels) if outputs is None else list(outputs)
+    idx = [result.output_labels.index(o) for o in names]
+    units = list(dict.fromkeys(result.units[i] for i in idx))
+    if ax is None:
+        fig = new_figure(7, 3.2 * len(units))
+        axes = list(fig.subplots(len(units), 1, squeeze=False)[:, 0])
+    else:
+        axes, fig = [ax] * len(units), ax.figure
+    f = result.frequencies
+    stable = np.ones(f.size, dtype=bool) if result.stable is None else np.asarray(result.stable)
+    for n, i in enumerate(idx):
+        a = axes[units.index(result.units[i])]
+        y = result.amplitude[i]
+        color = f"C{n % 10}"
+        for b in range(f.size - 1):             # each segment styled by its ends' stability
+            both = stable[b] and stable[b + 1]
+            a.plot(f[b:b + 2], y[b:b + 2], color=color, ls="-" if both else "--",
+                   label=names[n] if b == 0 else None)
+        if f.size == 1:
+            a.plot(f, y, "o", color=color, label=names[n])
+        for k in result.turning_index:
+            a.plot(f[k], y[k], "o", mfc="none", color=color, ms=5)
+    for u, a in zip(units, axes):
+        a.set_xlabel("frequency [Hz]")
+        a.set_ylabel(f"first-harmonic amplitude [{u}]")
+        a.grid(True, alpha=0.3)
+        a.legend(loc="best", fontsize=8, title=None if result.stable is None else "dashed: unstable",
+                 title_fontsize=8)
+    return fig
