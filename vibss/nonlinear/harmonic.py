@@ -21,6 +21,7 @@ from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
+from scipy.interpolate import CubicHermiteSpline
 
 from .._validate import is_numeric
 from ..errors import AnalysisError, ArgumentError, ModelError, VibssWarning
@@ -103,11 +104,11 @@ def harmonic_balance(model: Model, inputs: Mapping[str, complex], outputs: Seque
     Examples
     --------
     >>> from vibss import Body, Model, Mount, MountType
-    >>> t = MountType("snub", [4e4, 4e4, 4e4], damping=[40.0] * 3, stops={"z": (1e-3, 4e5)})
-    >>> m = Model([Body("b", 10.0, [1, 1, 1])], [Mount("m", t, "b")])
-    >>> r = harmonic_balance(m, {"b.fz": 30.0}, ["b.z"], frequencies=(5.0, 25.0), harmonics=5)
-    >>> len(r.turning_points), bool(r.stable.all())          # a hardening fold, its middle branch unstable
-    (2, False)
+    >>> t = MountType("snub", [4e4, 4e4, 4e4], damping=[40.0] * 3, stops={"z": (1e-3, 4e4)})
+    >>> m = Model([Body("b", 10.0, [1, 1, 1])], [Mount("m", t, "b")])     # 10 Hz, a stop at 1 mm
+    >>> r = harmonic_balance(m, {"b.fz": 10.0}, ["b.z"], frequencies=(5.0, 20.0), harmonics=7, points=100)
+    >>> r.turning_points.round(1).tolist(), bool(r.stable.all())     # a hardening fold; its middle branch unstable
+    ([12.8, 11.2], False)
     """
     if not isinstance(model, Model):
         raise ArgumentError(f"harmonic_balance: model: expected a Model, got {type(model).__name__}",
@@ -253,7 +254,8 @@ def _result(problem: Problem, branch: Branch, names: list[str], u: np.ndarray, o
     stable = None if hill is None else np.zeros(nb, dtype=bool)
     growth = None if hill is None else np.zeros(nb)
     for b, (w, X) in enumerate(zip(branch.omega, branch.X)):
-        c = lin.at(w)
+        c = lin.outputs(w)
+        assert c.T is not None and c.Y is not None
         Y[:, 1, b] = c.Y
         if m:
             F, _, kappa = aft(problem.laws, problem.basis, X, jacobian=False)
@@ -306,21 +308,40 @@ def _hill(problem: Problem, stability: bool) -> tuple[Hill | None, str]:
     return Hill(plant, problem.linear.rows()), f"stability by Hill's method, {2 * plant.n} exponents{hyst}"
 
 
+FOLD_RETREAT = 1e-3
+"""A fold counts when the branch's frequency retreats from its extremum by more than this fraction:
+a stop's kink makes the discretised branch zig-zag by the AFT's sampling error near a fold."""
+
+
 def _folds(branch: Branch) -> tuple[np.ndarray, np.ndarray]:
-    """Frequencies [Hz] of the branch's folds (sign changes of d omega / d s) and the nearest points."""
-    w, s = np.array(branch.path), np.sign(branch.slope)
+    """Frequencies [Hz] of the branch's folds (extrema of the frequency along it that the branch
+    leaves by more than :data:`FOLD_RETREAT`) and the recorded point nearest each.
+
+    Between the extremal continuation point and its neighbour where ``d omega / d s`` changes sign,
+    ``omega(s)`` is refined as the cubic Hermite interpolant of their frequencies and slopes (error
+    O(ds^4) on a smooth branch).
+    """
+    w, d, s = np.array(branch.path), np.array(branch.slope) * branch.scale, np.array(branch.arc)
     freqs, where = [], []
-    for b in np.flatnonzero(s[1:] * s[:-1] < 0):
-        k = b if abs(branch.slope[b]) < abs(branch.slope[b + 1]) else b + 1
-        lo = min(max(k - 1, 0), max(w.size - 3, 0))
-        if w.size >= 3:
-            x = np.arange(lo, lo + 3, dtype=float)
-            c = np.polyfit(x, w[lo:lo + 3], 2)
-            peak = float(np.polyval(c, -c[1] / (2 * c[0]))) if c[0] else float(w[k])
-            top = w[lo:lo + 3]
-            peak = float(np.clip(peak, top.min() - abs(top.ptp()), top.max() + abs(top.ptp())))
-        else:
-            peak = float(w[k])
-        freqs.append(peak / (2 * np.pi))
-        where.append(branch.near[k])
+    up, c = True, 0                  # direction of travel in frequency, and the running extremum
+    for i in range(1, w.size):
+        if (w[i] > w[c]) == up:
+            c = i
+        elif abs(w[i] - w[c]) > FOLD_RETREAT * w[c]:
+            freqs.append(_refined(w, d, s, c, up) / (2 * np.pi))
+            where.append(branch.near[c])
+            up, c = not up, i
     return np.array(freqs), np.array(where, dtype=int)
+
+
+def _refined(w: np.ndarray, d: np.ndarray, s: np.ndarray, c: int, top: bool) -> float:
+    """The extremum of ``omega`` [rad/s] near path point ``c`` (a maximum when ``top``)."""
+    best = float(w[c])
+    for b in (c - 1, c):
+        if 0 <= b < w.size - 1 and d[b] * d[b + 1] < 0:
+            p = CubicHermiteSpline([0.0, s[b + 1] - s[b]], w[b:b + 2], d[b:b + 2])
+            for r in p.derivative().roots(extrapolate=False):
+                if 0 <= r <= s[b + 1] - s[b]:
+                    val = float(p(r))
+                    best = max(best, val) if top else min(best, val)
+    return best

@@ -44,10 +44,13 @@ def plot_harmonic_balance(result: Any, outputs: Sequence[str] | None = None, ax:
         a = axes[units.index(result.units[i])]
         y = result.amplitude[i]
         color = f"C{n % 10}"
-        for b in range(f.size - 1):             # each segment styled by its ends' stability
-            both = stable[b] and stable[b + 1]
-            a.plot(f[b:b + 2], y[b:b + 2], color=color, ls="-" if both else "--",
-                   label=names[n] if b == 0 else None)
+        seg = stable[:-1] & stable[1:]          # a segment is stable when both its ends are
+        start = 0
+        for b in range(1, seg.size + 1):        # one line per run of equally styled segments
+            if b == seg.size or seg[b] != seg[start]:
+                a.plot(f[start:b + 1], y[start:b + 1], color=color, ls="-" if seg[start] else "--",
+                       label=names[n] if start == 0 else None)
+                start = b
         if f.size == 1:
             a.plot(f, y, "o", color=color, label=names[n])
         for k in result.turning_index:

@@ -23,7 +23,7 @@ import scipy.sparse as sp
 from ...errors import AnalysisError
 from ...linear.eigen.basis import modal_basis
 from ...linear.plant.plant import Plant
-from ...linear.solve.exact import output_map, response, states, without_hysteresis
+from ...linear.solve.exact import forcing, observe, output_map, states, without_hysteresis, zfactor
 
 __all__ = ["Condensed", "Linear"]
 
@@ -36,21 +36,22 @@ class Linear:
     ----------
     G : (H+1, m, m) complex ndarray
         Local compliance per harmonic [m/N].
-    T : (H+1, p, m) complex ndarray
-        Outputs per local force per harmonic (the outputs' units per N).
     U : (m,) complex ndarray
         Local deflections' linear response to the inputs at the fundamental [m].
-    Y : (p,) complex ndarray
-        Outputs' linear response to the inputs at the fundamental.
     Greal : (N, N) ndarray
         ``G`` as the real block matrix acting on the stacked real coefficients (:mod:`.aft`).
+    T : (H+1, p, m) complex ndarray or None
+        Outputs per local force beyond the tangent per harmonic (the outputs' units per N), with
+        the direct part ``-W``: ``y_k = Y - T_k F_k``.
+    Y : (p,) complex ndarray or None
+        Outputs' linear response to the inputs at the fundamental.
     """
 
     G: np.ndarray
-    T: np.ndarray
     U: np.ndarray
-    Y: np.ndarray
     Greal: np.ndarray
+    T: np.ndarray | None = None
+    Y: np.ndarray | None = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -93,38 +94,58 @@ class Condensed:
             return np.asarray(oq.toarray() if sp.issparse(oq) else oq, dtype=float)
         return self.plant.cached("harmonic balance: local rows", make)
 
-    def at(self, omega: float) -> Linear:
-        """The condensed linear part at ``omega`` [rad/s] (remembered for the last few)."""
+    def at(self, omega: float, pair: float | None = None) -> Linear:
+        """The condensed linear part at ``omega`` [rad/s] (remembered for the last few); ``pair``: a
+        second frequency solved in the same batch (the forward difference's)."""
         key = float(omega)
         hit = self._cache.get(key)
         if hit is None:
             if len(self._cache) > 16:
                 self._cache.clear()
-            hit = self._cache[key] = self._make(key)
+            todo = [key] if pair is None or float(pair) in self._cache else [key, float(pair)]
+            for w, made in zip(todo, self._solve(np.array(todo))):
+                self._cache[w] = made
+            hit = self._cache[key]
         return hit
 
-    def _make(self, omega: float) -> Linear:
-        H, p, m = self.harmonics, self.p, self.m
+    def outputs(self, omega: float) -> Linear:
+        """The condensed linear part at ``omega`` [rad/s] with the outputs' parts ``T`` and ``Y``."""
+        return self._solve(np.array([float(omega)]), outputs=True)[0]
+
+    def _static(self) -> tuple[np.ndarray, Plant]:
+        static = self.plant.cached("harmonic balance: static plant", lambda: without_hysteresis(self.plant))
+        return self.plant.cached("harmonic balance: static solution", lambda: _static(static, self.rows())), static
+
+    def _solve(self, omegas: np.ndarray, outputs: bool = False) -> list[Linear]:
+        """One batched exact solve at every harmonic of every ``omegas`` [rad/s]: local forces and inputs."""
+        H, p, m, plant = self.harmonics, self.p, self.m, self.plant
         L = self.rows()
-        G = np.zeros((H + 1, m, m), dtype=complex)
-        T = np.zeros((H + 1, p, m), dtype=complex)
-        if m:
-            static = self.plant.cached("harmonic balance: static plant", lambda: without_hysteresis(self.plant))
-            x0 = self.plant.cached("harmonic balance: static solution", lambda: _static(static, L))
+        s = (1j * np.outer(omegas, np.arange(1, H + 1))).ravel()
+        zf = zfactor(s, plant.order)
+        rhs = np.concatenate([np.broadcast_to(L.T, (s.size,) + L.T.shape), forcing(plant, s, zf)], axis=2)
+        x, bad = states(plant, s, rhs=rhs)
+        if np.any(bad):
+            k = int(np.flatnonzero(bad)[0])
+            raise AnalysisError(f"harmonic_balance: the tangent model is singular at harmonic {k % H + 1} of "
+                                f"{omegas[k // H] / (2 * np.pi):.6g} Hz (an undamped resonance): add damping")
+        y = observe(plant, s, x[:, :, m:], zf) @ self.u                     # (nf, p + extra): inputs alone
+        out = []
+        x0, static = self._static() if m else (np.zeros((plant.n, 0)), plant)
+        for i, w in enumerate(omegas):
+            part = slice(i * H, (i + 1) * H)
+            G = np.empty((H + 1, m, m), dtype=complex)
             G[0] = L @ x0
-            T[0] = (output_map(static, 0.0)[:p] @ x0).real
-            s = 1j * omega * np.arange(1, H + 1)
-            x, bad = states(self.plant, s, rhs=L.T)
-            if np.any(bad):
-                k = int(np.flatnonzero(bad)[0]) + 1
-                raise AnalysisError(f"harmonic_balance: the tangent model is singular at harmonic {k} of "
-                                    f"{omega / (2 * np.pi):.6g} Hz (an undamped resonance): add damping")
-            G[1:] = L @ x
-            for k in range(1, H + 1):
-                T[k] = output_map(self.plant, s[k - 1])[:p] @ x[k - 1]
-            T -= self.W[None]             # y = Y_lin - T F: the structure sees -L^T F, the output +W F
-        y = response(self.plant, np.array([1j * omega]))[:, :, 0] @ self.u
-        return Linear(G, T, y[self.local], y[:p], _real_blocks(G))
+            G[1:] = L @ x[part, :, :m]
+            T = Y = None
+            if outputs:
+                T = np.empty((H + 1, p, m), dtype=complex)
+                T[0] = (output_map(static, 0.0)[:p] @ x0).real
+                for k in range(1, H + 1):
+                    T[k] = output_map(plant, s[i * H + k - 1])[:p] @ x[i * H + k - 1, :, :m]
+                T -= self.W[None]             # y = Y_lin - T F: the structure sees -L^T F, the output +W F
+                Y = y[i * H, :p]
+            out.append(Linear(G, y[i * H, self.local], _real_blocks(G), T, Y))
+        return out
 
 
 def _static(static: Plant, L: np.ndarray) -> np.ndarray:

@@ -11,7 +11,7 @@ coefficients of the forces beyond the tangent (:mod:`.condensed`). ``dR/dX = I +
 The branch is followed in the scaled unknowns ``v = (X / x_s, omega / w_s)`` (``x_s`` the largest
 linear local amplitude, ``w_s`` the frequency range) by Keller's pseudo-arclength method: an Euler
 predictor along the unit tangent, a Newton corrector on the plane normal to it, step halving when
-the corrector fails or the tangent turns by more than :data:`MAX_TURN`, growth after easy steps.
+the corrector fails or the chord turns from the tangent by more than :data:`MAX_TURN`, growth after easy steps.
 """
 
 from __future__ import annotations
@@ -31,8 +31,10 @@ NEWTON_TOL = 1e-11
 """Newton's corrector stops when its step and the residual are below this, relative to ``x_s``."""
 
 MAX_TURN = 0.2
-"""Largest angle [rad] between consecutive tangents before the step is halved (so the predictor
-cannot jump onto another part of the branch at a fold)."""
+"""Largest angle [rad] between the predictor's tangent and the chord to the corrected point before
+the step is halved (so the predictor cannot jump onto another part of the branch at a fold). The
+chord, not the next tangent: a stop's kink makes the sampled Jacobian, and so the tangent, jump
+where a time sample crosses the clearance."""
 
 _MAX_NEWTON = 12
 _DOMEGA = 1e-7          # relative forward-difference step in omega
@@ -54,9 +56,9 @@ class Problem:
         """``R`` ((2H+1) m,) [m], ``dR/dX`` and ``dR/domega`` [m s/rad] at ``(X, omega)``."""
         F, J, _ = aft(self.laws, self.basis, X)
         assert J is not None
-        lin = self.linear.at(omega)
-        R = self._r(X, F, omega)
         h = _DOMEGA * omega
+        lin = self.linear.at(omega, pair=omega + h)
+        R = self._r(X, F, omega)
         dw = (self._r(X, F, omega + h) - R) / h
         return R, np.eye(X.size) + lin.Greal @ J, dw
 
@@ -92,6 +94,8 @@ class Branch:
     path: list[float] = field(default_factory=list)      # omega of every continuation point
     slope: list[float] = field(default_factory=list)     # their d omega / d s (sign changes at folds)
     near: list[int] = field(default_factory=list)        # the last recorded point at each
+    arc: list[float] = field(default_factory=list)       # their arclength in the scaled unknowns
+    scale: float = 1.0                                   # w_s [rad/s]: omega = w_s * scaled omega
     steps: int = 0
     rejected: int = 0
     complete: bool = True
@@ -126,8 +130,9 @@ def follow(problem: Problem, w0: float, w1: float, points: int, targets: Sequenc
     e[-1] = 1.0
     t = _tangent(J, dw * ws / xs, e)
     targets_left = None if targets is None else sorted(targets)
+    out.scale = ws
     _record(out, w0, X)
-    _walk(out, w0, t[-1])
+    _walk(out, w0, t[-1], 0.0)
     if targets_left is not None:
         targets_left = [f for f in targets_left if f > w0 * (1 + 1e-14)]
     ds0 = np.sqrt(2.0) / points
@@ -144,7 +149,8 @@ def follow(problem: Problem, w0: float, w1: float, points: int, targets: Sequenc
                                     f"{v[-1] * ws / (2 * np.pi):.6g} Hz (step below {ds_min:.1e})")
             continue
         v_new, t_new, iters = step
-        if float(t_new @ t) < np.cos(MAX_TURN) and ds > ds_min * 4:
+        chord = (v_new - v) / np.linalg.norm(v_new - v)
+        if float(chord @ t) < np.cos(MAX_TURN) and ds > ds_min * 4:
             out.rejected += 1
             ds /= 2
             continue
@@ -157,7 +163,7 @@ def follow(problem: Problem, w0: float, w1: float, points: int, targets: Sequenc
             _record(out, w1, Xe if ok else xs * v_new[:-1])
         else:
             _record(out, wb, xs * v_new[:-1])
-        _walk(out, wb, t_new[-1])
+        _walk(out, wb, t_new[-1], out.arc[-1] + float(np.linalg.norm(v_new - v)))
         v, t = v_new, t_new
         if wb >= w1 or wb < w0 - 0.05 * ws:
             return out
@@ -171,7 +177,8 @@ def _record(out: Branch, omega: float, X: np.ndarray) -> None:
     out.X.append(X)
 
 
-def _walk(out: Branch, omega: float, slope: float) -> None:
+def _walk(out: Branch, omega: float, slope: float, arc: float) -> None:
+    out.arc.append(arc)
     out.path.append(float(omega))
     out.slope.append(float(slope))
     out.near.append(len(out.omega) - 1)
