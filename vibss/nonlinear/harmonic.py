@@ -291,8 +291,11 @@ def _result(problem: Problem, branch: Branch, names: list[str], u: np.ndarray, o
 
 
 def _truncation(Yl: np.ndarray) -> float:
+    """RMS of the larger of the two highest harmonics over that of all harmonics >= 1 (two: a
+    symmetric law about the operating point has no even harmonics, so the highest alone may be 0)."""
     total = float(np.sum(np.abs(Yl[:, 1:]) ** 2))
-    return float(np.sqrt(np.sum(np.abs(Yl[:, -1]) ** 2) / total)) if total > 0 else 0.0
+    top = max(float(np.sum(np.abs(Yl[:, k]) ** 2)) for k in range(max(1, Yl.shape[1] - 2), Yl.shape[1]))
+    return float(np.sqrt(top / total)) if total > 0 else 0.0
 
 
 def _hill(problem: Problem, stability: bool) -> tuple[Hill | None, str]:

@@ -135,8 +135,8 @@ class HarmonicBalanceResult(Result):
     residual : (nb,) ndarray
         Residual of the harmonic-balance equations, relative to the local deflections [-].
     truncation : (nb,) ndarray
-        RMS of the highest harmonic kept over the RMS of all the harmonics >= 1, of the nonlinear
-        axes' deflections [-] (the truncation estimate).
+        RMS of the larger of the two highest harmonics kept over the RMS of all the harmonics >= 1,
+        of the nonlinear axes' deflections [-] (the truncation estimate).
     local_labels : tuple of str
         The nonlinear axes (``mount.<name>.d1|d2|d3``).
     local : (m, H+1, nb) complex ndarray

@@ -25,9 +25,11 @@ __all__ = ["Basis", "basis", "samples_for", "to_complex", "to_real", "LocalLaws"
 
 
 def samples_for(harmonics: int) -> int:
-    """Default time samples per period: a power of two, at least ``16 H`` and 64 (a stop's kink
-    aliases at about ``N^-2``; the smooth part is exact for ``N > 2H``)."""
-    return int(max(64, 2 ** int(np.ceil(np.log2(16 * harmonics)))))
+    """Default time samples per period: a power of two, at least ``16 H`` and 1024. A smooth law's
+    forces are exact for ``N > 2H`` up to their own harmonics above ``N - H``; a stop's kink aliases
+    at about ``N^-2`` (measured, bilinear stop, 15 harmonics: first-harmonic error 2.4e-5 with 256
+    samples, 8e-7 with 1024; the AFT costs little beside the linear solves)."""
+    return int(max(1024, 2 ** int(np.ceil(np.log2(16 * harmonics)))))
 
 
 @dataclass(frozen=True)

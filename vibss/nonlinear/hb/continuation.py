@@ -25,16 +25,20 @@ from ...errors import AnalysisError
 from .aft import Basis, LocalLaws, aft, to_real
 from .condensed import Condensed
 
-__all__ = ["Problem", "Branch", "follow", "NEWTON_TOL", "MAX_TURN"]
+__all__ = ["Problem", "Branch", "follow", "NEWTON_TOL", "RESIDUAL_TOL", "MAX_TURN"]
 
 NEWTON_TOL = 1e-11
 """Newton's corrector stops when its step and the residual are below this, relative to ``x_s``."""
 
-MAX_TURN = 0.2
+MAX_TURN = 0.5
 """Largest angle [rad] between the predictor's tangent and the chord to the corrected point before
 the step is halved (so the predictor cannot jump onto another part of the branch at a fold). The
 chord, not the next tangent: a stop's kink makes the sampled Jacobian, and so the tangent, jump
 where a time sample crosses the clearance."""
+
+RESIDUAL_TOL = 1e-12
+"""... or when the residual is below this, relative to ``x_s`` (a stop's kink can make Newton's step
+alternate between two pieces of the sampled law while the residual is already at round-off)."""
 
 _MAX_NEWTON = 12
 _DOMEGA = 1e-7          # relative forward-difference step in omega
@@ -76,8 +80,10 @@ class Problem:
 
     def solve(self, X: np.ndarray, omega: float, scale: float) -> tuple[np.ndarray, bool]:
         """Newton's method at fixed ``omega`` from ``X``; returns the solution and whether it converged."""
-        for _ in range(4 * _MAX_NEWTON):
+        for it in range(4 * _MAX_NEWTON):
             R, J, _ = self.residual(X, omega)
+            if it and np.linalg.norm(R) <= RESIDUAL_TOL * scale:
+                return X, True
             dX = np.linalg.solve(J, -R)
             X = X + dX
             if np.linalg.norm(dX) <= NEWTON_TOL * scale:
@@ -167,7 +173,7 @@ def follow(problem: Problem, w0: float, w1: float, points: int, targets: Sequenc
         v, t = v_new, t_new
         if wb >= w1 or wb < w0 - 0.05 * ws:
             return out
-        ds = min(ds * 1.5, ds_max) if iters <= 3 else ds if iters <= 6 else ds / 2
+        ds = min(ds * 1.5, ds_max) if iters <= 4 else ds if iters <= 8 else ds / 2
     out.complete = False
     return out
 
@@ -202,23 +208,32 @@ def _crossings(problem: Problem, out: Branch, targets: list[float], v: np.ndarra
 def _corrected(problem: Problem, v: np.ndarray, t: np.ndarray, ds: float, xs: float,
                ws: float) -> tuple[np.ndarray, np.ndarray, int] | None:
     """Predictor-corrector step of length ``ds``: the new point, its tangent and Newton's iterations
-    (None when the corrector fails)."""
+    (None when the corrector fails).
+
+    Newton's steps are halved while they do not reduce the residual (a stop's kink makes the
+    sampled equations piecewise smooth, and a full step can alternate between two pieces).
+    """
     pred = v + ds * t
-    w = pred.copy()
-    for it in range(1, _MAX_NEWTON + 1):
+    w, small = pred.copy(), False
+    last, dv, alpha = np.inf, np.zeros_like(v), 1.0
+    for it in range(1, 2 * _MAX_NEWTON + 2):
         omega = w[-1] * ws
         if omega <= 0:
             return None
         R, J, dw = problem.residual(xs * w[:-1], omega)
+        size = float(np.hypot(np.linalg.norm(R) / xs, t @ (w - pred)))
+        if small or (it > 1 and np.linalg.norm(R) <= RESIDUAL_TOL * xs):
+            return w, _tangent(J, dw * ws / xs, t), it - 1
+        if size > last and alpha > 1 / 16:          # no progress: go back and take half the step
+            alpha /= 2
+            w = w - alpha * dv
+            continue
         A = np.vstack([np.column_stack([J, dw * ws / xs]), t[None]])
         b = -np.append(R / xs, t @ (w - pred))
         try:
             dv = np.linalg.solve(A, b)
         except np.linalg.LinAlgError:
             return None
-        w = w + dv
-        if np.linalg.norm(dv) <= NEWTON_TOL:
-            R, J, dw = problem.residual(xs * w[:-1], w[-1] * ws)
-            tn = _tangent(J, dw * ws / xs, t)
-            return w, tn, it
+        w, last, alpha = w + dv, size, 1.0
+        small = bool(np.linalg.norm(dv) <= NEWTON_TOL)
     return None
