@@ -77,6 +77,9 @@ def objects() -> dict[str, Any]:
         "operating point": vibss.operating_point(Model([Body("b", 10.0, [1.0, 1.2, 1.5])], vibss.symmetric(Mount(
             "m", MountType("snub", [1e4, 1.2e4, 2e4], stops={"z": (1e-3, 1e6)}), "b", at=[0.3, 0.2, 0.1])),
             gravity=[0.0, 0.0, -9.81])),
+        "harmonic balance": vibss.harmonic_balance(Model([Body("b", 10.0, [1.0, 1.2, 1.5])], [Mount(
+            "m", MountType("snub", [1e4, 1.2e4, 2e4], [20.0] * 3, stops={"z": (1e-3, 1e6)}), "b")]),
+            {"b.fz": 5.0}, ["b.z"], frequencies=[2.0, 4.0], harmonics=3),
         **control_objects(),
     }
 

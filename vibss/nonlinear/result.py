@@ -9,7 +9,7 @@ import numpy as np
 
 from ..methods import Check, Claim
 from ..model.model import Model
-from ..results import Result, TextTable, require_pandas
+from ..results import Result, TextTable, jsonable, require_pandas
 from ..statics import StaticResult
 
 __all__ = ["OperatingPoint", "HarmonicBalanceResult"]
@@ -192,10 +192,12 @@ class HarmonicBalanceResult(Result):
 
     @property
     def output_labels(self) -> tuple[str, ...]:
+        """Output signal names."""
         return self.output_names
 
     @property
     def units(self) -> tuple[str, ...]:
+        """SI unit of each output."""
         return self.output_units
 
     def _item(self, i: int, j: int | None) -> np.ndarray:
@@ -228,13 +230,13 @@ class HarmonicBalanceResult(Result):
         return "\n\n".join([head, self.summary().render(), self.note])
 
     def to_dict(self) -> dict[str, Any]:
-        return {"frequencies": self.frequencies, "amplitude": self.amplitude,
-                "harmonics_real": self.harmonics.real, "harmonics_imag": self.harmonics.imag,
-                "stable": None if self.stable is None else self.stable.tolist(),
-                "turning_points": self.turning_points, "residual": self.residual,
-                "truncation": self.truncation, "outputs": list(self.output_labels), "units": list(self.units),
-                "inputs": {k: [complex(v).real, complex(v).imag] for k, v in self.inputs.items()},
-                "claim": self.claim.text(), "check": self.check.text(), "note": self.note}
+        """JSON-ready data (SI; complex numbers as ``[re, im]``)."""
+        return jsonable({"frequencies": self.frequencies, "amplitude": self.amplitude,
+                         "harmonics": self.harmonics, "stable": self.stable,
+                         "turning_points": self.turning_points, "residual": self.residual,
+                         "truncation": self.truncation, "outputs": self.output_labels, "units": self.units,
+                         "inputs": self.inputs, "claim": self.claim.text(), "check": self.check.text(),
+                         "note": self.note})
 
     def to_pandas(self) -> Any:
         """DataFrame: one row per branch point; frequency [Hz], each output's first-harmonic amplitude, stability."""
