@@ -127,7 +127,7 @@ def test_hill_marks_the_middle_branch_unstable_as_integrations_show() -> None:
     model = _sdof(k, c, mass, {"z": (cl, ks)})
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", VibssWarning)
-        r = harmonic_balance(model, {"b.fz": 10.0}, ["b.z"], frequencies=(8.0, 16.0), harmonics=9, points=120)
+        r = harmonic_balance(model, {"b.fz": 10.0}, ["b.z"], frequencies=(8.0, 16.0), harmonics=7, points=100)
     assert r.stable is not None and r.turning_points.size == 2
     i, j = sorted(r.turning_index)
     assert r.stable[:i - 1].all() and r.stable[j + 2:].all()
@@ -145,8 +145,8 @@ def test_hill_marks_the_middle_branch_unstable_as_integrations_show() -> None:
 
     def amplitude_after(y0: list[float]) -> float:
         T = 2 * np.pi / w
-        sol = solve_ivp(rhs, [0.0, 80 * T], y0, rtol=1e-10, atol=1e-14, dense_output=True)
-        return float(np.abs(sol.sol(79 * T + np.linspace(0, T, 200))[0]).max())
+        sol = solve_ivp(rhs, [0.0, 60 * T], y0, rtol=1e-9, atol=1e-13, dense_output=True)
+        return float(np.abs(sol.sol(59 * T + np.linspace(0, T, 200))[0]).max())
 
     assert amplitude_after(_state(r, upper)) == pytest.approx(r.peak[0, upper], rel=2e-2)     # stays: stable
     away = amplitude_after(_state(r, mid))
@@ -174,5 +174,5 @@ def test_bad_input_is_refused_by_name(kwargs: dict, error: type, words: str) -> 
 def test_too_few_harmonics_warn_with_the_truncation_estimate() -> None:
     model = _sdof(4e4, 126.0, 10.0, {"z": (1e-3, 4e5)})
     with pytest.warns(VibssWarning, match="raise harmonics"):
-        r = harmonic_balance(model, {"b.fz": 40.0}, ["b.z"], frequencies=[10.0], harmonics=2, stability=False)
+        r = harmonic_balance(model, {"b.fz": 40.0}, ["b.z"], frequencies=[10.0], harmonics=3, stability=False)
     assert not r.check.ok and r.check.error > r.claim.tolerance

@@ -258,17 +258,16 @@ def _result(problem: Problem, branch: Branch, names: list[str], u: np.ndarray, o
         assert c.T is not None and c.Y is not None
         Y[:, 1, b] = c.Y
         if m:
-            F, _, kappa = aft(problem.laws, problem.basis, X, jacobian=False)
+            F, J, _ = aft(problem.laws, problem.basis, X, jacobian=hill is not None)
             Fc = to_complex(F, H, m)
             Y[:, :, b] -= np.einsum("kpm,km->pk", c.T, Fc)
             Yl[:, :, b] = to_complex(X, H, m).T
             R = problem._r(X, F, w)
             resid[b] = float(np.linalg.norm(R) / max(np.linalg.norm(X), np.finfo(float).tiny))
             trunc[b] = _truncation(Yl[:, :, b])
-        else:
-            kappa = np.zeros((problem.basis.E.shape[0], 0))
         if hill is not None and stable is not None and growth is not None:
-            stable[b], growth[b] = hill_exponents(hill, kappa, w, H)
+            gamma = np.array([J[j::m, j::m] for j in range(m)]) if m and J is not None else np.zeros((0, 2 * H + 1, 2 * H + 1))
+            stable[b], growth[b] = hill_exponents(hill, gamma, w)
     folds = _folds(branch)
     claim = dataclasses.replace(CLAIM, tolerance=float(tolerance))
     worst = float(trunc.max(initial=0.0))
@@ -292,9 +291,11 @@ def _result(problem: Problem, branch: Branch, names: list[str], u: np.ndarray, o
 
 def _truncation(Yl: np.ndarray) -> float:
     """RMS of the larger of the two highest harmonics over that of all harmonics >= 1 (two: a
-    symmetric law about the operating point has no even harmonics, so the highest alone may be 0)."""
+    symmetric law about the operating point has no even harmonics, so the highest alone may be 0;
+    with H = 2 only the second, with H = 1 the estimate is 1: nothing is known)."""
     total = float(np.sum(np.abs(Yl[:, 1:]) ** 2))
-    top = max(float(np.sum(np.abs(Yl[:, k]) ** 2)) for k in range(max(1, Yl.shape[1] - 2), Yl.shape[1]))
+    H = Yl.shape[1] - 1
+    top = max(float(np.sum(np.abs(Yl[:, k]) ** 2)) for k in (range(max(2, H - 1), H + 1) if H > 1 else [1]))
     return float(np.sqrt(top / total)) if total > 0 else 0.0
 
 

@@ -79,16 +79,44 @@ class Problem:
         return to_real(U)
 
     def solve(self, X: np.ndarray, omega: float, scale: float) -> tuple[np.ndarray, bool]:
-        """Newton's method at fixed ``omega`` from ``X``; returns the solution and whether it converged."""
+        """Newton's method at fixed ``omega`` from ``X``, its steps halved while they do not reduce
+        the residual; returns the solution and whether it converged."""
+        return self._newton(X, omega, scale, 1.0)
+
+    def _newton(self, X: np.ndarray, omega: float, scale: float, load: float) -> tuple[np.ndarray, bool]:
+        last, dX, alpha = np.inf, np.zeros_like(X), 1.0
+        shift = (1.0 - load) * self.start(omega)          # R(load) = R + (1 - load) U
         for it in range(4 * _MAX_NEWTON):
             R, J, _ = self.residual(X, omega)
-            if it and np.linalg.norm(R) <= RESIDUAL_TOL * scale:
+            R = R + shift
+            size = float(np.linalg.norm(R))
+            if it and size <= RESIDUAL_TOL * scale:
                 return X, True
+            if size > last and alpha > 1 / 64:
+                alpha /= 2
+                X = X - alpha * dX
+                continue
             dX = np.linalg.solve(J, -R)
-            X = X + dX
+            X, last, alpha = X + dX, size, 1.0
             if np.linalg.norm(dX) <= NEWTON_TOL * scale:
                 return X, True
         return X, False
+
+    def first(self, omega: float, scale: float) -> tuple[np.ndarray, bool]:
+        """The solution at ``omega`` from the linear one: Newton directly, else with the inputs
+        raised in steps from a tenth (each step's solution the next's first guess, a step halved
+        when Newton fails)."""
+        X, ok = self.solve(self.start(omega), omega, scale)
+        if ok:
+            return X, True
+        X, load, step = 0.1 * self.start(omega), 0.0, 0.1
+        while load < 1.0 and step > 1e-4:
+            trial, ok = self._newton(X, omega, scale, min(load + step, 1.0))
+            if ok:
+                X, load, step = trial, min(load + step, 1.0), min(2 * step, 0.25)
+            else:
+                step /= 2
+        return X, load >= 1.0
 
 
 @dataclass
@@ -126,7 +154,7 @@ def follow(problem: Problem, w0: float, w1: float, points: int, targets: Sequenc
     xs = max(float(np.max(np.abs(problem.start(w))) if problem.size else 0.0)
              for w in np.linspace(w0, w1, 41)) or 1.0
     ws = w1 - w0
-    X, ok = problem.solve(problem.start(w0), w0, xs)
+    X, ok = problem.first(w0, xs)
     if not ok:
         raise AnalysisError(f"harmonic_balance: Newton's method did not converge at the first frequency "
                             f"{w0 / (2 * np.pi):.6g} Hz; start the range where the response is nearly linear")

@@ -3,11 +3,15 @@
 A perturbation ``z = (x, x')`` of the periodic solution obeys ``z' = A(t) z`` with
 ``A(t) = [[0, I], [-M^-1 (K + L^T diag(kappa(t)) L), -M^-1 C]]`` (``kappa`` the nonlinear axes'
 tangent rates beyond the tangent model's, periodic). Floquet's form ``z = exp(lambda t) p(t)``
-with ``p`` truncated to harmonics ``-H..H`` gives the Hill eigenproblem
+with ``p`` truncated to the real Fourier basis of harmonics ``0..H`` (that of the AFT,
+:mod:`.aft`) gives the real Hill eigenproblem
 
-    lambda p_r = sum_c A_{r-c} p_c - i r omega p_r,
+    lambda p = (A_0 (x) I + sum_j Gamma_j (x) B_j - D (x) I) p,
 
-of size ``2n (2H + 1)``: each Floquet exponent appears once per harmonic shift ``+ i r omega``. The
+(``Gamma_j`` the AFT Jacobian block of axis ``j``, ``B_j`` its rank-one coupling
+``-M^-1 L_j^T L_j``, ``D`` the time derivative on the basis) of size ``2n (2H + 1)``, similar to
+the complex Hill matrix and half the cost of its eigenvalues: each Floquet exponent appears once
+per harmonic shift ``+ i r omega``. The
 ``2n`` physical ones are those of smallest ``|Im lambda|`` (the central copies, the best
 resolved). The solution is unstable when one has ``Re lambda > STABILITY_TOL omega``.
 The time-domain model has no hysteretic damping: a mount loss factor is left out of ``C`` here.
@@ -47,38 +51,40 @@ class Hill:
         self.ML = solve(np.ascontiguousarray(L.T)) if L.size else np.zeros((plant.n, 0))
         self.L = L
 
-    def exponents(self, kappa: np.ndarray, omega: float, harmonics: int) -> np.ndarray:
-        """The ``2n`` Floquet exponents [1/s] for tangent rates ``kappa`` (N, m) [N/m] over one period."""
-        n, H = self.n, harmonics
-        N = kappa.shape[0]
-        # Fourier coefficients kappa_j, j = -2H..2H: c_j = mean(kappa exp(-i j tau))
-        c = np.fft.fft(kappa, axis=0) / N                               # (N, m), index j mod N
-        size = 2 * n * (2 * H + 1)
-        A = np.zeros((size, size), dtype=complex)
-        eye = np.eye(n)
-        blocks = {}
-        for j in range(-2 * H, 2 * H + 1):
-            kj = c[j % N]
-            b = np.zeros((2 * n, 2 * n), dtype=complex)
-            b[n:, :n] = -(self.ML * kj[None, :]) @ self.L if self.L.size else 0.0
-            if j == 0:
-                b[:n, n:] = eye
-                b[n:, :n] -= self.MK
-                b[n:, n:] = -self.MC
-            blocks[j] = b
-        for r in range(-H, H + 1):
-            i0 = (r + H) * 2 * n
-            for col in range(-H, H + 1):
-                j0 = (col + H) * 2 * n
-                A[i0:i0 + 2 * n, j0:j0 + 2 * n] = blocks[r - col]
-            A[i0:i0 + 2 * n, i0:i0 + 2 * n] -= 1j * r * omega * np.eye(2 * n)
-        lam = sl.eigvals(A, overwrite_a=True, check_finite=False)
+    def exponents(self, gamma: np.ndarray, omega: float) -> np.ndarray:
+        """The ``2n`` Floquet exponents [1/s].
+
+        Parameters
+        ----------
+        gamma : (m, 2H+1, 2H+1) ndarray
+            Each nonlinear axis's tangent rate beyond the tangent model as a multiplication on the
+            real Fourier coefficients, ``P diag(kappa_j(tau)) E`` [N/m] (the AFT Jacobian's blocks).
+        omega : float
+            Fundamental [rad/s].
+        """
+        n, m, size = self.n, gamma.shape[0], gamma.shape[1]
+        A0 = np.zeros((2 * n, 2 * n))
+        A0[:n, n:] = np.eye(n)
+        A0[n:, :n] = -self.MK
+        A0[n:, n:] = -self.MC
+        hill = np.kron(np.eye(size), A0)
+        for j in range(m):
+            Bj = np.zeros((2 * n, 2 * n))
+            Bj[n:, :n] = -np.outer(self.ML[:, j], self.L[j])
+            hill += np.kron(gamma[j], Bj)
+        # minus d/dt on the real basis (1, cos k tau, -sin k tau): (a_k, b_k) -> k omega (-b_k, a_k)
+        D = np.zeros((size, size))
+        for k in range(1, (size - 1) // 2 + 1):
+            D[2 * k - 1, 2 * k] = -k * omega
+            D[2 * k, 2 * k - 1] = k * omega
+        hill -= np.kron(D, np.eye(2 * n))
+        lam = sl.eigvals(hill, overwrite_a=True, check_finite=False)
         lam = lam[np.isfinite(lam)]
         return lam[np.argsort(np.abs(lam.imag), kind="stable")[:2 * n]]
 
 
-def hill_exponents(hill: Hill, kappa: np.ndarray, omega: float, harmonics: int) -> tuple[bool, float]:
-    """Stable or not, and the largest real part of the physical exponents [1/s]."""
-    lam = hill.exponents(kappa, omega, harmonics)
+def hill_exponents(hill: Hill, gamma: np.ndarray, omega: float) -> tuple[bool, float]:
+    """Stable or not, and the largest real part of the physical exponents [1/s] (:meth:`Hill.exponents`)."""
+    lam = hill.exponents(gamma, omega)
     top = float(lam.real.max()) if lam.size else -np.inf
     return top <= STABILITY_TOL * omega, top
