@@ -69,8 +69,9 @@ def harmonic_balance(model: Model, inputs: Mapping[str, complex], outputs: Seque
     frequencies : (2,) tuple or (nf,) array_like [Hz]
         A tuple ``(f_start, f_end)``: every continuation point between them (about ``points`` or
         more where the curve bends) is reported. An array (list or ndarray): the branch is
-        followed from its lowest to its highest value and every crossing of each given frequency
-        is reported (three at a frequency with three solutions), in branch order.
+        followed from its lowest value until it first reaches its highest, and every crossing of
+        each given frequency on the way is reported (three at a frequency with three solutions),
+        in branch order; end the array above the folds to have every crossing.
     harmonics : int
         Highest harmonic H >= 1 kept (0th, the mean shift, always included).
     points : int

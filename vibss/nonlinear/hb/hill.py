@@ -50,6 +50,7 @@ class Hill:
         self.MC = solve(_dense(plant.C))
         self.ML = solve(np.ascontiguousarray(L.T)) if L.size else np.zeros((plant.n, 0))
         self.L = L
+        self._linear: tuple[int, np.ndarray] | None = None     # the exponents without a stop engaged
 
     def exponents(self, gamma: np.ndarray, omega: float) -> np.ndarray:
         """The ``2n`` Floquet exponents [1/s].
@@ -62,6 +63,14 @@ class Hill:
         omega : float
             Fundamental [rad/s].
         """
+        n, m, size = self.n, gamma.shape[0], gamma.shape[1]
+        if not np.any(gamma):                      # no stop engaged: the tangent model's exponents
+            if self._linear is None or self._linear[0] != size:
+                self._linear = (size, self._exponents(gamma, omega))
+            return self._linear[1]
+        return self._exponents(gamma, omega)
+
+    def _exponents(self, gamma: np.ndarray, omega: float) -> np.ndarray:
         n, m, size = self.n, gamma.shape[0], gamma.shape[1]
         A0 = np.zeros((2 * n, 2 * n))
         A0[:n, n:] = np.eye(n)
