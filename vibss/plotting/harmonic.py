@@ -59,6 +59,6 @@ def plot_harmonic_balance(result: Any, outputs: Sequence[str] | None = None, ax:
         a.set_xlabel("frequency [Hz]")
         a.set_ylabel(f"first-harmonic amplitude [{u}]")
         a.grid(True, alpha=0.3)
-        a.legend(loc="best", fontsize=8, title=None if result.stable is None else "dashed: unstable",
-                 title_fontsize=8)
+        a.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, title_fontsize=8,   # off the data
+                 title=None if result.stable is None else "dashed:\nunstable")
     return fig
