@@ -10,7 +10,8 @@ of a response curve, and its turning points against slow sweeps, in one run.
 2. *Response curve*: a 20 kg box on four snubbered mounts (stops on every local z, 1 mm up and
    2 mm down, 10x the mount rate), ``b.fz`` 60 N and ``b.my`` 3 N m, ``points=300`` from 5 to
    40 Hz (about 600 continuation points: the curve bends), H = 9 (truncation estimate 1.1e-3, so
-   ``tolerance=2e-3``), timed with and without Hill's stability; the stock path's price per
+   ``tolerance=2e-3``), timed without stability, with Floquet's (``auto`` for stops) and with
+   Hill's, and where the two disagree; the stock path's price per
    frequency (one steady state by ``solve_ivp`` of the 1-DOF model, 60 periods) for scale.
 3. *Turning points against slow sweeps*: the 1-DOF snubber of the tests (10 Hz, stop at 1 mm,
    10 N): the jump frequencies of ``solve_ivp`` sweeps (0.01 Hz/s upwards from the resonant branch,
@@ -117,11 +118,12 @@ def box() -> Model:
 def response_curve(quick: bool) -> dict[str, Any]:
     model, inputs, outputs = box(), {"b.fz": 60.0, "b.my": 3.0}, ["b.z", "b.ry", "ground.fz"]
 
-    def run(stability: bool) -> Any:
+    def run(stability: bool | str) -> Any:
         return harmonic_balance(model, inputs, outputs, frequencies=(5.0, 40.0), harmonics=9, points=300,
                                 stability=stability, tolerance=2e-3)
     t_plain, r = timed(lambda: run(False), min_time=0.0, repeat=1 if quick else 2)
-    t_hill, r = timed(lambda: run(True), min_time=0.0, repeat=1 if quick else 2)
+    t_hill, rh = timed(lambda: run("hill"), min_time=0.0, repeat=1 if quick else 2)
+    t_floquet, r = timed(lambda: run(True), min_time=0.0, repeat=1 if quick else 2)      # auto: Floquet (stops)
     k, c, m, ks = 4e4, 40.0, 10.0, 4e4
     t_ivp, _ = timed(lambda: _steady(k, c, m, (1e-3, 1e-3), ks, 10.0, 12.0, False, rtol=1e-8), min_time=0.0, repeat=1)
     fig = r.plot(outputs=["b.z", "b.ry"])
@@ -129,12 +131,16 @@ def response_curve(quick: bool) -> dict[str, Any]:
     fig.get_layout_engine().set(rect=(0, 0.05, 1, 0.95))     # room for the machine line
     stamp(fig)
     fig.savefig(FIG / "harmonic_balance_curve.png", dpi=110)
-    out = {"points": int(r.frequencies.size), "seconds": t_plain, "seconds_with_stability": t_hill,
+    out = {"points": int(r.frequencies.size), "seconds": t_plain, "seconds_with_hill": t_hill,
+           "seconds_with_floquet": t_floquet, "methods_disagree_at": int(np.sum(r.stable != rh.stable)),
+           "growth_difference_max": float(np.abs(r.growth - rh.growth).max()),
+           "growth_max": float(np.abs(rh.growth).max()),
            "turning_points_hz": r.turning_points.tolist(), "unstable_points": int(np.sum(~r.stable)),
            "worst_truncation": float(r.truncation.max()), "worst_residual": float(r.residual.max()),
            "solve_ivp_steady_state_per_frequency_s": t_ivp}
     print(f"response curve of the box (12 DOF, 4 nonlinear axes, H = 9): {out['points']} points in {t_plain:.2f} s, "
-          f"{t_hill:.2f} s with Hill's stability; one steady state by solve_ivp (1 DOF, 60 periods) "
+          f"{t_floquet:.2f} s with Floquet's stability (auto), {t_hill:.2f} s with Hill's (they disagree at "
+          f"{out['methods_disagree_at']} points); one steady state by solve_ivp (1 DOF, 60 periods) "
           f"{t_ivp:.2f} s, so {out['points']} of them ~{out['points'] * t_ivp:.0f} s; folds {out['turning_points_hz']}")
     return out
 

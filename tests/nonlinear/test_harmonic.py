@@ -10,6 +10,7 @@ import warnings
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
+from scipy.interpolate import PchipInterpolator
 
 import vibss
 from vibss import Body, Model, Mount, MountType
@@ -122,16 +123,18 @@ def _state(r: vibss.nonlinear.result.HarmonicBalanceResult, b: int) -> list[floa
     return [float(np.sum(Y).real), float(np.sum(1j * k * r.omega[b] * Y).real)]
 
 
-def test_hill_marks_the_middle_branch_unstable_as_integrations_show() -> None:
+def test_the_middle_branch_is_unstable_by_both_methods_as_integrations_show() -> None:
     k, c, mass, ks, cl = 4e4, 40.0, 10.0, 4e4, 1e-3
     model = _sdof(k, c, mass, {"z": (cl, ks)})
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", VibssWarning)
-        r = harmonic_balance(model, {"b.fz": 10.0}, ["b.z"], frequencies=(8.0, 16.0), harmonics=7, points=100)
-    assert r.stable is not None and r.turning_points.size == 2
-    i, j = sorted(r.turning_index)
-    assert r.stable[:i - 1].all() and r.stable[j + 2:].all()
-    assert not r.stable[i + 2:j - 1].any()
+    for method in ("floquet", "hill"):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", VibssWarning)
+            r = harmonic_balance(model, {"b.fz": 10.0}, ["b.z"], frequencies=(8.0, 16.0), harmonics=7, points=100,
+                                 stability=method)
+        assert r.stable is not None and r.turning_points.size == 2 and method in r.note.lower()
+        i, j = sorted(r.turning_index)
+        assert r.stable[:i - 1].all() and r.stable[j + 2:].all()
+        assert not r.stable[i + 2:j - 1].any()
     # integrations from a middle-branch point and from the upper-branch point at the same frequency
     mid = (i + j) // 2
     f = r.frequencies[mid]
@@ -163,6 +166,7 @@ def test_hill_marks_the_middle_branch_unstable_as_integrations_show() -> None:
     ({"frequencies": [-1.0, 5.0]}, ArgumentError, "frequencies"),
     ({"frequencies": (10.0, 5.0)}, ArgumentError, "f_end > f_start"),
     ({"outputs": ["b.zz"]}, SignalError, "b.zz"),
+    ({"stability": "flocket"}, ArgumentError, "floquet"),
 ])
 def test_bad_input_is_refused_by_name(kwargs: dict, error: type, words: str) -> None:
     model = _sdof(4e4, 40.0, 10.0, {"z": (1e-3, 4e4)})
@@ -176,3 +180,26 @@ def test_too_few_harmonics_warn_with_the_truncation_estimate() -> None:
     with pytest.warns(VibssWarning, match="raise harmonics"):
         r = harmonic_balance(model, {"b.fz": 40.0}, ["b.z"], frequencies=[10.0], harmonics=3, stability=False)
     assert not r.check.ok and r.check.error > r.claim.tolerance
+
+
+def test_a_hardening_curve_agrees_with_a_long_integration() -> None:
+    """A Duffing-like PCHIP curve (k d + k3 d^3 through 11 points), one solution at 10 Hz: Hill's path."""
+    k, k3, c, mass, force, f = 4e4, 1e10, 126.0, 10.0, 20.0, 10.0
+    d = np.linspace(-5e-3, 5e-3, 11)
+    points = np.column_stack([d, k * d + k3 * d**3])
+    t = MountType("duff", [k, k, 0.0], damping=[c] * 3, curve={"z": points.tolist()})   # z: the curve's slope
+    model = Model([Body("b", mass, [1.0, 1.0, 1.0])], [Mount("m", t, "b")])
+    r = harmonic_balance(model, {"b.fz": force}, ["b.z"], frequencies=[f], harmonics=15)
+    law = PchipInterpolator(points[:, 0], points[:, 1])          # |x| stays inside the points
+    w = 2 * np.pi * f
+
+    def rhs(t_: float, y: np.ndarray) -> list[float]:
+        return [y[1], (force * np.cos(w * t_) - c * y[1] - float(law(y[0]))) / mass]
+
+    T = 2 * np.pi / w
+    sol = solve_ivp(rhs, [0.0, 60 * T], [0.0, 0.0], method="DOP853", rtol=1e-12, atol=1e-16, dense_output=True)
+    tt = 59 * T + np.linspace(0.0, T, 2048, endpoint=False)
+    x = sol.sol(tt)[0]
+    assert np.abs(x).max() > 1.2e-3                                 # the cubic adds over 40 % to the rate there
+    assert r.harmonics[0, 1, 0] == pytest.approx(2 * np.mean(x * np.exp(-1j * w * tt)), rel=1e-6)
+    assert r.stable is not None and r.stable[0] and "hill" in r.note.lower()

@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 from scipy.interpolate import CubicHermiteSpline
 
-from .._validate import is_numeric
+from .._validate import choice, is_numeric
 from ..errors import AnalysisError, ArgumentError, ModelError, VibssWarning
 from ..linear.plant.assemble import assemble
 from ..linear.plant.build import build_plant
@@ -34,11 +34,12 @@ from .api import operating_point
 from .hb.aft import Basis, LocalLaws, aft, basis, samples_for, to_complex
 from .hb.condensed import Condensed
 from .hb.continuation import Branch, Problem, follow
+from .hb.floquet import floquet, piecewise_linear
 from .hb.hill import HILL_MAX, Hill, hill_exponents
 from .kernels import _laws, nonlinear_mounts
 from .result import HarmonicBalanceResult
 
-__all__ = ["harmonic_balance", "CLAIM", "TOLERANCE"]
+__all__ = ["harmonic_balance", "CLAIM", "TOLERANCE", "STABILITY"]
 
 TOLERANCE = 1e-3
 """Default limit of the truncation estimate (highest harmonic's share of the local deflections)."""
@@ -50,7 +51,7 @@ CLAIM = Claim(TOLERANCE, conditions="the highest harmonic kept carries at most t
 
 def harmonic_balance(model: Model, inputs: Mapping[str, complex], outputs: Sequence[str] | None = None,
                      frequencies: Any = (1.0, 100.0), harmonics: int = 5, *, points: int = 200,
-                     samples: int | None = None, tolerance: float = TOLERANCE, stability: bool = True,
+                     samples: int | None = None, tolerance: float = TOLERANCE, stability: bool | str = True,
                      gravity: bool = True, case: str | None = None) -> HarmonicBalanceResult:
     """The steady periodic response to sine inputs along the branch, with stability and turning points.
 
@@ -80,8 +81,10 @@ def harmonic_balance(model: Model, inputs: Mapping[str, complex], outputs: Seque
         Time samples per period of the AFT (default :func:`~vibss.nonlinear.hb.aft.samples_for`).
     tolerance : float
         Limit of the truncation estimate [-]; exceeded: a VibssWarning.
-    stability : bool
-        Compute Hill's stability at every point.
+    stability : bool or {"auto", "floquet", "hill"}
+        Stability at every point (:data:`STABILITY`): True or ``"auto"`` takes the Floquet
+        multipliers of the exact piecewise-constant monodromy when every nonlinear axis is a stop,
+        Hill's method otherwise; False skips it.
     gravity : bool
         Include self-weight in the operating point.
     case : str or None
@@ -245,13 +248,13 @@ def _direct(tangent: Model, names: list[str], outs: tuple[str, ...], local_names
 
 
 def _result(problem: Problem, branch: Branch, names: list[str], u: np.ndarray, outs: tuple[str, ...],
-            local_names: list[str], tolerance: float, stability: bool, op_note: str) -> HarmonicBalanceResult:
+            local_names: list[str], tolerance: float, stability: bool | str, op_note: str) -> HarmonicBalanceResult:
     lin, H, m = problem.linear, problem.basis.harmonics, problem.linear.m
     nb = len(branch.omega)
     Y = np.zeros((lin.p, H + 1, nb), dtype=complex)
     Yl = np.zeros((m, H + 1, nb), dtype=complex)
     resid, trunc = np.zeros(nb), np.zeros(nb)
-    hill, why = _hill(problem, stability)
+    hill, how, why = _stability(problem, stability)
     stable = None if hill is None else np.zeros(nb, dtype=bool)
     growth = None if hill is None else np.zeros(nb)
     for b, (w, X) in enumerate(zip(branch.omega, branch.X)):
@@ -259,7 +262,7 @@ def _result(problem: Problem, branch: Branch, names: list[str], u: np.ndarray, o
         assert c.T is not None and c.Y is not None
         Y[:, 1, b] = c.Y
         if m:
-            F, J, _ = aft(problem.laws, problem.basis, X, jacobian=hill is not None)
+            F, J, _ = aft(problem.laws, problem.basis, X, jacobian=how == "hill")
             Fc = to_complex(F, H, m)
             Y[:, :, b] -= np.einsum("kpm,km->pk", c.T, Fc)
             Yl[:, :, b] = to_complex(X, H, m).T
@@ -267,8 +270,11 @@ def _result(problem: Problem, branch: Branch, names: list[str], u: np.ndarray, o
             resid[b] = float(np.linalg.norm(R) / max(np.linalg.norm(X), np.finfo(float).tiny))
             trunc[b] = _truncation(Yl[:, :, b])
         if hill is not None and stable is not None and growth is not None:
-            gamma = np.array([J[j::m, j::m] for j in range(m)]) if m and J is not None else np.zeros((0, 2 * H + 1, 2 * H + 1))
-            stable[b], growth[b] = hill_exponents(hill, gamma, w)
+            if how == "floquet":
+                stable[b], growth[b] = floquet(hill, problem.laws, Yl[:, :, b], w, problem.basis.E.shape[0])
+            else:
+                gamma = np.array([J[j::m, j::m] for j in range(m)]) if m and J is not None else np.zeros((0, 2 * H + 1, 2 * H + 1))
+                stable[b], growth[b] = hill_exponents(hill, gamma, w)
     folds = _folds(branch)
     claim = dataclasses.replace(CLAIM, tolerance=float(tolerance))
     worst = float(trunc.max(initial=0.0))
@@ -300,17 +306,32 @@ def _truncation(Yl: np.ndarray) -> float:
     return float(np.sqrt(top / total)) if total > 0 else 0.0
 
 
-def _hill(problem: Problem, stability: bool) -> tuple[Hill | None, str]:
+STABILITY = ("auto", "floquet", "hill")
+"""Stability methods: ``"floquet"`` (stops only: exact piecewise-constant monodromy,
+:mod:`vibss.nonlinear.hb.floquet`), ``"hill"`` (any law, :mod:`vibss.nonlinear.hb.hill`);
+``"auto"`` (or True) takes Floquet's where it applies."""
+
+
+def _stability(problem: Problem, stability: bool | str) -> tuple[Hill | None, str, str]:
+    """The tangent matrices, the method (``"floquet"``, ``"hill"`` or ``""``) and the note."""
     plant = problem.linear.plant
-    size = 2 * plant.n * (2 * problem.basis.harmonics + 1)
-    if not stability:
-        return None, "stability not computed (stability=False)"
+    if stability is False:
+        return None, "", "stability not computed (stability=False)"
+    how = choice("auto" if stability is True else stability, "stability", STABILITY, who="harmonic_balance")
+    if how == "auto":
+        how = "floquet" if piecewise_linear(problem.laws) else "hill"
+    if how == "floquet" and not piecewise_linear(problem.laws):
+        raise ArgumentError("harmonic_balance: stability: 'floquet' needs stops only (a curve's tangent varies "
+                            "continuously); use 'hill' or 'auto'", argument="stability", received=stability)
     if plant.branches is not None:
-        return None, "stability not computed: frequency-dependent mounts have internal states Hill's matrix lacks"
-    if size > HILL_MAX:
-        return None, f"stability not computed: Hill's matrix would be {size} square (limit {HILL_MAX})"
+        return None, "", "stability not computed: frequency-dependent mounts have internal states it lacks"
+    size = 2 * plant.n * (2 * problem.basis.harmonics + 1)
+    if how == "hill" and size > HILL_MAX:
+        return None, "", f"stability not computed: Hill's matrix would be {size} square (limit {HILL_MAX})"
     hyst = " (loss factors left out: no time-domain form)" if np.any(plant.H) else ""
-    return Hill(plant, problem.linear.rows()), f"stability by Hill's method, {2 * plant.n} exponents{hyst}"
+    what = ("Floquet multipliers (exact monodromy between the stops' contact instants)" if how == "floquet"
+            else "Hill's method")
+    return Hill(plant, problem.linear.rows()), how, f"stability by {what}, {2 * plant.n} exponents{hyst}"
 
 
 FOLD_RETREAT = 1e-3
