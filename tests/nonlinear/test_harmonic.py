@@ -203,3 +203,49 @@ def test_a_hardening_curve_agrees_with_a_long_integration() -> None:
     assert np.abs(x).max() > 1.2e-3                                 # the cubic adds over 40 % to the rate there
     assert r.harmonics[0, 1, 0] == pytest.approx(2 * np.mean(x * np.exp(-1j * w * tt)), rel=1e-6)
     assert r.stable is not None and r.stable[0] and "hill" in r.note.lower()
+
+
+def test_a_box_on_four_snubbers_agrees_with_its_rigid_body_equations() -> None:
+    """Six DOF, stops on two local axes of four mounts, bounce, surge and pitch at once: the first
+    harmonics of the motions, the ground forces (which carry the stops' forces) and the mean shift
+    against the rigid body's equations of motion written here (small rotations, mounts at corners)."""
+    k, c, mass, inertia = np.array([2e4, 2e4, 5e4]), np.array([60.0, 60.0, 150.0]), 20.0, np.array([0.4, 0.5, 0.6])
+    ks, gap, kx, gx = 5e5, (2e-3, 1e-3), 2e5, 0.5e-3
+    t = MountType("snub", k, c, stops={"z": (gap, ks), "x": (gx, kx)})
+    model = Model([Body("b", mass, inertia)], vibss.symmetric(Mount("m", t, "b", at=[0.15, 0.1, 0.0])),
+                  gravity=[0.0, 0.0, -G])
+    f, fz, fx, my = 9.0, 150.0, 40.0, 10.0
+    outs = ["b.x", "b.z", "b.ry", "ground.fz", "ground.fx"]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", VibssWarning)
+        r = harmonic_balance(model, {"b.fz": fz, "b.fx": fx, "b.my": my}, outs, frequencies=[f], harmonics=13)
+    corners = np.array([[sx * 0.15, sy * 0.1, 0.0] for sx in (1, -1) for sy in (1, -1)])     # (4, 3)
+    w = 2 * np.pi * f
+
+    def mount_forces(q: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """(4, 3) force of each mount into ground: k d + c d' + the stops beyond their gaps."""
+        d = q[:3] + np.cross(q[3:], corners)
+        out = k * d + c * (v[:3] + np.cross(v[3:], corners))
+        out[:, 2] += ks * (np.maximum(d[:, 2] - gap[1], 0.0) + np.minimum(d[:, 2] + gap[0], 0.0))
+        out[:, 0] += kx * (np.maximum(d[:, 0] - gx, 0.0) + np.minimum(d[:, 0] + gx, 0.0))
+        return out
+
+    def rhs(t_: float, y: np.ndarray) -> np.ndarray:
+        fm = mount_forces(y[:6], y[6:])
+        cos = np.cos(w * t_)
+        force = np.array([fx * cos, 0.0, fz * cos - mass * G]) - fm.sum(axis=0)
+        moment = np.array([0.0, my * cos, 0.0]) - np.cross(corners, fm).sum(axis=0)
+        return np.concatenate([y[6:], force / mass, moment / inertia])
+
+    q0 = vibss.operating_point(model).q
+    T = 2 * np.pi / w
+    sol = solve_ivp(rhs, [0.0, 20 * T], np.concatenate([q0, np.zeros(6)]), rtol=1e-8, atol=1e-12, dense_output=True)
+    tt = 19 * T + np.linspace(0.0, T, 512, endpoint=False)              # decay times under 0.2 s: 2 s is steady
+    y = sol.sol(tt)
+    ground = np.array([mount_forces(y[:6, i], y[6:, i]).sum(axis=0) for i in range(tt.size)])
+    signals = np.array([y[0], y[2], y[4], ground[:, 2], ground[:, 0]])
+    ref = 2 * np.mean(signals * np.exp(-1j * w * tt), axis=1)
+    error = np.abs(r.harmonics[:, 1, 0] - ref) / np.abs(ref)
+    assert np.all(error[:3] < 1e-3) and np.all(error[3:] < 1e-2)          # motions; forces through stiff stops
+    shift = np.mean(signals[:3], axis=1) - q0[[0, 2, 4]]
+    assert r.harmonics[1:3, 0, 0].real == pytest.approx(shift[1:], rel=1e-3)  # z and ry leave their static place
