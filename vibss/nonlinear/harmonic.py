@@ -34,7 +34,7 @@ from .api import operating_point
 from .hb.aft import Basis, LocalLaws, aft, basis, samples_for, to_complex
 from .hb.condensed import Condensed
 from .hb.continuation import Branch, Problem, follow
-from .hb.floquet import floquet, piecewise_linear
+from .hb.floquet import FLOQUET_MAX, floquet, piecewise_linear
 from .hb.hill import HILL_MAX, Hill, hill_exponents
 from .kernels import _laws, nonlinear_mounts
 from .result import HarmonicBalanceResult
@@ -328,6 +328,8 @@ def _stability(problem: Problem, stability: bool | str) -> tuple[Hill | None, st
     size = 2 * plant.n * (2 * problem.basis.harmonics + 1)
     if how == "hill" and size > HILL_MAX:
         return None, "", f"stability not computed: Hill's matrix would be {size} square (limit {HILL_MAX})"
+    if how == "floquet" and 2 * plant.n > FLOQUET_MAX:
+        return None, "", f"stability not computed: the monodromy matrix would be {2 * plant.n} square (limit {FLOQUET_MAX})"
     hyst = " (loss factors left out: no time-domain form)" if np.any(plant.H) else ""
     what = ("Floquet multipliers (exact monodromy between the stops' contact instants)" if how == "floquet"
             else "Hill's method")

@@ -19,7 +19,11 @@ import scipy.linalg as sl
 from .aft import LocalLaws
 from .hill import STABILITY_TOL, Hill
 
-__all__ = ["piecewise_linear", "floquet"]
+__all__ = ["piecewise_linear", "floquet", "FLOQUET_MAX"]
+
+FLOQUET_MAX = 600
+"""Largest state (2n) whose monodromy is computed (a few dense matrix exponentials of that size per
+point); above it the stability is not computed and the result says so."""
 
 
 def piecewise_linear(laws: LocalLaws) -> bool:
@@ -32,11 +36,21 @@ def _kinks(law: object, d0: float) -> list[float]:
     return [v - d0 for v in (hi, -lo) if np.isfinite(v)]
 
 
-def _crossings(Y: np.ndarray, level: float, samples: int) -> list[float]:
-    """Phases tau in [0, 2 pi) where ``Re sum Y_k exp(i k tau) = level``."""
+def _sampled(Yl: np.ndarray, samples: int) -> np.ndarray:
+    """(m, N + 1) ``Re sum_k Y_k exp(i k tau)`` at ``tau = 2 pi i / N``, i = 0..N (by an inverse FFT)."""
+    c = np.zeros((Yl.shape[0], samples // 2 + 1), dtype=complex)
+    c[:, 0] = Yl[:, 0].real
+    c[:, 1:Yl.shape[1]] = Yl[:, 1:] / 2
+    y = np.fft.irfft(c, n=samples, axis=1) * samples
+    return np.concatenate([y, y[:, :1]], axis=1)
+
+
+def _crossings(Y: np.ndarray, sampled: np.ndarray, level: float) -> list[float]:
+    """Phases tau in [0, 2 pi) where ``Re sum Y_k exp(i k tau) = level`` (``sampled``: the series on
+    the N + 1 phases of :func:`_sampled`, which bracket the roots)."""
     k = np.arange(Y.size)
-    tau = 2 * np.pi * np.arange(samples + 1) / samples
-    y = np.real(np.exp(1j * np.outer(tau, k)) @ Y) - level
+    tau = 2 * np.pi * np.arange(sampled.size) / (sampled.size - 1)
+    y = sampled - level
     out = []
     for i in np.flatnonzero(np.sign(y[:-1]) * np.sign(y[1:]) < 0):
         a, b = tau[i], tau[i + 1]
@@ -71,9 +85,10 @@ def floquet(hill: Hill, laws: LocalLaws, Yl: np.ndarray, omega: float, samples: 
     """
     n, m = hill.n, Yl.shape[0]
     found = [0.0, 2 * np.pi]
+    sampled = _sampled(Yl, samples)
     for j in range(m):
         for level in _kinks(laws.laws[j], float(laws.d0[j])):
-            found += _crossings(Yl[j], level, samples)
+            found += _crossings(Yl[j], sampled[j], level)
     cuts = np.unique(np.array(found))
     k = np.arange(Yl.shape[1])
     base = np.zeros((2 * n, 2 * n))
