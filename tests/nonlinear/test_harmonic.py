@@ -205,6 +205,7 @@ def test_a_hardening_curve_agrees_with_a_long_integration() -> None:
     assert r.stable is not None and r.stable[0] and "hill" in r.note.lower()
 
 
+@pytest.mark.slow
 def test_a_box_on_four_snubbers_agrees_with_its_rigid_body_equations() -> None:
     """Six DOF, stops on two local axes of four mounts, bounce, surge and pitch at once: the first
     harmonics of the motions, the ground forces (which carry the stops' forces) and the mean shift
