@@ -167,6 +167,7 @@ def test_the_middle_branch_is_unstable_by_both_methods_as_integrations_show() ->
     ({"frequencies": (10.0, 5.0)}, ArgumentError, "f_end > f_start"),
     ({"outputs": ["b.zz"]}, SignalError, "b.zz"),
     ({"stability": "flocket"}, ArgumentError, "floquet"),
+    ({"tolerance": 0.0}, ArgumentError, "tolerance"),
 ])
 def test_bad_input_is_refused_by_name(kwargs: dict, error: type, words: str) -> None:
     model = _sdof(4e4, 40.0, 10.0, {"z": (1e-3, 4e4)})

@@ -2,14 +2,15 @@
 
 :func:`harmonic_balance` follows the response curve over a frequency range by the alternating
 frequency-time method with pseudo-arclength continuation (through the folds where a slow sweep
-jumps), with Hill's stability per point. The linear part is exact: the tangent model at the
+jumps), with the stability per point (Floquet multipliers for stops, Hill's method for curves).
+The linear part is exact: the tangent model at the
 operating point, condensed onto the few nonlinear mount axes per harmonic by the core's exact
 solve (:mod:`vibss.nonlinear.hb.condensed`), so the unknowns are only those axes' harmonics and
 every output is recovered linearly from them.
 
 The method states its accuracy (:data:`CLAIM`): the residual of the harmonic-balance equations
 (Newton's, to about 1e-11 of the local deflections) and the truncation estimate, the share of the
-highest harmonic kept in the nonlinear axes' deflections, held to ``tolerance`` (a
+two highest harmonics kept in the nonlinear axes' deflections, held to ``tolerance`` (a
 :class:`~vibss.errors.VibssWarning` when it is exceeded: raise ``harmonics``).
 """
 
@@ -24,14 +25,14 @@ import numpy as np
 from scipy.interpolate import CubicHermiteSpline
 
 from .._validate import choice, is_numeric
-from ..errors import AnalysisError, ArgumentError, ModelError, VibssWarning
+from ..errors import ArgumentError, VibssWarning
 from ..linear.plant.assemble import assemble
 from ..linear.plant.build import build_plant
 from ..linear.plant.names import default_outputs
 from ..methods import Check, Claim
 from ..model.model import Model
 from .api import operating_point
-from .hb.aft import Basis, LocalLaws, aft, basis, samples_for, to_complex
+from .hb.aft import LocalLaws, aft, basis, samples_for, to_complex
 from .hb.condensed import Condensed
 from .hb.continuation import Branch, Problem, follow
 from .hb.floquet import FLOQUET_MAX, floquet, piecewise_linear
@@ -123,6 +124,9 @@ def harmonic_balance(model: Model, inputs: Mapping[str, complex], outputs: Seque
     if not isinstance(points, (int, np.integer)) or isinstance(points, bool) or points < 2:
         raise ArgumentError(f"harmonic_balance: points: expected an integer >= 2, got {points!r}",
                             argument="points", received=points)
+    if not (isinstance(tolerance, (int, float, np.floating)) and np.isfinite(tolerance) and tolerance > 0):
+        raise ArgumentError(f"harmonic_balance: tolerance: expected a positive share [-] of the highest harmonics, "
+                            f"got {tolerance!r}", argument="tolerance", received=tolerance)
     outs = tuple(default_outputs(model) if outputs is None else [str(o) for o in outputs])
     lin, laws, local_names, op_note = _setup(model, names, u, outs, H, gravity, case)
     N = samples_for(H) if samples is None else int(samples)
@@ -266,7 +270,7 @@ def _result(problem: Problem, branch: Branch, names: list[str], u: np.ndarray, o
             Fc = to_complex(F, H, m)
             Y[:, :, b] -= np.einsum("kpm,km->pk", c.T, Fc)
             Yl[:, :, b] = to_complex(X, H, m).T
-            R = problem._r(X, F, w)
+            R = problem.equations(X, F, w)
             resid[b] = float(np.linalg.norm(R) / max(np.linalg.norm(X), np.finfo(float).tiny))
             trunc[b] = _truncation(Yl[:, :, b])
         if hill is not None and stable is not None and growth is not None:

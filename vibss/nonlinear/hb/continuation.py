@@ -62,11 +62,12 @@ class Problem:
         assert J is not None
         h = _DOMEGA * omega
         lin = self.linear.at(omega, pair=omega + h)
-        R = self._r(X, F, omega)
-        dw = (self._r(X, F, omega + h) - R) / h
+        R = self.equations(X, F, omega)
+        dw = (self.equations(X, F, omega + h) - R) / h
         return R, np.eye(X.size) + lin.Greal @ J, dw
 
-    def _r(self, X: np.ndarray, F: np.ndarray, omega: float) -> np.ndarray:
+    def equations(self, X: np.ndarray, F: np.ndarray, omega: float) -> np.ndarray:
+        """``R = X - U + G F`` [m] for the force coefficients ``F`` of ``X`` at ``omega`` [rad/s]."""
         lin = self.linear.at(omega)
         U = np.zeros((self.basis.harmonics + 1, self.linear.m), dtype=complex)
         U[1] = lin.U

@@ -63,7 +63,7 @@ class Hill:
         omega : float
             Fundamental [rad/s].
         """
-        n, m, size = self.n, gamma.shape[0], gamma.shape[1]
+        size = gamma.shape[1]
         if not np.any(gamma):                      # no stop engaged: the tangent model's exponents
             if self._linear is None or self._linear[0] != size:
                 self._linear = (size, self._exponents(gamma, omega))
