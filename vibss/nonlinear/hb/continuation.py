@@ -16,7 +16,7 @@ the corrector fails or the chord turns from the tangent by more than :data:`MAX_
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -82,14 +82,9 @@ class Problem:
     def solve(self, X: np.ndarray, omega: float, scale: float) -> tuple[np.ndarray, bool]:
         """Newton's method at fixed ``omega`` from ``X``, its steps halved while they do not reduce
         the residual; returns the solution and whether it converged."""
-        return self._newton(X, omega, scale, 1.0)
-
-    def _newton(self, X: np.ndarray, omega: float, scale: float, load: float) -> tuple[np.ndarray, bool]:
         last, dX, alpha = np.inf, np.zeros_like(X), 1.0
-        shift = (1.0 - load) * self.start(omega)          # R(load) = R + (1 - load) U
         for it in range(4 * _MAX_NEWTON):
             R, J, _ = self.residual(X, omega)
-            R = R + shift
             size = float(np.linalg.norm(R))
             if it and size <= RESIDUAL_TOL * scale:
                 return X, True
@@ -104,20 +99,36 @@ class Problem:
         return X, False
 
     def first(self, omega: float, scale: float) -> tuple[np.ndarray, bool]:
-        """The solution at ``omega`` from the linear one: Newton directly, else with the inputs
-        raised in steps from a tenth (each step's solution the next's first guess, a step halved
-        when Newton fails)."""
+        """The solution at ``omega`` from the linear one: Newton directly, else by pseudo-arclength
+        continuation in the inputs' level ``lambda`` from 0 (where ``X = 0``) to 1, through the folds
+        a strongly nonlinear response has in its amplitude."""
         X, ok = self.solve(self.start(omega), omega, scale)
         if ok:
             return X, True
-        X, load, step = 0.1 * self.start(omega), 0.0, 0.1
-        while load < 1.0 and step > 1e-4:
-            trial, ok = self._newton(X, omega, scale, min(load + step, 1.0))
-            if ok:
-                X, load, step = trial, min(load + step, 1.0), min(2 * step, 0.25)
-            else:
-                step /= 2
-        return X, load >= 1.0
+        U = self.start(omega) / scale
+
+        def in_level(w: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+            R, J, _ = self.residual(scale * w[:-1], omega)
+            return R / scale + (1.0 - w[-1]) * U, J, -U
+
+        v = np.zeros(X.size + 1)
+        e = np.zeros(X.size + 1)
+        e[-1] = 1.0
+        R, J, dp = in_level(v)                       # type: ignore[misc]
+        t, ds = _tangent(J, dp, e), 0.05
+        for _ in range(400):
+            step = _corrected(in_level, v, t, ds)
+            if step is None:
+                ds /= 2
+                if ds < 1e-6:
+                    break
+                continue
+            v_new, t, iters = step
+            if v_new[-1] >= 1.0:
+                frac = (1.0 - v[-1]) / (v_new[-1] - v[-1])
+                return self.solve(scale * (v[:-1] + frac * (v_new[:-1] - v[:-1])), omega, scale)
+            v, ds = v_new, min(ds * 1.5, 0.2) if iters <= 4 else ds
+        return scale * v[:-1], False
 
 
 @dataclass
@@ -170,12 +181,18 @@ def follow(problem: Problem, w0: float, w1: float, points: int, targets: Sequenc
     _walk(out, w0, t[-1], 0.0)
     if targets_left is not None:
         targets_left = [f for f in targets_left if f > w0 * (1 + 1e-14)]
+    def in_frequency(w: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+        if w[-1] <= 0:
+            return None
+        R, J, dw = problem.residual(xs * w[:-1], w[-1] * ws)
+        return R / xs, J, dw * ws / xs
+
     ds0 = np.sqrt(2.0) / points
     ds, ds_min, ds_max = ds0, ds0 * 1e-4, 2 * ds0
     v = np.append(X / xs, w0 / ws)
     while out.steps < max_steps:
         out.steps += 1
-        step = _corrected(problem, v, t, ds, xs, ws)
+        step = _corrected(in_frequency, v, t, ds)
         if step is None:
             out.rejected += 1
             ds /= 2
@@ -234,10 +251,12 @@ def _crossings(problem: Problem, out: Branch, targets: list[float], v: np.ndarra
             _record(out, f, X)
 
 
-def _corrected(problem: Problem, v: np.ndarray, t: np.ndarray, ds: float, xs: float,
-               ws: float) -> tuple[np.ndarray, np.ndarray, int] | None:
-    """Predictor-corrector step of length ``ds``: the new point, its tangent and Newton's iterations
-    (None when the corrector fails).
+def _corrected(fun: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray] | None], v: np.ndarray,
+               t: np.ndarray, ds: float) -> tuple[np.ndarray, np.ndarray, int] | None:
+    """Predictor-corrector step of length ``ds`` on scaled unknowns ``v`` (the parameter last): the new
+    point, its tangent and Newton's iterations (None when the corrector fails). ``fun(v)`` gives the
+    scaled residual, its Jacobian in the unknowns and its derivative in the parameter (None where
+    the parameter is out of range).
 
     Newton's steps are halved while they do not reduce the residual (a stop's kink makes the
     sampled equations piecewise smooth, and a full step can alternate between two pieces).
@@ -246,19 +265,19 @@ def _corrected(problem: Problem, v: np.ndarray, t: np.ndarray, ds: float, xs: fl
     w, small = pred.copy(), False
     last, dv, alpha = np.inf, np.zeros_like(v), 1.0
     for it in range(1, 2 * _MAX_NEWTON + 2):
-        omega = w[-1] * ws
-        if omega <= 0:
+        got = fun(w)
+        if got is None:
             return None
-        R, J, dw = problem.residual(xs * w[:-1], omega)
-        size = float(np.hypot(np.linalg.norm(R) / xs, t @ (w - pred)))
-        if small or (it > 1 and np.linalg.norm(R) <= RESIDUAL_TOL * xs):
-            return w, _tangent(J, dw * ws / xs, t), it - 1
+        R, J, dp = got
+        size = float(np.hypot(np.linalg.norm(R), t @ (w - pred)))
+        if small or (it > 1 and np.linalg.norm(R) <= RESIDUAL_TOL):
+            return w, _tangent(J, dp, t), it - 1
         if size > last and alpha > 1 / 16:          # no progress: go back and take half the step
             alpha /= 2
             w = w - alpha * dv
             continue
-        A = np.vstack([np.column_stack([J, dw * ws / xs]), t[None]])
-        b = -np.append(R / xs, t @ (w - pred))
+        A = np.vstack([np.column_stack([J, dp]), t[None]])
+        b = -np.append(R, t @ (w - pred))
         try:
             dv = np.linalg.solve(A, b)
         except np.linalg.LinAlgError:
