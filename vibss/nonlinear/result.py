@@ -239,13 +239,16 @@ class HarmonicBalanceResult(Result):
                          "note": self.note})
 
     def to_pandas(self) -> Any:
-        """DataFrame: one row per branch point; frequency [Hz], each output's first-harmonic amplitude, stability."""
+        """DataFrame: one row per branch point; frequency [Hz], each output's first-harmonic amplitude, stability
+        (the unit of each column in ``attrs["units"]``)."""
         pd = require_pandas()
         data: dict[str, Any] = {"frequency [Hz]": self.frequencies}
         for i, o in enumerate(self.output_labels):
             data[o] = self.amplitude[i]
         data["stable"] = self.stable if self.stable is not None else np.full(self.frequencies.size, None)
-        return pd.DataFrame(data)
+        df = pd.DataFrame(data)
+        df.attrs["units"] = {"frequency [Hz]": "Hz", **dict(zip(self.output_labels, self.units)), "stable": "-"}
+        return df
 
     def plot(self, outputs: Any = None, ax: Any = None) -> Any:
         """Amplitude against frequency, unstable parts dashed: :func:`vibss.plotting.harmonic.plot_harmonic_balance`."""
