@@ -64,6 +64,7 @@ _LAZY: dict[str, str] = {
     "NamedStateSpace": ".linear.statespace", "statespace": ".linear.statespace",
     "StaticResult": ".statics", "static": ".statics",
     "operating_point": ".nonlinear.api", "OperatingPoint": ".nonlinear.result",
+    "harmonic_balance": ".nonlinear.harmonic", "HarmonicBalanceResult": ".nonlinear.result",
     "StudyDefaults": ".studies", "study_defaults": ".studies", "causal_loss": ".studies",
     "TimeResponse": ".time.result", "simulate": ".time.api",
     "SweepEnvelope": ".time.sweep", "sweep_envelope": ".time.sweep",
@@ -135,7 +136,8 @@ if TYPE_CHECKING:                          # what static checkers and IDEs see
     from .random import PSD, random_response
     from .shock.api import srs
     from .nonlinear.api import operating_point
-    from .nonlinear.result import OperatingPoint
+    from .nonlinear.harmonic import harmonic_balance
+    from .nonlinear.result import HarmonicBalanceResult, OperatingPoint
     from .statics import StaticResult, static
     from .studies import StudyDefaults, causal_loss, study_defaults
     from .time.api import simulate
@@ -150,6 +152,6 @@ __all__ = [
     "AnalysisError", "ArgumentError", "Assembly", "DefectiveModesError", "Body", "ControlPoint", "DOF_NAMES", "DampedModes", "Excitation",
     "FrequencyGrid", "FrequencyResponse", "GROUND", "Load", "MissingDependencyError", "Model", "ModelError", "ModelFileError", "Modes", "Mount", "MountType", "NamedStateSpace",
     "Orientation", "PSD", "Plant", "Reduction", "Scope", "SignalError", "StaticResult", "StudyDefaults", "Support", "SweepEnvelope", "TimeResponse", "VibssError", "VibssWarning", "assemble", "build_plant", "damped_modes", "dump_model",
-    "dumps_model", "energy_distribution", "example_names", "frequency_grid", "frequency_response", "load_example", "load_model", "loads_model", "modal_contributions", "modes", "operating_point", "OperatingPoint", "orders", "path_contributions", "random", "random_response", "reduce", "shock", "simulate", "srs", "static", "track_modes",
+    "dumps_model", "energy_distribution", "example_names", "frequency_grid", "frequency_response", "load_example", "load_model", "loads_model", "modal_contributions", "modes", "operating_point", "OperatingPoint", "harmonic_balance", "HarmonicBalanceResult", "orders", "path_contributions", "random", "random_response", "reduce", "shock", "simulate", "srs", "static", "track_modes",
     "statespace", "grid_study", "study_defaults", "causal_loss", "sweep_envelope", "sweep_response", "symmetric", "transmissibility",
 ]

@@ -77,6 +77,9 @@ def objects() -> dict[str, Any]:
         "operating point": vibss.operating_point(Model([Body("b", 10.0, [1.0, 1.2, 1.5])], vibss.symmetric(Mount(
             "m", MountType("snub", [1e4, 1.2e4, 2e4], stops={"z": (1e-3, 1e6)}), "b", at=[0.3, 0.2, 0.1])),
             gravity=[0.0, 0.0, -9.81])),
+        "harmonic balance": vibss.harmonic_balance(Model([Body("b", 10.0, [1.0, 1.2, 1.5])], [Mount(
+            "m", MountType("snub", [1e4, 1.2e4, 2e4], [20.0] * 3, stops={"z": (1e-3, 1e6)}), "b")]),
+            {"b.fz": 5.0}, ["b.z"], frequencies=[2.0, 4.0], harmonics=3),
         **control_objects(),
         **insight_objects(m),
     }
@@ -266,7 +269,8 @@ def test_assembly_matrices_cannot_be_changed_from_outside():
 
 @pytest.mark.parametrize("kind", ["static", "modes", "damped", "frequency", "time", "peaks", "sweep", "reduction",
                                   "certificate", "sensitivity", "monte carlo", "optimisation", "design axes",
-                                  "orders", "random", "srs", "energy", "modal contributions", "paths"])
+                                  "orders", "random", "srs", "energy", "modal contributions", "paths",
+                                  "harmonic balance"])
 def test_every_table_carries_its_units(objects: dict[str, Any], kind: str) -> None:
     """Issue 33: every ``to_pandas()`` says the unit of each column in ``attrs["units"]`` (a column
     whose rows each have their own unit is covered by a ``"by row"`` or ``"by output"`` entry)."""

@@ -50,6 +50,9 @@ def results() -> dict[str, Result]:
         "operating": vibss.operating_point(Model([Body("b", MASS, [1.0, 1.2, 1.5])], vibss.symmetric(Mount(
             "m", MountType("snub", [KZ, KZ, KZ], [CZ, CZ, CZ], stops={"z": (1e-3, 1e6)}), "b", at=[0.3, 0.2, 0.0])),
             gravity=[0.0, 0.0, -G], name="box")),
+        "harmonic": vibss.harmonic_balance(Model([Body("b", MASS, [1.0, 1.2, 1.5])], [Mount(
+            "m", MountType("snub", [KZ, KZ, KZ], [CZ, CZ, CZ], stops={"z": (1e-3, 1e6)}), "b")], name="box"),
+            {"b.fz": 5.0}, ["b.z", "b.x"], frequencies=[1.0, 3.0], harmonics=3),
     }
 
 
@@ -60,7 +63,7 @@ def _half_sine_srs() -> Result:
                      q=np.inf, name="b.z")
 
 
-KINDS = ["static", "modes", "damped", "frequency", "time", "sweep", "reduction", "srs", "operating"]
+KINDS = ["static", "modes", "damped", "frequency", "time", "sweep", "reduction", "srs", "operating", "harmonic"]
 
 
 def test_every_public_result_type_is_walked(results: dict[str, Result]) -> None:
@@ -68,7 +71,8 @@ def test_every_public_result_type_is_walked(results: dict[str, Result]) -> None:
               and issubclass(getattr(vibss, name), Result)}
     assert {type(r).__name__ for r in results.values()} == public
     assert public == {"StaticResult", "Modes", "DampedModes", "FrequencyResponse", "TimeResponse",
-                      "SweepEnvelope", "Reduction", "ShockResponseSpectrum", "OperatingPoint"}
+                      "SweepEnvelope", "Reduction", "ShockResponseSpectrum", "OperatingPoint",
+                      "HarmonicBalanceResult"}
 
 
 @pytest.mark.parametrize("kind", KINDS)

@@ -7,11 +7,12 @@ from typing import Any, ClassVar
 
 import numpy as np
 
+from ..methods import Check, Claim
 from ..model.model import Model
-from ..results import Result, TextTable
+from ..results import Result, TextTable, jsonable, require_pandas
 from ..statics import StaticResult
 
-__all__ = ["OperatingPoint"]
+__all__ = ["OperatingPoint", "HarmonicBalanceResult"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -106,3 +107,151 @@ class OperatingPoint(Result):
     def plot(self, ax: Any = None) -> Any:
         """The static deflection's bar chart (:meth:`StaticResult.plot`)."""
         return self.static.plot(ax=ax)
+
+
+@dataclass(frozen=True, eq=False)
+class HarmonicBalanceResult(Result):
+    """The steady periodic response of a model with nonlinear mounts under sine inputs, along a branch.
+
+    Every output is ``y(t) = Re sum_{k=0}^{H} Y_k exp(i k omega t)`` about the operating point
+    (``Y_0``: the shift of the mean). Follows the result protocol: ``r['b.z']`` is that output's
+    first-harmonic amplitude at every branch point.
+
+    Attributes
+    ----------
+    frequencies : (nb,) ndarray
+        Frequency of each branch point [Hz], in the order of the branch (not monotone through a fold).
+    harmonics : (p, H+1, nb) complex ndarray
+        Coefficients ``Y_k`` of each output (its unit) per harmonic and point.
+    stable : (nb,) bool ndarray or None
+        Hill's stability per point (None: not computed, :attr:`note` says why).
+    growth : (nb,) ndarray or None
+        Largest real part of the physical Floquet exponents [1/s] (> 0: unstable).
+    turning_points : (k,) ndarray
+        Frequencies of the folds of the branch [Hz] (where it turns back: the jump frequencies of
+        slow sweeps), from a parabola through the three points around each.
+    turning_index : (k,) int ndarray
+        The branch point nearest each fold.
+    residual : (nb,) ndarray
+        Residual of the harmonic-balance equations, relative to the local deflections [-].
+    truncation : (nb,) ndarray
+        RMS of the larger of the two highest harmonics kept over the RMS of all the harmonics >= 1,
+        of the nonlinear axes' deflections [-] (the truncation estimate).
+    local_labels : tuple of str
+        The nonlinear axes (``mount.<name>.d1|d2|d3``).
+    local : (m, H+1, nb) complex ndarray
+        Their deflections' coefficients [m] about the operating point.
+    inputs : dict of str to complex
+        Input amplitudes (phasors of ``u(t) = Re(u exp(i omega t))``, their SI units).
+    output_labels, units : tuple of str
+        Output names and units.
+    claim : Claim
+        What the method promises (tolerance of the truncation estimate).
+    check : Check
+        The worst truncation estimate along the branch against the claim.
+    note : str
+        How the branch was followed, the operating point, stability.
+    """
+
+    frequencies: np.ndarray
+    harmonics: np.ndarray
+    stable: np.ndarray | None
+    growth: np.ndarray | None
+    turning_points: np.ndarray
+    turning_index: np.ndarray
+    residual: np.ndarray
+    truncation: np.ndarray
+    local_labels: tuple[str, ...]
+    local: np.ndarray
+    inputs: dict
+    output_names: tuple[str, ...]
+    output_units: tuple[str, ...]
+    claim: Claim
+    check: Check
+    note: str = ""
+    method: str = "aft"
+
+    @property
+    def omega(self) -> np.ndarray:
+        """(nb,) angular frequency of each point [rad/s]."""
+        return 2 * np.pi * self.frequencies
+
+    @property
+    def amplitude(self) -> np.ndarray:
+        """(p, nb) first-harmonic amplitude ``|Y_1|`` of each output (its unit)."""
+        return np.abs(self.harmonics[:, 1, :])
+
+    @property
+    def peak(self) -> np.ndarray:
+        """(p, nb) largest ``|y(t) - y_op|`` over the period of each output (all harmonics; its unit)."""
+        H = self.harmonics.shape[1] - 1
+        tau = 2 * np.pi * np.arange(16 * H + 16) / (16 * H + 16)
+        e = np.exp(1j * np.outer(np.arange(H + 1), tau))          # (H+1, nt)
+        y = np.einsum("pkb,kt->pbt", self.harmonics, e).real
+        return np.abs(y).max(axis=2)
+
+    @property
+    def output_labels(self) -> tuple[str, ...]:
+        """Output signal names."""
+        return self.output_names
+
+    @property
+    def units(self) -> tuple[str, ...]:
+        """SI unit of each output."""
+        return self.output_units
+
+    def _item(self, i: int, j: int | None) -> np.ndarray:
+        return self.amplitude[i]
+
+    def table(self) -> TextTable:
+        """Frequency, first-harmonic amplitude per output and stability of every branch point."""
+        head = ["f [Hz]"] + [f"|{o}| [{u}]" for o, u in zip(self.output_labels, self.units)] + ["stable"]
+        amp = self.amplitude
+        rows = [[f"{f:.6g}"] + [f"{a:.4e}" for a in amp[:, b]]
+                + ["-" if self.stable is None else ("yes" if self.stable[b] else "no")]
+                for b, f in enumerate(self.frequencies)]
+        return TextTable(head, rows, title="Harmonic balance: first-harmonic amplitude along the branch")
+
+    def summary(self) -> TextTable:
+        amp = self.amplitude
+        rows = []
+        for i, (o, u) in enumerate(zip(self.output_labels, self.units)):
+            b = int(np.argmax(amp[i])) if amp.shape[1] else 0
+            rows.append([o, f"{amp[i, b]:.4e} {u}" if amp.shape[1] else "-",
+                         f"{self.frequencies[b]:.6g}" if amp.shape[1] else "-"])
+        return TextTable(["output", "largest first harmonic", "at [Hz]"], rows,
+                         title="Harmonic balance: peaks along the branch")
+
+    def report(self) -> str:
+        folds = ", ".join(f"{f:.6g} Hz" for f in self.turning_points) or "none"
+        unstable = "not computed" if self.stable is None else f"{int(np.sum(~self.stable))} of {self.stable.size}"
+        head = (f"Harmonic balance ({self.harmonics.shape[1] - 1} harmonics, {self.frequencies.size} points): "
+                f"turning points {folds}; unstable points {unstable}; {self.check.text()}")
+        return "\n\n".join([head, self.summary().render(), self.note])
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready data (SI; complex numbers as ``[re, im]``)."""
+        return jsonable({"frequencies": self.frequencies, "amplitude": self.amplitude,
+                         "harmonics": self.harmonics, "stable": self.stable,
+                         "turning_points": self.turning_points, "residual": self.residual,
+                         "truncation": self.truncation, "outputs": self.output_labels, "units": self.units,
+                         "inputs": self.inputs, "claim": self.claim.text(), "check": self.check.text(),
+                         "note": self.note})
+
+    def to_pandas(self) -> Any:
+        """DataFrame: one row per branch point; frequency [Hz], each output's first-harmonic amplitude, stability
+        (the unit of each column in ``attrs["units"]``)."""
+        pd = require_pandas()
+        data: dict[str, Any] = {"frequency [Hz]": self.frequencies}
+        for i, o in enumerate(self.output_labels):
+            data[o] = self.amplitude[i]
+        data["stable"] = self.stable if self.stable is not None else np.full(self.frequencies.size, None)
+        df = pd.DataFrame(data)
+        df.attrs["units"] = {"frequency [Hz]": "Hz", **dict(zip(self.output_labels, self.units)), "stable": "-"}
+        return df
+
+    def plot(self, outputs: Any = None, ax: Any = None) -> Any:
+        """Amplitude against frequency, unstable parts dashed: :func:`vibss.plotting.harmonic.plot_harmonic_balance`."""
+        from ..plotting.harmonic import plot_harmonic_balance
+
+        return plot_harmonic_balance(self, outputs=outputs, ax=ax)
