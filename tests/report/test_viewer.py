@@ -83,3 +83,8 @@ def test_viewer_only_with_a_modes_section(tmp_path):
     bare = dataclasses.replace(report, sections=sections, results=results)
     html = write_report(bare, tmp_path / "without").read_text(encoding="utf-8")
     assert "<canvas" not in html and "<script" not in html and "Skipped: not run" in html
+
+
+def test_a_large_model_carries_its_lowest_modes(modes):
+    data = viewer_data(modes, max_modes=3)
+    assert [m["n"] for m in data["modes"]] == [1, 2, 3] and data["total"] == len(modes) == 12

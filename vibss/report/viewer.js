@@ -33,6 +33,10 @@
     if (state.mode === 0 && m.hz === 0 && i + 1 < data.modes.length) { state.mode = i + 1; }
   });
   select.value = String(state.mode);
+  if (data.total > data.modes.length) {
+    select.title = "the lowest " + data.modes.length + " of " + data.total + " modes";
+    select.insertAdjacentText("afterend", " (lowest " + data.modes.length + " of " + data.total + ")");
+  }
 
   // -- vectors and motion ----------------------------------------------------------------------
   function add(a, b) { return [a[0] + b[0], a[1] + b[1], a[2] + b[2]]; }
@@ -171,7 +175,7 @@
     var m = data.modes[state.mode], x = 12, y = 22;
     ctx.fillStyle = "#111";
     ctx.font = "bold 15px sans-serif";
-    ctx.fillText("Mode " + m.n + " of " + data.modes.length + ": " + fmtHz(m.hz) + ", " + m.label, x, y);
+    ctx.fillText("Mode " + m.n + " of " + data.total + ": " + fmtHz(m.hz) + ", " + m.label, x, y);
     ctx.font = "12px sans-serif";
     ctx.fillStyle = "#444";
     ctx.fillText("motion scaled: largest displacement " + Math.round(100 * data.fraction) + " % of the model size (" +

@@ -31,10 +31,13 @@ import numpy as np
 from ..modal.result import Modes
 from ..model.model import GROUND
 
-__all__ = ["viewer_data", "viewer_html", "ERROR_HOOK", "MOTION_FRACTION"]
+__all__ = ["viewer_data", "viewer_html", "ERROR_HOOK", "MOTION_FRACTION", "MAX_VIEWER_MODES"]
 
 MOTION_FRACTION = 0.10
 """Largest drawn displacement of a mode as a fraction of the model's size [-]."""
+
+MAX_VIEWER_MODES = 60
+"""The viewer carries at most this many modes (the lowest) and says so; the tables list them all."""
 
 ERROR_HOOK = """<script>
 window.vibssErrors = [];
@@ -56,7 +59,8 @@ def _round(a: Any, digits: int = 6) -> Any:
     return [float(f"{v:.{digits}g}") for v in arr] if arr.ndim == 1 else [_round(r, digits) for r in arr]
 
 
-def viewer_data(modes: Modes, fraction: float = MOTION_FRACTION) -> dict[str, Any]:
+def viewer_data(modes: Modes, fraction: float = MOTION_FRACTION,
+                max_modes: int = MAX_VIEWER_MODES) -> dict[str, Any]:
     """The viewer's JSON data: geometry [m] and each mode's scaled body motion.
 
     Parameters
@@ -65,6 +69,8 @@ def viewer_data(modes: Modes, fraction: float = MOTION_FRACTION) -> dict[str, An
         Undamped modes of a model (:func:`vibss.modes`).
     fraction : float
         Largest displacement of any drawn point in each mode, as a fraction of the model's size [-].
+    max_modes : int
+        Carry the lowest this many modes at most.
 
     Returns
     -------
@@ -73,7 +79,7 @@ def viewer_data(modes: Modes, fraction: float = MOTION_FRACTION) -> dict[str, An
         ``corners`` (8, 3) [m]; ``mounts``: ``name``, ``point`` (3,) [m], ``body`` (index), ``to``
         (index, -1 for ground), ``anchor`` (3,) [m] (the fixed end of a ground spring);
         ``modes``: ``n`` (1-based), ``hz`` [Hz], ``label``, ``q`` (nb, 6) body motion [m, rad]
-        at the drawn amplitude.
+        at the drawn amplitude; ``total``: the number of modes of ``modes``.
 
     Raises
     ------
@@ -89,7 +95,7 @@ def viewer_data(modes: Modes, fraction: float = MOTION_FRACTION) -> dict[str, An
     lo = np.vstack([scene.corners.reshape(-1, 3), scene.anchors, scene.mount_points]).min(axis=0)
     hi = np.vstack([scene.corners.reshape(-1, 3), scene.anchors, scene.mount_points]).max(axis=0)
     out_modes = []
-    for k in range(len(modes)):
+    for k in range(min(len(modes), max_modes)):
         q = np.asarray(modes.shapes[:6 * nb, k], float)
         worst = scene.max_displacement(q)
         scale = fraction * scene.size / worst if worst > 0 else 0.0
@@ -97,6 +103,7 @@ def viewer_data(modes: Modes, fraction: float = MOTION_FRACTION) -> dict[str, An
                           "q": _round((scale * q).reshape(nb, 6))})
     return {
         "name": model.name, "size": float(scene.size), "center": _round((lo + hi) / 2), "fraction": fraction,
+        "total": len(modes),
         "bodies": [{"name": n, "cog": _round(scene.cogs[i]), "corners": _round(scene.corners[i])}
                    for i, n in enumerate(names)],
         "mounts": [{"name": m.name, "point": _round(scene.mount_points[p]), "body": names.index(m.body),
