@@ -31,7 +31,7 @@ import numpy as np
 from ..modal.result import Modes
 from ..model.model import GROUND
 
-__all__ = ["viewer_data", "viewer_html", "ERROR_HOOK", "MOTION_FRACTION", "MAX_VIEWER_MODES"]
+__all__ = ["viewer_data", "viewer_html", "ERROR_HOOK", "VIEWER_CSS", "MOTION_FRACTION", "MAX_VIEWER_MODES"]
 
 MOTION_FRACTION = 0.10
 """Largest drawn displacement of a mode as a fraction of the model's size [-]."""
