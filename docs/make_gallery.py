@@ -23,7 +23,10 @@ def page(entries: list[tuple[str, str, str, list[tuple[str, list[str]]]]]) -> st
     """The Markdown page: ``(example, title, description, [(section title, [figure names])])``."""
     lines = ["# Gallery", "",
              "Every built-in example, run through `vibss report` (the same figures as the HTML report,",
-             "at lower resolution). Regenerate with `python docs/make_gallery.py`.", ""]
+             "at lower resolution). Regenerate with `python docs/make_gallery.py`.", "",
+             "The HTML report's interactive 3-D mode viewer (a two-body model, as headless Chromium draws it;",
+             "`VIBSS_KEEP_SCREENSHOT=1 pytest tests/report/test_browser.py` renews it):", "",
+             "![the report's 3-D mode viewer](figures/report_viewer.png)", ""]
     lines += [f"- [{title}](#{name})" for name, title, _, _ in entries]
     for name, title, text, sections in entries:
         lines += ["", f'<a id="{name}"></a>', "", f"## {title}", "", text, "",

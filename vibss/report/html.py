@@ -12,6 +12,7 @@ from pathlib import Path
 
 from ..results import TextTable
 from .section import Report
+from .viewer import ERROR_HOOK, VIEWER_CSS, viewer_html
 
 __all__ = ["html_table", "write_report", "render_report"]
 
@@ -69,8 +70,13 @@ def _html(report: Report, images: dict[str, bytes]) -> str:
     now = datetime.datetime.now().strftime("%Y-%m-%d %H:%M")
     from .._version import __version__
 
+    modes = report.results.get("modes")
+    shown = {s.key for s in report.sections if not s.skipped}
+    viewer = viewer_html(modes) if modes is not None and "modes" in shown else ""
+
     parts = ["<!DOCTYPE html>", '<html lang="en"><head><meta charset="utf-8">',
-             f"<title>vibss report: {html.escape(m.name)}</title><style>{_CSS}</style></head><body>",
+             f"<title>vibss report: {html.escape(m.name)}</title><style>{_CSS}{VIEWER_CSS if viewer else ''}</style>"
+             + (ERROR_HOOK if viewer else "") + "</head><body>",
              f"<h1>{html.escape(m.name)}</h1>",
              f'<p class="meta">vibss {__version__} report, {now}'
              + (f", model {html.escape(report.source)}" if report.source else "")
@@ -85,6 +91,8 @@ def _html(report: Report, images: dict[str, bytes]) -> str:
             parts.append(f'<p class="{cls}">{head}{html.escape(s.note.removeprefix("failed: "))}</p>')
         if s.key == "model" and s.text:
             parts.append(f"<p>{html.escape(s.text.splitlines()[0])}</p>")
+        if s.key == "modes" and viewer:
+            parts.append(viewer)
         for name, _ in s.figures:
             data = base64.b64encode(images[name]).decode("ascii")
             parts.append(f'<img src="data:image/png;base64,{data}" alt="{html.escape(name)}" '
