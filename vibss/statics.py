@@ -252,8 +252,9 @@ class StaticResult(Result):
             parts.append("Note: " + _left_out_text(self.cases_left_out))
         return "\n\n".join(parts)
 
-    def mount_table(self) -> TextTable:
-        """Mount deflections [mm] in global and local axes, and forces [N] into the other side."""
+    def mount_table(self, under: str = "") -> TextTable:
+        """Mount deflections [mm] in global and local axes, and forces [N] into the other side
+        (``under``: what the title adds, e.g. the load case)."""
         rows = []
         for p, m in enumerate(self.model.mounts):
             rows.append([m.name, f"{m.body}->{m.support or m.to}"]
@@ -262,7 +263,7 @@ class StaticResult(Result):
                         + [f"{v:.2f}" for v in self.mount_force[p]])
         return TextTable(["mount", "joins", "dx [mm]", "dy [mm]", "dz [mm]", "d1 [mm]", "d2 [mm]",
                           "d3 [mm]", "Fx [N]", "Fy [N]", "Fz [N]"], rows,
-                         title="Mounts (deflection = body side minus other side; force into the other side)")
+                         title=f"Mounts{under} (deflection = body side minus other side; force into the other side)")
 
     def html_tables(self) -> list[TextTable]:
         """Bodies, mounts (deflections and forces) and the 6x6 mounts' rotations and moments."""

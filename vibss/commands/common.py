@@ -90,6 +90,22 @@ def load_from_args(args: argparse.Namespace) -> Model:
     return load_model(args.file)
 
 
+def linear_from_args(args: argparse.Namespace) -> Model:
+    """The model named by ``FILE`` or ``--example``, linearised at its operating point when it has
+    nonlinear mounts (stops, curves): the tangent model the linear commands analyse, said on stderr
+    (as the report's sections say it in their notes)."""
+    from ..nonlinear.kernels import nonlinear_mounts
+
+    model = load_from_args(args)
+    if not nonlinear_mounts(model):
+        return model
+    from ..nonlinear.api import operating_point
+
+    print(f"vibss {getattr(args, 'command', '') or ''}: nonlinear mounts: analysing the tangent model at the "
+          "operating point (vibss static shows it)".replace("vibss : ", "vibss: "), file=sys.stderr)
+    return operating_point(model).tangent
+
+
 def finite_json(value: Any) -> Any:
     """Old name of :func:`vibss.results.jsonable` (non-finite numbers as None)."""
     from ..results import jsonable

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from .common import add_model_arguments, emit, load_from_args
+from .common import add_model_arguments, emit, linear_from_args
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -27,7 +27,7 @@ def run(args: argparse.Namespace) -> int:
     from ..control.filespec import run_control
     from ..errors import ArgumentError
 
-    model = load_from_args(args)
+    model = linear_from_args(args)
     if "control" not in model.settings:
         raise ArgumentError("vibss control: the model has no [control] table (docs/model-file.md); "
                             "the packaged example 'platform' has one", argument="file")

@@ -10,7 +10,7 @@ from typing import Any
 
 from .._deprecated import warn
 from ..errors import ArgumentError
-from .common import add_model_arguments, emit, load_from_args
+from .common import add_model_arguments, emit, linear_from_args
 
 
 _FROM_FILE = -1.0      # --tolerance given without a value: the file's [design.tolerances]
@@ -59,7 +59,7 @@ def run(args: argparse.Namespace) -> int:
     """Print the certificate (and the study and optimisation asked for)."""
     from ..design.filespec import design_spec, run_design
 
-    model = load_from_args(args)
+    model = linear_from_args(args)
     spec = design_spec(model)                         # the file's [design] table, or the defaults
     change: dict[str, Any] = {k: v for k, v in (("windows", args.window), ("frame", args.frame),
                                                 ("axis", args.axis)) if v is not None}

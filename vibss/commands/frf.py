@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 
 from ..errors import ModelError
-from .common import add_method_argument, add_model_arguments, add_save_argument, check_save, emit, load_from_args, save
+from .common import add_method_argument, add_model_arguments, add_save_argument, check_save, emit, linear_from_args, save
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -45,7 +45,7 @@ def run(args: argparse.Namespace) -> int:
     from ..frequency.sweep import sweep_response
     from ..studies import frequency_band, steady_sweeps
 
-    model = load_from_args(args)
+    model = linear_from_args(args)
     settings = frequency_band(model).grid()     # the report's band (vibss.studies)
     for key in ("f1", "f2", "points", "spacing"):
         if getattr(args, key) is not None:

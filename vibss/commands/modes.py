@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from .common import add_model_arguments, add_save_argument, check_save, emit, load_from_args, save
+from .common import add_model_arguments, add_save_argument, check_save, emit, linear_from_args, load_from_args, save
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -48,5 +48,5 @@ def run_damped(args: argparse.Namespace) -> int:
     """Print the damped modes."""
     from ..modal.api import damped_modes
 
-    emit(damped_modes(load_from_args(args)), args.format)
+    emit(damped_modes(linear_from_args(args)), args.format)
     return 0

@@ -8,7 +8,7 @@ import sys
 
 
 from ..errors import ArgumentError
-from .common import add_model_arguments, emit, load_from_args
+from .common import add_model_arguments, emit, linear_from_args
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -36,7 +36,7 @@ def run(args: argparse.Namespace) -> int:
     from ..orders import order_response
     from ..orders.sources import sources_from_settings
 
-    model = load_from_args(args)
+    model = linear_from_args(args)
     spec = model.settings.get("orders", {})
     sources = sources_from_settings(model)
     if not sources:

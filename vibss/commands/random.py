@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from .common import add_model_arguments, add_save_argument, check_save, emit, load_from_args, save
+from .common import add_model_arguments, add_save_argument, check_save, emit, linear_from_args, save
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -25,7 +25,7 @@ def run(args: argparse.Namespace) -> int:
     from ..errors import ArgumentError
     from ..random import PSD, random_response
 
-    model = load_from_args(args)
+    model = linear_from_args(args)
     spec = model.settings.get("random")
     if not spec:
         raise ArgumentError("vibss random: the model has no [random] table (docs/model-file.md); the packaged "

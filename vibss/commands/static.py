@@ -24,7 +24,14 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Print the static deflection."""
+    from ..nonlinear.kernels import nonlinear_mounts
     from ..statics import static
 
-    emit(static(load_from_args(args), gravity=not args.no_gravity, case=args.case), args.format)
+    model = load_from_args(args)
+    if nonlinear_mounts(model):       # stops or curves: the operating point, its tangent rates and clearances
+        from ..nonlinear.api import operating_point
+
+        emit(operating_point(model, gravity=not args.no_gravity, case=args.case), args.format)
+    else:
+        emit(static(model, gravity=not args.no_gravity, case=args.case), args.format)
     return 0

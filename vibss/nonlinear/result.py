@@ -90,7 +90,7 @@ class OperatingPoint(Result):
 
     def report(self) -> str:
         head = f"Operating point of {self.model.name!r}: {self.iterations} Newton steps, residual {self.residual:.1e}"
-        parts = [head, self.static.summary().render(), self.rates().render()]
+        parts = [head, self.static.report(), self.rates().render()]
         if self.clearance:
             parts.append(self.summary().render())
         return "\n\n".join(parts)

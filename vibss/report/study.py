@@ -27,6 +27,8 @@ Examples
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 from typing import Any
 
 import numpy as np
@@ -91,7 +93,32 @@ def study(model: Model, figures: bool = True, progress: Progress | None = None,
             progress(n, len(STEPS), TITLES[key].lower())
         try:
             runner = _RUNNERS.get(key)
-            sections.append(_model_section(model, figures) if runner is None else runner(model, figures, results))
+            if runner is None:
+                sections.append(_model_section(model, figures))
+                continue
+            here, said = _linearised(model, key, results)
+            section = runner(here, figures, results)
+            sections.append(replace(section, note="; ".join(x for x in (section.note, said) if x)) if said else section)
         except Exception as exc:        # one failed analysis is that section's note, not the report's end
             sections.append(_failure(key, exc))
     return Report(model, tuple(sections), source, results)
+
+
+NONLINEAR_SECTIONS = ("static", "modes", "time")
+"""The sections that take a model with stops or curves as it is (the operating point, the tangent
+modes it states itself, contacts in time); every other section analyses the tangent model."""
+
+
+def _linearised(model: Model, key: str, results: dict[str, Any]) -> tuple[Model, str]:
+    """The model a section analyses, and what its note says about it: a model with nonlinear mounts
+    is linearised at its operating point for the linear sections (the static section's, if it ran)."""
+    from ..nonlinear.kernels import nonlinear_mounts
+
+    if key in NONLINEAR_SECTIONS or not nonlinear_mounts(model):
+        return model, ""
+    op = results.get("operating_point")
+    if op is None:
+        from ..nonlinear.api import operating_point
+
+        op = results["operating_point"] = operating_point(model)
+    return op.tangent, "nonlinear mounts: the tangent model at the operating point"

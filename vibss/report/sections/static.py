@@ -7,6 +7,7 @@ from typing import Any
 from ...model.model import Model
 from ...results import TextTable, number_text
 from ...statics import StaticResult, static
+from ...nonlinear.kernels import nonlinear_mounts
 from ..section import TITLES, Section
 
 def _static_tables(r: StaticResult) -> tuple[TextTable, ...]:
@@ -23,12 +24,7 @@ def _static_tables(r: StaticResult) -> tuple[TextTable, ...]:
                          [[k] + [f"{1e3 * v:.4f}" for v in x] for k, x in r.control_points.items()],
                          title="Control points" + under))
     if r.model.mounts:
-        out.append(TextTable(["mount", "joins", "dx [mm]", "dy [mm]", "dz [mm]", "d1 [mm]", "d2 [mm]", "d3 [mm]",
-                          "Fx [N]", "Fy [N]", "Fz [N]"],
-                         [[m.name, f"{m.body}->{m.support or m.to}"] + [f"{1e3 * v:.4f}" for v in r.mount_deflection[p]]
-                          + [f"{1e3 * v:.4f}" for v in r.mount_deflection_local[p]]
-                          + [f"{v:.2f}" for v in r.mount_force[p]] for p, m in enumerate(r.model.mounts)],
-                         title="Mounts" + under + " (deflection = body side minus other side; force into the other side)"))
+        out.append(r.mount_table(under))
         if r.mount_moment is not None:
             out.append(r.moment_table())
     return tuple(out)
@@ -46,6 +42,15 @@ def _static_section(model: Model, figures: bool, results: dict[str, Any]) -> Sec
     if model.load_cases:
         what += "; then each load case on its own: " + ", ".join(map(repr, model.load_cases))
     tables = tuple(t for r in solved for t in _static_tables(r))
+    text = "\n\n".join(r.report() for r in solved)
+    if nonlinear_mounts(model):            # the operating point: tangent rates and the clearance left
+        from ...nonlinear.api import operating_point
+
+        op = operating_point(model)
+        results["operating_point"] = op
+        extra = (op.rates(),) + ((op.summary(),) if op.clearance else ())
+        tables += extra
+        text += "\n\n" + "\n\n".join(t.render() for t in extra)
     figs: tuple[tuple[str, Any], ...] = ()
     if figures:
         from ...plotting.summary import plot_mount_deflections, plot_static
@@ -53,5 +58,4 @@ def _static_section(model: Model, figures: bool, results: dict[str, Any]) -> Sec
         figs = (("static.png", plot_static(solved[0])),)
         if model.mounts:
             figs += (("static_mounts.png", plot_mount_deflections(solved[0])),)
-    return Section("static", TITLES["static"], "\n\n".join(r.report() for r in solved), tables, figs,
-                   note=f"under {what}")
+    return Section("static", TITLES["static"], text, tables, figs, note=f"under {what}")
