@@ -33,7 +33,7 @@ def test_transmissibility_keeps_the_names_and_units_as_given():
     t = vibss.transmissibility(symmetric(), ["ground.z.acc"], ["b.z.acc", "b.rx.acc"], frequencies=f)
     assert t.outputs == ("b.z.acc", "b.rx.acc") and t.inputs == ("ground.z.acc",)
     assert t.units == ("m/s^2", "rad/s^2") and t.input_units == ("m/s^2",)
-    assert t.channel_unit("b.z.acc") == "-"
+    assert t.channel_unit("b.z.acc") == "-" and t.channel_units == (("-",), ("(rad/s^2)/(m/s^2)",))
     assert list(t.to_pandas().columns) == ["b.z.acc/ground.z.acc", "b.rx.acc/ground.z.acc"]
     w = 2 * np.pi * f
     k, c = 4 * 2 * K, 4 * C

@@ -40,7 +40,9 @@ class FrequencyResponse(Result):
     outputs, inputs : tuple of str
         Signal names (vibss spelling, with dots).
     units : tuple of str
-        SI unit of each output row's quantity (``"m"``; ``"m/s"`` for a mobility ...).
+        SI unit of each output row's quantity (``"m"``; ``"m/s"`` for a mobility ...), one per
+        output as every result's ``units``; the unit of each channel's values (``"m/N"``) is
+        :attr:`channel_units`.
     quantity : str
         ``"receptance"``, ``"mobility"``, ``"accelerance"``, ``"transmissibility"`` or ``"sweep"``.
     method : str
@@ -116,6 +118,12 @@ class FrequencyResponse(Result):
     def magnitude(self) -> np.ndarray:
         """(p, m, nf) amplitude |H|."""
         return np.abs(self.response)
+
+    @property
+    def channel_units(self) -> tuple[tuple[str, ...], ...]:
+        """(p, m) unit of each channel's values: output per input (``"m/N"``, ``"-"`` for a
+        transmissibility between equal units; the output's for a sweep)."""
+        return tuple(tuple(self.channel_unit(i, j) for j in range(len(self.inputs))) for i in range(len(self.outputs)))
 
     @property
     def zero_channels(self) -> np.ndarray:
