@@ -31,10 +31,11 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+from scipy.spatial.transform import Rotation
 
 from ..errors import ArgumentError, ModelError, did_you_mean
 from ..linear.plant.assemble import Assembly
-from ..model.geometry import Orientation, axis_rotation, euler_matrix, point_transfer, skew
+from ..model.geometry import Orientation, point_transfer, skew
 from ..model.model import Model, MountType
 
 __all__ = ["Parameter", "KINDS", "parameters_of", "apply", "stiffness_derivatives", "current_values"]
@@ -226,7 +227,7 @@ def apply(model: Model, parameters: Sequence[Parameter], values: Any) -> Model:
         if np.any(shift[m.name]):
             change["at"] = m.at + shift[m.name]
         if m.name in angles:
-            rot = euler_matrix("XYZ", angles[m.name])     # Rx Ry Rz
+            rot = Rotation.from_euler("XYZ", angles[m.name]).as_matrix()     # Rx Ry Rz
             change["orientation"] = Orientation(rot @ m.orientation.matrix)
         mounts.append(dataclasses.replace(m, **change))
     return model.replace(mounts=mounts)
@@ -331,8 +332,8 @@ def _rotation_axis(i: int, theta: np.ndarray) -> np.ndarray:
     e = np.eye(3)
     if i == 0:
         return e[0]
-    rx = axis_rotation("x", theta[0])
+    rx = Rotation.from_euler("X", theta[0]).as_matrix()
     if i == 1:
         return rx @ e[1]
-    ry = axis_rotation("y", theta[1])
+    ry = Rotation.from_euler("Y", theta[1]).as_matrix()
     return rx @ ry @ e[2]

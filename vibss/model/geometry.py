@@ -13,6 +13,7 @@ from typing import Any
 
 import numpy as np
 import numpy.typing as npt
+from scipy.spatial.transform import Rotation
 
 from .._validate import vector
 from .limits import MAX_EULER_RAD
@@ -25,8 +26,6 @@ __all__ = [
     "lever",
     "point_transfer",
     "MIRRORS",
-    "euler_matrix",
-    "axis_rotation",
 ]
 
 DEFAULT_SEQUENCE = "ZYX"
@@ -103,13 +102,15 @@ class Orientation:
                 f"sequence: expected three axis letters, all upper case (intrinsic) or all "
                 f"lower case (extrinsic), e.g. 'ZYX'; got {sequence!r}"
             )
-        if sequence[0].lower() == sequence[1].lower() or sequence[1].lower() == sequence[2].lower():
-            raise ModelError(f"sequence {sequence!r}: consecutive axes must differ (e.g. 'ZYX' or 'ZXZ')")
+        try:
+            rot = Rotation.from_euler(sequence, a, degrees=degrees)
+        except ValueError as exc:  # e.g. 'XXY'
+            raise ModelError(f"sequence {sequence!r}: {exc}") from None
         rad = np.deg2rad(a) if degrees else a
         if np.any(np.abs(rad) > MAX_EULER_RAD * (1 + 1e-12)):
             raise ModelError(f"euler: {a.tolist()} {'deg' if degrees else 'rad'}: every angle must be within "
                              "+-360 degrees (an angle beyond it is a typo or a unit mistake)")
-        return cls(euler_matrix(sequence, rad), euler=rad, sequence=sequence)
+        return cls(rot.as_matrix(), euler=rad, sequence=sequence)
 
     @classmethod
     def coerce(cls, value: Any, what: str = "orientation") -> Orientation:
@@ -118,7 +119,7 @@ class Orientation:
             return cls.identity()
         if isinstance(value, Orientation):
             return value
-        if type(value).__module__.startswith("scipy.spatial.transform"):     # a scipy Rotation, not imported
+        if isinstance(value, Rotation):
             return cls(value.as_matrix())
         try:
             return cls(_as_matrix(value, what))
@@ -145,36 +146,6 @@ class Orientation:
         if np.allclose(self.matrix, np.eye(3)):
             return "global axes"
         return "matrix"
-
-
-def axis_rotation(axis: str, angle: float) -> np.ndarray:
-    """Rotation matrix [-] by ``angle`` [rad] about the global ``axis`` (``"x"``, ``"y"`` or ``"z"``)."""
-    c, s = np.cos(angle), np.sin(angle)
-    i = "xyz".index(axis.lower())
-    j, k = (i + 1) % 3, (i + 2) % 3
-    r = np.eye(3)
-    r[j, j], r[j, k], r[k, j], r[k, k] = c, -s, s, c
-    return r
-
-
-def euler_matrix(sequence: str, angles: npt.ArrayLike) -> np.ndarray:
-    """The rotation matrix [-] of three Euler angles [rad], as :class:`scipy.spatial.transform.Rotation`
-    spells sequences: upper case intrinsic (``"ZYX"``: about z, then the new y, then the newest x:
-    ``R = Rz Ry Rx``), lower case extrinsic (``"zyx"``: about the fixed z, y, x: ``R = Rx Ry Rz``).
-
-    Written out (a product of three elementary rotations) rather than imported: scipy.spatial
-    costs a second at start-up on a loaded machine (benchmarks/bench_startup.py).
-
-    Examples
-    --------
-    >>> np.round(euler_matrix("ZYX", [np.pi / 2, 0.0, 0.0]) @ [1.0, 0.0, 0.0], 12)   # x turned onto y
-    array([0., 1., 0.])
-    """
-    a = np.asarray(angles, dtype=float)
-    mats = [axis_rotation(ax, float(t)) for ax, t in zip(sequence, a)]
-    if sequence.isupper():
-        return mats[0] @ mats[1] @ mats[2]
-    return mats[2] @ mats[1] @ mats[0]
 
 
 def _vector(value: npt.ArrayLike, n: int, what: str) -> np.ndarray:
