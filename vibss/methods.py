@@ -85,10 +85,22 @@ class Check:
         return bool(self.error <= self.limit)
 
     def text(self) -> str:
-        """``"checked: 2.1e-13 <= 1e-09 at ..."`` or ``"check FAILED: ..."``."""
+        """``"checked: 2.1e-13 <= 1e-09 at ..."`` or ``"check FAILED: ..."``; the error is rounded up
+        to two digits (it is a bound: 1.93e-8 prints as 2.0e-08, never as 1.9e-08)."""
         rel = "<=" if self.ok else ">"
         head = "checked" if self.ok else "check failed"
-        return f"{head}: error {self.error:.1e} {rel} {self.limit:.0e}{' at ' + self.where if self.where else ''}"
+        return f"{head}: error {_up(self.error)} {rel} {self.limit:.0e}{' at ' + self.where if self.where else ''}"
+
+
+def _up(x: float) -> str:
+    """``x`` in ``%.1e`` form, rounded up (away from zero) in its second digit."""
+    if not math.isfinite(x) or x <= 0:
+        return f"{x:.1e}"
+    text = f"{x:.1e}"
+    if float(text) >= x:
+        return text
+    mant, exp = text.split("e")
+    return f"{float(mant) + 0.1:.1f}e{exp}" if float(mant) + 0.1 < 10 else f"{1.0:.1f}e{int(exp) + 1:+03d}"
 
 
 @dataclass(frozen=True)

@@ -89,3 +89,13 @@ def test_the_memory_guard_refuses_before_running() -> None:
 def test_check_of_nan_fails() -> None:
     assert not Check(float("nan"), 1e-9).ok
     assert Check(1e-10, 1e-9).ok
+
+
+def test_a_stated_bound_is_rounded_up_never_down():
+    """A check's error is a bound: printed to two digits it must not fall below the measured number
+    (1.93e-8 once printed as 1.9e-08 under a measured 1.93e-8)."""
+    from vibss.methods import Check
+
+    for x in (1.929810846104498e-08, 9.951e-05, 3.0e-7, 1.05e-12):
+        printed = float(Check(x, 1e-9).text().split("error ")[1].split()[0])
+        assert x <= printed <= x * 1.06
