@@ -53,7 +53,9 @@ import scipy.sparse as sp
 from .._validate import choice, number
 from ..errors import AnalysisError, ArgumentError, DefectiveModesError, ModelError, VibssWarning
 from .inputs import SignalInput, as_function, exact_terms, initial_state, summed
-from .methods import METHODS, SimulationJob, TimeMethod, settled, stays_sparse
+from .methods import METHODS, NonlinearJob, SimulationJob, TimeMethod, resolve_method, settled, stays_sparse
+from .nonlinear import contact_table, nonlinear_job
+from ..nonlinear.kernels import nonlinear_mounts
 from ..methods import Check, Cost, Method, decide
 from ..model.model import Model
 from ..model.timefunctions import TimeFunction
@@ -162,6 +164,9 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
         excitations, skipped = transient_excitations(model), steady_sweeps(model)
     excitations = list(excitations or [])
     sig = _signals(excitations, inputs, ts)
+    if model is not None and nonlinear_mounts(model):
+        return _nonlinear(model, excitations, sig, outputs, initial, method, ts, record_from, rtol, atol, solver,
+                          prefix=dict(causal_note=causal_note, branch_note="", skipped=skipped))
     plant, truncated, hidden = _plant(model_or_plant, model, sig, outputs, initial, method, ts, dt)
     job, funcs, left_out = _job(plant, model, sig, initial, hidden, ts, rtol, atol, solver)
     plant = job.plant
@@ -193,6 +198,75 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
                         units=tuple(plant.units), inputs=u,
                         input_names=() if hidden else tuple(plant.inputs),
                         method=chosen.name, note=note, name=plant.name)
+
+
+def _nonlinear(model: Model, excitations: list[Any], sig: _Signals, outputs: Sequence[str] | None, initial: Any,
+               method: Any, ts: np.ndarray, record_from: float, rtol: float, atol: float | None, solver: str,
+               prefix: dict[str, Any]) -> TimeResponse:
+    """:func:`simulate` of a model with nonlinear mounts (:mod:`vibss.time.nonlinear`): from the operating
+    point, by ``nonlinear_modal`` (``auto``) or a named method that takes nonlinear models."""
+    chosen, auto = resolve_method(method)
+    if auto:
+        chosen = METHODS[NONLINEAR_AUTO]
+    if not chosen.nonlinear:
+        names = [m.name for m in model.mounts if getattr(m.type, "nonlinear", False)]
+        fits = [k for k, v in METHODS.items() if v.nonlinear]
+        raise ModelError(f"simulate: method {chosen.name!r} is linear, and mounts {names} have stops or "
+                         f"force-deflection curves: use method='auto' or one of {fits} (or simulate the tangent "
+                         "model at the operating point, vibss.operating_point(model).tangent)",
+                         argument="method", received=chosen.name, expected=fits)
+    dt = float(ts[1] - ts[0])
+    hidden = not sig.sources
+    plant, laws, p, m = nonlinear_job(model, list(sig.sources.values()), outputs, hidden)
+    left_out = dropped_hysteresis(model, "simulate", stacklevel=4)
+    if left_out:
+        basis = plant._cache.get("modal basis")
+        plant = without_hysteresis(plant)
+        if basis is not None:
+            plant._cache["modal basis"] = basis             # the same M, K and C
+    funcs = [summed(sig.terms.get(name, [])) for name in plant.inputs[:m]]
+    bps = [b for name in plant.inputs[:m] for _, bb in sig.terms.get(name, []) for b in bb]
+    q0, v0 = initial_state(plant, initial, model)
+    if hidden and not (np.any(q0) or np.any(v0)):
+        raise ModelError("simulate: nothing drives the response: no excitations, no inputs and no nonzero "
+                         "initial conditions (initial={body: {'displacement': [6], 'velocity': [6]}})")
+    for finding in check_excitations(excitations, dt, inserts_breakpoints=True):
+        finding.warn(stacklevel=4)
+    job = NonlinearJob(plant=plant, time=ts, funcs=tuple(funcs), breakpoints=np.array(bps, float), q0=q0, v0=v0,
+                       rtol=float(rtol), atol=atol, solver=solver,
+                       sinusoids=tuple(tuple(sig.pieces.get(u, ())) for u in plant.inputs[:m]),
+                       exact_inputs=tuple(u for u in plant.inputs[:m] if sig.exact.get(u, u not in sig.terms)),
+                       laws=laws, user_outputs=p, user_inputs=m)
+
+    def cost(meth: Method) -> Cost | None:
+        coster = getattr(meth, "coster", None)
+        return coster(job) if coster is not None else None
+
+    def check(meth: Method, answer: tuple[np.ndarray, str]) -> Check | None:
+        checker = getattr(meth, "checker", None)
+        return checker(job, answer[0]) if checker is not None else None
+
+    d = decide([chosen], lambda meth: meth.kernel(job), where="simulate", auto=False, check=check, cost=cost)
+    y, note = d.answer
+    y = np.asarray(y, float)
+    if d.check is not None:
+        note = f"{note}; {d.check.text()}"
+    note = "from the operating point (static equilibrium, stops and curves included); " + note
+    if auto:
+        note = f"auto -> {chosen.name}: {chosen.auto_reason}; " + note
+    note = _prefixed(note, hidden=hidden, left_out=left_out, **prefix)
+    keep = ts >= record_from - 1e-9 * dt
+    shown = [] if hidden else funcs
+    u = np.array([np.broadcast_to(f(ts[keep]), (int(keep.sum()),)) for f in shown]).reshape(len(shown), int(keep.sum()))
+    run = job.memo.get("run")
+    return TimeResponse(time=ts[keep], outputs=y[keep].T.copy(), output_names=tuple(plant.outputs[:p]),
+                        units=tuple(plant.units[:p]), inputs=u,
+                        input_names=() if hidden else tuple(plant.inputs[:m]), method=chosen.name, note=note,
+                        name=plant.name, contacts=None if run is None else contact_table(laws, run))
+
+
+NONLINEAR_AUTO = "nonlinear_modal"
+"""The method ``"auto"`` runs on a model with nonlinear mounts."""
 
 
 def _probes(job: SimulationJob, sig: _Signals, chosen: TimeMethod) -> list[InputProbe]:
