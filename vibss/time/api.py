@@ -42,6 +42,7 @@ Examples
 
 from __future__ import annotations
 
+import dataclasses
 import warnings
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
@@ -246,11 +247,20 @@ def _nonlinear(model: Model, excitations: list[Any], sig: _Signals, outputs: Seq
         checker = getattr(meth, "checker", None)
         return checker(job, answer[0]) if checker is not None else None
 
-    d = decide([chosen], lambda meth: meth.kernel(job), where="simulate", auto=False, check=check, cost=cost)
+    # auto: the step refined (halved, up to REFINEMENTS times) until the check passes
+    order = [chosen] + ([dataclasses.replace(chosen) for _ in range(REFINEMENTS)] if auto else [])
+
+    def run(meth: Method) -> tuple[np.ndarray, str]:
+        job.memo["refine"] = next(i for i, o in enumerate(order) if o is meth)
+        return meth.kernel(job)
+
+    d = decide(order, run, where="simulate", auto=auto, check=check, cost=cost)
     y, note = d.answer
     y = np.asarray(y, float)
     if d.check is not None:
         note = f"{note}; {d.check.text()}"
+    if len(d.attempts) > 1:
+        note = "; ".join(a.text() for a in d.attempts[:-1]) + f"; the step halved {len(d.attempts) - 1} time(s): " + note
     note = "from the operating point (static equilibrium, stops and curves included); " + note
     if auto:
         note = f"auto -> {chosen.name}: {chosen.auto_reason}; " + note
@@ -267,6 +277,10 @@ def _nonlinear(model: Model, excitations: list[Any], sig: _Signals, outputs: Seq
 
 NONLINEAR_AUTO = "nonlinear_modal"
 """The method ``"auto"`` runs on a model with nonlinear mounts."""
+
+REFINEMENTS = 3
+"""Times ``auto`` halves the nonlinear method's internal step when its check misses (a named
+``nonlinear_modal`` runs once and warns)."""
 
 
 def _probes(job: SimulationJob, sig: _Signals, chosen: TimeMethod) -> list[InputProbe]:

@@ -40,7 +40,7 @@ if TYPE_CHECKING:
 
 __all__ = ["linear_part", "nonlinear_job", "run_nonlinear", "contact_table", "THETA", "step_limit", "substeps"]
 
-THETA = 0.12
+THETA = 0.08
 """Largest ``omega_c h`` of the contact integration at ``rtol = 1e-6`` (``omega_c``: a stop's contact
 frequency on the local apparent mass; fourth order: ``theta`` scales as ``(rtol / 1e-6)^(1/4)``)."""
 
@@ -94,37 +94,36 @@ def _force_rows(model: Model, lin: Model, axes: list[tuple[int, int]], inputs: l
 
 def _augmented(plant: Plant, r: int, D: np.ndarray) -> Plant:
     """The plant with one force input per nonlinear axis (generalised force ``-B_a^T``, direct
-    feedthrough ``D`` into the user outputs) and each axis's velocity appended to its deflection."""
+    feedthrough ``D`` into the user outputs) and each axis's velocity and acceleration appended to its
+    deflection (the rows after the user's outputs: deflections, velocities, accelerations)."""
     p = len(plant.outputs) - r
     n, m = plant.n, len(plant.inputs)
     Od = np.asarray(plant.Oq, float)[p:]
-    zc = np.zeros((n, r))
-
-    def io(a: np.ndarray, extra: np.ndarray) -> np.ndarray:       # outputs x inputs: new columns, v rows
-        a = np.hstack([np.asarray(a, float), extra])
-        return np.vstack([a, np.zeros((r, m + r))])
-
-    def ox(a: np.ndarray) -> np.ndarray:
-        return np.vstack([np.asarray(a, float), np.zeros((r, n))])
-
     Pz, Pv = np.asarray(plant.Pz, float), np.asarray(plant.Pv, float)
-    Pf = np.vstack([np.hstack([np.asarray(plant.Pf, float), np.vstack([D, np.zeros((r, r))])]),
-                    np.zeros((r, m + r))])
-    Pv_new = io(Pv, np.zeros((p + r, r)))
-    Pv_new[p + r:, :m] = Pz[p:]
-    Pa_new = io(plant.Pa, np.zeros((p + r, r)))
-    Pa_new[p + r:, :m] = Pv[p:]
-    Ov = ox(plant.Ov)
-    Ov[p + r:] = Od
-    names = tuple(f"{o}.vel" for o in plant.outputs[p:])
+    zc, zr = np.zeros((n, r)), np.zeros((r, n))
+
+    def io(a: np.ndarray, extra: np.ndarray | None = None) -> np.ndarray:     # outputs x inputs
+        a = np.hstack([np.asarray(a, float), np.zeros((p + r, r)) if extra is None else extra])
+        return np.vstack([a, np.zeros((2 * r, m + r))])
+
+    def ox(a: np.ndarray, v: np.ndarray, acc: np.ndarray) -> np.ndarray:     # outputs x DOFs
+        return np.vstack([np.asarray(a, float), v, acc])
+
+    Pv_new, Pa_new = io(Pv), io(plant.Pa)
+    Pv_new[p + r:p + 2 * r, :m] = Pz[p:]
+    Pa_new[p + r:p + 2 * r, :m] = Pv[p:]
+    Pa_new[p + 2 * r:, :m] = Pz[p:]
+    names = plant.outputs[p:]
     return Plant(
         dofs=plant.dofs, M=plant.M, C=plant.C, K=plant.K, H=plant.H,
-        inputs=plant.inputs + tuple(f"local.{o}" for o in plant.outputs[p:]), kinds=plant.kinds + ("force",) * r,
+        inputs=plant.inputs + tuple(f"local.{o}" for o in names), kinds=plant.kinds + ("force",) * r,
         F=np.hstack([np.asarray(plant.F, float), -Od.T]), Kz=np.hstack([plant.Kz, zc]),
         Cz=np.hstack([plant.Cz, zc]), Mz=np.hstack([plant.Mz, zc]), Hz=np.hstack([plant.Hz, zc]),
-        outputs=plant.outputs + names, units=plant.units + ("m/s",) * r,
-        Oq=ox(plant.Oq), Ov=Ov, Oa=ox(plant.Oa), Pz=io(Pz, np.zeros((p + r, r))), Pv=Pv_new, Pa=Pa_new, Pf=Pf,
-        name=plant.name, Kf=plant.Kf, mounts=plant.mounts)
+        outputs=plant.outputs + tuple(f"{o}.vel" for o in names) + tuple(f"{o}.acc" for o in names),
+        units=plant.units + ("m/s",) * r + ("m/s^2",) * r,
+        Oq=ox(plant.Oq, zr, zr), Ov=ox(plant.Ov, Od, zr), Oa=ox(plant.Oa, zr, Od), Pz=io(Pz), Pv=Pv_new,
+        Pa=Pa_new, Pf=io(plant.Pf, np.vstack([D, np.zeros((r, r))])), name=plant.name, Kf=plant.Kf,
+        mounts=plant.mounts)
 
 
 def nonlinear_job(model: Model, sources: list[Any], outputs: list[str] | None,
@@ -221,11 +220,11 @@ def run_nonlinear(job: "NonlinearJob", sub: int) -> tuple[np.ndarray, str, Conta
             PW = PW + s.Pc
         A.append(s.A)
         F.append(np.ascontiguousarray(PW[:, m:m + r]))
-        H.append(np.ascontiguousarray(s.Y[p:]))
+        H.append(np.ascontiguousarray(s.Y[p:p + 2 * r]))
         Y.append(np.ascontiguousarray(s.Y[:p]))
     sys = ContactSystem(tuple(A), tuple(F), tuple(H), tuple(Y), np.asarray(prep.Df, float)[:p, m:m + r])
     samples = fine.samples[::sub]
-    y_nl, _, run = integrate(sys, laws, fine.t, lin[:, p:], samples, lin[0, p:p + r], lin[0, p + r:])
+    y_nl, _, run = integrate(sys, laws, fine.t, lin[:, p:], samples, lin[0, p:p + r], lin[0, p + r:p + 2 * r])
     y = lin[samples, :p] + y_nl
     note = (f"exact modal propagation of the linear part ({how}) with the {r} nonlinear mount axes' forces "
             f"as cubic Hermite local forces (Newton on {2 * r} unknowns a step), {sub} internal steps per "

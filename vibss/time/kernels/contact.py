@@ -174,6 +174,20 @@ def _hermite(t: Any, h: float, y0: Any, v0: Any, y1: Any, v1: Any) -> tuple[Any,
             d00 * y0 + d10 * v0 + d01 * y1 + d11 * v1)
 
 
+def _quintic(t: float, h: float, y0: np.ndarray, v0: np.ndarray, a0: np.ndarray, y1: np.ndarray, v1: np.ndarray,
+             a1: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Quintic Hermite value and slope at ``t`` in [0, h] from end values, slopes and curvatures."""
+    s = t / h
+    s2, s3, s4, s5 = s * s, s**3, s**4, s**5
+    y = ((1 - 10 * s3 + 15 * s4 - 6 * s5) * y0 + (s - 6 * s3 + 8 * s4 - 3 * s5) * h * v0
+         + 0.5 * (s2 - 3 * s3 + 3 * s4 - s5) * h * h * a0 + (10 * s3 - 15 * s4 + 6 * s5) * y1
+         + (-4 * s3 + 7 * s4 - 3 * s5) * h * v1 + 0.5 * (s3 - 2 * s4 + s5) * h * h * a1)
+    v = ((-30 * s2 + 60 * s3 - 30 * s4) / h * y0 + (1 - 18 * s2 + 32 * s3 - 15 * s4) * v0
+         + 0.5 * (2 * s - 9 * s2 + 12 * s3 - 5 * s4) * h * a0 + (30 * s2 - 60 * s3 + 30 * s4) / h * y1
+         + (-12 * s2 + 28 * s3 - 15 * s4) * v1 + 0.5 * (3 * s2 - 8 * s3 + 5 * s4) * h * a1)
+    return y, v
+
+
 @dataclass
 class _Interval:
     """One grid interval being integrated: the linear part at its ends, its length, how far done."""
@@ -188,12 +202,15 @@ class _Interval:
     done: float = 0.0
 
     def lin(self, t: float) -> np.ndarray:
-        """The linear part (2r,) at ``t`` after the current sub-step's start."""
+        """The linear part's local deflections and velocities (2r,) at ``t`` after the current sub-step's
+        start: the quintic Hermite interpolant of its deflections, velocities and accelerations at the
+        interval's ends (sixth order)."""
         r = self.laws.r
         if self.done + t >= self.h:
-            return self.lin1
-        le, lv = _hermite(self.done + t, self.h, self.lin0[:r], self.lin0[r:], self.lin1[:r], self.lin1[r:])
-        return np.concatenate([le, lv])
+            return self.lin1[:2 * r]
+        a, b = self.lin0, self.lin1
+        return np.concatenate(_quintic(self.done + t, self.h, a[:r], a[r:2 * r], a[2 * r:], b[:r], b[r:2 * r],
+                                       b[2 * r:]))
 
     def ends(self, s: _State, t: float) -> tuple[np.ndarray, np.ndarray]:
         """Local deflection and velocity ``t`` after the current sub-step's start (exact sub-step)."""
@@ -214,9 +231,9 @@ def integrate(sys: ContactSystem, laws: LocalLaws, t: np.ndarray, lin: np.ndarra
     laws : LocalLaws
     t : (ng,) ndarray
         Grid times [s].
-    lin : (ng, 2 r) ndarray
-        The linear part's local deflections [m] and velocities [m/s] at the grid points (from the
-        operating point).
+    lin : (ng, 3 r) ndarray
+        The linear part's local deflections [m], velocities [m/s] and accelerations [m/s^2] at the grid
+        points (from the operating point).
     samples : (ns,) int ndarray
         Grid indices of the output samples.
     e0, v0 : (r,) ndarray
@@ -289,7 +306,7 @@ def _interval(iv: _Interval, s: _State) -> None:
     for _ in range(8 * laws.r + 8):
         rest = iv.h - iv.done
         st = iv.sys.step(rest) if iv.done == 0.0 else _discretise(iv.sys, rest)
-        e, v, g, dg = _solve(laws, st, s, iv.lin1, run)
+        e, v, g, dg = _solve(laws, st, s, iv.lin1[:2 * laws.r], run)
         run.steps += 1
         guess = _crossing(laws, s, e, v, rest) if laws.stops.any() else None
         found = _locate(iv, s, guess, last) if guess is not None else None
