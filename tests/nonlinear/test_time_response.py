@@ -196,8 +196,9 @@ def test_bad_methods_and_models_are_refused_by_name() -> None:
         with pytest.raises(ModelError, match=r"is linear, and mounts \['m'\] have stops"):
             vibss.simulate(model, [exc], t_end=0.05, dt=1e-3, method=method)
     lin = _sdof(MountType("lin", [K, K, K]))
-    with pytest.raises(ModelError, match="has none: use 'auto' or 'modal'"):
-        vibss.simulate(lin, [exc], t_end=0.05, dt=1e-3, method="nonlinear_modal")
+    plant = vibss.linear.plant.build.build_plant(lin, ["b.fz"], ["b.z"])
+    with pytest.raises(ModelError, match="simulates a Model .* not a Plant"):
+        vibss.simulate(plant, inputs={"b.fz": lambda t: 0 * t + 1.0}, t_end=0.05, dt=1e-3, method="nonlinear_modal")
     with pytest.raises(ModelError, match="nothing drives the response"):
         vibss.simulate(model, t_end=0.05, dt=1e-3)
     with pytest.raises(ModelError, match="nonlinear_moda"):

@@ -165,7 +165,8 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
         excitations, skipped = transient_excitations(model), steady_sweeps(model)
     excitations = list(excitations or [])
     sig = _signals(excitations, inputs, ts)
-    if model is not None and nonlinear_mounts(model):
+    if model is not None and (nonlinear_mounts(model) or getattr(method, "nonlinear", False)
+                              or (isinstance(method, str) and getattr(METHODS.get(method), "nonlinear", False))):
         return _nonlinear(model, excitations, sig, outputs, initial, method, ts, record_from, rtol, atol, solver,
                           prefix=dict(causal_note=causal_note, branch_note="", skipped=skipped))
     plant, truncated, hidden = _plant(model_or_plant, model, sig, outputs, initial, method, ts, dt)

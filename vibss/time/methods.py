@@ -142,8 +142,8 @@ class NonlinearJob(SimulationJob):
 
 def _nonlinear_job(job: Any, name: str) -> NonlinearJob:
     if not isinstance(job, NonlinearJob) or job.laws is None:
-        raise ModelError(f"simulate: method {name!r} simulates a model with nonlinear mounts (stops or curves); "
-                         "this one has none: use 'auto' or 'modal'", argument="method", received=name)
+        raise ModelError(f"simulate: method {name!r} simulates a Model (with nonlinear mounts or without), not a "
+                         "Plant: pass the model, or use 'auto' or 'modal'", argument="method", received=name)
     return job
 
 

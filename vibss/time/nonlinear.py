@@ -224,12 +224,19 @@ def run_nonlinear(job: "NonlinearJob", sub: int) -> tuple[np.ndarray, str, Conta
         Y.append(np.ascontiguousarray(s.Y[:p]))
     sys = ContactSystem(tuple(A), tuple(F), tuple(H), tuple(Y), np.asarray(prep.Df, float)[:p, m:m + r])
     samples = fine.samples[::sub]
+    if r == 0:                      # a linear model: the exact modal response
+        return lin[samples, :p], f"exact modal FOH ({how}); no nonlinear mount", _empty_run()
     y_nl, _, run = integrate(sys, laws, fine.t, lin[:, p:], samples, lin[0, p:p + r], lin[0, p + r:p + 2 * r])
     y = lin[samples, :p] + y_nl
     note = (f"exact modal propagation of the linear part ({how}) with the {r} nonlinear mount axes' forces "
             f"as cubic Hermite local forces (Newton on {2 * r} unknowns a step), {sub} internal steps per "
             f"sample (h = {dt / sub:.3g} s), {run.events} stop events located")
     return y, note, run
+
+
+def _empty_run() -> ContactRun:
+    z = np.zeros(0)
+    return ContactRun(peak_hi=z, peak_lo=z, t_hi=z, t_lo=z, intervals={})
 
 
 def contact_table(laws: LocalLaws, run: ContactRun) -> ContactTable:

@@ -25,6 +25,7 @@ from typing import Any
 
 import numpy as np
 
+from ...errors import AnalysisError
 from ..phi import foh_blocks
 from .laws import LocalLaws
 
@@ -336,7 +337,8 @@ def _interval(iv: _Interval, s: _State) -> None:
         s.g, s.dg = g, g1 * s.v
         iv.done += tau
         last = axis
-    raise RuntimeError("simulate: more stop events in one step than the stops allow")   # pragma: no cover
+    raise AnalysisError(f"simulate: more than {8 * laws.r + 8} stop events in one step at t = {iv.t0:.6g} s "
+                        "(a stop chattering): take a smaller dt")
 
 
 _S = np.linspace(0.0, 1.0, 17)[1:, None]
