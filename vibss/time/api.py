@@ -269,11 +269,11 @@ def _nonlinear(model: Model, excitations: list[Any], sig: _Signals, outputs: Seq
     keep = ts >= record_from - 1e-9 * dt
     shown = [] if hidden else funcs
     u = np.array([np.broadcast_to(f(ts[keep]), (int(keep.sum()),)) for f in shown]).reshape(len(shown), int(keep.sum()))
-    run = job.memo.get("run")
+    recorded = job.memo.get("run")
     return TimeResponse(time=ts[keep], outputs=y[keep].T.copy(), output_names=tuple(plant.outputs[:p]),
                         units=tuple(plant.units[:p]), inputs=u,
                         input_names=() if hidden else tuple(plant.inputs[:m]), method=chosen.name, note=note,
-                        name=plant.name, contacts=None if run is None else contact_table(laws, run))
+                        name=plant.name, contacts=None if recorded is None or not laws.r else contact_table(laws, recorded))
 
 
 NONLINEAR_AUTO = "nonlinear_modal"

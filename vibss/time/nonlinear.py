@@ -17,6 +17,7 @@ out), and ``initial`` conditions are from there too. The contacts table reads th
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -67,7 +68,7 @@ def _force_rows(model: Model, lin: Model, axes: list[tuple[int, int]], inputs: l
     if not p:
         return np.zeros((0, r))
     new = list(lin.mounts)
-    bump = {}
+    bump: dict[int, np.ndarray] = {}
     for p_, j in axes:
         bump.setdefault(p_, np.zeros(3))[j] = 1.0
     for p_, b in bump.items():
@@ -126,7 +127,7 @@ def _augmented(plant: Plant, r: int, D: np.ndarray) -> Plant:
         mounts=plant.mounts)
 
 
-def nonlinear_job(model: Model, sources: list[Any], outputs: list[str] | None,
+def nonlinear_job(model: Model, sources: list[Any], outputs: Sequence[str] | None,
                   hidden: bool) -> tuple[Plant, LocalLaws, int, int]:
     """The augmented plant of a nonlinear model, its local laws and the user's output and input counts.
 
@@ -149,10 +150,10 @@ def nonlinear_job(model: Model, sources: list[Any], outputs: list[str] | None,
     base = build_plant(lin, inputs, None if outputs is None else list(outputs))
     user = list(base.outputs)
     rows = build_plant(lin, inputs, dnames)
+    stacked: dict[str, Any] = {k: np.vstack([np.asarray(getattr(base, k), float), np.asarray(getattr(rows, k), float)])
+                               for k in ("Oq", "Ov", "Oa", "Pz", "Pv", "Pa", "Pf")}
     plant = dataclasses.replace(base, outputs=base.outputs + tuple(dnames), units=base.units + rows.units,
-                                **{k: np.vstack([np.asarray(getattr(base, k), float), np.asarray(getattr(rows, k), float)])
-                                   for k in ("Oq", "Ov", "Oa", "Pz", "Pv", "Pa", "Pf")},
-                                Oh=None, Ph=None)
+                                Oh=None, Ph=None, **stacked)
     D = _force_rows(model, lin, axes, inputs, user, plant, r)
     aug = _augmented(plant, r, D)
     aug._cache["modal basis"] = modal_basis(base)                    # the same M, K, C: one eigen solve

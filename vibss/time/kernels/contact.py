@@ -77,7 +77,8 @@ class _Step:
 
 
 def _discretise(sys: ContactSystem, h: float) -> _Step:
-    E, G, HE, S = [], [], [], 0.0
+    E, G, HE = [], [], []
+    S: Any = 0.0
     for A, F, H in zip(sys.A, sys.F, sys.H):
         e, gam = foh_blocks(A, np.array([h]), 3)
         nb, b = A.shape[:2]
@@ -257,8 +258,8 @@ def integrate(sys: ContactSystem, laws: LocalLaws, t: np.ndarray, lin: np.ndarra
     regime = laws.regime(laws.d0 + e0)
     g, g1, _ = laws.force(e0, regime)
     s = _State(x, e0.copy(), v0.copy(), g, g1 * v0, regime)
-    for i in np.flatnonzero(regime):
-        run.intervals[(int(i), int(regime[i]))] = [[0.0, np.nan]]
+    for a in np.flatnonzero(regime):
+        run.intervals[(int(a), int(regime[a]))] = [[0.0, np.nan]]
     want = np.zeros(len(t), bool)
     want[samples] = True
     y = np.zeros((len(samples), p))
@@ -421,7 +422,7 @@ def _locate(iv: _Interval, s: _State, tau: float, last: int) -> tuple[float, int
             continue
         guess = _cubic_root(tau, laws.d0[a] + s.e[a], s.v[a], d[a], v[a], c, 0.0, tau)
 
-        def fun(t: float, a: int = a, c: float = c) -> tuple[float, float]:
+        def fun(t: float, a: Any = a, c: float = c) -> tuple[float, float]:
             em, vm = iv.ends(s, t)
             return float(laws.d0[a] + em[a] - c), float(vm[a])
 
