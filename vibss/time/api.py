@@ -248,20 +248,15 @@ def _nonlinear(model: Model, excitations: list[Any], sig: _Signals, outputs: Seq
         checker = getattr(meth, "checker", None)
         return checker(job, answer[0]) if checker is not None else None
 
-    # auto: the step refined (halved, up to REFINEMENTS times) until the check passes
+    # auto: rerun with the steps the failed check asks for (up to REFINEMENTS times) until it passes
     order = [chosen] + ([dataclasses.replace(chosen) for _ in range(REFINEMENTS)] if auto else [])
-
-    def run(meth: Method) -> tuple[np.ndarray, str]:
-        job.memo["refine"] = next(i for i, o in enumerate(order) if o is meth)
-        return meth.kernel(job)
-
-    d = decide(order, run, where="simulate", auto=auto, check=check, cost=cost)
+    d = decide(order, lambda meth: meth.kernel(job), where="simulate", auto=auto, check=check, cost=cost)
     y, note = d.answer
     y = np.asarray(y, float)
     if d.check is not None:
         note = f"{note}; {d.check.text()}"
     if len(d.attempts) > 1:
-        note = "; ".join(a.text() for a in d.attempts[:-1]) + f"; the step halved {len(d.attempts) - 1} time(s): " + note
+        note = "; ".join(a.text() for a in d.attempts[:-1]) + f"; the step refined {len(d.attempts) - 1} time(s): " + note
     note = "from the operating point (static equilibrium, stops and curves included); " + note
     if auto:
         note = f"auto -> {chosen.name}: {chosen.auto_reason}; " + note
@@ -280,8 +275,8 @@ NONLINEAR_AUTO = "nonlinear_modal"
 """The method ``"auto"`` runs on a model with nonlinear mounts."""
 
 REFINEMENTS = 3
-"""Times ``auto`` halves the nonlinear method's internal step when its check misses (a named
-``nonlinear_modal`` runs once and warns)."""
+"""Times ``auto`` reruns the nonlinear method with shorter internal steps (those its failed check
+estimates to meet ``rtol``) before it gives up (a named ``nonlinear_modal`` runs once and warns)."""
 
 
 def _probes(job: SimulationJob, sig: _Signals, chosen: TimeMethod) -> list[InputProbe]:
