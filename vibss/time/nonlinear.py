@@ -28,6 +28,7 @@ from ..linear.plant.build import build_plant
 from ..linear.plant.plant import Plant
 from ..model.model import Model
 from ..model.mounts import MountType
+from ..nonlinear.api import operating_point
 from ..nonlinear.kernels import _laws, nonlinear_mounts, tangent_model
 from ..linear.plant.assemble import assemble
 from .kernels import make_grid, prepare, run_modal
@@ -138,8 +139,6 @@ def nonlinear_job(model: Model, sources: list[Any], outputs: Sequence[str] | Non
     ModelError
         Frequency-dependent (branch) mounts beside nonlinear ones.
     """
-    from ..nonlinear.api import operating_point       # same layer (an analysis), loaded on use
-
     if any(t.has_branches for t in model.mount_types.values()):
         raise ModelError("simulate: a model with nonlinear mounts and frequency-dependent (branch) mounts: the "
                          "nonlinear time response takes viscous and linear mounts beside its nonlinear ones",
