@@ -56,6 +56,11 @@ def linear_part(model: Model) -> Model:
     return tangent_model(model, np.zeros((len(idx), 3)), np.array(idx, int)) if idx else model
 
 
+_MOTIONS = frozenset({"x", "y", "z", "rx", "ry", "rz", "vel", "acc", "dx", "dy", "dz", "d1", "d2", "d3",
+                      "r1", "r2", "r3"})
+"""Last parts of output names that are motions (no mount force in them): :func:`_force_rows` skips them."""
+
+
 def _axes(model: Model, idx: list[int]) -> tuple[list[tuple[int, int]], list[str]]:
     """The nonlinear axes ``(mount, axis)`` and their deflection output names."""
     axes = [(p, j) for p in idx for j, law in enumerate(model.mounts[p].type.laws) if not law.linear]
@@ -68,8 +73,8 @@ def _force_rows(model: Model, lin: Model, axes: list[tuple[int, int]], inputs: l
     through a nonlinear axis carry its force beyond the linear rate too. Found by doubling the
     axes' linear rates: the outputs that change are those forces."""
     p = len(outputs)
-    if not p:
-        return np.zeros((0, r))
+    if not p or all(o.rsplit(".", 1)[-1] in _MOTIONS and not o.startswith("sensor.") for o in outputs):
+        return np.zeros((p, r))
     new = list(lin.mounts)
     bump: dict[int, np.ndarray] = {}
     for p_, j in axes:
@@ -158,9 +163,9 @@ def nonlinear_job(model: Model, sources: list[Any], outputs: Sequence[str] | Non
     D = _force_rows(model, lin, axes, inputs, user, plant, r)
     aug = _augmented(plant, r, D)
     aug._cache["modal basis"] = modal_basis(base)                    # the same M, K, C: one eigen solve
-    op = operating_point(model)
     a0 = assemble(model)
-    local = _laws(a0, idx).local(op.q)                               # (k, 3)
+    loaded = (model.gravity is not None and np.any(model.gravity)) or bool(model.loads)
+    local = _laws(a0, idx).local(operating_point(model).q) if loaded else np.zeros((len(idx), 3))   # (k, 3)
     pos = {p: i for i, p in enumerate(idx)}
     laws = LocalLaws(names=tuple(f"{model.mounts[p].name}.{'xyz'[j]}" for p, j in axes),
                      laws=tuple(model.mounts[p].type.laws[j] for p, j in axes),

@@ -84,7 +84,8 @@ def _discretise(sys: ContactSystem, h: float) -> _Step:
         nb, b = A.shape[:2]
         g = gam[0][:, :, :, None] * F[None, :, None, :]                # (4, nb, b, r)
         G.append(np.ascontiguousarray(np.moveaxis(g, 0, 2).reshape(nb * b, -1)))   # (nb b, 4 r), k-major
-        HE.append(np.einsum("anc,ncb->anb", H, e[0]).reshape(H.shape[0], -1))
+        HE.append((H[:, :, 0] * e[0][:, 0, 0]) if b == 1 else
+                  np.einsum("anc,ncb->anb", H, e[0]).reshape(H.shape[0], -1))
         S = S + np.real(H.reshape(H.shape[0], -1) @ G[-1])
         E.append(e[0])
     r = sys.D.shape[1]
