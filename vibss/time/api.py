@@ -19,6 +19,13 @@ Methods are chosen by name through :data:`METHODS` (a callable is accepted too):
     python-control's :func:`control.forced_response` of the exact z-only realization (no
     differentiated inputs), on the uniform sample grid. **Edges:** the input is the PWL
     interpolant of its samples, so an edge between samples is smeared over one step.
+``"nonlinear_modal"`` (``"auto"`` on a model with stops or curves)
+    The linear part exact in its modes (as ``"modal"``), each nonlinear mount axis's force beyond its
+    linear rate a local force, cubic in time over each internal step and implicit at the few local
+    coordinates; every stop contact located (:mod:`vibss.time.nonlinear`). It starts from the
+    operating point (:func:`vibss.operating_point`: gravity and static loads, stops and curves
+    included) and its outputs are the motion from there (the linear methods leave gravity out: the
+    motion from the static state). The result's ``contacts`` lists the stops hit.
 ``"ivp"``
     :func:`scipy.integrate.solve_ivp` with variable steps to the tolerance ``rtol`` / ``atol``
     (``solver`` = ``"Radau"``, ``"DOP853"``, ``"LSODA"`` ...), of the same realization. **Edges:**
@@ -107,17 +114,20 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
     record_from : float
         First recorded time [s] (the simulation still starts at 0).
     initial : mapping or None
-        Per body ``{"displacement": [6], "velocity": [6]}`` [m, rad, m/s, rad/s] at ``t = 0-``
+        Per body ``{"displacement": [6], "velocity": [6]}`` [m, rad, m/s, rad/s] at ``t = 0-`` (from
+        the operating point on a model with nonlinear mounts)
         (either key may be left out). Default: the model's bodies' ``initial``. With no
         excitations and no inputs, the free vibration from these initial conditions is simulated
         (the result then has no inputs).
-    method : {"auto", "modal", "forced_response", "ivp", "newmark", "central_difference"}, TimeMethod or callable
+    method : {"auto", "modal", "forced_response", "ivp", "newmark", "central_difference", "nonlinear_modal"}, TimeMethod or callable
         See the module docstring and :data:`METHODS`; a callable ``f(job) -> (y, note)`` gets the
         :class:`SimulationJob` the built-ins get.
         A :class:`~vibss.errors.VibssWarning` says when the sampling smears a pulse or aliases a
         sweep for the method chosen, or when an explicit ``solver`` meets a stiff model.
     rtol, atol : float, float or None
-        Tolerances of ``ivp`` (atol default: 1e-12 of the initial state, or 1e-15).
+        Tolerances of ``ivp`` (atol default: 1e-12 of the initial state, or 1e-15); ``rtol`` is also
+        the accuracy ``nonlinear_modal`` is held to (relative, on the outputs and the peak deflections
+        of the nonlinear axes).
     solver : str
         ``solve_ivp`` method of ``ivp`` (``"Radau"``, ``"DOP853"``, ``"LSODA"``, ...).
 
@@ -133,8 +143,9 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
     Raises
     ------
     ModelError
-        Bad argument (the message names it), more than :data:`MAX_SAMPLES` samples, or nothing
-        driving the response (no excitation, input or initial condition).
+        Bad argument (the message names it), more than :data:`MAX_SAMPLES` samples, nothing
+        driving the response (no excitation, input or initial condition), or a linear method named
+        for a model with nonlinear mounts (the message names the mounts and the methods that work).
     AnalysisError
         A method cannot answer (e.g. solve_ivp failed), or an output needs the second derivative
         of a displacement input (impulsive: prescribe the motion as an acceleration input).
