@@ -60,7 +60,7 @@ def two_body(damping: str = "general") -> Model:
 # --------------------------------------------------------------------------------------------
 # single DOF closed forms, every method
 
-TOL = {"modal": 1e-10, "forced_response": 1e-9, "ivp": 1e-6}
+TOL = {"modal": 1e-10, "forced_response": 1e-9, "ivp": 1e-6, "nonlinear_modal": 1e-10}   # the last: exact modal on a linear Model
 # Newmark (average acceleration) and central difference are second order: their phase error after
 # time t is about w t (w dt)^2 / 12 (times 2 for safety), with dt = 1 ms and t <= 0.6 s below.
 TOL["newmark"] = TOL["central_difference"] = 2 * WN * 0.6 * (WN * 1e-3) ** 2 / 12

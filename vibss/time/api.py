@@ -19,6 +19,13 @@ Methods are chosen by name through :data:`METHODS` (a callable is accepted too):
     python-control's :func:`control.forced_response` of the exact z-only realization (no
     differentiated inputs), on the uniform sample grid. **Edges:** the input is the PWL
     interpolant of its samples, so an edge between samples is smeared over one step.
+``"nonlinear_modal"`` (``"auto"`` on a model with stops or curves)
+    The linear part exact in its modes (as ``"modal"``), each nonlinear mount axis's force beyond its
+    linear rate a local force, cubic in time over each internal step and implicit at the few local
+    coordinates; every stop contact located (:mod:`vibss.time.nonlinear`). It starts from the
+    operating point (:func:`vibss.operating_point`: gravity and static loads, stops and curves
+    included) and its outputs are the motion from there (the linear methods leave gravity out: the
+    motion from the static state). The result's ``contacts`` lists the stops hit.
 ``"ivp"``
     :func:`scipy.integrate.solve_ivp` with variable steps to the tolerance ``rtol`` / ``atol``
     (``solver`` = ``"Radau"``, ``"DOP853"``, ``"LSODA"`` ...), of the same realization. **Edges:**
@@ -42,6 +49,7 @@ Examples
 
 from __future__ import annotations
 
+import dataclasses
 import warnings
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
@@ -54,7 +62,9 @@ from .._validate import choice, number
 from ..errors import AnalysisError, ArgumentError, DefectiveModesError, ModelError, VibssWarning
 from .drift import implausible_motions
 from .inputs import SignalInput, as_function, exact_terms, initial_state, summed
-from .methods import METHODS, SimulationJob, TimeMethod, settled, stays_sparse
+from .methods import METHODS, NonlinearJob, SimulationJob, TimeMethod, resolve_method, settled, stays_sparse
+from .nonlinear import contact_table, nonlinear_job
+from ..nonlinear.kernels import nonlinear_mounts
 from ..methods import Check, Cost, Method, decide
 from ..model.model import Model
 from ..model.timefunctions import TimeFunction
@@ -105,17 +115,20 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
     record_from : float
         First recorded time [s] (the simulation still starts at 0).
     initial : mapping or None
-        Per body ``{"displacement": [6], "velocity": [6]}`` [m, rad, m/s, rad/s] at ``t = 0-``
+        Per body ``{"displacement": [6], "velocity": [6]}`` [m, rad, m/s, rad/s] at ``t = 0-`` (from
+        the operating point on a model with nonlinear mounts)
         (either key may be left out). Default: the model's bodies' ``initial``. With no
         excitations and no inputs, the free vibration from these initial conditions is simulated
         (the result then has no inputs).
-    method : {"auto", "modal", "forced_response", "ivp", "newmark", "central_difference"}, TimeMethod or callable
+    method : {"auto", "modal", "forced_response", "ivp", "newmark", "central_difference", "nonlinear_modal"}, TimeMethod or callable
         See the module docstring and :data:`METHODS`; a callable ``f(job) -> (y, note)`` gets the
         :class:`SimulationJob` the built-ins get.
         A :class:`~vibss.errors.VibssWarning` says when the sampling smears a pulse or aliases a
         sweep for the method chosen, or when an explicit ``solver`` meets a stiff model.
     rtol, atol : float, float or None
-        Tolerances of ``ivp`` (atol default: 1e-12 of the initial state, or 1e-15).
+        Tolerances of ``ivp`` (atol default: 1e-12 of the initial state, or 1e-15); ``rtol`` is also
+        the accuracy ``nonlinear_modal`` is held to (relative, on the outputs and the peak deflections
+        of the nonlinear axes).
     solver : str
         ``solve_ivp`` method of ``ivp`` (``"Radau"``, ``"DOP853"``, ``"LSODA"``, ...).
 
@@ -131,8 +144,9 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
     Raises
     ------
     ModelError
-        Bad argument (the message names it), more than :data:`MAX_SAMPLES` samples, or nothing
-        driving the response (no excitation, input or initial condition).
+        Bad argument (the message names it), more than :data:`MAX_SAMPLES` samples, nothing
+        driving the response (no excitation, input or initial condition), or a linear method named
+        for a model with nonlinear mounts (the message names the mounts and the methods that work).
     AnalysisError
         A method cannot answer (e.g. solve_ivp failed), or an output needs the second derivative
         of a displacement input (impulsive: prescribe the motion as an acceleration input).
@@ -163,6 +177,10 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
         excitations, skipped = transient_excitations(model), steady_sweeps(model)
     excitations = list(excitations or [])
     sig = _signals(excitations, inputs, ts)
+    if model is not None and (nonlinear_mounts(model) or getattr(method, "nonlinear", False)
+                              or (isinstance(method, str) and getattr(METHODS.get(method), "nonlinear", False))):
+        return _nonlinear(model, excitations, sig, outputs, initial, method, ts, record_from, rtol, atol, solver,
+                          prefix=dict(causal_note=causal_note, branch_note="", skipped=skipped))
     plant, truncated, hidden = _plant(model_or_plant, model, sig, outputs, initial, method, ts, dt)
     job, funcs, left_out = _job(plant, model, sig, initial, hidden, ts, rtol, atol, solver)
     plant = job.plant
@@ -196,6 +214,83 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
                         units=tuple(plant.units), inputs=u,
                         input_names=() if hidden else tuple(plant.inputs),
                         method=chosen.name, note=note, name=plant.name)
+
+
+def _nonlinear(model: Model, excitations: list[Any], sig: _Signals, outputs: Sequence[str] | None, initial: Any,
+               method: Any, ts: np.ndarray, record_from: float, rtol: float, atol: float | None, solver: str,
+               prefix: dict[str, Any]) -> TimeResponse:
+    """:func:`simulate` of a model with nonlinear mounts (:mod:`vibss.time.nonlinear`): from the operating
+    point, by ``nonlinear_modal`` (``auto``) or a named method that takes nonlinear models."""
+    chosen, auto = resolve_method(method)
+    if auto:
+        chosen = METHODS[NONLINEAR_AUTO]
+    if not chosen.nonlinear:
+        names = [m.name for m in model.mounts if getattr(m.type, "nonlinear", False)]
+        fits = [k for k, v in METHODS.items() if v.nonlinear]
+        raise ModelError(f"simulate: method {chosen.name!r} is linear, and mounts {names} have stops or "
+                         f"force-deflection curves: use method='auto' or one of {fits} (or simulate the tangent "
+                         "model at the operating point, vibss.operating_point(model).tangent)",
+                         argument="method", received=chosen.name, expected=fits)
+    dt = float(ts[1] - ts[0])
+    hidden = not sig.sources
+    plant, laws, p, m = nonlinear_job(model, list(sig.sources.values()), outputs, hidden)
+    left_out = dropped_hysteresis(model, "simulate", stacklevel=4)
+    if left_out:
+        basis = plant._cache.get("modal basis")
+        plant = without_hysteresis(plant)
+        if basis is not None:
+            plant._cache["modal basis"] = basis             # the same M, K and C
+    funcs = [summed(sig.terms.get(name, [])) for name in plant.inputs[:m]]
+    bps = [b for name in plant.inputs[:m] for _, bb in sig.terms.get(name, []) for b in bb]
+    q0, v0 = initial_state(plant, initial, model)
+    if hidden and not (np.any(q0) or np.any(v0)):
+        raise ModelError("simulate: nothing drives the response: no excitations, no inputs and no nonzero "
+                         "initial conditions (initial={body: {'displacement': [6], 'velocity': [6]}})")
+    for finding in check_excitations(excitations, dt, inserts_breakpoints=True):
+        finding.warn(stacklevel=4)
+    job = NonlinearJob(plant=plant, time=ts, funcs=tuple(funcs), breakpoints=np.array(bps, float), q0=q0, v0=v0,
+                       rtol=float(rtol), atol=atol, solver=solver,
+                       sinusoids=tuple(tuple(sig.pieces.get(u, ())) for u in plant.inputs[:m]),
+                       exact_inputs=tuple(u for u in plant.inputs[:m] if sig.exact.get(u, u not in sig.terms)),
+                       laws=laws, user_outputs=p, user_inputs=m)
+
+    def cost(meth: Method) -> Cost | None:
+        coster = getattr(meth, "coster", None)
+        return coster(job) if coster is not None else None
+
+    def check(meth: Method, answer: tuple[np.ndarray, str]) -> Check | None:
+        checker = getattr(meth, "checker", None)
+        return checker(job, answer[0]) if checker is not None else None
+
+    # auto: rerun with the steps the failed check asks for (up to REFINEMENTS times) until it passes
+    order = [chosen] + ([dataclasses.replace(chosen) for _ in range(REFINEMENTS)] if auto else [])
+    d = decide(order, lambda meth: meth.kernel(job), where="simulate", auto=auto, check=check, cost=cost)
+    y, note = d.answer
+    y = np.asarray(y, float)
+    if d.check is not None:
+        note = f"{note}; {d.check.text()}"
+    if len(d.attempts) > 1:
+        note = "; ".join(a.text() for a in d.attempts[:-1]) + f"; the step refined {len(d.attempts) - 1} time(s): " + note
+    note = "from the operating point (static equilibrium, stops and curves included); " + note
+    if auto:
+        note = f"auto -> {chosen.name}: {chosen.auto_reason}; " + note
+    note = _prefixed(note, hidden=hidden, left_out=left_out, **prefix)
+    keep = ts >= record_from - 1e-9 * dt
+    shown = [] if hidden else funcs
+    u = np.array([np.broadcast_to(f(ts[keep]), (int(keep.sum()),)) for f in shown]).reshape(len(shown), int(keep.sum()))
+    recorded = job.memo.get("run")
+    return TimeResponse(time=ts[keep], outputs=y[keep].T.copy(), output_names=tuple(plant.outputs[:p]),
+                        units=tuple(plant.units[:p]), inputs=u,
+                        input_names=() if hidden else tuple(plant.inputs[:m]), method=chosen.name, note=note,
+                        name=plant.name, contacts=None if recorded is None or not laws.r else contact_table(laws, recorded))
+
+
+NONLINEAR_AUTO = "nonlinear_modal"
+"""The method ``"auto"`` runs on a model with nonlinear mounts."""
+
+REFINEMENTS = 3
+"""Times ``auto`` reruns the nonlinear method with shorter internal steps (those its failed check
+estimates to meet ``rtol``) before it gives up (a named ``nonlinear_modal`` runs once and warns)."""
 
 
 def _probes(job: SimulationJob, sig: _Signals, chosen: TimeMethod) -> list[InputProbe]:

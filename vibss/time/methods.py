@@ -10,7 +10,7 @@ a method's name.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -18,7 +18,7 @@ import numpy as np
 from . import branched
 from . import kernels as tm
 from ..diagnostics import check_central_difference
-from ..errors import AnalysisError
+from ..errors import AnalysisError, ModelError
 from ..linear.plant.branches import require_none
 from ..linear.plant.plant import Plant
 from ..methods import SIMULATE_LARGE_DOFS, Check, Claim, Cost, Method, callable_name, resolve
@@ -26,8 +26,10 @@ from ..model.model import Model
 from .integrators import (ERROR_CONSTANT, central_difference, central_difference_method, frequency_error, newmark,
                           newmark_method)
 from .sampling import PEAK_TOLERANCE, fine_input, modal_amplitudes
+from .kernels.laws import LocalLaws
+from .nonlinear import run_nonlinear, step_limit, substeps
 
-__all__ = ["SimulationJob", "TimeMethod", "METHODS", "AUTO", "resolve_method", "stays_sparse", "settled",
+__all__ = ["SimulationJob", "NonlinearJob", "TimeMethod", "METHODS", "AUTO", "resolve_method", "stays_sparse", "settled",
            "CHECK_WINDOW", "FLOPS", "STEP_OVERHEAD"]
 
 
@@ -52,6 +54,8 @@ class TimeMethod(Method):
         claims exactness, or nothing).
     coster : callable or None
         ``coster(job) -> Cost``: its time and peak memory on the job (the memory guard reads it).
+    nonlinear : bool
+        Takes a model with nonlinear mounts (a :class:`NonlinearJob`); the others are linear only.
     """
 
     hits_edges: bool = False
@@ -60,6 +64,7 @@ class TimeMethod(Method):
     auto_reason: str = ""
     checker: Callable[[Any, np.ndarray], Check] | None = None
     coster: Callable[[Any], Cost] | None = None
+    nonlinear: bool = False
 
 
 @dataclass(frozen=True, eq=False)
@@ -110,6 +115,67 @@ class SimulationJob:
             else np.zeros((len(up), 0))
         return tm.kinematics(grid, np.asarray(u_r, float), np.asarray(u_l, float), self.plant.kinds,
                              self.sinusoids or None, d)
+
+
+@dataclass(frozen=True, eq=False)
+class NonlinearJob(SimulationJob):
+    """A :class:`SimulationJob` of a model with nonlinear mounts (:mod:`vibss.time.nonlinear`): its plant
+    is the augmented linear part (the user's outputs, then each nonlinear axis's deflection and
+    velocity; the user's inputs, then one force per axis).
+
+    Attributes
+    ----------
+    laws : LocalLaws or None
+        The nonlinear axes.
+    user_outputs, user_inputs : int
+        The user's outputs and inputs (the first rows and columns of the plant's).
+    memo : dict
+        What the run recorded: ``"run"`` (:class:`~vibss.time.kernels.contact.ContactRun`), ``"sub"``
+        (internal steps per sample).
+    """
+
+    laws: LocalLaws | None = None
+    user_outputs: int = 0
+    user_inputs: int = 0
+    memo: dict = field(default_factory=dict)
+
+
+def _nonlinear_job(job: Any, name: str) -> NonlinearJob:
+    if not isinstance(job, NonlinearJob) or job.laws is None:
+        raise ModelError(f"simulate: method {name!r} simulates a Model (with nonlinear mounts or without), not a "
+                         "Plant: pass the model, or use 'auto' or 'modal'", argument="method", received=name)
+    return job
+
+
+def _method_nonlinear(job: SimulationJob) -> tuple[np.ndarray, str]:
+    nj = _nonlinear_job(job, "nonlinear_modal")
+    sub = int(nj.memo.pop("next_sub", 0)) or substeps(nj, step_limit(nj, nj.rtol))
+    y, note, run = run_nonlinear(nj, sub)
+    nj.memo.update(run=run, sub=sub)
+    return y, note
+
+
+def _check_nonlinear(job: Any, y: np.ndarray) -> Check:
+    """The step-doubling estimate of a nonlinear run (fourth order): the same run with half the internal
+    steps per sample (twice as many when there is one), ``|y_h - y_2h| / 15`` relative to the peak, on
+    the outputs and on the nonlinear axes' peak deflections."""
+    nj = _nonlinear_job(job, "nonlinear_modal")
+    sub, run = nj.memo["sub"], nj.memo["run"]
+    other = sub // 2 if sub >= 2 else 2
+    y2, _, run2 = run_nonlinear(nj, other)
+    factor = 1 / 15 if other < sub else 16 / 15
+    peak = np.maximum(np.abs(y).max(axis=0, initial=0.0), 1e-300)
+    out = float((np.abs(y - y2).max(axis=0, initial=0.0) / peak).max(initial=0.0)) * factor
+    ext = np.maximum(np.abs(run.peak_hi), np.abs(run.peak_lo))
+    dev = np.maximum(np.abs(run.peak_hi - run2.peak_hi), np.abs(run.peak_lo - run2.peak_lo))
+    local = float((dev / np.maximum(ext, 1e-300)).max(initial=0.0)) * factor
+    where = (f"step doubling ({sub} and {other} internal steps per sample): outputs {out:.1e}, peak "
+             f"deflections of the nonlinear axes {local:.1e}")
+    error = max(out, local)
+    if error > nj.rtol:       # the steps that meet rtol (fourth order, a third of it for margin), for a rerun
+        grow = min(16.0, max(2.0, (error / (nj.rtol / 3)) ** 0.25))
+        nj.memo["next_sub"] = int(np.ceil(sub * grow / 2) * 2)
+    return Check(error, nj.rtol, where)
 
 
 def _method_modal(job: SimulationJob) -> tuple[np.ndarray, str]:
@@ -243,6 +309,12 @@ def _cost(kind: str) -> Callable[[Any], Cost]:
         if kind == "modal":
             ns = ns + job.breakpoints.size
             return Cost(0.01 + (n**3 + ns * (4 * n * (m + 2) + 2 * n * p)) / FLOPS, dense + 8.0 * ns * (p + 2 * m))
+        if kind == "nonlinear":
+            r = job.laws.r if getattr(job, "laws", None) is not None else 0
+            sub = max(1, int(getattr(job, "memo", {}).get("sub", 1)))
+            steps = ns * sub
+            return Cost(0.05 + (2 * n**3 + steps * (8 * n * (r + 1)) + ns * 2 * n * p) / FLOPS
+                        + steps * 10 * STEP_OVERHEAD, dense + 8.0 * steps * 4 * r + 8.0 * ns * p)
         if kind == "state":
             return Cost((4 * n**3 + ns * (4 * n * n + 2 * n * (m + p))) / FLOPS + ns * STEP_OVERHEAD,
                         4 * dense + 8.0 * ns * (2 * n + m + p))
@@ -283,6 +355,15 @@ METHODS: dict[str, TimeMethod] = {m.name: m for m in (
                                                       "mode has more than 25 samples per period: second order, "
                                                       "frequency error (w dt)^2 / 24"),
                summary="explicit central difference (refused beyond dt = 2 / w_max)"),
+    TimeMethod("nonlinear_modal", _method_nonlinear, hits_edges=True, internal_states=True, nonlinear=True,
+               checker=_check_nonlinear, coster=_cost("nonlinear"),
+               claim=Claim(1e-6, conditions="rtol (1e-6 by default) relative on the outputs and the peak deflections "
+                                            "of the nonlinear axes: the internal step keeps omega_c h within "
+                                            "0.2 (rtol / 1e-6)^(1/4) (auto: shorter steps until the step-doubling check passes) of every stop's contact frequency"),
+               auto_reason="a model with nonlinear mounts: the linear part exact in modes, the mount forces local, "
+                           "stop contacts located",
+               summary="exact modal propagation with the nonlinear mount forces as local cubic forces, stop "
+                       "contacts located"),
 )}
 """Simulation methods by name (``"auto"`` picks :data:`AUTO`), each with its contract (claim,
 a-posteriori check, cost: docs/analyses/time.md). ``newmark`` (average acceleration, unconditionally

@@ -4,7 +4,7 @@ protocol of :mod:`vibss.results`) and its :class:`PeakTable`."""
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -13,7 +13,89 @@ from .._validate import name_index
 from ..errors import ArgumentError
 from ..results import ReadOnly, Result, TextTable, jsonable, require_pandas
 
-__all__ = ["TimeResponse", "PeakTable"]
+__all__ = ["TimeResponse", "PeakTable", "ContactTable"]
+
+
+@dataclass(frozen=True, eq=False)
+class ContactTable(ReadOnly):
+    """The stops a nonlinear time response hit: one row per (mount, local axis, side).
+
+    Attributes
+    ----------
+    mount, axis, side : tuple of str
+        Mount name, local axis (``x``, ``y``, ``z``) and side (``+``: past the positive clearance,
+        ``-``: past the negative one) of each row.
+    first : (k,) ndarray
+        Time of the first contact [s] (0: in contact at the operating point).
+    duration : (k,) ndarray
+        Total time in contact [s].
+    count : (k,) int ndarray
+        Number of contacts.
+    peak : (k,) ndarray
+        Peak deflection of the axis on that side [m] (total: operating point included; located
+        between the samples, not read from them).
+    peak_time : (k,) ndarray
+        Its time [s].
+    force : (k,) ndarray
+        Peak stop force [N]: the stop rate times the peak's overlap with the stop.
+    intervals : tuple of tuple of (float, float)
+        Each row's contact intervals ``(start, end)`` [s].
+    axes : tuple of str
+        Every nonlinear axis, ``"<mount>.<axis>"`` (hit or not).
+    peak_hi, peak_lo : (r,) ndarray
+        Largest and smallest deflection of each of ``axes`` over the record [m].
+    """
+
+    mount: tuple[str, ...]
+    axis: tuple[str, ...]
+    side: tuple[str, ...]
+    first: np.ndarray
+    duration: np.ndarray
+    count: np.ndarray
+    peak: np.ndarray
+    peak_time: np.ndarray
+    force: np.ndarray
+    intervals: tuple[tuple[tuple[float, float], ...], ...]
+    axes: tuple[str, ...] = ()
+    peak_hi: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    peak_lo: np.ndarray = field(default_factory=lambda: np.zeros(0))
+
+    def __len__(self) -> int:
+        return len(self.mount)
+
+    @property
+    def table(self) -> TextTable:
+        """The rows as a text table."""
+        rows = [[m, a, s, f"{f:.6g}", f"{d:.6g}", str(c), f"{p:.6e}", f"{pt:.6g}", f"{fo:.6g}"]
+                for m, a, s, f, d, c, p, pt, fo in zip(self.mount, self.axis, self.side, self.first, self.duration,
+                                                       self.count, self.peak, self.peak_time, self.force)]
+        return TextTable(["mount", "axis", "side", "first [s]", "in contact [s]", "contacts", "peak defl. [m]",
+                          "at [s]", "peak stop force [N]"], rows,
+                         title="stop contacts" if rows else "stop contacts: no stop hit")
+
+    def to_pandas(self) -> Any:
+        """DataFrame with one row per stop hit."""
+        pd = require_pandas()
+        return pd.DataFrame({"mount": self.mount, "axis": self.axis, "side": self.side, "first": self.first,
+                             "duration": self.duration, "count": self.count, "peak": self.peak,
+                             "peak_time": self.peak_time, "force": self.force})
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready rows (SI)."""
+        return jsonable({"rows": [
+            {"mount": m, "axis": a, "side": s, "first": f, "duration": d, "count": int(c), "peak": p,
+             "peak_time": pt, "force": fo, "intervals": [list(i) for i in iv]}
+            for m, a, s, f, d, c, p, pt, fo, iv in zip(self.mount, self.axis, self.side, self.first, self.duration,
+                                                       self.count, self.peak, self.peak_time, self.force,
+                                                       self.intervals)],
+            "axes": {n: [lo, hi] for n, lo, hi in zip(self.axes, self.peak_lo, self.peak_hi)}})
+
+    def __repr__(self) -> str:
+        if not self.mount:
+            return "ContactTable(no stop hit)"
+        hits = ", ".join(f"{m}.{a}{s} at {f:.4g} s ({fo:.4g} N)" for m, a, s, f, fo in
+                         zip(self.mount, self.axis, self.side, self.first, self.force))
+        return f"ContactTable({hits})"
 
 
 @dataclass(frozen=True, eq=False)
@@ -79,6 +161,9 @@ class TimeResponse(Result):
         How it ran (and, for ``auto``, why).
     name : str
         System name.
+    contacts : ContactTable or None
+        A model with nonlinear mounts: the stops hit, when, for how long, the peak deflections and
+        stop forces (None for a linear model).
     """
 
     time: np.ndarray
@@ -90,6 +175,7 @@ class TimeResponse(Result):
     method: str
     note: str
     name: str = "vibss"
+    contacts: ContactTable | None = None
 
     @property
     def output_labels(self) -> tuple[str, ...]:
@@ -168,6 +254,8 @@ class TimeResponse(Result):
         if quiet:
             lines.append(f"({len(quiet)} output{'s' if len(quiet) > 1 else ''} below 1e-9 of the largest of "
                          f"their unit not listed: {', '.join(n for n in self.output_names if n in quiet)})")
+        if self.contacts is not None:
+            lines += ["", self.contacts.table.render()]
         return "\n".join(lines)
 
     def summary(self) -> TextTable:
@@ -184,7 +272,8 @@ class TimeResponse(Result):
         return jsonable({"time": self.time,
                          "outputs": {n: row for n, row in zip(self.output_names, self.outputs)},
                          "units": dict(zip(self.output_names, self.units)),
-                         "method": self.method, "note": self.note})
+                         "method": self.method, "note": self.note}
+                        | ({} if self.contacts is None else {"contacts": self.contacts.to_dict()}))
 
     def to_pandas(self) -> Any:
         """DataFrame with a ``time`` column, one column per output and one per input."""

@@ -1,0 +1,486 @@
+"""Nonlinear mount forces on the exact modal propagation, with located stop contacts.
+
+The response splits into the linear part (the plant driven by its inputs from its initial state,
+simulated beforehand by the exact modal method) and the response to the local forces ``g(t)`` of the
+r nonlinear mount axes (:mod:`.laws`), which starts at rest. Over each step ``h`` the local force is
+the cubic Hermite polynomial of its values and slopes ``g, dg/dt = g'(e) v`` at both ends; the modal
+blocks propagate exactly under it (:func:`vibss.time.phi.foh_blocks`, polynomial forcing to degree 3).
+The step's end values are implicit: ``[e; v] = lin + free + W [g(e); g'(e) v]``, 2 r unknowns, solved
+by Newton's method (one linear solve within a stop's regime, where the force is a straight line).
+The local error is fourth order in ``omega_c h`` (``omega_c``: the stops' contact frequencies).
+
+A step whose end (or the cubic through its end values) crosses a clearance is cut at the crossing,
+found by the secant method on the exact sub-step solution, and continued from there in the new
+regime: the kink of a stop's force is never inside a step. The linear part inside a step is the
+cubic Hermite interpolant of its end values (it enters only the crossing time and the slope of the
+force just after it). A local extremum of a nonlinear axis that beats its running peak is located
+the same way (the sub-step where ``v = 0``), so the peak deflections are those of the integration,
+not of the samples.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ...errors import AnalysisError
+from ..phi import foh_blocks
+from .laws import LocalLaws
+
+__all__ = ["ContactSystem", "ContactRun", "integrate", "NEWTON_TOL", "LOCATE_TOL"]
+
+NEWTON_TOL = 1e-13
+"""Newton's method on a step stops when the update is below this times the step's local scale."""
+
+LOCATE_TOL = 1e-12
+"""A crossing (or an extremum) is located when its residual is below this times the deflection scale."""
+
+_FACT = np.array([1.0, 1.0, 2.0, 6.0])
+
+
+@dataclass(frozen=True, eq=False)
+class ContactSystem:
+    """The modal blocks the local forces drive: per set ``A`` (nb, b, b), forcing per local force
+    ``F`` (nb, r) (into the last row of a 2x2 block), local rows ``H`` (2 r, nb, b): deflections then
+    velocities of the r axes, and output rows ``Y`` (p, nb, b); ``D`` (p, r) the outputs' direct
+    feedthrough of the local forces."""
+
+    A: tuple[np.ndarray, ...]
+    F: tuple[np.ndarray, ...]
+    H: tuple[np.ndarray, ...]
+    Y: tuple[np.ndarray, ...]
+    D: np.ndarray
+    _steps: dict = field(default_factory=dict, repr=False)
+
+    def step(self, h: float) -> _Step:
+        """The exact discretisation over ``h`` [s] (kept for the grid's step lengths)."""
+        key = float(h)
+        got = self._steps.get(key)
+        if got is None:
+            got = _discretise(self, key)
+            if len(self._steps) < 64:
+                self._steps[key] = got
+        return got
+
+
+@dataclass(frozen=True, eq=False)
+class _Step:
+    h: float
+    E: tuple[np.ndarray, ...]        # (nb, b, b)
+    G: tuple[np.ndarray, ...]        # (nb * b, 4 r): state per Taylor coefficient (tau^k/k!) of each g
+    HE: tuple[np.ndarray, ...]       # (2r, nb * b): local rows after the transition
+    S: np.ndarray                    # (2r, 4r) local end values per Taylor coefficient
+    Wg: np.ndarray                   # (2r, 2r) per (g1, dg1) at the end
+    Wc: np.ndarray                   # (2r, 2r) per (g0, dg0) at the start
+
+
+def _discretise(sys: ContactSystem, h: float) -> _Step:
+    E, G, HE = [], [], []
+    S: Any = 0.0
+    for A, F, H in zip(sys.A, sys.F, sys.H):
+        e, gam = foh_blocks(A, np.array([h]), 3)
+        nb, b = A.shape[:2]
+        g = gam[0][:, :, :, None] * F[None, :, None, :]                # (4, nb, b, r)
+        G.append(np.ascontiguousarray(np.moveaxis(g, 0, 2).reshape(nb * b, -1)))   # (nb b, 4 r), k-major
+        HE.append((H[:, :, 0] * e[0][:, 0, 0]) if b == 1 else
+                  np.einsum("anc,ncb->anb", H, e[0]).reshape(H.shape[0], -1))
+        S = S + np.real(H.reshape(H.shape[0], -1) @ G[-1])
+        E.append(e[0])
+    r = sys.D.shape[1]
+    S = np.asarray(S, float).reshape(2 * r, 4, r) if r else np.zeros((0, 4, 0))
+    # Taylor coefficients of the cubic Hermite force from its end values (per tau^k / k!):
+    # a0 = g0, a1 = dg0, a2 = 6 (g1 - g0) / h^2 - (4 dg0 + 2 dg1) / h, a3 = 12 (g0 - g1) / h^3 + 6 (dg0 + dg1) / h^2
+    S0, S1, S2, S3 = (S[:, k, :] for k in range(4))
+    Wg = np.hstack([6 / h**2 * S2 - 12 / h**3 * S3, -2 / h * S2 + 6 / h**2 * S3])
+    Wc = np.hstack([S0 - 6 / h**2 * S2 + 12 / h**3 * S3, S1 - 4 / h * S2 + 6 / h**2 * S3])
+    return _Step(h, tuple(E), tuple(G), tuple(HE), S.reshape(2 * r, 4 * r), Wg, Wc)
+
+
+def _coefficients(h: float, g0: np.ndarray, d0: np.ndarray, g1: np.ndarray, d1: np.ndarray) -> np.ndarray:
+    """(4, r) Taylor coefficients (per tau^k / k!) of the cubic Hermite force on a step."""
+    a2 = 6 * (g1 - g0) / h**2 - (4 * d0 + 2 * d1) / h
+    a3 = 12 * (g0 - g1) / h**3 + 6 * (d0 + d1) / h**2
+    return np.stack([g0, d0, a2, a3])
+
+
+@dataclass
+class ContactRun:
+    """What the integration recorded besides the outputs: per local axis the peak deflections on each
+    side (total, [m]) and their times [s]; the contact intervals per (axis, side); step counts."""
+
+    peak_hi: np.ndarray
+    peak_lo: np.ndarray
+    t_hi: np.ndarray
+    t_lo: np.ndarray
+    intervals: dict[tuple[int, int], list[list[float]]]
+    steps: int = 0
+    events: int = 0
+    newton: int = 0
+
+
+@dataclass
+class _State:
+    x: list[np.ndarray]     # per set (nb * b,) complex or real
+    e: np.ndarray           # (r,) local deflection from the operating point [m]
+    v: np.ndarray           # (r,) local velocity [m/s]
+    g: np.ndarray           # (r,) local force [N]
+    dg: np.ndarray          # (r,) its rate [N/s]
+    regime: np.ndarray      # (r,) int
+
+
+def _solve(laws: LocalLaws, st: _Step, s: _State, lin: np.ndarray,
+           run: ContactRun) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The step's end ``e, v, g, dg`` from state ``s`` over ``st.h`` with the linear part ``lin`` (2r,) at
+    its end, in the regimes of ``s``."""
+    r = laws.r
+    free = lin + sum(np.real(HE @ x) for HE, x in zip(st.HE, s.x)) + st.Wc @ np.concatenate([s.g, s.dg])
+    if not (np.any(s.regime != 0) or laws.curved.size or np.any(s.g) or np.any(s.dg)):
+        return free[:r], free[r:], np.zeros(r), np.zeros(r)
+    z = free.copy()
+    for _ in range(1 if laws.linear_in_regime() else 40):
+        e, v = z[:r], z[r:]
+        g, g1, g2 = laws.force(e, s.regime)
+        res = z - free - st.Wg @ np.concatenate([g, g1 * v])
+        J = np.eye(2 * r)
+        J[:, :r] -= st.Wg[:, :r] * g1 + st.Wg[:, r:] * (g2 * v)
+        J[:, r:] -= st.Wg[:, r:] * g1
+        dz = np.linalg.solve(J, -res)
+        z = z + dz
+        run.newton += 1
+        if (np.abs(dz[:r]).max() <= NEWTON_TOL * (np.abs(z[:r]).max() + 1e-300)
+                and np.abs(dz[r:]).max() <= NEWTON_TOL * (np.abs(z[r:]).max() + 1e-300)):
+            break
+    e, v = z[:r], z[r:]
+    g, g1, _ = laws.force(e, s.regime)
+    return e, v, g, g1 * v
+
+
+def _advance(st: _Step, s: _State, g: np.ndarray, dg: np.ndarray) -> list[np.ndarray]:
+    """The modal states at the end of the step (the force polynomial now known)."""
+    a = _coefficients(st.h, s.g, s.dg, g, dg).ravel()          # (4 r,) k-major
+    out = []
+    for E, G, x in zip(st.E, st.G, s.x):
+        nb, b = E.shape[:2]
+        y = np.einsum("nij,nj->ni", E, x.reshape(nb, b)).ravel() if b > 1 else E[:, 0, 0] * x
+        out.append(y + G @ a if np.any(a) else y)
+    return out
+
+
+def _hermite(t: Any, h: float, y0: Any, v0: Any, y1: Any, v1: Any) -> tuple[Any, Any]:
+    """Cubic Hermite value and slope at ``t`` in [0, h] from end values and slopes."""
+    s = np.asarray(t) / h
+    h00, h10, h01, h11 = 2 * s**3 - 3 * s**2 + 1, s**3 - 2 * s**2 + s, -2 * s**3 + 3 * s**2, s**3 - s**2
+    d00, d10, d01, d11 = (6 * s**2 - 6 * s) / h, 3 * s**2 - 4 * s + 1, (-6 * s**2 + 6 * s) / h, 3 * s**2 - 2 * s
+    return (h00 * y0 + h10 * h * v0 + h01 * y1 + h11 * h * v1,
+            d00 * y0 + d10 * v0 + d01 * y1 + d11 * v1)
+
+
+def _quintic(t: float, h: float, y0: np.ndarray, v0: np.ndarray, a0: np.ndarray, y1: np.ndarray, v1: np.ndarray,
+             a1: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Quintic Hermite value and slope at ``t`` in [0, h] from end values, slopes and curvatures."""
+    s = t / h
+    s2, s3, s4, s5 = s * s, s**3, s**4, s**5
+    y = ((1 - 10 * s3 + 15 * s4 - 6 * s5) * y0 + (s - 6 * s3 + 8 * s4 - 3 * s5) * h * v0
+         + 0.5 * (s2 - 3 * s3 + 3 * s4 - s5) * h * h * a0 + (10 * s3 - 15 * s4 + 6 * s5) * y1
+         + (-4 * s3 + 7 * s4 - 3 * s5) * h * v1 + 0.5 * (s3 - 2 * s4 + s5) * h * h * a1)
+    v = ((-30 * s2 + 60 * s3 - 30 * s4) / h * y0 + (1 - 18 * s2 + 32 * s3 - 15 * s4) * v0
+         + 0.5 * (2 * s - 9 * s2 + 12 * s3 - 5 * s4) * h * a0 + (30 * s2 - 60 * s3 + 30 * s4) / h * y1
+         + (-12 * s2 + 28 * s3 - 15 * s4) * v1 + 0.5 * (3 * s2 - 8 * s3 + 5 * s4) * h * a1)
+    return y, v
+
+
+@dataclass
+class _Interval:
+    """One grid interval being integrated: the linear part at its ends, its length, how far done."""
+
+    sys: ContactSystem
+    laws: LocalLaws
+    lin0: np.ndarray
+    lin1: np.ndarray
+    h: float
+    t0: float
+    run: ContactRun
+    done: float = 0.0
+
+    def lin(self, t: float) -> np.ndarray:
+        """The linear part's local deflections and velocities (2r,) at ``t`` after the current sub-step's
+        start: the quintic Hermite interpolant of its deflections, velocities and accelerations at the
+        interval's ends (sixth order)."""
+        r = self.laws.r
+        if self.done + t >= self.h:
+            return self.lin1[:2 * r]
+        a, b = self.lin0, self.lin1
+        return np.concatenate(_quintic(self.done + t, self.h, a[:r], a[r:2 * r], a[2 * r:], b[:r], b[r:2 * r],
+                                       b[2 * r:]))
+
+    def ends(self, s: _State, t: float) -> tuple[np.ndarray, np.ndarray]:
+        """Local deflection and velocity ``t`` after the current sub-step's start (exact sub-step)."""
+        if t <= 0.0:
+            return s.e, s.v
+        st = self.sys.step(t) if self.done == 0.0 and t == self.h else _discretise(self.sys, t)
+        e, v, _, _ = _solve(self.laws, st, s, self.lin(t), self.run)
+        return e, v
+
+
+def integrate(sys: ContactSystem, laws: LocalLaws, t: np.ndarray, lin: np.ndarray, samples: np.ndarray,
+              e0: np.ndarray, v0: np.ndarray) -> tuple[np.ndarray, np.ndarray, ContactRun]:
+    """Integrate the local forces' response over the grid ``t``.
+
+    Parameters
+    ----------
+    sys : ContactSystem
+    laws : LocalLaws
+    t : (ng,) ndarray
+        Grid times [s].
+    lin : (ng, 3 r) ndarray
+        The linear part's local deflections [m], velocities [m/s] and accelerations [m/s^2] at the grid
+        points (from the operating point).
+    samples : (ns,) int ndarray
+        Grid indices of the output samples.
+    e0, v0 : (r,) ndarray
+        Local deflection and velocity at ``t = 0`` (the linear part's initial values).
+
+    Returns
+    -------
+    y : (ns, p) ndarray
+        The local forces' part of the outputs at the samples.
+    local : (ns, 2 r) ndarray
+        Local deflections (from the operating point) and velocities at the samples.
+    run : ContactRun
+    """
+    r = laws.r
+    p = sys.D.shape[0]
+    run = ContactRun(peak_hi=laws.d0 + e0, peak_lo=laws.d0 + e0, t_hi=np.zeros(r), t_lo=np.zeros(r),
+                     intervals={})
+    x = [np.zeros(A.shape[0] * A.shape[1], complex if np.iscomplexobj(A) or np.iscomplexobj(F) else float)
+         for A, F in zip(sys.A, sys.F)]
+    regime = laws.regime(laws.d0 + e0)
+    g, g1, _ = laws.force(e0, regime)
+    s = _State(x, e0.copy(), v0.copy(), g, g1 * v0, regime)
+    for a in np.flatnonzero(regime):
+        run.intervals[(int(a), int(regime[a]))] = [[0.0, np.nan]]
+    want = np.zeros(len(t), bool)
+    want[samples] = True
+    y = np.zeros((len(samples), p))
+    local = np.zeros((len(samples), 2 * r))
+    buf: list[list[np.ndarray]] = [[] for _ in sys.A]
+    gbuf: list[np.ndarray] = []
+    done = [0]
+
+    def flush() -> None:
+        if not gbuf:
+            return
+        n, k = len(gbuf), done[0]
+        acc = np.array(gbuf) @ sys.D.T
+        for Y, xs in zip(sys.Y, buf):
+            acc = acc + np.real(np.array(xs) @ Y.reshape(p, -1).T)
+            xs.clear()
+        y[k:k + n] += acc
+        done[0] += n
+        gbuf.clear()
+
+    def record() -> None:
+        for xs, xi in zip(buf, s.x):
+            xs.append(xi)
+        local[done[0] + len(gbuf)] = np.concatenate([s.e, s.v])
+        gbuf.append(s.g)
+        if len(gbuf) >= 512:
+            flush()
+
+    if want[0]:
+        record()
+    for i in range(len(t) - 1):
+        _interval(_Interval(sys, laws, lin[i], lin[i + 1], float(t[i + 1] - t[i]), float(t[i]), run), s)
+        if want[i + 1]:
+            record()
+    flush()
+    for spans in run.intervals.values():
+        if spans and np.isnan(spans[-1][1]):
+            spans[-1][1] = float(t[-1])
+    return y, local, run
+
+
+def _interval(iv: _Interval, s: _State) -> None:
+    """Advance ``s`` over one grid interval, cut at every located crossing of a clearance."""
+    laws, run = iv.laws, iv.run
+    last = -1
+    for _ in range(8 * laws.r + 8):
+        rest = iv.h - iv.done
+        st = iv.sys.step(rest) if iv.done == 0.0 else _discretise(iv.sys, rest)
+        e, v, g, dg = _solve(laws, st, s, iv.lin1[:2 * laws.r], run)
+        run.steps += 1
+        guess = _crossing(laws, s, e, v, rest) if laws.stops.any() else None
+        found = _locate(iv, s, guess, last) if guess is not None else None
+        if found is None:
+            _peaks(iv, s, rest, e, v)
+            s.x = _advance(st, s, g, dg)
+            s.e, s.v, s.g, s.dg = e, v, g, dg
+            return
+        tau, axis, side = found
+        sub = _discretise(iv.sys, tau)
+        e, v, g, dg = _solve(laws, sub, s, iv.lin(tau), run)
+        _peaks(iv, s, tau, e, v)
+        s.x = _advance(sub, s, g, dg)
+        s.e, s.v = e, v
+        now = iv.t0 + iv.done + tau
+        old = int(s.regime[axis])
+        if old != 0:                                    # leaving the stop
+            spans = run.intervals.get((axis, old))
+            if spans:
+                spans[-1][1] = now
+            s.regime[axis] = 0
+        else:                                           # touching it
+            s.regime[axis] = side
+            run.intervals.setdefault((axis, side), []).append([now, np.nan])
+        run.events += 1
+        g, g1, _ = laws.force(s.e, s.regime)
+        s.g, s.dg = g, g1 * s.v
+        iv.done += tau
+        last = axis
+    raise AnalysisError(f"simulate: more than {8 * laws.r + 8} stop events in one step at t = {iv.t0:.6g} s "
+                        "(a stop chattering): take a smaller dt")
+
+
+_S = np.linspace(0.0, 1.0, 17)[1:, None]
+_BASIS = (2 * _S**3 - 3 * _S**2 + 1, _S**3 - 2 * _S**2 + _S, -2 * _S**3 + 3 * _S**2, _S**3 - _S**2)
+"""Cubic Hermite basis at 16 points of a step: where a crossing is looked for."""
+
+
+def _crossing(laws: LocalLaws, s: _State, e: np.ndarray, v: np.ndarray, h: float) -> float | None:
+    """First time in (0, h] at which the cubic through the step's end values leaves a stop's regime
+    (looked for at 16 points, after a bound on the cubic's range rules most steps out), or None."""
+    y0, y1 = laws.d0 + s.e, laws.d0 + e
+    reach = (4 / 27) * h * (np.abs(s.v) + np.abs(v))              # |h10|, |h11| <= 4/27
+    top, bottom = np.maximum(y0, y1) + reach, np.minimum(y0, y1) - reach
+    inside = s.regime == 0
+    near = laws.stops & np.where(inside, (top > laws.hi) | (bottom < -laws.lo),
+                                 np.where(s.regime > 0, bottom <= laws.hi, top >= -laws.lo))
+    if not near.any():
+        return None
+    b0, b1, b2, b3 = _BASIS
+    d = b0 * y0[near] + (b1 * h) * s.v[near] + b2 * y1[near] + (b3 * h) * v[near]     # (16, k)
+    hi, lo, reg = laws.hi[near], laws.lo[near], s.regime[near]
+    off = np.where(d > hi, 1, np.where(d < -lo, -1, 0)) != reg
+    rows = np.flatnonzero(off.any(axis=1))
+    return float(h * _S[rows[0], 0]) if rows.size else None
+
+
+def _root(fun: Any, ta: float, tb: float, fa: float, fb: float, guess: float, tol: float, floor: float) -> float:
+    """A root of ``fun`` in the bracket ``[ta, tb]`` (``fa``, ``fb`` of opposite signs): Newton from
+    ``guess``, kept in the bracket (bisection when a step leaves it). ``fun(t) -> (value, derivative)``."""
+    t = min(max(guess, ta), tb)
+    for _ in range(60):
+        f, df = fun(t)
+        if abs(f) <= tol or tb - ta <= floor:
+            return t
+        if np.sign(f) == np.sign(fb):
+            tb, fb = t, f
+        else:
+            ta, fa = t, f
+        step = t - f / df if df != 0 else np.nan
+        t = step if ta < step < tb else 0.5 * (ta + tb)
+    return t
+
+
+def _cubic_root(h: float, y0: float, v0: float, y1: float, v1: float, c: float, lo: float, hi: float) -> float:
+    """The first crossing of ``c`` by the cubic Hermite on ``[lo, hi]`` (bisection), or ``hi``."""
+    f = lambda t: float(_hermite(t, h, y0, v0, y1, v1)[0]) - c          # noqa: E731
+    fa = f(lo)
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        if np.sign(f(mid)) == np.sign(fa):
+            lo = mid
+        else:
+            hi = mid
+    return hi
+
+
+def _locate(iv: _Interval, s: _State, tau: float, last: int) -> tuple[float, int, int] | None:
+    """The first crossing of a clearance before ``tau`` after the sub-step's start, on the exact
+    sub-step solution (Newton on the crossing time, its slope the velocity the solve returns):
+    ``(time from the start [s], axis, side)``, or None (none there)."""
+    laws = iv.laws
+    e, v = iv.ends(s, tau)
+    d = laws.d0 + e
+    best: tuple[float, int, int] | None = None
+    for a in np.flatnonzero(laws.stops):
+        old = int(s.regime[a])
+        if old == 0:
+            if d[a] > laws.hi[a]:
+                side, c = 1, laws.hi[a]
+            elif d[a] < -laws.lo[a]:
+                side, c = -1, -laws.lo[a]
+            else:
+                continue
+        else:
+            side, c = old, (laws.hi[a] if old > 0 else -laws.lo[a])
+            if np.sign(d[a] - c) == old:
+                continue
+        f0, f1 = laws.d0[a] + s.e[a] - c, d[a] - c
+        if a == last and abs(f0) <= LOCATE_TOL * (abs(c) + abs(f1)):
+            continue
+        guess = _cubic_root(tau, laws.d0[a] + s.e[a], s.v[a], d[a], v[a], c, 0.0, tau)
+
+        def fun(t: float, a: Any = a, c: float = c) -> tuple[float, float]:
+            em, vm = iv.ends(s, t)
+            return float(laws.d0[a] + em[a] - c), float(vm[a])
+
+        tc = _root(fun, 0.0, tau, f0, f1, guess, LOCATE_TOL * (abs(c) + abs(f0) + abs(f1)), 1e-15 * iv.h)
+        if best is None or tc < best[0]:
+            best = (tc, int(a), side)
+    return best
+
+
+def _peaks(iv: _Interval, s: _State, h: float, e: np.ndarray, v: np.ndarray) -> None:
+    """Update the running peaks with the sub-step's end and, where ``v`` changes sign inside it and
+    the cubic's extremum beats the peak, with the extremum located on the exact sub-step (secant on
+    ``v = 0``)."""
+    laws, run = iv.laws, iv.run
+    d1 = laws.d0 + e
+    now = iv.t0 + iv.done + h
+    up, dn = d1 > run.peak_hi, d1 < run.peak_lo
+    run.peak_hi[up], run.t_hi[up] = d1[up], now
+    run.peak_lo[dn], run.t_lo[dn] = d1[dn], now
+    for a in np.flatnonzero(s.v * v < 0):
+        y0, v0 = laws.d0[a] + s.e[a], s.v[a]
+        rising = v0 > 0
+        tc = _slope_root(h, y0, v0, d1[a], v[a])
+        dc = float(_hermite(tc, h, y0, v0, d1[a], v[a])[0])
+        if not (dc > run.peak_hi[a] if rising else dc < run.peak_lo[a]):
+            continue
+        ta, tb, fa, fb = 0.0, h, v0, v[a]
+        t_, dm = tc, dc
+        prev: tuple[float, float] | None = None
+        for _ in range(30):                              # secant on v = 0, kept in the bracket
+            em, vm = iv.ends(s, t_)
+            dm, f = float(laws.d0[a] + em[a]), float(vm[a])
+            if np.sign(f) == np.sign(fb):
+                tb, fb = t_, f
+            else:
+                ta, fa = t_, f
+            if abs(f) * (tb - ta) <= LOCATE_TOL * (abs(dm) + 1e-300) or tb - ta <= 1e-14 * iv.h:
+                break
+            if prev is not None and f != prev[1]:
+                nxt = t_ - f * (t_ - prev[0]) / (f - prev[1])
+            else:
+                nxt = t_ - f * (tb - ta) / (fb - fa) if fb != fa else 0.5 * (ta + tb)
+            prev = (t_, f)
+            t_ = nxt if ta < nxt < tb else 0.5 * (ta + tb)
+        if rising and dm > run.peak_hi[a]:
+            run.peak_hi[a], run.t_hi[a] = dm, iv.t0 + iv.done + t_
+        elif not rising and dm < run.peak_lo[a]:
+            run.peak_lo[a], run.t_lo[a] = dm, iv.t0 + iv.done + t_
+
+
+def _slope_root(h: float, y0: float, v0: float, y1: float, v1: float) -> float:
+    """Where the cubic Hermite's slope vanishes inside ``(0, h)`` (its slopes at the ends have opposite signs)."""
+    lo, hi = 0.0, h
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        if np.sign(float(_hermite(mid, h, y0, v0, y1, v1)[1])) == np.sign(v0):
+            lo = mid
+        else:
+            hi = mid
+    return 0.5 * (lo + hi)

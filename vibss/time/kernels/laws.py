@@ -1,0 +1,106 @@
+"""The nonlinear mount axes of a time response as local coordinates: each axis's force beyond the linear
+rate the plant carries, its slope and curvature, and which side of its stop it is on (its regime).
+
+A time run keeps the linear part of every mount in the plant (a nonlinear axis at the rate the
+assembly used, :attr:`~vibss.model.nonlinearity.AxisLaw.stiffness`) and adds, on each nonlinear axis
+``a``, the local force ``g_a(e) = f_nl(d_op + e) - f_nl(d_op)`` with ``f_nl(d) = f(d) - k0 d`` (the law
+beyond the linear rate), ``d_op`` the axis's deflection at the operating point and ``e`` the deflection
+from there [m]. A stop is piecewise linear: within one regime (free, on the positive stop, on the
+negative stop) its force is a straight line, so the integrator locates every crossing of a clearance
+and never steps over a kink.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ...model.nonlinearity import AxisLaw
+
+__all__ = ["LocalLaws"]
+
+
+@dataclass(frozen=True, eq=False)
+class LocalLaws:
+    """The r nonlinear mount axes (local coordinates) of a simulation.
+
+    Attributes
+    ----------
+    names : tuple of str
+        ``"<mount>.<axis>"`` per coordinate, axis ``x``, ``y`` or ``z`` (local).
+    laws : tuple of AxisLaw
+        Each axis's law.
+    d0 : (r,) ndarray
+        Deflection at the operating point [m] (the time response starts there).
+    """
+
+    names: tuple[str, ...]
+    laws: tuple[AxisLaw, ...]
+    d0: np.ndarray
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "k0", np.array([law.stiffness for law in self.laws], float))
+        object.__setattr__(self, "ks", np.array([law.stop for law in self.laws], float))
+        object.__setattr__(self, "lo", np.array([law.clearance[0] for law in self.laws], float))
+        object.__setattr__(self, "hi", np.array([law.clearance[1] for law in self.laws], float))
+        object.__setattr__(self, "curved", np.array([i for i, law in enumerate(self.laws) if law.curve is not None],
+                                                    int))
+        g_op = self._stop(self.d0, self.regime(self.d0)) + self._curve(self.d0)[0]
+        object.__setattr__(self, "g_op", g_op)
+
+    k0: np.ndarray = field(init=False, repr=False)       # linear rates [N/m]
+    ks: np.ndarray = field(init=False, repr=False)       # stop rates [N/m] (0: none)
+    lo: np.ndarray = field(init=False, repr=False)       # negative-side clearances [m]
+    hi: np.ndarray = field(init=False, repr=False)       # positive-side clearances [m]
+    curved: np.ndarray = field(init=False, repr=False)   # indices of the curved axes
+    g_op: np.ndarray = field(init=False, repr=False)     # force beyond the linear rate at d0 [N]
+
+    @property
+    def r(self) -> int:
+        """Number of local coordinates."""
+        return len(self.laws)
+
+    @property
+    def stops(self) -> np.ndarray:
+        """(r,) bool: the axis has a stop."""
+        return self.ks > 0
+
+    def regime(self, d: np.ndarray) -> np.ndarray:
+        """(r,) int: +1 past the positive clearance, -1 past the negative one, 0 free (``d`` total [m])."""
+        return np.where(d > self.hi, 1, np.where(d < -self.lo, -1, 0)).astype(int)
+
+    def boundary(self, side: np.ndarray) -> np.ndarray:
+        """(r,) clearance crossed towards ``side`` (+1: ``c+``, -1: ``-c-``) [m]."""
+        return np.where(side > 0, self.hi, -self.lo)
+
+    def _stop(self, d: np.ndarray, regime: np.ndarray) -> np.ndarray:
+        with np.errstate(invalid="ignore"):
+            on = np.where(regime > 0, d - self.hi, np.where(regime < 0, d + self.lo, 0.0))
+        return self.ks * np.where(regime != 0, on, 0.0)
+
+    def _curve(self, d: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        f, f1, f2 = np.zeros_like(d), np.zeros_like(d), np.zeros_like(d)
+        for i in self.curved:
+            law = self.laws[i]
+            f[i] = float(law._elastic(np.asarray(d[i]), 0)) - law.stiffness * d[i]
+            f1[i] = float(law._elastic(np.asarray(d[i]), 1)) - law.stiffness
+            lo, hi = law.span
+            f2[i] = float(law.curve(d[i], 2)) if lo < d[i] < hi else 0.0
+        return f, f1, f2
+
+    def force(self, e: np.ndarray, regime: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Local force ``g(e)`` [N], its slope [N/m] and curvature [N/m^2] in the given regimes
+        (each stop's straight line continued past its clearance: a step that crosses it is split)."""
+        d = self.d0 + e
+        g = self._stop(d, regime) - self.g_op
+        g1 = self.ks * (regime != 0)
+        g2 = np.zeros_like(d)
+        if self.curved.size:
+            f, f1, f2 = self._curve(d)
+            g, g1, g2 = g + f, g1 + f1, f2
+        return g, g1, g2
+
+    def linear_in_regime(self) -> bool:
+        """Every axis is a stop on a linear rate: the force is a straight line within each regime."""
+        return self.curved.size == 0
