@@ -304,7 +304,9 @@ class _Loops:
     def q(self, omega: np.ndarray) -> np.ndarray:
         return np.einsum("ijf,jkf->fik", self.K(omega), self.G(omega))     # (nf, nu, nu)
 
-    def loop(self, i: int, q: np.ndarray) -> np.ndarray:
+    @staticmethod
+    def loop(i: int, q: np.ndarray) -> np.ndarray:
+        """(nf,) return ratio ``L_i`` of loop ``i`` from ``q = K G`` (nf, nu, nu), the others closed."""
         n = q.shape[1]
         o = [j for j in range(n) if j != i]
         if not o:
