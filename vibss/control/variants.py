@@ -95,15 +95,17 @@ class Extended:
 def extend(plant: Any, controller: Any, axes: Sequence[tuple[int, int]]) -> Extended:
     """The plant rebuilt with a hidden actuator and sensor per changing mount axis, and the nominal
     loop closed on it (see the module docstring)."""
-    from .loop import _close
+    return close_extended(extended_plant(plant, axes), controller, axes)
+
+
+def extended_plant(plant: Any, axes: Sequence[tuple[int, int]]) -> Any:
+    """The plant with a hidden ideal actuator (``actuator.robust_tolerance_<i>.u``) and relative
+    displacement sensor (``sensor.robust_tolerance_<i>``) per mount axis; the plant itself when none."""
     from .plant import plant as build
 
+    if not axes:
+        return plant
     model = plant.model
-    if not axes:                                  # nothing changes: the plant itself
-        A, B, C, D, ext_in, _, _ = _close(plant, controller)
-        return Extended(plant, (), (A, B, C, D), np.zeros(0, dtype=int), np.zeros(0, dtype=int),
-                        tuple(plant.input_labels[i] for i in ext_in),
-                        tuple(list(plant.output_labels) + list(controller.output_labels)))
     recipe = dict(plant.recipe)
     if recipe["measurements"] == "states":
         raise ControlDesignError("robustness: a state-feedback plant (measurements='states') has modal "
@@ -119,16 +121,36 @@ def extend(plant: Any, controller: Any, axes: Sequence[tuple[int, int]]) -> Exte
     noise = recipe["noise"]
     if noise is not None and not isinstance(noise, dict):
         noise = {s: noise for s in y}
-    P = build(ext, recipe["disturbances"], [*recipe["actuators"], *[a.name for a in acts]],
-              recipe["performance"], [*y, *[s.signal for s in sens]], noise=noise, dofs=recipe["dofs"],
-              modal_damping=recipe["modal_damping"], ideal_actuators=recipe["ideal_actuators"],
-              name=recipe["name"] or model.name)
+    return build(ext, recipe["disturbances"], [*recipe["actuators"], *[a.name for a in acts]],
+                 recipe["performance"], [*y, *[s.signal for s in sens]], noise=noise, dofs=recipe["dofs"],
+                 modal_damping=recipe["modal_damping"], ideal_actuators=recipe["ideal_actuators"],
+                 name=recipe["name"] or model.name)
+
+
+def close_extended(P: Any, controller: Any, axes: Sequence[tuple[int, int]]) -> Extended:
+    """The loop ``u = K y`` closed on an :func:`extended_plant`, the channels located."""
+    from .loop import _close
+
     A, B, C, D, ext_in, _, _ = _close(P, controller)
     ins = [P.input_labels[i] for i in ext_in]
     outs = list(P.output_labels) + list(controller.output_labels)
-    f_in = np.array([ins.index(f"actuator:{a.name}:u") for a in acts])
-    d_out = np.array([outs.index(f"sensor:{s.name}") for s in sens])
+    f_in = np.array([ins.index(f"actuator:{HIDDEN}{i}:u") for i in range(len(axes))], dtype=int)
+    d_out = np.array([outs.index(f"sensor:{HIDDEN}{i}") for i in range(len(axes))], dtype=int)
     return Extended(P, tuple(axes), (A, B, C, D), f_in, d_out, tuple(ins), tuple(outs))
+
+
+def open_loop(ext: Extended, controller: Any, omega: np.ndarray) -> np.ndarray:
+    """(ny + r, nu + r, nf) nominal plant responses from the commands and the channels' forces to the
+    measurements and the channels' deflections (independent of the controller)."""
+    from ..frequency.statespace_response import Evaluator
+    from .loop import interconnect_indices
+
+    P = ext.plant
+    iy = interconnect_indices(P.output_labels, controller.input_labels, "controller inputs")
+    iu = interconnect_indices(P.input_labels, controller.output_labels, "controller outputs")
+    t_in = [P.input_labels.index(ext.inputs[i]) for i in ext.f_in]
+    t_out = [P.output_labels.index(ext.outputs[i]) for i in ext.d_out]
+    return Evaluator(P, outputs=[*iy, *t_out], inputs=[*iu, *t_in])(omega)
 
 
 def lft(h: np.ndarray, delta: np.ndarray, rows: Sequence[int], cols: Sequence[int],
@@ -232,31 +254,29 @@ def peak_refined(mag: np.ndarray, omega: np.ndarray) -> np.ndarray:
 
 
 def frequency_metrics(ext: Extended, controller: Any, delta: np.ndarray, omega: np.ndarray,
-                      channel: tuple[int, int], chunk: int = 50) -> dict[str, np.ndarray]:
+                      channel: tuple[int, int], chunk: int = 50, h: np.ndarray | None = None) -> dict[str, np.ndarray]:
     """Disk margins and peak transmissibility of every variant, exact on the grid ``omega`` [rad/s].
 
     Returns ``{"disk_margin": (N,) smallest loop-at-a-time balanced disk margin, "loop_disk_margin":
-    (N, nu), "mimo_disk_margin": (N,), "peak": (N,) peak |T| of the channel}``.
+    (N, nu), "mimo_disk_margin": (N,), "peak": (N,) peak |T| of the channel, "effort": (N,) peak |u / w|
+    over the commands for the channel's disturbance}``; ``h`` the :func:`open_loop` responses if known.
     """
     from ..frequency.statespace_response import Evaluator
-    from .loop import interconnect_indices
 
-    P = ext.plant
-    iy = interconnect_indices(P.output_labels, controller.input_labels, "controller inputs")
-    iu = interconnect_indices(P.input_labels, controller.output_labels, "controller outputs")
-    t_in = [P.input_labels.index(ext.inputs[i]) for i in ext.f_in]
-    t_out = [P.output_labels.index(ext.outputs[i]) for i in ext.d_out]
-    ny, nu, r = len(iy), len(iu), len(t_in)
-    h = Evaluator(P, outputs=[*iy, *t_out], inputs=[*iu, *t_in])(omega)
+    ny, nu, r = controller.ninputs, controller.noutputs, len(ext.f_in)
+    if h is None:
+        h = open_loop(ext, controller, omega)
     kw = np.moveaxis(Evaluator(controller)(omega), -1, 0)                 # (nf, nu, ny)
     A, B, C, D = ext.closed
     import control
     cl = control.ss(A, B, C, D)
-    tw = Evaluator(cl, outputs=[channel[1], *ext.d_out], inputs=[channel[0], *ext.f_in])(omega)
+    cmd = list(range(len(ext.outputs) - nu, len(ext.outputs)))
+    tw = Evaluator(cl, outputs=[channel[1], *cmd, *ext.d_out], inputs=[channel[0], *ext.f_in])(omega)
     nv, nf = delta.shape[0], omega.size
     loops = np.empty((nv, nu))
     mimo = np.empty(nv)
     peak = np.empty(nv)
+    effort = np.empty(nv)
     for s in range(0, nv, chunk):
         dv = delta[s:s + chunk]
         c = dv.shape[0]
@@ -268,9 +288,11 @@ def frequency_metrics(ext: Extended, controller: Any, delta: np.ndarray, omega: 
         x = S - 0.5 * np.eye(nu)
         top = np.linalg.eigvalsh(np.conj(np.swapaxes(x, -1, -2)) @ x)[..., -1]
         mimo[s:s + c] = 1.0 / np.sqrt(np.maximum(top, 0.0).max(axis=1))
-        t = _lft_or_nominal(tw, dv, [0], [0], range(1, 1 + r), range(1, 1 + r))[:, :, 0, 0]
-        peak[s:s + c] = peak_refined(np.abs(t), omega)
-    return {"disk_margin": loops.min(axis=1), "loop_disk_margin": loops, "mimo_disk_margin": mimo, "peak": peak}
+        t = _lft_or_nominal(tw, dv, range(1 + nu), [0], range(1 + nu, 1 + nu + r), range(1, 1 + r))[:, :, :, 0]
+        peak[s:s + c] = peak_refined(np.abs(t[:, :, 0]), omega)
+        effort[s:s + c] = np.abs(t[:, :, 1:]).max(axis=(1, 2))
+    return {"disk_margin": loops.min(axis=1), "loop_disk_margin": loops, "mimo_disk_margin": mimo, "peak": peak,
+            "effort": effort}
 
 
 def _lft_or_nominal(h: np.ndarray, delta: np.ndarray, rows: Any, cols: Any, t_out: Any, t_in: Any) -> np.ndarray:
