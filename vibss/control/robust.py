@@ -34,7 +34,7 @@ from ..errors import ArgumentError, ControlDesignError, VibssWarning
 from ..methods import Check, Claim, Method
 from ..model.model import Model
 from ..results import Result, TextTable, jsonable, require_pandas
-from .variants import extend, frequency_metrics, mount_rates, reduced_poles
+from .variants import closed_modes, extend, frequency_metrics, mount_rates, reduced_poles
 
 __all__ = ["robustness", "Robustness", "METHODS"]
 
@@ -273,7 +273,8 @@ def _pole_metrics(poles: np.ndarray, held: np.ndarray) -> tuple[np.ndarray, np.n
 
 
 def _grid(poles: np.ndarray, frequencies: Any) -> np.ndarray:
-    """[rad/s]: the user's frequencies [Hz], or 1,200 log points around the solved poles."""
+    """[rad/s]: the user's frequencies [Hz], or 400 log points around the solved poles (peaks are
+    refined between them)."""
     if frequencies is not None:
         f = np.asarray(frequencies, dtype=float).ravel()
         if f.size < 3 or not np.all(np.isfinite(f)) or np.any(f <= 0):
@@ -283,7 +284,7 @@ def _grid(poles: np.ndarray, frequencies: Any) -> np.ndarray:
     mags = np.abs(poles)
     mags = mags[mags > 1e-9 * max(mags.max(initial=1.0), 1.0)]
     lo, hi = (mags.min() / 10, mags.max() * 3) if mags.size else (0.1, 1e4)
-    return np.geomspace(lo, hi, 1200)
+    return np.geomspace(lo, hi, 400)
 
 
 def _axes(model: Model, params: tuple[Parameter, ...]) -> list[tuple[int, int]]:
@@ -310,11 +311,12 @@ def _evaluate_lft(ext: Any, plant: Any, controller: Any, params: tuple[Parameter
     q = np.array([a[0] for a in ext.axes], dtype=int)
     j = np.array([a[1] for a in ext.axes], dtype=int)
     delta = rates[:, q, j] - r0[q, j]
-    poles, held, _ = reduced_poles(ext.closed, ext.f_in, ext.d_out, delta, states)
+    modes = closed_modes(ext.closed)
+    poles, held, _ = reduced_poles(ext.closed, ext.f_in, ext.d_out, delta, states, modes=modes)
     if omega is None:
         omega = _grid(poles[0], frequencies)
     names, ch = _channel(plant, ext, channel)
-    fm = frequency_metrics(ext, controller, delta, omega, ch)
+    fm = frequency_metrics(ext, controller, delta, omega, ch, modes=modes)
     stable, zeta = _pole_metrics(poles, held)
     return {"stable": stable, "damping": zeta, **fm}, omega, names
 
@@ -367,7 +369,7 @@ def robustness(plant: Any, controller: Any, tolerances: Mapping[Any, float], n: 
     channel : (str, str) or None
         (disturbance, output) of the peak transmissibility; default the first of each.
     frequencies : array_like or None
-        Grid of the margins and peaks [Hz]; default 1,200 log points from a tenth of the lowest
+        Grid of the margins and peaks [Hz]; default 400 log points from a tenth of the lowest
         closed-loop pole to three times the highest solved one.
     corners : int
         Corners: all ``2^p`` when ``p <= corners`` parameters, else the ``2^corners`` corners of

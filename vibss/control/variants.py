@@ -183,8 +183,43 @@ def lft(h: np.ndarray, delta: np.ndarray, rows: Sequence[int], cols: Sequence[in
     return hrc - (hrt * dl) @ x
 
 
+def closed_modes(closed: tuple[np.ndarray, ...]) -> tuple[np.ndarray, np.ndarray]:
+    """Eigenvalues [rad/s] and eigenvectors of the nominal closed loop, by ascending magnitude."""
+    lam, V = np.linalg.eig(closed[0])
+    order = np.argsort(np.abs(lam), kind="stable")
+    return lam[order], V[:, order]
+
+
+def _real_form(lam: np.ndarray, b: np.ndarray, c: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The diagonal modal system ``(lam, b, c)`` of a real system (conjugate pairs complete) in real
+    coordinates: a pair ``a +- i w`` becomes ``[[a, -w], [w, a]]`` on ``(Re z, Im z)``."""
+    k = lam.size
+    A = np.zeros((k, k))
+    B = np.zeros((k, b.shape[1]))
+    C = np.zeros((c.shape[0], k))
+    used = np.zeros(k, bool)
+    tol = 1e-9 * max(np.abs(lam).max(initial=1.0), 1.0)
+    for i in range(k):
+        if used[i]:
+            continue
+        used[i] = True
+        if abs(lam[i].imag) <= tol:
+            A[i, i], B[i], C[:, i] = lam[i].real, b[i].real, c[:, i].real
+            continue
+        free = np.flatnonzero(~used)
+        j = free[np.argmin(np.abs(lam[free] - np.conj(lam[i])))]
+        used[j] = True
+        m = lam[i] if lam[i].imag > 0 else lam[j]
+        z = i if lam[i].imag > 0 else j
+        A[i, i], A[i, j], A[j, i], A[j, j] = m.real, -m.imag, m.imag, m.real
+        B[i], B[j] = b[z].real, b[z].imag
+        C[:, i], C[:, j] = 2 * c[:, z].real, -2 * c[:, z].imag
+    return A, B, C
+
+
 def reduced_poles(closed: tuple[np.ndarray, ...], f_in: np.ndarray, d_out: np.ndarray, delta: np.ndarray,
-                  states: int, chunk: int = 200) -> tuple[np.ndarray, np.ndarray, int]:
+                  states: int, chunk: int = 200,
+                  modes: tuple[np.ndarray, np.ndarray] | None = None) -> tuple[np.ndarray, np.ndarray, int]:
     """Closed-loop poles of every variant [rad/s] (see the module docstring).
 
     Parameters
@@ -196,53 +231,56 @@ def reduced_poles(closed: tuple[np.ndarray, ...], f_in: np.ndarray, d_out: np.nd
     delta : (N, r) ndarray
         Rate changes [N/m].
     states : int
-        Poles solved per variant (the lowest by magnitude); the rest held at their nominal values.
+        Poles solved per variant (the lowest by magnitude, a conjugate pair never split); the rest
+        held at their nominal values.
     chunk : int
         Variants per batched eigen-solve.
+    modes : (lam, V) or None
+        :func:`closed_modes` of ``closed`` if known.
 
     Returns
     -------
-    poles : (N, states) complex ndarray
+    poles : (N, k) complex ndarray
         The solved poles of each variant.
-    held : (n - states,) complex ndarray
+    held : (n - k,) complex ndarray
         The nominal poles held.
     kept : int
-        Number of poles solved per variant.
+        Number of poles solved per variant, ``k``.
     """
     A, B, C, D = closed
-    lam, V = np.linalg.eig(A)
-    order = np.argsort(np.abs(lam), kind="stable")
-    lam, V = lam[order], V[:, order]
+    lam, V = closed_modes(closed) if modes is None else modes
+    k = min(int(states), len(lam))
+    if 0 < k < len(lam) and abs(lam[k - 1].imag) > 0 and np.isclose(lam[k], np.conj(lam[k - 1])):
+        k += 1                                      # keep the pair whole
+    r = len(f_in)
+    if r == 0:
+        return np.broadcast_to(lam[:k], (delta.shape[0], k)).copy(), lam[k:], k
     Bt = np.linalg.solve(V, B[:, f_in])
     Ct = C[d_out] @ V
     Dtt = D[np.ix_(d_out, f_in)].astype(complex)
-    k = min(int(states), len(lam))
     if k < len(lam):
         hi = slice(k, None)
         Dtt = Dtt - (Ct[:, hi] / lam[hi]) @ Bt[hi]
-    lo = slice(0, k)
-    L, Bl, Cl = np.diag(lam[lo]), Bt[lo], Ct[:, lo]
-    r = len(f_in)
+    L, Bl, Cl = _real_form(lam[:k], Bt[:k], Ct[:, :k])
+    Dr = Dtt.real
     out = np.empty((delta.shape[0], k), dtype=complex)
-    if r == 0:
-        out[:] = lam[lo]
-        return out, lam[k:], k
     for s in range(0, delta.shape[0], chunk):
         dv = delta[s:s + chunk]                                    # (c, r)
-        inner = np.linalg.inv(np.eye(r)[None] + Dtt[None] * dv[:, None, :])   # (I + D Delta)^-1
+        inner = np.linalg.inv(np.eye(r)[None] + Dr[None] * dv[:, None, :])   # (I + D Delta)^-1
         av = L[None] - (Bl[None] * dv[:, None, :]) @ inner @ Cl[None]
         out[s:s + chunk] = np.linalg.eigvals(av)
     return out, lam[k:], k
 
 
 def peak_refined(mag: np.ndarray, omega: np.ndarray) -> np.ndarray:
-    """(N,) peak of ``mag`` (N, nf) over a grid, refined by a parabola through ``1 / mag^2`` at the
-    three points around the largest sample (exact for an isolated resonance, whose ``1 / |H|^2`` is
-    quadratic in ``w`` near its peak)."""
+    """(N,) peak of ``mag`` (N, nf) over a grid, refined by a parabola in ``w^2`` through ``1 / mag^2``
+    at the three points around the largest sample (exact for a single-DOF resonance, whose
+    ``1 / |H|^2 = ((k - m w^2)^2 + (c w)^2) / |N|^2`` is quadratic in ``w^2`` for a constant numerator;
+    second order in the grid step otherwise)."""
     i = np.clip(np.argmax(mag, axis=1), 1, mag.shape[1] - 2)
     rows = np.arange(mag.shape[0])
     y = 1.0 / np.maximum(np.stack([mag[rows, i - 1], mag[rows, i], mag[rows, i + 1]], axis=1), 1e-300) ** 2
-    x = np.stack([omega[i - 1], omega[i], omega[i + 1]], axis=1)
+    x = np.stack([omega[i - 1], omega[i], omega[i + 1]], axis=1) ** 2
     # the parabola's minimum from divided differences
     d1 = (y[:, 1] - y[:, 0]) / (x[:, 1] - x[:, 0])
     d2 = ((y[:, 2] - y[:, 1]) / (x[:, 2] - x[:, 1]) - d1) / (x[:, 2] - x[:, 0])
@@ -254,12 +292,15 @@ def peak_refined(mag: np.ndarray, omega: np.ndarray) -> np.ndarray:
 
 
 def frequency_metrics(ext: Extended, controller: Any, delta: np.ndarray, omega: np.ndarray,
-                      channel: tuple[int, int], chunk: int = 50, h: np.ndarray | None = None) -> dict[str, np.ndarray]:
+                      channel: tuple[int, int], chunk: int = 50, h: np.ndarray | None = None,
+                      modes: tuple[np.ndarray, np.ndarray] | None = None) -> dict[str, np.ndarray]:
     """Disk margins and peak transmissibility of every variant, exact on the grid ``omega`` [rad/s].
 
     Returns ``{"disk_margin": (N,) smallest loop-at-a-time balanced disk margin, "loop_disk_margin":
     (N, nu), "mimo_disk_margin": (N,), "peak": (N,) peak |T| of the channel, "effort": (N,) peak |u / w|
-    over the commands for the channel's disturbance}``; ``h`` the :func:`open_loop` responses if known.
+    over the commands for the channel's disturbance}``; ``h`` the :func:`open_loop` responses and
+    ``modes`` the :func:`closed_modes` of the nominal loop if known. Peaks over the grid are refined
+    by :func:`peak_refined`.
     """
     from ..frequency.statespace_response import Evaluator
 
@@ -267,11 +308,9 @@ def frequency_metrics(ext: Extended, controller: Any, delta: np.ndarray, omega: 
     if h is None:
         h = open_loop(ext, controller, omega)
     kw = np.moveaxis(Evaluator(controller)(omega), -1, 0)                 # (nf, nu, ny)
-    A, B, C, D = ext.closed
-    import control
-    cl = control.ss(A, B, C, D)
     cmd = list(range(len(ext.outputs) - nu, len(ext.outputs)))
-    tw = Evaluator(cl, outputs=[channel[1], *cmd, *ext.d_out], inputs=[channel[0], *ext.f_in])(omega)
+    rows, cols = [channel[1], *cmd, *ext.d_out], [channel[0], *ext.f_in]
+    tw = _closed_response(ext.closed, rows, cols, omega, modes)
     nv, nf = delta.shape[0], omega.size
     loops = np.empty((nv, nu))
     mimo = np.empty(nv)
@@ -284,15 +323,34 @@ def frequency_metrics(ext: Extended, controller: Any, delta: np.ndarray, omega: 
         q = kw[None] @ g                                                # (c, nf, nu, nu)
         S = np.linalg.inv(np.eye(nu) - q)             # input sensitivity; S_ii = 1 / (1 + L_i), L_i
         d = np.abs(np.diagonal(S, axis1=-2, axis2=-1) - 0.5)   # loop i broken with the others closed
-        loops[s:s + c] = 1.0 / d.max(axis=1)
+        for i in range(nu):
+            loops[s:s + c, i] = 1.0 / peak_refined(d[:, :, i], omega)
         x = S - 0.5 * np.eye(nu)
         top = np.linalg.eigvalsh(np.conj(np.swapaxes(x, -1, -2)) @ x)[..., -1]
-        mimo[s:s + c] = 1.0 / np.sqrt(np.maximum(top, 0.0).max(axis=1))
+        mimo[s:s + c] = 1.0 / peak_refined(np.sqrt(np.maximum(top, 0.0)), omega)
         t = _lft_or_nominal(tw, dv, range(1 + nu), [0], range(1 + nu, 1 + nu + r), range(1, 1 + r))[:, :, :, 0]
         peak[s:s + c] = peak_refined(np.abs(t[:, :, 0]), omega)
         effort[s:s + c] = np.abs(t[:, :, 1:]).max(axis=(1, 2))
     return {"disk_margin": loops.min(axis=1), "loop_disk_margin": loops, "mimo_disk_margin": mimo, "peak": peak,
             "effort": effort}
+
+
+def _closed_response(closed: tuple[np.ndarray, ...], rows: Sequence[int], cols: Sequence[int], omega: np.ndarray,
+                     modes: tuple[np.ndarray, np.ndarray] | None) -> np.ndarray:
+    """(rows, cols, nf) response of the closed loop: from its modes when known (a diagonal sum), else
+    the state-space evaluator."""
+    from ..frequency.statespace_response import Evaluator
+
+    A, B, C, D = closed
+    if modes is None:
+        import control
+
+        return Evaluator(control.ss(A, B, C, D), outputs=list(rows), inputs=list(cols))(omega)
+    lam, V = modes
+    vb = np.linalg.solve(V, B[:, list(cols)])
+    cv = C[list(rows)] @ V
+    res = 1.0 / (1j * omega[None, :] - lam[:, None])                   # (n, nf)
+    return np.einsum("ak,kf,kb->abf", cv, res, vb) + D[np.ix_(list(rows), list(cols))][:, :, None]
 
 
 def _lft_or_nominal(h: np.ndarray, delta: np.ndarray, rows: Any, cols: Any, t_out: Any, t_in: Any) -> np.ndarray:
