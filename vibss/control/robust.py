@@ -273,18 +273,26 @@ def _pole_metrics(poles: np.ndarray, held: np.ndarray) -> tuple[np.ndarray, np.n
 
 
 def _grid(poles: np.ndarray, frequencies: Any) -> np.ndarray:
-    """[rad/s]: the user's frequencies [Hz], or 400 log points around the solved poles (peaks are
-    refined between them)."""
+    """[rad/s]: the user's frequencies [Hz], or :func:`default_grid` of the solved poles (peaks are
+    refined between the points)."""
     if frequencies is not None:
         f = np.asarray(frequencies, dtype=float).ravel()
         if f.size < 3 or not np.all(np.isfinite(f)) or np.any(f <= 0):
             raise ArgumentError("robustness: frequencies: expected at least 3 frequencies > 0 [Hz]",
                                 argument="frequencies", received=frequencies)
         return 2 * np.pi * np.unique(f)
+    return default_grid(poles, 400)
+
+
+def default_grid(poles: np.ndarray, n: int) -> np.ndarray:
+    """``n`` log-spaced frequencies [rad/s] from a hundredth of the smallest nonzero pole magnitude to
+    three times the largest, and 0 (the static response, where an isolator's transmissibility is 1)
+    unless a pole sits there."""
     mags = np.abs(poles)
-    mags = mags[mags > 1e-9 * max(mags.max(initial=1.0), 1.0)]
-    lo, hi = (mags.min() / 10, mags.max() * 3) if mags.size else (0.1, 1e4)
-    return np.geomspace(lo, hi, 400)
+    nonzero = mags > 1e-9 * max(mags.max(initial=1.0), 1.0)
+    lo, hi = (mags[nonzero].min() / 100, mags[nonzero].max() * 3) if nonzero.any() else (0.01, 1e4)
+    grid = np.geomspace(lo, hi, n)
+    return np.r_[0.0, grid] if nonzero.all() else grid
 
 
 def _axes(model: Model, params: tuple[Parameter, ...]) -> list[tuple[int, int]]:
@@ -369,7 +377,7 @@ def robustness(plant: Any, controller: Any, tolerances: Mapping[Any, float], n: 
     channel : (str, str) or None
         (disturbance, output) of the peak transmissibility; default the first of each.
     frequencies : array_like or None
-        Grid of the margins and peaks [Hz]; default 400 log points from a tenth of the lowest
+        Grid of the margins and peaks [Hz]; default 0 and 400 log points from a hundredth of the lowest
         closed-loop pole to three times the highest solved one.
     corners : int
         Corners: all ``2^p`` when ``p <= corners`` parameters, else the ``2^corners`` corners of

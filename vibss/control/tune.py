@@ -259,7 +259,7 @@ class _Problem:
 
     def __init__(self, plant: Any, structure: str, pr: list[tuple[str, str]], goals: tuple[Goal, ...],
                  tolerances: Mapping[Any, float] | None, states: int, tau: float) -> None:
-        from .robust import _axes, _corners
+        from .robust import _axes, _corners, default_grid
 
         self.plant, self.structure, self.pr, self.goals, self.states, self.tau = plant, structure, pr, goals, states, tau
         model = plant.model
@@ -284,10 +284,7 @@ class _Problem:
         else:
             self.axes, self.delta = [], np.zeros((1, 0))
         self.P = extended_plant(plant, self.axes)
-        poles = np.linalg.eigvals(np.asarray(plant.A, dtype=float))
-        mags = np.abs(poles)
-        mags = mags[mags > 1e-9 * max(mags.max(initial=1.0), 1.0)]
-        self.omega = np.geomspace(mags.min() / 10, mags.max() * 3, 800) if mags.size else np.geomspace(0.1, 1e4, 800)
+        self.omega = default_grid(np.linalg.eigvals(np.asarray(plant.A, dtype=float)), 800)
         self.channels = list(dict.fromkeys(g.channel for g in goals)) or [None]
         if None not in self.channels:
             self.channels.append(None)              # the effort objective's channel
