@@ -104,3 +104,15 @@ def test_figure_and_table(tmp_path) -> None:
     fig = r.plot()
     assert len(fig.axes) == 3 and all(a.get_xlabel() for a in fig.axes)
     assert r.to_pandas().shape == (32, 7) and r.to_dict()["n"] == 30
+
+
+def test_cli_robust(capsys, tmp_path) -> None:
+    from vibss.cli import main
+
+    png = tmp_path / "r.png"
+    assert main(["control", "--example", "platform", "--robust", "0.2", "--variants", "20",
+                 "--robust-plot", str(png)]) == 0
+    out = capsys.readouterr().out
+    assert "Robustness over 20 variants + 64 corners" in out and "P(stable) = 1.0000" in out
+    assert png.stat().st_size > 0
+    assert main(["control", "--example", "platform", "--robust", "1.5"]) == 2
