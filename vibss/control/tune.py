@@ -413,9 +413,18 @@ def tune(plant: Any, structure: str, goals: Sequence[Any], *, tolerances: Mappin
         if not np.all(np.isfinite(s0)) or np.any(s0 <= 0):
             raise ArgumentError("tune: start: expected parameters > 0", argument="start", received=start)
         x0 = np.log10(s0).ravel()
-    res1 = minimize(prob.violation, x0, method="Nelder-Mead",
+    best = {"x": x0, "v": prob.violation(x0)}
+
+    def met(xk: np.ndarray) -> None:                 # stop phase 1 as soon as every goal holds
+        v = prob.violation(xk)
+        if v < best["v"]:
+            best.update(x=np.array(xk), v=v)
+        if v == 0.0:
+            raise StopIteration
+
+    res1 = minimize(prob.violation, x0, method="Nelder-Mead", callback=met,
                     options={"maxiter": maxiter * len(x0), "xatol": 1e-6, "fatol": 1e-14})
-    x = res1.x
+    x = res1.x if prob.violation(res1.x) <= best["v"] else best["x"]
     note = f"phase 1 (Nelder-Mead on the violations): {prob.violation(x):.3g} left"
     if prob.violation(x) == 0.0:
         x = _least_effort(prob, x, maxiter)
