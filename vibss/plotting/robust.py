@@ -84,10 +84,10 @@ def plot_noise_budget(b: Any, ax: Any = None, output: str | None = None) -> Figu
     o = 0 if output is None else list(b.outputs).index(output)
     f = b.frequency_hz
     unit = b.units[o]
-    for k, src in enumerate(b.sources):
-        ax.loglog(f, np.sqrt(np.maximum(b.psd[o, k], 1e-300)), lw=1.2, label=src)
     total = b.total[o]
-    ax.loglog(f, np.sqrt(np.maximum(total, 1e-300)), color="k", lw=2.0, label="total")
+    ax.loglog(f, np.sqrt(np.maximum(total, 1e-300)), color="0.4", lw=4.0, alpha=0.45, label="total")
+    for k, src in enumerate(b.sources):         # over the total, so a dominant source stays visible
+        ax.loglog(f, np.sqrt(np.maximum(b.psd[o, k], 1e-300)), lw=1.2, label=src)
     rms = b.cumulative_rms[o]
     ax.loglog(f, rms, color="k", ls="--", lw=1.0, label=f"cumulative RMS ({b.rms_total[o]:.3g} {unit})")
     ax.set_xlabel("frequency [Hz]")
