@@ -38,7 +38,7 @@ import numpy as np
 
 from .._validate import choice, integer
 from ..design.parameters import current_values, parameters_of
-from ..errors import ArgumentError, ControlDesignError
+from ..errors import ArgumentError, ControlDesignError, VibssError
 from ..methods import Check
 from ..results import Result, TextTable, jsonable
 from .designs import _ALL_KINDS, _sign, pairs as find_pairs
@@ -420,7 +420,7 @@ def tune(plant: Any, structure: str, goals: Sequence[Any], *, tolerances: Mappin
         if v < best["v"]:
             best.update(x=np.array(xk), v=v)
         if v == 0.0:
-            raise StopIteration
+            raise _GoalsMet("every goal holds")
 
     res1 = minimize(prob.violation, x0, method="Nelder-Mead", callback=met,
                     options={"maxiter": maxiter * len(x0), "xatol": 1e-6, "fatol": 1e-14})
@@ -442,6 +442,10 @@ def tune(plant: Any, structure: str, goals: Sequence[Any], *, tolerances: Mappin
     return Tuning(controller=K, closed=cl, structure=structure, parameters=params, goals=gl, achieved=achieved,
                   met=met, effort=prob.effort(x), variants=prob.delta.shape[0], nfev=prob.nfev, check=chk,
                   note=note + f"; metrics on {prob.omega.size} frequencies (peaks refined by a parabola)")
+
+
+class _GoalsMet(VibssError, StopIteration):
+    """Ends phase 1 from its callback (scipy stops a minimiser on a StopIteration from the callback)."""
 
 
 def _least_effort(prob: _Problem, x: np.ndarray, maxiter: int) -> np.ndarray:
