@@ -289,7 +289,7 @@ class _Problem:
         if None not in self.channels:
             self.channels.append(None)              # the effort objective's channel
         self.h: np.ndarray | None = None
-        self.cache: dict[bytes, dict[str, float]] = {}
+        self.cache: dict[bytes, dict[Any, Any]] = {}
         self.nfev = 0
 
     def values(self, x: np.ndarray) -> np.ndarray:
@@ -298,7 +298,7 @@ class _Problem:
     def controller(self, x: np.ndarray) -> Controller:
         return build_controller(self.plant, self.structure, self.pr, self.values(x), self.tau)
 
-    def metrics(self, x: np.ndarray) -> dict[str, Any]:
+    def metrics(self, x: np.ndarray) -> dict[Any, Any]:
         """Worst metric over the set per (metric, channel), ``unstable`` the largest pole real part."""
         from .robust import _channel, _pole_metrics
 
@@ -311,7 +311,7 @@ class _Problem:
         poles, held, _ = reduced_poles(ext.closed, ext.f_in, ext.d_out, self.delta, self.states)
         allp = np.concatenate([poles, np.broadcast_to(held, (poles.shape[0], held.size))], axis=1)
         mag = np.maximum(np.abs(allp), 1.0)
-        out: dict[str, Any] = {"unstable": float((allp.real / mag).max())}
+        out: dict[Any, Any] = {"unstable": float((allp.real / mag).max())}
         stable, zeta = _pole_metrics(poles, held)
         out["damping"] = float(zeta.min())
         if not stable.all():
@@ -331,7 +331,7 @@ class _Problem:
         self.cache[key] = out
         return out
 
-    def value(self, g: Goal, m: dict[str, Any]) -> float:
+    def value(self, g: Goal, m: dict[Any, Any]) -> float:
         return float(m["damping"] if g.metric == "damping" else m[(g.metric, g.channel)])
 
     def excesses(self, x: np.ndarray) -> np.ndarray:
@@ -415,14 +415,14 @@ def tune(plant: Any, structure: str, goals: Sequence[Any], *, tolerances: Mappin
         x0 = np.log10(s0).ravel()
     best = {"x": x0, "v": prob.violation(x0)}
 
-    def met(xk: np.ndarray) -> None:                 # stop phase 1 as soon as every goal holds
+    def stop_when_met(xk: np.ndarray) -> None:       # stop phase 1 as soon as every goal holds
         v = prob.violation(xk)
         if v < best["v"]:
             best.update(x=np.array(xk), v=v)
         if v == 0.0:
             raise _GoalsMet("every goal holds")
 
-    res1 = minimize(prob.violation, x0, method="Nelder-Mead", callback=met,
+    res1 = minimize(prob.violation, x0, method="Nelder-Mead", callback=stop_when_met,
                     options={"maxiter": maxiter * len(x0), "xatol": 1e-6, "fatol": 1e-14})
     x = res1.x if prob.violation(res1.x) <= best["v"] else best["x"]
     note = f"phase 1 (Nelder-Mead on the violations): {prob.violation(x):.3g} left"

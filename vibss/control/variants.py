@@ -329,10 +329,58 @@ def frequency_metrics(ext: Extended, controller: Any, delta: np.ndarray, omega: 
         top = np.linalg.eigvalsh(np.conj(np.swapaxes(x, -1, -2)) @ x)[..., -1]
         mimo[s:s + c] = 1.0 / peak_refined(np.sqrt(np.maximum(top, 0.0)), omega)
         t = _lft_or_nominal(tw, dv, range(1 + nu), [0], range(1 + nu, 1 + nu + r), range(1, 1 + r))[:, :, :, 0]
-        peak[s:s + c] = peak_refined(np.abs(t[:, :, 0]), omega)
+        peak[s:s + c] = _peak_search(ext.closed, modes, [channel[1], *ext.d_out], [channel[0], *ext.f_in], dv,
+                                     np.abs(t[:, :, 0]), omega)
         effort[s:s + c] = np.abs(t[:, :, 1:]).max(axis=(1, 2))
     return {"disk_margin": loops.min(axis=1), "loop_disk_margin": loops, "mimo_disk_margin": mimo, "peak": peak,
             "effort": effort}
+
+
+def _peak_search(closed: tuple[np.ndarray, ...], modes: tuple[np.ndarray, np.ndarray] | None, rows: list[int],
+                 cols: list[int], delta: np.ndarray, mag: np.ndarray, omega: np.ndarray, steps: int = 6) -> np.ndarray:
+    """(N,) peak of ``|T|`` of each variant: its largest grid sample, then successive parabolic steps in
+    ``w^2`` on ``1 / |T|^2`` with the response evaluated exactly at each new frequency (one per variant
+    and step), kept inside the grid neighbours of the largest sample."""
+    n = mag.shape[0]
+    i = np.clip(np.argmax(mag, axis=1), 1, mag.shape[1] - 2)
+    rws = np.arange(n)
+    x = np.stack([omega[i - 1], omega[i], omega[i + 1]], axis=1) ** 2
+    y = 1.0 / np.maximum(np.stack([mag[rws, i - 1], mag[rws, i], mag[rws, i + 1]], axis=1), 1e-300) ** 2
+    best = mag.max(axis=1)
+    for _ in range(steps):
+        d1 = (y[:, 1] - y[:, 0]) / (x[:, 1] - x[:, 0])
+        d2 = ((y[:, 2] - y[:, 1]) / (x[:, 2] - x[:, 1]) - d1) / (x[:, 2] - x[:, 0])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            xm = 0.5 * (x[:, 0] + x[:, 1]) - d1 / (2 * d2)
+        ok = (d2 > 0) & np.isfinite(xm) & (xm > x[:, 0]) & (xm < x[:, 2]) & (np.abs(xm - x[:, 1]) > 1e-12 * x[:, 1])
+        if not ok.any():
+            break
+        wm = np.sqrt(np.where(ok, xm, x[:, 1]))
+        ym = 1.0 / np.maximum(np.abs(_response_at(closed, modes, rows, cols, delta, wm)), 1e-300) ** 2
+        best = np.where(ok, np.maximum(best, 1.0 / np.sqrt(ym)), best)
+        left = xm < x[:, 1]
+        better = ym < y[:, 1]
+        nx, ny = x.copy(), y.copy()
+        for mask, a in ((left & better, (0, None, 1)), (left & ~better, (None, 1, 2)),
+                        (~left & better, (1, None, 2)), (~left & ~better, (0, 1, None))):
+            m = mask & ok
+            for k, src in enumerate(a):
+                nx[m, k] = xm[m] if src is None else x[m, src]
+                ny[m, k] = ym[m] if src is None else y[m, src]
+        x, y = nx, ny
+    return best
+
+
+def _response_at(closed: tuple[np.ndarray, ...], modes: tuple[np.ndarray, np.ndarray] | None, rows: list[int],
+                 cols: list[int], delta: np.ndarray, w: np.ndarray) -> np.ndarray:
+    """(N,) ``T_v(i w_v)`` of channel ``rows[0] <- cols[0]`` of each variant ``v`` at its own frequency."""
+    h = _closed_response(closed, rows, cols, w, modes)                 # (1 + r, 1 + r, N)
+    if delta.shape[1] == 0:
+        return h[0, 0]
+    hrc, hrt, htc, htt = h[0, 0], h[0, 1:].T, h[1:, 0].T, np.moveaxis(h[1:, 1:], -1, 0)
+    r = delta.shape[1]
+    x = np.linalg.solve(np.eye(r)[None] + htt * delta[:, None, :], htc[:, :, None])[:, :, 0]
+    return hrc - np.einsum("nr,nr,nr->n", hrt, delta, x)
 
 
 def _closed_response(closed: tuple[np.ndarray, ...], rows: Sequence[int], cols: Sequence[int], omega: np.ndarray,
