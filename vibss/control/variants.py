@@ -310,7 +310,8 @@ def frequency_metrics(ext: Extended, controller: Any, delta: np.ndarray, omega: 
     kw = np.moveaxis(Evaluator(controller)(omega), -1, 0)                 # (nf, nu, ny)
     cmd = list(range(len(ext.outputs) - nu, len(ext.outputs)))
     rows, cols = [channel[1], *cmd, *ext.d_out], [channel[0], *ext.f_in]
-    tw = _closed_response(ext.closed, rows, cols, omega, modes)
+    tw = _closed_response(ext.closed, rows, cols, modes)(omega)
+    at = _closed_response(ext.closed, [channel[1], *ext.d_out], [channel[0], *ext.f_in], modes)
     nv, nf = delta.shape[0], omega.size
     loops = np.empty((nv, nu))
     mimo = np.empty(nv)
@@ -329,18 +330,17 @@ def frequency_metrics(ext: Extended, controller: Any, delta: np.ndarray, omega: 
         top = np.linalg.eigvalsh(np.conj(np.swapaxes(x, -1, -2)) @ x)[..., -1]
         mimo[s:s + c] = 1.0 / peak_refined(np.sqrt(np.maximum(top, 0.0)), omega)
         t = _lft_or_nominal(tw, dv, range(1 + nu), [0], range(1 + nu, 1 + nu + r), range(1, 1 + r))[:, :, :, 0]
-        peak[s:s + c] = _peak_search(ext.closed, modes, [channel[1], *ext.d_out], [channel[0], *ext.f_in], dv,
-                                     np.abs(t[:, :, 0]), omega)
+        peak[s:s + c] = _peak_search(at, dv, np.abs(t[:, :, 0]), omega)
         effort[s:s + c] = np.abs(t[:, :, 1:]).max(axis=(1, 2))
     return {"disk_margin": loops.min(axis=1), "loop_disk_margin": loops, "mimo_disk_margin": mimo, "peak": peak,
             "effort": effort}
 
 
-def _peak_search(closed: tuple[np.ndarray, ...], modes: tuple[np.ndarray, np.ndarray] | None, rows: list[int],
-                 cols: list[int], delta: np.ndarray, mag: np.ndarray, omega: np.ndarray, steps: int = 6) -> np.ndarray:
+def _peak_search(at: Any, delta: np.ndarray, mag: np.ndarray, omega: np.ndarray, steps: int = 6) -> np.ndarray:
     """(N,) peak of ``|T|`` of each variant: its largest grid sample, then successive parabolic steps in
     ``w^2`` on ``1 / |T|^2`` with the response evaluated exactly at each new frequency (one per variant
-    and step), kept inside the grid neighbours of the largest sample."""
+    and step), kept inside the grid neighbours of the largest sample. ``at(w)`` is the nominal closed
+    loop's (1 + r, 1 + r, len(w)) response of the channel and the rate channels."""
     n = mag.shape[0]
     i = np.clip(np.argmax(mag, axis=1), 1, mag.shape[1] - 2)
     rws = np.arange(n)
@@ -356,7 +356,7 @@ def _peak_search(closed: tuple[np.ndarray, ...], modes: tuple[np.ndarray, np.nda
         if not ok.any():
             break
         wm = np.sqrt(np.where(ok, xm, x[:, 1]))
-        ym = 1.0 / np.maximum(np.abs(_response_at(closed, modes, rows, cols, delta, wm)), 1e-300) ** 2
+        ym = 1.0 / np.maximum(np.abs(_response_at(at, delta, wm)), 1e-300) ** 2
         best = np.where(ok, np.maximum(best, 1.0 / np.sqrt(ym)), best)
         left = xm < x[:, 1]
         better = ym < y[:, 1]
@@ -371,10 +371,9 @@ def _peak_search(closed: tuple[np.ndarray, ...], modes: tuple[np.ndarray, np.nda
     return best
 
 
-def _response_at(closed: tuple[np.ndarray, ...], modes: tuple[np.ndarray, np.ndarray] | None, rows: list[int],
-                 cols: list[int], delta: np.ndarray, w: np.ndarray) -> np.ndarray:
-    """(N,) ``T_v(i w_v)`` of channel ``rows[0] <- cols[0]`` of each variant ``v`` at its own frequency."""
-    h = _closed_response(closed, rows, cols, w, modes)                 # (1 + r, 1 + r, N)
+def _response_at(at: Any, delta: np.ndarray, w: np.ndarray) -> np.ndarray:
+    """(N,) ``T_v(i w_v)`` of the channel of each variant ``v`` at its own frequency."""
+    h = at(w)                                                          # (1 + r, 1 + r, N)
     if delta.shape[1] == 0:
         return h[0, 0]
     hrc, hrt, htc, htt = h[0, 0], h[0, 1:].T, h[1:, 0].T, np.moveaxis(h[1:, 1:], -1, 0)
@@ -383,22 +382,27 @@ def _response_at(closed: tuple[np.ndarray, ...], modes: tuple[np.ndarray, np.nda
     return hrc - np.einsum("nr,nr,nr->n", hrt, delta, x)
 
 
-def _closed_response(closed: tuple[np.ndarray, ...], rows: Sequence[int], cols: Sequence[int], omega: np.ndarray,
-                     modes: tuple[np.ndarray, np.ndarray] | None) -> np.ndarray:
-    """(rows, cols, nf) response of the closed loop: from its modes when known (a diagonal sum), else
-    the state-space evaluator."""
+def _closed_response(closed: tuple[np.ndarray, ...], rows: Sequence[int], cols: Sequence[int],
+                     modes: tuple[np.ndarray, np.ndarray] | None) -> Any:
+    """``w -> (rows, cols, len(w))`` response of the closed loop [rad/s]: a diagonal sum over its modes
+    when known (projected once), else the state-space evaluator."""
     from ..frequency.statespace_response import Evaluator
 
     A, B, C, D = closed
     if modes is None:
         import control
 
-        return Evaluator(control.ss(A, B, C, D), outputs=list(rows), inputs=list(cols))(omega)
+        return Evaluator(control.ss(A, B, C, D), outputs=list(rows), inputs=list(cols))
     lam, V = modes
     vb = np.linalg.solve(V, B[:, list(cols)])
     cv = C[list(rows)] @ V
-    res = 1.0 / (1j * omega[None, :] - lam[:, None])                   # (n, nf)
-    return np.einsum("ak,kf,kb->abf", cv, res, vb) + D[np.ix_(list(rows), list(cols))][:, :, None]
+    d = D[np.ix_(list(rows), list(cols))][:, :, None]
+
+    def h(w: np.ndarray) -> np.ndarray:
+        res = 1.0 / (1j * np.asarray(w, dtype=float)[None, :] - lam[:, None])      # (n, nf)
+        return np.einsum("ak,kf,kb->abf", cv, res, vb) + d
+
+    return h
 
 
 def _lft_or_nominal(h: np.ndarray, delta: np.ndarray, rows: Any, cols: Any, t_out: Any, t_in: Any) -> np.ndarray:
