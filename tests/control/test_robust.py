@@ -106,6 +106,7 @@ def test_figure_and_table(tmp_path) -> None:
     assert r.to_pandas().shape == (32, 7) and r.to_dict()["n"] == 30
 
 
+@pytest.mark.slow
 def test_cli_robust(capsys, tmp_path) -> None:
     from vibss.cli import main
 
@@ -116,6 +117,12 @@ def test_cli_robust(capsys, tmp_path) -> None:
     assert "Robustness over 20 variants + 64 corners" in out and "P(stable) = 1.0000" in out
     assert png.stat().st_size > 0
     assert main(["control", "--example", "platform", "--robust", "1.5"]) == 2
+    capsys.readouterr()
+    assert main(["control", "--example", "platform", "--robust", "0.1", "--variants", "5", "--format", "json"]) == 0
+    import json
+
+    doc = json.loads(capsys.readouterr().out)                 # one document: the loop and its robustness
+    assert doc["robustness"]["n"] == 5 and "margins" in doc["control"]
 
 
 def test_held_poles_are_checked() -> None:

@@ -52,16 +52,24 @@ def run(args: argparse.Namespace) -> int:
         raise ArgumentError(f"--variants: expected a count >= 1, got {args.variants}", argument="variants",
                             received=args.variants)
     r = run_control(model)
-    emit(r, args.format)
+    if args.robust is None or args.format != "json":
+        emit(r, args.format)
     if args.plot:
         r.plot().savefig(args.plot, dpi=110, bbox_inches="tight")
         print(f"figure written to {args.plot}", file=sys.stderr)
     if args.robust is not None:
+        import json
+
         from ..control.robust import robustness
+        from ..results import jsonable
 
         tol = {f"{m.name}.k{j + 1}": args.robust for m in model.mounts for j in range(3) if m.type.stiffness[j] > 0}
         rob = robustness(r.loop.plant, r.loop.controller, tol, n=args.variants)
-        emit(rob, args.format)
+        if args.format == "json":             # one JSON document: the loop and its robustness
+            print(json.dumps(jsonable({"control": r.to_dict(), "robustness": rob.to_dict()}), indent=2,
+                             allow_nan=False))
+        else:
+            emit(rob, args.format)
         if args.robust_plot:
             rob.plot().savefig(args.robust_plot, dpi=110, bbox_inches="tight")
             print(f"figure written to {args.robust_plot}", file=sys.stderr)
