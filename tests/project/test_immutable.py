@@ -114,6 +114,9 @@ def control_objects() -> dict[str, Any]:
         "semi-active": vc.clipped_skyhook(Pv, {"ground.z.vel": vibss.HalfSine(0.2, start=0.0, duration=0.02)},
                                           end=0.1, step=1e-3, c_sky=400.0, c_min=5.0, c_max=300.0),
         "control study": run_control(vibss.load_example("platform")),
+        "robustness": vc.robustness(Pv, vc.skyhook(Pv, 150.0), {"m.k3": 0.2}, n=5),
+        "tuning": vc.tune(Pv, "skyhook", [("damping", ">=", 0.2)], maxiter=20),
+        "noise budget": cl.noise_budget(["b.z.acc"], [1.0, 2.0], noise={"sensor.rv": 1e-10}),
     }
 
 

@@ -15,7 +15,7 @@ from cases import ROOT
 
 EXAMPLES = ROOT / "examples"
 
-NOTEBOOKS = ["active_isolation.ipynb", "frf_transmissibility.ipynb", "mount_design.ipynb",
+NOTEBOOKS = ["active_isolation.ipynb", "frf_transmissibility.ipynb", "insight_engine.ipynb", "mount_design.ipynb",
              "mount_stiffness_study.ipynb", "shock_study.ipynb"]
 
 

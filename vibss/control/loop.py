@@ -242,6 +242,28 @@ class ClosedLoop(Result):
 
         return demand(self, environment, outputs, **kwargs)
 
+    def noise_budget(self, outputs: Sequence[str], frequencies: Any, *, ground: Any = None,
+                     disturbances: Any = None, noise: Any = None) -> Any:
+        """Each sensor noise's PSD contribution to the outputs beside the ground motion's, with RMS
+        values (:func:`vibss.control.noise.noise_budget`).
+
+        Parameters
+        ----------
+        outputs : sequence of str
+            Output signals (payload motion, commands).
+        frequencies : array_like
+            Frequencies [Hz], increasing.
+        ground : PSD spec or None
+            PSD of the plant's ground motion [unit^2/Hz] (constant, function of frequency, or table).
+        disturbances : mapping or None
+            ``{disturbance: PSD spec}`` instead of ``ground``.
+        noise : mapping or None
+            ``{measurement: PSD spec}``, overriding the sensors' own ``noise``.
+        """
+        from .noise import noise_budget
+
+        return noise_budget(self, outputs, frequencies, ground=ground, disturbances=disturbances, noise=noise)
+
     def plot_transmissibility(self, inputs: Sequence[str], outputs: Sequence[str], frequencies: Any = None,
                               ax: Any = None) -> Any:
         """One figure: passive and closed-loop transmissibility magnitude [dB] against frequency [Hz]."""
@@ -304,7 +326,9 @@ class _Loops:
     def q(self, omega: np.ndarray) -> np.ndarray:
         return np.einsum("ijf,jkf->fik", self.K(omega), self.G(omega))     # (nf, nu, nu)
 
-    def loop(self, i: int, q: np.ndarray) -> np.ndarray:
+    @staticmethod
+    def loop(i: int, q: np.ndarray) -> np.ndarray:
+        """(nf,) return ratio ``L_i`` of loop ``i`` from ``q = K G`` (nf, nu, nu), the others closed."""
         n = q.shape[1]
         o = [j for j in range(n) if j != i]
         if not o:

@@ -79,10 +79,14 @@ class GeneralizedPlant(NamedStateSpace):
         SI unit of every input and output (vibss spelling).
     model : Model
         The model it was built from.
+    recipe : dict
+        The arguments of :func:`plant` that built it (a variant of the model is built alike by
+        :func:`vibss.control.robustness`).
     """
 
     groups: dict[str, list[str]]
     units: dict[str, str]
+    recipe: dict[str, Any]
 
     @property
     def nw(self) -> int:
@@ -371,6 +375,11 @@ def plant(model: Model | Assembly, disturbances: Sequence[str] | None = None,
     P.units = units
     P.model = mdl
     P.actuator_elements = acts
+    P.recipe = {"disturbances": list(disturbances or []), "actuators": [a.name for a in acts],
+                "performance": list(performance or []),
+                "measurements": measurements if isinstance(measurements, str) or measurements is None
+                else list(measurements), "noise": noise, "dofs": None if dofs is None else list(dofs),
+                "modal_damping": modal_damping, "ideal_actuators": ideal_actuators, "name": name}
     return P
 
 

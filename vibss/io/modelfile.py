@@ -715,6 +715,9 @@ def _element_dict(x: Actuator | Sensor) -> dict[str, Any]:
     if isinstance(x, Actuator) and x.dynamics is not None:
         raise ModelError(f"actuator {x.name!r}: its dynamics (a python-control system) cannot be "
                          "written to a model file; give a bandwidth [Hz] instead")
+    if isinstance(x, Sensor) and x.noise is not None:
+        raise ModelError(f"sensor {x.name!r}: its noise PSD is not written to model files yet; save the "
+                         "model without it (dataclasses.replace(sensor, noise=None)) and give the noise in Python")
     d: dict[str, Any] = {"name": x.name}
     if isinstance(x, Sensor):
         d["kind"] = x.kind

@@ -34,7 +34,7 @@ from .._validate import is_numeric
 from ..errors import ModelError
 from ._common import GROUND, _frame, _signal_safe, _vec, unit_direction
 
-__all__ = ["Actuator", "Sensor", "SENSOR_KINDS", "ACTUATOR_KINDS"]
+__all__ = ["Actuator", "Sensor", "SENSOR_KINDS", "ACTUATOR_KINDS", "noise_psd"]
 
 ACTUATOR_KINDS = ("force", "moment")
 """What an actuator applies."""
@@ -173,6 +173,11 @@ class Sensor:
         ``mount_force``: the force through it.
     axis : {1, 2, 3} or None
         Local axis of ``mount``.
+    noise : float, callable, (frequency_hz, level) pair or None
+        The measurement noise's one-sided PSD [unit^2/Hz, the sensor's unit]: a constant (white),
+        a function of frequency [Hz] (a :class:`vibss.random.PSD` is one), or a table of levels
+        at frequencies joined log-log (:meth:`noise_psd`); used by
+        :meth:`vibss.control.ClosedLoop.noise_budget`. None: a noiseless sensor.
     """
 
     name: str
@@ -184,9 +189,11 @@ class Sensor:
     to: str | None = None
     mount: str | None = None
     axis: int | None = None
+    noise: Any = None
 
     def __post_init__(self) -> None:
         who = f"sensor {self.name!r}"
+        object.__setattr__(self, "noise", _noise(self.noise, who))
         _element_name(self.name, "sensor")
         if self.kind not in SENSOR_KINDS:
             raise ModelError(f"{who}: kind must be one of {list(SENSOR_KINDS)}, got {self.kind!r}")
@@ -225,6 +232,47 @@ class Sensor:
     def order(self) -> int:
         """Time-derivative order of the measured motion (0 for forces and displacements)."""
         return SENSOR_KINDS[self.kind][1]
+
+    def noise_psd(self, frequency_hz: Any) -> np.ndarray:
+        """The noise PSD at ``frequency_hz`` [Hz] in [unit^2/Hz] (zeros for a noiseless sensor)."""
+        return noise_psd(self.noise, frequency_hz)
+
+
+def _noise(value: Any, who: str) -> Any:
+    """A sensor's noise: None, a constant >= 0, a callable, or a (frequency_hz, level) table."""
+    if value is None or callable(value):
+        return value
+    if is_numeric(value) and np.ndim(value) == 0:
+        if not np.isfinite(value) or value < 0:
+            raise ModelError(f"{who}: noise: a constant PSD must be finite and >= 0 [unit^2/Hz], got {value!r}")
+        return float(value)
+    try:
+        f, lev = (np.asarray(x, dtype=float).ravel() for x in value)
+    except (TypeError, ValueError):
+        f = lev = np.zeros(0)
+    if (f.size < 2 or f.shape != lev.shape or not np.all(np.isfinite(f)) or not np.all(np.isfinite(lev))
+            or np.any(f <= 0) or np.any(np.diff(f) <= 0) or np.any(lev <= 0)):
+        raise ModelError(f"{who}: noise: expected a PSD [unit^2/Hz]: a constant, a function of frequency [Hz], "
+                         "or (frequency_hz, level) with at least 2 increasing frequencies > 0 and levels > 0, "
+                         f"got {value!r}")
+    f.setflags(write=False)
+    lev.setflags(write=False)
+    return (f, lev)
+
+
+def noise_psd(spec: Any, frequency_hz: Any) -> np.ndarray:
+    """A noise PSD spec (as :class:`Sensor`'s ``noise``) at ``frequency_hz`` [Hz]: a table is
+    joined log-log and held flat beyond its ends."""
+    f = np.asarray(frequency_hz, dtype=float)
+    if spec is None:
+        return np.zeros_like(f)
+    if callable(spec):
+        return np.broadcast_to(np.asarray(spec(f), dtype=float), f.shape).copy()
+    if isinstance(spec, float):
+        return np.full_like(f, spec)
+    ft, lev = spec
+    x = np.log(np.clip(f, ft[0], ft[-1]))
+    return np.exp(np.interp(x, np.log(ft), np.log(lev)))
 
 
 def _placement(e: Any, who: str, needs_body: bool) -> None:
