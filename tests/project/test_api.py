@@ -29,8 +29,9 @@ LAYERS = [
     {"linear", "modal"},
     {"frequency.kernels", "frequency.contracts", "frequency.lowrank", "frequency.terms", "frequency.grid",
      "frequency.statespace_kernels",
-     "time.kernels", "time.branched", "time.inputs", "time.sampling", "time.drift", "studies"},
-    {"frequency", "time", "reduction", "design", "shock", "orders", "random", "control", "nonlinear", "insight"},
+     "time.kernels", "time.branched", "time.inputs", "time.sampling", "time.drift", "studies", "measured.kernels"},
+    {"frequency", "time", "reduction", "design", "shock", "orders", "random", "control", "nonlinear", "insight",
+     "measured"},
     {"plotting", "report"},
     {"commands", "cli", "__main__"},
 ]
