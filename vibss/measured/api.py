@@ -67,6 +67,13 @@ def _stiffness(frequencies: Any, dynamic_stiffness: Any, loss_factor: Any) -> tu
     return f, k.copy()
 
 
+def _other(kind: str, order: int) -> str:
+    """What to try when ``kind`` misses the data."""
+    if kind == "prony":
+        return f"more terms (order={order + 1}) or type='fractional'"
+    return "type='prony' (Maxwell terms, order=...)" + (" or type='fractional'" if kind == "zener" else "")
+
+
 def fit_rheology(frequencies: npt.ArrayLike, dynamic_stiffness: npt.ArrayLike, type: str = "zener",
                  order: int | None = None, *, loss_factor: npt.ArrayLike | None = None,
                  tolerance: float = FIT_TOLERANCE) -> RheologyFit:
@@ -161,6 +168,5 @@ def fit_rheology(frequencies: npt.ArrayLike, dynamic_stiffness: npt.ArrayLike, t
         j = int(np.argmax(rms))
         warnings.warn(f"{_WHO}: the {kind} law misses the data: RMS log error {rms[j]:.3g} on axis {j + 1} "
                       f"(up to {error[j].max():.3g} at {f[int(np.argmax(error[j]))]:g} Hz) exceeds the tolerance "
-                      f"{tol:g}; the data is not from this law: try type='prony' with more terms or "
-                      "type='fractional'", VibssWarning, stacklevel=2)
+                      f"{tol:g}; the data is not from this law: try {_other(kind, n)}", VibssWarning, stacklevel=2)
     return RheologyFit(rheology, kind, n, f, k, fitted, error, rms, tol, spent, note=note)

@@ -13,8 +13,8 @@ __all__ = ["plot_rheology_fit"]
 
 
 def plot_rheology_fit(fit: Any, ax: Any = None) -> Figure:
-    """|k*| [N/m] and the loss factor [-] of the data (markers) and the fitted law (lines) per
-    axis, and the fit error ``|log(k_fit / k_data)|`` [-] against frequency [Hz].
+    """|k*| [N/m] and the loss factor [-] of the data (markers) and the fitted law (lines, over the
+    data's band) per axis, and the fit error ``|log(k_fit / k_data)|`` [-] against frequency [Hz].
 
     Parameters
     ----------
@@ -34,6 +34,8 @@ def plot_rheology_fit(fit: Any, ax: Any = None) -> Figure:
         axes = list(np.atleast_1d(ax))
         fig = axes[0].figure
     f = fit.frequency_hz
+    fine = np.geomspace(f[0], f[-1], 400)               # the fitted law between the data points
+    law = np.asarray(fit.rheology.dynamic_stiffness(2 * np.pi * fine)).T
     groups: list[list[int]] = []                       # axes with the same data and fit: drawn once
     for j in range(3):
         same = [g for g in groups if np.array_equal(fit.data[j], fit.data[g[0]])
@@ -43,12 +45,12 @@ def plot_rheology_fit(fit: Any, ax: Any = None) -> Figure:
         j = group[0]
         axis = ", ".join(fit.output_labels[i] for i in group)
         c = f"C{n}"
-        d, k = fit.data[j], fit.fitted[j]
+        d, k = fit.data[j], law[j]
         axes[0].loglog(f, np.abs(d), "o", color=c, ms=4, mfc="none", label=f"{axis} data")
-        axes[0].loglog(f, np.abs(k), "-", color=c, label=f"{axis} {fit.type} fit")
+        axes[0].loglog(fine, np.abs(k), "-", color=c, label=f"{axis} {fit.type} fit")
         axes[1].semilogx(f, d.imag / d.real, "o", color=c, ms=4, mfc="none")
-        axes[1].semilogx(f, k.imag / k.real, "-", color=c)
-        axes[2].loglog(f, np.maximum(fit.error[j], 1e-17), "-", color=c,
+        axes[1].semilogx(fine, k.imag / k.real, "-", color=c)
+        axes[2].loglog(f, np.maximum(fit.error[j], 1e-17), ".-", color=c,
                        label=f"{axis}: RMS {fit.rms_error[j]:.2g}")
     axes[2].axhline(fit.tolerance, color="k", ls=":", lw=1, label=f"tolerance {fit.tolerance:g}")
     axes[0].set_ylabel("|k*| [N/m]")
