@@ -77,3 +77,31 @@ def test_frequencies_must_match_and_points_must_be_mounts_to_ground():
         vibss.frequency_response(m, INPUTS, OUTPUTS, foundation=Foundation(F, np.zeros((3, 3, F.size)), ["m9"]))
     with pytest.raises(ArgumentError, match="Foundation: receptance"):
         Foundation(F, np.zeros((6, 6, F.size)), ["m1"])
+
+
+def test_a_foundation_measured_and_read_from_uff_couples_as_the_model(coupled, tmp_path):
+    """The plate's receptance written to UFF 58 and read back (a "measurement") gives the same coupling."""
+    pytest.importorskip("pyuff")
+    from vibss.io import read_uff, write_uff
+
+    deck = Model([plate()], floor_mounts(), control_points=points())
+    cps = [f"p{n}" for n in CORNERS]
+    frf = vibss.frequency_response(deck, [f"{c}.f{a}" for c in cps for a in "xyz"],
+                                   [f"{c}.{a}" for c in cps for a in "xyz"], frequencies=F)
+    measured = read_uff(write_uff(frf, tmp_path / "deck.uff"))
+    assert measured.method == "measured"
+    found = Foundation.from_response(measured, {n: f"p{n}" for n in CORNERS})
+    again = vibss.frequency_response(Model([engine()], source()), INPUTS, OUTPUTS, foundation=found)
+    assert np.array_equal(again.response, coupled.response)
+    with pytest.raises(vibss.SignalError, match="p9.x"):
+        Foundation.from_response(measured, {"m1": "p9"})
+
+
+def test_blocks_of_frequencies_give_the_same_answer(coupled, monkeypatch):
+    from vibss.measured import fbs
+
+    monkeypatch.setattr(fbs, "CHUNK_BYTES", 16 * 17 * 15 * 7)     # 7 frequencies a block: 4 blocks
+    found = Foundation.from_model(Model([plate()], floor_mounts(), control_points=points()),
+                                  {n: f"p{n}" for n in CORNERS}, F)
+    again = vibss.frequency_response(Model([engine()], source()), INPUTS, OUTPUTS, foundation=found)
+    np.testing.assert_allclose(again.response, coupled.response, rtol=1e-12, atol=1e-14 * np.abs(coupled.response).max())

@@ -41,6 +41,10 @@ __all__ = ["Foundation", "couple", "AXES"]
 AXES = ("x", "y", "z")
 """The translations of each foundation point, in this order."""
 
+CHUNK_BYTES = 2**28
+"""The source's mixed response (outputs and interface forces by inputs and interface motions) is
+computed a block of frequencies at a time, each block at most this size [B] (256 MB)."""
+
 
 @dataclass(frozen=True, eq=False)
 class Foundation(ReadOnly):
@@ -129,13 +133,50 @@ class Foundation(ReadOnly):
         -------
         Foundation
         """
-        if not isinstance(points, Mapping) or not points:
-            raise ArgumentError(f"Foundation.from_model: points: expected a mapping {{mount: control point}}, "
-                                f"got {points!r}", argument="points", received=points)
-        cps = list(points.values())
+        cps = list(_points(points, "Foundation.from_model").values())
         r = frequency_response(model, [f"{c}.f{a}" for c in cps for a in AXES], [f"{c}.{a}" for c in cps for a in AXES],
                                frequencies=np.asarray(frequencies, dtype=float))
-        return cls(r.frequency_hz, r.response, list(points), name)
+        return cls.from_response(r, points, name)
+
+    @classmethod
+    def from_response(cls, response: FrequencyResponse, points: Mapping[str, str],
+                      name: str = "foundation") -> Foundation:
+        """The receptance in a frequency response (measured, read from UFF or CSV, or computed) whose
+        channels are named ``<point>.x|y|z`` (outputs, displacement) by ``<point>.fx|fy|fz`` (inputs).
+
+        Parameters
+        ----------
+        response : FrequencyResponse
+            A receptance [m/N] holding every such channel (others are ignored).
+        points : mapping of str to str
+            Source mount name -> the point's name in the response.
+        name : str
+            Name of the foundation.
+
+        Returns
+        -------
+        Foundation
+
+        Raises
+        ------
+        SignalError
+            A channel the response does not have (named, with did-you-mean).
+        """
+        from .._validate import name_index
+
+        cps = list(_points(points, "Foundation.from_response").values())
+        rows = [name_index(f"{c}.{a}", response.outputs, "outputs", who="Foundation.from_response")
+                for c in cps for a in AXES]
+        cols = [name_index(f"{c}.f{a}", response.inputs, "inputs", who="Foundation.from_response")
+                for c in cps for a in AXES]
+        return cls(response.frequency_hz, np.asarray(response.response)[np.ix_(rows, cols)], list(points), name)
+
+
+def _points(points: Any, who: str) -> Mapping[str, str]:
+    if not isinstance(points, Mapping) or not points:
+        raise ArgumentError(f"{who}: points: expected a mapping {{mount: point}}, got {points!r}",
+                            argument="points", received=points)
+    return points
 
 
 def _on_supports(model: Model, foundation: Foundation) -> tuple[Model, list[str]]:
@@ -204,18 +245,23 @@ def couple(model: Model, foundation: Foundation, inputs: Sequence[Any], outputs:
     zin = [f"{s}.{a}.disp" for s in supports for a in AXES]
     gout = [f"{s}.f{a}" for s in supports for a in AXES]
     outs = [f"{b.name}.{d}" for b in model.bodies for d in DOF_NAMES] if outputs is None else list(outputs)
-    mixed = frequency_response(src, [*inputs, *zin], [*outs, *gout], frequencies=f, method=method)
-    p, m = len(outs), len(mixed.inputs) - len(zin)
     n = len(zin)
-    h = mixed.response
-    hyu, hyz, hgu, hgz = h[:p, :m], h[:p, m:], h[p:, :m], h[p:, m:]
-    y_b = foundation.receptance
-    out = np.empty((p + n, m, f.size), dtype=complex)
-    for k in range(f.size):
-        yb = y_b[:, :, k]
-        z = np.linalg.solve(np.eye(n) - yb @ hgz[:, :, k], yb @ hgu[:, :, k])
-        out[:p, :, k] = hyu[:, :, k] + hyz[:, :, k] @ z
-        out[p:, :, k] = z
+    cells = (len(outs) + n) * (len(list(inputs)) + n)
+    step = max(1, int(CHUNK_BYTES // (16 * cells)))         # the source's solve, a block of frequencies at a time
+    out: np.ndarray | None = None
+    for lo in range(0, f.size, step):
+        part = slice(lo, lo + step)
+        mixed = frequency_response(src, [*inputs, *zin], [*outs, *gout], frequencies=f[part], method=method)
+        p, m = len(outs), len(mixed.inputs) - n
+        if out is None:
+            out = np.empty((p + n, m, f.size), dtype=complex)
+        h = np.moveaxis(mixed.response, 2, 0)                 # (nf, rows, columns): one stacked solve
+        hyu, hyz, hgu, hgz = h[:, :p, :m], h[:, :p, m:], h[:, p:, :m], h[:, p:, m:]
+        yb = np.moveaxis(foundation.receptance[:, :, part], 2, 0)
+        z = np.linalg.solve(np.eye(n)[None] - yb @ hgz, yb @ hgu)
+        out[:p, :, part] = np.moveaxis(hyu + hyz @ z, 0, 2)
+        out[p:, :, part] = np.moveaxis(z, 0, 2)
+    assert out is not None
     power = {"receptance": 0, "mobility": 1, "accelerance": 2}[quantity]
     out *= (2j * np.pi * f) ** power
     from ..model.units import times_s
