@@ -204,7 +204,7 @@ def _on_supports(model: Model, foundation: Foundation) -> tuple[Model, list[str]
     return model.replace(mounts=new, supports=[*model.supports, *(Support(s) for s in names)]), names
 
 
-def couple(model: Model, foundation: Foundation, inputs: Sequence[Any], outputs: Sequence[str] | None,
+def couple(model: Any, foundation: Foundation, inputs: Sequence[Any] | None, outputs: Sequence[str] | None,
            frequencies: Any, quantity: str, method: Any) -> FrequencyResponse:
     """The frequency response of ``model`` standing on ``foundation`` (see the module docstring).
 
