@@ -85,3 +85,19 @@ def test_bad_arguments_and_files_are_named(plant, tmp_path):
     bad.write_text("not a mat file")
     with pytest.raises(ModelFileError, match="not a MAT file"):
         read_matlab(bad)
+
+
+def test_frequency_dependent_mounts_are_in_the_state_space_and_the_file_says_so(tmp_path):
+    from vibss.errors import VibssWarning
+
+    t = vibss.MountType("r", rheology={"type": "zener", "k_0": 1e4, "k_inf": 3e4, "tau": 2e-3})
+    m = vibss.Model([vibss.Body("b", 2.0, [1, 1, 1])], [vibss.Mount("m", t, "b")])
+    with pytest.warns(VibssWarning, match="Maxwell branches"):
+        path = write_matlab(m, tmp_path / "r.mat", inputs=["b.fz"], outputs=["b.z"])
+    back = read_matlab(path)
+    assert "Maxwell branches" in back.note
+    f = np.array([5.0, 20.0, 80.0])
+    ref = vibss.frequency_response(m, ["b.fz"], ["b.z"], frequencies=f).response[0, 0]
+    s = 2j * np.pi * f
+    h = [(back.C @ np.linalg.solve(sk * np.eye(back.A.shape[0]) - back.A, back.B) + back.D)[0, 0] for sk in s]
+    np.testing.assert_allclose(h, ref, rtol=1e-9)

@@ -26,7 +26,11 @@ from ..errors import ArgumentError, ModelFileError
 from ..linear.plant.plant import Plant
 from ..model.units import input_unit
 
-__all__ = ["write_matlab", "read_matlab", "MatlabSystem", "SECOND_ORDER"]
+__all__ = ["write_matlab", "read_matlab", "MatlabSystem", "SECOND_ORDER", "BRANCH_NOTE"]
+
+BRANCH_NOTE = ("the frequency-dependent mounts' Maxwell branches (their internal states) are in A, B, C, D "
+               "only; second_order's M, C, K hold those mounts' static stiffness and damping, without them")
+"""What the file's ``second_order.note`` says of a plant with frequency-dependent mounts."""
 
 SECOND_ORDER = ("M", "C", "K", "H", "F", "Kz", "Cz", "Mz", "Hz", "Oq", "Ov", "Oa", "Pz", "Pv", "Pa", "Pf")
 """The plant's matrices written into the ``second_order`` struct."""
@@ -51,6 +55,8 @@ class MatlabSystem:
         ``M, C, K, H, F, Kz, Cz, Mz, Hz, Oq, Ov, Oa, Pz, Pv, Pa, Pf`` (empty: the file has none).
     dofs, kinds : tuple of str
         The second-order system's DOF names and each input's kind (``"force"``, ``"acceleration"``).
+    note : str
+        What the second-order part leaves out (:data:`BRANCH_NOTE`), or empty.
     """
 
     A: np.ndarray
@@ -66,6 +72,7 @@ class MatlabSystem:
     second_order: dict[str, np.ndarray] = field(default_factory=dict)
     dofs: tuple[str, ...] = ()
     kinds: tuple[str, ...] = ()
+    note: str = ""
 
     @property
     def statespace(self) -> Any:
@@ -115,6 +122,12 @@ def write_matlab(system: Any, path: str | Path, *, inputs: Any = None, outputs: 
     ArgumentError
         ``system`` is none of these, or signals given with a plant or a state space.
 
+    Warns
+    -----
+    VibssWarning
+        Frequency-dependent mounts: their Maxwell branches are in A, B, C, D only (the second-order
+        part holds their static stiffness; its ``note`` says so).
+
     Examples
     --------
     >>> import tempfile, pathlib, vibss
@@ -146,10 +159,17 @@ def write_matlab(system: Any, path: str | Path, *, inputs: Any = None, outputs: 
         sys = statespace(system, realization)
         data["InputUnit"] = _cell([input_unit(u, k) for u, k in zip(system.inputs, system.kinds)])
         data["OutputUnit"] = _cell(system.units)
-        second = {k: np.asarray(getattr(system, k), dtype=float) for k in SECOND_ORDER
+        second: dict[str, Any] = {k: np.asarray(getattr(system, k), dtype=float) for k in SECOND_ORDER
                   if getattr(system, k, None) is not None}
         second["dofs"] = _cell(system.dofs)
         second["kinds"] = _cell(system.kinds)
+        if system.branches is not None:
+            import warnings
+
+            from ..errors import VibssWarning
+
+            second["note"] = BRANCH_NOTE
+            warnings.warn(f"write_matlab: {BRANCH_NOTE}", VibssWarning, stacklevel=2)
         data["second_order"] = second
         name = system.name
     elif all(hasattr(system, k) for k in ("A", "B", "C", "D", "input_labels", "output_labels")):
@@ -223,6 +243,7 @@ def read_matlab(path: str | Path) -> MatlabSystem:
     second: dict[str, np.ndarray] = {}
     dofs: tuple[str, ...] = ()
     kinds: tuple[str, ...] = ()
+    note = ""
     if "second_order" in raw:
         s = raw["second_order"][0, 0]
         for key in s.dtype.names:
@@ -230,6 +251,8 @@ def read_matlab(path: str | Path) -> MatlabSystem:
                 dofs = _names(s[key])
             elif key == "kinds":
                 kinds = _names(s[key])
+            elif key == "note":
+                note = _names(s[key])[0]
             else:
                 second[key] = np.asarray(s[key], dtype=float)
         nd = len(dofs)
@@ -241,4 +264,4 @@ def read_matlab(path: str | Path) -> MatlabSystem:
     name = _names(raw["name"])[0] if "name" in raw and np.asarray(raw["name"]).size else "vibss"
     return MatlabSystem(a, b, c, d, names("InputName", m, "u"), names("OutputName", p, "y"),
                         names("StateName", n, "x"), names("InputUnit", m, ""), names("OutputUnit", p, ""),
-                        name, second, dofs, kinds)
+                        name, second, dofs, kinds, note)
