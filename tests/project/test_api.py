@@ -29,8 +29,10 @@ LAYERS = [
     {"linear", "modal"},
     {"frequency.kernels", "frequency.contracts", "frequency.lowrank", "frequency.terms", "frequency.grid",
      "frequency.statespace_kernels",
-     "time.kernels", "time.branched", "time.inputs", "time.sampling", "time.drift", "studies"},
-    {"frequency", "time", "reduction", "design", "shock", "orders", "random", "control", "nonlinear", "insight"},
+     "time.kernels", "time.branched", "time.inputs", "time.sampling", "time.drift", "studies", "measured.kernels",
+     "io.matlab"},
+    {"frequency", "time", "reduction", "design", "shock", "orders", "random", "control", "nonlinear", "insight",
+     "measured"},
     {"plotting", "report"},
     {"commands", "cli", "__main__"},
 ]
@@ -61,7 +63,11 @@ FIGURE_METHODS = {"campbell", "tripartite"}
 """Result methods that draw a figure under another name than ``plot*`` (a Campbell diagram, a
 tripartite SRS chart): like ``plot*``, they may hand their result to vibss.plotting."""
 
-CLIMBS: dict[tuple[str, str], str] = {}
+CLIMBS: dict[tuple[str, str], str] = {
+    ("io", "io.matlab"): "vibss.io.write_matlab stays where the file writers are; the MATLAB writer builds "
+                         "the state space of a plant or model (layer 5), so vibss.io names it on first use "
+                         "and never imports it otherwise",
+}
 """Late imports that climb the layers, each with its reason; nothing else may climb."""
 
 

@@ -143,7 +143,8 @@ def _input_units(plant: Plant) -> tuple[str, ...]:
 def frequency_response(system: Model | Assembly | Plant, inputs: Sequence[Any] | None = None,
                        outputs: Sequence[str] | None = None, frequencies: Any = None,
                        quantity: str = "receptance",
-                       method: str | Callable[..., np.ndarray] = "auto") -> FrequencyResponse:
+                       method: str | Callable[..., np.ndarray] = "auto", *,
+                       foundation: Any = None) -> FrequencyResponse:
     """Frequency response functions of named outputs to named inputs.
 
     Parameters
@@ -163,6 +164,10 @@ def frequency_response(system: Model | Assembly | Plant, inputs: Sequence[Any] |
         with the built-ins' signature (``s`` Laplace points ``i w``, ``basis`` the undamped
         :class:`~vibss.linear.eigen.basis.ModalBasis`, None for a sparse plant; ``f(plant, s)`` is
         accepted too).
+    foundation : Foundation or None
+        A flexible foundation under some of the mounts to ground (:class:`vibss.Foundation`), coupled
+        exactly by frequency-based substructuring at its own frequencies; its motions
+        ``foundation.<mount>.x|y|z`` are added to the outputs.
 
     Returns
     -------
@@ -178,6 +183,9 @@ def frequency_response(system: Model | Assembly | Plant, inputs: Sequence[Any] |
         The method cannot answer (e.g. ``modal`` on non-classical damping).
     """
     choice(quantity, "quantity", QUANTITIES)
+    if foundation is not None:
+        from ..measured.fbs import couple
+        return couple(system, foundation, inputs, outputs, frequencies, quantity, method)
     chosen = resolve_method(method)
     plant, basis, f, pick, large = _plant_and_modes(system, inputs, outputs, frequencies, chosen)
     chosen, reason = _settled(plant, chosen, pick, basis, f.size)

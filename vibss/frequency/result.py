@@ -14,7 +14,7 @@ from ..errors import ArgumentError, ModelError
 from ..linear.plant.labels import control_name
 from ..results import ZERO_NOTE, Result, TextTable, jsonable, require_pandas
 
-__all__ = ["FrequencyResponse", "ZERO_RTOL"]
+__all__ = ["FrequencyResponse", "ZERO_RTOL", "MEASURED_NOTE"]
 
 ZERO_RTOL = 1e-13
 """A channel at most this fraction of the largest channel of its unit is identically zero (the
@@ -90,6 +90,58 @@ class FrequencyResponse(Result):
             raise ModelError(f"mode_labels: {len(self.mode_labels)} labels for {len(self.mode_numbers)} "
                              "mode numbers; give one per mode or none")
         super().__post_init__()
+
+    @classmethod
+    def from_measurement(cls, frequencies: Any, response: Any, inputs: Sequence[str] | None = None,
+                         outputs: Sequence[str] | None = None, units: str | Sequence[str] = "-", *,
+                         input_units: Sequence[str] = (), quantity: str = "frf", name: str = "measured",
+                         source: str = "") -> FrequencyResponse:
+        """A measured frequency response: data with no model behind it (``method = "measured"``).
+
+        What :func:`vibss.io.read_uff` and :func:`vibss.io.read_csv` return; compare it with a
+        computed one by :func:`vibss.frequency.compare.frac` or overlay it on a Bode plot.
+
+        Parameters
+        ----------
+        frequencies : (nf,) array_like
+            Frequencies [Hz], finite, >= 0, strictly increasing.
+        response : (nf,), (p, nf) or (p, m, nf) array_like
+            Complex amplitudes, finite (one channel; p outputs of one input; p outputs by m inputs).
+        inputs, outputs : sequence of str or None
+            Signal names, one per input and per output (default ``u1 ...``, ``y1 ...``), distinct.
+        units : str or sequence of str
+            Unit of each output (one for all, or one per output); with ``input_units`` empty,
+            the unit of its channels' values (``"m/N"``).
+        input_units : sequence of str
+            Unit of each input (``"N"``), or empty.
+        quantity : str
+            What the response is (``"frf"``, ``"receptance"``, ``"mobility"``, ``"accelerance"``,
+            ``"transmissibility"``).
+        name : str
+            Name of the measurement.
+        source : str
+            Where it came from (a file name), added to the note.
+
+        Returns
+        -------
+        FrequencyResponse
+            ``note`` begins ``"measured: no model behind it"``; no natural frequencies.
+
+        Raises
+        ------
+        ArgumentError
+            A field of the wrong shape, not finite, frequencies not increasing, names that do not
+            match the response (the message names the field).
+
+        Examples
+        --------
+        >>> r = FrequencyResponse.from_measurement([10.0, 20.0], [1e-3, 2e-3j], ["hammer.fz"],
+        ...                                        ["table.z"], "m/N")
+        >>> r.method, r.note, r.response.shape
+        ('measured', 'measured: no model behind it', (1, 1, 2))
+        """
+        return cls(**_measured_fields(frequencies, response, inputs, outputs, units, input_units, quantity,
+                                      name, source))
 
     @property
     def output_labels(self) -> tuple[str, ...]:
@@ -320,6 +372,68 @@ class FrequencyResponse(Result):
         from ..plotting import plot_frequency_response
 
         return plot_frequency_response(self, outputs, inputs, max_channels, mark_resonances, ax, by)
+
+
+MEASURED_NOTE = "measured: no model behind it"
+"""The note of every measured response (:meth:`FrequencyResponse.from_measurement`)."""
+
+
+def _names(value: Sequence[str] | None, n: int, field: str, stem: str) -> tuple[str, ...]:
+    who = "FrequencyResponse.from_measurement"
+    if value is None:
+        return tuple(f"{stem}{k + 1}" for k in range(n))
+    if isinstance(value, str) or not all(isinstance(v, str) and v for v in value):
+        raise ArgumentError(f"{who}: {field}: expected a list of non-empty names, got {value!r}",
+                            argument=field, received=value, expected=f"{n} names")
+    names = tuple(value)
+    if len(names) != n:
+        raise ArgumentError(f"{who}: {field}: {len(names)} names {list(names)} for {n} {field} of the response",
+                            argument=field, received=value, expected=f"{n} names")
+    if len(set(names)) != n:
+        raise ArgumentError(f"{who}: {field}: a name appears twice in {list(names)}", argument=field,
+                            received=value, expected="distinct names")
+    return names
+
+
+def _measured_fields(frequencies: Any, response: Any, inputs: Sequence[str] | None,
+                     outputs: Sequence[str] | None, units: str | Sequence[str], input_units: Sequence[str],
+                     quantity: str, name: str, source: str) -> dict[str, Any]:
+    """The checked fields of a measured :class:`FrequencyResponse` (errors name the argument)."""
+    from .._validate import array
+
+    who = "FrequencyResponse.from_measurement"
+    f = array(frequencies, "frequencies", (None,), who=who, unit="Hz")
+    if f.size == 0 or np.any(f < 0) or np.any(np.diff(f) <= 0):
+        raise ArgumentError(f"{who}: frequencies: expected strictly increasing frequencies >= 0 [Hz], "
+                            f"got {f.tolist()}", argument="frequencies", received=frequencies,
+                            expected="increasing, >= 0")
+    try:
+        h = np.array(response, dtype=complex)
+    except (TypeError, ValueError):
+        raise ArgumentError(f"{who}: response: expected complex numbers, got {response!r}", argument="response",
+                            received=response) from None
+    h = h.reshape((1, 1) + h.shape) if h.ndim == 1 else h[:, None] if h.ndim == 2 else h
+    if h.ndim != 3 or h.shape[2] != f.size:
+        raise ArgumentError(f"{who}: response: expected shape (nf,), (p, nf) or (p, m, nf) with nf = {f.size} "
+                            f"frequencies, got shape {np.shape(response)}", argument="response",
+                            received=np.shape(response), expected=f"last axis {f.size}")
+    if not np.all(np.isfinite(h)):
+        bad = np.argwhere(~np.isfinite(h))[0]
+        raise ArgumentError(f"{who}: response: not finite at output {bad[0]}, input {bad[1]}, "
+                            f"{f[bad[2]]:g} Hz", argument="response", received=h[tuple(bad)], expected="finite")
+    outs = _names(outputs, h.shape[0], "outputs", "y")
+    ins = _names(inputs, h.shape[1], "inputs", "u")
+    unit = (units,) * len(outs) if isinstance(units, str) else tuple(units)
+    if len(unit) != len(outs) or not all(isinstance(u, str) for u in unit):
+        raise ArgumentError(f"{who}: units: expected one unit or {len(outs)} (one per output), got {units!r}",
+                            argument="units", received=units, expected=f"{len(outs)} units")
+    iu = tuple(input_units)
+    if iu and (len(iu) != len(ins) or not all(isinstance(u, str) for u in iu)):
+        raise ArgumentError(f"{who}: input_units: expected {len(ins)} units (one per input) or none, "
+                            f"got {input_units!r}", argument="input_units", received=input_units)
+    return dict(frequency_hz=f, response=h, outputs=outs, inputs=ins, units=unit, quantity=str(quantity),
+                method="measured", note=MEASURED_NOTE + (f"; read from {source}" if source else ""),
+                natural_hz=np.zeros(0), name=str(name), input_units=iu)
 
 
 def _index(names: Sequence[str], name: str, what: str) -> int:

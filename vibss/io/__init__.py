@@ -11,7 +11,7 @@ from .csvdata import read_csv, write_csv
 from .uff import UffModes, read_uff, read_uff_modes, write_uff
 
 __all__ = [*_model_all, "write_uff", "read_uff", "read_uff_modes", "UffModes", "frac", "frequency_shift", "write_csv",
-           "read_csv"]
+           "read_csv", "write_matlab", "read_matlab", "MatlabSystem"]
 
 
 def __getattr__(name: str) -> Any:
@@ -20,4 +20,8 @@ def __getattr__(name: str) -> Any:
     if name in ("frac", "frequency_shift"):
         from ..frequency.compare import frac, frequency_shift
         return {"frac": frac, "frequency_shift": frequency_shift}[name]
+    if name in ("write_matlab", "read_matlab", "MatlabSystem"):
+        # the MATLAB writer builds the state space of a plant or model: a higher layer than io
+        from .matlab import MatlabSystem, read_matlab, write_matlab
+        return {"write_matlab": write_matlab, "read_matlab": read_matlab, "MatlabSystem": MatlabSystem}[name]
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

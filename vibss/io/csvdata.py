@@ -117,7 +117,8 @@ def read_csv(path: str | Path) -> Any:
     Returns
     -------
     FrequencyResponse or TimeResponse
-        ``method = "csv"``.
+        An FRF as :meth:`~vibss.frequency.result.FrequencyResponse.from_measurement` makes it
+        (``method = "measured"``, no model behind it); a time record with ``method = "csv"``.
 
     Raises
     ------
@@ -197,5 +198,5 @@ def _frf(path: Path, name: str, data: np.ndarray, parsed: list[tuple[str, str | 
         if set(p) != {"re", "im"}:
             raise ModelFileError(f"read_csv: {path}: channel {y}/{u}: needs both 're' and 'im' columns")
         h[outs.index(y), ins.index(u)] = p["re"] + 1j * p["im"]
-    return FrequencyResponse(data[:, 0].copy(), h, tuple(outs), tuple(ins), tuple(units[y] for y in outs),
-                             "frf", "csv", f"read from {path.name}", np.zeros(0), name)
+    return FrequencyResponse.from_measurement(data[:, 0].copy(), h, ins, outs, [units[y] for y in outs], name=name,
+                                              source=path.name)

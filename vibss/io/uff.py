@@ -246,7 +246,8 @@ def read_uff(path: str | Path) -> Any:
     Returns
     -------
     FrequencyResponse
-        ``quantity`` from the records (``"frf"``), ``method = "uff"``.
+        Made by :meth:`~vibss.frequency.result.FrequencyResponse.from_measurement`: ``quantity``
+        ``"frf"``, ``method = "measured"`` (no model behind it), the file named in ``note``.
     """
     from ..frequency.result import FrequencyResponse
 
@@ -277,5 +278,5 @@ def read_uff(path: str | Path) -> Any:
     h = np.zeros((len(outs), len(ins), f.size), dtype=complex)
     for (y, u), v in cells.items():
         h[outs.index(y), ins.index(u)] = v
-    return FrequencyResponse(f, h, tuple(outs), tuple(ins), tuple(units[y] for y in outs), "frf", "uff",
-                             f"read from {path.name}", np.zeros(0), path.stem)
+    return FrequencyResponse.from_measurement(f, h, ins, outs, [units[y] for y in outs], name=path.stem,
+                                              source=path.name)

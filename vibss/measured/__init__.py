@@ -1,0 +1,10 @@
+"""Measured data in, models out: a mount's rheology fitted to its measured dynamic stiffness, and a
+flexible foundation known by its receptance, coupled by frequency-based substructuring."""
+
+from __future__ import annotations
+
+from .api import fit_rheology
+from .fbs import Foundation
+from .result import RheologyFit
+
+__all__ = ["fit_rheology", "RheologyFit", "Foundation"]
