@@ -27,6 +27,7 @@ from ..linear.project.subspace import MOMENTS, N_SHIFTS, TWO_SIDED_MAX
 from ..linear.solve.backends import _CHUNK_BYTES
 from ..linear.solve.banded import _K_BAND, _T_FREQ, structure
 from ..linear.solve.exact import MOUNTS_RATIO, forcing, response, states, zfactor
+from ..costs import constant, scale
 from ..methods import Check, Claim, Cost, Decision, decide
 
 __all__ = ["settle", "EXACT", "MODAL", "COMPLEX_MODAL", "WOODBURY", "SUBSPACE", "STATESPACE", "check", "backward_error",
@@ -80,20 +81,21 @@ CHECK_POINTS = 3
 CHECK_PEAKS = 8
 """Most resonance peaks a check visits besides (:func:`check_frequencies`)."""
 
-# cost model [s] (one core), measured by benchmarks/bench_frf.py and benchmarks/bench_contracts.py
-K_DENSE_LU = 3e-10    # [s] per n^3 of one complex dense LU and solve
-K_EIG = 4.6e-10       # [s] per N^3 of the complex-mode eig (N = 2n states)
-K_SUPERPOSE = 4e-10   # [s] per frequency x mode x channel of the superposition
-K_REFINE = 3.5e-10    # [s] per nk^3 of one complex mode's inverse iteration (two dense solves)
-K_GEMM = 4e-10        # [s] per frequency x mode x column of woodbury's weighted sums
-K_BORDER = 2e-9       # [s] per frequency x (r + 2)^3 of woodbury's bordered LU
+# cost model [s] (one core): the shipped values, read from vibss/data/costs.json (vibss.costs) where
+# benchmarks/bench_costs.py re-measured them
+K_DENSE_LU = constant("frequency.K_DENSE_LU", 3e-10)  # [s] per n^3 of one complex dense LU and solve
+K_EIG = constant("frequency.K_EIG", 4.6e-10)  # [s] per N^3 of the complex-mode eig (N = 2n states)
+K_SUPERPOSE = constant("frequency.K_SUPERPOSE", 4e-10)  # [s] per frequency x mode x channel of the superposition
+K_REFINE = constant("frequency.K_REFINE", 3.5e-10)  # [s] per nk^3 of one complex mode's inverse iteration (two dense solves)
+K_GEMM = constant("frequency.K_GEMM", 4e-10)  # [s] per frequency x mode x column of woodbury's weighted sums
+K_BORDER = constant("frequency.K_BORDER", 2e-9)  # [s] per frequency x (r + 2)^3 of woodbury's bordered LU
 NEAR_GUESS = 2        # near-resonant modes solved with the dampers per frequency, for the estimate
-K_BASIS = 1.5e-9      # [s] per n r^2 of the channel subspace's Gram-Schmidt and projection
-K_REDUCED = 1.5e-9    # [s] per nf r^3 of its damped reduced responses (about four per call, dense LU)
-K_HESSENBERG = 1e-9   # [s] per N^3 of the state space's Hessenberg form (N = 2n states)
-K_TB05 = 2e-9         # [s] per frequency x N^2 of its Hessenberg solve
-T_MOUNTS = 1.2e-3     # [s] per frequency of the solve in the mounts' forces (penalty links: 12 DOF, 11 mounts)
-T_CALL = 5e-3         # [s] fixed cost of a modal method's call (its projections, screens and forms)
+K_BASIS = constant("frequency.K_BASIS", 1.5e-9)  # [s] per n r^2 of the channel subspace's Gram-Schmidt and projection
+K_REDUCED = constant("frequency.K_REDUCED", 1.5e-9)  # [s] per nf r^3 of its damped reduced responses (about four per call, dense LU)
+K_HESSENBERG = constant("frequency.K_HESSENBERG", 1e-9)  # [s] per N^3 of the state space's Hessenberg form (N = 2n states)
+K_TB05 = constant("frequency.K_TB05", 2e-9)  # [s] per frequency x N^2 of its Hessenberg solve
+T_MOUNTS = constant("frequency.T_MOUNTS", 1.2e-3)  # [s] per frequency of the solve in the mounts' forces (penalty links: 12 DOF, 11 mounts)
+T_CALL = constant("frequency.T_CALL", 5e-3)  # [s] fixed cost of a modal method's call (its projections, screens and forms)
 _C16 = 16.0           # [B] per complex number
 _F8 = 8.0             # [B] per float
 
@@ -298,9 +300,9 @@ def cost_direct(plant: Plant, nf: int, basis: ModalBasis | None = None) -> Cost:
     chunk = max(1, min(nf, int(_CHUNK_BYTES // (_C16 * max(n, 1) ** 2))))
     mounts = _mounts(plant)
     if mounts:
-        return Cost(nf * (T_MOUNTS + K_DENSE_LU * float(n + mounts) ** 3),
+        return Cost(scale("frequency.direct") * nf * (T_MOUNTS + K_DENSE_LU * float(n + mounts) ** 3),
                     _C16 * (2 * (n + mounts) ** 2 + nf * n * m + nf * p * m))
-    return Cost(nf * (_floor(n) + K_DENSE_LU * float(n) ** 3),
+    return Cost(scale("frequency.direct") * nf * (_floor(n) + K_DENSE_LU * float(n) ** 3),
                 _C16 * (2 * chunk * n * n + nf * n * m + nf * p * m))
 
 
@@ -325,7 +327,7 @@ def cost_modal(plant: Plant, nf: int, basis: ModalBasis | None = None) -> Cost:
     """The superposition ``nf k p m`` over ``k`` modes; its (nf, k) transfer functions twice."""
     k = _modes(plant, basis)
     p, m = _pm(plant)
-    return Cost(T_CALL + nf * _floor(0) + K_SUPERPOSE * nf * k * p * m,
+    return Cost(scale("frequency.modal") * (T_CALL + nf * _floor(0) + K_SUPERPOSE * nf * k * p * m),
                 _C16 * (3 * nf * k + k * p * m + nf * p * m))
 
 
@@ -336,7 +338,8 @@ def cost_complex_modal(plant: Plant, nf: int, basis: ModalBasis | None = None) -
     k = _modes(plant, basis)
     p, m = _pm(plant)
     big = 2 * k
-    return Cost(T_CALL + nf * _floor(0) + 4 * K_EIG * float(big) ** 3 + K_SUPERPOSE * nf * big * p * m,
+    return Cost(scale("frequency.complex_modal") * (T_CALL + nf * _floor(0) + 4 * K_EIG * float(big) ** 3
+                                                    + K_SUPERPOSE * nf * big * p * m),
                 _C16 * (4 * big * big + 3 * nf * big + big * p * m + nf * p * m))
 
 
@@ -353,7 +356,7 @@ def cost_woodbury(plant: Plant, nf: int, basis: ModalBasis | None = None) -> Cos
     p, m = _pm(plant)
     r = woodbury_rank(plant, basis)
     pm = p * m
-    seconds = (T_CALL + nf * _floor(0) + K_GEMM * nf * k * (pm + r * (p + m) + r * r / 2)
+    seconds = scale("frequency.woodbury") * (T_CALL + nf * _floor(0) + K_GEMM * nf * k * (pm + r * (p + m) + r * r / 2)
                + K_BORDER * nf * (r + NEAR_GUESS) ** 3)
     chunk = min(nf, CHUNK)
     q = r + NEAR_GUESS
@@ -385,6 +388,7 @@ def cost_subspace(plant: Plant, nf: int, basis: ModalBasis | None = None, projec
     seconds = 3 * N_SHIFTS * st.seconds_per_frequency + K_BASIS * plant.n * r * r
     if _nonzero(plant.C) or _nonzero(plant.H):
         seconds += K_REDUCED * nf * float(r) ** 3
+    seconds *= scale("frequency.subspace")
     one = cost_sparse(plant, 1)
     grown = 2 * r                       # the basis grows by its added checks (144 -> 284 vectors measured)
     return Cost(seconds, _F8 * 3 * plant.n * grown + _C16 * nf * grown * grown + one.bytes + _C16 * nf * p * m * 2)
@@ -395,7 +399,7 @@ def cost_statespace(plant: Plant, nf: int, basis: ModalBasis | None = None) -> C
     per frequency; memory a few (2k)^2 matrices."""
     big = 2 * _modes(plant, basis)
     p, m = _pm(plant)
-    return Cost(T_CALL + K_HESSENBERG * float(big) ** 3 + K_TB05 * nf * big * big * m,
+    return Cost(scale("frequency.statespace") * (T_CALL + K_HESSENBERG * float(big) ** 3 + K_TB05 * nf * big * big * m),
                 _C16 * 6 * big * big + _C16 * nf * p * m)
 
 

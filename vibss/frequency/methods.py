@@ -22,6 +22,7 @@ from ..linear.plant.plant import Plant
 from ..linear.solve.exact import mounts_form_possible
 from ..linear.project.subspace import MOMENTS, N_SHIFTS, TWO_SIDED_MAX
 from ..linear.plant.assemble import Assembly
+from ..costs import scale
 from ..methods import LARGE_DOFS, SMALL_DOFS, Method, resolve
 from ..model.model import Model
 from . import statespace_kernels
@@ -118,11 +119,11 @@ def estimates(plant: Plant, nf: int, basis: ModalBasis, rank: int, refine: int |
         Estimated seconds by method name.
     """
     n, p, m, r = basis.phi.shape[1], len(plant.outputs), len(plant.inputs), rank
-    out = {"woodbury": _K_GEMM * nf * n * (p * m + r * (p + m) + r * r / 2)
-           + _K_BORDER * nf * (r + _NEAR_GUESS) ** 3}
+    out = {"woodbury": scale("frequency.woodbury") * (_K_GEMM * nf * n * (p * m + r * (p + m) + r * r / 2)
+                                                      + _K_BORDER * nf * (r + _NEAR_GUESS) ** 3)}
     if refine is not None:
-        out["complex_modal"] = (_K_EIG * (2 * n) ** 3 + _K_SUPERPOSE * nf * 2 * n * p * m
-                                + _K_REFINE * refine * float(n) ** 3)
+        out["complex_modal"] = scale("frequency.complex_modal") * (
+            _K_EIG * (2 * n) ** 3 + _K_SUPERPOSE * nf * 2 * n * p * m + _K_REFINE * refine * float(n) ** 3)
     return out
 
 
@@ -287,6 +288,7 @@ def _choose_sparse(plant: Plant, nf: int) -> tuple[str, str]:
     sub = 3 * N_SHIFTS * per + _K_BASIS * plant.n * r * r
     if _nonzero(plant.C) or _nonzero(plant.H):       # damped: the small plant is solved densely per frequency
         sub += _K_REDUCED * nf * r**3
+    sub *= scale("frequency.subspace")
     if sub < exact:
         return "subspace", (f"sparse plant, {nf} frequencies on {len(plant.outputs)} x {len(plant.inputs)} "
                             f"channels: channel subspace estimated {sub:.2g} s against {exact:.2g} s for the "
