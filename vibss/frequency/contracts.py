@@ -16,6 +16,7 @@ The checks cost a few exact solves, not ``nf``: cheap next to the method itself.
 
 from __future__ import annotations
 
+import warnings
 from typing import Any
 
 import numpy as np
@@ -28,10 +29,11 @@ from ..linear.solve.backends import _CHUNK_BYTES
 from ..linear.solve.banded import _K_BAND, _T_FREQ, structure
 from ..linear.solve.exact import MOUNTS_RATIO, forcing, response, states, zfactor
 from ..costs import constant, scale
+from ..errors import VibssWarning
 from ..methods import Check, Claim, Cost, Decision, decide
 
 __all__ = ["settle", "EXACT", "MODAL", "COMPLEX_MODAL", "WOODBURY", "SUBSPACE", "STATESPACE", "check", "backward_error",
-           "against_exact", "check_frequencies", "limit", "BASIS_ERROR", "LIGHT_CAP", "cost_direct", "cost_sparse", "cost_modal", "cost_complex_modal",
+           "against_exact", "check_frequencies", "slower", "SLOWER", "limit", "BASIS_ERROR", "LIGHT_CAP", "cost_direct", "cost_sparse", "cost_modal", "cost_complex_modal",
            "cost_woodbury", "cost_subspace", "subspace_size", "cost_statespace", "woodbury_rank"]
 
 EXACT = Claim(1e-8, exact=True, conditions="relative error of each response against 60 digits on models conditioned "
@@ -433,6 +435,45 @@ class _Trial:
         return m.cost(self.plant, self.s.size, self.basis) if m.cost is not None else None
 
 
+SLOWER = 2.0
+"""A named method estimated this many times slower than another that applies says so (:func:`slower`)."""
+
+
+def slower(plant: Plant, nf: int, basis: ModalBasis | None, named: Any, others: list[Any]) -> str:
+    """What a named method costs against the cheapest other method that applies, when it is
+    estimated at least :data:`SLOWER` times slower (``sparse`` and ``direct`` on a 600-DOF lattice
+    or random graph with classical damping: 2-5x ``modal``), else ``""``. The estimates are the
+    cost models above, their constants measured by benchmarks/bench_costs.py.
+
+    Parameters
+    ----------
+    plant : Plant
+    nf : int
+        Number of frequencies.
+    basis : ModalBasis or None
+        The undamped modes.
+    named : FrequencyMethod
+        The method the user named.
+    others : list of FrequencyMethod
+        The other methods that apply.
+
+    Returns
+    -------
+    str
+    """
+    if named.cost is None or not others:
+        return ""
+    mine = named.cost(plant, nf, basis).seconds
+    rivals = {m.name: m.cost(plant, nf, basis).seconds for m in others if m.cost is not None}
+    if not rivals:
+        return ""
+    best = min(rivals, key=rivals.__getitem__)
+    if mine < SLOWER * rivals[best]:
+        return ""
+    return (f"method {named.name!r} is estimated {mine / rivals[best]:.2g}x slower than {best!r} here "
+            f"({mine:.2g} s against {rivals[best]:.2g} s)")
+
+
 def settle(plant: Plant, s: np.ndarray, basis: ModalBasis | None, order: list[Any], auto: bool,
            others: list[Any]) -> tuple[Decision[Any], dict[str, tuple[str, float | None]]]:
     """Run the frequency methods of ``order`` through :func:`vibss.methods.decide`.
@@ -459,6 +500,12 @@ def settle(plant: Plant, s: np.ndarray, basis: ModalBasis | None, order: list[An
         A self-checked method's note and error by name.
     """
     trial = _Trial(plant, s, basis, auto)
+    if not auto and len(order) == 1:
+        word = slower(plant, s.size, basis, order[0], others)
+        if word:
+            warnings.warn(f"frequency_response: {word}; method='auto' picks by these estimates", VibssWarning,
+                          stacklevel=4)
+            trial.own[order[0].name] = (word, None)
     dec = decide(order, trial.run, where="frequency_response", auto=auto, check=trial.check, cost=trial.cost,
                  others=others)
     return dec, trial.own
