@@ -39,6 +39,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 from benchmarks.models import NEW_TOPOLOGIES, TOPOLOGIES, topology_model  # noqa: E402
 from vibss import costs  # noqa: E402
 from vibss.errors import VibssError  # noqa: E402
+from vibss.frequency.contracts import _mounts  # noqa: E402
 from vibss.frequency.kernels import METHODS  # noqa: E402
 from vibss.frequency.methods import applies, choose  # noqa: E402
 from vibss.linear.eigen.basis import modal_basis  # noqa: E402
@@ -61,6 +62,8 @@ TIME_AUTO = {"modal", "forced_response"}
 
 def family(name: str, plant: Any) -> str:
     """The ``vibss.costs.scale`` key of a frequency method on ``plant``."""
+    if name == "sparse" and _mounts(plant):
+        return "frequency.direct"           # solved in the mounts' forces, as direct
     if name == "sparse":
         st = plant.cached("band structure", lambda: structure(plant))
         return "solve.banded" if st.banded else "solve.superlu"
