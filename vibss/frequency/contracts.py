@@ -99,6 +99,7 @@ K_COUPLING = constant("frequency.K_COUPLING", 3e-8)  # [s] per n k of a modal me
 K_MOUNTS = constant("frequency.K_MOUNTS", 1.2e-5)  # [s] per unknown of one sparse solve in the mounts' forces
 T_MODAL = constant("frequency.T_MODAL", 5e-4)  # [s] fixed cost of the modal superposition's call
 T_CALL = constant("frequency.T_CALL", 5e-3)  # [s] fixed cost of a modal method's call (its projections, screens and forms)
+FILL_MOUNTS = 60      # nonzeros of L + U per unknown of the mounts' system by SuperLU (an upper guess)
 _C16 = 16.0           # [B] per complex number
 _F8 = 8.0             # [B] per float
 
@@ -318,8 +319,10 @@ def cost_direct(plant: Plant, nf: int, basis: ModalBasis | None = None) -> Cost:
     chunk = max(1, min(nf, int(_CHUNK_BYTES // (_C16 * max(n, 1) ** 2))))
     mounts = _mounts(plant)
     if mounts:
+        size = n + mounts               # dense LU up to MOUNTS_DENSE_MAX unknowns, else SuperLU's fill
+        lu = 2 * size**2 if size <= MOUNTS_DENSE_MAX else 2 * FILL_MOUNTS * size
         return Cost(scale("frequency.direct") * nf * _per_mounts(plant, mounts),
-                    _C16 * (2 * (n + mounts) ** 2 + nf * n * m + nf * p * m))
+                    _C16 * (lu + nf * n * m + nf * p * m))
     return Cost(scale("frequency.direct") * nf * (_floor(n) + K_DENSE_LU * float(n) ** 3),
                 _C16 * (2 * chunk * n * n + nf * n * m + nf * p * m))
 
