@@ -3,6 +3,7 @@ memory guard refuses before allocating, and the issue's named cases behave as de
 
 from __future__ import annotations
 
+import re
 import warnings
 
 import numpy as np
@@ -142,7 +143,8 @@ def test_subspace_with_42_channels_at_600_dof_answers_up_front_by_the_exact_solv
     f = np.geomspace(1, 100, 200)
     r = vibss.frequency_response(m, ins, ["b99.z", "b50.x"], f, method="subspace")
     ref = vibss.frequency_response(m, ins, ["b99.z", "b50.x"], f, method="sparse")
-    assert "no reduction (estimated ~2.8e+03 s" in r.note and "exact sparse solve at every frequency instead" in r.note
+    assert re.search(r"no reduction \(estimated ~\d\.\de\+03 s", r.note)    # the estimate: vibss/data/costs.json
+    assert "exact sparse solve at every frequency instead" in r.note
     assert np.allclose(r.response, ref.response, rtol=1e-12, atol=0)
 
 

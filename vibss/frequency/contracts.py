@@ -24,13 +24,14 @@ import scipy.sparse as sp
 from ..linear.eigen.basis import ModalBasis, classical_damping, damping_rank, projected_damping
 from ..linear.plant.plant import Plant
 from ..linear.project.subspace import MOMENTS, N_SHIFTS, TWO_SIDED_MAX
-from ..linear.solve.backends import _CHUNK_BYTES
+from ..linear.solve.backends import _CHUNK_BYTES, MOUNTS_DENSE_MAX
 from ..linear.solve.banded import _K_BAND, _T_FREQ, structure
 from ..linear.solve.exact import MOUNTS_RATIO, forcing, response, states, zfactor
+from ..costs import constant, scale
 from ..methods import Check, Claim, Cost, Decision, decide
 
 __all__ = ["settle", "EXACT", "MODAL", "COMPLEX_MODAL", "WOODBURY", "SUBSPACE", "STATESPACE", "check", "backward_error",
-           "against_exact", "check_frequencies", "limit", "BASIS_ERROR", "LIGHT_CAP", "cost_direct", "cost_sparse", "cost_modal", "cost_complex_modal",
+           "against_exact", "check_frequencies", "slower", "SLOWER", "limit", "BASIS_ERROR", "LIGHT_CAP", "cost_direct", "cost_sparse", "cost_modal", "cost_complex_modal",
            "cost_woodbury", "cost_subspace", "subspace_size", "cost_statespace", "woodbury_rank"]
 
 EXACT = Claim(1e-8, exact=True, conditions="relative error of each response against 60 digits on models conditioned "
@@ -80,20 +81,25 @@ CHECK_POINTS = 3
 CHECK_PEAKS = 8
 """Most resonance peaks a check visits besides (:func:`check_frequencies`)."""
 
-# cost model [s] (one core), measured by benchmarks/bench_frf.py and benchmarks/bench_contracts.py
-K_DENSE_LU = 3e-10    # [s] per n^3 of one complex dense LU and solve
-K_EIG = 4.6e-10       # [s] per N^3 of the complex-mode eig (N = 2n states)
-K_SUPERPOSE = 4e-10   # [s] per frequency x mode x channel of the superposition
-K_REFINE = 3.5e-10    # [s] per nk^3 of one complex mode's inverse iteration (two dense solves)
-K_GEMM = 4e-10        # [s] per frequency x mode x column of woodbury's weighted sums
-K_BORDER = 2e-9       # [s] per frequency x (r + 2)^3 of woodbury's bordered LU
+# cost model [s] (one core): the shipped values, read from vibss/data/costs.json (vibss.costs) where
+# benchmarks/bench_costs.py re-measured them
+K_DENSE_LU = constant("frequency.K_DENSE_LU", 3e-10)  # [s] per n^3 of one complex dense LU and solve
+K_EIG = constant("frequency.K_EIG", 4.6e-10)  # [s] per N^3 of the complex-mode eig (N = 2n states)
+K_SUPERPOSE = constant("frequency.K_SUPERPOSE", 4e-10)  # [s] per frequency x mode x channel of the superposition
+K_REFINE = constant("frequency.K_REFINE", 3.5e-10)  # [s] per nk^3 of one complex mode's inverse iteration (two dense solves)
+K_GEMM = constant("frequency.K_GEMM", 4e-10)  # [s] per frequency x mode x column of woodbury's weighted sums
+K_BORDER = constant("frequency.K_BORDER", 2e-9)  # [s] per frequency x (r + 2)^3 of woodbury's bordered LU
 NEAR_GUESS = 2        # near-resonant modes solved with the dampers per frequency, for the estimate
-K_BASIS = 1.5e-9      # [s] per n r^2 of the channel subspace's Gram-Schmidt and projection
-K_REDUCED = 1.5e-9    # [s] per nf r^3 of its damped reduced responses (about four per call, dense LU)
-K_HESSENBERG = 1e-9   # [s] per N^3 of the state space's Hessenberg form (N = 2n states)
-K_TB05 = 2e-9         # [s] per frequency x N^2 of its Hessenberg solve
-T_MOUNTS = 1.2e-3     # [s] per frequency of the solve in the mounts' forces (penalty links: 12 DOF, 11 mounts)
-T_CALL = 5e-3         # [s] fixed cost of a modal method's call (its projections, screens and forms)
+K_BASIS = constant("frequency.K_BASIS", 1.5e-9)  # [s] per n r^2 of the channel subspace's Gram-Schmidt and projection
+K_REDUCED = constant("frequency.K_REDUCED", 1.5e-9)  # [s] per nf r^3 of its damped reduced responses (about four per call, dense LU)
+K_HESSENBERG = constant("frequency.K_HESSENBERG", 1e-9)  # [s] per N^3 of the state space's Hessenberg form (N = 2n states)
+K_TB05 = constant("frequency.K_TB05", 2e-9)  # [s] per frequency x N^2 of its Hessenberg solve
+T_MOUNTS = constant("frequency.T_MOUNTS", 1.2e-3)  # [s] per frequency of the solve in the mounts' forces (penalty links: 12 DOF, 11 mounts)
+K_COUPLING = constant("frequency.K_COUPLING", 3e-8)  # [s] per n k of a modal method's damping coupling and projections
+K_MOUNTS = constant("frequency.K_MOUNTS", 1.2e-5)  # [s] per unknown of one sparse solve in the mounts' forces
+T_MODAL = constant("frequency.T_MODAL", 5e-4)  # [s] fixed cost of the modal superposition's call
+T_CALL = constant("frequency.T_CALL", 5e-3)  # [s] fixed cost of a modal method's call (its projections, screens and forms)
+FILL_MOUNTS = 60      # nonzeros of L + U per unknown of the mounts' system by SuperLU (an upper guess)
 _C16 = 16.0           # [B] per complex number
 _F8 = 8.0             # [B] per float
 
@@ -274,11 +280,30 @@ def _floor(n: int) -> float:
 
 def _mounts(plant: Plant) -> int:
     """Unknowns the solve in the mounts' forces adds (3 per mount), 0 where the assembled matrices
-    are solved (:func:`vibss.linear.solve.exact.states`' ``form="auto"``)."""
+    are solved (:func:`vibss.linear.solve.exact.states`' ``form="auto"``: the mounts' form where the
+    stiffness ratio passes ``MOUNTS_RATIO``, and below a frequency where the mounts leave a motion
+    free, a mechanism: costed as if at every frequency, 6x under the measured time on the 150-DOF
+    mechanism chain otherwise)."""
     mf = plant.mounts
-    if plant.branches is not None or mf is None or not mf.matches(plant) or mf.stiffness_ratio <= MOUNTS_RATIO:
+    if plant.branches is not None or mf is None or not mf.matches(plant):
         return 0
+    if mf.stiffness_ratio <= MOUNTS_RATIO and mf.inertia_w2 <= 0:
+        return 0                       # (a free motion: the mounts' form below a frequency, costed at all)
     return int(mf.B.shape[0])
+
+
+def _per_mounts(plant: Plant, mounts: int) -> float:
+    """Seconds of one solve in the mounts' forces (``mounts`` unknowns added): dense LU up to
+    :data:`~vibss.linear.solve.backends.MOUNTS_DENSE_MAX` unknowns, else SuperLU on the laid-out
+    pattern: linear in the unknowns on the small models (3 ms at 375, 6 ms at 444 measured), and at
+    least the assembled solve's estimate times the square of the unknowns' ratio."""
+    size = plant.n + mounts
+    if size <= MOUNTS_DENSE_MAX:
+        return T_MOUNTS + K_DENSE_LU * float(size) ** 3
+    st = plant.cached("band structure", lambda: structure(plant))
+    # SuperLU's fill grows faster than the unknowns: the assembled solve's estimate times their ratio
+    # squared (60,000-DOF soft tower: 190,000 unknowns, 6.2 s a frequency measured, 4.6 s by this)
+    return max(T_MOUNTS + K_MOUNTS * size, st.seconds_per_frequency * (size / max(plant.n, 1)) ** 2)
 
 
 def _modes(plant: Plant, basis: ModalBasis | None) -> int:
@@ -298,9 +323,11 @@ def cost_direct(plant: Plant, nf: int, basis: ModalBasis | None = None) -> Cost:
     chunk = max(1, min(nf, int(_CHUNK_BYTES // (_C16 * max(n, 1) ** 2))))
     mounts = _mounts(plant)
     if mounts:
-        return Cost(nf * (T_MOUNTS + K_DENSE_LU * float(n + mounts) ** 3),
-                    _C16 * (2 * (n + mounts) ** 2 + nf * n * m + nf * p * m))
-    return Cost(nf * (_floor(n) + K_DENSE_LU * float(n) ** 3),
+        size = n + mounts               # dense LU up to MOUNTS_DENSE_MAX unknowns, else SuperLU's fill
+        lu = 2 * size**2 if size <= MOUNTS_DENSE_MAX else 2 * FILL_MOUNTS * size
+        return Cost(scale("frequency.direct") * nf * _per_mounts(plant, mounts),
+                    _C16 * (lu + nf * n * m + nf * p * m))
+    return Cost(scale("frequency.direct") * nf * (_floor(n) + K_DENSE_LU * float(n) ** 3),
                 _C16 * (2 * chunk * n * n + nf * n * m + nf * p * m))
 
 
@@ -325,7 +352,10 @@ def cost_modal(plant: Plant, nf: int, basis: ModalBasis | None = None) -> Cost:
     """The superposition ``nf k p m`` over ``k`` modes; its (nf, k) transfer functions twice."""
     k = _modes(plant, basis)
     p, m = _pm(plant)
-    return Cost(T_CALL + nf * _floor(0) + K_SUPERPOSE * nf * k * p * m,
+    mf = plant.mounts                       # its static correction: one solve in the mounts' forces
+    mounts = _mounts(plant) if mf is not None and mf.stiffness_ratio > MOUNTS_RATIO else 0
+    return Cost(scale("frequency.modal") * (T_MODAL + nf * _floor(0) + K_SUPERPOSE * nf * k * p * m
+                                            + K_COUPLING * plant.n * k + (_per_mounts(plant, mounts) if mounts else 0.0)),
                 _C16 * (3 * nf * k + k * p * m + nf * p * m))
 
 
@@ -336,7 +366,8 @@ def cost_complex_modal(plant: Plant, nf: int, basis: ModalBasis | None = None) -
     k = _modes(plant, basis)
     p, m = _pm(plant)
     big = 2 * k
-    return Cost(T_CALL + nf * _floor(0) + 4 * K_EIG * float(big) ** 3 + K_SUPERPOSE * nf * big * p * m,
+    return Cost(scale("frequency.complex_modal") * (T_CALL + nf * _floor(0) + 4 * K_EIG * float(big) ** 3
+                                                    + K_SUPERPOSE * nf * big * p * m),
                 _C16 * (4 * big * big + 3 * nf * big + big * p * m + nf * p * m))
 
 
@@ -353,7 +384,7 @@ def cost_woodbury(plant: Plant, nf: int, basis: ModalBasis | None = None) -> Cos
     p, m = _pm(plant)
     r = woodbury_rank(plant, basis)
     pm = p * m
-    seconds = (T_CALL + nf * _floor(0) + K_GEMM * nf * k * (pm + r * (p + m) + r * r / 2)
+    seconds = scale("frequency.woodbury") * (T_MODAL + K_COUPLING * plant.n * k + nf * _floor(0) + K_GEMM * nf * k * (pm + r * (p + m) + r * r / 2)
                + K_BORDER * nf * (r + NEAR_GUESS) ** 3)
     chunk = min(nf, CHUNK)
     q = r + NEAR_GUESS
@@ -382,9 +413,12 @@ def cost_subspace(plant: Plant, nf: int, basis: ModalBasis | None = None, projec
         return cost_sparse(plant, nf)
     st = plant.cached("band structure", lambda: structure(plant))
     p, m = _pm(plant)
-    seconds = 3 * N_SHIFTS * st.seconds_per_frequency + K_BASIS * plant.n * r * r
+    mounts = _mounts(plant)
+    per = _per_mounts(plant, mounts) if mounts else st.seconds_per_frequency
+    seconds = 3 * N_SHIFTS * per + K_BASIS * plant.n * r * r
     if _nonzero(plant.C) or _nonzero(plant.H):
         seconds += K_REDUCED * nf * float(r) ** 3
+    seconds *= scale("frequency.subspace")
     one = cost_sparse(plant, 1)
     grown = 2 * r                       # the basis grows by its added checks (144 -> 284 vectors measured)
     return Cost(seconds, _F8 * 3 * plant.n * grown + _C16 * nf * grown * grown + one.bytes + _C16 * nf * p * m * 2)
@@ -395,7 +429,7 @@ def cost_statespace(plant: Plant, nf: int, basis: ModalBasis | None = None) -> C
     per frequency; memory a few (2k)^2 matrices."""
     big = 2 * _modes(plant, basis)
     p, m = _pm(plant)
-    return Cost(T_CALL + K_HESSENBERG * float(big) ** 3 + K_TB05 * nf * big * big * m,
+    return Cost(scale("frequency.statespace") * (T_CALL + K_HESSENBERG * float(big) ** 3 + K_TB05 * nf * big * big * m),
                 _C16 * 6 * big * big + _C16 * nf * p * m)
 
 
@@ -429,6 +463,46 @@ class _Trial:
         return m.cost(self.plant, self.s.size, self.basis) if m.cost is not None else None
 
 
+SLOWER = 2.0
+"""A named method estimated this many times slower than another that applies says so (:func:`slower`)."""
+
+
+def slower(plant: Plant, nf: int, basis: ModalBasis | None, named: Any, others: list[Any]) -> str:
+    """What a named method costs against the cheapest other method that applies (said in the result's
+    note, where a named method within its claim gives no warning), when it is
+    estimated at least :data:`SLOWER` times slower (``sparse`` and ``direct`` on a 600-DOF lattice
+    or random graph with classical damping: 2-5x ``modal``), else ``""``. The estimates are the
+    cost models above, their constants measured by benchmarks/bench_costs.py.
+
+    Parameters
+    ----------
+    plant : Plant
+    nf : int
+        Number of frequencies.
+    basis : ModalBasis or None
+        The undamped modes.
+    named : FrequencyMethod
+        The method the user named.
+    others : list of FrequencyMethod
+        The other methods that apply.
+
+    Returns
+    -------
+    str
+    """
+    if named.cost is None or not others:
+        return ""
+    mine = named.cost(plant, nf, basis).seconds
+    rivals = {m.name: m.cost(plant, nf, basis).seconds for m in others if m.cost is not None}
+    if not rivals:
+        return ""
+    best = min(rivals, key=rivals.__getitem__)
+    if mine < SLOWER * rivals[best]:
+        return ""
+    return (f"method {named.name!r} is estimated {mine / rivals[best]:.2g}x slower than {best!r} here "
+            f"({mine:.2g} s against {rivals[best]:.2g} s)")
+
+
 def settle(plant: Plant, s: np.ndarray, basis: ModalBasis | None, order: list[Any], auto: bool,
            others: list[Any]) -> tuple[Decision[Any], dict[str, tuple[str, float | None]]]:
     """Run the frequency methods of ``order`` through :func:`vibss.methods.decide`.
@@ -455,6 +529,10 @@ def settle(plant: Plant, s: np.ndarray, basis: ModalBasis | None, order: list[An
         A self-checked method's note and error by name.
     """
     trial = _Trial(plant, s, basis, auto)
+    if not auto and len(order) == 1:
+        word = slower(plant, s.size, basis, order[0], others)
+        if word:            # said in the note; a warning is kept for a missed claim (a named method
+            trial.own[order[0].name] = (f"{word}; method='auto' picks by these estimates", None)  # within it is silent)
     dec = decide(order, trial.run, where="frequency_response", auto=auto, check=trial.check, cost=trial.cost,
                  others=others)
     return dec, trial.own

@@ -17,6 +17,7 @@ import numpy as np
 
 from . import branched
 from . import kernels as tm
+from ..costs import constant, scale
 from ..diagnostics import check_central_difference
 from ..errors import AnalysisError, ModelError
 from ..linear.plant.branches import require_none
@@ -234,7 +235,7 @@ def _method_central_difference(job: SimulationJob) -> tuple[np.ndarray, str]:
 CHECK_WINDOW = 512
 """Steps of the fixed-step integrators' step-halving check (the first ones, where a pulse acts)."""
 
-FLOPS = 1e9
+FLOPS = constant("time.FLOPS", 1e9)
 """Floating-point operations per second of one core, for the time estimates [1/s]."""
 
 
@@ -318,6 +319,10 @@ def _cost(kind: str) -> Callable[[Any], Cost]:
     ``(ns, n)`` histories; the step loops in Python cost :data:`STEP_OVERHEAD` each). Measured against
     one run at 120 and 600 DOF, 2,000 steps (docs/analyses/time.md): the run took 0.4-3.7x the estimate."""
     def cost(job: Any) -> Cost:
+        found = _formula(job)
+        return Cost(scale(f"time.{kind}") * found.seconds, found.bytes)
+
+    def _formula(job: Any) -> Cost:
         n, m, p, ns = job.plant.n, len(job.plant.inputs), len(job.plant.outputs), job.time.size
         dense = 8.0 * (6 * n * n)
         if kind == "modal":
@@ -337,7 +342,7 @@ def _cost(kind: str) -> Callable[[Any], Cost]:
     return cost
 
 
-STEP_OVERHEAD = 3e-5
+STEP_OVERHEAD = constant("time.STEP_OVERHEAD", 3e-5)
 """Interpreter time of one step of a loop over the steps [s] (measured: Newmark at 120 DOF)."""
 
 

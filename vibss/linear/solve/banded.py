@@ -9,7 +9,8 @@ Layouts that do not band well (half-bandwidth above :data:`BAND_MAX`) are factor
 (:func:`scipy.sparse.linalg.splu`, fill-reducing COLAMD ordering) instead.
 
 The cost constants below were measured on the project's 2-core VM (one BLAS thread,
-``benchmarks/bench_frf.py``); they only steer the automatic choice of an FRF method.
+``benchmarks/bench_frf.py``; read from vibss/data/costs.json, :mod:`vibss.costs`, where
+benchmarks/bench_costs.py re-measures them); they only steer the automatic choice of an FRF method.
 """
 
 from __future__ import annotations
@@ -21,6 +22,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spl
 from scipy.sparse.csgraph import reverse_cuthill_mckee
 
+from ...costs import constant, scale
 from ..plant.branches import groups
 from ..plant.plant import Plant
 
@@ -29,10 +31,10 @@ __all__ = ["Structure", "structure", "BAND_MAX", "seconds_floor"]
 BAND_MAX = 48
 """Largest half-bandwidth solved as a band; wider patterns go to SuperLU."""
 
-_T_FREQ = 3e-5          # fixed cost per frequency [s] (Python, assembling the right-hand side)
-_K_BUILD = 3.5e-9       # [s] per band entry assembled (n (2 b + 1) per matrix)
-_K_BAND = 2.5e-9        # [s] per n b^2 of the banded LU
-_K_SUPERLU = 2e-9       # [s] per nnz(L + U)^2 / n of a SuperLU factorisation
+_T_FREQ = constant("solve.T_FREQ", 3e-5)      # fixed cost per frequency [s] (Python, the right-hand side)
+_K_BUILD = constant("solve.K_BUILD", 3.5e-9)   # [s] per band entry assembled (n (2 b + 1) per matrix)
+_K_BAND = constant("solve.K_BAND", 2.5e-9)     # [s] per n b^2 of the banded LU
+_K_SUPERLU = constant("solve.K_SUPERLU", 7e-8)  # [s] per nonzero of L + U of a SuperLU factorisation and solve
 
 
 @dataclass(frozen=True, eq=False)
@@ -125,12 +127,15 @@ def structure(plant: Plant) -> Structure:
         (np.arange(n), reverse_cuthill_mckee(pattern, symmetric_mode=True).astype(int))))[::2]
     if band <= BAND_MAX:
         parts = {key: _gb_layout(a, perm, band) for key, a in mats.items()}
-        cost = _T_FREQ + _K_BUILD * n * (2 * band + 1) * len(parts) + _K_BAND * n * max(band, 1) ** 2
+        cost = scale("solve.banded") * (_T_FREQ + _K_BUILD * n * (2 * band + 1) * len(parts)
+                                        + _K_BAND * n * max(band, 1) ** 2)
         return Structure(perm, band, True, parts, cost)
     csc = {key: a.tocsc() for key, a in mats.items()}
     # the fill of L + U from a trial factorisation of a diagonally dominant matrix of this pattern
     trial = sp.csc_matrix(pattern + sp.diags(np.asarray(abs(pattern).sum(axis=1)).ravel() + 1.0))
     lu = spl.splu(trial)
     fill = lu.L.nnz + lu.U.nnz
-    cost = _T_FREQ + _K_SUPERLU * fill**2 / max(n, 1)
+    cost = scale("solve.superlu") * (_T_FREQ + _K_SUPERLU * fill)   # linear in the fill: within 1.5x
+    # on the suite's 150-600-DOF grid, tree, lattice and random graph, where nnz(L + U)^2 / n (the
+    # model before) spread 6x and overestimated the large sparse ones (issue 34: 4x at 60,000 DOF)
     return Structure(perm, band, False, csc, cost)
