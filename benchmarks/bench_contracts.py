@@ -35,7 +35,7 @@ from vibss.frequency.contracts import check  # noqa: E402
 from vibss.frequency.kernels import METHODS  # noqa: E402
 from vibss.linear.eigen.basis import modal_basis  # noqa: E402
 from vibss.linear.plant.build import build_plant  # noqa: E402
-from vibss.methods import _fits  # noqa: E402
+from vibss.methods import MEMORY_FRACTION, available_memory  # noqa: E402
 
 
 def _err(h: np.ndarray, ref: np.ndarray) -> float:
@@ -82,7 +82,7 @@ def bench(quick: bool) -> dict:
                 if large and not m.sparse_ok:
                     continue
                 est = m.cost(plant, nf, basis) if m.cost is not None else None
-                if est is not None and (est.seconds > 120 or not _fits(est)):
+                if est is not None and (est.seconds > 120 or est.bytes > MEMORY_FRACTION * available_memory()):
                     rows[name] = {"skipped": f"estimated {est.text()}: past 120 s or the memory guard"}
                     print(f"{label:38s} {name:13s} skipped: estimated {est.text()}", flush=True)
                     continue
