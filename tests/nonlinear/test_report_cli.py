@@ -83,3 +83,10 @@ def test_a_shock_into_the_snubbers_of_a_symmetric_cabinet_is_located_quickly() -
     assert r.method == "nonlinear_modal" and np.abs(r["cabinet.x.rel"]).max() < 1e-12
     text = r.contacts.table.render()
     assert "foot" in text and " z " in f" {text} "
+
+
+def test_the_report_lists_the_stop_contacts() -> None:
+    rep = study(vibss.load_example("snubbed_cabinet"), figures=False)
+    s = rep.section("time")
+    assert not s.skipped and any(t.title == "stop contacts" for t in s.tables)
+    assert "stop contacts" in s.text and "foot" in s.text

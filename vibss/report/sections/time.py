@@ -39,5 +39,10 @@ def _time_section(model: Model, figures: bool, results: dict[str, Any]) -> Secti
                                                   acceleration="g" if in_g else "m/s^2")))
     head = "\n".join(r.report().split("\n")[:2])
     drifts = "".join(f"\nDrift: {d.text()}" for d in ground_drifts(transient, window.end))
-    return Section("time", TITLES["time"], f"{head}{drifts}\n\n{table}", (table,), tuple(figs),
+    tables: tuple[TextTable, ...] = (table,)
+    body = f"{head}{drifts}\n\n{table}"
+    if r.contacts is not None:            # nonlinear mounts: which stops were hit, when, how hard
+        tables += (r.contacts.table,)
+        body += f"\n\n{r.contacts.table.render()}"
+    return Section("time", TITLES["time"], body, tables, tuple(figs),
                    note=f"0 to {window.end:g} s, step {window.step:g} s ({window.note}), method {r.method}")
