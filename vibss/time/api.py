@@ -446,7 +446,8 @@ def _run(job: SimulationJob, chosen: TimeMethod, auto: bool,
     plant = job.plant
     order = [chosen] + ([METHODS[chosen.fallback]] if auto and chosen.fallback else [])
     others = [m for m in METHODS.values() if m is not chosen and not (m.forces_only and motions)
-              and (m.internal_states or plant.branches is None)]
+              and (m.internal_states or plant.branches is None)
+              and not (getattr(m, "nonlinear", False) and plant.branches is not None)]   # it refuses branches
 
     def run(method: Method) -> tuple[np.ndarray, str]:
         y, note = method.kernel(job)
