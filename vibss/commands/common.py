@@ -101,8 +101,9 @@ def linear_from_args(args: argparse.Namespace) -> Model:
         return model
     from ..nonlinear.api import operating_point
 
-    print(f"vibss {getattr(args, 'command', '') or ''}: nonlinear mounts: analysing the tangent model at the "
-          "operating point (vibss static shows it)".replace("vibss : ", "vibss: "), file=sys.stderr)
+    who = " ".join(x for x in ("vibss", getattr(args, "command", None)) if x)
+    print(f"{who}: nonlinear mounts: analysing the tangent model at the operating point (vibss static shows it)",
+          file=sys.stderr)
     return operating_point(model).tangent
 
 

@@ -29,6 +29,7 @@ import numpy as np
 
 from ..design.parameters import _RATE, _RATIO, Parameter, ratio_axes
 from ..errors import ControlDesignError
+from ..linear.eigen.small import state_eigen
 from ..model.actuation import Actuator, Sensor
 from ..model.model import Model
 
@@ -184,10 +185,9 @@ def lft(h: np.ndarray, delta: np.ndarray, rows: Sequence[int], cols: Sequence[in
 
 
 def closed_modes(closed: tuple[np.ndarray, ...]) -> tuple[np.ndarray, np.ndarray]:
-    """Eigenvalues [rad/s] and eigenvectors of the nominal closed loop, by ascending magnitude."""
-    lam, V = np.linalg.eig(closed[0])
-    order = np.argsort(np.abs(lam), kind="stable")
-    return lam[order], V[:, order]
+    """Eigenvalues [rad/s] and eigenvectors of the nominal closed loop, by ascending magnitude
+    (:func:`vibss.linear.eigen.small.state_eigen`)."""
+    return state_eigen(closed[0])
 
 
 def _real_form(lam: np.ndarray, b: np.ndarray, c: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

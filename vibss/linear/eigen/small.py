@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg as sl
 
-__all__ = ["symmetric_eigen", "projected_eigen"]
+__all__ = ["symmetric_eigen", "projected_eigen", "state_eigen"]
 
 
 def symmetric_eigen(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -40,3 +40,11 @@ def projected_eigen(kr: np.ndarray, mr: np.ndarray) -> tuple[np.ndarray, np.ndar
         Projected stiffness and (positive definite) mass; symmetrised first.
     """
     return sl.eigh(0.5 * (kr + kr.T), 0.5 * (mr + mr.T), check_finite=False)
+
+
+def state_eigen(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Eigenvalues [rad/s] and right eigenvectors of a real first-order state matrix (a closed loop,
+    whose controller states leave no second-order structure), by ascending magnitude (LAPACK ``geev``)."""
+    lam, v = np.linalg.eig(np.asarray(a, dtype=float))
+    order = np.argsort(np.abs(lam), kind="stable")
+    return lam[order], v[:, order]
