@@ -46,6 +46,7 @@ class LocalLaws:
         object.__setattr__(self, "hi", np.array([law.clearance[1] for law in self.laws], float))
         object.__setattr__(self, "curved", np.array([i for i, law in enumerate(self.laws) if law.curve is not None],
                                                     int))
+        object.__setattr__(self, "_pieces", self._piecewise())
         g_op = self._stop(self.d0, self.regime(self.d0)) + self._curve(self.d0)[0]
         object.__setattr__(self, "g_op", g_op)
 
@@ -55,6 +56,23 @@ class LocalLaws:
     hi: np.ndarray = field(init=False, repr=False)       # positive-side clearances [m]
     curved: np.ndarray = field(init=False, repr=False)   # indices of the curved axes
     g_op: np.ndarray = field(init=False, repr=False)     # force beyond the linear rate at d0 [N]
+    _pieces: tuple[np.ndarray, np.ndarray] = field(init=False, repr=False)   # the curves as cubics
+    _segments: np.ndarray = field(init=False, repr=False)                   # pieces per curve
+    _ends: np.ndarray = field(init=False, repr=False)                       # last breakpoint per curve [m]
+
+    def _piecewise(self) -> tuple[np.ndarray, np.ndarray]:
+        """The curved axes' breakpoints (rc, n + 1) [m], padded with inf, and their cubics' coefficients
+        (4, rc, n) in powers of the distance from each piece's start (scipy's PPoly form)."""
+        curves = [self.laws[i].curve for i in self.curved]
+        n = max((c.c.shape[1] for c in curves), default=0)
+        breaks = np.full((len(curves), n + 1), np.inf)
+        coef = np.zeros((4, len(curves), n))
+        for j, c in enumerate(curves):
+            breaks[j, :c.x.size] = c.x
+            coef[:, j, :c.c.shape[1]] = c.c
+        object.__setattr__(self, "_segments", np.array([c.c.shape[1] for c in curves], int))
+        object.__setattr__(self, "_ends", np.array([c.x[-1] for c in curves], float))
+        return breaks, coef
 
     @property
     def r(self) -> int:
@@ -80,13 +98,25 @@ class LocalLaws:
         return self.ks * np.where(regime != 0, on, 0.0)
 
     def _curve(self, d: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The curved axes' force beyond the linear rate [N], its slope [N/m] and curvature [N/m^2] at
+        ``d`` [m], every curve at once from its piecewise cubic (an integration step calls this in each
+        Newton iteration: a scalar call per axis cost 0.4 ms of the 0.5 ms step of a 6-DOF cabinet)."""
         f, f1, f2 = np.zeros_like(d), np.zeros_like(d), np.zeros_like(d)
-        for i in self.curved:
-            law = self.laws[i]
-            f[i] = float(law._elastic(np.asarray(d[i]), 0)) - law.stiffness * d[i]
-            f1[i] = float(law._elastic(np.asarray(d[i]), 1)) - law.stiffness
-            lo, hi = law.span
-            f2[i] = float(law.curve(d[i], 2)) if lo < d[i] < hi else 0.0
+        if not self.curved.size:
+            return f, f1, f2
+        breaks, coef = self._pieces
+        dc = d[self.curved]
+        x = np.clip(dc, breaks[:, 0], self._ends)
+        seg = np.minimum((x[:, None] >= breaks[:, 1:]).sum(axis=1), self._segments - 1)
+        rows = np.arange(dc.size)
+        t = x - breaks[rows, seg]
+        c0, c1, c2, c3 = coef[:, rows, seg]
+        p1 = (3.0 * c0 * t + 2.0 * c1) * t + c2
+        value = ((c0 * t + c1) * t + c2) * t + c3 + p1 * (dc - x)    # continued with the end slopes
+        k0 = self.k0[self.curved]
+        f[self.curved] = value - k0 * dc
+        f1[self.curved] = p1 - k0
+        f2[self.curved] = np.where((dc > breaks[:, 0]) & (dc < self._ends), 6.0 * c0 * t + 2.0 * c1, 0.0)
         return f, f1, f2
 
     def force(self, e: np.ndarray, regime: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
