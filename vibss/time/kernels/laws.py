@@ -47,6 +47,8 @@ class LocalLaws:
         object.__setattr__(self, "curved", np.array([i for i, law in enumerate(self.laws) if law.curve is not None],
                                                     int))
         object.__setattr__(self, "_pieces", self._piecewise())
+        object.__setattr__(self, "_gap", (np.where(np.isfinite(self.lo), self.lo, 0.0),
+                                          np.where(np.isfinite(self.hi), self.hi, 0.0)))
         g_op = self._stop(self.d0, self.regime(self.d0)) + self._curve(self.d0)[0]
         object.__setattr__(self, "g_op", g_op)
 
@@ -59,6 +61,7 @@ class LocalLaws:
     _pieces: tuple[np.ndarray, np.ndarray] = field(init=False, repr=False)   # the curves as cubics
     _segments: np.ndarray = field(init=False, repr=False)                   # pieces per curve
     _ends: np.ndarray = field(init=False, repr=False)                       # last breakpoint per curve [m]
+    _gap: tuple[np.ndarray, np.ndarray] = field(init=False, repr=False)     # clearances, 0 for no stop [m]
 
     def _piecewise(self) -> tuple[np.ndarray, np.ndarray]:
         """The curved axes' breakpoints (rc, n + 1) [m], padded with inf, and their cubics' coefficients
@@ -93,9 +96,10 @@ class LocalLaws:
         return np.where(side > 0, self.hi, -self.lo)
 
     def _stop(self, d: np.ndarray, regime: np.ndarray) -> np.ndarray:
-        with np.errstate(invalid="ignore"):
-            on = np.where(regime > 0, d - self.hi, np.where(regime < 0, d + self.lo, 0.0))
-        return self.ks * np.where(regime != 0, on, 0.0)
+        # an axis without a stop has infinite clearances, a zero rate and regime 0: its finite stand-ins
+        # (self._gap) keep the product 0 without an inf - inf
+        lo, hi = self._gap
+        return self.ks * np.where(regime > 0, d - hi, d + lo) * (regime != 0)
 
     def _curve(self, d: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The curved axes' force beyond the linear rate [N], its slope [N/m] and curvature [N/m^2] at
