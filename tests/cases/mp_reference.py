@@ -188,6 +188,52 @@ def step_response(model: Model, load: np.ndarray, dt: float, steps: int, rows: i
         return out
 
 
+def step_response_certified(model: Model, load: np.ndarray, dt: float, steps: int, rows: int = 6,
+                            bits: int = 800) -> tuple[np.ndarray, float]:
+    """:func:`step_response` in ball arithmetic (python-flint's arb, ``bits`` of precision): the same
+    augmented ``expm``, each entry carried with a rigorous error radius. Returns the response
+    (rows, steps + 1) and its largest radius relative to its largest entry: a reference that states
+    its own error. The matrices come from :func:`matrices` and :func:`mass` at 60 digits (exact for
+    the model's floats up to 1e-60). A 36-DOF model with modes from 1.7 to 1e11 rad/s: 800 bits give
+    a radius of 7e-68 in 3 s, where the 40-digit ``mp.expm`` took 24 s (500 bits: radius 3e19, the
+    squarings' growth)."""
+    import flint
+
+    old = flint.ctx.prec
+    flint.ctx.prec = bits
+    try:
+        with mp.workdps(DPS):
+            K, C, M = matrices(model), matrices(model, "damping"), mass(model)
+
+            def arb(a: mp.matrix) -> Any:
+                return flint.arb_mat([[flint.arb(mp.nstr(a[i, j], DPS)) for j in range(a.cols)]
+                                      for i in range(a.rows)])
+
+            Ka, Ca, Mi = arb(K), arb(C), arb(M).inv()
+            f = arb(mp.matrix([mp.mpf(float(v)) for v in load]))
+        n = K.rows
+        MK, MC, mf = Mi * Ka, Mi * Ca, Mi * f
+        A = flint.arb_mat(2 * n + 1, 2 * n + 1)
+        for i in range(n):
+            A[i, n + i] = 1
+            A[n + i, 2 * n] = mf[i, 0]
+            for j in range(n):
+                A[n + i, j] = -MK[i, j]
+                A[n + i, n + j] = -MC[i, j]
+        E = (A * flint.arb(repr(float(dt)))).exp()
+        x = flint.arb_mat(2 * n + 1, 1)
+        x[2 * n, 0] = 1
+        out, rad = np.zeros((rows, steps + 1)), 0.0
+        for k in range(steps + 1):
+            for i in range(rows):
+                out[i, k] = float(x[i, 0].mid())
+                rad = max(rad, float(x[i, 0].rad()))
+            x = E * x
+        return out, rad / max(float(np.abs(out).max()), 1e-300)
+    finally:
+        flint.ctx.prec = old
+
+
 def extended_precision_frf(plant: Any, s: np.ndarray) -> np.ndarray:
     """Receptance ``Oq (K + s^2 M + s C)^-1 F`` of a plant, (p, m, nf): a dense LU refined three
     times with the residual formed in long double (80-bit on x86), independent of any
