@@ -236,7 +236,7 @@ def modal_outputs(prep: Prepared, grid: Grid, kin: Kinematics, rows: np.ndarray,
     """(len(rows), width) the modal sets' outputs (their ``Y`` rows, ``width`` of them) at grid points
     ``rows``: the response without the direct terms (:func:`run_modal` adds those). A caller that
     gives each mode rows of its own in ``Y`` gets the modes' terms apart
-    (:mod:`vibss.insight.time_contributions`)."""
+    (:mod:`vibss.insight.time_split`)."""
     degree = max([DEGREE[k] for k in prep.kinds] + [1])
     # generalized forcing per input "channel": [F (force), -Kt (z), -Ct (z')]
     Wg = channels(prep)
