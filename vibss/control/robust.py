@@ -326,8 +326,8 @@ def _evaluate_lft(ext: Any, plant: Any, controller: Any, params: tuple[Parameter
     modes = memo["modes"]
     poles, held, solved = reduced_poles(ext.closed, ext.f_in, ext.d_out, delta, states, modes=modes, hold=HOLD)
     memo.setdefault("solved", []).append(solved)
-    if omega is None:
-        omega = _grid(poles[0], frequencies)
+    if omega is None:        # the nominal loop's lowest `states` poles (those solved or held among them)
+        omega = _grid(modes[0][:min(states, len(modes[0]))], frequencies)
     names, ch = _channel(plant, ext, channel)
     if "open" not in memo:
         memo["open"] = open_loop(ext, controller, omega)

@@ -58,7 +58,10 @@ def plot_time_contributions(result: TimeContributions, ax: Any = None, output: i
     unit = result.units[output]
     tab = mpl.colormaps["tab10"]
     up.plot(t[show], result.total[output, show], "k", lw=2.2, label="response")
-    labels, now, inwin, colors = [], [], [], []
+    labels: list[str] = []
+    now: list[float] = []
+    inwin: list[float] = []
+    colors: list[Any] = []
     for c, k in enumerate(best):
         lab = f"mode {k + 1} ({result.mode_frequency_hz[k]:.3g} Hz)"
         up.plot(t[show], result.terms[k, output, show], color=tab(c % 10), lw=1.2, label=lab)
