@@ -70,7 +70,7 @@ _LAZY: dict[str, str] = {
     "SweepEnvelope": ".time.sweep", "sweep_envelope": ".time.sweep",
     "grid_study": ".design.grid",
     "energy_distribution": ".insight.api", "modal_contributions": ".insight.api",
-    "path_contributions": ".insight.api",
+    "path_contributions": ".insight.api", "time_contributions": ".insight.time_split",
     "srs": ".shock.api", "ShockResponseSpectrum": ".shock.result",
     "random_response": ".random", "PSD": ".random",
     "fit_rheology": ".measured.api", "Foundation": ".measured.fbs",
@@ -114,6 +114,7 @@ if TYPE_CHECKING:                          # what static checkers and IDEs see
     from .shock.result import ShockResponseSpectrum
     from .design.grid import grid_study
     from .insight.api import energy_distribution, modal_contributions, path_contributions
+    from .insight.time_split import time_contributions
     from .frequency.api import frequency_response
     from .measured.api import fit_rheology
     from .measured.fbs import Foundation
@@ -155,6 +156,6 @@ __all__ = [
     "AnalysisError", "ArgumentError", "Assembly", "DefectiveModesError", "Body", "ControlPoint", "DOF_NAMES", "DampedModes", "Excitation",
     "Foundation", "FrequencyGrid", "FrequencyResponse", "GROUND", "Load", "MissingDependencyError", "Model", "ModelError", "ModelFileError", "Modes", "Mount", "MountType", "NamedStateSpace",
     "Orientation", "PSD", "Plant", "Reduction", "Scope", "SignalError", "StaticResult", "StudyDefaults", "Support", "SweepEnvelope", "TimeResponse", "VibssError", "VibssWarning", "assemble", "build_plant", "damped_modes", "dump_model",
-    "dumps_model", "energy_distribution", "example_names", "fit_rheology", "frequency_grid", "frequency_response", "load_example", "load_model", "loads_model", "modal_contributions", "modes", "operating_point", "OperatingPoint", "harmonic_balance", "HarmonicBalanceResult", "orders", "path_contributions", "random", "random_response", "reduce", "shock", "simulate", "srs", "static", "track_modes",
+    "dumps_model", "energy_distribution", "example_names", "fit_rheology", "frequency_grid", "frequency_response", "load_example", "load_model", "loads_model", "modal_contributions", "modes", "operating_point", "OperatingPoint", "harmonic_balance", "HarmonicBalanceResult", "orders", "path_contributions", "random", "random_response", "reduce", "shock", "simulate", "srs", "static", "time_contributions", "track_modes",
     "statespace", "grid_study", "study_defaults", "causal_loss", "sweep_envelope", "sweep_response", "symmetric", "transmissibility",
 ]

@@ -16,6 +16,6 @@ def test_insight_guide_prints_what_it_quotes(capsys):
         exec(compile(block, "insight.md", "exec"), scope)
     out = capsys.readouterr().out
     quoted = re.findall(r"```text\n(.*?)```", text, re.S)
-    assert len(quoted) == 4
+    assert len(quoted) == 5
     for q in quoted:
         assert q.strip() in out

@@ -23,10 +23,12 @@ def results():
         "energy": vibss.energy_distribution(m, "dissipative"),
         "modal": vibss.modal_contributions(m, ["b.fz"], ["b.z", "b.rx"], [1.0, 3.0, 4.5, 9.0]),
         "paths": vibss.path_contributions(m, ["b.fz", "ground.z.acc"], [1.0, 3.0, 9.0]),
+        "time": vibss.time_contributions(m, inputs={"b.fz": np.r_[0.0, np.ones(200)]}, outputs=["b.z", "b.rx"],
+                                         t_end=0.4, dt=2e-3),
     }
 
 
-@pytest.mark.parametrize("kind", ["energy", "modal", "paths"])
+@pytest.mark.parametrize("kind", ["energy", "modal", "paths", "time"])
 def test_protocol(results, kind, monkeypatch):
     r = results[kind]
     assert r.report() == str(r) and r._repr_html_().count("<table>") == 1

@@ -91,6 +91,8 @@ def insight_objects(m: Model) -> dict[str, Any]:
         "energy": vibss.energy_distribution(m, "strain"),
         "modal contributions": vibss.modal_contributions(m, ["b.fz"], ["b.z"], [1.0, 3.0, 9.0]),
         "paths": vibss.path_contributions(m, ["b.fz"], [1.0, 3.0]),
+        "time contributions": vibss.time_contributions(m, inputs={"b.fz": np.ones(11)}, outputs=["b.z"], t_end=0.1,
+                                                       dt=0.01),
     }
 
 

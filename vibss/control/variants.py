@@ -29,7 +29,8 @@ import numpy as np
 
 from ..design.parameters import _RATE, _RATIO, Parameter, ratio_axes
 from ..errors import ControlDesignError
-from ..linear.eigen.small import state_eigen
+from ..frequency.statespace_kernels import diagonal_sum
+from ..linear.eigen.small import state_eigen, state_eigenvalues
 from ..model.actuation import Actuator, Sensor
 from ..model.model import Model
 
@@ -217,9 +218,17 @@ def _real_form(lam: np.ndarray, b: np.ndarray, c: np.ndarray) -> tuple[np.ndarra
     return A, B, C
 
 
+HOLD = 1e-7
+"""Largest first-order bound on the relative shift ``|d lam| / |lam|`` of a pole (also a bound on its
+damping change, to first order) for which :func:`reduced_poles` holds a pole among the lowest ones at
+its nominal value instead of solving it per variant: ``||B_j|| max_v ||Delta_v (I + D Delta_v)^-1||
+||C_j|| / |lam_j|``, its modal input and output rows on the rate channels."""
+
+
 def reduced_poles(closed: tuple[np.ndarray, ...], f_in: np.ndarray, d_out: np.ndarray, delta: np.ndarray,
                   states: int, chunk: int = 200,
-                  modes: tuple[np.ndarray, np.ndarray] | None = None) -> tuple[np.ndarray, np.ndarray, int]:
+                  modes: tuple[np.ndarray, np.ndarray] | None = None,
+                  hold: float = 0.0) -> tuple[np.ndarray, np.ndarray, int]:
     """Closed-loop poles of every variant [rad/s] (see the module docstring).
 
     Parameters
@@ -237,6 +246,11 @@ def reduced_poles(closed: tuple[np.ndarray, ...], f_in: np.ndarray, d_out: np.nd
         Variants per batched eigen-solve.
     modes : (lam, V) or None
         :func:`closed_modes` of ``closed`` if known.
+    hold : float
+        The poles among the lowest ``states`` that the rate channels barely see, a first-order bound on
+        their relative shift below ``hold`` (:data:`HOLD`), are held at their nominal values too (0:
+        none), their coupling to the solved ones left out: the eigen-solve per variant shrinks to the
+        poles the loops see (``kept`` counts the solved ones).
 
     Returns
     -------
@@ -261,15 +275,32 @@ def reduced_poles(closed: tuple[np.ndarray, ...], f_in: np.ndarray, d_out: np.nd
     if k < len(lam):
         hi = slice(k, None)
         Dtt = Dtt - (Ct[:, hi] / lam[hi]) @ Bt[hi]
-    L, Bl, Cl = _real_form(lam[:k], Bt[:k], Ct[:, :k])
     Dr = Dtt.real
-    out = np.empty((delta.shape[0], k), dtype=complex)
+    solve = np.ones(k, bool)
+    if hold > 0:
+        bound = shift_bound(lam[:k], Bt[:k], Ct[:, :k], Dr, delta)
+        solve = bound > hold
+        mate = np.argmin(np.abs(lam[:k][None, :] - np.conj(lam[:k])[:, None]), axis=1)   # each pole's conjugate
+        solve |= solve[mate]                                                            # pairs stay whole
+    L, Bl, Cl = _real_form(lam[:k][solve], Bt[:k][solve], Ct[:, :k][:, solve])
+    ks = int(solve.sum())
+    out = np.empty((delta.shape[0], ks), dtype=complex)
     for s in range(0, delta.shape[0], chunk):
         dv = delta[s:s + chunk]                                    # (c, r)
         inner = np.linalg.inv(np.eye(r)[None] + Dr[None] * dv[:, None, :])   # (I + D Delta)^-1
         av = L[None] - (Bl[None] * dv[:, None, :]) @ inner @ Cl[None]
-        out[s:s + chunk] = np.linalg.eigvals(av)
-    return out, lam[k:], k
+        out[s:s + chunk] = state_eigenvalues(av)
+    return out, np.concatenate([lam[:k][~solve], lam[k:]]), ks
+
+
+def shift_bound(lam: np.ndarray, bt: np.ndarray, ct: np.ndarray, d: np.ndarray, delta: np.ndarray) -> np.ndarray:
+    """(k,) first-order bound on each pole's relative shift over the variants, ``||B_j|| max_v
+    ||Delta_v (I + D Delta_v)^-1||_2 ||C_j|| / |lam_j|`` (``d lam_j = -B_j Delta' C_j`` to first order)."""
+    r = delta.shape[1]
+    inner = np.linalg.inv(np.eye(r)[None] + d[None] * delta[:, None, :])
+    dmax = float(np.linalg.norm(delta[:, :, None] * inner, ord=2, axis=(1, 2)).max(initial=0.0))
+    mag = np.maximum(np.abs(lam), np.finfo(float).tiny)
+    return np.linalg.norm(bt, axis=1) * dmax * np.linalg.norm(ct, axis=0) / mag
 
 
 def peak_refined(mag: np.ndarray, omega: np.ndarray) -> np.ndarray:
@@ -397,10 +428,10 @@ def _closed_response(closed: tuple[np.ndarray, ...], rows: Sequence[int], cols: 
     vb = np.linalg.solve(V, B[:, list(cols)])
     cv = C[list(rows)] @ V
     d = D[np.ix_(list(rows), list(cols))][:, :, None]
+    diag = diagonal_sum(lam, cv, vb)
 
     def h(w: np.ndarray) -> np.ndarray:
-        res = 1.0 / (1j * np.asarray(w, dtype=float)[None, :] - lam[:, None])      # (n, nf)
-        return np.einsum("ak,kf,kb->abf", cv, res, vb) + d
+        return diag(1j * np.asarray(w, dtype=float)) + d
 
     return h
 

@@ -15,7 +15,7 @@ import scipy.linalg as sl
 
 from ..linear.eigen.complex_modes import eigenpairs
 
-__all__ = ["MODAL_COND_MAX", "modal", "balanced"]
+__all__ = ["MODAL_COND_MAX", "modal", "balanced", "condition_1", "diagonal_sum"]
 
 Response = Callable[[np.ndarray], np.ndarray]
 
@@ -28,13 +28,29 @@ def modal(A: np.ndarray, B: np.ndarray, C: np.ndarray) -> Response | None:
     """Diagonalised once: ``C V (sI - Lambda)^-1 V^-1 B`` (O(n p m) per frequency); None where the
     eigenvectors are ill conditioned (``cond(V) >=`` :data:`MODAL_COND_MAX`)."""
     lam, V = eigenpairs(A)
-    if not np.linalg.cond(V) < MODAL_COND_MAX:
+    if not condition_1(V) < MODAL_COND_MAX:
         return None
     left, right = C @ V, np.linalg.solve(V, B)
+    return diagonal_sum(lam, left, right)
 
+
+def condition_1(V: np.ndarray) -> float:
+    """The 1-norm condition number of ``V``, estimated from its LU factors (LAPACK ``gecon``, O(n^2)
+    after the O(n^3 / 3) factorisation; within a factor n of the 2-norm ``np.linalg.cond``, whose
+    SVD costs about 20 times the factorisation at 1,200 states)."""
+    a = np.asarray(V, dtype=complex)
+    lu, _ = sl.lu_factor(a, check_finite=False)
+    gecon = sl.get_lapack_funcs("gecon", (lu,))
+    rcond, info = gecon(lu, float(np.abs(a).sum(axis=0).max()), norm="1")
+    return float(np.inf) if info != 0 or rcond <= 0 else 1.0 / float(rcond)
+
+
+def diagonal_sum(lam: np.ndarray, left: np.ndarray, right: np.ndarray) -> Response:
+    """``s -> (p, m, k)`` ``left (sI - Lambda)^-1 right`` of a diagonal system, as one batched matrix
+    product per call (``(left * g) @ right``: a BLAS GEMM, where a three-operand ``einsum`` loops)."""
     def h(s: np.ndarray) -> np.ndarray:
-        g = 1.0 / (s[None, :] - lam[:, None])
-        return np.einsum("in,nf,nk->ikf", left, g, right)
+        g = 1.0 / (s[:, None] - lam[None, :])                    # (k, n)
+        return np.moveaxis((left[None] * g[:, None, :]) @ right, 0, -1)
     return h
 
 

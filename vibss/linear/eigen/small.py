@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg as sl
 
-__all__ = ["symmetric_eigen", "projected_eigen", "state_eigen"]
+__all__ = ["symmetric_eigen", "projected_eigen", "state_eigen", "state_eigenvalues"]
 
 
 def symmetric_eigen(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -48,3 +48,9 @@ def state_eigen(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     lam, v = np.linalg.eig(np.asarray(a, dtype=float))
     order = np.argsort(np.abs(lam), kind="stable")
     return lam[order], v[:, order]
+
+
+def state_eigenvalues(a: np.ndarray) -> np.ndarray:
+    """Eigenvalues [rad/s] of a real state matrix, or of a stack of them (``(..., n, n)``: one LAPACK
+    ``geev`` per matrix without eigenvectors, batched variants of a closed loop), in LAPACK's order."""
+    return np.linalg.eigvals(np.asarray(a, dtype=float))

@@ -17,7 +17,7 @@ from ..recursion import LowRank, scan
 from .grid import Grid, Kinematics, direct_terms
 from .prepared import Prepared, one_blas_thread
 
-__all__ = ["run_modal", "channels", "DEGREE", "CHUNK", "LOWRANK_CHUNK", "SEPARATION"]
+__all__ = ["run_modal", "modal_outputs", "channels", "DEGREE", "CHUNK", "LOWRANK_CHUNK", "SEPARATION"]
 
 DEGREE = {"force": 1, "displacement": 1, "velocity": 2, "acceleration": 3}
 """Polynomial degree (per interval) of the prescribed coordinate (or force) for a PWL input."""
@@ -41,6 +41,7 @@ class _ModalSet:
     x0: np.ndarray      # (nb, b) initial state
     Y: np.ndarray       # (p, nb, b) output per state component (conjugate pairs weighted 2)
     Pc: np.ndarray | None = None   # (nb, 3m) forcing per input channel [f, z, z'] (added to P @ channels)
+    mode: np.ndarray | None = None  # (nb,) the undamped mode each block belongs to (the one dominating its shape)
 
 
 SEPARATION = 1e-2
@@ -82,7 +83,7 @@ def _scalar_modes(w: np.ndarray, c: np.ndarray, phi: np.ndarray, eta0: np.ndarra
     lam_ = np.concatenate(lam)
     Y = (Ceta[:, idx] + Cdeta[:, idx] * lam_) * np.concatenate(wt)      # Y T: x_a = w z, x_b = lam z
     return _ModalSet(A=lam_.reshape(-1, 1, 1), P=np.concatenate(force)[:, None] * phi[:, idx].T,
-                     x0=np.concatenate(z0)[:, None], Y=Y[:, :, None])
+                     x0=np.concatenate(z0)[:, None], Y=Y[:, :, None], mode=idx)
 
 
 def _modal_sets(prep: Prepared, q0: np.ndarray, v0: np.ndarray,
@@ -118,10 +119,12 @@ def _modal_sets(prep: Prepared, q0: np.ndarray, v0: np.ndarray,
         A[:, 1, 1] = -np.diag(chat)[block]
         Y = np.stack([Ceta[:, block] / s[block], Cdeta[:, block]], axis=-1)
         sets.append(_ModalSet(A=A, P=phi[:, block].T,
-                              x0=np.column_stack([s[block] * eta0[block], deta0[block]]), Y=Y))
+                              x0=np.column_stack([s[block] * eta0[block], deta0[block]]), Y=Y,
+                              mode=np.flatnonzero(block)))
     if diag.any():
-        scalar.append(_scalar_modes(w[diag], np.diag(chat)[diag], phi[:, diag], eta0[diag], deta0[diag],
-                                    Ceta[:, diag], Cdeta[:, diag]))
+        sm = _scalar_modes(w[diag], np.diag(chat)[diag], phi[:, diag], eta0[diag], deta0[diag],
+                           Ceta[:, diag], Cdeta[:, diag])
+        scalar.append(dataclasses.replace(sm, mode=np.flatnonzero(diag)[sm.mode]))
     how = "classical damping: real undamped modes"
     if coupled.any():
         e = coupled
@@ -134,12 +137,13 @@ def _modal_sets(prep: Prepared, q0: np.ndarray, v0: np.ndarray,
         Vk = V[:, keep]
         Yw = Ceta[:, e] @ (Vk[:ne] / se[:, None]) + Cdeta[:, e] @ Vk[ne:]
         weight = np.where(lam[keep].imag > 0, 2.0, 1.0)
+        owner = np.flatnonzero(e)[np.argmax(np.abs(Vk[:ne] / se[:, None]), axis=0)]
         # the forcing per input channel, V^-1[:, velocity] Phi^T [F, -Kt, -Ct] (N/2 x 3m): the
         # (N/2 x n) map Phi^T itself is only ever applied to those 3m columns (an N^3/8 complex
         # GEMM saved, about 0.06 s at 600 DOF)
         scalar.append(_ModalSet(A=lam[keep].reshape(-1, 1, 1), P=None,
                                 x0=z0, Y=Yw[:, :, None] * weight[None, :, None],
-                                Pc=cm.velocity_rows()[keep] @ (phi[:, e].T @ channels(prep))))
+                                Pc=cm.velocity_rows()[keep] @ (phi[:, e].T @ channels(prep)), mode=owner))
         how = (f"non-proportional damping: {ne} coupled modes as complex modes (eig of the scaled "
                f"modal first-order form), {len(w) - ne} decoupled real modes")
     if len(scalar) > 1:     # decoupled and coupled scalar modes in one set: their channel maps
@@ -149,7 +153,8 @@ def _modal_sets(prep: Prepared, q0: np.ndarray, v0: np.ndarray,
         sets.append(_ModalSet(A=np.concatenate([x.A for x in scalar]),
                               P=None if scalar[0].P is None else np.concatenate([x.P for x in scalar]),
                               x0=np.concatenate([x.x0 for x in scalar]), Y=np.concatenate([x.Y for x in scalar], axis=1),
-                              Pc=None if scalar[0].Pc is None else np.concatenate([x.Pc for x in scalar])))
+                              Pc=None if scalar[0].Pc is None else np.concatenate([x.Pc for x in scalar]),
+                              mode=np.concatenate([x.mode for x in scalar if x.mode is not None])))
     return sets, how
 
 
@@ -220,15 +225,25 @@ def run_modal(prep: Prepared, grid: Grid, kin: Kinematics, rows: np.ndarray,
     how : str
         What was done (for the result's record).
     """
-    plant = prep.plant
-    degree = max([DEGREE[k] for k in prep.kinds] + [1])
     sets, how = _remembered_modal_sets(prep, q0, v0, float(grid.t[-1])) if modal_sets is None else modal_sets
+    y = modal_outputs(prep, grid, kin, rows, sets, len(prep.plant.outputs))
+    y += direct_terms(prep, kin, rows)
+    return y, how
+
+
+def modal_outputs(prep: Prepared, grid: Grid, kin: Kinematics, rows: np.ndarray, sets: list[_ModalSet],
+                  width: int) -> np.ndarray:
+    """(len(rows), width) the modal sets' outputs (their ``Y`` rows, ``width`` of them) at grid points
+    ``rows``: the response without the direct terms (:func:`run_modal` adds those). A caller that
+    gives each mode rows of its own in ``Y`` gets the modes' terms apart
+    (:mod:`vibss.insight.time_split`)."""
+    degree = max([DEGREE[k] for k in prep.kinds] + [1])
     # generalized forcing per input "channel": [F (force), -Kt (z), -Ct (z')]
     Wg = channels(prep)
     m = len(prep.kinds)
     ni = len(grid.h)
     coef = kin.coef
-    y = np.zeros((len(rows), len(plant.outputs)))
+    y = np.zeros((len(rows), width))
     want = np.zeros(len(grid.t), bool)
     want[rows] = True
     out_pos = np.cumsum(want) - 1
@@ -286,5 +301,4 @@ def run_modal(prep: Prepared, grid: Grid, kin: Kinematics, rows: np.ndarray,
                 if sel.any():
                     y[out_pos[start + 1:stop + 1][sel]] += ys[sel]
                 start = stop
-    y += direct_terms(prep, kin, rows)
-    return y, how
+    return y
