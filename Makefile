@@ -30,11 +30,11 @@ demo: $(STAMP)
 
 test: $(STAMP) chromium
 	$(BIN)/python -m mypy
-	$(BIN)/python -m pytest -n 2 -q vibss tests
+	$(BIN)/python -m pytest -n 2 --dist worksteal -q vibss tests
 
 # Everything but the tests marked slow (over about 4 s each); one room: pytest tests/frequency -m "not slow"
 test-quick: $(STAMP) chromium
-	$(BIN)/python -m pytest -n 2 -q -m "not slow" vibss tests
+	$(BIN)/python -m pytest -n 2 --dist worksteal -q -m "not slow" vibss tests
 
 # The adversarial suite of tests/robustness/test_random_models.py, long (1,000 random models per property, 10,000
 # mutated model files; VIBSS_FUZZ_MODELS / VIBSS_FUZZ_FILES override), and the contract campaign of

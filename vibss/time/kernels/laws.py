@@ -58,24 +58,23 @@ class LocalLaws:
     hi: np.ndarray = field(init=False, repr=False)       # positive-side clearances [m]
     curved: np.ndarray = field(init=False, repr=False)   # indices of the curved axes
     g_op: np.ndarray = field(init=False, repr=False)     # force beyond the linear rate at d0 [N]
-    _pieces: tuple[np.ndarray, np.ndarray] = field(init=False, repr=False)   # the curves as cubics
-    _segments: np.ndarray = field(init=False, repr=False)                   # pieces per curve
-    _ends: np.ndarray = field(init=False, repr=False)                       # last breakpoint per curve [m]
+    _pieces: tuple[np.ndarray, ...] = field(init=False, repr=False)         # the curves as cubics
     _gap: tuple[np.ndarray, np.ndarray] = field(init=False, repr=False)     # clearances, 0 for no stop [m]
 
-    def _piecewise(self) -> tuple[np.ndarray, np.ndarray]:
-        """The curved axes' breakpoints (rc, n + 1) [m], padded with inf, and their cubics' coefficients
-        (4, rc, n) in powers of the distance from each piece's start (scipy's PPoly form)."""
+    def _piecewise(self) -> tuple[np.ndarray, ...]:
+        """The curved axes' pieces for :meth:`_curve`: first and last breakpoints (rc,) [m], inner
+        breakpoints (rc, n - 1) padded with inf, the last piece's index, each axis's offset into the
+        flat piece list, and per flat piece its cubic's coefficients in powers of the distance from its
+        start (scipy's PPoly form) with that start [m] as a fifth row; and the axes' linear rates."""
         curves = [self.laws[i].curve for i in self.curved]
-        n = max((c.c.shape[1] for c in curves), default=0)
-        breaks = np.full((len(curves), n + 1), np.inf)
-        coef = np.zeros((4, len(curves), n))
-        for j, c in enumerate(curves):
-            breaks[j, :c.x.size] = c.x
-            coef[:, j, :c.c.shape[1]] = c.c
-        object.__setattr__(self, "_segments", np.array([c.c.shape[1] for c in curves], int))
-        object.__setattr__(self, "_ends", np.array([c.x[-1] for c in curves], float))
-        return breaks, coef
+        n = max((cv.c.shape[1] for cv in curves), default=0)
+        inner = np.full((len(curves), max(n - 1, 0)), np.inf)
+        for j, cv in enumerate(curves):
+            inner[j, :cv.x.size - 2] = cv.x[1:-1]
+        sizes = np.array([cv.c.shape[1] for cv in curves], int)
+        coef = np.hstack([np.vstack([cv.c, cv.x[None, :-1]]) for cv in curves]) if curves else np.zeros((5, 0))
+        return (np.array([cv.x[0] for cv in curves], float), np.array([cv.x[-1] for cv in curves], float), inner,
+                sizes - 1, np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(int), coef, self.k0[self.curved])
 
     @property
     def r(self) -> int:
@@ -105,23 +104,21 @@ class LocalLaws:
         """The curved axes' force beyond the linear rate [N], its slope [N/m] and curvature [N/m^2] at
         ``d`` [m], every curve at once from its piecewise cubic (an integration step calls this in each
         Newton iteration: a scalar call per axis cost 0.4 ms of the 0.5 ms step of a 6-DOF cabinet)."""
-        f, f1, f2 = np.zeros_like(d), np.zeros_like(d), np.zeros_like(d)
-        if not self.curved.size:
-            return f, f1, f2
-        breaks, coef = self._pieces
-        dc = d[self.curved]
-        x = np.clip(dc, breaks[:, 0], self._ends)
-        seg = np.minimum((x[:, None] >= breaks[:, 1:]).sum(axis=1), self._segments - 1)
-        rows = np.arange(dc.size)
-        t = x - breaks[rows, seg]
-        c0, c1, c2, c3 = coef[:, rows, seg]
+        out = np.zeros((3, d.size))
+        c = self.curved
+        if not c.size:
+            return out[0], out[1], out[2]
+        first, ends, inner, last, base, coef, k0 = self._pieces
+        dc = d[c]
+        x = np.minimum(np.maximum(dc, first), ends)
+        at = base + np.minimum((x[:, None] >= inner).sum(axis=1), last)
+        t = x - coef[4, at]
+        c0, c1, c2, c3 = coef[:4, at]
         p1 = (3.0 * c0 * t + 2.0 * c1) * t + c2
-        value = ((c0 * t + c1) * t + c2) * t + c3 + p1 * (dc - x)    # continued with the end slopes
-        k0 = self.k0[self.curved]
-        f[self.curved] = value - k0 * dc
-        f1[self.curved] = p1 - k0
-        f2[self.curved] = np.where((dc > breaks[:, 0]) & (dc < self._ends), 6.0 * c0 * t + 2.0 * c1, 0.0)
-        return f, f1, f2
+        out[0, c] = ((c0 * t + c1) * t + c2) * t + c3 + p1 * (dc - x) - k0 * dc   # end slopes beyond
+        out[1, c] = p1 - k0
+        out[2, c] = (6.0 * c0 * t + 2.0 * c1) * ((dc > first) & (dc < ends))
+        return out[0], out[1], out[2]
 
     def force(self, e: np.ndarray, regime: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Local force ``g(e)`` [N], its slope [N/m] and curvature [N/m^2] in the given regimes
