@@ -405,7 +405,7 @@ def close(plant: Any, controller: Any, *, margins: bool = True, allow_unstable: 
     allow_unstable : bool
         Return an unstable loop instead of raising (for studies of the instability itself).
     name : str or None
-        Name of the closed loop (default ``<plant>:closed``).
+        Name of the closed loop (default ``"<plant> (closed loop)"``: it titles its figures and tables).
 
     Returns
     -------
@@ -425,7 +425,7 @@ def close(plant: Any, controller: Any, *, margins: bool = True, allow_unstable: 
     poles = poles[np.lexsort((poles.imag, np.abs(poles)))]
     tol = 1e-9 * max(np.abs(poles).max(initial=1.0), 1.0)
     unstable = poles[poles.real > tol]
-    nm = name or f"{plant.name}:closed"
+    nm = name or f"{plant.name} (closed loop)"
     if unstable.size and not allow_unstable:
         p = unstable[np.argmax(unstable.real)]
         raise ControlDesignError(f"{nm}: the closed loop is unstable: pole at s = {p.real:.4g}{p.imag:+.4g}j "
