@@ -190,14 +190,19 @@ def _identifiability(jac: np.ndarray, names: list[str]) -> tuple[np.ndarray, lis
     jn = jac / np.where(norms > 0, norms, 1.0)
     _, sv, vt = np.linalg.svd(jn, full_matrices=False)
     null = (sv < RANK_RTOL * sv[0]) if sv.size and sv[0] > 0 else np.ones(sv.size, dtype=bool)
-    groups: list[list[str]] = [[names[i]] for i in np.flatnonzero(norms == 0)]
-    blind = norms == 0
-    for v in vt[null]:
-        load = np.abs(v) > 0.1 * np.abs(v).max()
-        load &= norms > 0
-        if load.any() and not blind[load].all():
-            groups.append([names[i] for i in np.flatnonzero(load)])
-            blind |= load
+    blind = norms <= RANK_RTOL * norms.max() if norms.size else norms == 0
+    groups: list[list[str]] = [[names[i]] for i in np.flatnonzero(blind)]
+    sets: list[set[int]] = []
+    for v in vt[null]:                      # parameters loading a null vector, joined where they share one
+        load = set(np.flatnonzero((np.abs(v) > 0.1 * np.abs(v).max()) & ~blind).tolist())
+        for other in [g for g in sets if g & load]:
+            load |= other
+            sets.remove(other)
+        if load:
+            sets.append(load)
+    for g in sets:
+        groups.append([names[i] for i in sorted(g)])
+        blind[sorted(g)] = True
     return sv, groups, blind
 
 

@@ -117,7 +117,7 @@ class UpdateResult(Result):
         for p, u, a, b, s in zip(self.parameters, self.parameter_units, self.initial, self.estimate,
                                  self.standard_deviation):
             change = f"{100 * (b - a) / a:+.2f} %" if u in ("N/m", "-") and a else f"{b - a:+.4g} {u}"
-            rel = f"{100 * s / abs(b):.3g} %" if np.isfinite(s) and b else ("inf" if not np.isfinite(s) else "-")
+            rel = ("inf" if not np.isfinite(s) else f"{100 * s / abs(b):.3g} %" if u in ("N/m", "-") and b else "-")
             rows.append([p, f"{a:.6g}", f"{b:.6g}", f"{s:.3g}", rel, change, u])
         return TextTable(["parameter", "start", "updated", "std", "std/value", "change", "unit"], rows,
                          title=f"Updated to {self._data_text()}",

@@ -85,9 +85,9 @@ def _modes(result: Any, ax: Any) -> Figure:
     w = 0.38
     b.bar(n - w / 2, result.correlation_before, w, color="C1", label="before")
     b.bar(n + w / 2, result.correlation_after, w, color="C0", label="after")
-    b.set_ylim(0.0, 1.15)
+    b.set_ylim(0.0, 1.3)
     b.set_ylabel("MAC [-]")
-    b.set_xlabel("measured mode (frequency)")
+    b.set_xlabel("measured mode")
     b.set_xticks(n, [f"{i}" for i in n])
     b.legend(fontsize=8, loc="upper right", ncol=2)
     b.grid(True, axis="y", alpha=0.3)
