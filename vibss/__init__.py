@@ -74,7 +74,7 @@ _LAZY: dict[str, str] = {
     "srs": ".shock.api", "ShockResponseSpectrum": ".shock.result",
     "random_response": ".random", "PSD": ".random",
     "fit_rheology": ".measured.api", "Foundation": ".measured.fbs",
-    "update": ".measured.update", "UpdateResult": ".measured.update_result", "MeasuredModes": ".measured.modes",
+    "update": ".measured.update", "MeasuredModes": ".measured.modes",
     # subpackages
     "design": ".design",            # vibss.design.*: mount-system design
     "shock": ".shock",              # vibss.shock.*: shock pulses and the SRS
@@ -120,7 +120,6 @@ if TYPE_CHECKING:                          # what static checkers and IDEs see
     from .measured.fbs import Foundation
     from .measured.modes import MeasuredModes
     from .measured.update import update
-    from .measured.update_result import UpdateResult
     from .frequency.grid import FrequencyGrid, frequency_grid
     from .frequency.result import FrequencyResponse
     from .frequency.sweep import sweep_response, transmissibility
@@ -157,7 +156,7 @@ __all__ = [
     "HalfSine", "Haversine", "Ramp", "Rectangular", "Sawtooth", "Sine", "SineSweep", "Step", "Sum", "Table",
     "TimeFunction", "Triangle", "Actuator", "Sensor", "ShockResponseSpectrum", "ControlDesignError", "control",
     "AnalysisError", "ArgumentError", "Assembly", "DefectiveModesError", "Body", "ControlPoint", "DOF_NAMES", "DampedModes", "Excitation",
-    "Foundation", "FrequencyGrid", "MeasuredModes", "UpdateResult", "update", "FrequencyResponse", "GROUND", "Load", "MissingDependencyError", "Model", "ModelError", "ModelFileError", "Modes", "Mount", "MountType", "NamedStateSpace",
+    "Foundation", "FrequencyGrid", "MeasuredModes", "update", "FrequencyResponse", "GROUND", "Load", "MissingDependencyError", "Model", "ModelError", "ModelFileError", "Modes", "Mount", "MountType", "NamedStateSpace",
     "Orientation", "PSD", "Plant", "Reduction", "Scope", "SignalError", "StaticResult", "StudyDefaults", "Support", "SweepEnvelope", "TimeResponse", "VibssError", "VibssWarning", "assemble", "build_plant", "damped_modes", "dump_model",
     "dumps_model", "energy_distribution", "example_names", "fit_rheology", "frequency_grid", "frequency_response", "load_example", "load_model", "loads_model", "modal_contributions", "modes", "operating_point", "OperatingPoint", "harmonic_balance", "HarmonicBalanceResult", "orders", "path_contributions", "random", "random_response", "reduce", "shock", "simulate", "srs", "static", "track_modes",
     "statespace", "grid_study", "study_defaults", "causal_loss", "sweep_envelope", "sweep_response", "symmetric", "transmissibility",

@@ -118,7 +118,8 @@ def _channel_weights(weights: Any, measured: FrequencyResponse, shape: tuple[int
 def _rows(model: Model, outputs: tuple[str, ...]) -> np.ndarray:
     """(q, n) displacement (or velocity, or acceleration) map of each measured output."""
     asm = assemble(model, sparse=False)
-    rows, cache = [], {}
+    rows: list[np.ndarray] = []
+    cache: dict[str, Any] = {}
     for name in outputs:
         if name.startswith("mount."):
             raise ArgumentError(f"{_WHO}: measured: output {name!r}: a mode shape is read at body DOFs and control "
@@ -367,7 +368,7 @@ def _gradient_check(problem: FrfProblem | ModesProblem, xs: np.ndarray, scale: n
     rp, _ = problem.residual((xs + h * d) * scale, False)
     rm, _ = problem.residual((xs - h * d) * scale, False)
     exact = js @ d
-    err = float(np.linalg.norm((rp - rm) / (2 * h) - exact) / max(np.linalg.norm(exact), 1e-300))
+    err = float(np.linalg.norm((rp - rm) / (2 * h) - exact) / max(float(np.linalg.norm(exact)), 1e-300))
     return Check(err, GRADIENT_RTOL, f"{r.size} residuals, central difference of step {h:g} (scaled)")
 
 
