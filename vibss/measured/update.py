@@ -72,8 +72,8 @@ def _frf_problem(model: Model, measured: FrequencyResponse, params: tuple[Parame
                             expected=list(_POWER))
     f = np.asarray(measured.frequency_hz, dtype=float)
     if np.any(f <= 0):
-        raise ArgumentError(f"{_WHO}: measured: frequency {f[f <= 0][0]:g} Hz; the log residual needs "
-                            "frequencies > 0 (leave 0 Hz out)", argument="measured", received=float(f[f <= 0][0]))
+        raise ArgumentError(f"{_WHO}: measured: frequency {f[f <= 0][0]:g} Hz; give frequencies > 0 (leave "
+                            "0 Hz out: its limit is not differentiated here)", argument="measured", received=float(f[f <= 0][0]))
     try:
         build_plant(model, list(measured.inputs), list(measured.outputs))
     except ModelError as e:
@@ -86,8 +86,8 @@ def _frf_problem(model: Model, measured: FrequencyResponse, params: tuple[Parame
     if bad.size:
         i, j, k = bad[0]
         raise ArgumentError(f"{_WHO}: measured: channel {measured.outputs[i]}/{measured.inputs[j]} is "
-                            f"{data[i, j, k]} at {f[k]:g} Hz; the log residual needs finite, nonzero values "
-                            "(leave the channel out with weight 0)", argument="measured",
+                            f"{data[i, j, k]} at {f[k]:g} Hz; the relative residual divides by finite, nonzero "
+                            "values (leave the channel out with weight 0)", argument="measured",
                             received=f"{measured.outputs[i]}/{measured.inputs[j]}")
     return FrfProblem(model, params, tuple(measured.inputs), tuple(measured.outputs), 2j * np.pi * f, power,
                       data, w)
@@ -213,8 +213,8 @@ def update(model: Model, measured: FrequencyResponse | MeasuredModes, parameters
 
     Least squares (:func:`scipy.optimize.least_squares`, ``trf`` with bounds) with exact gradients:
     for a frequency response, the derivative of the exact solve ``dH/dp = -Z^-1 (dZ/dp) Z^-1``
-    (with the input and output maps' derivatives), residuals the log-magnitude and phase errors
-    per channel and frequency; for modes, the design sensitivities, residuals the relative
+    (with the input and output maps' derivatives), residuals the complex relative errors
+    ``H_model / H_measured - 1`` per channel and frequency; for modes, the design sensitivities, residuals the relative
     frequency errors and the MAC-paired, best-scaled shape errors
     (:mod:`vibss.measured.update_kernels`).
 
