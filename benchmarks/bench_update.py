@@ -129,7 +129,7 @@ def _figure(curves: dict, seeds: int) -> None:
     for c, (case, rows) in enumerate(curves.items()):
         noise, err, std = (np.array(x) for x in zip(*rows))
         ax.fill_between(100 * noise, 100 * std, 300 * std, color=f"C{c}", alpha=0.15,
-                        label=f"{case}: stated std to 3 std")
+                        label=f"{case}: stated std (dashed) to 3 std")
         ax.loglog(100 * noise, 100 * std, "--", color=f"C{c}", lw=1)
         ax.loglog(100 * noise, 100 * err, "o-", color=f"C{c}", label=f"{case}: RMS error over {seeds} seeds")
     ax.set_xlabel("measurement noise (relative, complex) [%]")
@@ -137,6 +137,8 @@ def _figure(curves: dict, seeds: int) -> None:
     ax.set_title("vibss.update: recovery of mount rates from a noisy FRF (18 channels, 60 frequencies)",
                  fontsize=9)
     ax.grid(True, which="both", alpha=0.3)
+    top = max(300 * max(r[2] for r in rows) for rows in curves.values())
+    ax.set_ylim(top=100 * top)                     # room above the data for the legend
     ax.legend(fontsize=7, loc="upper left")
     FIGURE.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(FIGURE, dpi=110)
