@@ -205,6 +205,14 @@ def test_bad_names_and_arguments_raise_naming_them():
         vibss.MeasuredModes([5.0, 6.0], [[1.0, 0.0]], ["b.z"])
 
 
+def test_bounds_hold_and_a_bad_pair_is_refused():
+    data = measured_frf(F[::3])
+    r = vibss.update(layout(0.9 * K3), data, RATES, bounds=[[1e4] * 4, [2.8e4] * 4])
+    assert np.all(r.estimate <= 2.8e4) and r.estimate[1] == pytest.approx(2.8e4, rel=1e-6)
+    with pytest.raises(ArgumentError, match="m2.k3"):
+        vibss.update(layout(), data, RATES, bounds={"m2.k3": (3e4, 1e4)})
+
+
 def test_the_result_follows_the_protocol_and_plots(tmp_path):
     r = vibss.update(layout(1.1 * K3), measured_frf(F[::3], 0.01), RATES, bounds={"m0.k3": (1e4, 4e4)})
     assert r["m1.k3"] == r.values["m1.k3"] and set(r.std) == set(RATES)

@@ -73,7 +73,8 @@ def _frf_problem(model: Model, measured: FrequencyResponse, params: tuple[Parame
     f = np.asarray(measured.frequency_hz, dtype=float)
     if np.any(f <= 0):
         raise ArgumentError(f"{_WHO}: measured: frequency {f[f <= 0][0]:g} Hz; give frequencies > 0 (leave "
-                            "0 Hz out: its limit is not differentiated here)", argument="measured", received=float(f[f <= 0][0]))
+                            "0 Hz out: its limit is not differentiated here)", argument="measured",
+                            received=float(f[f <= 0][0]))
     try:
         build_plant(model, list(measured.inputs), list(measured.outputs))
     except ModelError as e:
@@ -347,7 +348,8 @@ def _solve(model: Model, measured: Any, problem: FrfProblem | ModesProblem, para
     kind = "frequency response" if isinstance(problem, FrfProblem) else "modes"
     labels = (tuple(f"{y}/{u}" for y in problem.outputs for u in problem.inputs) if isinstance(problem, FrfProblem)
               else tuple(f"mode {i + 1}" for i in range(len(measured))))
-    note = (f"{n} residuals, {k} parameters, {sol.nfev} evaluations ({sol.message.rstrip('.')}); gradient "
+    note = (f"claim: {CLAIM.text()}; {n} residuals, {k} parameters, {sol.nfev} evaluations"
+            f" ({sol.message.rstrip('.')}); gradient "
             f"{check.text()}; std = s (J^T J)^-1/2 with s = {np.sqrt(s2):.3g} (the residual RMS per degree of freedom)")
     return UpdateResult(model=apply(model, params, values), initial_model=model, parameters=tuple(names),
                         parameter_units=tuple(p.unit for p in params), initial=x0, estimate=values,

@@ -103,7 +103,8 @@ def frf_and_derivative(plant: Plant, derivatives: Sequence[Plant], s: np.ndarray
         da_x = (d.K + 1j * d.H) @ x + sc * (d.C @ x) + sc**2 * (d.M @ x)
         rhs.append(forcing(d, s, zf) - da_x)
     dx, _ = states(plant, s, rhs=np.concatenate(rhs, axis=2))
-    dy = np.stack([observe(d, s, x, zf) + _outputs_of(plant, s, dx[:, :, i * m:(i + 1) * m]) for i, d in enumerate(derivatives)])
+    dy = np.stack([observe(d, s, x, zf) + _outputs_of(plant, s, dx[:, :, i * m:(i + 1) * m])
+                   for i, d in enumerate(derivatives)])
     return y, dy
 
 
@@ -186,7 +187,8 @@ class FrfProblem:
         if bad.any():
             i, j = np.argwhere(keep)[np.argwhere(bad)[0][0]]
             raise AnalysisError(f"update: the model's response {self.outputs[i]}/{self.inputs[j]} is not finite at "
-                                "a measured frequency", argument="measured", received=f"{self.outputs[i]}/{self.inputs[j]}")
+                                "a measured frequency", argument="measured",
+                                received=f"{self.outputs[i]}/{self.inputs[j]}")
         r = np.concatenate([z.real.ravel(), z.imag.ravel()])
         if dy is None:
             return r, None
