@@ -134,6 +134,25 @@ def test_modes_give_eight_rates_back_noise_free_and_within_std_with_noise():
     np.testing.assert_allclose(r.frequency_after, _measured_modes(0.01, 5).frequency_hz, rtol=0.03)
 
 
+def test_eight_rates_from_a_noisy_frf_land_within_the_stated_std():
+    truth = np.concatenate([K3, K1])
+    data = measured_frf(F, 0.01, 11)
+    r = vibss.update(layout(1.15 * K3, 0.85 * K1), data, EIGHT)
+    assert np.all(np.abs(r.estimate - truth) < 3.5 * r.standard_deviation)
+    assert np.all(r.standard_deviation / truth < 0.05)
+
+
+def test_a_mount_position_comes_back_from_modes():
+    """The measured modes: scipy's eigh of the hand matrices with mount m0 2 cm higher."""
+    POINTS[0, 2] += 0.02
+    try:
+        tested = _measured_modes()
+    finally:
+        POINTS[0, 2] -= 0.02
+    r = vibss.update(layout(), tested, ["m0.z", "m0.k3"])
+    assert r.values["m0.z"] == pytest.approx(0.02, rel=1e-7) and r.values["m0.k3"] == pytest.approx(K3[0], rel=1e-8)
+
+
 def _central(problem, x, h):
     return np.column_stack([(problem.residual(x + hi * e, False)[0] - problem.residual(x - hi * e, False)[0])
                             / (2 * hi) for hi, e in zip(h, np.eye(x.size))])
