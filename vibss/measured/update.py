@@ -313,8 +313,7 @@ def _solve(model: Model, measured: Any, problem: FrfProblem | ModesProblem, para
         assert j is not None
         return j * scale[None]
 
-    r0, j0 = problem.residual(x0, True)
-    assert j0 is not None
+    r0, _ = problem.residual(x0, False)
     n, k = r0.size, len(params)
     if n <= k:
         raise ArgumentError(f"{_WHO}: measured: {n} residuals for {k} parameters; give more data (frequencies, "
