@@ -34,7 +34,7 @@ from benchmarks.machine import machine, timed  # noqa: E402
 import vibss  # noqa: E402
 from vibss import Body, ControlPoint, Model, Mount, MountType  # noqa: E402
 from vibss.design.parameters import current_values, parameters_of  # noqa: E402
-from vibss.measured.update import RATE_RANGE, _frf_problem, _modes_problem  # noqa: E402
+from vibss.measured.update import RATE_RANGE, _frf_problem, _modes_problem, _scan  # noqa: E402
 
 FIGURE = Path(__file__).resolve().parent.parent / "docs" / "figures" / "update_recovery.png"
 F = np.geomspace(2.0, 40.0, 60)
@@ -86,12 +86,14 @@ def _modes(noise: float, rng: np.random.Generator) -> vibss.MeasuredModes:
 
 
 def _stock(start: Model, data: vibss.FrequencyResponse | vibss.MeasuredModes, names: list[str]) -> tuple:
-    """scipy least_squares on the same residual with a '2-point' Jacobian."""
+    """scipy least_squares on the same residual, from the same start (the same scan of a common
+    factor for a frequency response) with a '2-point' Jacobian."""
     params = parameters_of(start, names)
     problem = (_frf_problem(start, data, params, None) if isinstance(data, vibss.FrequencyResponse)
                else _modes_problem(start, data, params, None))
     x0 = current_values(start, params)
-    sol = least_squares(lambda x: problem.residual(x * x0, False)[0], np.ones(x0.size), jac="2-point",
+    c = _scan(problem, x0, x0 / RATE_RANGE, x0 * RATE_RANGE) if isinstance(data, vibss.FrequencyResponse) else 1.0
+    sol = least_squares(lambda x: problem.residual(x * x0, False)[0], np.full(x0.size, c), jac="2-point",
                         bounds=(1 / RATE_RANGE, RATE_RANGE), method="trf", xtol=1e-12, ftol=1e-12, gtol=1e-12,
                         max_nfev=200)
     return sol.x * x0, sol.nfev

@@ -224,6 +224,18 @@ def test_bad_names_and_arguments_raise_naming_them():
         vibss.MeasuredModes([5.0, 6.0], [[1.0, 0.0]], ["b.z"])
 
 
+def test_a_model_far_too_stiff_is_brought_back_by_the_scan():
+    """From 2.6 times the true rate the relative residual sits on its plateau (the model's response
+    far below the data at 3 frequencies); the scan of a common factor starts the fit near it."""
+    m, c = 10.0, 20.0
+    f = np.array([3.0, 5.0, 8.0])
+    w = 2 * np.pi * f
+    data = vibss.FrequencyResponse.from_measurement(f, 1 / (2e4 - m * w**2 + 1j * c * w), ["b.fz"], ["b.z"])
+    start = Model([Body("b", m, [1, 1, 1])], [Mount("m", MountType("t", [1e4, 1e4, 5.2e4], [c] * 3), "b")])
+    r = vibss.update(start, data, ["m.k3"])
+    assert r.values["m.k3"] == pytest.approx(2e4, rel=1e-8) and "rates times 0.397" in r.note
+
+
 def test_bounds_hold_and_a_bad_pair_is_refused():
     data = measured_frf(F[::3])
     r = vibss.update(layout(0.9 * K3), data, RATES, bounds=[[1e4] * 4, [2.8e4] * 4])

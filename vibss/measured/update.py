@@ -53,6 +53,10 @@ the scaled parameters) agrees with the exact Jacobian to this relative error."""
 RATE_RANGE = 1e3
 """Default bounds of a rate or rate ratio: its starting value divided and multiplied by this."""
 
+SCAN = np.geomspace(0.25, 4.0, 25)
+"""Common factors of the rates tried before a frequency-response fit (1 included): the start is the
+one with the smallest log-magnitude error, within the bounds."""
+
 _POWER = {"frf": 0, "receptance": 0, "transmissibility": 0, "mobility": 1, "accelerance": 2}
 _QUANTITY = {0: "receptance", 1: "mobility", 2: "accelerance"}
 
@@ -318,7 +322,10 @@ def _solve(model: Model, measured: Any, problem: FrfProblem | ModesProblem, para
     if n <= k:
         raise ArgumentError(f"{_WHO}: measured: {n} residuals for {k} parameters; give more data (frequencies, "
                             "channels, modes) than parameters", argument="measured", received=n, expected=f"> {k}")
-    start = np.clip(x0, np.nextafter(lo, np.inf), np.nextafter(hi, -np.inf)) / scale
+    start = np.clip(x0, np.nextafter(lo, np.inf), np.nextafter(hi, -np.inf))
+    factor = _scan(problem, start, lo, hi) if isinstance(problem, FrfProblem) else 1.0
+    rates = np.array([p.targets[0][1] in ("k1", "k2", "k3") for p in params])
+    start = np.where(rates, start * factor, start) / scale
     sol = least_squares(fun, start, jac=jac, bounds=(lo / scale, hi / scale), method="trf", x_scale=1.0,
                         xtol=1e-12, ftol=1e-12, gtol=1e-12, max_nfev=200)
     values = sol.x * scale
@@ -347,7 +354,8 @@ def _solve(model: Model, measured: Any, problem: FrfProblem | ModesProblem, para
     kind = "frequency response" if isinstance(problem, FrfProblem) else "modes"
     labels = (tuple(f"{y}/{u}" for y in problem.outputs for u in problem.inputs) if isinstance(problem, FrfProblem)
               else tuple(f"mode {i + 1}" for i in range(len(measured))))
-    note = (f"claim: {CLAIM.text()}; {n} residuals, {k} parameters, {sol.nfev} evaluations"
+    note = (f"claim: {CLAIM.text()}; " + (f"started from the rates times {factor:.3g} (the scan's best "
+            "log-magnitude error); " if factor != 1.0 else "") + f"{n} residuals, {k} parameters, {sol.nfev} evaluations"
             f" ({sol.message.rstrip('.')}); gradient "
             f"{check.text()}; std = s (J^T J)^-1/2 with s = {np.sqrt(s2):.3g} (the residual RMS per degree of freedom)")
     return UpdateResult(model=apply(model, params, values), initial_model=model, parameters=tuple(names),
@@ -359,6 +367,22 @@ def _solve(model: Model, measured: Any, problem: FrfProblem | ModesProblem, para
                         residual_rms=np.array([np.sqrt(np.mean(r0 ** 2)), np.sqrt(np.mean(r ** 2))]),
                         singular_values=sv, unidentifiable=tuple(" and ".join(g) for g in groups),
                         check=check, evaluations=int(sol.nfev), note=note)
+
+
+def _scan(problem: FrfProblem, start: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> float:
+    """The factor of :data:`SCAN` (or 1) by which the rates of ``start`` give the smallest
+    :meth:`~vibss.measured.update_kernels.FrfProblem.log_misfit`, the scaled rates within the bounds."""
+    rates = np.array([p.targets[0][1] in ("k1", "k2", "k3") for p in problem.parameters])
+    if not rates.any():
+        return 1.0
+    best, cost = 1.0, problem.log_misfit(start)
+    for c in SCAN:
+        x = np.where(rates, start * c, start)
+        if np.all((x > lo) & (x < hi)):
+            trial = problem.log_misfit(x)
+            if trial < cost:
+                best, cost = float(c), trial
+    return best
 
 
 def _gradient_check(problem: FrfProblem | ModesProblem, xs: np.ndarray, scale: np.ndarray, js: np.ndarray,

@@ -26,7 +26,10 @@ derivative is ``dY / Y_measured``. The log ratio ``log(Y_model / Y_measured)`` (
 phase) was tried first: its phase wraps at +-pi where a model resonance sits on the wrong side of
 the measured one, and from seeded starts 0.7 to 1.4 times the true rates it stopped in a false
 minimum two times in three, where the relative error reached the true rates every time
-(benchmarks/bench_update.py).
+(benchmarks/bench_update.py). The relative error has a plateau of its own (-1 where the model's
+response is far below the measured one, a model much too stiff): :func:`vibss.update` first scales
+the rates by the common factor that minimises the log-magnitude error (:meth:`FrfProblem.log_misfit`),
+which has neither.
 
 **Modes.** The design sensitivities (:func:`vibss.design.sensitivity.evaluate`: ``d f``, ``d phi``
 by the modal sum, exact) give the model's frequencies and its shapes at the measured outputs
@@ -175,6 +178,16 @@ class FrfProblem:
         scale = self.s[:, None, None] ** self.power
         y = (y * scale).transpose(1, 2, 0)
         return y, None if dy is None else (dy * scale[None]).transpose(0, 2, 3, 1)
+
+    def log_misfit(self, values: np.ndarray) -> float:
+        """Sum of the squared weighted log-magnitude errors ``log |Y_model / Y_measured|`` [-]: no
+        phase to wrap and no plateau where the model's response is far below the measured one, for
+        the scan of a common scale of the rates (:func:`vibss.measured.update.update`)."""
+        y, _ = self.response(values, False)
+        keep = self.weights > 0
+        with np.errstate(divide="ignore"):
+            z = self.weights[keep][:, None] * np.log(np.abs(y[keep] / self.data[keep]))
+        return float(np.sum(z**2)) if np.all(np.isfinite(z)) else float("inf")
 
     def residual(self, values: np.ndarray, jacobian: bool = True) -> tuple[np.ndarray, np.ndarray | None]:
         """Real residuals (real and imaginary parts of the relative errors, weighted) and their
