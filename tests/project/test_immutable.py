@@ -55,6 +55,7 @@ def objects() -> dict[str, Any]:
         "modes": und,
         "damped": damped_modes(m, und),
         "frequency": frequency_response(m, ["b.fz"], ["b.z"], frequencies=[0.0, 1.0, 3.0]),
+        "update": vibss.update(m, frequency_response(m, ["b.fz"], ["b.z"], frequencies=[1.0, 3.0, 9.0]), ["m.k3"]),
         "time": tr,
         "peaks": tr.peaks() if hasattr(tr, "peaks") else None,
         "sweep": sweep_envelope(m, sweep, outputs=["b.z"], points=20),

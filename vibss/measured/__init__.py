@@ -5,6 +5,9 @@ from __future__ import annotations
 
 from .api import fit_rheology
 from .fbs import Foundation
+from .modes import MeasuredModes
 from .result import RheologyFit
+from .update import update
+from .update_result import UpdateResult
 
-__all__ = ["fit_rheology", "RheologyFit", "Foundation"]
+__all__ = ["fit_rheology", "RheologyFit", "Foundation", "MeasuredModes", "update", "UpdateResult"]
