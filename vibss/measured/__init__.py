@@ -4,7 +4,8 @@ flexible foundation known by its receptance, coupled by frequency-based substruc
 from __future__ import annotations
 
 from .api import fit_rheology
+from .blocked import blocked_forces
 from .fbs import Foundation
 from .result import RheologyFit
 
-__all__ = ["fit_rheology", "RheologyFit", "Foundation"]
+__all__ = ["fit_rheology", "RheologyFit", "Foundation", "blocked_forces"]

@@ -42,8 +42,8 @@ def _grid(foundation: Foundation, band: tuple[float, float]) -> np.ndarray:
     f = foundation.frequency_hz
     lo, hi = band
     if lo < f[0] * (1 - 1e-12) or hi > f[-1] * (1 + 1e-12):
-        raise ArgumentError(f"{_WHO}: inputs: the PSD band {lo:g} to {hi:g} Hz reaches outside the foundation "
-                            f"{foundation.name!r}'s frequencies ({f[0]:g} to {f[-1]:g} Hz); a receptance is never "
+        raise ArgumentError(f"{_WHO}: inputs: the PSD band {lo:g} to {hi:g} Hz reaches outside the frequencies of "
+                            f"the foundation {foundation.name!r} ({f[0]:g} to {f[-1]:g} Hz); a receptance is never "
                             "extrapolated: narrow the PSDs or give the foundation over the band",
                             argument="inputs", received=(lo, hi), expected=(float(f[0]), float(f[-1])))
     sel = (f >= lo * (1 - 1e-12)) & (f <= hi * (1 + 1e-12))
