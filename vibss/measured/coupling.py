@@ -35,8 +35,11 @@ from ..frequency.api import frequency_response
 from ..frequency.result import FrequencyResponse
 from ..model.model import DOF_NAMES, GROUND, Model
 from ..model.mounts import Support
-from ..model.units import times_s
+from ..linear.plant.build import build_plant
+from ..linear.plant.plant import Plant
+from ..model.units import input_unit, times_s
 from .fbs import AXES, FORCES, MOMENTS, ROTATIONS, Foundation
+from .interface import blocks
 
 __all__ = ["Coupled", "coupled", "couple", "on_supports", "source_response", "matching", "CHUNK_BYTES"]
 
@@ -196,26 +199,32 @@ def coupled(model: Any, foundation: Foundation, inputs: Sequence[Any] | None, ou
     f = foundation.frequency_hz[idx]
     skews = _skews(model, foundation.points) if foundation.rotations else None
     n, p = len(zin), len(outs)
-    y = z = g = None
-    for part, mixed in source_response(src, [*inputs, *zin], [*outs, *gout], f, method):
-        m = len(mixed.inputs) - n
-        if y is None:
-            y, z, g = (np.empty((k, m, f.size), dtype=complex) for k in (p, n, n))
-        h = np.moveaxis(mixed.response, 2, 0)                 # (nf, rows, columns): one stacked solve
-        if skews is not None:
-            h = np.array(h)
-            to_points(h, skews, slice(p, None), slice(m, None))
-        hyu, hyz, hgu, hgz = h[:, :p, :m], h[:, :p, m:], h[:, p:, :m], h[:, p:, m:]
+    plant = build_plant(src, [*inputs, *zin], [*outs, *gout])
+    m = len(plant.inputs) - n
+    y, z, g = (np.empty((k, m, f.size), dtype=complex) for k in (p, n, n))
+    step = max(1, int(CHUNK_BYTES // (16 * max(1, n * (n + m) + p * (n + m)))))
+    for lo in range(0, f.size, step):                   # a block of frequencies at a time
+        part = slice(lo, lo + step)
+        b = blocks(plant, 2j * np.pi * f[part], p, m, skews)
         yb = np.moveaxis(foundation.receptance[:, :, idx[part]], 2, 0)
-        zz = np.linalg.solve(np.eye(n)[None] - yb @ hgz, yb @ hgu)
-        y[:, :, part] = np.moveaxis(hyu + hyz @ zz, 0, 2)
+        zz = np.linalg.solve(b.operator(yb), yb @ b.hgu)
+        y[:, :, part] = np.moveaxis(b.hy[:, :, :m] + b.hy[:, :, m:] @ zz, 0, 2)
         z[:, :, part] = np.moveaxis(zz, 0, 2)
-        g[:, :, part] = np.moveaxis(hgu + hgz @ zz, 0, 2)
+        g[:, :, part] = np.moveaxis(b.hgu + b.gz_times(zz), 0, 2)
     assert y is not None and z is not None and g is not None
-    note = (f"{mixed.note}; coupled to {foundation.name!r} at {len(foundation.points)} points by "
-            "frequency-based substructuring (exact at the foundation's frequencies)")
-    return Coupled(f, y, z, g, mixed.outputs[:p], mixed.inputs[:m], mixed.units[:p], mixed.input_units[:m],
-                   f"{mixed.method}+fbs", note)
+    note = (f"the source's exact solve ({plant.n} DOFs) split at the interface; coupled to {foundation.name!r} "
+            f"at {len(foundation.points)} points by frequency-based substructuring (exact at the foundation's "
+            "frequencies)")
+    return Coupled(f, y, z, g, plant.outputs[:p], plant.inputs[:m], _units(plant, p), _input_units(plant, m),
+                   "direct+fbs", note)
+
+
+def _units(plant: Plant, p: int) -> tuple[str, ...]:
+    return tuple(plant.units[:p])
+
+
+def _input_units(plant: Plant, m: int) -> tuple[str, ...]:
+    return tuple(input_unit(u, k) for u, k in zip(plant.inputs[:m], plant.kinds[:m]))
 
 
 def couple(model: Any, foundation: Foundation, inputs: Sequence[Any] | None, outputs: Sequence[str] | None,
