@@ -39,26 +39,39 @@ class Blocks:
     low : (nf, n, d) and (nf, d, n) complex ndarrays
         ``O_g`` and ``X_z``: the part of ``H_gz`` through the source's ``d`` DOFs.
     direct : list of ((nf,) complex ndarray, scipy.sparse matrix)
-        ``(c(s), P)``: the mounts' own part of ``H_gz``, ``sum c(s) P``.
+        ``(c(s), P)``: the mounts' own part of ``H_gz``, ``sum c(s) P``; empty when ``diagonal`` holds it.
+    diagonal : (nf, points, k, k) complex ndarray or None
+        The same part as blocks on the diagonal, one a point (``k`` DOFs a point), when it has that
+        shape (a mount's force depends on its own end's motion only).
     """
 
     hy: np.ndarray
     hgu: np.ndarray
     low: tuple[np.ndarray, np.ndarray]
     direct: list[tuple[np.ndarray, sp.csr_matrix]]
+    diagonal: np.ndarray | None = None
 
     def gz_times(self, z: np.ndarray) -> np.ndarray:
         """``H_gz @ z`` for (nf, n, k) ``z``."""
         out = self.low[0] @ (self.low[1] @ z)
         for c, p in self.direct:
             out += c[:, None, None] * _sparse_left(p, z)
+        if self.diagonal is not None:
+            nf, pts, k, _ = self.diagonal.shape
+            zz = z.reshape(nf, pts, k, -1)
+            out += (self.diagonal @ zz).reshape(z.shape)
         return out
 
     def operator(self, yb: np.ndarray) -> np.ndarray:
         """(nf, n, n) ``I - Y_B H_gz`` for (nf, n, n) ``Y_B``."""
-        a = -((yb @ self.low[0]) @ self.low[1])
+        a = (yb @ self.low[0]) @ self.low[1]
         for c, p in self.direct:
-            a -= c[:, None, None] * _sparse_right(yb, p)
+            a += c[:, None, None] * _sparse_right(yb, p)
+        if self.diagonal is not None:
+            nf, pts, k, _ = self.diagonal.shape
+            yp = np.swapaxes(yb.reshape(nf, -1, pts, k), 1, 2)             # (nf, points, rows, k)
+            a += np.swapaxes(yp @ self.diagonal, 1, 2).reshape(a.shape)
+        np.negative(a, out=a)
         a += np.eye(a.shape[1])[None]
         return a
 
@@ -105,10 +118,31 @@ def blocks(plant: Plant, s: np.ndarray, p: int, m: int, skews: np.ndarray | None
         block = np.array(q[p:, m:], dtype=complex)
         if skews is not None:
             to_points(block, skews, slice(None), slice(None))
-        direct.append((c * zf[:, m], sp.csr_matrix(block)))         # displacement inputs: zf = 1
+        direct.append((c * zf[:, m], block))                         # displacement inputs: zf = 1
+    k = 6 if skews is not None else 3
+    diagonal = _diagonal(direct, k)
     if skews is not None:
         to_points(hy, skews, None, slice(m, None))
         to_points(hgu, skews, slice(None), None)
         to_points(og, skews, slice(None), None)
         to_points(xz, skews, None, slice(None))
-    return Blocks(hy, hgu, (og, xz), direct)
+    if diagonal is not None:
+        return Blocks(hy, hgu, (og, xz), [], diagonal)
+    return Blocks(hy, hgu, (og, xz), [(c, sp.csr_matrix(q)) for c, q in direct])
+
+
+def _diagonal(direct: list[tuple[np.ndarray, np.ndarray]], k: int) -> np.ndarray | None:
+    """``sum c(s) P`` as (nf, points, k, k) diagonal blocks, or None when a ``P`` has entries off them."""
+    if not direct:
+        return None
+    n = direct[0][1].shape[0]
+    pts = n // k
+    idx = np.arange(pts)
+    out = np.zeros((direct[0][0].size, pts, k, k), dtype=complex)
+    for c, q in direct:
+        blocks4 = q.reshape(pts, k, pts, k)
+        diag = blocks4[idx, :, idx, :]                                   # (points, k, k)
+        if np.count_nonzero(q) != np.count_nonzero(diag):
+            return None
+        out += c[:, None, None, None] * diag[None]
+    return out
