@@ -81,7 +81,7 @@ def transfer_paths(model: Any, inputs: Sequence[Any], frequencies: Any, receiver
     units = ("m", "m", "m", "rad", "rad", "rad")[:k]
     note = f"{c.note}; the paths into {foundation.name!r} carried to {foundation.points[r]!r}; {decision.note()}"
     return PathContributions(receiver=f"{foundation.name}.{foundation.points[r]}", frequency=c.frequency_hz,
-                             paths=foundation.points, components=foundation.dofs, forces=contributions,
+                             paths=tuple(foundation.points), components=foundation.dofs, forces=contributions,
                              input_names=c.inputs, method=c.method, note=note, component_units=units)
 
 
