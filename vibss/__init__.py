@@ -73,7 +73,7 @@ _LAZY: dict[str, str] = {
     "path_contributions": ".insight.api", "time_contributions": ".insight.time_split",
     "srs": ".shock.api", "ShockResponseSpectrum": ".shock.result",
     "random_response": ".random", "PSD": ".random",
-    "fit_rheology": ".measured.api", "Foundation": ".measured.fbs",
+    "fit_rheology": ".measured.api", "Foundation": ".measured.fbs", "blocked_forces": ".measured.blocked",
     "update": ".measured.update", "MeasuredModes": ".measured.modes",
     # subpackages
     "design": ".design",            # vibss.design.*: mount-system design
@@ -121,6 +121,7 @@ if TYPE_CHECKING:                          # what static checkers and IDEs see
     from .measured.fbs import Foundation
     from .measured.modes import MeasuredModes
     from .measured.update import update
+    from .measured.blocked import blocked_forces
     from .frequency.grid import FrequencyGrid, frequency_grid
     from .frequency.result import FrequencyResponse
     from .frequency.sweep import sweep_response, transmissibility
@@ -159,6 +160,6 @@ __all__ = [
     "AnalysisError", "ArgumentError", "Assembly", "DefectiveModesError", "Body", "ControlPoint", "DOF_NAMES", "DampedModes", "Excitation",
     "Foundation", "FrequencyGrid", "MeasuredModes", "update", "FrequencyResponse", "GROUND", "Load", "MissingDependencyError", "Model", "ModelError", "ModelFileError", "Modes", "Mount", "MountType", "NamedStateSpace",
     "Orientation", "PSD", "Plant", "Reduction", "Scope", "SignalError", "StaticResult", "StudyDefaults", "Support", "SweepEnvelope", "TimeResponse", "VibssError", "VibssWarning", "assemble", "build_plant", "damped_modes", "dump_model",
-    "dumps_model", "energy_distribution", "example_names", "fit_rheology", "frequency_grid", "frequency_response", "load_example", "load_model", "loads_model", "modal_contributions", "modes", "operating_point", "OperatingPoint", "harmonic_balance", "HarmonicBalanceResult", "orders", "path_contributions", "random", "random_response", "reduce", "shock", "simulate", "srs", "static", "time_contributions", "track_modes",
+    "blocked_forces", "dumps_model", "energy_distribution", "example_names", "fit_rheology", "frequency_grid", "frequency_response", "load_example", "load_model", "loads_model", "modal_contributions", "modes", "operating_point", "OperatingPoint", "harmonic_balance", "HarmonicBalanceResult", "orders", "path_contributions", "random", "random_response", "reduce", "shock", "simulate", "srs", "static", "time_contributions", "track_modes",
     "statespace", "grid_study", "study_defaults", "causal_loss", "sweep_envelope", "sweep_response", "symmetric", "transmissibility",
 ]

@@ -53,9 +53,10 @@ def test_fbs_agrees_with_the_whole_model(coupled):
     ref = vibss.frequency_response(whole, INPUTS, OUTPUTS + [f"p{n}.{a}" for n in CORNERS for a in "xyz"],
                                    frequencies=F)
     scale = np.abs(ref.response).max(axis=(1, 2), keepdims=True)    # per output: forces and motions apart
-    err = np.abs(coupled.response - ref.response) / scale
+    err = np.abs(coupled.response[:len(OUTPUTS) + 12] - ref.response) / scale
     assert err.max() < 1e-9, err.max()
-    assert coupled.outputs[len(OUTPUTS):] == tuple(f"foundation.{n}.{a}" for n in CORNERS for a in "xyz")
+    assert coupled.outputs[len(OUTPUTS):len(OUTPUTS) + 12] == tuple(f"foundation.{n}.{a}" for n in CORNERS for a in "xyz")
+    assert coupled.outputs[len(OUTPUTS) + 12:] == tuple(f"foundation.{n}.f{a}" for n in CORNERS for a in "xyz")
     assert coupled.method.endswith("+fbs") and "substructuring" in coupled.note
 
 
@@ -65,7 +66,12 @@ def test_a_rigid_foundation_is_ground(coupled):
     on_zero = vibss.frequency_response(Model([engine()], source()), INPUTS, OUTPUTS, foundation=zero)
     ground = vibss.frequency_response(Model([engine()], source()), INPUTS, OUTPUTS, frequencies=F)
     np.testing.assert_allclose(on_zero.response[:len(OUTPUTS)], ground.response, rtol=1e-12, atol=0)
-    assert np.all(on_zero.response[len(OUTPUTS):] == 0)
+    assert np.all(on_zero.response[len(OUTPUTS):len(OUTPUTS) + 12] == 0)
+    # the forces into a rigid foundation sum to the total force into the ground
+    total = vibss.frequency_response(Model([engine()], source()), INPUTS, ["ground.fx", "ground.fy", "ground.fz"],
+                                     frequencies=F).response
+    into = on_zero.response[len(OUTPUTS) + 12:].reshape(4, 3, len(INPUTS), F.size).sum(axis=0)
+    np.testing.assert_allclose(into, total, rtol=0, atol=1e-12 * np.abs(total).max())
 
 
 def test_frequencies_must_match_and_points_must_be_mounts_to_ground():
@@ -76,7 +82,7 @@ def test_frequencies_must_match_and_points_must_be_mounts_to_ground():
     with pytest.raises(ModelError, match="no mount named 'm9'"):
         vibss.frequency_response(m, INPUTS, OUTPUTS, foundation=Foundation(F, np.zeros((3, 3, F.size)), ["m9"]))
     with pytest.raises(ArgumentError, match="Foundation: receptance"):
-        Foundation(F, np.zeros((6, 6, F.size)), ["m1"])
+        Foundation(F, np.zeros((5, 5, F.size)), ["m1"])
 
 
 def test_a_foundation_measured_and_read_from_uff_couples_as_the_model(coupled, tmp_path):
@@ -98,7 +104,7 @@ def test_a_foundation_measured_and_read_from_uff_couples_as_the_model(coupled, t
 
 
 def test_blocks_of_frequencies_give_the_same_answer(coupled, monkeypatch):
-    from vibss.measured import fbs
+    from vibss.measured import coupling as fbs
 
     monkeypatch.setattr(fbs, "CHUNK_BYTES", 16 * 17 * 15 * 7)     # 7 frequencies a block: 4 blocks
     found = Foundation.from_model(Model([plate()], floor_mounts(), control_points=points()),

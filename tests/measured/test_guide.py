@@ -25,4 +25,7 @@ def test_test_data_guide(capsys):
     err = float(out.split("FBS against the whole model: ")[1].split()[0])
     assert err < 1e-13
     assert "('engine.fz', 'ground.z.acc') ('N', 'm/s^2') (6, 6)" in out
+    line = next(x for x in out.splitlines() if x.startswith("z of the plate under m1"))
+    assert line in text and sum(int(p.split()[1]) for p in line.split(": ")[1].split(", ")) in (99, 100, 101)
+    assert "blocked z force of m1 at 0 Hz: 0.265 N/N" in out and "0.265 N/N" in text
     np.testing.assert_allclose(scope["mount"].dynamic_stiffness([100.0])[0, 0].real, 3.30e5, rtol=3e-3)

@@ -184,7 +184,7 @@ def frequency_response(system: Model | Assembly | Plant, inputs: Sequence[Any] |
     """
     choice(quantity, "quantity", QUANTITIES)
     if foundation is not None:
-        from ..measured.fbs import couple
+        from ..measured.coupling import couple
         return couple(system, foundation, inputs, outputs, frequencies, quantity, method)
     chosen = resolve_method(method)
     plant, basis, f, pick, large = _plant_and_modes(system, inputs, outputs, frequencies, chosen)

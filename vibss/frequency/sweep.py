@@ -19,7 +19,8 @@ __all__ = ["transmissibility", "sweep_response"]
 
 
 def transmissibility(system: Any, inputs: Sequence[str], outputs: Sequence[str] | None = None,
-                     frequencies: Any = None, method: str | Callable[..., np.ndarray] = "auto") -> FrequencyResponse:
+                     frequencies: Any = None, method: str | Callable[..., np.ndarray] = "auto", *,
+                     foundation: Any = None) -> FrequencyResponse:
     """Motion or force transmissibility (dimensionless), safe at 0 Hz; of a model or of any named
     python-control system (a closed loop).
 
@@ -48,6 +49,13 @@ def transmissibility(system: Any, inputs: Sequence[str], outputs: Sequence[str] 
     frequencies : array_like [Hz], grid spec or None
     method : str or callable
         As :func:`frequency_response`.
+    foundation : Foundation or None
+        A flexible foundation under some of the mounts to ground (:class:`vibss.Foundation`),
+        coupled exactly at its own frequencies (``frequencies`` None or those). Force inputs add
+        the forces into it, ``foundation.<mount>.fx|fy|fz``, to the outputs (the force
+        transmissibility into the foundation); motion inputs add its motions
+        ``foundation.<mount>.x|y|z``. The foundation is known by its receptance alone: a ground or
+        support motion moves only the mounts not standing on it.
 
     Returns
     -------
@@ -89,15 +97,34 @@ def transmissibility(system: Any, inputs: Sequence[str], outputs: Sequence[str] 
         plant = build_plant(system, names, outputs)
         if any(u not in ("N", "N m") for u in plant.units):
             raise ModelError(f"outputs: force transmissibility needs force outputs, got units {list(plant.units)}")
-    r = frequency_response(plant, frequencies=frequencies, method=method)
+    if foundation is None:
+        r = frequency_response(plant, frequencies=frequencies, method=method)
+        extra: tuple[str, ...] = ()
+    else:
+        r = _on_foundation(model, plant, frequencies, method, foundation, all(motion))
+        extra = r.outputs[len(plant.outputs):]
     # the names as the user wrote them (a ratio of accelerations is the ratio of their displacements)
-    outs_named = tuple(outputs) if outputs is not None and all(isinstance(o, str) for o in outputs) else r.outputs
+    outs_named = ((*outputs, *extra) if outputs is not None and all(isinstance(o, str) for o in outputs)
+                  else r.outputs)
     ins_named = tuple(names) if all(motion) else r.inputs
     return FrequencyResponse(r.frequency_hz, r.response, outs_named, ins_named,
                              tuple(_of_order(u, y) for u, y in zip(r.units, outs_named)), "transmissibility",
                              r.method, r.reason, r.natural_hz, r.name,
                              tuple(_of_order(u, x) for u, x in zip(r.input_units, ins_named)),
                              r.mode_numbers, r.mode_labels)
+
+
+def _on_foundation(model: Model, plant: Any, frequencies: Any, method: Any, foundation: Any,
+                   motion: bool) -> FrequencyResponse:
+    """The plant's signals on ``foundation`` (exact coupling), with the foundation's motions (motion
+    inputs) or the forces into it (force inputs) after the plant's outputs."""
+    r = frequency_response(model, list(plant.inputs), list(plant.outputs), frequencies, method=method,
+                           foundation=foundation)
+    p, n = len(plant.outputs), len(foundation.outputs)
+    keep = [*range(p), *(range(p, p + n) if motion else range(p + n, p + 2 * n))]
+    return FrequencyResponse(r.frequency_hz, r.response[keep], tuple(r.outputs[i] for i in keep), r.inputs,
+                             tuple(r.units[i] for i in keep), r.quantity, r.method, r.reason, r.natural_hz, r.name,
+                             r.input_units)
 
 
 def _of_order(unit: str, name: str) -> str:

@@ -294,7 +294,8 @@ def _receiver_node(model: Model, receiver: Any) -> int:
 
 
 def path_contributions(model: Model | Assembly, inputs: Sequence[Any], frequencies: Any = None,
-                       receiver: str = GROUND, method: str = "auto") -> PathContributions:
+                       receiver: str = GROUND, method: str = "auto", *,
+                       foundation: Any = None) -> PathContributions:
     """The force and moment each mount passes into a receiver, summing to the receiver's total.
 
     The paths are the mounts whose ``to`` side is the receiver (as ``ground.fx`` and
@@ -315,6 +316,13 @@ def path_contributions(model: Model | Assembly, inputs: Sequence[Any], frequenci
         ``"ground"``, a support or a body.
     method : str
         :func:`vibss.frequency_response` method for the mount forces.
+    foundation : Foundation or None
+        A flexible foundation under some of the mounts to ground (:class:`vibss.Foundation`):
+        transfer path analysis. The receiver is then one of its points (``"m1"`` or
+        ``"foundation.m1"``), the paths are its points' mounts, and each path's contribution is the
+        foundation's receptance times the force that mount passes into it in the exactly coupled
+        system: the receiver's motion ``x y z`` [m] (``rx ry rz`` [rad]), summing to it. The
+        frequencies must be the foundation's (None: those).
 
     Returns
     -------
@@ -335,6 +343,9 @@ def path_contributions(model: Model | Assembly, inputs: Sequence[Any], frequenci
     >>> p.share[:, 2, 0, :].round(6).tolist()       # z force: half through each mount
     [[0.5, 0.5], [0.5, 0.5]]
     """
+    if foundation is not None:
+        from ..measured.paths import transfer_paths
+        return transfer_paths(model, inputs, frequencies, receiver, method, foundation)
     asm = model if isinstance(model, Assembly) else assemble(model)
     mdl = asm.model
     node = _receiver_node(mdl, receiver)

@@ -368,9 +368,11 @@ class PathContributions(Result):
         The mounts whose ``to`` side is the receiver.
     components : tuple of str
         ``fx fy fz`` [N] (global axes) and ``mx my mz`` [N m] about the receiver's reference point
-        (its COG; the global origin for ground and supports).
-    forces : (paths, 6, m, nf) complex ndarray
-        Force and moment of each path into the receiver per unit input.
+        (its COG; the global origin for ground and supports); on a flexible foundation (transfer
+        path analysis) the receiver point's motion ``x y z`` [m] (and ``rx ry rz`` [rad]).
+    forces : (paths, components, m, nf) complex ndarray
+        Force and moment of each path into the receiver per unit input (on a foundation: each
+        path's contribution to the receiver's motion).
     input_names : tuple of str
         Input signal names.
     method : str
@@ -389,10 +391,11 @@ class PathContributions(Result):
     input_names: tuple[str, ...]
     method: str
     note: str = ""
+    component_units: tuple[str, ...] = ()
 
     @property
     def output_labels(self) -> tuple[str, ...]:
-        """The six components ``fx fy fz mx my mz``."""
+        """The components (``fx fy fz mx my mz``)."""
         return self.components
 
     @property
@@ -402,8 +405,8 @@ class PathContributions(Result):
 
     @property
     def units(self) -> tuple[str, ...]:
-        """``N`` for forces, ``N m`` for moments (per unit input)."""
-        return ("N",) * 3 + ("N m",) * 3
+        """``N`` for forces, ``N m`` for moments (per unit input); ``component_units`` when given."""
+        return tuple(self.component_units) or ("N",) * 3 + ("N m",) * 3
 
     def _item(self, i: int, j: int | None) -> np.ndarray:
         return self.forces[:, i] if j is None else self.forces[:, i, j]
@@ -470,7 +473,8 @@ class PathContributions(Result):
                                          names=["path", "component", "input", "frequency_hz"])
         df = pd.DataFrame({"real": self.forces.real.ravel(), "imag": self.forces.imag.ravel(),
                            "share": self.share.ravel()}, index=idx)
-        df.attrs["units"] = {"real": "N (forces) or N m (moments) per unit input", "imag": "the same", "share": "-"}
+        unit = "/".join(dict.fromkeys(self.units)) if self.component_units else "N (forces) or N m (moments)"
+        df.attrs["units"] = {"real": f"{unit} per unit input", "imag": "the same", "share": "-"}
         return df
 
     def plot(self, ax: Any = None, component: int | str | None = None, input: int | str = 0) -> Any:

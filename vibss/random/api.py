@@ -32,7 +32,7 @@ __all__ = ["random_response"]
 
 def random_response(system: Any, inputs: Mapping[str, Any], outputs: Sequence[str] | None = None, *,
                     correlation: Mapping[tuple[str, str], complex] | None = None, rtol: float = 1e-6,
-                    method: str = "auto", max_points: int = 200_000) -> RandomResponse:
+                    method: str = "auto", max_points: int = 200_000, foundation: Any = None) -> RandomResponse:
     """Output PSDs and RMS values under stationary random inputs.
 
     Parameters
@@ -54,6 +54,13 @@ def random_response(system: Any, inputs: Mapping[str, Any], outputs: Sequence[st
         FRF method (as :func:`vibss.frequency_response`).
     max_points : int
         Limit on the frequencies evaluated.
+    foundation : Foundation or None
+        A flexible foundation under some of the mounts to ground (:class:`vibss.Foundation`),
+        coupled exactly; its motions and the forces into it are appended to the outputs. A
+        receptance is known at its own frequencies only: the mean squares are then the trapezoid
+        rule in ``ln f`` on the foundation's frequencies inside the PSD band (which must lie within
+        them), their error estimated and held to ``rtol`` with a warning
+        (:mod:`vibss.measured.spectral`), not the adaptive quadrature.
 
     Returns
     -------
@@ -81,6 +88,9 @@ def random_response(system: Any, inputs: Mapping[str, Any], outputs: Sequence[st
     names = list(inputs)
     psds = [as_psd(inputs[n], kind(n), n) for n in names]
     rho = coherence(names, correlation, who)
+    if foundation is not None:
+        from ..measured.spectral import random_on_foundation
+        return random_on_foundation(system, names, psds, rho, outputs, foundation, rtol, method, bool(correlation))
     plant = system if isinstance(system, Plant) else build_plant(system, names, outputs)
     band = (min(p.band[0] for p in psds), max(p.band[1] for p in psds))
     if band[0] == band[1]:
