@@ -26,7 +26,18 @@ def _lever(r) -> mp.matrix:
 
 
 def matrices(model: Model, key: str = "stiffness") -> mp.matrix:
-    """K (or C with key='damping') as an mpmath matrix, summed mount by mount."""
+    """K (or C with key='damping') as an mpmath matrix, summed mount by mount (at :data:`DPS` digits;
+    assembled once per model, a copy returned)."""
+    return _matrices(model, key).copy()
+
+
+@lru_cache(maxsize=64)
+def _matrices(model: Model, key: str) -> mp.matrix:
+    with mp.workdps(DPS):
+        return _assemble(model, key)
+
+
+def _assemble(model: Model, key: str) -> mp.matrix:
     names = model.body_names
     n = 6 * len(names)
     out = mp.zeros(n, n)
@@ -55,6 +66,11 @@ def matrices(model: Model, key: str = "stiffness") -> mp.matrix:
 
 def mass(model: Model) -> mp.matrix:
     """Block-diagonal mass matrix in mpmath."""
+    return _mass(model).copy()
+
+
+@lru_cache(maxsize=64)
+def _mass(model: Model) -> mp.matrix:
     n = 6 * len(model.bodies)
     out = mp.zeros(n, n)
     for i, b in enumerate(model.bodies):
@@ -102,13 +118,44 @@ def static(model: Model, load: np.ndarray) -> np.ndarray:
 
 
 def receptance(model: Model, s: complex) -> np.ndarray:
-    """(n, n) complex receptance (K + s C + s^2 M)^-1 at the Laplace variable s [1/s]."""
-    with mp.workdps(DPS):
-        K, C, M = matrices(model), matrices(model, "damping"), mass(model)
-        sm = mp.mpc(s.real, s.imag)
-        D = K + sm * C + sm * sm * M
-        X = mp.inverse(D)
-        return np.array([[complex(X[i, j]) for j in range(D.cols)] for i in range(D.rows)])
+    """(n, n) complex receptance (K + s C + s^2 M)^-1 at the Laplace variable s [1/s]: the 60-digit
+    matrices solved in ball arithmetic (python-flint's acb, 240 bits; the answer's certified radius
+    below 1e-30 of its largest entry is asserted). mpmath's 60-digit inverse took 0.5 s a frequency on
+    48 DOF, acb takes 0.02 s."""
+    import flint
+
+    K, C, M = _acb(model)
+    old = flint.ctx.prec
+    flint.ctx.prec = BITS
+    try:
+        sa = flint.acb(repr(float(s.real)), repr(float(s.imag)))
+        X = (K + C * sa + M * (sa * sa)).inv()
+        n = K.nrows()
+        out = np.array([[complex(X[i, j].mid()) for j in range(n)] for i in range(n)])
+        rad = max(float(abs(X[i, j]).rad()) for i in range(n) for j in range(n))
+    finally:
+        flint.ctx.prec = old
+    assert rad <= 1e-30 * np.abs(out).max(), "the ball-arithmetic receptance lost its digits"
+    return out
+
+
+BITS = 240
+"""Precision of the ball-arithmetic solves [bits] (72 digits: past the 60 of the matrices)."""
+
+
+@lru_cache(maxsize=64)
+def _acb(model: Model) -> tuple:
+    import flint
+
+    old = flint.ctx.prec
+    flint.ctx.prec = BITS
+    try:
+        with mp.workdps(DPS):
+            mats = matrices(model), matrices(model, "damping"), mass(model)
+            return tuple(flint.acb_mat([[flint.acb(mp.nstr(a[i, j], DPS)) for j in range(a.cols)]
+                                        for i in range(a.rows)]) for a in mats)
+    finally:
+        flint.ctx.prec = old
 
 
 @lru_cache(maxsize=None)
