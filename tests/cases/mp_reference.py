@@ -48,19 +48,15 @@ def _assemble(model: Model, key: str) -> mp.matrix:
         t = mp.matrix([[mp.mpf(float(v)) for v in row] for row in m.orientation.matrix])
         d = mp.diag([mp.mpf(float(v)) for v in getattr(m.type, key)])
         kp = t * d * t.T
-        b = mp.zeros(3, n)
-        i = names.index(m.body)
-        li = _lever([p[k] - cog[m.body][k] for k in range(3)])
-        for r in range(3):
-            for c in range(6):
-                b[r, 6 * i + c] += li[r, c]
+        ends = [(names.index(m.body), _lever([p[k] - cog[m.body][k] for k in range(3)]), 1)]
         if m.to != GROUND:
-            j = names.index(m.to)
-            lj = _lever([p[k] - cog[m.to][k] for k in range(3)])
-            for r in range(3):
-                for c in range(6):
-                    b[r, 6 * j + c] -= lj[r, c]
-        out += b.T * kp * b
+            ends.append((names.index(m.to), _lever([p[k] - cog[m.to][k] for k in range(3)]), -1))
+        for i, li, si in ends:                      # the blocks of b^T kp b, b = [l_i, -l_j]: 6 x 6 each
+            for j, lj, sj in ends:
+                blk = li.T * kp * lj
+                for r in range(6):
+                    for c in range(6):
+                        out[6 * i + r, 6 * j + c] += si * sj * blk[r, c]
     return out
 
 
