@@ -86,8 +86,8 @@ CHECK_PEAKS = 8
 CHECK_ESTIMATE = 4
 """Largest local maxima of a method's own error estimate a check visits besides (:func:`estimate_frequencies`)."""
 
-CHECK_OVER = 16
-"""Most local maxima of the estimate above the claim a check visits (the largest of them)."""
+CHECK_OVER = 8
+"""Most frequencies where the estimate exceeds the claim a check visits (the largest of them)."""
 
 # cost model [s] (one core): the shipped values, read from vibss/data/costs.json (vibss.costs) where
 # benchmarks/bench_costs.py re-measured them
@@ -142,8 +142,10 @@ def _where(s: np.ndarray) -> str:
 
 def estimate_frequencies(estimate: np.ndarray, limit: float) -> np.ndarray:
     """Indices where a method's error estimate says to check: its :data:`CHECK_ESTIMATE` largest
-    local maxima, and every local maximum above ``limit`` (where the estimate itself exceeds the
-    claim the check must measure), at most :data:`CHECK_OVER` of those (the largest).
+    local maxima, and the :data:`CHECK_OVER` frequencies where it exceeds ``limit`` most (where the
+    estimate itself exceeds the claim the check must measure: a miss beside a slow resonance sampled
+    on its flank, 1.1e-5 on the graded chain, is no local maximum of either the response or the
+    estimate).
 
     Parameters
     ----------
@@ -162,7 +164,8 @@ def estimate_frequencies(estimate: np.ndarray, limit: float) -> np.ndarray:
     pad = np.concatenate([[-np.inf], e, [-np.inf]])
     peak = np.flatnonzero((e >= pad[:-2]) & (e >= pad[2:]))
     peak = peak[np.argsort(-e[peak], kind="stable")]
-    over = peak[e[peak] > limit][:CHECK_OVER]
+    above = np.flatnonzero(e > limit)
+    over = above[np.argsort(-e[above], kind="stable")[:CHECK_OVER]]
     return np.unique(np.concatenate([peak[:CHECK_ESTIMATE], over])).astype(int)
 
 
