@@ -55,8 +55,10 @@ MODAL = Claim(1e-8, exact=True, conditions="classical damping (Phi^T C Phi and P
 
 COMPLEX_MODAL = Claim(1e-8, conditions="the damped eigenvectors well conditioned (no near-defective pair) "
                                        "and the poles resolved next to the stiffest ones (penalty links "
-                                       "and mass ratios of 1e6 lose digits)" + LIGHT)
-"""``complex_modal``: one ``eig`` of the 2n-state modal form, its slow poles refined."""
+                                       "and mass ratios of 1e6 lose digits, and so does a slow resonance "
+                                       "beside stiff modes: checked where its error estimate is largest)" + LIGHT)
+"""``complex_modal``: one ``eig`` of the 2n-state modal form, its slow poles refined; its check also
+visits where its a-posteriori estimate is largest (:func:`estimate_frequencies`)."""
 
 WOODBURY = Claim(1e-8, exact=True, conditions="on the certified undamped modes (no damped eigenproblem, no "
                                               "truncation)" + LIGHT)
