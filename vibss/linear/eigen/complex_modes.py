@@ -279,6 +279,13 @@ def _abs2(z: np.ndarray) -> np.ndarray:
     return z.real * z.real + z.imag * z.imag
 
 
+def _sq(z: np.ndarray) -> np.ndarray:
+    """Squared column norms of a 2-D array (one pass, no temporary for a complex one)."""
+    z = np.ascontiguousarray(z)
+    f = z.view(float).reshape(z.shape[0], z.shape[1], 2) if np.iscomplexobj(z) else z[:, :, None]
+    return np.einsum("ijk,ijk->j", f, f)
+
+
 def _times(a: np.ndarray, x: np.ndarray) -> np.ndarray:
     """``a @ x``; a real ``a`` times a complex ``x`` as one real GEMM on ``x``'s interleaved parts
     (numpy would make ``a`` complex: four times the flops)."""
@@ -352,16 +359,15 @@ def pole_errors(modes: ComplexModes, scale: np.ndarray, rows: np.ndarray, omega2
                 relative: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """A-posteriori error bounds of each computed mode: its pole error and its eigenvector's mixing.
 
-    With ``x = v2 / lam`` (the mode's velocity half) the residual of the quadratic problem
-    ``r = Q(lam) x = lam^2 x + lam G x + Kt P x`` (entries of ``Q`` exact: the refined modes are
-    judged on the problem they were refined on) gives the first-order pole error
-    ``|d lam| <= ||r|| ||x|| / |x^T Q'(lam) x|`` (residual norm times the eigenvalue's condition,
-    ``Q`` symmetric so ``x`` is its own left vector), rounding of the products included as it
-    falls. Where the undamped frequencies themselves carry a relative error bound ``e_i``
-    (``relative``, the basis's Kato-Temple bound), ``Kt P`` is off by ``2 e_i omega_i^2`` on its
-    diagonal, which moves the pole by up to ``sum_i 2 e_i omega_i^2 |x_i|^2 / |x^T Q'(lam) x|``
-    (added). The vector mixes with its nearest neighbour by about ``|d lam| / gap`` (the distance to
-    the nearest other pole). Cost: two GEMMs ``nk^2 N`` and a k-d tree of the poles.
+    The larger of two first-order pole bounds: the quadratic problem's residual ``Q(lam) x``
+    (``x = v2 / lam``; entries of ``Q`` exact, as the refinement uses them) times its condition
+    ``||x||^2 / |x^T Q'(lam) x|``, and the scaled first-order residual ``A v - lam v`` of the pair
+    as the modal sum uses it (``eig``'s halves ``v1`` against ``S x``) times ``||w|| ||v|| /
+    |w^T v|``; rounding of the products included as it falls. Undamped frequencies with a relative
+    error bound ``e_i`` (``relative``: the basis's Kato-Temple bound) put ``2 e_i omega_i^2`` on
+    ``Kt P``'s diagonal: ``sum_i 2 e_i omega_i^2 |x_i|^2 / |x^T Q' x|`` is added. The vector mixes
+    with its nearest neighbour by about ``|d lam| / gap`` (distance to the nearest other pole).
+    Cost: one GEMM ``nk^2 N`` (``G x``), a few passes over ``V``, a k-d tree of the poles.
 
     Parameters
     ----------
@@ -382,43 +388,53 @@ def pole_errors(modes: ComplexModes, scale: np.ndarray, rows: np.ndarray, omega2
     """
     lam, v, ne = modes.lam, modes.vectors, modes.n_elastic
     rows = np.asarray(rows, int)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        x = v[ne:] / lam[None, :]
+    sc, w2 = np.asarray(scale, float), np.asarray(omega2, float)
+    kd = w2 / sc                                     # Kt's diagonal on the elastic rows [rad/s]
+    v1, v2 = v[:ne], v[ne:]
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        x = v2 / lam[None, :]
         gx = _times(np.asarray(damping), x)
-        kx = np.zeros_like(x)
-        kx[rows] = np.asarray(omega2, float)[:, None] * x[rows]
-        if coupling is not None:
-            kx += (np.asarray(coupling) * np.asarray(scale, float)[None, :]) @ x[rows]
-        r = x * (lam * lam)[None, :] + gx * lam[None, :] + kx
-        den = np.abs(np.einsum("ij,ij->j", x, 2 * lam[None, :] * x + gx))
-        dlam = np.linalg.norm(r, axis=0) * np.linalg.norm(x, axis=0) / den
+        den = np.abs(2 * lam * np.einsum("ij,ij->j", x, x) + np.einsum("ij,ij->j", x, gx))   # |x^T Q'(lam) x|
+        r0 = np.multiply(x, lam[None, :])            # lam (G x + lam x): Q(lam) x and the first-order
+        r0 += gx                                     # bottom residual less their stiffness parts
+        r0 *= lam[None, :]
+        xr = x[rows]
+        if coupling is None:
+            other = np.ones(x.shape[0], bool)
+            other[rows] = False
+            base = _sq(r0[other]) if other.any() else 0.0
+            r0r = r0[rows]
+            r2 = base + _sq(r0r + w2[:, None] * xr)                  # ||Q(lam) x||^2
+            b2 = base + _sq(r0r + kd[:, None] * v1)                  # ||Kt v1 + G v2 + lam v2||^2
+            wv = np.einsum("ij,ij->j", x, v2) - np.einsum("i,ij,ij->j", kd, xr, v1) / lam
+            wn2 = (kd * kd) @ _abs2(xr) / _abs2(lam)                 # ||Kt^T x / lam||^2
+        else:
+            cp = np.asarray(coupling)
+            kx = np.zeros_like(x)
+            kx[rows] = w2[:, None] * xr
+            kx += (cp * sc[None, :]) @ xr
+            r2 = _sq(r0 + kx)
+            kx[:] = 0.0
+            kx[rows] = kd[:, None] * v1
+            kx += cp @ v1
+            b2 = _sq(r0 + kx)
+            w1 = kd[:, None] * xr + cp.T @ x
+            wv = np.einsum("ij,ij->j", x, v2) - np.einsum("ij,ij->j", w1, v1) / lam
+            wn2 = _sq(w1) / _abs2(lam)
+        x2 = _sq(x)
+        dlam = np.sqrt(r2 * x2) / den
         # the first-order pair as the modal sum uses it: v1 against S x (eig's halves, a screened
         # pole with eig's vector), residual A v - lam v times the condition ||w|| ||v|| / |w^T v|
-        v1, v2 = v[:ne], v[ne:]
-        scale = np.asarray(scale, float)
-        kt = np.zeros_like(v2)
-        kt[rows] = (np.asarray(omega2, float) / scale)[:, None] * v1
-        if coupling is not None:
-            kt += np.asarray(coupling) @ v1
-        top = scale[:, None] * v2[rows] - lam[None, :] * v1
-        bottom = kt + gx * lam[None, :] + lam[None, :] * v2
-        w1 = np.zeros((ne, lam.size), dtype=complex)
-        w1 += (np.asarray(omega2, float) / scale)[:, None] * x[rows]
-        if coupling is not None:
-            w1 += np.asarray(coupling).T @ x
-        w1 /= lam[None, :]
-        wv = np.abs(np.einsum("ij,ij->j", x, v2) - np.einsum("ij,ij->j", w1, v1))
-        wn = np.sqrt(_abs2(w1).sum(axis=0) + _abs2(x).sum(axis=0))
-        first = np.sqrt(_abs2(top).sum(axis=0) + _abs2(bottom).sum(axis=0)) * wn * np.linalg.norm(v, axis=0) / wv
+        top = sc[:, None] * v2[rows]
+        top -= lam[None, :] * v1
+        first = np.sqrt((_sq(top) + b2) * (wn2 + x2) * _sq(v)) / np.abs(wv)
         dlam = np.maximum(dlam, first)
         if relative is not None:
             e = np.nan_to_num(np.asarray(relative, float), nan=0.0)
-            dlam = dlam + (2 * e * np.asarray(omega2, float)) @ _abs2(x[rows]) / den
+            dlam = dlam + (2 * e * w2) @ _abs2(xr) / den
     dlam = np.where(np.isfinite(dlam), dlam, np.inf)
-    gap = np.full(lam.size, np.inf)
-    if lam.size > 1 and np.all(np.isfinite(lam)):
-        dist, _ = cKDTree(np.column_stack([lam.real, lam.imag])).query(np.column_stack([lam.real, lam.imag]), k=2)
-        gap = dist[:, 1]
+    pts = np.column_stack([lam.real, lam.imag])
+    gap = cKDTree(pts).query(pts, k=2)[0][:, 1] if lam.size > 1 and np.all(np.isfinite(lam)) else np.full(lam.size, np.inf)
     with np.errstate(divide="ignore", invalid="ignore"):
         mix = np.where(gap > 0, dlam / gap, np.inf)
     return dlam, np.where(np.isnan(mix), np.inf, mix)
