@@ -280,10 +280,9 @@ def _abs2(z: np.ndarray) -> np.ndarray:
 
 
 def _sq(z: np.ndarray) -> np.ndarray:
-    """Squared column norms of a 2-D array (one pass, no temporary for a complex one)."""
-    z = np.ascontiguousarray(z)
-    f = z.view(float).reshape(z.shape[0], z.shape[1], 2) if np.iscomplexobj(z) else z[:, :, None]
-    return np.einsum("ijk,ijk->j", f, f)
+    """Squared column norms of a 2-D array (no temporary: the parts are strided views)."""
+    parts = (z.real, z.imag) if np.iscomplexobj(z) else (z,)
+    return sum(np.einsum("ij,ij->j", p, p) for p in parts)
 
 
 def _times(a: np.ndarray, x: np.ndarray) -> np.ndarray:
