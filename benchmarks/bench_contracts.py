@@ -1,14 +1,16 @@
 """Contracts of the frequency-response methods, measured: claim, check, estimated against measured cost.
 
-For every method of :data:`vibss.frequency.kernels.METHODS` on four models (a large chain kept sparse
+For every method of :data:`vibss.frequency.kernels.METHODS` on five models (a large chain kept sparse
 with one input and two outputs, for ``subspace`` and ``sparse``; a chain with general damping, the
-same chain classically damped for ``modal``, and the 12-DOF penalty-link model of
+same chain classically damped for ``modal``, the 1-ulp graded chain of
+tests/frequency/test_complex_modal_check.py and the 12-DOF penalty-link model of
 tests/frequency/test_contracts.py), single BLAS thread:
 
 - its cost estimate ``cost(plant, nf, basis)`` (seconds, peak bytes) against the kernel's measured
   wall time and its peak of traced allocations (``tracemalloc``: NumPy reports its buffers there);
 - its a-posteriori check (:func:`vibss.frequency.contracts.check`): the error it states, its limit,
-  and the check's own time, against the true error at every frequency against ``direct``
+  and the check's own time (for ``complex_modal`` also its error estimate's extra cost), against the
+  true error at every frequency against ``direct``
   (max over frequencies of ||H - H_ref||_F / ||H_ref||_F; against ``sparse`` on the sparse plant).
 
 Written to benchmarks/results/contracts.json; docs/methods.md quotes it. Run:
@@ -45,6 +47,7 @@ def _err(h: np.ndarray, ref: np.ndarray) -> float:
 
 
 def _models(quick: bool) -> dict:
+    from frequency.test_complex_modal_check import nudged_chain
     from frequency.test_contracts import penalty_model
 
     nb = 20 if quick else 100
@@ -56,6 +59,7 @@ def _models(quick: bool) -> dict:
                                                           ["b0.fz"], [f"b{big - 1}.z", f"b{big // 2}.x"]),
             f"chain {6 * nb} DOF, general damping": (chain_model(nb, damping="general", zeta=1e-3), ins, outs),
             f"chain {6 * nb} DOF, classical damping": (chain_model(nb, damping="classical", zeta=1e-3), ins, outs),
+            "graded chain 48 DOF, 1 ulp up": (nudged_chain(), ["b0.fz", "b7.fx"], ["b0.z", "b3.y", "b7.x", "b7.rz"]),
             "penalty link 12 DOF (seed 93)": (penalty_model(93), ["a.fz", "b.fx"],
                                               [f"{b}.{d}" for b in ("a", "b") for d in ("x", "y", "z", "rx")])}
 
@@ -105,18 +109,25 @@ def bench(quick: bool) -> dict:
                 if m.self_checked:
                     raw, _note, *rest = raw
                     own = rest[0] if rest else None
+                estimate, estimate_s = None, None
+                if m.estimated is not None:              # the kernel with its error estimate: its extra cost
+                    t = time.perf_counter()
+                    raw, estimate = m.estimated(plant, s, basis)
+                    estimate_s = time.perf_counter() - t - sec
                 t = time.perf_counter()
-                c = check(m, plant, s, raw, own, basis)
+                c = check(m, plant, s, raw, own, basis, estimate)
                 check_s = time.perf_counter() - t
                 rows[name] = {"claim": m.claim.text() if m.claim else "", "estimate_s": est.seconds if est else None,
                               "estimate_bytes": est.bytes if est else None, "seconds": sec, "peak_bytes": peak,
                               "check_error": c.error if c else None, "check_limit": c.limit if c else None,
-                              "check_ok": c.ok if c else None, "check_s": check_s, "true_error": _err(raw, ref)}
+                              "check_ok": c.ok if c else None, "check_s": check_s, "true_error": _err(raw, ref),
+                              "error_estimate_s": estimate_s}
                 r = rows[name]
                 print(f"{label:38s} {name:13s} est {r['estimate_s'] or 0:.2g} s {(r['estimate_bytes'] or 0) / 1e6:.3g} MB"
                       f" | ran {sec:.3g} s {peak / 1e6:.3g} MB | check {r['check_error'] if c else float('nan'):.1e}"
                       f" <= {r['check_limit'] if c else float('nan'):.0e} {'ok' if c and c.ok else 'MISS' if c else '-'}"
-                      f" in {check_s:.3g} s | true {r['true_error']:.1e}", flush=True)
+                      f" in {check_s:.3g} s" + (f" (+{estimate_s:.2g} s its estimate)" if estimate_s is not None else "")
+                      + f" | true {r['true_error']:.1e}", flush=True)
         out["cases"][label] = {"n_dof": plant.n, "methods": rows}
     return out
 

@@ -8,7 +8,9 @@ a-posteriori check :func:`vibss.methods.decide` holds each answer to:
 - an exact method (``direct``, ``sparse``): the normwise backward error of the full-state solve at
   the check frequencies, ``||F - A(s) x|| / (||A(s)||_F ||x|| + ||F||)`` (:func:`backward_error`);
 - a method built on the undamped modes, or ``statespace``, or a user's kernel: its relative error
-  against the one exact solve at the band's ends and at its largest response (:func:`against_exact`);
+  against the one exact solve at the band's ends and at its largest response (:func:`against_exact`),
+  its sharpest peaks and deepest valleys, and, for a method with an a-posteriori estimate
+  (``complex_modal``), where that estimate is largest or exceeds the claim (:func:`estimate_frequencies`);
 - ``subspace``: its own exact solves between its interpolation points (the error it states).
 
 The checks cost a few exact solves, not ``nf``: cheap next to the method itself.
@@ -31,7 +33,7 @@ from ..costs import constant, scale
 from ..methods import Check, Claim, Cost, Decision, decide
 
 __all__ = ["settle", "EXACT", "MODAL", "COMPLEX_MODAL", "WOODBURY", "SUBSPACE", "STATESPACE", "check", "backward_error",
-           "against_exact", "check_frequencies", "slower", "SLOWER", "limit", "BASIS_ERROR", "LIGHT_CAP", "cost_direct", "cost_sparse", "cost_modal", "cost_complex_modal",
+           "against_exact", "check_frequencies", "estimate_frequencies", "slower", "SLOWER", "limit", "BASIS_ERROR", "LIGHT_CAP", "cost_direct", "cost_sparse", "cost_modal", "cost_complex_modal",
            "cost_woodbury", "cost_subspace", "subspace_size", "cost_statespace", "woodbury_rank"]
 
 EXACT = Claim(1e-8, exact=True, conditions="relative error of each response against 60 digits on models conditioned "
@@ -53,8 +55,10 @@ MODAL = Claim(1e-8, exact=True, conditions="classical damping (Phi^T C Phi and P
 
 COMPLEX_MODAL = Claim(1e-8, conditions="the damped eigenvectors well conditioned (no near-defective pair) "
                                        "and the poles resolved next to the stiffest ones (penalty links "
-                                       "and mass ratios of 1e6 lose digits)" + LIGHT)
-"""``complex_modal``: one ``eig`` of the 2n-state modal form, its slow poles refined."""
+                                       "and mass ratios of 1e6 lose digits, and so does a slow resonance "
+                                       "beside stiff modes: checked where its error estimate is largest)" + LIGHT)
+"""``complex_modal``: one ``eig`` of the 2n-state modal form, its slow poles refined; its check also
+visits where its a-posteriori estimate is largest (:func:`estimate_frequencies`)."""
 
 WOODBURY = Claim(1e-8, exact=True, conditions="on the certified undamped modes (no damped eigenproblem, no "
                                               "truncation)" + LIGHT)
@@ -80,6 +84,12 @@ CHECK_POINTS = 3
 
 CHECK_PEAKS = 8
 """Most resonance peaks a check visits besides (:func:`check_frequencies`)."""
+
+CHECK_ESTIMATE = 4
+"""Largest local maxima of a method's own error estimate a check visits besides (:func:`estimate_frequencies`)."""
+
+CHECK_OVER = 8
+"""Most frequencies where the estimate exceeds the claim a check visits (the largest of them)."""
 
 # cost model [s] (one core): the shipped values, read from vibss/data/costs.json (vibss.costs) where
 # benchmarks/bench_costs.py re-measured them
@@ -132,7 +142,37 @@ def _where(s: np.ndarray) -> str:
         f"{s.size} check frequencies from {hz.min():.4g} to {hz.max():.4g} Hz (band ends, largest response, peaks, valleys)"
 
 
-def against_exact(plant: Plant, s: np.ndarray, raw: np.ndarray, limit: float, every: bool = False) -> Check:
+def estimate_frequencies(estimate: np.ndarray, limit: float) -> np.ndarray:
+    """Indices where a method's error estimate says to check: its :data:`CHECK_ESTIMATE` largest
+    local maxima, and the :data:`CHECK_OVER` frequencies where it exceeds ``limit`` most (where the
+    estimate itself exceeds the claim the check must measure: a miss beside a slow resonance sampled
+    on its flank, 1.1e-5 on the graded chain, is no local maximum of either the response or the
+    estimate).
+
+    Parameters
+    ----------
+    estimate : (nf,) ndarray
+        Relative error estimate at each frequency [-].
+    limit : float
+        What the claim allows [-].
+
+    Returns
+    -------
+    (k,) int ndarray
+    """
+    e = np.where(np.isnan(estimate), np.inf, np.asarray(estimate, float))
+    if e.size <= 2:
+        return np.arange(e.size)
+    pad = np.concatenate([[-np.inf], e, [-np.inf]])
+    peak = np.flatnonzero((e >= pad[:-2]) & (e >= pad[2:]))
+    peak = peak[np.argsort(-e[peak], kind="stable")]
+    above = np.flatnonzero(e > limit)
+    over = above[np.argsort(-e[above], kind="stable")[:CHECK_OVER]]
+    return np.unique(np.concatenate([peak[:CHECK_ESTIMATE], over])).astype(int)
+
+
+def against_exact(plant: Plant, s: np.ndarray, raw: np.ndarray, limit: float, every: bool = False,
+                  estimate: np.ndarray | None = None) -> Check:
     """Largest relative error of ``raw`` against the one exact solve (:func:`vibss.linear.solve.exact.response`)
     at :func:`check_frequencies` (relative to each frequency's response).
 
@@ -147,12 +187,16 @@ def against_exact(plant: Plant, s: np.ndarray, raw: np.ndarray, limit: float, ev
         What its claim allows [-].
     every : bool
         Measure at every frequency (the bound a named method's miss states: the exact solve's cost).
+    estimate : (nf,) ndarray or None
+        The method's error estimate: its largest places are checked too (:func:`estimate_frequencies`).
 
     Returns
     -------
     Check
     """
     idx = np.arange(s.size) if every else check_frequencies(s, raw)
+    if estimate is not None and not every:
+        idx = np.union1d(idx, estimate_frequencies(estimate, limit))
     exact = response(plant, s[idx])
     with np.errstate(invalid="ignore"):
         diff = raw[:, :, idx] - exact
@@ -163,6 +207,8 @@ def against_exact(plant: Plant, s: np.ndarray, raw: np.ndarray, limit: float, ev
         err = np.linalg.norm(diff, axis=(0, 1)) / np.maximum(size, np.finfo(float).tiny)
     err = np.where(np.isnan(err), np.inf, err)
     where = f"every one of the {s.size} frequencies" if every and s.size > CHECK_POINTS + CHECK_PEAKS else _where(s[idx])
+    if estimate is not None and not every:
+        where += " and where its error estimate is largest"
     return Check(float(err.max()), limit, where + " against the exact solve")
 
 
@@ -236,7 +282,7 @@ def limit(method: Any, plant: Plant, basis: ModalBasis | None) -> float:
 
 
 def check(method: Any, plant: Plant, s: np.ndarray, raw: np.ndarray, own: float | None = None,
-          basis: ModalBasis | None = None) -> Check | None:
+          basis: ModalBasis | None = None, estimate: np.ndarray | None = None) -> Check | None:
     """The a-posteriori check of ``method``'s answer ``raw`` (module docstring).
 
     Parameters
@@ -251,6 +297,9 @@ def check(method: Any, plant: Plant, s: np.ndarray, raw: np.ndarray, own: float 
         The error a self-checked method measured itself (``subspace``), None if it has none.
     basis : ModalBasis or None
         The undamped modes (a modal method's limit reads their damping, :func:`limit`).
+    estimate : (nf,) ndarray or None
+        The method's own a-posteriori error estimate: the check also solves where it is largest
+        (:func:`estimate_frequencies`).
 
     Returns
     -------
@@ -261,7 +310,7 @@ def check(method: Any, plant: Plant, s: np.ndarray, raw: np.ndarray, own: float 
         return None if own is None else Check(own, allowed, "its own exact solves between the interpolation points")
     if method.exact:
         return backward_error(plant, s[check_frequencies(s, raw)], min(allowed, BACKWARD))
-    return against_exact(plant, s, raw, allowed)
+    return against_exact(plant, s, raw, allowed, estimate=estimate)
 
 
 def woodbury_rank(plant: Plant, basis: ModalBasis | None) -> int:
@@ -445,8 +494,12 @@ class _Trial:
     def __init__(self, plant: Plant, s: np.ndarray, basis: ModalBasis | None, auto: bool):
         self.plant, self.s, self.basis, self.auto = plant, s, basis, auto
         self.own: dict[str, tuple[str, float | None]] = {}
+        self.estimate: dict[str, np.ndarray] = {}
 
     def run(self, m: Any) -> Any:
+        if getattr(m, "estimated", None) is not None:     # its error estimate steers its check
+            raw, self.estimate[m.name] = m.estimated(self.plant, self.s, self.basis)
+            return raw
         raw = m.kernel(self.plant, self.s, self.basis)
         if m.self_checked:              # (response, the note of its own exact checks, their error)
             raw, note, err = raw if len(raw) == 3 else (*raw, None)
@@ -454,7 +507,8 @@ class _Trial:
         return raw
 
     def check(self, m: Any, raw: Any) -> Check | None:
-        found = check(m, self.plant, self.s, raw, self.own.get(m.name, ("", None))[1], self.basis)
+        found = check(m, self.plant, self.s, raw, self.own.get(m.name, ("", None))[1], self.basis,
+                      self.estimate.get(m.name))
         if found is not None and not found.ok and not self.auto and not m.exact and not m.self_checked:
             return against_exact(self.plant, self.s, raw, found.limit, every=True)   # the bound everywhere
         return found
