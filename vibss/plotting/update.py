@@ -53,7 +53,7 @@ def plot_update(result: Any, ax: Any = None) -> Figure:
                  label=f"before (FRAC {result.correlation_before[k]:.3f})")
         a.loglog(f, np.abs(after.response[i, j]), "-", color="C0",
                  label=f"after (FRAC {result.correlation_after[k]:.3f})")
-        unit = meas.channel_unit(i, j) if hasattr(meas, "channel_unit") else "-"
+        unit = _unit(after, meas, i, j)
         a.set_ylabel(f"|{label}| [{unit}]", fontsize=8)
         a.grid(True, which="both", alpha=0.3)
         a.legend(fontsize=7, loc="best")
@@ -93,3 +93,12 @@ def _modes(result: Any, ax: Any) -> Figure:
     b.grid(True, axis="y", alpha=0.3)
     fitted_title(a, f"Model updating of {result.initial_model.name!r} to {fm.size} measured modes")
     return fig
+
+
+def _unit(model: Any, meas: Any, i: int, j: int) -> str:
+    """The channel's unit from the model's response (it knows the input's unit, a measured file often
+    does not: a UFF read gives the output's unit alone), else the measurement's."""
+    out, inp = meas.outputs[i], meas.inputs[j]
+    if out in model.outputs and inp in model.inputs:
+        return str(model.channel_unit(list(model.outputs).index(out), list(model.inputs).index(inp)))
+    return str(meas.channel_unit(i, j))
