@@ -64,7 +64,7 @@ def test_report_text_and_progress(capsys, tmp_path):
 
 def test_sections_that_apply_run():
     r = study(load_example("powertrain"), figures=False)
-    assert [s.key for s in r.sections if s.skipped] == ["control"]      # no actuators: the platform's
+    assert [s.key for s in r.sections if s.skipped] == ["control", "harmonic"]   # no actuators; a linear file asks for no harmonic balance
     assert "no actuators" in r.section("control").note
     assert r.section("frequency").tables[0].rows                 # the firing-torque sweep
     assert r.section("time").note.startswith("0 to 1 s")          # the pothole, [analysis] time
