@@ -142,7 +142,8 @@ class HarmonicBalanceResult(Result):
     local : (m, H+1, nb) complex ndarray
         Their deflections' coefficients [m] about the operating point.
     inputs : dict of str to complex
-        Input amplitudes (phasors of ``u(t) = Re(u exp(i omega t))``, their SI units).
+        Input amplitudes (phasors of ``u(t) = Re(u exp(i omega t))``, their SI units; at the first
+        point for an amplitude that follows the frequency).
     output_labels, units : tuple of str
         Output names and units.
     claim : Claim
