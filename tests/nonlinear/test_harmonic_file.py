@@ -112,7 +112,9 @@ def test_vibss_frf_prints_the_files_harmonic_balance(tmp_path, capsys: pytest.Ca
     assert main(["frf", str(path), "--format", "json"]) == 0      # the file asks for one: the default
     out = json.loads(capsys.readouterr().out)
     np.testing.assert_allclose(out["turning_points"], _direct().turning_points, rtol=1e-12)
-    assert main(["frf", str(path), "--harmonic-balance", "--f2", "25"]) == 0
+    assert main(["frf", str(path), "--harmonic-balance", "--f2", "25", "--save", str(tmp_path / "hb.csv")]) == 0
     assert "upward sweep jumps" in capsys.readouterr().out
+    rows = (tmp_path / "hb.csv").read_text().splitlines()
+    assert rows[0] == "frequency [Hz],b.z.rel,mount.m.d3,stable" and float(rows[-1].split(",")[0]) == pytest.approx(25.0)
     assert main(["frf", "--example", "prism", "--harmonic-balance"]) != 0     # no table: a clear error
     assert "no [analysis] harmonic_balance table" in capsys.readouterr().err

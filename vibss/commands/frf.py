@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import sys
 
 from ..errors import ModelError
 from .common import (add_method_argument, add_model_arguments, add_save_argument, check_save, emit, linear_from_args,
@@ -94,6 +95,8 @@ def _harmonic(args: argparse.Namespace) -> int:
     from ..io.harmonicfile import harmonic_balance_arguments
     from ..nonlinear.harmonic import harmonic_balance
 
+    if args.save and not args.save.lower().endswith(".csv"):
+        raise ModelError(f"--save {args.save}: a harmonic balance is written as CSV only (one row per branch point)")
     model = load_from_args(args)
     spec = dict((model.settings or {}).get("harmonic_balance") or {})
     if not spec:
@@ -110,7 +113,9 @@ def _harmonic(args: argparse.Namespace) -> int:
     emit(result, args.format)
     if args.format == "text":
         print(result.turning_table().render())
-    save(result, args.save)
+    if args.save:
+        result.to_pandas().to_csv(args.save, index=False)
+        print(f"harmonic balance written to {args.save}", file=sys.stderr)
     if args.plot:
         result.plot().savefig(args.plot, dpi=120)
     return 0

@@ -152,7 +152,9 @@ def _inputs(inputs: Any) -> tuple[list[str], np.ndarray, Callable[[np.ndarray], 
     if not isinstance(inputs, Mapping) or not inputs:
         raise ArgumentError("harmonic_balance: inputs: expected a mapping of input name to amplitude, e.g. "
                             f"{{'engine.fz': 100.0}}, got {inputs!r}", argument="inputs", received=inputs)
-    names, amps, funcs = [], [], {}
+    names: list[str] = []
+    amps: list[complex] = []
+    funcs: dict[int, Any] = {}
     for name, a in inputs.items():
         if callable(a):
             funcs[len(names)] = a
