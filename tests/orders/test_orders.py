@@ -159,6 +159,7 @@ def test_orders_guide(capsys):
     a = np.abs(r["mount.engine.fz", "order 2"])
     assert a[np.searchsorted(r.rpm, 800)] == pytest.approx(17.7, abs=0.05)
     assert "peak engine-mount force at" in out
+    assert "[652.3 619.9]" in out                   # the snubbered body's turning speeds (harmonic balance)
 
 
 ORDERS = '''

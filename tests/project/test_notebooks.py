@@ -16,7 +16,7 @@ from cases import ROOT
 EXAMPLES = ROOT / "examples"
 
 NOTEBOOKS = ["active_isolation.ipynb", "frf_transmissibility.ipynb", "insight_engine.ipynb", "mount_design.ipynb",
-             "mount_stiffness_study.ipynb", "shock_study.ipynb", "test_data.ipynb"]
+             "mount_stiffness_study.ipynb", "nonlinear_cabinet.ipynb", "shock_study.ipynb", "test_data.ipynb"]
 
 
 def test_every_notebook_is_listed():

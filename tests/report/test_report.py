@@ -56,7 +56,7 @@ def test_report_writes_html_and_figures(written, capfd):
 def test_report_text_and_progress(capsys, tmp_path):
     assert run(["report", "--example", "prism", "--no-figures"]) == 0
     out, err = capsys.readouterr()
-    assert "[1/9] model ..." in err and "[4/9] damped modes ..." in err
+    assert "[1/10] model ..." in err and "[4/10] damped modes ..." in err
     assert "1.0066" in out and "34.8" in out                  # x and rx modes of reference case 1
     assert "skipped: the model has no loads and no gravity" in out
     assert not list(tmp_path.iterdir())
@@ -64,7 +64,7 @@ def test_report_text_and_progress(capsys, tmp_path):
 
 def test_sections_that_apply_run():
     r = study(load_example("powertrain"), figures=False)
-    assert [s.key for s in r.sections if s.skipped] == ["control"]      # no actuators: the platform's
+    assert [s.key for s in r.sections if s.skipped] == ["control", "harmonic"]   # no actuators; a linear file asks for no harmonic balance
     assert "no actuators" in r.section("control").note
     assert r.section("frequency").tables[0].rows                 # the firing-torque sweep
     assert r.section("time").note.startswith("0 to 1 s")          # the pothole, [analysis] time

@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import argparse
+import sys
 
 from ..errors import ModelError
-from .common import add_method_argument, add_model_arguments, add_save_argument, check_save, emit, linear_from_args, save
+from .common import (add_method_argument, add_model_arguments, add_save_argument, check_save, emit, linear_from_args,
+                     load_from_args, save)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -32,6 +34,12 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="outputs as named (default), or their first or second time derivative")
     add_method_argument(p, "vibss.frequency.methods", "frequency-response method (auto: chosen per model, "
                         "the reason in the result's note)")
+    p.add_argument("--harmonic-balance", action="store_true",
+                   help="the steady periodic response with the nonlinear mounts (stops, curves) that the file's "
+                        "[analysis] harmonic_balance table asks for, by harmonic balance with its turning points "
+                        "(the default when the file asks for one and has no steady sweep and no --input is given); "
+                        "--f1/--f2/--points/--output override the table")
+    p.add_argument("--harmonics", type=int, metavar="H", help="with --harmonic-balance: highest harmonic kept")
     p.add_argument("--plot", metavar="PNG", help="also save a Bode plot of the response")
     add_save_argument(p, "frequency response")
     p.set_defaults(func=run)
@@ -45,6 +53,8 @@ def run(args: argparse.Namespace) -> int:
     from ..frequency.sweep import sweep_response
     from ..studies import frequency_band, steady_sweeps
 
+    if args.harmonic_balance or (not args.input and _asks_harmonic_balance(args)):
+        return _harmonic(args)
     model = linear_from_args(args)
     settings = frequency_band(model).grid()     # the report's band (vibss.studies)
     for key in ("f1", "f2", "points", "spacing"):
@@ -69,4 +79,43 @@ def run(args: argparse.Namespace) -> int:
     if args.plot:
         fig = result.plot()
         fig.savefig(args.plot, dpi=120)
+    return 0
+
+
+def _asks_harmonic_balance(args: argparse.Namespace) -> bool:
+    """Whether the file asks for a harmonic balance and has no steady sweep of its own."""
+    from ..studies import steady_sweeps
+
+    model = load_from_args(args)
+    return bool((model.settings or {}).get("harmonic_balance")) and not steady_sweeps(model)
+
+
+def _harmonic(args: argparse.Namespace) -> int:
+    """``vibss frf --harmonic-balance``: the file's harmonic balance, with the options' overrides."""
+    from ..io.harmonicfile import harmonic_balance_arguments
+    from ..nonlinear.harmonic import harmonic_balance
+
+    if args.save and not args.save.lower().endswith(".csv"):
+        raise ModelError(f"--save {args.save}: a harmonic balance is written as CSV only (one row per branch point)")
+    model = load_from_args(args)
+    spec = dict((model.settings or {}).get("harmonic_balance") or {})
+    if not spec:
+        raise ModelError("--harmonic-balance: the model file has no [analysis] harmonic_balance table "
+                         "(inputs = { signal = amplitude }, f1, f2, harmonics ...; see docs/model-file.md)")
+    for key in ("f1", "f2", "points", "harmonics"):
+        if getattr(args, key) is not None:
+            spec[key] = getattr(args, key)
+    if args.output:
+        spec["outputs"] = list(args.output)
+    if not spec["f2"] > spec["f1"]:
+        raise ModelError(f"--harmonic-balance: f2 ({spec['f2']} Hz) must be greater than f1 ({spec['f1']} Hz)")
+    result = harmonic_balance(model, **harmonic_balance_arguments(spec, model.excitations))
+    emit(result, args.format)
+    if args.format == "text":
+        print(result.turning_table().render())
+    if args.save:
+        result.to_pandas().to_csv(args.save, index=False)
+        print(f"harmonic balance written to {args.save}", file=sys.stderr)
+    if args.plot:
+        result.plot().savefig(args.plot, dpi=120)
     return 0

@@ -9,7 +9,8 @@ The format is specified in ``docs/model-file.md`` (tables ``[model]``, ``[[body]
 unknown keys get a did-you-mean.
 
 What the :class:`Model` has no field for is kept, in SI, in ``Model.settings``:
-``"time"`` and ``"frequency"`` (the ``[analysis]`` tables), ``"initial"`` (``{body: {"displacement":
+``"time"``, ``"frequency"`` and ``"harmonic_balance"`` (the ``[analysis]`` tables,
+:mod:`vibss.io.harmonicfile`), ``"initial"`` (``{body: {"displacement":
 [6], "velocity": [6]}}``) and ``"load_cases"`` (``{case: [load names]}``, when loads name a case).
 
 Examples
@@ -41,6 +42,7 @@ from ..model.excitation import Excitation, amplitude_quantity, function_from_dic
 from .filetable import MISSING, Entry, numbers, parse_text
 from .designfile import read_design, read_study, write_tables
 from .ordersfile import read_orders
+from .harmonicfile import read_harmonic_balance
 from .controlfile import read_control
 from .environmentsfile import read_random, read_shock
 from ..model.geometry import Orientation
@@ -349,9 +351,12 @@ def _excitation(e: Entry, i: int, bodies: Sequence[str], base: Path | None) -> E
         raise _wrap(e, exc) from None
 
 
-def _analysis(e: Entry) -> dict[str, Any]:
-    e.check_keys(("time", "frequency"))
+def _analysis(e: Entry, excitations: Sequence[Excitation] = ()) -> dict[str, Any]:
+    e.check_keys(("time", "frequency", "harmonic_balance"))
     out: dict[str, Any] = {}
+    hb = e.sub("harmonic_balance")
+    if hb is not None:
+        out["harmonic_balance"] = read_harmonic_balance(hb, excitations)
     t = e.sub("time")
     if t is not None:
         t.check_keys(("end", "step", "record_from", "tolerance"))
@@ -441,7 +446,7 @@ def _build(data: Any, source: str, base: Path | None, default_name: str,
     analysis = data.get("analysis", {})
     if not isinstance(analysis, Mapping):
         raise ModelFileError(f"{source}: analysis: expected an [analysis] table, got {analysis!r}")
-    settings = _analysis(Entry(analysis, f"{source}: [analysis]", units))
+    settings = _analysis(Entry(analysis, f"{source}: [analysis]", units), excitations)
     for key, reader in (("design", read_design), ("study", read_study), ("orders", read_orders),
                         ("control", read_control), ("shock", read_shock), ("random", read_random)):
         if key in data:
@@ -703,7 +708,7 @@ def _si_dict(model: Model) -> dict[str, Any]:
         f = x.function.to_dict()
         d["function"] = f["terms"] if f["type"] == "sum" else f
         out["excitation"].append(d)
-    analysis = {k: dict(settings[k]) for k in ("time", "frequency") if k in settings}
+    analysis = {k: dict(settings[k]) for k in ("time", "frequency", "harmonic_balance") if k in settings}
     if analysis:
         out["analysis"] = analysis
     out.update(write_tables(settings))

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import dataclasses
 import warnings
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -61,10 +61,12 @@ def harmonic_balance(model: Model, inputs: Mapping[str, complex], outputs: Seque
     model : Model
         The system; its nonlinear mounts (stops, curves) act about the operating point under its
         static loads (:func:`vibss.operating_point`); a linear model gives its FRF times the amplitudes.
-    inputs : mapping of str to complex
+    inputs : mapping of str to complex or callable
         Input name (force inputs ``'b.fz'``, prescribed motion ``'ground.z.acc'``, as
         :func:`vibss.frequency_response`) to its amplitude ``u`` (SI unit of the signal; complex
-        for a phase): ``u(t) = Re(u exp(i omega t))``, all at the same frequency.
+        for a phase): ``u(t) = Re(u exp(i omega t))``, all at the same frequency. An amplitude that
+        follows the frequency (an unbalance's ``m e omega^2``) is a callable of the frequencies
+        [Hz], (nf,) array to (nf,) complex amplitudes; the continuation follows it.
     outputs : sequence of str or None
         Output signals (default every body DOF's displacement); a mount or ground force output
         includes the nonlinear mounts' forces.
@@ -118,9 +120,11 @@ def harmonic_balance(model: Model, inputs: Mapping[str, complex], outputs: Seque
     if not isinstance(model, Model):
         raise ArgumentError(f"harmonic_balance: model: expected a Model, got {type(model).__name__}",
                             argument="model", received=model)
-    names, u = _inputs(inputs)
+    names, u, law = _inputs(inputs)
     H = _harmonics(harmonics)
     w0, w1, targets = _frequencies(frequencies)
+    if law is not None:
+        u = law(np.array([w0]))[0]
     if not isinstance(points, (int, np.integer)) or isinstance(points, bool) or points < 2:
         raise ArgumentError(f"harmonic_balance: points: expected an integer >= 2, got {points!r}",
                             argument="points", received=points)
@@ -128,7 +132,7 @@ def harmonic_balance(model: Model, inputs: Mapping[str, complex], outputs: Seque
         raise ArgumentError(f"harmonic_balance: tolerance: expected a positive share [-] of the highest harmonics, "
                             f"got {tolerance!r}", argument="tolerance", received=tolerance)
     outs = tuple(default_outputs(model) if outputs is None else [str(o) for o in outputs])
-    lin, laws, local_names, op_note = _setup(model, names, u, outs, H, gravity, case)
+    lin, laws, local_names, op_note = _setup(model, names, u, outs, H, gravity, case, law)
     N = samples_for(H) if samples is None else int(samples)
     if N <= 2 * H:
         raise ArgumentError(f"harmonic_balance: samples: expected more than 2 H = {2 * H} time samples per "
@@ -143,19 +147,40 @@ def harmonic_balance(model: Model, inputs: Mapping[str, complex], outputs: Seque
     return _result(problem, branch, names, u, outs, local_names, tolerance, stability, op_note)
 
 
-def _inputs(inputs: Any) -> tuple[list[str], np.ndarray]:
+def _inputs(inputs: Any) -> tuple[list[str], np.ndarray, Callable[[np.ndarray], np.ndarray] | None]:
+    """Names, constant amplitudes, and the amplitudes' law in frequency when some input follows it."""
     if not isinstance(inputs, Mapping) or not inputs:
         raise ArgumentError("harmonic_balance: inputs: expected a mapping of input name to amplitude, e.g. "
                             f"{{'engine.fz': 100.0}}, got {inputs!r}", argument="inputs", received=inputs)
-    names, amps = [], []
+    names: list[str] = []
+    amps: list[complex] = []
+    funcs: dict[int, Any] = {}
     for name, a in inputs.items():
+        if callable(a):
+            funcs[len(names)] = a
+            a = 0.0
         ok = isinstance(a, (int, float, complex, np.number)) and not isinstance(a, bool) and np.isfinite(a)
         if not ok:
             raise ArgumentError(f"harmonic_balance: inputs[{name!r}]: expected a finite amplitude (a number in "
-                                f"the signal's SI unit), got {a!r}", argument=str(name), received=a)
+                                f"the signal's SI unit, or a callable of the frequency [Hz]), got {a!r}",
+                                argument=str(name), received=a)
         names.append(str(name))
         amps.append(complex(a))
-    return names, np.array(amps)
+    u = np.array(amps)
+    if not funcs:
+        return names, u, None
+
+    def law(omegas: np.ndarray) -> np.ndarray:
+        out = np.tile(u, (omegas.size, 1))
+        for j, f in funcs.items():
+            a = np.asarray(f(omegas / (2 * np.pi)), dtype=complex).reshape(-1)
+            if a.size != omegas.size or not np.all(np.isfinite(a)):
+                raise ArgumentError(f"harmonic_balance: inputs[{names[j]!r}]: the callable must give one finite "
+                                    f"amplitude per frequency, got {a!r}", argument=names[j], received=a)
+            out[:, j] = a
+        return out
+
+    return names, u, law
 
 
 def _harmonics(harmonics: Any) -> int:
@@ -196,7 +221,8 @@ def _axes(model: Model) -> tuple[list[tuple[int, int]], list[str]]:
 
 
 def _setup(model: Model, names: list[str], u: np.ndarray, outs: tuple[str, ...], H: int, gravity: bool,
-           case: str | None) -> tuple[Condensed, LocalLaws, list[str], str]:
+           case: str | None, law: Callable[[np.ndarray], np.ndarray] | None = None
+           ) -> tuple[Condensed, LocalLaws, list[str], str]:
     """The condensed tangent plant, the local laws about the operating point and the note on it."""
     where, local_names = _axes(model)
     tangent, d0 = model, np.zeros(len(where))
@@ -217,7 +243,7 @@ def _setup(model: Model, names: list[str], u: np.ndarray, outs: tuple[str, ...],
     f0 = np.array([float(law.force(x)) for law, x in zip(laws, d0)])
     kt = np.array([float(law.tangent(x)) for law, x in zip(laws, d0)])
     W = _direct(tangent, names, outs, local_names, kt, plant)
-    lin = Condensed(plant, local, len(outs), u, H, W)
+    lin = Condensed(plant, local, len(outs), u, H, W, law)
     return lin, LocalLaws(tuple(laws), d0, f0, kt), local_names, note
 
 

@@ -142,7 +142,8 @@ class HarmonicBalanceResult(Result):
     local : (m, H+1, nb) complex ndarray
         Their deflections' coefficients [m] about the operating point.
     inputs : dict of str to complex
-        Input amplitudes (phasors of ``u(t) = Re(u exp(i omega t))``, their SI units).
+        Input amplitudes (phasors of ``u(t) = Re(u exp(i omega t))``, their SI units; at the first
+        point for an amplitude that follows the frequency).
     output_labels, units : tuple of str
         Output names and units.
     claim : Claim
@@ -211,6 +212,21 @@ class HarmonicBalanceResult(Result):
                 + ["-" if self.stable is None else ("yes" if self.stable[b] else "no")]
                 for b, f in enumerate(self.frequencies)]
         return TextTable(head, rows, title="Harmonic balance: first-harmonic amplitude along the branch")
+
+    def turning_table(self) -> TextTable:
+        """The folds: frequency, which slow sweep jumps there and each output's first-harmonic amplitude.
+
+        The branch starts upwards in frequency, so its folds alternate: a highest frequency (an upward
+        sweep that followed the branch there leaves it: a jump), then a lowest (a downward sweep's
+        jump), and so on.
+        """
+        head = ["fold", "f [Hz]", "slow sweep"] + [f"|{o}| [{u}]" for o, u in zip(self.output_labels, self.units)]
+        amp = self.amplitude
+        rows = [[str(n + 1), f"{f:.6g}", "upward sweep jumps" if n % 2 == 0 else "downward sweep jumps"]
+                + [f"{a:.4e}" for a in amp[:, int(k)]]
+                for n, (f, k) in enumerate(zip(self.turning_points, self.turning_index))]
+        return TextTable(head, rows, title="Harmonic balance: turning points (jump frequencies of slow sweeps)"
+                         + ("" if rows else ": none in the range"))
 
     def summary(self) -> TextTable:
         amp = self.amplitude

@@ -24,6 +24,8 @@ import numpy as np
 from .. import _validate as v
 from ..errors import ArgumentError
 from ..model.model import Model
+from ..nonlinear.kernels import nonlinear_mounts
+from .harmonic import order_balance
 from .kernels import _sources, _speeds
 from .result import OrderResponse
 from .sources import OrderForce, Unbalance, generalized_forces
@@ -34,7 +36,7 @@ _LOADS = ("fx", "fy", "fz", "mx", "my", "mz")
 
 
 def order_response(model: Model, sources: Any, rpm: Any, outputs: Sequence[str] | None = None, *,
-                   quantity: str = "receptance", method: str = "auto") -> OrderResponse:
+                   quantity: str = "receptance", method: str = "auto", harmonics: int = 7) -> OrderResponse:
     """Steady-state response to rotating unbalances and engine orders over a speed range.
 
     Parameters
@@ -51,7 +53,15 @@ def order_response(model: Model, sources: Any, rpm: Any, outputs: Sequence[str] 
         Every output as it is, or multiplied by ``i w`` / ``-w^2`` (units ``.../s``, ``.../s^2``);
         ask for ``'box.z.acc'`` to mix accelerations with forces.
     method : str
-        FRF method (as :func:`vibss.frequency_response`).
+        FRF method (as :func:`vibss.frequency_response`), or ``"harmonic_balance"``, which ``"auto"``
+        takes for a model with nonlinear mounts (stops, curves): the steady periodic response by
+        :func:`vibss.harmonic_balance`, continued in the speed with the forcing following it (an
+        unbalance's grows with rpm^2) through the turning points (:mod:`vibss.orders.harmonic`);
+        the result's speeds are then the branch's points from ``rpm[0]`` to ``rpm[-1]`` (about
+        ``rpm.size`` of them, in branch order), with ``stable``, ``turning_rpm`` and ``branch``.
+        Sources of one order only.
+    harmonics : int
+        Highest harmonic kept by the harmonic balance (nonlinear mounts only).
 
     Returns
     -------
@@ -74,6 +84,8 @@ def order_response(model: Model, sources: Any, rpm: Any, outputs: Sequence[str] 
     who = "order_response"
     srcs = _sources(sources)
     speeds = _speeds(rpm, who)
+    if method == "harmonic_balance" or (method == "auto" and nonlinear_mounts(model)):
+        return order_balance(model, srcs, speeds, outputs, quantity, harmonics)
     groups = generalized_forces(model, srcs, speeds)
     bodies = sorted({b for b, _ in groups})
     inputs = [f"{b}.{d}" for b in bodies for d in _LOADS]

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
 import numpy as np
@@ -40,6 +40,14 @@ class OrderResponse(Result):
         ``receptance`` (displacement), ``mobility`` or ``accelerance`` of the motion outputs.
     method, note : str
         The FRF method and how the result was made.
+    stable : (n,) bool ndarray or None
+        With nonlinear mounts (harmonic balance): the stability of each point of the branch; None
+        for a linear model.
+    turning_rpm : (k,) ndarray
+        With nonlinear mounts: the speeds of the branch's turning points [rpm] (a slow run-up, then a
+        run-down, jumps there); empty otherwise.
+    branch : HarmonicBalanceResult or None
+        With nonlinear mounts: the harmonic balance itself (every harmonic; ``.plot()``).
     """
 
     signal_kind: ClassVar[str] = "output"
@@ -54,6 +62,9 @@ class OrderResponse(Result):
     quantity: str = "receptance"
     method: str = ""
     note: str = ""
+    stable: np.ndarray | None = None
+    turning_rpm: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    branch: Any = None
 
     @property
     def output_labels(self) -> tuple[str, ...]:

@@ -17,13 +17,14 @@ from ..results import TextTable
 
 __all__ = ["Section", "Report", "STEPS", "TITLES", "MAX_MODE_PANELS", "Progress", "slug", "default_folder", "progress_on_stderr"]
 
-STEPS = ("model", "static", "modes", "damped", "design", "control", "frequency", "orders", "time")
+STEPS = ("model", "static", "modes", "damped", "design", "control", "frequency", "harmonic", "orders", "time")
 """The report's sections, in order."""
 
 
 TITLES = {"model": "Model", "static": "Static deflection", "modes": "Undamped modes",
           "damped": "Damped modes", "design": "Mount-system design (decoupling)",
           "orders": "Rotating machinery (orders against speed)", "control": "Active isolation (closed loop)", "frequency": "Frequency response (sine sweeps)",
+          "harmonic": "Harmonic balance (steady periodic response with nonlinear mounts)",
           "time": "Time response (transient excitations)"}
 
 

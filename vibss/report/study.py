@@ -4,7 +4,8 @@
 and, where the model sets it, gravity), the undamped modes with their kinetic-energy table, the
 damped modes, the design checks, the closed loop of an active model, the steady-state response to
 the model's sine-sweep excitations (with the transmissibility from each swept input; without a
-sweep, the isolator's own motion and force transmissibility), the order analysis and the time response to its transient excitations, over
+sweep, the isolator's own motion and force transmissibility), the harmonic balance the model file
+asks for (``[analysis] harmonic_balance``), the order analysis and the time response to its transient excitations, over
 the window and band of :mod:`vibss.studies` (the ones ``vibss time`` and ``vibss frf`` use). An
 analysis that does not apply (no loads, no damping, no excitation of that kind) or whose module is
 not installed is skipped with a one-line note; one that fails is reported with its error message
@@ -39,6 +40,7 @@ from .section import STEPS, TITLES, Progress, Report, Section
 from .sections.control import _control_section
 from .sections.design import _design_section
 from .sections.frequency import _frequency_section
+from .sections.harmonic import _harmonic_section
 from .sections.model import _model_section
 from .sections.modes import _damped_section, _modes_section
 from .sections.orders import _orders_section
@@ -63,6 +65,7 @@ def _failure(key: str, exc: Exception) -> Section:
 
 _RUNNERS = {"static": _static_section, "modes": _modes_section, "damped": _damped_section,
             "design": _design_section, "control": _control_section, "frequency": _frequency_section,
+            "harmonic": _harmonic_section,
             "orders": _orders_section, "time": _time_section}
 
 
@@ -104,7 +107,7 @@ def study(model: Model, figures: bool = True, progress: Progress | None = None,
     return Report(model, tuple(sections), source, results)
 
 
-NONLINEAR_SECTIONS = ("static", "modes", "time")
+NONLINEAR_SECTIONS = ("static", "modes", "harmonic", "time")
 """The sections that take a model with stops or curves as it is (the operating point, the tangent
 modes it states itself, contacts in time); every other section analyses the tangent model."""
 

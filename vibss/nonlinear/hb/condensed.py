@@ -16,6 +16,7 @@ that its mounts do not hold statically (a free rigid-body motion) has no mean sh
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 import numpy as np
 import scipy.sparse as sp
@@ -73,6 +74,10 @@ class Condensed:
     W : (p, m) ndarray
         Direct part of each output per local force beyond the tangent (a mount or ground force output of a
         nonlinear mount carries that mount's force beyond the tangent).
+    law : callable or None
+        Input amplitudes that follow the frequency: ``law(omegas)`` with omegas (nf,) [rad/s] gives
+        (nf, ni) complex amplitudes (an unbalance's ``m e omega^2``); None: ``u`` at every frequency.
+        The continuation's ``dR/domega`` then includes the amplitudes' change.
     """
 
     plant: Plant
@@ -81,6 +86,7 @@ class Condensed:
     u: np.ndarray
     harmonics: int
     W: np.ndarray
+    law: Callable[[np.ndarray], np.ndarray] | None = None
     _cache: dict = field(default_factory=dict, repr=False)
 
     @property
@@ -128,7 +134,9 @@ class Condensed:
             k = int(np.flatnonzero(bad)[0])
             raise AnalysisError(f"harmonic_balance: the tangent model is singular at harmonic {k % H + 1} of "
                                 f"{omegas[k // H] / (2 * np.pi):.6g} Hz (an undamped resonance): add damping")
-        y = observe(plant, s, x[:, :, m:], zf) @ self.u                     # (nf, p + extra): inputs alone
+        per = observe(plant, s[::H], x[::H, :, m:], zf[::H])          # (nf, p + extra, ni)
+        amps = np.broadcast_to(self.u, (omegas.size, self.u.size)) if self.law is None else self.law(omegas)
+        y = np.einsum("fpi,fi->fp", per, amps)                                # inputs alone, at the fundamental
         out = []
         x0, static = self._static() if m else (np.zeros((plant.n, 0)), plant)
         for i, w in enumerate(omegas):
@@ -143,8 +151,8 @@ class Condensed:
                 for k in range(1, H + 1):
                     T[k] = output_map(plant, s[i * H + k - 1])[:p] @ x[i * H + k - 1, :, :m]
                 T -= self.W[None]             # y = Y_lin - T F: the structure sees -L^T F, the output +W F
-                Y = y[i * H, :p]
-            out.append(Linear(G, y[i * H, self.local], _real_blocks(G), T, Y))
+                Y = y[i, :p]
+            out.append(Linear(G, y[i, self.local], _real_blocks(G), T, Y))
         return out
 
 
