@@ -10,6 +10,7 @@ clearance minus the sag.
 from __future__ import annotations
 
 import json
+from functools import lru_cache
 
 import numpy as np
 import pytest
@@ -18,6 +19,7 @@ from scipy.optimize import brentq
 
 import vibss
 from vibss.cli import main
+from vibss.report.section import Report
 from vibss.report.study import study
 
 POINTS = np.array([[-4.0, -300.0], [-3.0, -210.0], [-2.0, -125.0], [-1.0, -60.0], [0.0, 0.0], [1.0, 60.0],
@@ -43,8 +45,14 @@ def test_vibss_static_shows_the_operating_point(capsys: pytest.CaptureFixture[st
     assert "Stops at the operating point" in text and f"{4.0 + d:.3f}" in text
 
 
+@lru_cache(maxsize=1)
+def cabinet_report() -> Report:
+    """The example's report without figures, made once for the two tests that read it (14 s each)."""
+    return study(vibss.load_example("snubbed_cabinet"), figures=False)
+
+
 def test_the_report_linearises_the_linear_sections_and_says_so() -> None:
-    rep = study(vibss.load_example("snubbed_cabinet"), figures=False)
+    rep = cabinet_report()
     static = rep.section("static")
     assert any(t.title == "Tangent rates at the operating point" for t in static.tables)
     for key in ("damped", "frequency"):
@@ -86,7 +94,7 @@ def test_a_shock_into_the_snubbers_of_a_symmetric_cabinet_is_located_quickly() -
 
 
 def test_the_report_lists_the_stop_contacts() -> None:
-    rep = study(vibss.load_example("snubbed_cabinet"), figures=False)
+    rep = cabinet_report()
     s = rep.section("time")
     assert not s.skipped and any(t.title == "stop contacts" for t in s.tables)
     assert "stop contacts" in s.text and "foot" in s.text
