@@ -122,6 +122,20 @@ def _batched_modes(model: Model, params: tuple[Parameter, ...], names: list[str]
     return [r for r in out if r is not None]
 
 
+def _in_process(model: Model, params: tuple[Parameter, ...] | None, names: list[str], build: Any, analysis: Any,
+                rows: Sequence[tuple[float, ...]], chunk: int | None, batched: bool,
+                report: Progress | None) -> list[dict[str, Any]]:
+    """Every variant's row in this process, chunk by chunk (stacked when ``batched``)."""
+    total, results = len(rows), []
+    size = chunk or (BATCH if batched else max(1, total // 100))
+    for start in range(0, total, size):
+        results += _batched_modes(model, params or (), names, rows[start:start + size]) if batched else \
+            _run_chunk(model, params, names, build, analysis, rows[start:start + size])
+        if report:
+            report(len(results), total)
+    return results
+
+
 def _stderr_bar(done: int, total: int) -> None:
     width = 30
     full = int(width * done / max(total, 1))
@@ -224,8 +238,7 @@ def grid_study(model: Model, analysis: Any = "modes", *, grid: Mapping[Any, Sequ
             raise ArgumentError("grid_study: table: every column must have the same length, got "
                                 f"{[len(c) for c in columns]}", argument="table")
         rows = list(zip(*[c.tolist() for c in columns]))
-    batched = client is None and params is not None and (analysis == "modes" or analysis is _modes) \
-        and _batchable(model)
+    batched = client is None and params is not None and analysis in ("modes", _modes) and _batchable(model)
     if isinstance(analysis, str):
         if analysis not in ANALYSES:
             raise ArgumentError(f"grid_study: analysis: unknown {analysis!r}; expected one of {list(ANALYSES)} "
@@ -239,12 +252,7 @@ def grid_study(model: Model, analysis: Any = "modes", *, grid: Mapping[Any, Sequ
     total = len(rows)
     results: list[dict[str, Any]] = []
     if client is None:
-        size = chunk or (BATCH if batched else max(1, total // 100))
-        for start in range(0, total, size):
-            results += _batched_modes(model, params, names, rows[start:start + size]) if batched and params \
-                else _run_chunk(model, params, names, build, analysis, rows[start:start + size])
-            if report:
-                report(len(results), total)
+        results = _in_process(model, params, names, build, analysis, rows, chunk, batched, report)
     else:
         cl, cluster = _client(client)
         try:

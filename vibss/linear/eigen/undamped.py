@@ -276,8 +276,9 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
     rigid = rigid_mask(phi, K, checked, floor, norms)
     est = error_estimate(w2, phi, M, None if factor is not None else K, checked, rigid, norms=norms)
     est = np.minimum(est, bound + _data_rounding(norms))
-    if small_auto and np.any(rigid):
-        # eigh cannot tell a rigid mode from one below sqrt(eps) of the top: the Jacobi SVD decides
+    if small_auto and (np.any(rigid) or np.any(~rigid & ~(est <= FREQ_RTOL))):
+        # eigh cannot tell a rigid mode from one below sqrt(eps) of the top, and its bound cannot
+        # certify every mode (a cluster, a graded model): the Jacobi SVD decides, as it always did
         w2, phi, bound = _jacobi(factor, M)
         norms = _factor_norms(checked, phi)
         rigid = rigid_mask(phi, K, checked, _jacobi_floor(w2), norms)
