@@ -276,9 +276,10 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
     rigid = rigid_mask(phi, K, checked, floor, norms)
     est = error_estimate(w2, phi, M, None if factor is not None else K, checked, rigid, norms=norms)
     est = np.minimum(est, bound + _data_rounding(norms))
-    if small_auto and (np.any(rigid) or np.any(~rigid & ~(est <= FREQ_RTOL))):
-        # eigh cannot tell a rigid mode from one below sqrt(eps) of the top, and its bound cannot
-        # certify every mode (a cluster, a graded model): the Jacobi SVD decides, as it always did
+    if small_auto and (np.any(rigid) or not np.all(np.isfinite(est[~rigid]))):
+        # eigh cannot tell a rigid mode from one below sqrt(eps) of the top, nor bound a mode in a
+        # cluster (no gap: an infinite bound): the Jacobi SVD decides, as it always did. Modes with
+        # a finite bound over FREQ_RTOL are refined below, and go to the Jacobi SVD if they stay so
         w2, phi, bound = _jacobi(factor, M)
         norms = _factor_norms(checked, phi)
         rigid = rigid_mask(phi, K, checked, _jacobi_floor(w2), norms)
