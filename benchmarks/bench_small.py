@@ -182,7 +182,51 @@ def bench(quick: bool) -> dict:
                   f"{1e3 * t_ctl_sim:7.3f} ms   {rs:5.2f}x / {rs_new:5.2f}x faster (target >= "
                   f"{TARGETS['simulate']:g}x: {_verdict(rs, TARGETS['simulate'], True)} / "
                   f"{_verdict(rs_new, TARGETS['simulate'], True)})   difference {err_sim:.1e}")
+    out["study"] = study_row(quick)
     return out
+
+
+def study_row(quick: bool) -> dict:
+    """``vibss.grid_study(model, "modes", grid=...)`` on the 1-body model: variants per CPU second of
+    the batched path, beside the per-variant path (``vibss.modes`` on each variant, as before issue 34)
+    and the floor (one stacked ``numpy.linalg.eigh`` of the variants' 6x6 standard problems, their
+    matrices made beforehand); the table against ``vibss.modes`` on each of 50 variants."""
+    from vibss.design import grid as grid_module
+    from vibss.design.parameters import apply, parameters_of
+
+    model = models()["1 body"]
+    steps = 10 if quick else 25
+    grid = {"m0.k3": np.linspace(3e4, 9e4, steps), "m1.k1": np.linspace(1e4, 3e4, steps),
+            "m2.k2": np.linspace(1e4, 3e4, 8)}
+    nv = 8 * steps * steps
+    with threadpool_limits(1):
+        table = vibss.grid_study(model, "modes", grid=grid)
+        t_batched = per_call(lambda: vibss.grid_study(model, "modes", grid=grid), 10)
+        names = list(grid)
+        rng = np.random.default_rng(3)
+        pick = rng.choice(nv, size=50, replace=False)
+        params = parameters_of(model, names)
+        ref = np.array([vibss.modes(apply(model, params, table.loc[i, names].to_numpy(float))).frequency_hz
+                        for i in pick])
+        cols = [f"f{i}_hz" for i in range(1, 7)]
+        err = float(np.abs(table.loc[pick, cols].to_numpy(float) / ref - 1).max())
+        small = {k: v[:2] for k, v in grid.items()}         # 8 variants, the per-variant path
+        batchable = grid_module._batchable
+        grid_module._batchable = lambda m: False
+        try:
+            t_each = per_call(lambda: (forget(), vibss.grid_study(model, "modes", grid=small)), 5) / 8
+        finally:
+            grid_module._batchable = batchable
+        a = rng.standard_normal((nv, 6, 6))
+        a = a @ a.transpose(0, 2, 1)
+        t_floor = per_call(lambda: np.linalg.eigh(a), 10)
+    rate, rate_each, rate_floor = nv / t_batched, 1.0 / t_each, nv / t_floor
+    print(f"  study modes, 1 body, {nv} variants: {rate:9.0f} variants/s batched (target >= 2,000: "
+          f"{_verdict(rate, 2000.0, True)}); per variant {rate_each:6.0f}/s; floor (stacked eigh alone) "
+          f"{rate_floor:9.0f}/s: {rate_floor / rate:4.1f}x the batched rate   max |table / modes - 1| "
+          f"{err:.1e} on 50 variants")
+    return {"variants": nv, "variants_per_s": rate, "per_variant_per_s": rate_each,
+            "floor_per_s": rate_floor, "table_error": err}
 
 
 if __name__ == "__main__":

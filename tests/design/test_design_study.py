@@ -70,3 +70,42 @@ def test_client_local_starts_and_closes_its_own_cluster(powertrain):
     grid = {"engine.k3": [2e5, 3e5]}
     df = vibss.grid_study(powertrain, grid=grid, client="local")
     pd.testing.assert_frame_equal(df, vibss.grid_study(powertrain, grid=grid))
+
+
+def _per_variant(model, df, names):
+    """Each row's frequencies by vibss.modes on the variant itself (the one eigen path: Jacobi SVD)."""
+    params = parameters_of(model, names)
+    return np.array([vibss.modes(apply(model, params, row[names].to_numpy(float))).frequency_hz
+                     for _, row in df.iterrows()])
+
+
+def test_batched_modes_table_equals_per_variant_modes(powertrain):
+    """The stacked-eigh path of grid_study(..., "modes") gives the table vibss.modes gives variant by
+    variant (rates, a ratio, a shift and an angle), to 1e-12 relative, and each frequency's error
+    against it stays within the batch's own bound (frequency_bound)."""
+    from vibss.design.batch import batch_frequencies
+
+    grid = {"engine.k3": [1.5e5, 3e5], "engine.k1/k3": [0.4, 0.7], "gearbox.z": [0.0, 0.02], "gearbox.rx": [0.0, 0.2]}
+    df = vibss.grid_study(powertrain, "modes", grid=grid)
+    names = list(grid)
+    cols = [f"f{i}_hz" for i in range(1, 7)]
+    ref = _per_variant(powertrain, df, names)
+    got = df[cols].to_numpy(float)
+    assert df["error"].isna().all()
+    np.testing.assert_allclose(got, ref, rtol=1e-12)
+    f, bound = batch_frequencies(powertrain, parameters_of(powertrain, names), df[names].to_numpy(float))
+    np.testing.assert_array_equal(f, got)
+    assert np.all(np.abs(got - ref) / ref <= bound + 4 * np.finfo(float).eps)   # the reference's own rounding
+    assert bound.max() < 1e-12                      # and the bound is tight enough to keep every row
+
+
+def test_batched_modes_send_doubtful_variants_to_modes(powertrain):
+    """A negative rate (an error row, as without batching) and a variant with free motions (a rigid
+    mode the bound cannot certify) are run by vibss.modes on the variant itself."""
+    off = {f"{m.name}.k{j}": [0.0] for m in powertrain.mounts for j in (1, 2)}
+    df = vibss.grid_study(powertrain, "modes", table={"engine.k3": [2e5, -1.0, 2e5], **{k: v * 3 for k, v in off.items()}})
+    assert df["error"].isna().tolist() == [True, False, True]
+    assert "stiffness must not be negative" in df.loc[1, "error"]
+    ref = _per_variant(powertrain, df.loc[[0]], ["engine.k3", *off])
+    np.testing.assert_array_equal(df.loc[[0], [f"f{i}_hz" for i in range(1, 7)]].to_numpy(float), ref)
+    assert df.loc[0, "f1_hz"] == 0.0              # rigid: exactly zero from the eigen path

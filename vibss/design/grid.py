@@ -28,6 +28,7 @@ from .._validate import integer
 from ..errors import ArgumentError, MissingDependencyError, did_you_mean
 from ..model.model import Model
 from ..results import require_pandas
+from .batch import BATCH_RTOL, batch_frequencies, variant_rates
 from .parameters import Parameter, apply, parameters_of
 
 __all__ = ["grid_study", "ANALYSES"]
@@ -79,6 +80,60 @@ def _run_chunk(model: Model, params: tuple[Parameter, ...] | None, names: list[s
             row = {"error": f"{type(exc).__name__}: {exc}"}
         out.append(row)
     return out
+
+
+BATCH = 4096
+"""Variants per stacked solve of :func:`_batched_modes` (about 1 kB each at 6 DOF)."""
+
+
+def _batchable(model: Model) -> bool:
+    """Whether every variant's ``"modes"`` row can come from one stacked solve: linear mounts of
+    principal rates (no stops or curves, no coupled 6x6 matrix, no frequency-dependent branches),
+    whose stiffness :func:`~vibss.design.batch.batch_stiffness` builds as the assembly does."""
+    return all(not getattr(m.type, "nonlinear", False) and not m.type.coupled
+               and not getattr(m.type, "has_branches", False) for m in model.mounts)
+
+
+def _batched_modes(model: Model, params: tuple[Parameter, ...], names: list[str],
+                   rows: Sequence[tuple[float, ...]]) -> list[dict[str, Any]]:
+    """``"modes"`` rows of a chunk of variants by one stacked ``eigh``
+    (:func:`~vibss.design.batch.batch_frequencies`): a variant whose every frequency the bound
+    certifies to :data:`~vibss.design.batch.BATCH_RTOL` keeps its row; the others (a negative or
+    non-finite rate, a mode that may be rigid, a graded model, frequencies over
+    :data:`vibss.modal.api.IMPLAUSIBLE_HZ`, which :func:`vibss.modes` warns about) are run by
+    :func:`vibss.modes` on the variant itself, as without batching, errors and warnings included."""
+    from ..modal.api import IMPLAUSIBLE_HZ
+
+    values = np.asarray(rows, dtype=float).reshape(len(rows), len(params))
+    rates, shift, angle = variant_rates(model, params, values)
+    sane = (np.isfinite(values).all(axis=1) & (rates >= 0).all(axis=(1, 2)) & np.isfinite(rates).all(axis=(1, 2))
+            & np.isfinite(shift).all(axis=(1, 2)) & np.isfinite(angle).all(axis=(1, 2)))
+    out: list[dict[str, Any] | None] = [None] * len(rows)
+    if np.any(sane):
+        f, bound = batch_frequencies(model, params, values[sane])
+        good = (bound <= BATCH_RTOL).all(axis=1) & (f <= IMPLAUSIBLE_HZ).all(axis=1)
+        labels = [f"f{i + 1}_hz" for i in range(f.shape[1])]
+        for v, fv in zip(np.flatnonzero(sane)[good], f[good].tolist()):
+            row: dict[str, Any] = dict(zip(labels, fv))
+            row["error"] = None
+            out[v] = row
+    for v in [i for i, r in enumerate(out) if r is None]:
+        out[v] = _run_chunk(model, params, names, None, ANALYSES["modes"], [rows[v]])[0]
+    return [r for r in out if r is not None]
+
+
+def _in_process(model: Model, params: tuple[Parameter, ...] | None, names: list[str], build: Any, analysis: Any,
+                rows: Sequence[tuple[float, ...]], chunk: int | None, batched: bool,
+                report: Progress | None) -> list[dict[str, Any]]:
+    """Every variant's row in this process, chunk by chunk (stacked when ``batched``)."""
+    total, results = len(rows), []
+    size = chunk or (BATCH if batched else max(1, total // 100))
+    for start in range(0, total, size):
+        results += _batched_modes(model, params or (), names, rows[start:start + size]) if batched else \
+            _run_chunk(model, params, names, build, analysis, rows[start:start + size])
+        if report:
+            report(len(results), total)
+    return results
 
 
 def _stderr_bar(done: int, total: int) -> None:
@@ -183,6 +238,7 @@ def grid_study(model: Model, analysis: Any = "modes", *, grid: Mapping[Any, Sequ
             raise ArgumentError("grid_study: table: every column must have the same length, got "
                                 f"{[len(c) for c in columns]}", argument="table")
         rows = list(zip(*[c.tolist() for c in columns]))
+    batched = client is None and params is not None and analysis in ("modes", _modes) and _batchable(model)
     if isinstance(analysis, str):
         if analysis not in ANALYSES:
             raise ArgumentError(f"grid_study: analysis: unknown {analysis!r}; expected one of {list(ANALYSES)} "
@@ -196,11 +252,7 @@ def grid_study(model: Model, analysis: Any = "modes", *, grid: Mapping[Any, Sequ
     total = len(rows)
     results: list[dict[str, Any]] = []
     if client is None:
-        size = chunk or max(1, total // 100)
-        for start in range(0, total, size):
-            results += _run_chunk(model, params, names, build, analysis, rows[start:start + size])
-            if report:
-                report(len(results), total)
+        results = _in_process(model, params, names, build, analysis, rows, chunk, batched, report)
     else:
         cl, cluster = _client(client)
         try:

@@ -25,13 +25,12 @@ from ..linear.eigen.small import symmetric_eigen
 from .._validate import choice, integer, number
 from ..errors import AnalysisError, ArgumentError
 from ..linear.plant.assemble import assemble
-from ..model.geometry import point_transfer
 from ..model.model import DOF_NAMES, Model
 from ..results import Result, TextTable, jsonable, require_pandas
 from ._common import body_name, frame_axes, frame_rotation, ke_fractions
+from .batch import batch_stiffness
 from .certificate import in_windows, windows_for
-from .parameters import (_ANGLE, _RATE, _RATIO, _SHIFT, Parameter, current_values, parameters_of, ratio_axes,
-                         refuse_coupled)
+from .parameters import Parameter, current_values, parameters_of, refuse_coupled
 
 __all__ = ["MonteCarlo", "monte_carlo", "batch_modes", "SAMPLINGS", "DISTRIBUTIONS"]
 
@@ -67,58 +66,8 @@ def batch_modes(model: Model, parameters: tuple[Parameter, ...], values: np.ndar
     """
     a = assemble(model, sparse=False)
     refuse_coupled(model, "batch_modes")
-    nv = values.shape[0]
-    nm, nb, n = len(model.mounts), len(model.bodies), a.n
-    index = {m.name: i for i, m in enumerate(model.mounts)}
-    rates = np.broadcast_to(np.array([m.type.stiffness for m in model.mounts]), (nv, nm, 3)).copy()
-    shift = np.zeros((nv, nm, 3))
-    angle = np.zeros((nv, nm, 3))
-    for i, p in enumerate(parameters):
-        for mount, kind, factor in p.targets:
-            q = index[mount]
-            if kind in _RATE:
-                rates[:, q, _RATE.index(kind)] = factor * values[:, i]
-            elif kind in _SHIFT:
-                shift[:, q, _SHIFT.index(kind)] += factor * values[:, i]
-            elif kind in _ANGLE:
-                angle[:, q, _ANGLE.index(kind)] += factor * values[:, i]
-    for i, p in enumerate(parameters):            # ratios after rates: the denominator is final
-        for mount, kind, factor in p.targets:
-            if kind in _RATIO:
-                num, den = ratio_axes(kind)
-                rates[:, index[mount], num] = factor * values[:, i] * rates[:, index[mount], den]
-    t0 = np.array([m.orientation.matrix for m in model.mounts])                 # (nm, 3, 3)
-    t = np.broadcast_to(t0, (nv, nm, 3, 3)).copy()
-    turned = np.flatnonzero(np.any(angle != 0, axis=(0, 2)))                       # mounts with angles
-    if turned.size:
-        t[:, turned] = _rxryrz(angle[:, turned]) @ t0[turned]
-    kp = np.einsum("vpij,vpj,vpkj->vpik", t, rates, t)
-    kr = np.array([m.type.rotational_stiffness for m in model.mounts]).reshape(nm, 3)
-    krp = np.einsum("vpij,pj,vpkj->vpik", t, kr, t)                                # 6x6 mounts, turned too
-    lb = point_transfer(a.r_b[None] + shift)                                      # (nv, nm, 3, 6)
-    la = point_transfer(a.r_a[None] + shift)
-    K = np.zeros((nv, n + a.nz, n + a.nz))
-    for q in range(nm):                                                           # mounts, not variants
-        sb = slice(6 * a.b_index[q], 6 * a.b_index[q] + 6)
-        kb = kp[:, q] @ lb[:, q]
-        lbt = lb[:, q].transpose(0, 2, 1)
-        K[:, sb, sb] += lbt @ kb
-        rb = slice(6 * a.b_index[q] + 3, 6 * a.b_index[q] + 6)
-        ra = slice(6 * a.a_index[q] + 3, 6 * a.a_index[q] + 6)
-        if np.any(kr[q]):                        # a 6x6 mount's rotational rates
-            K[:, rb, rb] += krp[:, q]
-            K[:, ra, ra] += krp[:, q]
-            K[:, rb, ra] -= krp[:, q]
-            K[:, ra, rb] -= krp[:, q]
-        if a.a_index[q] >= nb:                   # to ground: the ground blocks are dropped below
-            continue
-        sa = slice(6 * a.a_index[q], 6 * a.a_index[q] + 6)
-        ka = kp[:, q] @ la[:, q]
-        lat = la[:, q].transpose(0, 2, 1)
-        K[:, sa, sa] += lat @ ka
-        K[:, sb, sa] -= lbt @ ka
-        K[:, sa, sb] -= lat @ kb
-    K = K[:, :n, :n]
+    n = a.n
+    K = batch_stiffness(model, parameters, values, a)
     M = a.dense("M")
     L = np.linalg.cholesky(M)
     Li = np.linalg.inv(L)
@@ -131,21 +80,6 @@ def batch_modes(model: Model, parameters: tuple[Parameter, ...], values: np.ndar
     phi = phi * sign
     ke = ke_fractions(phi, M, frame_rotation(n, np.eye(3) if frame is None else frame))
     return np.sqrt(np.maximum(w2, 0.0)) / (2 * np.pi), phi, ke
-
-
-def _rxryrz(angle: np.ndarray) -> np.ndarray:
-    """``R_x(a) R_y(b) R_z(c)`` of (..., 3) angles [rad] as (..., 3, 3) (scipy's intrinsic "XYZ")."""
-    ca, cb, cc = np.cos(angle[..., 0]), np.cos(angle[..., 1]), np.cos(angle[..., 2])
-    sa, sb, sc = np.sin(angle[..., 0]), np.sin(angle[..., 1]), np.sin(angle[..., 2])
-    out = np.empty(angle.shape[:-1] + (3, 3))
-    out[..., 0, 0], out[..., 0, 1], out[..., 0, 2] = cb * cc, -cb * sc, sb
-    out[..., 1, 0] = ca * sc + sa * sb * cc
-    out[..., 1, 1] = ca * cc - sa * sb * sc
-    out[..., 1, 2] = -sa * cb
-    out[..., 2, 0] = sa * sc - ca * sb * cc
-    out[..., 2, 1] = sa * cc + ca * sb * sc
-    out[..., 2, 2] = ca * cb
-    return out
 
 
 @dataclass(frozen=True, eq=False)

@@ -80,8 +80,17 @@ def _sparse_order_product(x: np.ndarray, y: np.ndarray) -> np.ndarray:
     zeros, so a small model's eigen path gets the sparse products' digits bit for bit without
     their bookkeeping; the Jacobi SVD's accuracy on graded models depends on those digits."""
     out = np.zeros((x.shape[0], y.shape[0]))
+    # Only the rows where x[:, k] is a stored nonzero take a term (as in scipy, which multiplies
+    # stored entries only): adding a structural zero's product would add +-0, which leaves every
+    # sum as it is (the sums start at +0 and never become -0), so the digits are the same; the work
+    # is nnz(x) rows of y instead of n^2 per inner index (16 of 29 ms of the Jacobi path at 150 DOF)
+    yt = np.ascontiguousarray(y.T)
     for k in range(x.shape[1]):
-        out = out + x[:, k, None] * y[None, :, k]
+        rows = np.flatnonzero(x[:, k])
+        if rows.size == x.shape[0]:
+            out += x[:, k, None] * yt[k]
+        elif rows.size:
+            out[rows] += x[rows, k, None] * yt[k]
     return out
 
 
