@@ -12,7 +12,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from ..model.model import Model
-from ..results import Result, TextTable, freeze, jsonable, require_pandas
+from ..results import ZERO_NOTE, Result, TextTable, freeze, jsonable, require_pandas
 
 __all__ = ["EnergyDistribution", "ModalContributions", "PathContributions", "projection_share"]
 
@@ -285,6 +285,9 @@ class ModalContributions(Result):
         rows = []
         for i, out in enumerate(self.output_names):
             for j, inp in enumerate(self.input_names):
+                if not np.any(self.total[i, j]):            # no peak to split (a symmetry, or no path)
+                    rows.append([out, inp, "", "0", "", "", "", ZERO_NOTE])
+                    continue
                 for f in self.peaks(i, j):
                     sh = self.share[:, i, j, f]
                     order = np.argsort(-np.nan_to_num(sh, nan=-np.inf))[:top]

@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-from ..results import Result, TextTable, freeze, jsonable, require_pandas
+from ..results import ZERO_NOTE, Result, TextTable, freeze, jsonable, require_pandas
 from ..time.result import TimeResponse
 
 __all__ = ["TimeContributions"]
@@ -88,7 +88,8 @@ class TimeContributions(Result):
         j = self.peak_index(i)
         if window is None:
             share = self.share_at(i, j)[:-1]
-            f = self.mode_frequency_hz[int(np.nanargmax(np.abs(share)))] if share.size else 0.0
+            known = share.size and not np.all(np.isnan(share))      # all NaN: the output is 0 at its peak
+            f = self.mode_frequency_hz[int(np.nanargmax(np.abs(share)))] if known else 0.0
             span = float(self.time[-1] - self.time[0])
             window = 1.0 / f if f > 0 else 0.1 * span
         lo = np.searchsorted(self.time, self.time[j] - window / 2, side="left")
@@ -127,6 +128,9 @@ class TimeContributions(Result):
         """
         rows = []
         for i, out in enumerate(self.output_names):
+            if not np.any(self.total[i]):                   # no peak to split (a symmetry, or no path)
+                rows.append([out, "", "0", "", "", "", "", ZERO_NOTE, ""])
+                continue
             j = self.peak_index(i)
             at = self.share_at(i, j)
             win = self.window_of(i, window)
