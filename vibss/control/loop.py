@@ -25,6 +25,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import ControlDesignError, ModelError, SignalError, VibssWarning, did_you_mean
+from ..linear.eigen.small import state_eigenvalues
 from ..linear.plant.labels import control_name
 from ..linear.statespace import NamedStateSpace
 from ..results import Result, TextTable
@@ -421,7 +422,7 @@ def close(plant: Any, controller: Any, *, margins: bool = True, allow_unstable: 
     if plant.dt not in (0, None) or controller.dt not in (0, None):
         raise ModelError("close: continuous-time systems only (dt = 0)")
     A, B, C, D, ext, iy, iu = _close(plant, controller)
-    poles = np.linalg.eigvals(A)
+    poles = state_eigenvalues(A)
     poles = poles[np.lexsort((poles.imag, np.abs(poles)))]
     tol = 1e-9 * max(np.abs(poles).max(initial=1.0), 1.0)
     unstable = poles[poles.real > tol]
@@ -443,7 +444,7 @@ def close(plant: Any, controller: Any, *, margins: bool = True, allow_unstable: 
     loops: list[LoopMargins] = []
     dm, peak = np.nan, np.nan
     if margins:
-        ol_poles = np.linalg.eigvals(np.asarray(plant.A, dtype=float))
+        ol_poles = state_eigenvalues(plant.A)
         omega = _grid(np.concatenate([poles, ol_poles]), np.zeros(0))
         lp = _Loops(plant, controller, iy, iu)
         q = lp.q(omega)

@@ -17,6 +17,7 @@ from typing import Any
 
 import numpy as np
 from ..linear.eigen.complex_modes import eigenpairs
+from ..linear.eigen.small import state_eigenvalues
 
 from ..errors import ArgumentError, ControlDesignError, MissingDependencyError, ModelError
 from .loop import Controller, controller
@@ -272,7 +273,7 @@ def _achieved(Pw: Any, K: Any) -> float:
     import control
 
     cl = Pw.lft(K, K.noutputs, K.ninputs)
-    if cl.nstates and np.max(np.linalg.eigvals(np.asarray(cl.A)).real) >= 0:
+    if cl.nstates and np.max(state_eigenvalues(cl.A).real) >= 0:
         return np.inf
     return float(control.norm(cl, p="inf", print_warning=False))
 

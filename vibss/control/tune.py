@@ -39,6 +39,7 @@ import numpy as np
 from .._validate import choice, integer
 from ..design.parameters import current_values, parameters_of
 from ..errors import ArgumentError, ControlDesignError, VibssError
+from ..linear.eigen.small import state_eigenvalues
 from ..methods import Check
 from ..results import Result, TextTable, jsonable
 from .designs import _ALL_KINDS, _sign, pairs as find_pairs
@@ -284,7 +285,7 @@ class _Problem:
         else:
             self.axes, self.delta = [], np.zeros((1, 0))
         self.P = extended_plant(plant, self.axes)
-        self.omega = default_grid(np.linalg.eigvals(np.asarray(plant.A, dtype=float)), 800)
+        self.omega = default_grid(state_eigenvalues(plant.A), 800)
         self.channels = list(dict.fromkeys(g.channel for g in goals)) or [None]
         if None not in self.channels:
             self.channels.append(None)              # the effort objective's channel
