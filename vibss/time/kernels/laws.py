@@ -90,10 +90,6 @@ class LocalLaws:
         """(r,) int: +1 past the positive clearance, -1 past the negative one, 0 free (``d`` total [m])."""
         return np.where(d > self.hi, 1, np.where(d < -self.lo, -1, 0)).astype(int)
 
-    def boundary(self, side: np.ndarray) -> np.ndarray:
-        """(r,) clearance crossed towards ``side`` (+1: ``c+``, -1: ``-c-``) [m]."""
-        return np.where(side > 0, self.hi, -self.lo)
-
     def _stop(self, d: np.ndarray, regime: np.ndarray) -> np.ndarray:
         # an axis without a stop has infinite clearances, a zero rate and regime 0: its finite stand-ins
         # (self._gap) keep the product 0 without an inf - inf
