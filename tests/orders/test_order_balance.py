@@ -75,8 +75,12 @@ def test_turning_points_and_refusals() -> None:
     assert r.turning_rpm.size == 2 and r.turning_rpm[0] > r.turning_rpm[1]       # a hardening fold
     assert r.stable is not None and not r.stable.all()
     assert r.units == ("m/s^2",)
-    W = 2 * np.pi * r.rpm / 60.0
-    np.testing.assert_allclose(r.response[0, 0], -W**2 * r.branch.harmonics[0, 1], rtol=1e-14)
+    rec = order_response(_model(), Unbalance("u", "b", 8e-4 / E, E, axis="x"), np.linspace(300.0, 1200.0, 80),
+                         ["b.z"])                                   # the same branch, as a receptance
+    np.testing.assert_allclose(rec.rpm, r.rpm, rtol=1e-12)
+    W = 2 * np.pi * rec.rpm / 60.0
+    np.testing.assert_allclose(r.response[0, 0], -W**2 * rec.response[0, 0], rtol=1e-12)
+    assert rec.units == ("m",)
     two = [Unbalance("u", "b", 0.1, E, axis="x"), OrderForce("o2", "b", 2.0, [300.0], force=[[0.0, 0.0, 1.0]])]
     with pytest.raises(ArgumentError, match="sources of one order"):
         order_response(_model(), two, np.linspace(300.0, 1200.0, 10))

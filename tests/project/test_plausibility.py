@@ -9,6 +9,8 @@ Independent numbers: a body on four mounts at the corners of a square of half-si
 
 from __future__ import annotations
 
+import re
+
 import warnings
 
 import numpy as np
@@ -50,9 +52,11 @@ def test_mount_positions_in_mm_are_named_when_the_modes_reach_khz():
 def test_a_30_g_pulse_11_s_long_is_called_implausible():
     model = table(1.0)
     long = Excitation("shock", "acceleration", "ground", HalfSine(30 * G, duration=11.0), dof="z")
-    with pytest.warns(vibss.VibssWarning, match=r"excitation 'shock'.*reaches 2.0\de\+03 m/s.*duration in s where ms"):
+    with pytest.warns(vibss.VibssWarning, match=r"excitation 'shock'.*duration in s where ms") as rec:
         vibss.simulate(model, [long], outputs=["top.z.rel"], t_end=12.0, dt=0.01)
-    assert 2 * 30 * G * 11.0 / np.pi == pytest.approx(2060, rel=1e-3)
+    said = next(str(w.message) for w in rec if "excitation 'shock'" in str(w.message))
+    reached = float(re.search(r"reaches ([0-9.e+]+) m/s", said).group(1))
+    assert reached == pytest.approx(2 * 30 * G * 11.0 / np.pi, rel=1e-2)   # the half-sine's velocity change
     short = Excitation("shock", "acceleration", "ground", HalfSine(30 * G, duration=0.011), dof="z")
     quiet(lambda: vibss.simulate(model, [short], outputs=["top.z.rel"], t_end=0.2, dt=1e-4))
 

@@ -231,8 +231,8 @@ def _setup(model: Model, names: list[str], u: np.ndarray, outs: tuple[str, ...],
     if where:
         op = operating_point(model, gravity=gravity, case=case)
         tangent = op.tangent
-        d = _laws(assemble(model), nonlinear_mounts(model)).local(op.q)
         idx = nonlinear_mounts(model)
+        d = _laws(assemble(model), idx).local(op.q)
         laws = [model.mounts[idx[i]].type.laws[j] for i, j in where]
         d0 = np.array([d[i, j] for i, j in where])
         note = (f"about the operating point ({op.iterations} Newton steps); the linear part is the tangent model "

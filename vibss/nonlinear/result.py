@@ -124,12 +124,14 @@ class HarmonicBalanceResult(Result):
     harmonics : (p, H+1, nb) complex ndarray
         Coefficients ``Y_k`` of each output (its unit) per harmonic and point.
     stable : (nb,) bool ndarray or None
-        Hill's stability per point (None: not computed, :attr:`note` says why).
+        Stability per point, by Hill's method or Floquet's multipliers as :attr:`note` says (None: not
+        computed, the note says why).
     growth : (nb,) ndarray or None
         Largest real part of the physical Floquet exponents [1/s] (> 0: unstable).
     turning_points : (k,) ndarray
         Frequencies of the folds of the branch [Hz] (where it turns back: the jump frequencies of
-        slow sweeps), from a parabola through the three points around each.
+        slow sweeps), the extremum of the cubic Hermite in arclength through the two path points around
+        each (their frequencies and slopes).
     turning_index : (k,) int ndarray
         The branch point nearest each fold.
     residual : (nb,) ndarray

@@ -177,6 +177,8 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
         excitations, skipped = transient_excitations(model), steady_sweeps(model)
     excitations = list(excitations or [])
     sig = _signals(excitations, inputs, ts)
+    for text in implausible_motions(excitations, t_end):      # both paths, linear and nonlinear
+        warnings.warn(f"simulate: {text}", VibssWarning, stacklevel=2)
     if model is not None and (nonlinear_mounts(model) or getattr(method, "nonlinear", False)
                               or (isinstance(method, str) and getattr(METHODS.get(method), "nonlinear", False))):
         return _nonlinear(model, excitations, sig, outputs, initial, method, ts, record_from, rtol, atol, solver,
@@ -191,8 +193,6 @@ def simulate(model_or_plant: Model | Plant, excitations: Sequence[Any] | None = 
                          "are prescribed motions (use method='modal')")
     for finding in check_excitations(excitations, dt, inserts_breakpoints=chosen.hits_edges):
         finding.warn(stacklevel=3)
-    for text in implausible_motions(excitations, t_end):
-        warnings.warn(f"simulate: {text}", VibssWarning, stacklevel=2)
     if chosen.uses_solver and solver in EXPLICIT_RK:
         check_explicit_rk(plant.M, plant.K, t_end, rtol=rtol, solver=solver, C=plant.C).warn(stacklevel=3)
     probes = _probes(job, sig, chosen)
@@ -447,7 +447,7 @@ def _run(job: SimulationJob, chosen: TimeMethod, auto: bool,
     order = [chosen] + ([METHODS[chosen.fallback]] if auto and chosen.fallback else [])
     others = [m for m in METHODS.values() if m is not chosen and not (m.forces_only and motions)
               and (m.internal_states or plant.branches is None)
-              and not (getattr(m, "nonlinear", False) and plant.branches is not None)]   # it refuses branches
+              and not getattr(m, "nonlinear", False)]          # a nonlinear method takes a Model, not this job
 
     def run(method: Method) -> tuple[np.ndarray, str]:
         y, note = method.kernel(job)

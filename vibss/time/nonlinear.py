@@ -266,7 +266,9 @@ def contact_table(laws: LocalLaws, run: ContactRun) -> ContactTable:
     """The stops that were hit: per (axis, side) first contact [s], total time in contact [s], peak
     deflection [m] and peak stop force [N]."""
     rows = []
-    for (a, side), spans in sorted(run.intervals.items(), key=lambda kv: min(s[0] for s in kv[1])):
+    order = sorted(run.intervals, key=lambda k: min(s[0] for s in run.intervals[k]))   # by first contact
+    for a, side in order:
+        spans = run.intervals[(a, side)]
         peak = float(run.peak_hi[a] if side > 0 else run.peak_lo[a])
         t_peak = float(run.t_hi[a] if side > 0 else run.t_lo[a])
         gap = laws.hi[a] if side > 0 else laws.lo[a]
@@ -280,6 +282,5 @@ def contact_table(laws: LocalLaws, run: ContactRun) -> ContactTable:
         duration=np.array([r_[3] for r_ in rows]), count=np.array([r_[4] for r_ in rows], int),
         peak=np.array([r_[5] for r_ in rows]), peak_time=np.array([r_[6] for r_ in rows]),
         force=np.array([r_[7] for r_ in rows]),
-        intervals=tuple(tuple((float(s), float(e)) for s, e in run.intervals[k])
-                        for k in sorted(run.intervals, key=lambda kv: min(s[0] for s in run.intervals[kv]))),
+        intervals=tuple(tuple((float(s), float(e)) for s, e in run.intervals[k]) for k in order),
         axes=axes, peak_hi=run.peak_hi.copy(), peak_lo=run.peak_lo.copy())
