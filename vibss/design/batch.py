@@ -17,24 +17,16 @@ import numpy as np
 
 from ..linear.eigen.small import symmetric_eigen
 from ..linear.plant.assemble import Assembly, assemble
-from ..methods import Claim, Method
 from ..model.geometry import point_transfer
 from ..model.model import Model
 from .parameters import _ANGLE, _RATE, _RATIO, _SHIFT, Parameter, ratio_axes
 
-__all__ = ["batch_stiffness", "batch_frequencies", "frequency_bound", "BATCH_RTOL", "BATCHED"]
+__all__ = ["batch_stiffness", "batch_frequencies", "frequency_bound", "BATCH_RTOL"]
 
 BATCH_RTOL = 1e-10
 """[-] The relative error of every frequency that a batched answer must be certified to (the eigen
 path's own target, :data:`vibss.linear.eigen.undamped.FREQ_RTOL`); a variant whose bound exceeds it
 is solved again by :func:`vibss.modes`."""
-
-BATCHED = Method("batched-eigh", lambda *args: None, claim=Claim(
-    BATCH_RTOL, exact=True, conditions="each frequency (relative), by the first-order bound of the stiffness's "
-    "and the stacked eigh's rounding (frequency_bound); variants above it, or with a mode the bound cannot tell "
-    "from rigid, go to vibss.modes"))
-"""The batched route as the study runner states it: cost one stacked ``eigh`` of ``n x n`` pencils
-(about 2 us a variant at 6 DOF) and one matrix product per mount; accuracy :data:`BATCH_RTOL`."""
 
 
 def _rxryrz(angle: np.ndarray) -> np.ndarray:

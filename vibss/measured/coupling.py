@@ -32,7 +32,7 @@ import numpy as np
 
 from ..errors import ArgumentError, ModelError, did_you_mean
 from ..methods import Check, Claim, Method, decide
-from ..frequency.api import frequency_response
+from ..frequency.api import QUANTITIES, frequency_response
 from ..frequency.result import FrequencyResponse
 from ..model.model import DOF_NAMES, GROUND, Model
 from ..model.mounts import Support
@@ -87,13 +87,6 @@ class Coupled:
     note: str
 
 
-def mount_point(model: Model, name: str) -> np.ndarray:
-    """(3,) global position [m] of a mount's point (``at`` in global axes, or from its body's COG)."""
-    m = next(x for x in model.mounts if x.name == name)
-    at = np.asarray(m.at, dtype=float)
-    return at + np.asarray(model.body(m.body).cog, dtype=float) if m.frame == "body" else at
-
-
 def on_supports(model: Any, points: Sequence[str], who: str) -> tuple[Model, list[str]]:
     """The source with each of the mounts ``points`` on a support of its own, and the supports' names."""
     if not isinstance(model, Model):
@@ -121,7 +114,8 @@ def on_supports(model: Any, points: Sequence[str], who: str) -> tuple[Model, lis
 
 def _skews(model: Model, points: Sequence[str]) -> np.ndarray:
     """(m, 3, 3) ``S(p)`` of each point: ``S(p) v = p x v``."""
-    p = np.array([mount_point(model, n) for n in points]).reshape(len(points), 3)
+    mounts = {m.name: m for m in model.mounts}
+    p = np.array([model.mount_point(mounts[n]) for n in points], dtype=float).reshape(len(points), 3)
     s = np.zeros((len(points), 3, 3))
     s[:, 0, 1], s[:, 0, 2], s[:, 1, 2] = -p[:, 2], p[:, 1], -p[:, 0]
     return s - np.transpose(s, (0, 2, 1))
@@ -294,7 +288,7 @@ def couple(model: Any, foundation: Foundation, inputs: Sequence[Any] | None, out
     matching(foundation, frequencies, "frequency_response")
     c = coupled(model, foundation, inputs, outputs, None, method)
     f = c.frequency_hz
-    power = {"receptance": 0, "mobility": 1, "accelerance": 2}[quantity]
+    power = QUANTITIES[quantity]
     out = np.concatenate([c.y, c.z, c.g]) * (2j * np.pi * f) ** power
     k = len(foundation.dofs)
     motion = ("m", "m", "m", "rad", "rad", "rad")[:k] * len(foundation.points)

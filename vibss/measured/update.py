@@ -21,7 +21,7 @@ from scipy.optimize import least_squares
 from .._validate import array
 from ..design.parameters import Parameter, apply, current_values, parameters_of
 from ..errors import ArgumentError, ModelError, VibssWarning, did_you_mean
-from ..frequency.api import frequency_response
+from ..frequency.api import QUANTITIES, frequency_response
 from ..frequency.compare import frac
 from ..frequency.result import FrequencyResponse
 from ..linear.plant.assemble import assemble
@@ -57,8 +57,8 @@ SCAN = np.geomspace(0.25, 4.0, 25)
 """Common factors of the rates tried before a frequency-response fit (1 included): the start is the
 one with the smallest log-magnitude error, within the bounds."""
 
-_POWER = {"frf": 0, "receptance": 0, "transmissibility": 0, "mobility": 1, "accelerance": 2}
-_QUANTITY = {0: "receptance", 1: "mobility", 2: "accelerance"}
+_POWER = {"frf": 0, "transmissibility": 0, **QUANTITIES}
+_QUANTITY = {v: k for k, v in QUANTITIES.items()}
 
 
 def _frf_problem(model: Model, measured: FrequencyResponse, params: tuple[Parameter, ...],

@@ -44,6 +44,7 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -143,7 +144,8 @@ class FrfProblem:
     weights: np.ndarray
     _constant: dict[int, Plant] = dataclasses.field(default_factory=dict, repr=False)
 
-    def moving(self) -> set[int]:
+    @cached_property
+    def moving(self) -> frozenset[int]:
         """Parameters whose derivative plant moves with the values: a rate ratio whose denominator
         rate is a parameter too, and that rate (the numerator rate is their product)."""
         rated = {(m, k): i for i, p in enumerate(self.parameters) for m, k, _ in p.targets if k in ("k1", "k2", "k3")}
@@ -152,7 +154,7 @@ class FrfProblem:
             for mount, kind, _ in p.targets:
                 if "/" in kind and (mount, kind.split("/")[1]) in rated:
                     out |= {i, rated[(mount, kind.split("/")[1])]}
-        return out
+        return frozenset(out)
 
     def derivative(self, values: np.ndarray, i: int, p0: Plant) -> Plant:
         """The derivative plant of parameter ``i`` at ``values`` (plant ``p0`` there)."""
@@ -162,7 +164,7 @@ class FrfProblem:
         v = values.copy()
         v[i] += h
         d = plant_derivative(self.plant(v), p0, h)
-        if i not in self.moving():
+        if i not in self.moving:
             self._constant[i] = d
         return d
 
