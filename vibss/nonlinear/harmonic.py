@@ -287,8 +287,8 @@ def _result(problem: Problem, branch: Branch, names: list[str], u: np.ndarray, o
     hill, how, why = _stability(problem, stability)
     stable = None if hill is None else np.zeros(nb, dtype=bool)
     growth = None if hill is None else np.zeros(nb)
-    for b, (w, X) in enumerate(zip(branch.omega, branch.X)):
-        c = lin.outputs(w)
+    parts = lin.outputs(np.asarray(branch.omega, dtype=float))         # every point's, batched
+    for b, (w, X, c) in enumerate(zip(branch.omega, branch.X, parts)):
         assert c.T is not None and c.Y is not None
         Y[:, 1, b] = c.Y
         if m:

@@ -114,9 +114,11 @@ class Condensed:
             hit = self._cache[key]
         return hit
 
-    def outputs(self, omega: float) -> Linear:
-        """The condensed linear part at ``omega`` [rad/s] with the outputs' parts ``T`` and ``Y``."""
-        return self._solve(np.array([float(omega)]), outputs=True)[0]
+    def outputs(self, omegas: np.ndarray, chunk: int = 64) -> list[Linear]:
+        """The condensed linear part at each of ``omegas`` [rad/s] with the outputs' parts ``T`` and ``Y``:
+        batched exact solves of ``chunk`` frequencies at a time."""
+        w = np.asarray(omegas, dtype=float).ravel()
+        return [lin for a in range(0, w.size, chunk) for lin in self._solve(w[a:a + chunk], outputs=True)]
 
     def _static(self) -> tuple[np.ndarray, Plant]:
         static = self.plant.cached("harmonic balance: static plant", lambda: without_hysteresis(self.plant))
@@ -139,6 +141,7 @@ class Condensed:
         y = np.einsum("fpi,fi->fp", per, amps)                                # inputs alone, at the fundamental
         out = []
         x0, static = self._static() if m else (np.zeros((plant.n, 0)), plant)
+        t0 = (output_map(static, 0.0)[:p] @ x0).real if outputs else None     # the mean's part: one for all
         for i, w in enumerate(omegas):
             part = slice(i * H, (i + 1) * H)
             G = np.empty((H + 1, m, m), dtype=complex)
@@ -147,7 +150,7 @@ class Condensed:
             T = Y = None
             if outputs:
                 T = np.empty((H + 1, p, m), dtype=complex)
-                T[0] = (output_map(static, 0.0)[:p] @ x0).real
+                T[0] = t0
                 for k in range(1, H + 1):
                     T[k] = output_map(plant, s[i * H + k - 1])[:p] @ x[i * H + k - 1, :, :m]
                 T -= self.W[None]             # y = Y_lin - T F: the structure sees -L^T F, the output +W F
