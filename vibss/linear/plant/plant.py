@@ -128,19 +128,21 @@ class MountForm(ReadOnly):
         import scipy.sparse as sp
         return sp.csr_matrix(sp.vstack([self.B, self.Ba]))
 
-    def z_inverse(self, s: complex, sparse: bool = False) -> Any:
-        """``Z(s)^-1`` of every mount force kept apart as one (3 q + r) square matrix (block diagonal:
-        the 3 x 3 blocks, then the per-axis scalars; scipy.sparse CSR when ``sparse``), or None where
-        ``Z = k + s c + i h`` is singular."""
+    def z_blocks(self, s: complex) -> tuple[np.ndarray, np.ndarray] | None:
+        """``Z(s)^-1``'s (q, 3, 3) blocks and per-axis scalars (``Z = k + s c + i h`` of every mount force
+        kept apart), or None where ``Z`` is singular."""
         with np.errstate(all="ignore"):
             zi = np.linalg.inv(self.kp + s * self.cp + 1j * self.hp)              # (q, 3, 3)
             za = 1.0 / (self.ka + s * self.ca + 1j * self.ha)
-        if not (np.all(np.isfinite(zi)) and np.all(np.isfinite(za))):
+        return (zi, za) if np.all(np.isfinite(zi)) and np.all(np.isfinite(za)) else None
+
+    def z_inverse(self, s: complex) -> np.ndarray | None:
+        """:meth:`z_blocks` as one dense (3 q + r) square matrix (block diagonal: the 3 x 3 blocks, then
+        the per-axis scalars), or None where ``Z`` is singular."""
+        z = self.z_blocks(s)
+        if z is None:
             return None
-        if sparse:
-            import scipy.sparse as sp
-            return sp.block_diag(list(zi) + [sp.diags(za)], format="csr") if za.size else \
-                sp.block_diag(list(zi), format="csr")
+        zi, za = z
         q3 = 3 * self.kp.shape[0]
         out = np.zeros((q3 + za.size,) * 2, dtype=complex)
         for p in range(self.kp.shape[0]):

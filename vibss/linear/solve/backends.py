@@ -303,7 +303,7 @@ def _mounts(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray],
     for i, sk in enumerate(s):
         r = np.vstack([r_all[i], zeros])
         if not dense:
-            z = lay.z_inverse(form, sk)
+            z = form.z_blocks(sk)
             if z is None:
                 bad[i] = True
                 continue
@@ -388,17 +388,8 @@ class _Layout:
         return cls(indptr, row.astype(np.int32), row, col, terms, diag, np.searchsorted(every, zkey),
                    np.searchsorted(every, akey), big)
 
-    @staticmethod
-    def z_inverse(form: Any, s: complex) -> tuple[np.ndarray, np.ndarray] | None:
-        """``Z(s)^-1``'s (q, 3, 3) blocks and per-axis scalars, None where ``Z`` is singular (as
-        :meth:`~vibss.linear.plant.plant.MountForm.z_inverse`, without its sparse assembly)."""
-        with np.errstate(all="ignore"):
-            zi = np.linalg.inv(form.kp + s * form.cp + 1j * form.hp)
-            za = 1.0 / (form.ka + s * form.ca + 1j * form.ha)
-        return (zi, za) if np.all(np.isfinite(zi)) and np.all(np.isfinite(za)) else None
-
     def matrix(self, z: tuple[np.ndarray, np.ndarray], s: complex) -> tuple[Any, np.ndarray]:
-        """The system at ``s`` (CSC; ``z`` from :meth:`z_inverse` at ``s``) and ``diag R(s)``."""
+        """The system at ``s`` (CSC; ``z`` from :meth:`~vibss.linear.plant.plant.MountForm.z_blocks` at ``s``) and ``diag R(s)``."""
         coef = {"K": 1.0, "H": 1j, "C": s, "M": s * s, "BT": 1.0, "B": 1.0}
         data = np.zeros(self.row.size, dtype=complex)
         for k, (pos, val) in self.terms.items():
