@@ -280,10 +280,7 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
         # eigh cannot tell a rigid mode from one below sqrt(eps) of the top, nor bound a mode in a
         # cluster (no gap: an infinite bound): the Jacobi SVD decides, as it always did. Modes with
         # a finite bound over FREQ_RTOL are refined below, and go to the Jacobi SVD if they stay so
-        w2, phi, bound = _jacobi(factor, M)
-        norms = _factor_norms(checked, phi)
-        rigid = rigid_mask(phi, K, checked, _jacobi_floor(w2), norms)
-        est = np.minimum(error_estimate(w2, phi, M, None, checked, rigid, norms=norms), bound + _data_rounding(norms))
+        w2, phi, rigid, est = _jacobi_checked(factor, M, K, checked)
         name = "jacobi"
     if name in ("dense", "shift-invert") and not callable(method):
         # eigh cannot tell a rigid mode from one below sqrt(eps) of the top: refine every mode up to
@@ -324,10 +321,7 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
         if factor is not None and n <= JACOBI_FALLBACK and np.any(~rigid & ~(est <= FREQ_RTOL)):
             # eigh and its refinement cannot certify some mode (a strongly graded model): the Jacobi
             # SVD can, at ~8x the cost of eigh
-            w2, phi, bound = _jacobi(factor, M)
-            rigid = rigid_mask(phi, K, checked, _jacobi_floor(w2))
-            nrm = _factor_norms(checked, phi)
-            est = np.minimum(error_estimate(w2, phi, M, None, checked, rigid, norms=nrm), bound + _data_rounding(nrm))
+            w2, phi, rigid, est = _jacobi_checked(factor, M, K, checked)
             name = "jacobi (eigh could not certify every mode)"
         if also is not None and not asked and name.startswith("dense") and not np.any(rigid):
             # modes flagged rigid at first turned out elastic: the consumer's need, asked now
@@ -340,6 +334,16 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
     if n_modes is not None and n_modes < w2.size:
         w2, phi, rigid, est = w2[:n_modes], phi[:, :n_modes], rigid[:n_modes], est[:n_modes]
     return Spectrum(w2, phi, rigid, est, name)
+
+
+def _jacobi_checked(factor: Any, M: Any, K: Any, checked: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray,
+                                                                       np.ndarray]:
+    """The Jacobi SVD's modes with their rigid test and error bounds: ``(w2, phi, rigid, est)``."""
+    w2, phi, bound = _jacobi(factor, M)
+    norms = _factor_norms(checked, phi)
+    rigid = rigid_mask(phi, K, checked, _jacobi_floor(w2), norms)
+    est = np.minimum(error_estimate(w2, phi, M, None, checked, rigid, norms=norms), bound + _data_rounding(norms))
+    return w2, phi, rigid, est
 
 
 def _data_rounding(norms: tuple | None) -> np.ndarray | float:
