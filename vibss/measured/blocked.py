@@ -21,7 +21,7 @@ from ..frequency.api import frequency_response
 from ..frequency.result import FrequencyResponse
 from ..model.model import GROUND, Model
 from .coupling import _skews, on_supports, signals, source_response, to_points
-from .fbs import FORCES, MOMENTS
+from .fbs import components
 
 __all__ = ["blocked_forces"]
 
@@ -93,9 +93,9 @@ def blocked_forces(model: Model, inputs: Sequence[Any], frequencies: Any, points
         to_points(h, _skews(model, points), slice(None), None)
         h = np.moveaxis(h, 0, 2)
     r = parts[0]
-    comps = FORCES + MOMENTS if rotations else FORCES
+    _, comps, _, load = components(rotations)
     names = tuple(f"{p}.{c}" for p in points for c in comps)
-    units = tuple(u for _ in points for u in ("N", "N", "N", "N m", "N m", "N m")[:len(comps)])
+    units = load * len(points)
     f = np.concatenate([x.frequency_hz for x in parts])
     marks = (r.natural_hz, r.mode_numbers, r.mode_labels) if len(parts) == 1 else (np.zeros(0), (), ())
     note = f"the forces into {len(points)} mount ends held fixed (supports of their own); {r.note}"

@@ -39,7 +39,7 @@ from ..model.mounts import Support
 from ..linear.plant.build import build_plant
 from ..linear.plant.plant import Plant
 from ..model.units import input_unit, times_s
-from .fbs import AXES, FORCES, MOMENTS, ROTATIONS, Foundation
+from .fbs import Foundation, components
 from .interface import blocks
 
 __all__ = ["Coupled", "coupled", "couple", "on_supports", "source_response", "matching", "CHUNK_BYTES", "FBS"]
@@ -137,7 +137,7 @@ def to_points(h: np.ndarray, skews: np.ndarray, rows: slice | None, cols: slice 
 
 def signals(supports: Sequence[str], rotations: bool) -> tuple[list[str], list[str]]:
     """The supports' motion inputs and force outputs, point by point."""
-    dofs, loads = (AXES + ROTATIONS, FORCES + MOMENTS) if rotations else (AXES, FORCES)
+    dofs, loads, _, _ = components(rotations)
     return ([f"{s}.{a}.disp" for s in supports for a in dofs], [f"{s}.{a}" for s in supports for a in loads])
 
 
@@ -290,9 +290,6 @@ def couple(model: Any, foundation: Foundation, inputs: Sequence[Any] | None, out
     f = c.frequency_hz
     power = QUANTITIES[quantity]
     out = np.concatenate([c.y, c.z, c.g]) * (2j * np.pi * f) ** power
-    k = len(foundation.dofs)
-    motion = ("m", "m", "m", "rad", "rad", "rad")[:k] * len(foundation.points)
-    load = ("N", "N", "N", "N m", "N m", "N m")[:k] * len(foundation.points)
-    units = tuple(times_s(u, power) for u in (*c.units, *motion, *load))
+    units = tuple(times_s(u, power) for u in (*c.units, *foundation.units))
     return FrequencyResponse(f, out, (*c.outputs, *foundation.outputs, *foundation.forces), c.inputs, units,
                              quantity, c.method, c.note, np.zeros(0), model.name, c.input_units)

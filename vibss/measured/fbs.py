@@ -19,7 +19,7 @@ from ..frequency.result import FrequencyResponse
 from ..model.model import Model
 from ..results import ReadOnly
 
-__all__ = ["Foundation", "AXES", "ROTATIONS", "FORCES", "MOMENTS"]
+__all__ = ["Foundation", "AXES", "ROTATIONS", "FORCES", "MOMENTS", "components"]
 
 AXES = ("x", "y", "z")
 """The translations of each foundation point, in this order."""
@@ -32,6 +32,14 @@ FORCES = ("fx", "fy", "fz")
 
 MOMENTS = ("mx", "my", "mz")
 """The moments into each foundation point, about the point (a (6 m, 6 m, nf) receptance)."""
+
+
+def components(rotations: bool) -> tuple[tuple[str, ...], tuple[str, ...], tuple[str, ...], tuple[str, ...]]:
+    """A foundation point's DOFs, its loads, and their units: translations and forces, with the
+    rotations and moments after them when ``rotations``."""
+    if rotations:
+        return AXES + ROTATIONS, FORCES + MOMENTS, ("m",) * 3 + ("rad",) * 3, ("N",) * 3 + ("N m",) * 3
+    return AXES, FORCES, ("m",) * 3, ("N",) * 3
 
 
 @dataclass(frozen=True, eq=False)
@@ -121,7 +129,7 @@ class Foundation(ReadOnly):
     @property
     def dofs(self) -> tuple[str, ...]:
         """The DOFs of each point: ``x y z`` (and ``rx ry rz``)."""
-        return AXES + ROTATIONS if self.rotations else AXES
+        return components(self.rotations)[0]
 
     @property
     def outputs(self) -> tuple[str, ...]:
@@ -131,8 +139,13 @@ class Foundation(ReadOnly):
     @property
     def forces(self) -> tuple[str, ...]:
         """The force (and moment) into each point: ``foundation.<mount>.fx|fy|fz`` (``mx|my|mz``)."""
-        comps = FORCES + MOMENTS if self.rotations else FORCES
-        return tuple(f"{self.name}.{p}.{c}" for p in self.points for c in comps)
+        return tuple(f"{self.name}.{p}.{c}" for p in self.points for c in components(self.rotations)[1])
+
+    @property
+    def units(self) -> tuple[str, ...]:
+        """The units of :attr:`outputs` then :attr:`forces`, point by point (m, rad; N, N m)."""
+        _, _, motion, load = components(self.rotations)
+        return motion * len(self.points) + load * len(self.points)
 
     @classmethod
     def from_model(cls, model: Model, points: Mapping[str, str], frequencies: npt.ArrayLike,
@@ -200,7 +213,7 @@ class Foundation(ReadOnly):
             A channel the response does not have (named, with did-you-mean).
         """
         cps = list(_points(points, "Foundation.from_response").values())
-        dofs, loads = (AXES + ROTATIONS, FORCES + MOMENTS) if rotations else (AXES, FORCES)
+        dofs, loads, _, _ = components(rotations)
         rows = [name_index(f"{c}.{a}", response.outputs, "outputs", who="Foundation.from_response")
                 for c in cps for a in dofs]
         cols = [name_index(f"{c}.{a}", response.inputs, "inputs", who="Foundation.from_response")

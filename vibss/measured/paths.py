@@ -19,7 +19,7 @@ from ..errors import SignalError, did_you_mean
 from ..insight.result import PathContributions
 from ..methods import Check, Claim, Method, decide
 from .coupling import coupled, matching
-from .fbs import Foundation
+from .fbs import Foundation, components
 
 __all__ = ["transfer_paths", "TPA"]
 
@@ -78,7 +78,7 @@ def transfer_paths(model: Any, inputs: Sequence[Any], frequencies: Any, receiver
     contributions = np.einsum("apbn,pbin->pain", y, g)
     decision = decide([TPA], lambda _: contributions, where=_WHO, auto=False,
                       check=lambda _, a: _check(a, c.z[rows]))
-    units = ("m", "m", "m", "rad", "rad", "rad")[:k]
+    units = components(foundation.rotations)[2]
     note = f"{c.note}; the paths into {foundation.name!r} carried to {foundation.points[r]!r}; {decision.note()}"
     return PathContributions(receiver=f"{foundation.name}.{foundation.points[r]}", frequency=c.frequency_hz,
                              paths=tuple(foundation.points), components=foundation.dofs, forces=contributions,

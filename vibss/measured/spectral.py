@@ -119,9 +119,7 @@ def random_on_foundation(model: Any, names: Sequence[str], psds: Sequence[PSD], 
                       f"{f.size} frequencies in the band, estimated error {err.max():.1e} (of "
                       f"{outs_all[worst]!r}) > rtol = {rtol:g}: give the foundation at more frequencies, or "
                       "loosen rtol", VibssWarning, stacklevel=3)
-    k = len(foundation.dofs)
-    units = (*c.units, *(("m", "m", "m", "rad", "rad", "rad")[:k] * len(foundation.points)),
-             *(("N", "N", "N", "N m", "N m", "N m")[:k] * len(foundation.points)))
+    units = (*c.units, *foundation.units)
     outs = (*c.outputs, *foundation.outputs, *foundation.forces)
     note = (f"{ON_GRID.name}: {f.size} of its frequencies over {band[0]:g} ... {band[1]:g} Hz (a receptance is "
             f"never interpolated), estimated relative error {err.max():.1e} ({check.text()}); coupled exactly "
