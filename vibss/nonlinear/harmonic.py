@@ -37,7 +37,7 @@ from .hb.condensed import Condensed
 from .hb.continuation import Branch, Problem, follow
 from .hb.floquet import FLOQUET_MAX, floquet, piecewise_linear
 from .hb.hill import HILL_MAX, Hill, hill_exponents
-from .kernels import _laws, nonlinear_mounts
+from .kernels import _laws, nonlinear_axes, nonlinear_mounts
 from .result import HarmonicBalanceResult
 
 __all__ = ["harmonic_balance", "CLAIM", "TOLERANCE", "STABILITY"]
@@ -208,23 +208,12 @@ def _frequencies(frequencies: Any) -> tuple[float, float, list[float] | None]:
     return lo, (hi if hi > lo else lo * (1 + 1e-9)), sorted(float(x) for x in w)
 
 
-def _axes(model: Model) -> tuple[list[tuple[int, int]], list[str]]:
-    """The nonlinear axes: (position among the nonlinear mounts, local axis) and their output names."""
-    where, names = [], []
-    for i, p in enumerate(nonlinear_mounts(model)):
-        m = model.mounts[p]
-        for j, law in enumerate(m.type.laws):
-            if not law.linear:
-                where.append((i, j))
-                names.append(f"mount.{m.name}.d{j + 1}")
-    return where, names
-
-
 def _setup(model: Model, names: list[str], u: np.ndarray, outs: tuple[str, ...], H: int, gravity: bool,
            case: str | None, law: Callable[[np.ndarray], np.ndarray] | None = None
            ) -> tuple[Condensed, LocalLaws, list[str], str]:
     """The condensed tangent plant, the local laws about the operating point and the note on it."""
-    where, local_names = _axes(model)
+    found, local_names = nonlinear_axes(model)
+    where = [(i, j) for i, _, j in found]
     tangent, d0 = model, np.zeros(len(where))
     note = "linear model: the frequency response times the amplitudes"
     laws: list[Any] = []
@@ -233,7 +222,7 @@ def _setup(model: Model, names: list[str], u: np.ndarray, outs: tuple[str, ...],
         tangent = op.tangent
         idx = nonlinear_mounts(model)
         d = _laws(assemble(model), idx).local(op.q)
-        laws = [model.mounts[idx[i]].type.laws[j] for i, j in where]
+        laws = [model.mounts[p].type.laws[j] for _, p, j in found]
         d0 = np.array([d[i, j] for i, j in where])
         note = (f"about the operating point ({op.iterations} Newton steps); the linear part is the tangent model "
                 f"condensed exactly onto {len(where)} nonlinear axes {local_names}")

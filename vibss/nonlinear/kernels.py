@@ -16,12 +16,20 @@ from ..linear.solve.static import static_solve
 from ..model.model import Model
 from ..model.mounts import MountType
 
-__all__ = ["nonlinear_mounts", "tangent_model", "equilibrium", "Equilibrium", "TOLERANCE", "MAX_ITERATIONS"]
+__all__ = ["nonlinear_mounts", "nonlinear_axes", "tangent_model", "equilibrium", "Equilibrium", "TOLERANCE", "MAX_ITERATIONS"]
 
 
 def nonlinear_mounts(model: Model) -> list[int]:
     """Indices of the mounts whose type has stops or curves."""
     return [p for p, m in enumerate(model.mounts) if getattr(m.type, "nonlinear", False)]
+
+
+def nonlinear_axes(model: Model) -> tuple[list[tuple[int, int, int]], list[str]]:
+    """The nonlinear mount axes (position among :func:`nonlinear_mounts`, mount index, local axis)
+    and their deflection outputs ``mount.<name>.d1|d2|d3``, mount by mount."""
+    axes = [(i, p, j) for i, p in enumerate(nonlinear_mounts(model))
+            for j, law in enumerate(model.mounts[p].type.laws) if not law.linear]
+    return axes, [f"mount.{model.mounts[p].name}.d{j + 1}" for _, p, j in axes]
 
 
 @dataclass(frozen=True)

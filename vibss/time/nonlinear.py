@@ -29,7 +29,7 @@ from ..linear.plant.plant import Plant
 from ..model.model import Model
 from ..model.mounts import MountType
 from ..nonlinear.api import operating_point
-from ..nonlinear.kernels import _laws, nonlinear_mounts, tangent_model
+from ..nonlinear.kernels import _laws, nonlinear_axes, nonlinear_mounts, tangent_model
 from ..linear.plant.assemble import assemble
 from .kernels import make_grid, prepare, run_modal
 from .kernels.contact import ContactRun, ContactSystem, integrate
@@ -59,12 +59,6 @@ def linear_part(model: Model) -> Model:
 _MOTIONS = frozenset({"x", "y", "z", "rx", "ry", "rz", "vel", "acc", "dx", "dy", "dz", "d1", "d2", "d3",
                       "r1", "r2", "r3"})
 """Last parts of output names that are motions (no mount force in them): :func:`_force_rows` skips them."""
-
-
-def _axes(model: Model, idx: list[int]) -> tuple[list[tuple[int, int]], list[str]]:
-    """The nonlinear axes ``(mount, axis)`` and their deflection output names."""
-    axes = [(p, j) for p in idx for j, law in enumerate(model.mounts[p].type.laws) if not law.linear]
-    return axes, [f"mount.{model.mounts[p].name}.d{j + 1}" for p, j in axes]
 
 
 def _force_rows(model: Model, lin: Model, axes: list[tuple[int, int]], inputs: list[Any], outputs: list[str],
@@ -150,7 +144,8 @@ def nonlinear_job(model: Model, sources: list[Any], outputs: Sequence[str] | Non
                          argument="model")
     idx = nonlinear_mounts(model)
     lin = linear_part(model)
-    axes, dnames = _axes(model, idx)
+    found, dnames = nonlinear_axes(model)
+    axes = [(p, j) for _, p, j in found]
     r = len(axes)
     inputs = sources if not hidden else [f"{model.body_names[0]}.fx"]
     base = build_plant(lin, inputs, None if outputs is None else list(outputs))
