@@ -74,19 +74,15 @@ class NoiseBudget(Result):
         """(no, nf) total PSD of each output (the sum over the independent sources) [unit^2/Hz]."""
         return self.psd.sum(axis=1)
 
-    def _integral(self, s: np.ndarray) -> np.ndarray:
-        f = self.frequency_hz
-        return np.sum(0.5 * (s[..., 1:] + s[..., :-1]) * np.diff(f), axis=-1)
-
     @property
     def rms(self) -> np.ndarray:
         """(no, ns) RMS of each output due to each source over the band [unit]."""
-        return np.sqrt(self._integral(self.psd))
+        return np.sqrt(np.trapezoid(self.psd, self.frequency_hz, axis=-1))
 
     @property
     def rms_total(self) -> np.ndarray:
         """(no,) RMS of each output, all sources [unit]."""
-        return np.sqrt(self._integral(self.total))
+        return np.sqrt(np.trapezoid(self.total, self.frequency_hz, axis=-1))
 
     @property
     def cumulative_rms(self) -> np.ndarray:
