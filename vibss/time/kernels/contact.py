@@ -10,8 +10,11 @@ by Newton's method (one linear solve within a stop's regime, where the force is 
 The local error is fourth order in ``omega_c h`` (``omega_c``: the stops' contact frequencies).
 
 A step whose end (or the cubic through its end values) crosses a clearance is cut at the crossing,
-found by the secant method on the exact sub-step solution, and continued from there in the new
-regime: the kink of a stop's force is never inside a step. The linear part inside a step is the
+found by Newton's method on the exact sub-step solution, and continued from there in the new
+regime: the kink of a stop's force is never inside a step. The breakpoints of a force-deflection
+curve are crossed the same way (its second derivative jumps there; stepped over, they cost the steps
+their order: the snubbed cabinet's curved isolators needed 16 steps per sample for 1e-6, 1 with them
+located). The linear part inside a step is the
 cubic Hermite interpolant of its end values (it enters only the crossing time and the slope of the
 force just after it). A local extremum of a nonlinear axis that beats its running peak is located
 the same way (the sub-step where ``v = 0``), so the peak deflections are those of the integration,
@@ -118,6 +121,7 @@ class ContactRun:
     steps: int = 0
     events: int = 0
     newton: int = 0
+    crossings: int = 0
 
 
 @dataclass
@@ -127,7 +131,8 @@ class _State:
     v: np.ndarray           # (r,) local velocity [m/s]
     g: np.ndarray           # (r,) local force [N]
     dg: np.ndarray          # (r,) its rate [N/s]
-    regime: np.ndarray      # (r,) int
+    regime: np.ndarray      # (r,) int: the side of each stop
+    piece: np.ndarray       # (r,) int: the piece of each curve (LocalLaws.piece)
 
 
 def _solve(laws: LocalLaws, st: _Step, s: _State, lin: np.ndarray,
@@ -141,7 +146,7 @@ def _solve(laws: LocalLaws, st: _Step, s: _State, lin: np.ndarray,
     z = free.copy()
     for _ in range(1 if laws.linear_in_regime() else 40):
         e, v = z[:r], z[r:]
-        g, g1, g2 = laws.force(e, s.regime)
+        g, g1, g2 = laws.force(e, s.regime, s.piece)
         res = z - free - st.Wg @ np.concatenate([g, g1 * v])
         J = np.eye(2 * r)
         J[:, :r] -= st.Wg[:, :r] * g1 + st.Wg[:, r:] * (g2 * v)
@@ -153,7 +158,7 @@ def _solve(laws: LocalLaws, st: _Step, s: _State, lin: np.ndarray,
                 and np.abs(dz[r:]).max() <= NEWTON_TOL * (np.abs(z[r:]).max() + 1e-300)):
             break
     e, v = z[:r], z[r:]
-    g, g1, _ = laws.force(e, s.regime)
+    g, g1, _ = laws.force(e, s.regime, s.piece)
     return e, v, g, g1 * v
 
 
@@ -256,9 +261,9 @@ def integrate(sys: ContactSystem, laws: LocalLaws, t: np.ndarray, lin: np.ndarra
                      intervals={})
     x = [np.zeros(A.shape[0] * A.shape[1], complex if np.iscomplexobj(A) or np.iscomplexobj(F) else float)
          for A, F in zip(sys.A, sys.F)]
-    regime = laws.regime(laws.d0 + e0)
-    g, g1, _ = laws.force(e0, regime)
-    s = _State(x, e0.copy(), v0.copy(), g, g1 * v0, regime)
+    regime, piece = laws.regime(laws.d0 + e0), laws.piece(laws.d0 + e0)
+    g, g1, _ = laws.force(e0, regime, piece)
+    s = _State(x, e0.copy(), v0.copy(), g, g1 * v0, regime, piece)
     for a in np.flatnonzero(regime):
         run.intervals[(int(a), int(regime[a]))] = [[0.0, np.nan]]
     want = np.zeros(len(t), bool)
@@ -303,44 +308,51 @@ def integrate(sys: ContactSystem, laws: LocalLaws, t: np.ndarray, lin: np.ndarra
 
 
 def _interval(iv: _Interval, s: _State) -> None:
-    """Advance ``s`` over one grid interval, cut at every located crossing of a clearance."""
+    """Advance ``s`` over one grid interval, cut at every located crossing of a clearance or of a
+    curve's breakpoint."""
     laws, run = iv.laws, iv.run
-    last = -1
-    for _ in range(8 * laws.r + 8):
+    last: set[tuple[int, int]] = set()
+    events = laws.stops.any() or laws.curved.size > 0
+    for _ in range(8 * laws.r + 8 + 4 * laws.curved.size):
         rest = iv.h - iv.done
         st = iv.sys.step(rest) if iv.done == 0.0 else _discretise(iv.sys, rest)
         e, v, g, dg = _solve(laws, st, s, iv.lin1[:2 * laws.r], run)
         run.steps += 1
-        guess = _crossing(laws, s, e, v, rest) if laws.stops.any() else None
+        guess = _crossing(laws, s, e, v, rest) if events else None
         found = _locate(iv, s, guess, last) if guess is not None else None
         if found is None:
             _peaks(iv, s, rest, e, v)
             s.x = _advance(st, s, g, dg)
             s.e, s.v, s.g, s.dg = e, v, g, dg
             return
-        tau, axis, side = found
+        tau, hits = found
         sub = _discretise(iv.sys, tau)
         e, v, g, dg = _solve(laws, sub, s, iv.lin(tau), run)
         _peaks(iv, s, tau, e, v)
         s.x = _advance(sub, s, g, dg)
         s.e, s.v = e, v
         now = iv.t0 + iv.done + tau
-        old = int(s.regime[axis])
-        if old != 0:                                    # leaving the stop
-            spans = run.intervals.get((axis, old))
-            if spans:
-                spans[-1][1] = now
-            s.regime[axis] = 0
-        else:                                           # touching it
-            s.regime[axis] = side
-            run.intervals.setdefault((axis, side), []).append([now, np.nan])
-        run.events += 1
-        g, g1, _ = laws.force(s.e, s.regime)
+        for axis, side, kind in hits:
+            old = int(s.regime[axis])
+            if kind == _KNOT:                           # onto the curve's next piece
+                s.piece[axis] += side
+                run.crossings += 1
+                continue
+            if old != 0:                                # leaving the stop
+                spans = run.intervals.get((axis, old))
+                if spans:
+                    spans[-1][1] = now
+                s.regime[axis] = 0
+            else:                                       # touching it
+                s.regime[axis] = side
+                run.intervals.setdefault((axis, side), []).append([now, np.nan])
+            run.events += 1
+        g, g1, _ = laws.force(s.e, s.regime, s.piece)
         s.g, s.dg = g, g1 * s.v
         iv.done += tau
-        last = axis
-    raise AnalysisError(f"simulate: more than {8 * laws.r + 8} stop events in one step at t = {iv.t0:.6g} s "
-                        "(a stop chattering): take a smaller dt")
+        last = {(axis, kind) for axis, _, kind in hits}
+    raise AnalysisError(f"simulate: more than {8 * laws.r + 8 + 4 * laws.curved.size} stop events and curve "
+                        f"breakpoints in one step at t = {iv.t0:.6g} s (a stop chattering): take a smaller dt")
 
 
 _S = np.linspace(0.0, 1.0, 17)[1:, None]
@@ -349,20 +361,23 @@ _BASIS = (2 * _S**3 - 3 * _S**2 + 1, _S**3 - 2 * _S**2 + _S, -2 * _S**3 + 3 * _S
 
 
 def _crossing(laws: LocalLaws, s: _State, e: np.ndarray, v: np.ndarray, h: float) -> float | None:
-    """First time in (0, h] at which the cubic through the step's end values leaves a stop's regime
-    (looked for at 16 points, after a bound on the cubic's range rules most steps out), or None."""
+    """First time in (0, h] at which the cubic through the step's end values leaves a stop's regime or
+    its curve's piece (looked for at 16 points, after a bound on the cubic's range rules most steps
+    out), or None."""
     y0, y1 = laws.d0 + s.e, laws.d0 + e
     reach = (4 / 27) * h * (np.abs(s.v) + np.abs(v))              # |h10|, |h11| <= 4/27
     top, bottom = np.maximum(y0, y1) + reach, np.minimum(y0, y1) - reach
     inside = s.regime == 0
     near = laws.stops & np.where(inside, (top > laws.hi) | (bottom < -laws.lo),
                                  np.where(s.regime > 0, bottom <= laws.hi, top >= -laws.lo))
+    lo_b, hi_b = laws.bounds(s.piece)
+    near |= (top >= hi_b) | (bottom < lo_b)
     if not near.any():
         return None
     b0, b1, b2, b3 = _BASIS
     d = b0 * y0[near] + (b1 * h) * s.v[near] + b2 * y1[near] + (b3 * h) * v[near]     # (16, k)
     hi, lo, reg = laws.hi[near], laws.lo[near], s.regime[near]
-    off = np.where(d > hi, 1, np.where(d < -lo, -1, 0)) != reg
+    off = (np.where(d > hi, 1, np.where(d < -lo, -1, 0)) != reg) | (d >= hi_b[near]) | (d < lo_b[near])
     rows = np.flatnonzero(off.any(axis=1))
     return float(h * _S[rows[0], 0]) if rows.size else None
 
@@ -384,53 +399,93 @@ def _root(fun: Any, ta: float, tb: float, fa: float, fb: float, guess: float, to
     return t
 
 
-def _cubic_root(h: float, y0: float, v0: float, y1: float, v1: float, c: float, lo: float, hi: float) -> float:
-    """The first crossing of ``c`` by the cubic Hermite on ``[lo, hi]`` (bisection), or ``hi``."""
-    f = lambda t: float(_hermite(t, h, y0, v0, y1, v1)[0]) - c          # noqa: E731
-    fa = f(lo)
-    for _ in range(60):
+def _cubic_roots(h: float, y0: np.ndarray, v0: np.ndarray, y1: np.ndarray, v1: np.ndarray,
+                 c: np.ndarray) -> np.ndarray:
+    """Per column a crossing of ``c`` by the cubic Hermite on ``[0, h]`` whose end values bracket it
+    (bisection, all columns at once)."""
+    lo, hi = np.zeros_like(c), np.full_like(c, h)
+    sa = np.sign(y0 - c)
+    for _ in range(52):
         mid = 0.5 * (lo + hi)
-        if np.sign(f(mid)) == np.sign(fa):
-            lo = mid
-        else:
-            hi = mid
+        same = np.sign(_hermite(mid, h, y0, v0, y1, v1)[0] - c) == sa
+        lo, hi = np.where(same, mid, lo), np.where(same, hi, mid)
     return hi
 
 
-def _locate(iv: _Interval, s: _State, tau: float, last: int) -> tuple[float, int, int] | None:
-    """The first crossing of a clearance before ``tau`` after the sub-step's start, on the exact
-    sub-step solution (Newton on the crossing time, its slope the velocity the solve returns):
-    ``(time from the start [s], axis, side)``, or None (none there)."""
-    laws = iv.laws
-    e, v = iv.ends(s, tau)
-    d = laws.d0 + e
-    best: tuple[float, int, int] | None = None
+_STOP, _KNOT = 0, 1
+"""The two kinds of event: a stop's clearance, a curve's breakpoint."""
+
+
+def _events(laws: LocalLaws, s: _State, d: np.ndarray) -> list[tuple[int, int, float, int]]:
+    """The boundaries the sub-step's end ``d`` (total [m]) is past: ``(axis, side, boundary [m], kind)``."""
+    out = []
     for a in np.flatnonzero(laws.stops):
         old = int(s.regime[a])
         if old == 0:
             if d[a] > laws.hi[a]:
-                side, c = 1, laws.hi[a]
+                out.append((int(a), 1, float(laws.hi[a]), _STOP))
             elif d[a] < -laws.lo[a]:
-                side, c = -1, -laws.lo[a]
-            else:
-                continue
+                out.append((int(a), -1, float(-laws.lo[a]), _STOP))
         else:
-            side, c = old, (laws.hi[a] if old > 0 else -laws.lo[a])
-            if np.sign(d[a] - c) == old:
-                continue
+            c = float(laws.hi[a] if old > 0 else -laws.lo[a])
+            if np.sign(d[a] - c) != old:
+                out.append((int(a), old, c, _STOP))
+    lo_b, hi_b = laws.bounds(s.piece)
+    for a in laws.curved:
+        if d[a] >= hi_b[a]:
+            out.append((int(a), 1, float(hi_b[a]), _KNOT))
+        elif d[a] < lo_b[a]:
+            out.append((int(a), -1, float(lo_b[a]), _KNOT))
+    return out
+
+
+SIMULTANEOUS = 100.0
+"""Boundaries crossed within this many times :data:`LOCATE_TOL` of the first located crossing are
+crossed with it (the mirrored mounts of a symmetric body cross together: one located event, not one
+per mount each re-located after the others)."""
+
+
+def _locate(iv: _Interval, s: _State, tau: float,
+            last: set[tuple[int, int]]) -> tuple[float, list[tuple[int, int, int]]] | None:
+    """The first crossing of a clearance or a breakpoint before ``tau`` after the sub-step's start, on
+    the exact sub-step solution (Newton on the crossing time, its slope the velocity the solve returns):
+    ``(time from the start [s], [(axis, side, kind), ...])`` (every boundary crossed then), or None."""
+    laws = iv.laws
+    e, v = iv.ends(s, tau)
+    d = laws.d0 + e
+    cands = []
+    for a, side, c, kind in _events(laws, s, d):
         f0, f1 = laws.d0[a] + s.e[a] - c, d[a] - c
-        if a == last and abs(f0) <= LOCATE_TOL * (abs(c) + abs(f1)):
-            continue
-        guess = _cubic_root(tau, laws.d0[a] + s.e[a], s.v[a], d[a], v[a], c, 0.0, tau)
+        if (a, kind) in last and abs(f0) <= LOCATE_TOL * (abs(c) + abs(f1)):
+            continue                                    # the boundary just crossed
+        cands.append((a, side, c, kind, f0, f1, LOCATE_TOL * (abs(c) + abs(f0) + abs(f1))))
+    if not cands:
+        return None
+    ax = np.array([x[0] for x in cands])
+    cs = np.array([x[2] for x in cands])
+    guess = _cubic_roots(tau, laws.d0[ax] + s.e[ax], s.v[ax], d[ax], v[ax], cs)
+    best, at = tau, (e, v)
+    first = None
+    for i in np.argsort(guess, kind="stable"):
+        a, side, c, kind, f0, f1, tol = cands[i]
+        fb = laws.d0[a] + at[0][a] - c
+        if first is not None and (np.sign(fb) == np.sign(f0) or abs(fb) <= SIMULTANEOUS * tol):
+            continue                                    # not crossed before the earliest crossing so far
 
         def fun(t: float, a: Any = a, c: float = c) -> tuple[float, float]:
             em, vm = iv.ends(s, t)
             return float(laws.d0[a] + em[a] - c), float(vm[a])
 
-        tc = _root(fun, 0.0, tau, f0, f1, guess, LOCATE_TOL * (abs(c) + abs(f0) + abs(f1)), 1e-15 * iv.h)
-        if best is None or tc < best[0]:
-            best = (tc, int(a), side)
-    return best
+        tc = _root(fun, 0.0, best, f0, fb, float(min(guess[i], best)), tol, 1e-15 * iv.h)
+        if first is None or tc < best:
+            first, best = i, tc
+            at = iv.ends(s, tc)
+    hits = []
+    for a, side, c, kind, f0, _, tol in cands:
+        f = laws.d0[a] + at[0][a] - c
+        if np.sign(f) != np.sign(f0) or abs(f) <= SIMULTANEOUS * tol:
+            hits.append((a, side, kind))
+    return best, hits
 
 
 def _peaks(iv: _Interval, s: _State, h: float, e: np.ndarray, v: np.ndarray) -> None:
