@@ -177,8 +177,8 @@ def _check_nonlinear(job: Any, y: np.ndarray) -> Check:
     and on the nonlinear axes' peak deflections: the factor of second order, not the ``/ 15`` of the
     fourth that smooth steps have. With every stop clearance and curve breakpoint located the steps
     are fourth order (the snubbed cabinet's 0.3 s shock, its vertical motion against 32 steps per
-    sample: 4.6e-9, 2.9e-10, 1.8e-11, 1.1e-12 at 1, 2, 4, 8), and the estimate overstates the error
-    there (6.3e-7 stated for that 4.6e-9); while breakpoints were stepped over the error fell as
+    sample: 4.6e-9, 2.9e-10, 1.8e-11, 1.1e-12 at 1, 2, 4, 8), where this factor overstates the error
+    of a finer run fivefold; while breakpoints were stepped over the error fell as
     ``h^2`` and ``/ 15`` stated 7.8e-8 for 3.2e-7. A contact shorter than a step is such a case still."""
     nj = _nonlinear_job(job, "nonlinear_modal")
     sub, run = nj.memo["sub"], nj.memo["run"]
