@@ -203,8 +203,9 @@ def _check_nonlinear(job: Any, y: np.ndarray) -> Check:
     where = (f"step doubling ({sub} and {other} internal steps per sample): outputs {out:.1e}, peak "
              f"deflections of the nonlinear axes {local:.1e}")
     error = max(out, local)
-    if error > nj.rtol:       # the steps that meet rtol (second order, a third of it for margin), for a rerun
-        grow = min(16.0, max(2.0, (error / (nj.rtol / 3)) ** 0.5))
+    if error > nj.rtol:       # the steps that meet rtol for a rerun: the steps' fourth order, an eighth of
+        # rtol so that the next check, with its second-order factor (5x the error of a fourth-order run), passes
+        grow = min(16.0, max(2.0, (error / (nj.rtol / 8)) ** 0.25))
         nj.memo["next_sub"] = int(np.ceil(sub * grow / 2) * 2)
     return Check(error, nj.rtol, where)
 

@@ -62,7 +62,7 @@ class LocalLaws:
     hi: np.ndarray = field(init=False, repr=False)       # positive-side clearances [m]
     curved: np.ndarray = field(init=False, repr=False)   # indices of the curved axes
     g_op: np.ndarray = field(init=False, repr=False)     # force beyond the linear rate at d0 [N]
-    _pieces: tuple[np.ndarray, ...] = field(init=False, repr=False)         # the curves as cubics
+    _pieces: tuple[np.ndarray, np.ndarray] = field(init=False, repr=False)  # the curves as cubics, offsets
     _gap: tuple[np.ndarray, np.ndarray] = field(init=False, repr=False)     # clearances, 0 for no stop [m]
     _edges: np.ndarray = field(init=False, repr=False)    # (rc, n + 3) -inf, breakpoints, +inf (padded) [m]
 
@@ -77,16 +77,22 @@ class LocalLaws:
             edges[j, 1:x.size + 1] = x
         return edges
 
-    def _piecewise(self) -> tuple[np.ndarray, ...]:
-        """The curved axes' pieces for :meth:`_curve`: first and last breakpoints (rc,) [m], the last
-        cubic's index, each axis's offset into the flat list of cubics, and per cubic its coefficients in
-        powers of the distance from its start (scipy's PPoly form) with that start [m] as a fifth row; and
-        the axes' linear rates."""
-        curves = [self.laws[i].curve for i in self.curved]
-        sizes = np.array([cv.c.shape[1] for cv in curves], int)
-        coef = np.hstack([np.vstack([cv.c, cv.x[None, :-1]]) for cv in curves]) if curves else np.zeros((5, 0))
-        return (np.array([cv.x[0] for cv in curves], float), np.array([cv.x[-1] for cv in curves], float),
-                sizes - 1, np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(int), coef, self.k0[self.curved])
+    def _piecewise(self) -> tuple[np.ndarray, np.ndarray]:
+        """The curved axes' segments for :meth:`_curve` as one flat table: per axis its ``n + 2``
+        pieces (the end line below the first breakpoint, the n cubics, the end line above the last),
+        each a cubic in the distance from its start (scipy's PPoly form; the end lines with zero
+        leading coefficients) with that start [m] as a fifth row; and each axis's offset into it."""
+        cols, base = [], []
+        for i in self.curved:
+            cv = self.laws[i].curve
+            base.append(sum(c.shape[1] for c in cols))
+            lo_v, hi_v = float(cv(cv.x[0])), float(cv(cv.x[-1]))
+            lo_s, hi_s = float(cv(cv.x[0], 1)), float(cv(cv.x[-1], 1))
+            cols.append(np.array([[0.0], [0.0], [lo_s], [lo_v], [cv.x[0]]]))
+            cols.append(np.vstack([cv.c, cv.x[None, :-1]]))
+            cols.append(np.array([[0.0], [0.0], [hi_s], [hi_v], [cv.x[-1]]]))
+        coef = np.hstack(cols) if cols else np.zeros((5, 0))
+        return coef, np.array(base, int)
 
     @property
     def r(self) -> int:
@@ -135,17 +141,14 @@ class LocalLaws:
         c = self.curved
         if not c.size:
             return out[0], out[1], out[2]
-        first, ends, last, base, coef, k0 = self._pieces
+        coef, base = self._pieces
         dc = d[c]
-        s = (self.piece(d) if piece is None else piece)[c]
-        x = np.where(s == 0, first, np.where(s > last + 1, ends, dc))
-        at = base + np.minimum(np.maximum(s - 1, 0), last)
-        t = x - coef[4, at]
-        c0, c1, c2, c3 = coef[:4, at]
-        p1 = (3.0 * c0 * t + 2.0 * c1) * t + c2
-        out[0, c] = ((c0 * t + c1) * t + c2) * t + c3 + p1 * (dc - x) - k0 * dc   # end slopes beyond
-        out[1, c] = p1 - k0
-        out[2, c] = (6.0 * c0 * t + 2.0 * c1) * ((s > 0) & (s <= last + 1))
+        at = base + (self.piece(d) if piece is None else piece)[c]
+        c0, c1, c2, c3, x0 = coef[:, at]
+        t = dc - x0
+        out[0, c] = ((c0 * t + c1) * t + c2) * t + c3 - self.k0[c] * dc
+        out[1, c] = (3.0 * c0 * t + 2.0 * c1) * t + c2 - self.k0[c]
+        out[2, c] = 6.0 * c0 * t + 2.0 * c1
         return out[0], out[1], out[2]
 
     def force(self, e: np.ndarray, regime: np.ndarray,
