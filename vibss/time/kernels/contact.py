@@ -56,6 +56,7 @@ class ContactSystem:
     Y: tuple[np.ndarray, ...]
     D: np.ndarray
     _steps: dict = field(default_factory=dict, repr=False)
+    _recent: dict = field(default_factory=dict, repr=False)
 
     def step(self, h: float) -> _Step:
         """The exact discretisation over ``h`` [s] (kept for the grid's step lengths)."""
@@ -65,6 +66,18 @@ class ContactSystem:
             got = _discretise(self, key)
             if len(self._steps) < 64:
                 self._steps[key] = got
+        return got
+
+    def sub(self, h: float) -> _Step:
+        """The exact discretisation over a sub-step ``h`` [s] (the last few kept: a located crossing's
+        last Newton iterate is the sub-step taken, and its end is read once more)."""
+        key = float(h)
+        got = self._recent.get(key)
+        if got is None:
+            got = _discretise(self, key)
+            if len(self._recent) >= 4:
+                del self._recent[next(iter(self._recent))]
+            self._recent[key] = got
         return got
 
 
@@ -77,6 +90,7 @@ class _Step:
     S: np.ndarray                    # (2r, 4r) local end values per Taylor coefficient
     Wg: np.ndarray                   # (2r, 2r) per (g1, dg1) at the end
     Wc: np.ndarray                   # (2r, 2r) per (g0, dg0) at the start
+    inverse: dict = field(default_factory=dict, repr=False)   # Newton's inverse per regime (stops only)
 
 
 def _discretise(sys: ContactSystem, h: float) -> _Step:
@@ -143,8 +157,22 @@ def _solve(laws: LocalLaws, st: _Step, s: _State, lin: np.ndarray,
     free = lin + sum(np.real(HE @ x) for HE, x in zip(st.HE, s.x)) + st.Wc @ np.concatenate([s.g, s.dg])
     if not (np.any(s.regime != 0) or laws.curved.size or np.any(s.g) or np.any(s.dg)):
         return free[:r], free[r:], np.zeros(r), np.zeros(r)
+    if laws.linear_in_regime():      # one Newton step is the answer: the force is a line in each regime
+        key = s.regime.tobytes()
+        inv = st.inverse.get(key)
+        g, g1, _ = laws.force(free[:r], s.regime, s.piece)
+        if inv is None:
+            J = np.eye(2 * r)
+            J[:, :r] -= st.Wg[:, :r] * g1
+            J[:, r:] -= st.Wg[:, r:] * g1
+            inv = st.inverse[key] = np.linalg.inv(J)
+        z = free + inv @ (st.Wg @ np.concatenate([g, g1 * free[r:]]))
+        run.newton += 1
+        e, v = z[:r], z[r:]
+        g, g1, _ = laws.force(e, s.regime, s.piece)
+        return e, v, g, g1 * v
     z = free.copy()
-    for _ in range(1 if laws.linear_in_regime() else 40):
+    for _ in range(40):
         e, v = z[:r], z[r:]
         g, g1, g2 = laws.force(e, s.regime, s.piece)
         res = z - free - st.Wg @ np.concatenate([g, g1 * v])
@@ -224,7 +252,7 @@ class _Interval:
         """Local deflection and velocity ``t`` after the current sub-step's start (exact sub-step)."""
         if t <= 0.0:
             return s.e, s.v
-        st = self.sys.step(t) if self.done == 0.0 and t == self.h else _discretise(self.sys, t)
+        st = self.sys.step(t) if self.done == 0.0 and t == self.h else self.sys.sub(t)
         e, v, _, _ = _solve(self.laws, st, s, self.lin(t), self.run)
         return e, v
 
@@ -315,7 +343,7 @@ def _interval(iv: _Interval, s: _State) -> None:
     events = laws.stops.any() or laws.curved.size > 0
     for _ in range(8 * laws.r + 8 + 4 * laws.curved.size):
         rest = iv.h - iv.done
-        st = iv.sys.step(rest) if iv.done == 0.0 else _discretise(iv.sys, rest)
+        st = iv.sys.step(rest) if iv.done == 0.0 else iv.sys.sub(rest)
         e, v, g, dg = _solve(laws, st, s, iv.lin1[:2 * laws.r], run)
         run.steps += 1
         guess = _crossing(laws, s, e, v, rest) if events else None
@@ -326,7 +354,7 @@ def _interval(iv: _Interval, s: _State) -> None:
             s.e, s.v, s.g, s.dg = e, v, g, dg
             return
         tau, hits = found
-        sub = _discretise(iv.sys, tau)
+        sub = iv.sys.sub(tau)
         e, v, g, dg = _solve(laws, sub, s, iv.lin(tau), run)
         _peaks(iv, s, tau, e, v)
         s.x = _advance(sub, s, g, dg)
@@ -518,7 +546,7 @@ def _peaks(iv: _Interval, s: _State, h: float, e: np.ndarray, v: np.ndarray) -> 
             continue
         t_, dm = tc, dc
         if abs(dc - laws.d0[a]) > PEAK_NOISE * scale:
-            t_, em = _extremum(iv, s, h, a, tc, v[a], located)
+            t_, em = _extremum(iv, s, h, int(a), tc, float(v[a]), located)
             dm = float(laws.d0[a] + em[a])
         if rising and dm > run.peak_hi[a]:
             run.peak_hi[a], run.t_hi[a] = dm, iv.t0 + iv.done + t_

@@ -45,6 +45,7 @@ class LocalLaws:
     def __post_init__(self) -> None:
         object.__setattr__(self, "k0", np.array([law.stiffness for law in self.laws], float))
         object.__setattr__(self, "ks", np.array([law.stop for law in self.laws], float))
+        object.__setattr__(self, "stops", self.ks > 0)
         object.__setattr__(self, "lo", np.array([law.clearance[0] for law in self.laws], float))
         object.__setattr__(self, "hi", np.array([law.clearance[1] for law in self.laws], float))
         object.__setattr__(self, "curved", np.array([i for i, law in enumerate(self.laws) if law.curve is not None],
@@ -58,6 +59,7 @@ class LocalLaws:
 
     k0: np.ndarray = field(init=False, repr=False)       # linear rates [N/m]
     ks: np.ndarray = field(init=False, repr=False)       # stop rates [N/m] (0: none)
+    stops: np.ndarray = field(init=False, repr=False)    # (r,) bool: the axis has a stop
     lo: np.ndarray = field(init=False, repr=False)       # negative-side clearances [m]
     hi: np.ndarray = field(init=False, repr=False)       # positive-side clearances [m]
     curved: np.ndarray = field(init=False, repr=False)   # indices of the curved axes
@@ -82,7 +84,8 @@ class LocalLaws:
         pieces (the end line below the first breakpoint, the n cubics, the end line above the last),
         each a cubic in the distance from its start (scipy's PPoly form; the end lines with zero
         leading coefficients) with that start [m] as a fifth row; and each axis's offset into it."""
-        cols, base = [], []
+        cols: list[np.ndarray] = []
+        base: list[int] = []
         for i in self.curved:
             cv = self.laws[i].curve
             base.append(sum(c.shape[1] for c in cols))
@@ -98,11 +101,6 @@ class LocalLaws:
     def r(self) -> int:
         """Number of local coordinates."""
         return len(self.laws)
-
-    @property
-    def stops(self) -> np.ndarray:
-        """(r,) bool: the axis has a stop."""
-        return self.ks > 0
 
     def regime(self, d: np.ndarray) -> np.ndarray:
         """(r,) int: +1 past the positive clearance, -1 past the negative one, 0 free (``d`` total [m])."""
