@@ -227,7 +227,8 @@ def run_nonlinear(job: "NonlinearJob", sub: int) -> tuple[np.ndarray, str, Conta
     y = lin[samples, :p] + y_nl
     note = (f"exact modal propagation of the linear part ({how}) with the {r} nonlinear mount axes' forces "
             f"as cubic Hermite local forces (Newton on {2 * r} unknowns a step), {sub} internal steps per "
-            f"sample (h = {dt / sub:.3g} s), {run.events} stop events located")
+            f"sample (h = {dt / sub:.3g} s), {run.events} stop events and {run.crossings} crossings of curve "
+            "breakpoints located")
     return y, note, run
 
 

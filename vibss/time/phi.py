@@ -34,6 +34,20 @@ above 1) evaluated by Sylvester's formula; closer pairs are left to ``expm``."""
 _TERMS = 30   # Taylor terms for |z| <= 1: 1/30! ~ 4e-33
 
 
+def _terms(rho: float, order: int) -> int:
+    """Taylor terms of ``phi_order`` for ``|z| <= rho < 1``: the remainder after term ``N`` is below
+    ``rho^(N+1) / (N+1+order)! / (1 - rho)``; the first ``N`` where that is under 1e-17 of
+    ``1 / order!`` (short steps of slow modes need a few terms, not 30)."""
+    if rho == 0.0:
+        return 0
+    bound = factorial(order) / (1.0 - rho)
+    for n in range(_TERMS):
+        bound *= rho / (n + 1 + order)
+        if bound < 1e-17:
+            return n
+    return _TERMS
+
+
 def phi_scalar(z: np.ndarray, order: int) -> np.ndarray:
     """``phi_0(z) .. phi_order(z)`` of complex scalars.
 
@@ -59,7 +73,7 @@ def phi_scalar(z: np.ndarray, order: int) -> np.ndarray:
     if small.any():
         zs = z[small]
         top = np.zeros_like(zs)
-        for i in range(_TERMS, -1, -1):                   # Horner: sum_i zs^i / (i + order)!
+        for i in range(_terms(float(np.abs(zs).max()), order), -1, -1):   # Horner: sum_i zs^i / (i + order)!
             top = top * zs + 1.0 / factorial(i + order)
         out[order, small] = top
         for j in range(order - 1, -1, -1):

@@ -10,8 +10,11 @@ by Newton's method (one linear solve within a stop's regime, where the force is 
 The local error is fourth order in ``omega_c h`` (``omega_c``: the stops' contact frequencies).
 
 A step whose end (or the cubic through its end values) crosses a clearance is cut at the crossing,
-found by the secant method on the exact sub-step solution, and continued from there in the new
-regime: the kink of a stop's force is never inside a step. The linear part inside a step is the
+found by Newton's method on the exact sub-step solution, and continued from there in the new
+regime: the kink of a stop's force is never inside a step. The breakpoints of a force-deflection
+curve are crossed the same way (its second derivative jumps there; stepped over, they cost the steps
+their order: the snubbed cabinet's curved isolators needed 16 steps per sample for 1e-6, 1 with them
+located). The linear part inside a step is the
 cubic Hermite interpolant of its end values (it enters only the crossing time and the slope of the
 force just after it). A local extremum of a nonlinear axis that beats its running peak is located
 the same way (the sub-step where ``v = 0``), so the peak deflections are those of the integration,
@@ -53,6 +56,7 @@ class ContactSystem:
     Y: tuple[np.ndarray, ...]
     D: np.ndarray
     _steps: dict = field(default_factory=dict, repr=False)
+    _recent: dict = field(default_factory=dict, repr=False)
 
     def step(self, h: float) -> _Step:
         """The exact discretisation over ``h`` [s] (kept for the grid's step lengths)."""
@@ -62,6 +66,18 @@ class ContactSystem:
             got = _discretise(self, key)
             if len(self._steps) < 64:
                 self._steps[key] = got
+        return got
+
+    def sub(self, h: float) -> _Step:
+        """The exact discretisation over a sub-step ``h`` [s] (the last few kept: a located crossing's
+        last Newton iterate is the sub-step taken, and its end is read once more)."""
+        key = float(h)
+        got = self._recent.get(key)
+        if got is None:
+            got = _discretise(self, key)
+            if len(self._recent) >= 4:
+                del self._recent[next(iter(self._recent))]
+            self._recent[key] = got
         return got
 
 
@@ -74,6 +90,7 @@ class _Step:
     S: np.ndarray                    # (2r, 4r) local end values per Taylor coefficient
     Wg: np.ndarray                   # (2r, 2r) per (g1, dg1) at the end
     Wc: np.ndarray                   # (2r, 2r) per (g0, dg0) at the start
+    inverse: dict = field(default_factory=dict, repr=False)   # Newton's inverse per regime (stops only)
 
 
 def _discretise(sys: ContactSystem, h: float) -> _Step:
@@ -118,6 +135,7 @@ class ContactRun:
     steps: int = 0
     events: int = 0
     newton: int = 0
+    crossings: int = 0
 
 
 @dataclass
@@ -127,7 +145,8 @@ class _State:
     v: np.ndarray           # (r,) local velocity [m/s]
     g: np.ndarray           # (r,) local force [N]
     dg: np.ndarray          # (r,) its rate [N/s]
-    regime: np.ndarray      # (r,) int
+    regime: np.ndarray      # (r,) int: the side of each stop
+    piece: np.ndarray       # (r,) int: the piece of each curve (LocalLaws.piece)
 
 
 def _solve(laws: LocalLaws, st: _Step, s: _State, lin: np.ndarray,
@@ -138,10 +157,24 @@ def _solve(laws: LocalLaws, st: _Step, s: _State, lin: np.ndarray,
     free = lin + sum(np.real(HE @ x) for HE, x in zip(st.HE, s.x)) + st.Wc @ np.concatenate([s.g, s.dg])
     if not (np.any(s.regime != 0) or laws.curved.size or np.any(s.g) or np.any(s.dg)):
         return free[:r], free[r:], np.zeros(r), np.zeros(r)
-    z = free.copy()
-    for _ in range(1 if laws.linear_in_regime() else 40):
+    if laws.linear_in_regime():      # one Newton step is the answer: the force is a line in each regime
+        key = s.regime.tobytes()
+        inv = st.inverse.get(key)
+        g, g1, _ = laws.force(free[:r], s.regime, s.piece)
+        if inv is None:
+            J = np.eye(2 * r)
+            J[:, :r] -= st.Wg[:, :r] * g1
+            J[:, r:] -= st.Wg[:, r:] * g1
+            inv = st.inverse[key] = np.linalg.inv(J)
+        z = free + inv @ (st.Wg @ np.concatenate([g, g1 * free[r:]]))
+        run.newton += 1
         e, v = z[:r], z[r:]
-        g, g1, g2 = laws.force(e, s.regime)
+        g, g1, _ = laws.force(e, s.regime, s.piece)
+        return e, v, g, g1 * v
+    z = free.copy()
+    for _ in range(40):
+        e, v = z[:r], z[r:]
+        g, g1, g2 = laws.force(e, s.regime, s.piece)
         res = z - free - st.Wg @ np.concatenate([g, g1 * v])
         J = np.eye(2 * r)
         J[:, :r] -= st.Wg[:, :r] * g1 + st.Wg[:, r:] * (g2 * v)
@@ -153,7 +186,7 @@ def _solve(laws: LocalLaws, st: _Step, s: _State, lin: np.ndarray,
                 and np.abs(dz[r:]).max() <= NEWTON_TOL * (np.abs(z[r:]).max() + 1e-300)):
             break
     e, v = z[:r], z[r:]
-    g, g1, _ = laws.force(e, s.regime)
+    g, g1, _ = laws.force(e, s.regime, s.piece)
     return e, v, g, g1 * v
 
 
@@ -219,7 +252,7 @@ class _Interval:
         """Local deflection and velocity ``t`` after the current sub-step's start (exact sub-step)."""
         if t <= 0.0:
             return s.e, s.v
-        st = self.sys.step(t) if self.done == 0.0 and t == self.h else _discretise(self.sys, t)
+        st = self.sys.step(t) if self.done == 0.0 and t == self.h else self.sys.sub(t)
         e, v, _, _ = _solve(self.laws, st, s, self.lin(t), self.run)
         return e, v
 
@@ -256,9 +289,9 @@ def integrate(sys: ContactSystem, laws: LocalLaws, t: np.ndarray, lin: np.ndarra
                      intervals={})
     x = [np.zeros(A.shape[0] * A.shape[1], complex if np.iscomplexobj(A) or np.iscomplexobj(F) else float)
          for A, F in zip(sys.A, sys.F)]
-    regime = laws.regime(laws.d0 + e0)
-    g, g1, _ = laws.force(e0, regime)
-    s = _State(x, e0.copy(), v0.copy(), g, g1 * v0, regime)
+    regime, piece = laws.regime(laws.d0 + e0), laws.piece(laws.d0 + e0)
+    g, g1, _ = laws.force(e0, regime, piece)
+    s = _State(x, e0.copy(), v0.copy(), g, g1 * v0, regime, piece)
     for a in np.flatnonzero(regime):
         run.intervals[(int(a), int(regime[a]))] = [[0.0, np.nan]]
     want = np.zeros(len(t), bool)
@@ -303,44 +336,51 @@ def integrate(sys: ContactSystem, laws: LocalLaws, t: np.ndarray, lin: np.ndarra
 
 
 def _interval(iv: _Interval, s: _State) -> None:
-    """Advance ``s`` over one grid interval, cut at every located crossing of a clearance."""
+    """Advance ``s`` over one grid interval, cut at every located crossing of a clearance or of a
+    curve's breakpoint."""
     laws, run = iv.laws, iv.run
-    last = -1
-    for _ in range(8 * laws.r + 8):
+    last: set[tuple[int, int]] = set()
+    events = laws.stops.any() or laws.curved.size > 0
+    for _ in range(8 * laws.r + 8 + 4 * laws.curved.size):
         rest = iv.h - iv.done
-        st = iv.sys.step(rest) if iv.done == 0.0 else _discretise(iv.sys, rest)
+        st = iv.sys.step(rest) if iv.done == 0.0 else iv.sys.sub(rest)
         e, v, g, dg = _solve(laws, st, s, iv.lin1[:2 * laws.r], run)
         run.steps += 1
-        guess = _crossing(laws, s, e, v, rest) if laws.stops.any() else None
+        guess = _crossing(laws, s, e, v, rest) if events else None
         found = _locate(iv, s, guess, last) if guess is not None else None
         if found is None:
             _peaks(iv, s, rest, e, v)
             s.x = _advance(st, s, g, dg)
             s.e, s.v, s.g, s.dg = e, v, g, dg
             return
-        tau, axis, side = found
-        sub = _discretise(iv.sys, tau)
+        tau, hits = found
+        sub = iv.sys.sub(tau)
         e, v, g, dg = _solve(laws, sub, s, iv.lin(tau), run)
         _peaks(iv, s, tau, e, v)
         s.x = _advance(sub, s, g, dg)
         s.e, s.v = e, v
         now = iv.t0 + iv.done + tau
-        old = int(s.regime[axis])
-        if old != 0:                                    # leaving the stop
-            spans = run.intervals.get((axis, old))
-            if spans:
-                spans[-1][1] = now
-            s.regime[axis] = 0
-        else:                                           # touching it
-            s.regime[axis] = side
-            run.intervals.setdefault((axis, side), []).append([now, np.nan])
-        run.events += 1
-        g, g1, _ = laws.force(s.e, s.regime)
+        for axis, side, kind in hits:
+            old = int(s.regime[axis])
+            if kind == _KNOT:                           # onto the curve's next piece
+                s.piece[axis] += side
+                run.crossings += 1
+                continue
+            if old != 0:                                # leaving the stop
+                spans = run.intervals.get((axis, old))
+                if spans:
+                    spans[-1][1] = now
+                s.regime[axis] = 0
+            else:                                       # touching it
+                s.regime[axis] = side
+                run.intervals.setdefault((axis, side), []).append([now, np.nan])
+            run.events += 1
+        g, g1, _ = laws.force(s.e, s.regime, s.piece)
         s.g, s.dg = g, g1 * s.v
         iv.done += tau
-        last = axis
-    raise AnalysisError(f"simulate: more than {8 * laws.r + 8} stop events in one step at t = {iv.t0:.6g} s "
-                        "(a stop chattering): take a smaller dt")
+        last = {(axis, kind) for axis, _, kind in hits}
+    raise AnalysisError(f"simulate: more than {8 * laws.r + 8 + 4 * laws.curved.size} stop events and curve "
+                        f"breakpoints in one step at t = {iv.t0:.6g} s (a stop chattering): take a smaller dt")
 
 
 _S = np.linspace(0.0, 1.0, 17)[1:, None]
@@ -349,20 +389,23 @@ _BASIS = (2 * _S**3 - 3 * _S**2 + 1, _S**3 - 2 * _S**2 + _S, -2 * _S**3 + 3 * _S
 
 
 def _crossing(laws: LocalLaws, s: _State, e: np.ndarray, v: np.ndarray, h: float) -> float | None:
-    """First time in (0, h] at which the cubic through the step's end values leaves a stop's regime
-    (looked for at 16 points, after a bound on the cubic's range rules most steps out), or None."""
+    """First time in (0, h] at which the cubic through the step's end values leaves a stop's regime or
+    its curve's piece (looked for at 16 points, after a bound on the cubic's range rules most steps
+    out), or None."""
     y0, y1 = laws.d0 + s.e, laws.d0 + e
     reach = (4 / 27) * h * (np.abs(s.v) + np.abs(v))              # |h10|, |h11| <= 4/27
     top, bottom = np.maximum(y0, y1) + reach, np.minimum(y0, y1) - reach
     inside = s.regime == 0
     near = laws.stops & np.where(inside, (top > laws.hi) | (bottom < -laws.lo),
                                  np.where(s.regime > 0, bottom <= laws.hi, top >= -laws.lo))
+    lo_b, hi_b = laws.bounds(s.piece)
+    near |= (top >= hi_b) | (bottom < lo_b)
     if not near.any():
         return None
     b0, b1, b2, b3 = _BASIS
     d = b0 * y0[near] + (b1 * h) * s.v[near] + b2 * y1[near] + (b3 * h) * v[near]     # (16, k)
     hi, lo, reg = laws.hi[near], laws.lo[near], s.regime[near]
-    off = np.where(d > hi, 1, np.where(d < -lo, -1, 0)) != reg
+    off = (np.where(d > hi, 1, np.where(d < -lo, -1, 0)) != reg) | (d >= hi_b[near]) | (d < lo_b[near])
     rows = np.flatnonzero(off.any(axis=1))
     return float(h * _S[rows[0], 0]) if rows.size else None
 
@@ -384,103 +427,179 @@ def _root(fun: Any, ta: float, tb: float, fa: float, fb: float, guess: float, to
     return t
 
 
-def _cubic_root(h: float, y0: float, v0: float, y1: float, v1: float, c: float, lo: float, hi: float) -> float:
-    """The first crossing of ``c`` by the cubic Hermite on ``[lo, hi]`` (bisection), or ``hi``."""
-    f = lambda t: float(_hermite(t, h, y0, v0, y1, v1)[0]) - c          # noqa: E731
-    fa = f(lo)
-    for _ in range(60):
+def _cubic_roots(h: float, y0: np.ndarray, v0: np.ndarray, y1: np.ndarray, v1: np.ndarray,
+                 c: np.ndarray) -> np.ndarray:
+    """Per column a crossing of ``c`` by the cubic Hermite on ``[0, h]`` whose end values bracket it
+    (bisection, all columns at once)."""
+    lo, hi = np.zeros_like(c), np.full_like(c, h)
+    sa = np.sign(y0 - c)
+    for _ in range(24):                 # to 6e-8 of the step: a guess, the exact solution's Newton refines it
         mid = 0.5 * (lo + hi)
-        if np.sign(f(mid)) == np.sign(fa):
-            lo = mid
-        else:
-            hi = mid
+        same = np.sign(_hermite(mid, h, y0, v0, y1, v1)[0] - c) == sa
+        lo, hi = np.where(same, mid, lo), np.where(same, hi, mid)
     return hi
 
 
-def _locate(iv: _Interval, s: _State, tau: float, last: int) -> tuple[float, int, int] | None:
-    """The first crossing of a clearance before ``tau`` after the sub-step's start, on the exact
-    sub-step solution (Newton on the crossing time, its slope the velocity the solve returns):
-    ``(time from the start [s], axis, side)``, or None (none there)."""
-    laws = iv.laws
-    e, v = iv.ends(s, tau)
-    d = laws.d0 + e
-    best: tuple[float, int, int] | None = None
+_STOP, _KNOT = 0, 1
+"""The two kinds of event: a stop's clearance, a curve's breakpoint."""
+
+
+def _events(laws: LocalLaws, s: _State, d: np.ndarray) -> list[tuple[int, int, float, int]]:
+    """The boundaries the sub-step's end ``d`` (total [m]) is past: ``(axis, side, boundary [m], kind)``."""
+    out = []
     for a in np.flatnonzero(laws.stops):
         old = int(s.regime[a])
         if old == 0:
             if d[a] > laws.hi[a]:
-                side, c = 1, laws.hi[a]
+                out.append((int(a), 1, float(laws.hi[a]), _STOP))
             elif d[a] < -laws.lo[a]:
-                side, c = -1, -laws.lo[a]
-            else:
-                continue
+                out.append((int(a), -1, float(-laws.lo[a]), _STOP))
         else:
-            side, c = old, (laws.hi[a] if old > 0 else -laws.lo[a])
-            if np.sign(d[a] - c) == old:
-                continue
+            c = float(laws.hi[a] if old > 0 else -laws.lo[a])
+            if np.sign(d[a] - c) != old:
+                out.append((int(a), old, c, _STOP))
+    lo_b, hi_b = laws.bounds(s.piece)
+    for a in laws.curved:
+        if d[a] >= hi_b[a]:
+            out.append((int(a), 1, float(hi_b[a]), _KNOT))
+        elif d[a] < lo_b[a]:
+            out.append((int(a), -1, float(lo_b[a]), _KNOT))
+    return out
+
+
+SIMULTANEOUS = 100.0
+"""Boundaries crossed within this many times :data:`LOCATE_TOL` of the first located crossing are
+crossed with it (the mirrored mounts of a symmetric body cross together: one located event, not one
+per mount each re-located after the others)."""
+
+
+def _locate(iv: _Interval, s: _State, tau: float,
+            last: set[tuple[int, int]]) -> tuple[float, list[tuple[int, int, int]]] | None:
+    """The first crossing of a clearance or a breakpoint before ``tau`` after the sub-step's start, on
+    the exact sub-step solution (Newton on the crossing time, its slope the velocity the solve returns):
+    ``(time from the start [s], [(axis, side, kind), ...])`` (every boundary crossed then), or None."""
+    laws = iv.laws
+    e, v = iv.ends(s, tau)
+    d = laws.d0 + e
+    cands = []
+    for a, side, c, kind in _events(laws, s, d):
         f0, f1 = laws.d0[a] + s.e[a] - c, d[a] - c
-        if a == last and abs(f0) <= LOCATE_TOL * (abs(c) + abs(f1)):
-            continue
-        guess = _cubic_root(tau, laws.d0[a] + s.e[a], s.v[a], d[a], v[a], c, 0.0, tau)
+        if (a, kind) in last and abs(f0) <= LOCATE_TOL * (abs(c) + abs(f1)):
+            continue                                    # the boundary just crossed
+        cands.append((a, side, c, kind, f0, f1, LOCATE_TOL * (abs(c) + abs(f0) + abs(f1))))
+    if not cands:
+        return None
+    ax = np.array([x[0] for x in cands])
+    cs = np.array([x[2] for x in cands])
+    guess = _cubic_roots(tau, laws.d0[ax] + s.e[ax], s.v[ax], d[ax], v[ax], cs)
+    best, at = tau, (e, v)
+    first = None
+    for i in np.argsort(guess, kind="stable"):
+        a, side, c, kind, f0, f1, tol = cands[i]
+        fb = laws.d0[a] + at[0][a] - c
+        if first is not None and (np.sign(fb) == np.sign(f0) or abs(fb) <= SIMULTANEOUS * tol):
+            continue                                    # not crossed before the earliest crossing so far
 
         def fun(t: float, a: Any = a, c: float = c) -> tuple[float, float]:
             em, vm = iv.ends(s, t)
             return float(laws.d0[a] + em[a] - c), float(vm[a])
 
-        tc = _root(fun, 0.0, tau, f0, f1, guess, LOCATE_TOL * (abs(c) + abs(f0) + abs(f1)), 1e-15 * iv.h)
-        if best is None or tc < best[0]:
-            best = (tc, int(a), side)
-    return best
+        tc = _root(fun, 0.0, best, f0, fb, float(min(guess[i], best)), tol, 1e-15 * iv.h)
+        if first is None or tc < best:
+            first, best = i, tc
+            at = iv.ends(s, tc)
+    hits = []
+    for a, side, c, kind, f0, _, tol in cands:
+        f = laws.d0[a] + at[0][a] - c
+        if np.sign(f) != np.sign(f0) or abs(f) <= SIMULTANEOUS * tol:
+            hits.append((a, side, kind))
+    return best, hits
+
+
+PEAK_NOISE = 1e-9
+"""An axis whose extremum lies within this fraction of the largest excursion of any axis from its
+operating point moves by round-off (a symmetry keeps it at rest): its peak is the step's cubic's, not
+located on the exact sub-step (the lateral axes of a symmetric cabinet: 9 of 10 located peaks)."""
 
 
 def _peaks(iv: _Interval, s: _State, h: float, e: np.ndarray, v: np.ndarray) -> None:
     """Update the running peaks with the sub-step's end and, where ``v`` changes sign inside it and
     the cubic's extremum beats the peak, with the extremum located on the exact sub-step (secant on
-    ``v = 0``)."""
+    ``v = 0``; once for the axes that reach it together, as mirrored mounts do)."""
     laws, run = iv.laws, iv.run
     d1 = laws.d0 + e
     now = iv.t0 + iv.done + h
     up, dn = d1 > run.peak_hi, d1 < run.peak_lo
     run.peak_hi[up], run.t_hi[up] = d1[up], now
     run.peak_lo[dn], run.t_lo[dn] = d1[dn], now
-    for a in np.flatnonzero(s.v * v < 0):
+    turning = np.flatnonzero(s.v * v < 0)
+    if not turning.size:
+        return
+    scale = max(float(np.abs(run.peak_hi - laws.d0).max()), float(np.abs(run.peak_lo - laws.d0).max()))
+    located: list[tuple[float, np.ndarray, np.ndarray]] = []
+    for a in turning:
         y0, v0 = laws.d0[a] + s.e[a], s.v[a]
         rising = v0 > 0
         tc = _slope_root(h, y0, v0, d1[a], v[a])
         dc = float(_hermite(tc, h, y0, v0, d1[a], v[a])[0])
         if not (dc > run.peak_hi[a] if rising else dc < run.peak_lo[a]):
             continue
-        ta, tb, fa, fb = 0.0, h, v0, v[a]
         t_, dm = tc, dc
-        prev: tuple[float, float] | None = None
-        for _ in range(30):                              # secant on v = 0, kept in the bracket
-            em, vm = iv.ends(s, t_)
-            dm, f = float(laws.d0[a] + em[a]), float(vm[a])
-            if np.sign(f) == np.sign(fb):
-                tb, fb = t_, f
-            else:
-                ta, fa = t_, f
-            if abs(f) * (tb - ta) <= LOCATE_TOL * (abs(dm) + 1e-300) or tb - ta <= 1e-14 * iv.h:
-                break
-            if prev is not None and f != prev[1]:
-                nxt = t_ - f * (t_ - prev[0]) / (f - prev[1])
-            else:
-                nxt = t_ - f * (tb - ta) / (fb - fa) if fb != fa else 0.5 * (ta + tb)
-            prev = (t_, f)
-            t_ = nxt if ta < nxt < tb else 0.5 * (ta + tb)
+        if abs(dc - laws.d0[a]) > PEAK_NOISE * scale:
+            t_, em = _extremum(iv, s, h, int(a), tc, float(v[a]), located)
+            dm = float(laws.d0[a] + em[a])
         if rising and dm > run.peak_hi[a]:
             run.peak_hi[a], run.t_hi[a] = dm, iv.t0 + iv.done + t_
         elif not rising and dm < run.peak_lo[a]:
             run.peak_lo[a], run.t_lo[a] = dm, iv.t0 + iv.done + t_
 
 
-def _slope_root(h: float, y0: float, v0: float, y1: float, v1: float) -> float:
-    """Where the cubic Hermite's slope vanishes inside ``(0, h)`` (its slopes at the ends have opposite signs)."""
-    lo, hi = 0.0, h
-    for _ in range(60):
-        mid = 0.5 * (lo + hi)
-        if np.sign(float(_hermite(mid, h, y0, v0, y1, v1)[1])) == np.sign(v0):
-            lo = mid
+def _extremum(iv: _Interval, s: _State, h: float, a: int, tc: float, v_end: float,
+              located: list[tuple[float, np.ndarray, np.ndarray]]) -> tuple[float, np.ndarray]:
+    """Where axis ``a``'s velocity vanishes in the sub-step of length ``h`` (secant from the cubic's
+    ``tc``, kept in the bracket; ``v_end`` its velocity at the end), and the local deflections there;
+    an extremum ``located`` already in this sub-step serves when ``a``'s velocity vanishes there too."""
+    d0 = iv.laws.d0[a]
+    for t_, em, vm in located:
+        if abs(vm[a]) * h <= LOCATE_TOL * abs(d0 + em[a]):
+            return t_, em
+    ta, tb, fa, fb = 0.0, h, float(s.v[a]), float(v_end)
+    t_ = tc
+    prev: tuple[float, float] | None = None
+    for _ in range(30):                              # secant on v = 0, kept in the bracket
+        em, vm = iv.ends(s, t_)
+        dm, f = float(d0 + em[a]), float(vm[a])
+        at = t_
+        if np.sign(f) == np.sign(fb):
+            tb, fb = t_, f
         else:
-            hi = mid
-    return 0.5 * (lo + hi)
+            ta, fa = t_, f
+        if abs(f) * (tb - ta) <= LOCATE_TOL * (abs(dm) + 1e-300) or tb - ta <= 1e-14 * iv.h:
+            break
+        if prev is not None and f != prev[1]:
+            nxt = t_ - f * (t_ - prev[0]) / (f - prev[1])
+        else:
+            nxt = t_ - f * (tb - ta) / (fb - fa) if fb != fa else 0.5 * (ta + tb)
+        prev = (t_, f)
+        t_ = nxt if ta < nxt < tb else 0.5 * (ta + tb)
+    located.append((at, em, vm))
+    return at, em
+
+
+def _slope_root(h: float, y0: float, v0: float, y1: float, v1: float) -> float:
+    """Where the cubic Hermite's slope vanishes inside ``(0, h)`` (its slopes at the ends have opposite
+    signs: the slope, a quadratic in ``s = t / h``, has exactly one root there; in closed form, the
+    stable one of the two formulas)."""
+    c2 = 3.0 * (v0 + v1) - 6.0 * (y1 - y0) / h
+    c1 = 6.0 * (y1 - y0) / h - 4.0 * v0 - 2.0 * v1
+    c0 = v0
+    disc = max(c1 * c1 - 4.0 * c2 * c0, 0.0)
+    q = -0.5 * (c1 + np.copysign(np.sqrt(disc), c1))
+    roots = [r for r in ((q / c2) if c2 != 0 else np.nan, (c0 / q) if q != 0 else np.nan) if 0.0 <= r <= 1.0]
+    if not roots:                       # round-off at an end: bisection on the sign
+        lo, hi = 0.0, 1.0
+        for _ in range(60):
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if np.sign((c2 * mid + c1) * mid + c0) == np.sign(v0) else (lo, mid)
+        roots = [0.5 * (lo + hi)]
+    return float(min(roots) * h)
