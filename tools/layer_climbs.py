@@ -80,14 +80,32 @@ def _absolute(module: str, node: ast.ImportFrom, is_package: bool) -> str:
     return ".".join(base + ([node.module] if node.module else []))
 
 
+_BLOCKS = ("body", "orelse", "finalbody", "handlers", "cases")
+"""The fields of a statement that hold statements: an import is a statement, so the walk for them
+never enters an expression (most of a tree's nodes)."""
+
+
+def _statements(tree: ast.AST) -> list[ast.AST]:
+    """Every statement of ``tree`` at any depth (function and class bodies, branches, handlers)."""
+    out: list[ast.AST] = []
+    todo = [tree]
+    while todo:
+        node = todo.pop()
+        out.append(node)
+        for key in _BLOCKS:
+            todo.extend(reversed(getattr(node, key, ())))
+    return out
+
+
 def load() -> dict[str, Module]:
+    """Every module of the package, parsed once, with its imports (late ones too), functions and constants."""
     mods: dict[str, Module] = {}
     for path in sorted(PACKAGE.rglob("*.py")):
         name = _module_name(path)
         mods[name] = Module(name, ast.parse(path.read_text()))
         mods[name].is_package = path.name == "__init__.py"  # type: ignore[attr-defined]
     for m in mods.values():
-        for node in ast.walk(m.tree):
+        for node in _statements(m.tree):
             if isinstance(node, ast.ImportFrom):
                 src = _absolute(m.name, node, m.is_package)  # type: ignore[attr-defined]
                 for a in node.names:
@@ -185,8 +203,10 @@ def reached(mods: dict[str, Module], mod: str, qual: str) -> list[tuple[str, str
     return out
 
 
-def walk(entry: str) -> list[tuple[str, str]]:
-    mods = load()
+def walk(entry: str, mods: dict[str, Module] | None = None) -> list[tuple[str, str]]:
+    """The functions ``entry`` ("module:qualname") reaches, depth first in source order, each once
+    (``mods``: the parsed package, :func:`load`, parsed here when not given)."""
+    mods = load() if mods is None else mods
     mod, _, qual = entry.partition(":")
     seen: set[tuple[str, str]] = set()
     order: list[tuple[str, str]] = []
@@ -222,7 +242,7 @@ def climbs(entry: str = "vibss.frequency.api:frequency_response") -> tuple[int, 
     table = layers()
     path: list[tuple[str, int]] = []
     mods = load()
-    for mod, qual in walk(entry):
+    for mod, qual in walk(entry, mods):
         lay = layer_of(mod, table)
         if lay <= SKIPPED or qual in mods[mod].constants or _is_field(mods[mod].functions.get(qual)):
             continue

@@ -7,8 +7,9 @@ matrix is exactly singular (a zero pivot; solutions there are zeros).
 
 Frequency-dependent mounts add ``g_tau(s) K_tau`` per relaxation time (:func:`vibss.linear.plant.branches.groups`).
 
-- :func:`_dense`: batched LAPACK LU of the assembled ``K + iH + sC + s^2 M`` (a small plant's
-  certified complex-mode solutions first, :mod:`vibss.linear.solve.certified`);
+- :func:`_dense`: LAPACK LU of the assembled ``K + iH + sC + s^2 M``, batched for a small plant (its
+  certified complex-mode solutions first, :mod:`vibss.linear.solve.certified`), one frequency at a
+  time from :data:`LOOP_DOFS` DOFs;
 - :func:`_banded`: RCM ordering and LAPACK ``zgbsv`` (:mod:`vibss.linear.solve.banded`);
 - :func:`_superlu`: :func:`scipy.sparse.linalg.splu`;
 - :func:`_mounts`: the mounts kept apart (:class:`~vibss.linear.plant.plant.MountForm`), their forces
@@ -34,7 +35,7 @@ from ..plant.branches import groups
 from .certified import CERTIFY_TOL, applies, certified_states, modal_inverse
 from ..plant.plant import Plant
 
-__all__ = ["SOLVERS", "SolveBackend", "MOUNTS_DENSE_MAX", "MOUNTS_ORDER", "dynamic_stiffness", "certified_note"]
+__all__ = ["SOLVERS", "SolveBackend", "LOOP_DOFS", "MOUNTS_DENSE_MAX", "MOUNTS_ORDER", "dynamic_stiffness", "certified_note"]
 
 MOUNTS_DENSE_MAX = 300
 """The mounts' system (n + 3 q unknowns) is solved by dense LU up to this size, else by SuperLU."""
@@ -107,7 +108,8 @@ def dynamic_stiffness(k0: np.ndarray, c: np.ndarray, m: np.ndarray, s: np.ndarra
 
 def _dense(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray],
            rows: np.ndarray | None = None, certify: bool = True) -> tuple[np.ndarray, np.ndarray]:
-    """Batched dense LU; the solutions where ``A(s)`` is exactly singular come back as zeros, flagged;
+    """Dense LU: batched by numpy below :data:`LOOP_DOFS`, one LAPACK call per frequency from it
+    (:func:`_dense_each`); the solutions where ``A(s)`` is exactly singular come back as zeros, flagged;
     only the DOFs ``rows`` of each solution are kept (all by default).
 
     A small plant on the imaginary axis first takes its complex-mode solutions where their backward
@@ -132,6 +134,8 @@ def _dense(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray],
         rhs = asked
     relax = [g if not sp.issparse(g.K) else replace(g, K=g.K.toarray()) for g in groups(plant)]
     n = plant.n
+    if n >= LOOP_DOFS:
+        return _dense_each(k0, c, m, relax, s, rhs, rows)
     chunk = max(1, _CHUNK_BYTES // (16 * max(n, 1) ** 2))
     if not relax and s.size <= chunk:      # one batch (every small model): no chunk bookkeeping
         dyn = dynamic_stiffness(k0, c, m, s)
@@ -158,6 +162,56 @@ def _dense(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray],
                     bad[lo + k] = True
         xs.append(x if rows is None else x[:, rows])
     return np.concatenate(xs), bad
+
+
+LOOP_DOFS = 100
+"""Plants from this many DOFs are solved by :func:`_dense_each` (one LAPACK ``zgesv`` per frequency on
+a matrix built in place), smaller ones by numpy's batched LU (fewer calls: 0.73x at 40 DOFs the other
+way round; 1.35-1.5x faster at 150-600 DOFs, the same bits: ``benchmarks/bench_dense_loop.py``)."""
+
+
+def _dense_each(k0: np.ndarray, c: np.ndarray, m: np.ndarray, relax: list[Any], s: np.ndarray,
+                rhs: Callable[[slice], np.ndarray], rows: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """The dense LU frequency by frequency: ``A(s)`` written straight into one Fortran-ordered buffer
+    (its transpose's C order, so a non-symmetric plant is solved as it is) and factorised there by
+    LAPACK ``zgesv``, the routine numpy's batched solve calls on its own copy of each matrix: the
+    same matrix, pivots and solution, without the ``(chunk, n, n)`` stack of :func:`dynamic_stiffness`
+    and numpy's copy of it (two passes over memory per frequency saved; the buffer stays in cache).
+    Exactly singular frequencies (a zero pivot, ``info > 0``) come back as zeros, flagged; only the
+    DOFs ``rows`` of each solution are kept (all by default)."""
+    from scipy.linalg.lapack import zgesv
+
+    n, nf = c.shape[0], s.size
+    r_all = rhs(slice(None))
+    x = np.zeros((nf, n if rows is None else len(rows), r_all.shape[2]), dtype=complex)
+    bad = np.zeros(nf, dtype=bool)
+    a = np.empty((n, n), dtype=complex, order="F")
+    parts = a.T.view(float).reshape(n, n, 2)            # a.T is C-ordered: a.T[j, i] = A[i, j]
+    re, im = parts[..., 0], parts[..., 1]
+    kr = np.ascontiguousarray(k0.real.T)
+    ki = np.ascontiguousarray(k0.imag.T) if np.iscomplexobj(k0) else None
+    ct, mt = np.ascontiguousarray(c.T), np.ascontiguousarray(m.T)
+    gt = [np.ascontiguousarray(g.K.T) for g in relax]
+    gf = [g.factor(s) for g in relax]
+    on_axis = not np.any(s.real)
+    for i, sk in enumerate(s):
+        if on_axis:                                     # the same roundings as dynamic_stiffness
+            w = sk.imag
+            np.multiply(w * w, mt, out=re)
+            np.subtract(kr, re, out=re)
+            np.multiply(w, ct, out=im)
+            if ki is not None:
+                np.add(ki, im, out=im)
+        else:
+            a.T[...] = (k0.T if ki is not None else kr) + sk * ct + (sk * sk) * mt
+        for g, f in zip(gt, gf):
+            a.T[...] += f[i] * g
+        _, _, xi, info = zgesv(a, r_all[i], overwrite_a=1)
+        if info > 0:
+            bad[i] = True
+        else:
+            x[i] = xi if rows is None else xi[rows]
+    return x, bad
 
 
 def certified_note(plant: Plant, nf: int) -> str:
@@ -431,7 +485,7 @@ class SolveBackend(Method):
 
 
 SOLVERS: dict[str, SolveBackend] = {b.name: b for b in (
-    SolveBackend("dense", _dense, exact=True, summary="batched dense LU of the assembled matrix"),
+    SolveBackend("dense", _dense, exact=True, summary="dense LU of the assembled matrix (batched; per frequency from LOOP_DOFS)"),
     SolveBackend("banded", _banded, exact=True, sparse_ok=True,
                  summary="banded LU in a bandwidth-reducing order (LAPACK gbsv)"),
     SolveBackend("superlu", _superlu, exact=True, sparse_ok=True, summary="sparse LU (SuperLU) per frequency"),
