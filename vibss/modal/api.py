@@ -118,7 +118,8 @@ def modes(model: Model | Assembly, n_modes: int | None = None,
     omega = np.sqrt(w2)
     energy = energy_fractions(phi, M)
     gamma = phi.T @ (M @ rigid_influence(a.model))
-    bound = check_frequencies(spec.error, rigid)
+    # the decider's check when the route has the routes' claim; a user's callable is checked here
+    bound = decision.check if decision.check is not None else check_frequencies(spec.error, rigid)
     _warn_implausible_geometry(a.model, omega, rigid)
     note = "; ".join(x for x in (auto_note(method, name), bound.text()) if x)
     return Modes(model=a.model, dofs=a.dofs, omega=omega, shapes=phi, energy=energy,

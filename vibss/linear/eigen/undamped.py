@@ -36,7 +36,7 @@ from ..._validate import choice
 from ...results import ReadOnly
 from ...errors import ModelError
 from .checks import (RIGID_RTOL, ROUNDOFF_LEVERS, _as_factor, _factor_norms, _inverse_cholesky, _six_blocks,
-                     _trace_norm, error_estimate, fast_matrix, rigid_mask, stiffness_solver)
+                     _trace_norm, error_estimate, fast_matrix, mass_blocks, rigid_mask, stiffness_solver)
 from .small import projected_eigen
 from .jacobi import SMALL_PRODUCTS, _jacobi, _jacobi_floor, jacobi_svd
 
@@ -64,7 +64,8 @@ FREQ_RTOL = 1e-10
 """Target relative accuracy of every elastic frequency; modes whose estimate exceeds it (times the
 resonance amplification 1 / 2 zeta in :func:`modal_basis`) are refined."""
 
-def generalized_eigh(K: Any, M: Any, n_modes: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+def generalized_eigh(K: Any, M: Any, n_modes: int | None = None,
+                     blocks: tuple[np.ndarray, np.ndarray] | None = None) -> tuple[np.ndarray, np.ndarray]:
     """``K phi = w^2 M phi`` (all modes, or the lowest ``n_modes``), ``phi^T M phi = I``.
 
     A block-diagonal ``M`` (rigid bodies) is factorised per block, and the standard problem
@@ -79,6 +80,8 @@ def generalized_eigh(K: Any, M: Any, n_modes: int | None = None) -> tuple[np.nda
         Stiffness [N/m] and mass [kg] matrices (symmetric; M positive definite).
     n_modes : int or None
         Number of lowest modes (None: all).
+    blocks : tuple, optional
+        :func:`~vibss.linear.eigen.checks.mass_blocks` of a dense ``M``, when already computed.
 
     Returns
     -------
@@ -97,17 +100,21 @@ def generalized_eigh(K: Any, M: Any, n_modes: int | None = None) -> tuple[np.nda
     K = K.toarray() if sp.issparse(K) else np.asarray(K, float)
     subset = None if n_modes is None or n_modes >= K.shape[0] else [0, n_modes - 1]
     # a small sparse M is read densely, so a model's dense and sparse assemblies take one route
-    blocks = _six_blocks(M.toarray() if sp.issparse(M) and K.shape[0] <= SMALL_PRODUCTS else M)
+    if blocks is None:
+        blocks = mass_blocks(M.toarray() if sp.issparse(M) and K.shape[0] <= SMALL_PRODUCTS else M)
     if blocks is not None:
         # rigid bodies: L^-1 per 6x6 mass block, applied as one batched product (the sparse L^-1
         # costs three CSR products with n columns, about 10 ms at 600 DOF)
-        lib = np.linalg.inv(np.linalg.cholesky(blocks))
-        nb, n = blocks.shape[0], K.shape[0]
+        lib = blocks[1]
+        nb, n = lib.shape[0], K.shape[0]
         half = np.matmul(lib, K.reshape(nb, 6, n)).reshape(n, n)           # L^-1 K
         a = np.matmul(lib, half.T.reshape(nb, 6, n)).reshape(n, n)          # L^-1 K L^-T
         a = 0.5 * (a + a.T)
-        w2, u = sl.eigh(a, subset_by_index=subset, driver="evd" if subset is None else "evr",
-                        check_finite=False)
+        if subset is None and n <= SMALL_PRODUCTS:
+            w2, u = np.linalg.eigh(a)       # LAPACK syevd as scipy's driver "evd", without its wrapper (10 us)
+        else:
+            w2, u = sl.eigh(a, subset_by_index=subset, driver="evd" if subset is None else "evr",
+                            check_finite=False)
         k = u.shape[1]
         phi = np.matmul(np.swapaxes(lib, 1, 2), u.reshape(nb, 6, k)).reshape(n, k)   # L^-T u
         return w2, phi
@@ -255,6 +262,7 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
         name = "dense"
     bound = np.inf
     floor = 0.0
+    blocks = None
     if name == "jacobi":
         w2, phi, bound = _jacobi(factor, M)
         floor = _jacobi_floor(w2)
@@ -264,7 +272,11 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
         if n_modes is not None and name == "dense":   # a guard band: Ritz on k modes alone converges
             guard = min(n, max(2 * n_modes, n_modes + 12))  # slowly for the top ones (shift-invert's
             #                                                 modes are already inverse iterates)
-        w2, phi = solver(K, M, guard)
+        if name == "dense" and not callable(method) and not sp.issparse(M):
+            blocks = mass_blocks(M)          # once, for the solve and the bounds
+            w2, phi = generalized_eigh(K, M, guard, blocks)
+        else:
+            w2, phi = solver(K, M, guard)
         w2, phi = np.asarray(w2, float), np.asarray(phi, float)
         # eigh's null vectors have ||A phi||^2 ~ eps w2_max: the floor is sqrt(eps) of the top.
         # Shift-invert's lowest modes are the dominant ones of (K - sigma M)^-1 M, computed to
@@ -274,7 +286,7 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
             np.sqrt(10 * n * np.finfo(float).eps) * _trace_norm(M, K, checked)
     norms = None if factor is None else _factor_norms(checked, phi)
     rigid = rigid_mask(phi, K, checked, floor, norms)
-    est = error_estimate(w2, phi, M, None if factor is not None else K, checked, rigid, norms=norms)
+    est = error_estimate(w2, phi, M, None if factor is not None else K, checked, rigid, norms=norms, blocks=blocks)
     est = np.minimum(est, bound + _data_rounding(norms))
     if small_auto and (np.any(rigid) or not np.all(np.isfinite(est[~rigid]))):
         # eigh cannot tell a rigid mode from one below sqrt(eps) of the top, nor bound a mode in a
