@@ -428,12 +428,12 @@ def _mount_points(model: Model) -> _MountPoints:
     nz = 6 * ng
     cogs = np.vstack([np.array([b.cog for b in model.bodies]), np.zeros((ng, 3))])  # ground last
     nm = len(model.mounts)
-    b_index = np.array([names[m.body] for m in model.mounts], dtype=int).reshape(nm)
-    a_index = np.array([names[m.to] if m.to in names else nb + model.ground_node(m)
-                        for m in model.mounts], dtype=int).reshape(nm)
+    # each mount read once: its two nodes and whether its point is in body axes
+    ends = np.array([(names[m.body], names[m.to] if m.to in names else nb + model.ground_node(m),
+                      m.frame == "body") for m in model.mounts], dtype=int).reshape(nm, 3)
+    b_index, a_index = ends[:, 0].copy(), ends[:, 1].copy()
     at = np.array([m.at for m in model.mounts]).reshape(nm, 3)
-    body_frame = np.array([m.frame == "body" for m in model.mounts], dtype=bool)
-    p = at + np.where(body_frame[:, None], cogs[b_index], 0.0)
+    p = at + np.where(ends[:, 2, None] == 1, cogs[b_index], 0.0)
     r_b, r_a = p - cogs[b_index], p - cogs[a_index]
     t = np.array([m.orientation.matrix for m in model.mounts]).reshape(nm, 3, 3)
     return _MountPoints(b_index, a_index, r_b, r_a, t, n, nz)
@@ -592,7 +592,7 @@ def _summed(model: Model, pat: _BlockPattern, mm: _MountMatrices,
     if not sparse:
         q = len(live)
         rows = (pat.rows[None, :] + size * np.arange(q)[:, None]).ravel()
-        full = _coo_dense(vals.ravel(), rows, np.tile(pat.cols, q), q * size, size).reshape(q, size, size)
+        full = _coo_dense(vals.ravel(), rows, np.concatenate([pat.cols] * q), q * size, size).reshape(q, size, size)
         for i, key in enumerate(live):
             # one sum per entry, zeros as the sparse path leaves them: bit for bit its matrix
             body = full[i, :n, :n]

@@ -10,6 +10,7 @@ from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
+from scipy.linalg import lapack
 
 from .assemble import Assembly
 from .plant import MountForm
@@ -140,8 +141,42 @@ def _free_motion(asm: Assembly, free: np.ndarray) -> bool:
     g = asm.stiffness_factor()[:, free].toarray()
     if g.shape[0] < g.shape[1]:
         return True
+    if _held(asm, free, g):
+        return False
     sv = np.linalg.svd(g, compute_uv=False)
     return bool(sv[-1] <= g.shape[0] * np.finfo(float).eps * sv[0])
+
+
+HELD_MARGIN = 1e6
+"""How far above the free-motion threshold the Cholesky bound of :func:`_held` must put the smallest
+singular value of the factor (squared) before the SVD is skipped."""
+
+
+def _held(asm: Assembly, free: np.ndarray, g: np.ndarray) -> bool:
+    """Whether the Cholesky factor of the assembled ``K`` (free DOFs) *proves* that no motion is free,
+    so that :func:`_free_motion` needs no SVD of the factor ``G`` (150 DOF: about 1 ms against 3 ms).
+
+    With ``K = L L^T`` computed, ``lambda_min(L L^T) = 1 / ||L^-1||_2^2 >= 1 / ||L^-1||_F^2``; ``L L^T``
+    is the assembled ``K`` within ``gamma_(n+1) ||L||_F^2`` (the Cholesky's backward error), and that
+    is ``G^T G`` within ``gamma_m || |G|^T |G| ||`` (the sums of the assembly), both at most
+    ``(n + m + 2) eps ||G||_F^2`` (``trace(L L^T) = trace K``). So ``sigma_min(G)^2`` is at least
+    ``lower = 1 / (2 ||L^-1||_F^2) - 4 (n + m + 2) eps ||G||_F^2`` (a factor 2 and 4 for the
+    rounding of ``L^-1`` and of the norms), and ``sigma_max^2 <= ||G||_F^2``: the SVD's test
+    ``sigma_min <= m eps sigma_max`` cannot hold when ``lower`` exceeds :data:`HELD_MARGIN` times
+    ``(m eps)^2 ||G||_F^2``. A Cholesky that fails or a bound below that: False (the SVD decides)."""
+    m, n = g.shape
+    eps = float(np.finfo(float).eps)
+    k = asm.dense("K")[np.ix_(free, free)]
+    try:
+        low = np.linalg.cholesky(k)
+    except np.linalg.LinAlgError:
+        return False
+    inv, info = lapack.dtrtri(low, lower=1)
+    if info != 0 or not np.all(np.isfinite(inv)):
+        return False
+    g2 = float(np.einsum("ij,ij->", g, g))
+    lower = 0.5 / float(np.einsum("ij,ij->", inv, inv)) - 4 * (n + m + 2) * eps * g2
+    return bool(lower > HELD_MARGIN * (m * eps) ** 2 * g2)
 
 
 def _inertia_w2(asm: Assembly, free: np.ndarray, b: sp.csr_matrix, kmax: np.ndarray, mass: Any,
