@@ -56,7 +56,7 @@ from .contracts import (COMPLEX_MODAL, EXACT, MODAL, STATESPACE, SUBSPACE, WOODB
                         cost_modal, cost_sparse, cost_statespace, cost_subspace, cost_woodbury,
                         subspace_size)
 from .lowrank import woodbury
-from .terms import feedthrough as _feedthrough, mass_solve as _mass_solve, static as _static, terms as _terms
+from .terms import feedthrough as _feedthrough, has_feedthrough, mass_solve as _mass_solve, static as _static, terms as _terms
 
 __all__ = ["METHODS", "FrequencyMethod", "custom_method", "direct", "modal", "complex_modal", "complex_modal_estimated", "woodbury", "sparse", "via_statespace",
            "complex_mode_risk", "mode_risks", "COMPLEX_MODE_RISK", "REFINE_PREDICT",
@@ -144,6 +144,31 @@ def _times_right(blocks: list[_RightFactors], r: np.ndarray) -> np.ndarray:
     return parts[0] if len(parts) == 1 else np.vstack(parts)
 
 
+def _products(lefts: list, rights: list, dd: np.ndarray, s: np.ndarray, zf: np.ndarray,
+              consts: list[tuple[dict, np.ndarray]], p: int, m: int) -> np.ndarray:
+    """``sum_ab s^(a+b) Z (O_a left) diag(dd) (right R_b)`` plus constant outputs, (p m, nr) with the
+    frequencies last: ``dd`` (nr, r) transfer functions, ``consts`` pairs of ``{(a, i): (p, m)}`` and
+    their (nr,) factors. The (r, nr) transpose of ``dd`` is read as real pairs, so one real GEMM with
+    a real weight gives the complex products in place (no strided halves, no pass combining them)."""
+    nr = s.size
+    dt = np.ascontiguousarray(dd.T, dtype=complex)
+    out: np.ndarray | None = None
+    for a, lo in lefts:
+        for i, (b, ro, scaled, _) in enumerate(rights):
+            w = (lo[:, :, None] * ro[None, :, :]).transpose(1, 0, 2).reshape(-1, p * m)
+            if np.isrealobj(w):
+                t = (np.ascontiguousarray(w.T) @ dt.view(float)).view(complex)          # (p m, nr)
+            else:
+                t = w.T @ dt
+            for ys, scale in consts:
+                t = t + ys[(a, i)].reshape(p * m, 1) * scale[None, :]
+            if a + b or scaled:
+                fac = s[:, None] ** (a + b) * (zf if scaled else np.ones((1, m)))     # (nr, m)
+                t = (t.reshape(p, m, nr) * fac.T[None, :, :]).reshape(p * m, nr)
+            out = t if out is None else out + t
+    return out if out is not None else np.zeros((p * m, nr), dtype=complex)
+
+
 def _superpose(plant: Plant, s: np.ndarray, left: list[_Factors],
                right: list[_RightFactors], d: np.ndarray,
                d_acc: _Form | None = None, d_mass: _Form | None = None) -> np.ndarray:
@@ -212,37 +237,41 @@ def _superpose(plant: Plant, s: np.ndarray, left: list[_Factors],
         forms.append((extra, ys, scale))
         costs.append(np.where(ok, cost, np.inf))
     pick = np.argmin(np.stack(costs), axis=0)
-    y = np.zeros((nf, p * m), dtype=complex)
-    for which, (form, consts, cscale) in enumerate(forms):
-        rows = pick == which
-        if not np.any(rows):
-            continue
-        if isinstance(form, tuple):
-            dd = d[rows] * form[0][rows, None]
-            dd *= form[1][None, :]
-        else:
-            dd = form if rows.all() else form[rows]
-        sr, zr = s[rows], zf[rows]
-        part = np.zeros((sr.size, p * m), dtype=complex)
-        for a, lo in lefts:
-            for i, (b, ro, scaled, _) in enumerate(rights):
-                w = (lo[:, :, None] * ro[None, :, :]).transpose(1, 0, 2).reshape(-1, p * m)
-                if np.isrealobj(w) and not np.isrealobj(dd):
-                    t = dd.real @ w + 1j * (dd.imag @ w)
-                else:
-                    t = dd @ w
-                if consts is not None and cscale is not None:
-                    t = t + cscale[rows, None] * consts[(a, i)].reshape(1, p * m)
-                fac = sr[:, None] ** (a + b) * (zr if scaled else np.ones((1, m)))   # (nr, m)
-                part += (t.reshape(sr.size, p, m) * fac[:, None, :]).reshape(sr.size, p * m)
-        y[rows] = part
+    if not any(isinstance(form, tuple) for form, _, _ in forms):
+        # one product over every frequency, each row of the transfer functions from the form it
+        # picked and each form's constant outputs added where it was picked: no per-form gathers
+        # of columns and no scatter of them (150 DOF, 1,000 frequencies x 216 channels: 3 ms, not 9)
+        dd = d
+        for which, (form, _, _) in enumerate(forms[1:], 1):
+            rows = pick == which
+            if np.any(rows):
+                dd = dd.copy() if dd is d else dd
+                dd[rows] = form[rows]
+        consts = [(c, np.where(pick == which, cscale, 0.0)) for which, (_, c, cscale) in enumerate(forms)
+                  if c is not None and cscale is not None and np.any(pick == which)]
+        y = _products(lefts, rights, dd, s, zf, consts, p, m)
+    else:
+        y = np.zeros((p * m, nf), dtype=complex)         # frequencies last, as the products give them
+        for which, (form, ys, cscale) in enumerate(forms):
+            rows = pick == which
+            if not np.any(rows):
+                continue
+            if isinstance(form, tuple):
+                dd = d[rows] * form[0][rows, None]
+                dd *= form[1][None, :]
+            else:
+                dd = form if rows.all() else form[rows]
+            y[:, rows] = _products(lefts, rights, dd, s[rows], zf[rows],
+                                   [] if ys is None or cscale is None else [(ys, cscale[rows])], p, m)
     for k in np.flatnonzero(bad.any(axis=1)):   # unbounded where the resonant mode is seen and driven
         modes = bad[k]
         seen = sum(np.abs(lo[:, modes]) for _, lo in lefts)
         driven = sum(np.abs(ro[modes, :]) for _, ro, _, _ in rights)
-        y[k, (np.asarray(seen) @ np.asarray(driven)).reshape(-1) > 0] = np.inf
-    out = y.reshape(nf, p, m) + _feedthrough(plant, s, zf)
-    return np.moveaxis(out, 0, -1)
+        y[(np.asarray(seen) @ np.asarray(driven)).reshape(-1) > 0, k] = np.inf
+    out = y.reshape(p, m, nf)
+    if has_feedthrough(plant):
+        out = out + np.moveaxis(_feedthrough(plant, s, zf), 0, -1)
+    return out
 
 
 COMPLEX_MODE_RISK = 1e-9
