@@ -80,9 +80,11 @@ def dof_labels(fractions: np.ndarray, dofs: Sequence[str]) -> list[str]:
     bodies = list(dict.fromkeys(p[0] for p in split if len(p) == 2 and p[1] in DOF_NAMES))
     e = np.abs(np.asarray(fractions, dtype=float))
     table = np.zeros((e.shape[0], max(len(bodies), 1), 6))
-    for j, p in enumerate(split):
-        if len(p) == 2 and p[1] in DOF_NAMES:
-            table[:, bodies.index(p[0]), DOF_NAMES.index(p[1])] += e[:, j]
+    where = {b: i for i, b in enumerate(bodies)}
+    named = [(j, where[p[0]], DOF_NAMES.index(p[1])) for j, p in enumerate(split) if len(p) == 2 and p[1] in DOF_NAMES]
+    if named:                                 # every DOF's share added to its (body, direction) at once
+        col, body, dof = np.array(named, dtype=int).T
+        np.add.at(table, (slice(None), body, dof), e[:, col])
     out = []
     for k in range(e.shape[0]):
         if not bodies or not table[k].any():

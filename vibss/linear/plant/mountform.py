@@ -51,8 +51,9 @@ def mount_form(asm: Assembly, free: np.ndarray, source: tuple, extra_c: Any = No
     # assembled, a stiff axis rounds the zero axis beside it at its own level (issue 18's fuzzer:
     # a 2 g body free along such an axis lost 1.5e-8 of its FRF at 0.1 Hz)
     mounts = asm.model.mounts
-    axial = ~apart & (rows > 0) & np.array([not m.type.coupled and bool(np.any(np.asarray(m.type.stiffness) > 0))
-                                            for m in mounts], dtype=bool).reshape(q)
+    axial = ~apart & (rows > 0)
+    for p in np.flatnonzero(axial):           # only the mounts not kept apart whole are asked
+        axial[p] = not mounts[p].type.coupled and bool(np.any(np.asarray(mounts[p].type.stiffness) > 0))
     if not apart.any() and not axial.any():
         return None
     idx = (3 * np.flatnonzero(apart)[:, None] + np.arange(3)).ravel()
