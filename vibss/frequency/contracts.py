@@ -122,8 +122,7 @@ def check_frequencies(s: np.ndarray, raw: np.ndarray | None) -> np.ndarray:
     and largest response were within 1e-11)."""
     if raw is None:
         return np.unique([0, s.size // 2, s.size - 1])
-    sq = raw.real ** 2 + raw.imag ** 2           # |raw|^2 per entry: no complex copy, no hypot
-    size = np.sqrt(np.where(np.isfinite(sq), sq, 0.0).sum(axis=(0, 1)))
+    size = _sizes(raw)
     idx = [0, int(np.argmax(size)), s.size - 1]
     if s.size > 2:
         mid = size[1:-1]
@@ -135,6 +134,17 @@ def check_frequencies(s: np.ndarray, raw: np.ndarray | None) -> np.ndarray:
                 ratio = (mid[at] / np.maximum(near[at], tiny)) ** sign
                 idx += (at[np.argsort(-ratio)[:CHECK_PEAKS]] + 1).tolist()
     return np.unique(idx)
+
+
+def _sizes(raw: np.ndarray) -> np.ndarray:
+    """(nf,) Frobenius norm of each frequency's response, its entries that are not finite left out."""
+    if raw.flags.c_contiguous and np.iscomplexobj(raw):    # real and imaginary parts as one real array
+        v = raw.view(float).reshape(-1, raw.shape[-1], 2)
+        sq = np.einsum("ijk,ijk->j", v, v)
+        if np.all(np.isfinite(sq)):
+            return np.sqrt(sq)
+    sq = raw.real ** 2 + raw.imag ** 2
+    return np.sqrt(np.where(np.isfinite(sq), sq, 0.0).sum(axis=(0, 1)))
 
 
 def _where(s: np.ndarray) -> str:

@@ -160,8 +160,8 @@ def _products(lefts: list, rights: list, dd: np.ndarray, s: np.ndarray, zf: np.n
                 t = (np.ascontiguousarray(w.T) @ dt.view(float)).view(complex)          # (p m, nr)
             else:
                 t = w.T @ dt
-            for ys, scale in consts:
-                t = t + ys[(a, i)].reshape(p * m, 1) * scale[None, :]
+            for ys, scale in consts:               # t is the product's own array: added in place
+                t += ys[(a, i)].reshape(p * m, 1) * scale[None, :]
             if a + b or scaled:
                 fac = s[:, None] ** (a + b) * (zf if scaled else np.ones((1, m)))     # (nr, m)
                 t = (t.reshape(p, m, nr) * fac.T[None, :, :]).reshape(p * m, nr)

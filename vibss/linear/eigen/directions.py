@@ -85,14 +85,15 @@ def dof_labels(fractions: np.ndarray, dofs: Sequence[str]) -> list[str]:
     if named:                                 # every DOF's share added to its (body, direction) at once
         col, body, dof = np.array(named, dtype=int).T
         np.add.at(table, (slice(None), body, dof), e[:, col])
-    out = []
-    for k in range(e.shape[0]):
-        if not bodies or not table[k].any():
-            out.append("")
-            continue
-        d = int(np.argmax(table[k].sum(axis=0)))
-        out.append(DOF_NAMES[d] if len(bodies) == 1 else f"{bodies[int(np.argmax(table[k, :, d]))]}.{DOF_NAMES[d]}")
-    return out
+    if not bodies:
+        return [""] * e.shape[0]
+    empty = ~table.any(axis=(1, 2))
+    direction = np.argmax(table.sum(axis=1), axis=1)                                # (k,)
+    holder = np.argmax(table[np.arange(e.shape[0]), :, direction], axis=1)          # (k,) body
+    if len(bodies) == 1:
+        return ["" if empty[k] else DOF_NAMES[d] for k, d in enumerate(direction.tolist())]
+    return ["" if empty[k] else f"{bodies[b]}.{DOF_NAMES[d]}"
+            for k, (d, b) in enumerate(zip(direction.tolist(), holder.tolist()))]
 
 
 def cluster_slices(values: np.ndarray, rtol: float, atol: float) -> list[slice]:

@@ -199,7 +199,8 @@ class Spectrum(ReadOnly):
 # functions over 80 lines).
 def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
              method: "str | Solver" = "auto",
-             also: "Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray] | None" = None) -> Spectrum:
+             also: "Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray] | None" = None,
+             solve: "Callable[[np.ndarray], np.ndarray] | None" = None) -> Spectrum:
     """The one undamped eigen solve ``K phi = w^2 M phi``: modes, rigid flags and error bounds.
 
     Parameters
@@ -221,6 +222,9 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
         :data:`FREQ_RTOL` (e.g. amplified at a light resonance, :func:`modal_basis`). On the
         ``eigh`` path without rigid modes they (and every mode below them) are refined in the same
         sweep as the modes this function refines for itself.
+    solve : callable, optional
+        ``b -> K^-1 b``, the caller's factorisation of ``K`` (a plant's cached one, shared with its
+        static solves); the refinement without a shift uses it instead of factorising ``K`` again.
 
     Returns
     -------
@@ -311,7 +315,7 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
                     1e-6 * float(np.median(ratio[ratio > 0])) if np.any(ratio > 0) else 1.0
             refined = False
             for _ in range(3):                 # a few sweeps of subspace inverse iteration
-                w2, phi, est, ok = _refine(K, M, factor, w2, phi, est, need, shift, whole=True,
+                w2, phi, est, ok = _refine(K, M, factor, w2, phi, est, need, shift, solve, whole=True,
                                            estimate=factor is None)   # with a factor: tested below
                 if not ok:
                     break
@@ -340,7 +344,7 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
             extra = np.asarray(also(w2, phi, est), bool)
             if np.any(extra):
                 extra = np.arange(w2.size) <= np.flatnonzero(extra).max()
-                w2, phi, est, ok = _refine(K, M, factor, w2, phi, est, extra, whole=True)
+                w2, phi, est, ok = _refine(K, M, factor, w2, phi, est, extra, solve=solve, whole=True)
                 name += "+refined" if ok and not name.endswith("+refined") else ""
     w2 = np.where(rigid, 0.0, np.maximum(w2, 0.0))
     if n_modes is not None and n_modes < w2.size:
