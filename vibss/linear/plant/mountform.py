@@ -139,10 +139,12 @@ FREE_MOTION_CHECK_MAX = 150
 def _free_motion(asm: Assembly, free: np.ndarray) -> bool:
     """Whether the mounts leave a motion of the free DOFs unrestrained: the stiffness factor's
     smallest singular value at round-off of its largest (or fewer rows than DOFs)."""
-    g = asm.stiffness_factor()[:, free].toarray()
+    factor = asm.stiffness_factor()
+    every = free.size == asm.n and bool(np.all(free == np.arange(asm.n)))
+    g = factor.toarray() if every else factor[:, free].toarray()
     if g.shape[0] < g.shape[1]:
         return True
-    if _held(asm, free, g):
+    if _held(asm, free, g, every):
         return False
     sv = np.linalg.svd(g, compute_uv=False)
     return bool(sv[-1] <= g.shape[0] * np.finfo(float).eps * sv[0])
@@ -153,7 +155,7 @@ HELD_MARGIN = 1e6
 singular value of the factor (squared) before the SVD is skipped."""
 
 
-def _held(asm: Assembly, free: np.ndarray, g: np.ndarray) -> bool:
+def _held(asm: Assembly, free: np.ndarray, g: np.ndarray, every: bool = False) -> bool:
     """Whether the Cholesky factor of the assembled ``K`` (free DOFs) *proves* that no motion is free,
     so that :func:`_free_motion` needs no SVD of the factor ``G`` (150 DOF: about 1 ms against 3 ms).
 
@@ -167,7 +169,7 @@ def _held(asm: Assembly, free: np.ndarray, g: np.ndarray) -> bool:
     ``(m eps)^2 ||G||_F^2``. A Cholesky that fails or a bound below that: False (the SVD decides)."""
     m, n = g.shape
     eps = float(np.finfo(float).eps)
-    k = asm.dense("K")[np.ix_(free, free)]
+    k = asm.dense("K") if every else asm.dense("K")[np.ix_(free, free)]
     try:
         low = np.linalg.cholesky(k)
     except np.linalg.LinAlgError:
