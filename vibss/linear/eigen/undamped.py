@@ -36,7 +36,7 @@ from ..._validate import choice
 from ...results import ReadOnly
 from ...errors import ModelError
 from .checks import (RIGID_RTOL, ROUNDOFF_LEVERS, _as_factor, _factor_norms, _inverse_cholesky, _six_blocks,
-                     _trace_norm, error_estimate, fast_matrix, mass_blocks, rigid_mask, stiffness_solver)
+                     _trace_norm, csr_of, error_estimate, fast_matrix, mass_blocks, rigid_mask, stiffness_solver)
 from .small import projected_eigen
 from .jacobi import SMALL_PRODUCTS, _jacobi, _jacobi_floor, jacobi_svd
 
@@ -248,6 +248,10 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
     # the checks' products on a tiny model's factor as a dense array: the same bounds (each with its
     # own rounding term) without scipy.sparse's bookkeeping, about 17 CSR objects a call
     checked = factor.toarray() if sp.issparse(factor) and n <= DENSE_CHECKS else factor
+    if factor is not None and not sp.issparse(factor) and n <= DENSE_CHECKS:
+        # a tiny dense factor (an assembly's, without its CSR): the Jacobi SVD and the refinement
+        # take its CSR, built only if they run, so their products keep scipy.sparse's digits
+        factor = _LazyCSR(checked)
     if callable(method):
         name = getattr(method, "__name__", "custom")
     elif method == "auto":
@@ -268,7 +272,7 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
     floor = 0.0
     blocks = None
     if name == "jacobi":
-        w2, phi, bound = _jacobi(factor, M)
+        w2, phi, bound = _jacobi(_csr(factor), M)
         floor = _jacobi_floor(w2)
     else:
         solver = method if callable(method) else METHODS[name]
@@ -296,7 +300,7 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
         # eigh cannot tell a rigid mode from one below sqrt(eps) of the top, nor bound a mode in a
         # cluster (no gap: an infinite bound): the Jacobi SVD decides, as it always did. Modes with
         # a finite bound over FREQ_RTOL are refined below, and go to the Jacobi SVD if they stay so
-        w2, phi, rigid, est = _jacobi_checked(factor, M, K, checked)
+        w2, phi, rigid, est = _jacobi_checked(_csr(factor), M, K, checked)
         name = "jacobi"
     if name in ("dense", "shift-invert") and not callable(method):
         # eigh cannot tell a rigid mode from one below sqrt(eps) of the top: refine every mode up to
@@ -315,7 +319,7 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
                     1e-6 * float(np.median(ratio[ratio > 0])) if np.any(ratio > 0) else 1.0
             refined = False
             for _ in range(3):                 # a few sweeps of subspace inverse iteration
-                w2, phi, est, ok = _refine(K, M, factor, w2, phi, est, need, shift, solve, whole=True,
+                w2, phi, est, ok = _refine(K, M, _csr(factor), w2, phi, est, need, shift, solve, whole=True,
                                            estimate=factor is None)   # with a factor: tested below
                 if not ok:
                     break
@@ -337,19 +341,38 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
         if factor is not None and n <= JACOBI_FALLBACK and np.any(~rigid & ~(est <= FREQ_RTOL)):
             # eigh and its refinement cannot certify some mode (a strongly graded model): the Jacobi
             # SVD can, at ~8x the cost of eigh
-            w2, phi, rigid, est = _jacobi_checked(factor, M, K, checked)
+            w2, phi, rigid, est = _jacobi_checked(_csr(factor), M, K, checked)
             name = "jacobi (eigh could not certify every mode)"
         if also is not None and not asked and name.startswith("dense") and not np.any(rigid):
             # modes flagged rigid at first turned out elastic: the consumer's need, asked now
             extra = np.asarray(also(w2, phi, est), bool)
             if np.any(extra):
                 extra = np.arange(w2.size) <= np.flatnonzero(extra).max()
-                w2, phi, est, ok = _refine(K, M, factor, w2, phi, est, extra, solve=solve, whole=True)
+                w2, phi, est, ok = _refine(K, M, _csr(factor), w2, phi, est, extra, solve=solve, whole=True)
                 name += "+refined" if ok and not name.endswith("+refined") else ""
     w2 = np.where(rigid, 0.0, np.maximum(w2, 0.0))
     if n_modes is not None and n_modes < w2.size:
         w2, phi, rigid, est = w2[:n_modes], phi[:, :n_modes], rigid[:n_modes], est[:n_modes]
     return Spectrum(w2, phi, rigid, est, name)
+
+
+class _LazyCSR:
+    """A tiny dense stiffness factor whose CSR form (:func:`~vibss.linear.eigen.checks.csr_of`) is
+    built on first use: the eigh path reads the dense array only (a CSR costs ~15 us on 6 DOFs)."""
+
+    def __init__(self, dense: np.ndarray) -> None:
+        self.dense = dense
+        self._csr: Any = None
+
+    def csr(self) -> Any:
+        if self._csr is None:
+            self._csr = csr_of(self.dense)
+        return self._csr
+
+
+def _csr(factor: Any) -> Any:
+    """The factor the Jacobi SVD and the refinement take: a :class:`_LazyCSR`'s CSR, else itself."""
+    return factor.csr() if isinstance(factor, _LazyCSR) else factor
 
 
 def _jacobi_checked(factor: Any, M: Any, K: Any, checked: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray,

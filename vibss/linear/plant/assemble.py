@@ -27,9 +27,10 @@ import numpy.typing as npt
 import scipy.sparse as sp
 
 from ...errors import ModelError
-from ...results import ReadOnly
+from ...results import ReadOnly, freeze
 from ...model.geometry import point_transfer
 from ...model.model import DOF_NAMES, GROUND, Model
+from ..eigen.checks import csr_of
 from ..eigen.small import symmetric_eigen
 from .memo import remembered
 
@@ -92,11 +93,7 @@ class Assembly(ReadOnly):
     dofs: tuple[str, ...]
     M: np.ndarray | sp.csr_matrix
     K: np.ndarray | sp.csr_matrix
-    C: np.ndarray | sp.csr_matrix
-    H: np.ndarray | sp.csr_matrix
     Kg: np.ndarray
-    Cg: np.ndarray
-    Hg: np.ndarray
     kp: np.ndarray
     cp: np.ndarray
     hp: np.ndarray
@@ -114,6 +111,34 @@ class Assembly(ReadOnly):
     # the assembly owns its matrices and every later analysis shares them: frozen in place, so an
     # in-place change through a handle cannot alter those analyses
     owns_arrays: ClassVar[bool] = True
+
+    @property
+    def C(self) -> np.ndarray | sp.csr_matrix:
+        """Viscous damping of the body DOFs [N s/m ...] (summed on first use, with ``H``: modes need neither)."""
+        return self._damping()["C"][0]
+
+    @property
+    def H(self) -> np.ndarray | sp.csr_matrix:
+        """Hysteretic stiffness of the body DOFs [N/m ...] (``K + iH`` in the frequency domain)."""
+        return self._damping()["H"][0]
+
+    @property
+    def Cg(self) -> np.ndarray:
+        """(n, nz) viscous coupling of the body DOFs to the ground-side DOFs."""
+        return self._damping()["C"][1]
+
+    @property
+    def Hg(self) -> np.ndarray:
+        """(n, nz) hysteretic coupling of the body DOFs to the ground-side DOFs."""
+        return self._damping()["H"][1]
+
+    def _damping(self) -> dict[str, tuple[Any, np.ndarray]]:
+        """C and H with their ground couplings, summed over the mounts once (both in one call), frozen."""
+        if "damping" not in self._cache:
+            mm = _MountMatrices(self.kp, self.cp, self.hp, self.krp, self.crp, self.kcp, self.ccp)
+            mats, couplings = _summed(self.model, self._cache["pattern"], mm, self.sparse, ("C", "H"))
+            self._cache["damping"] = freeze({key: (mats[key], couplings[key]) for key in ("C", "H")})
+        return self._cache["damping"]
 
     @property
     def n(self) -> int:
@@ -215,6 +240,35 @@ class Assembly(ReadOnly):
                                              shape=(3 * nm, 6 * nb + self.nz))
         return self._cache["R"]
 
+    def dense_factor(self) -> np.ndarray:
+        """:meth:`stiffness_factor` as a read-only dense (r, n) array, the same numbers (cached).
+
+        A small dense model's factor is made dense and its CSR only built when asked for: the
+        eigen path of a 6-DOF model reads the dense array alone."""
+        if "Gd" not in self._cache:
+            plain = self._plain_dense()
+            g = plain if plain is not None else self.stiffness_factor().toarray()
+            g.flags.writeable = False
+            self._cache["Gd"] = g
+        return self._cache["Gd"]
+
+    def _plain_dense(self) -> np.ndarray | None:
+        """The dense factor of a dense assembly with translational rows only (else None)."""
+        if self.sparse:
+            return None
+        k, t = self._rates()
+        if not self._plain_factor(k):
+            return None
+        return self._dense_factor(np.sqrt(k)[:, :, None] * t.transpose(0, 2, 1), k)
+
+    def _rates(self) -> tuple[np.ndarray, np.ndarray]:
+        """(nm, 3) principal stiffnesses [N/m] (refused if negative) and (nm, 3, 3) local axes."""
+        nm = len(self.b_index)
+        k = np.array([m.type.stiffness for m in self.model.mounts], dtype=float).reshape(nm, 3)
+        if np.any(k < 0):
+            raise ModelError("stiffness_factor: a mount has a negative stiffness (K = G^T G needs k >= 0)")
+        return k, np.array([m.orientation.matrix for m in self.model.mounts]).reshape(nm, 3, 3)
+
     def stiffness_factor(self) -> sp.csr_matrix:
         """(r, n) sparse factor G of the stiffness of the body DOFs: ``K = G^T G``.
 
@@ -237,14 +291,11 @@ class Assembly(ReadOnly):
         """
         if "G" not in self._cache:
             nm = len(self.b_index)
-            k = np.array([m.type.stiffness for m in self.model.mounts], dtype=float).reshape(nm, 3)
-            if np.any(k < 0):
-                raise ModelError("stiffness_factor: a mount has a negative stiffness (K = G^T G needs k >= 0)")
-            t = np.array([m.orientation.matrix for m in self.model.mounts]).reshape(nm, 3, 3)
+            k, t = self._rates()
             # block-diagonal diag(sqrt k) T^T, one 3x3 block per mount, times the deflection rows
             blocks = np.sqrt(k)[:, :, None] * t.transpose(0, 2, 1)          # (nm, 3, 3)
             if not self.sparse and self._plain_factor(k):
-                self._cache["G"] = self._dense_factor(blocks, k)
+                self._cache["G"] = csr_of(self.dense_factor())
                 return self._cache["G"]
             r = np.repeat(3 * np.arange(nm), 9).reshape(nm, 3, 3) + np.arange(3)[None, :, None]
             c = np.repeat(3 * np.arange(nm), 9).reshape(nm, 3, 3) + np.arange(3)[None, None, :]
@@ -275,7 +326,7 @@ class Assembly(ReadOnly):
         return not np.any(kr > 0) and not np.any(self.b_index == self.a_index) and not any(m.type.stiffness_matrix is not None and m.type.coupled
                                               for m in self.model.mounts)
 
-    def _dense_factor(self, blocks: np.ndarray, k: np.ndarray) -> sp.csr_matrix:
+    def _dense_factor(self, blocks: np.ndarray, k: np.ndarray, levers: np.ndarray | None = None) -> np.ndarray:
         """:meth:`stiffness_factor` of a small model without sparse products: the same sums in the
         same order. scipy's ``st @ B`` adds, per entry, ``st[r, 3p + i] B[3p + i, c]`` over
         ``i = 0, 1, 2`` from zero, left to right (products of structural zeros left out, which adds
@@ -285,14 +336,17 @@ class Assembly(ReadOnly):
         g = np.zeros((3 * nm, n))
         rows = 3 * np.arange(nm)[:, None] + np.arange(3)                      # (nm, 3)
         index = np.stack([self.b_index, self.a_index])                         # both ends at once
-        lever = point_transfer(np.stack([self.r_b, -self.r_a]))                # (2, nm, 3, 6)
-        lever[1, :, :, :3] = -lever[1, :, :, :3]                                # -L(r_a), exactly
+        if levers is None:
+            lever = point_transfer(np.stack([self.r_b, -self.r_a]))            # (2, nm, 3, 6)
+            lever[1, :, :, :3] = -lever[1, :, :, :3]                            # -L(r_a), exactly
+        else:
+            lever = levers                                                      # [L(r_b), -L(r_a)]
         terms = blocks[None, :, :, :, None] * lever[:, :, None, :, :]           # (2, nm, 3, 3, 6)
         acc = terms[:, :, :, 0] + terms[:, :, :, 1] + terms[:, :, :, 2]        # the product's order
         on = index < len(self.model.bodies)                                    # ground columns: not DOFs
         cols = 6 * index[on][:, None] + np.arange(6)                            # (hits, 6)
         g[np.broadcast_to(rows, index.shape + (3,))[on][:, :, None], cols[:, None, :]] = acc[on]
-        return _csr_of(g[np.flatnonzero(np.sqrt(k).ravel() > 0)])
+        return g[np.flatnonzero(np.sqrt(k).ravel() > 0)] + 0.0     # +0.0: no negative zeros
 
     def _matrix_factor(self, mounts: np.ndarray, t: np.ndarray) -> sp.csr_matrix:
         """Rows of G for mounts with a full 6x6 stiffness: ``K6 = V diag(lam) V^T`` in local axes,
@@ -341,18 +395,6 @@ class Assembly(ReadOnly):
         return f
 
 
-def _csr_of(g: np.ndarray) -> sp.csr_matrix:
-    """``scipy.sparse.csr_matrix(g)`` with sorted indices (its zeros dropped, its index type), from
-    the arrays NumPy finds directly: 11 us against 56 us through COO on a 6-DOF model's factor."""
-    nz = g != 0
-    idx = np.int32 if max(g.size, 1) < np.iinfo(np.int32).max else np.int64
-    indptr = np.zeros(g.shape[0] + 1, idx)
-    np.cumsum(nz.sum(axis=1), out=indptr[1:])
-    out = sp.csr_matrix((g[nz], np.nonzero(nz)[1].astype(idx), indptr), shape=g.shape)
-    out.has_sorted_indices = True
-    return out
-
-
 def assemble(model: Model, sparse: bool | None = None) -> Assembly:
     """Assemble M, K, C (and the hysteretic H) of a model.
 
@@ -392,17 +434,25 @@ def _assemble(model: Model, sparse: bool) -> Assembly:
     mm = _mount_matrices(model, at.t)
     pattern = _block_pattern(at)
     mass = _mass(model, sparse)
-    mats, couplings = _summed(model, pattern, mm, sparse)
-    return Assembly(
+    mats, couplings = _summed(model, pattern, mm, sparse, ("K",))      # C and H when first asked for
+    asm = Assembly(
         model=model,
         dofs=dof_labels(model.body_names),
         M=mass,
-        K=mats["K"], C=mats["C"], H=mats["H"],
-        Kg=couplings["K"], Cg=couplings["C"], Hg=couplings["H"],
+        K=mats["K"], Kg=couplings["K"],
         kp=mm.kp, cp=mm.cp, hp=mm.hp,
         b_index=at.b_index, a_index=at.a_index, r_b=at.r_b, r_a=at.r_a,
         sparse=bool(sparse), krp=mm.krp, crp=mm.crp, kcp=mm.kcp, ccp=mm.ccp,
+        _cache={"pattern": pattern},
     )
+    if not sparse and mm.k is not None and np.all(mm.k >= 0) and asm._plain_factor(mm.k):
+        # the stiffness factor every analysis asks for, from the arrays already at hand (the same
+        # numbers as Assembly.dense_factor computes: the lever arms are the pattern's own)
+        g = asm._dense_factor(np.sqrt(mm.k)[:, :, None] * at.t.transpose(0, 2, 1), mm.k,
+                              np.stack([pattern.lb, -pattern.la]))
+        g.flags.writeable = False
+        asm._cache["Gd"] = g
+    return asm
 
 
 @dataclass(frozen=True)
@@ -452,6 +502,7 @@ class _MountMatrices:
     crp: np.ndarray
     kcp: np.ndarray
     ccp: np.ndarray
+    k: np.ndarray | None = None
 
 
 _RATES = ("stiffness", "damping", "rotational_stiffness", "rotational_damping")
@@ -476,7 +527,7 @@ def _mount_matrices(model: Model, t: np.ndarray) -> _MountMatrices:
                 continue                     # diagonal: the rates' own (bit-identical) path above
             tm = t[im]
             tt[im], rr[im], tr[im] = tm @ k6[:3, :3] @ tm.T, tm @ k6[3:, 3:] @ tm.T, tm @ k6[:3, 3:] @ tm.T
-    return _MountMatrices(kp, cp, hp, krp, crp, kcp, ccp)
+    return _MountMatrices(kp, cp, hp, krp, crp, kcp, ccp, d[:, 0])
 
 
 @dataclass(frozen=True)
@@ -572,19 +623,22 @@ def _mass(model: Model, sparse: bool) -> np.ndarray | sp.csr_matrix:
     return mass
 
 
-def _summed(model: Model, pat: _BlockPattern, mm: _MountMatrices,
-            sparse: bool) -> tuple[dict[str, Any], dict[str, np.ndarray]]:
-    """K, C and H of the body DOFs, and each one's (n, nz) coupling to ground, by name.
+def _summed(model: Model, pat: _BlockPattern, mm: _MountMatrices, sparse: bool,
+            keys: tuple[str, ...] = ("K", "C", "H")) -> tuple[dict[str, Any], dict[str, np.ndarray]]:
+    """``keys`` of K, C and H of the body DOFs, and each one's (n, nz) coupling to ground, by name.
 
     The COO triplets are summed by scipy (its order of summation is part of the answer); on a
     dense assembly every nonzero matrix goes through scipy's kernels in one call, its rows stacked
     below the others' (each row's entries, hence its sums, exactly as for that matrix alone)."""
     n, nz = pat.n, pat.nz
-    parts = {"K": (mm.kp, mm.krp, mm.kcp), "C": (mm.cp, mm.crp, mm.ccp), "H": (mm.hp, None, None)}
+    every = {"K": (mm.kp, mm.krp, mm.kcp), "C": (mm.cp, mm.crp, mm.ccp), "H": (mm.hp, None, None)}
+    parts = {key: every[key] for key in keys}
     live = [key for key, (pm, rm, cm) in parts.items()
             if key == "K" or pm.any() or (rm is not None and rm.any()) or (cm is not None and cm.any())]
     mats: dict[str, Any] = {key: sp.csr_matrix((n, n)) if sparse else np.zeros((n, n)) for key in parts}
     couplings = {key: np.zeros((n, nz)) for key in parts}      # no dampers / no hysteresis: zeros
+    if not live:
+        return mats, couplings
     present = lambda x: x if x is not None and x.any() else None  # noqa: E731
     vals = _values(model, pat, np.stack([parts[key][0] for key in live]),
                    [present(parts[key][1]) for key in live], [present(parts[key][2]) for key in live])
