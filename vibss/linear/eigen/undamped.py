@@ -36,7 +36,8 @@ from ..._validate import choice
 from ...results import ReadOnly
 from ...errors import ModelError
 from .checks import (RIGID_RTOL, ROUNDOFF_LEVERS, _as_factor, _factor_norms, _inverse_cholesky, _six_blocks,
-                     _trace_norm, csr_of, error_estimate, fast_matrix, mass_blocks, rigid_mask, stiffness_solver)
+                     _trace_norm, error_estimate, fast_matrix, mass_blocks, rigid_mask, stiffness_solver)
+from .csr import csr_of
 from .small import projected_eigen
 from .jacobi import SMALL_PRODUCTS, _jacobi, _jacobi_floor, jacobi_svd
 
@@ -296,7 +297,7 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
     rigid = rigid_mask(phi, K, checked, floor, norms)
     est = error_estimate(w2, phi, M, None if factor is not None else K, checked, rigid, norms=norms, blocks=blocks)
     est = np.minimum(est, bound + _data_rounding(norms))
-    if small_auto and (np.any(rigid) or not np.all(np.isfinite(est[~rigid]))):
+    if small_auto and (rigid.any() or not np.isfinite(est[~rigid]).all()):
         # eigh cannot tell a rigid mode from one below sqrt(eps) of the top, nor bound a mode in a
         # cluster (no gap: an infinite bound): the Jacobi SVD decides, as it always did. Modes with
         # a finite bound over FREQ_RTOL are refined below, and go to the Jacobi SVD if they stay so
@@ -306,10 +307,10 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
         # eigh cannot tell a rigid mode from one below sqrt(eps) of the top: refine every mode up to
         # the last doubtful one (shifted, so rigid modes are allowed), then test on the factor alone
         need = rigid | (est > FREQ_RTOL)
-        asked = also is not None and name == "dense" and not np.any(rigid)
+        asked = also is not None and name == "dense" and not rigid.any()
         if also is not None and asked:
             need = need | np.asarray(also(w2, phi, est), bool)
-        if np.any(need) and (factor is not None or not np.any(rigid)):
+        if need.any() and (factor is not None or not rigid.any()):
             above = w2[~rigid]
             shift = 0.0
             if np.any(rigid):                  # shifted, so that rigid modes are allowed
@@ -338,7 +339,7 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
                 if not np.any(need):
                     break
             name += "+refined" if refined else ""
-        if factor is not None and n <= JACOBI_FALLBACK and np.any(~rigid & ~(est <= FREQ_RTOL)):
+        if factor is not None and n <= JACOBI_FALLBACK and (~rigid & ~(est <= FREQ_RTOL)).any():
             # eigh and its refinement cannot certify some mode (a strongly graded model): the Jacobi
             # SVD can, at ~8x the cost of eigh
             w2, phi, rigid, est = _jacobi_checked(_csr(factor), M, K, checked)
@@ -357,7 +358,7 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
 
 
 class _LazyCSR:
-    """A tiny dense stiffness factor whose CSR form (:func:`~vibss.linear.eigen.checks.csr_of`) is
+    """A tiny dense stiffness factor whose CSR form (:func:`~vibss.linear.eigen.csr.csr_of`) is
     built on first use: the eigh path reads the dense array only (a CSR costs ~15 us on 6 DOFs)."""
 
     def __init__(self, dense: np.ndarray) -> None:
