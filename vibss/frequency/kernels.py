@@ -252,7 +252,7 @@ def _superpose(plant: Plant, s: np.ndarray, left: list[_Factors],
         y = _products(lefts, rights, dd, s, zf, consts, p, m)
     else:
         y = np.zeros((p * m, nf), dtype=complex)         # frequencies last, as the products give them
-        for which, (form, ys, cscale) in enumerate(forms):
+        for which, (form, consts_k, cscale) in enumerate(forms):
             rows = pick == which
             if not np.any(rows):
                 continue
@@ -262,7 +262,7 @@ def _superpose(plant: Plant, s: np.ndarray, left: list[_Factors],
             else:
                 dd = form if rows.all() else form[rows]
             y[:, rows] = _products(lefts, rights, dd, s[rows], zf[rows],
-                                   [] if ys is None or cscale is None else [(ys, cscale[rows])], p, m)
+                                   [] if consts_k is None or cscale is None else [(consts_k, cscale[rows])], p, m)
     for k in np.flatnonzero(bad.any(axis=1)):   # unbounded where the resonant mode is seen and driven
         modes = bad[k]
         seen = sum(np.abs(lo[:, modes]) for _, lo in lefts)

@@ -225,7 +225,7 @@ def _six_blocks(M: Any) -> np.ndarray | None:
 
 def error_estimate(w2: np.ndarray, phi: np.ndarray, M: Any, K: Any = None, factor: Any = None,
                    rigid: np.ndarray | None = None, li: Any = None, norms: tuple | None = None,
-                   blocks: tuple[np.ndarray, np.ndarray] | None = None) -> np.ndarray:
+                   blocks: tuple[np.ndarray, np.ndarray | None] | None = None) -> np.ndarray:
     """Relative error bound of each computed natural frequency ``sqrt(w2)``.
 
     Residual-based (Kato-Temple): with the Rayleigh quotient ``rho = ||G phi||^2 / phi^T M phi``

@@ -84,10 +84,10 @@ def dof_labels(fractions: np.ndarray, dofs: Sequence[str]) -> list[str]:
     named = [(j, where[p[0]], DOF_NAMES.index(p[1])) for j, p in enumerate(split) if len(p) == 2 and p[1] in DOF_NAMES]
     if named:                                 # every DOF's share added to its (body, direction) at once
         col, body, dof = np.array(named, dtype=int).T
-        np.add.at(table, (slice(None), body, dof), e[:, col])
+        np.add.at(table.transpose(1, 2, 0), (body, dof), e[:, col].T)    # (body, dof, mode) view
     if not bodies:
         return [""] * e.shape[0]
-    empty = ~table.any(axis=(1, 2))
+    empty = np.logical_not(table.any(axis=(1, 2))).tolist()
     direction = np.argmax(table.sum(axis=1), axis=1)                                # (k,)
     holder = np.argmax(table[np.arange(e.shape[0]), :, direction], axis=1)          # (k,) body
     if len(bodies) == 1:

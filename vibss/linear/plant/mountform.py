@@ -52,7 +52,7 @@ def mount_form(asm: Assembly, free: np.ndarray, source: tuple, extra_c: Any = No
     # a 2 g body free along such an axis lost 1.5e-8 of its FRF at 0.1 Hz)
     mounts = asm.model.mounts
     axial = ~apart & (rows > 0)
-    for p in np.flatnonzero(axial):           # only the mounts not kept apart whole are asked
+    for p in np.flatnonzero(axial).tolist():  # only the mounts not kept apart whole are asked
         axial[p] = not mounts[p].type.coupled and bool(np.any(np.asarray(mounts[p].type.stiffness) > 0))
     if not apart.any() and not axial.any():
         return None
