@@ -336,15 +336,17 @@ class Assembly(ReadOnly):
         nm, n = len(self.b_index), self.n
         g = np.zeros((3 * nm, n))
         rows = 3 * np.arange(nm)[:, None] + np.arange(3)                      # (nm, 3)
-        index = np.stack([self.b_index, self.a_index])                         # both ends at once
+        index = np.concatenate([self.b_index, self.a_index]).reshape(2, nm)    # both ends at once
         if levers is None:
-            lever = point_transfer(np.stack([self.r_b, -self.r_a]))            # (2, nm, 3, 6)
+            lever = point_transfer(np.concatenate([self.r_b, -self.r_a]).reshape(2, nm, 3))
             lever[1, :, :, :3] = -lever[1, :, :, :3]                            # -L(r_a), exactly
         else:
             lever = levers                                                      # [L(r_b), -L(r_a)]
-        terms = blocks[None, :, :, :, None] * lever[:, :, None, :, :]           # (2, nm, 3, 3, 6)
-        acc = terms[:, :, :, 0] + terms[:, :, :, 1] + terms[:, :, :, 2]        # the product's order
         on = index < len(self.model.bodies)                                    # ground columns: not DOFs
+        if not on[1].any():                  # every mount to ground (one body): the body ends alone
+            index, lever, on = index[:1], lever[:1], on[:1]
+        terms = blocks[None, :, :, :, None] * lever[:, :, None, :, :]           # (sides, nm, 3, 3, 6)
+        acc = terms[:, :, :, 0] + terms[:, :, :, 1] + terms[:, :, :, 2]        # the product's order
         cols = 6 * index[on][:, None] + np.arange(6)                            # (hits, 6)
         g[np.broadcast_to(rows, index.shape + (3,))[on][:, :, None], cols[:, None, :]] = acc[on]
         return g[np.flatnonzero(np.sqrt(k).ravel() > 0)] + 0.0     # +0.0: no negative zeros

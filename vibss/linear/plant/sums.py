@@ -111,17 +111,17 @@ class _BlockPattern:
 
 def _block_pattern(at: _MountPoints) -> _BlockPattern:
     nm = at.b_index.size
-    lb, la = point_transfer(at.r_b), point_transfer(at.r_a)
+    both = point_transfer(np.concatenate([at.r_b, at.r_a]).reshape(2, nm, 3))   # L(r_b), L(r_a)
     rot = np.zeros((nm, 3, 6))
     rot[:, :, 3:] = np.eye(3)                              # relative rotation: theta_body - theta_to
-    ib = 6 * at.b_index[:, None] + np.arange(6)
-    ia = 6 * at.a_index[:, None] + np.arange(6)
-    # the four blocks (b, b), (a, a), (b, a), (a, b) of every mount, row-major 6 x 6 each
     # int32 as scipy's kernels take them (an index type chosen by the size, as scipy chooses it)
-    zero = np.zeros((1, 1, 1, 6), dtype=np.int32 if 6 * (at.n + at.nz) < np.iinfo(np.int32).max else np.int64)
-    rows = (np.stack([ib, ia, ib, ia])[:, :, :, None] + zero).ravel().astype(zero.dtype, copy=False)
-    cols = (np.stack([ib, ia, ia, ib])[:, :, None, :] + zero.transpose(0, 1, 3, 2)).ravel().astype(zero.dtype, copy=False)
-    return _BlockPattern(rows, cols, lb, la, rot, at.n, at.nz)
+    dtype = np.int32 if 6 * (at.n + at.nz) < np.iinfo(np.int32).max else np.int64
+    ends = (6 * np.concatenate([at.b_index, at.a_index]).reshape(2, nm, 1) + np.arange(6)).astype(dtype)
+    # the four blocks (b, b), (a, a), (b, a), (a, b) of every mount, row-major 6 x 6 each
+    zero = np.zeros((1, 1, 1, 6), dtype=dtype)
+    rows = (ends[[0, 1, 0, 1], :, :, None] + zero).ravel()
+    cols = (ends[[0, 1, 1, 0], :, None, :] + zero.transpose(0, 1, 3, 2)).ravel()
+    return _BlockPattern(rows, cols, both[0], both[1], rot, at.n, at.nz)
 
 
 def _values(model: Model, pat: _BlockPattern, kmat: np.ndarray, rotational: list, coupling: list) -> np.ndarray:
