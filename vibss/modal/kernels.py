@@ -56,7 +56,7 @@ def rigid_influence(model: Model, about: np.ndarray | None = None) -> np.ndarray
     # translation of the COG for a rotation theta about c: theta x r = -[r]x theta, i.e. the
     # point transfer [I | -[r]x] of the COG seen from c; rotations pass unchanged
     out[:, :3, :] = point_transfer(r)
-    out[:, 3:, 3:] = np.eye(3)
+    out[:, [3, 4, 5], [3, 4, 5]] = 1.0
     return out.reshape(6 * nb, 6)
 
 

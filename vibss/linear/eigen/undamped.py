@@ -35,7 +35,7 @@ import scipy.sparse.linalg as spl
 from ..._validate import choice
 from ...results import ReadOnly
 from ...errors import ModelError
-from .checks import (RIGID_RTOL, ROUNDOFF_LEVERS, _as_factor, _factor_norms, _inverse_cholesky, _six_blocks,
+from .checks import (_EPS, RIGID_RTOL, ROUNDOFF_LEVERS, _as_factor, _factor_norms, _inverse_cholesky, _six_blocks,
                      _trace_norm, error_estimate, fast_matrix, mass_blocks, rigid_mask, stiffness_solver)
 from .csr import csr_of
 from .small import projected_eigen
@@ -292,7 +292,7 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
         # relative accuracy: no such floor (at 60,000 DOF it flagged 2 Hz modes as doubtful and
         # refined all 20 for 2.6 s of a 7.6 s eigsh, to the same frequencies within 2.4e-13)
         floor = 0.0 if name == "shift-invert" and not callable(method) else \
-            np.sqrt(10 * n * np.finfo(float).eps) * _trace_norm(M, K, checked)
+            np.sqrt(10 * n * _EPS) * _trace_norm(M, K, checked)
     norms = None if factor is None else _factor_norms(checked, phi)
     rigid = rigid_mask(phi, K, checked, floor, norms)
     est = error_estimate(w2, phi, M, None if factor is not None else K, checked, rigid, norms=norms, blocks=blocks)
@@ -400,7 +400,7 @@ def _data_rounding(norms: tuple | None) -> np.ndarray | float:
         return 0.0
     _, num, den = norms
     with np.errstate(divide="ignore", invalid="ignore"):
-        out = ROUNDOFF_LEVERS * np.finfo(float).eps * den / num
+        out = ROUNDOFF_LEVERS * _EPS * den / num
     return np.where(np.isfinite(out), out, np.inf)
 
 

@@ -113,7 +113,7 @@ def _block_pattern(at: _MountPoints) -> _BlockPattern:
     nm = at.b_index.size
     both = point_transfer(np.concatenate([at.r_b, at.r_a]).reshape(2, nm, 3))   # L(r_b), L(r_a)
     rot = np.zeros((nm, 3, 6))
-    rot[:, :, 3:] = np.eye(3)                              # relative rotation: theta_body - theta_to
+    rot[:, [0, 1, 2], [3, 4, 5]] = 1.0                     # relative rotation: theta_body - theta_to
     # int32 as scipy's kernels take them (an index type chosen by the size, as scipy chooses it)
     dtype = np.int32 if 6 * (at.n + at.nz) < np.iinfo(np.int32).max else np.int64
     ends = (6 * np.concatenate([at.b_index, at.a_index]).reshape(2, nm, 1) + np.arange(6)).astype(dtype)
@@ -206,7 +206,7 @@ def _summed(model: Model, pat: _BlockPattern, mm: _MountMatrices, sparse: bool,
     if not live:
         return mats, couplings
     present = lambda x: x if x is not None and x.any() else None  # noqa: E731
-    vals = _values(model, pat, np.stack([parts[key][0] for key in live]),
+    vals = _values(model, pat, np.array([parts[key][0] for key in live]),
                    [present(parts[key][1]) for key in live], [present(parts[key][2]) for key in live])
     size = n + nz
     if not sparse:
