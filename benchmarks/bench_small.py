@@ -233,8 +233,9 @@ def new_model_rows(quick: bool) -> dict:
             model = models(seed)["1 body"]
             return model, inline_matrices(model)
 
+        # short segments, many of them: the load on the shared machine moves a 100-call segment by 2x
         t_modes, t_eigh = best_each_fresh([lambda x: vibss.modes(x[0]), lambda x: sl.eigh(x[1][1], x[1][0])],
-                                          one_body, 40 if quick else 100, 10 if quick else 25)
+                                          one_body, 20, 20 if quick else 80)
         ratio = t_modes / t_eigh
         out["modes"] = {"modes_ms": 1e3 * t_modes, "eigh_ms": 1e3 * t_eigh, "ratio": ratio}
         print(f"  new model, 1 body: modes {1e3 * t_modes:.3f} ms   scipy.linalg.eigh of the 6x6 pencil "

@@ -321,9 +321,11 @@ class Assembly(ReadOnly):
             self._cache["G"] = g
         return self._cache["G"]
 
-    def _plain_factor(self, k: np.ndarray) -> bool:
-        """Whether G has translational rows only (no rotational rates, no full 6x6 matrix)."""
-        kr = np.array([m.type.rotational_stiffness for m in self.model.mounts], dtype=float)
+    def _plain_factor(self, k: np.ndarray, kr: np.ndarray | None = None) -> bool:
+        """Whether G has translational rows only (no rotational rates, no full 6x6 matrix); ``kr``:
+        the mounts' (nm, 3) rotational rates when already read."""
+        if kr is None:
+            kr = np.array([m.type.rotational_stiffness for m in self.model.mounts], dtype=float)
         return not np.any(kr > 0) and not np.any(self.b_index == self.a_index) and not any(m.type.stiffness_matrix is not None and m.type.coupled
                                               for m in self.model.mounts)
 
@@ -448,7 +450,7 @@ def _assemble(model: Model, sparse: bool) -> Assembly:
         sparse=bool(sparse), krp=mm.krp, crp=mm.crp, kcp=mm.kcp, ccp=mm.ccp,
         _cache={"pattern": pattern},
     )
-    if not sparse and mm.k is not None and np.all(mm.k >= 0) and asm._plain_factor(mm.k):
+    if not sparse and mm.k is not None and (mm.k >= 0).all() and asm._plain_factor(mm.k, mm.kr):
         # the stiffness factor every analysis asks for, from the arrays already at hand (the same
         # numbers as Assembly.dense_factor computes: the lever arms are the pattern's own)
         g = asm._dense_factor(np.sqrt(mm.k)[:, :, None] * at.t.transpose(0, 2, 1), mm.k,

@@ -67,6 +67,7 @@ class _MountMatrices:
     kcp: np.ndarray
     ccp: np.ndarray
     k: np.ndarray | None = None
+    kr: np.ndarray | None = None
 
 
 _RATES = ("stiffness", "damping", "rotational_stiffness", "rotational_damping")
@@ -77,8 +78,9 @@ def _mount_matrices(model: Model, t: np.ndarray) -> _MountMatrices:
     nm = len(model.mounts)
     # every principal rate of every mount read in one pass, turned in one einsum: (nm, 5, 3, 3) for
     # k, c, eta k, kr, cr (the same products and sums per entry as one einsum per rate)
-    d = np.array([[getattr(m.type, key) for key in _RATES] + [m.type.stiffness * m.type.loss_factor]
-                  for m in model.mounts], dtype=float).reshape(nm, 5, 3)
+    d = np.array([[getattr(m.type, key) for key in _RATES] + [m.type.loss_factor] for m in model.mounts],
+                 dtype=float).reshape(nm, 5, 3)
+    d[:, 4] = d[:, 0] * d[:, 4]                 # eta k: the same product per entry, for every mount at once
     turned = np.einsum("pij,pqj,pkj->qpik", t, d, t)
     kp, cp, krp, crp, hp = (np.ascontiguousarray(x) for x in turned)
     kcp, ccp = np.zeros((nm, 3, 3)), np.zeros((nm, 3, 3))
@@ -91,7 +93,7 @@ def _mount_matrices(model: Model, t: np.ndarray) -> _MountMatrices:
                 continue                     # diagonal: the rates' own (bit-identical) path above
             tm = t[im]
             tt[im], rr[im], tr[im] = tm @ k6[:3, :3] @ tm.T, tm @ k6[3:, 3:] @ tm.T, tm @ k6[:3, 3:] @ tm.T
-    return _MountMatrices(kp, cp, hp, krp, crp, kcp, ccp, d[:, 0])
+    return _MountMatrices(kp, cp, hp, krp, crp, kcp, ccp, d[:, 0], d[:, 2])
 
 
 @dataclass(frozen=True)
