@@ -145,13 +145,14 @@ def _times_right(blocks: list[_RightFactors], r: np.ndarray) -> np.ndarray:
 
 
 def _products(lefts: list, rights: list, dd: np.ndarray, s: np.ndarray, zf: np.ndarray,
-              consts: list[tuple[dict, np.ndarray]], p: int, m: int) -> np.ndarray:
+              consts: list[tuple[dict, np.ndarray]], p: int, m: int, transposed: bool = False) -> np.ndarray:
     """``sum_ab s^(a+b) Z (O_a left) diag(dd) (right R_b)`` plus constant outputs, (p m, nr) with the
     frequencies last: ``dd`` (nr, r) transfer functions, ``consts`` pairs of ``{(a, i): (p, m)}`` and
-    their (nr,) factors. The (r, nr) transpose of ``dd`` is read as real pairs, so one real GEMM with
-    a real weight gives the complex products in place (no strided halves, no pass combining them)."""
+    their (nr,) factors (``transposed``: ``dd`` given as its contiguous (r, nr) transpose). The (r, nr)
+    transpose is read as real pairs, so one real GEMM with a real weight gives the complex products
+    in place (no strided halves, no pass combining them)."""
     nr = s.size
-    dt = np.ascontiguousarray(dd.T, dtype=complex)
+    dt = dd if transposed else np.ascontiguousarray(dd.T, dtype=complex)
     out: np.ndarray | None = None
     for a, lo in lefts:
         for i, (b, ro, scaled, _) in enumerate(rights):
@@ -197,18 +198,21 @@ def _superpose(plant: Plant, s: np.ndarray, left: list[_Factors],
     zf = zfactor(s, order)
     lefts = [(a, _times_left(oa, left)) for a, oa in outs]
     rights = [(b, _times_right(right, rb), scaled, rb) for b, rb, scaled in rhs]
-    bad = ~np.isfinite(d)              # exactly at an undamped resonance: 1 / 0
-    if bad.any():
-        d = np.where(bad, 0.0, d)
     wl = sum(np.linalg.norm(lo, axis=0) for _, lo in lefts)
     wr = sum(np.linalg.norm(ro, axis=1) for _, ro, _, _ in rights)
     omap = dict(outs)
     weight = wl * wr
     absd = np.abs(d)
+    costs = [absd @ weight]
+    bad: np.ndarray | None = None      # where d is not finite: exactly at an undamped resonance, 1 / 0
+    if not np.isfinite(costs[0]).all():  # (a sum with such a term is not finite: no test per entry else)
+        bad = ~np.isfinite(d)
+        d = np.where(bad, 0.0, d)
+        absd = np.abs(d)
+        costs = [absd @ weight]
     # the forms: (transfer functions or their (row, column) factors on d, constant outputs
     # {(a, i): (p, m)}, their factor per frequency)
     forms: list[tuple[_Form, dict | None, np.ndarray | None]] = [(d, None, None)]
-    costs = [absd @ weight]
     for extra, solver, factor in ((d_acc, _static, None), (d_mass, _mass_solve, -2)):
         if extra is None:
             continue
@@ -225,11 +229,12 @@ def _superpose(plant: Plant, s: np.ndarray, left: list[_Factors],
             ok &= np.isfinite(extra[0])
             terms = (absd @ (np.abs(extra[1]) * weight)) * np.abs(np.where(ok, extra[0], 0.0))
         else:
-            fin = np.isfinite(extra)
-            if not fin.all():                            # at s = 0 or an undamped resonance
-                ok &= np.all(fin | bad, axis=1)
-                extra = np.where(fin, extra, 0.0)
             terms = np.abs(extra) @ weight
+            if not np.isfinite(terms).all():             # at s = 0 or an undamped resonance
+                fin = np.isfinite(extra)
+                ok &= np.all(fin if bad is None else fin | bad, axis=1)
+                extra = np.where(fin, extra, 0.0)
+                terms = np.abs(extra) @ weight
         scale = np.where(ok, scale, 0.0)
         ys = {(a, i): omap[a] @ const[i] for a, _ in lefts for i in range(len(rights))}
         # pick per frequency the form with the smallest sum of term magnitudes
@@ -241,15 +246,15 @@ def _superpose(plant: Plant, s: np.ndarray, left: list[_Factors],
         # one product over every frequency, each row of the transfer functions from the form it
         # picked and each form's constant outputs added where it was picked: no per-form gathers
         # of columns and no scatter of them (150 DOF, 1,000 frequencies x 216 channels: 3 ms, not 9)
-        dd = d
+        dt = np.empty(d.shape[::-1], dtype=complex)      # (r, nf): the transpose the product reads
+        dt[...] = d.T
         for which, (form, _, _) in enumerate(forms[1:], 1):
             rows = pick == which
             if np.any(rows):
-                dd = dd.copy() if dd is d else dd
-                dd[rows] = form[rows]
+                dt[:, rows] = form[rows].T
         consts = [(c, np.where(pick == which, cscale, 0.0)) for which, (_, c, cscale) in enumerate(forms)
                   if c is not None and cscale is not None and np.any(pick == which)]
-        y = _products(lefts, rights, dd, s, zf, consts, p, m)
+        y = _products(lefts, rights, dt, s, zf, consts, p, m, transposed=True)
     else:
         y = np.zeros((p * m, nf), dtype=complex)         # frequencies last, as the products give them
         for which, (form, consts_k, cscale) in enumerate(forms):
@@ -263,7 +268,7 @@ def _superpose(plant: Plant, s: np.ndarray, left: list[_Factors],
                 dd = form if rows.all() else form[rows]
             y[:, rows] = _products(lefts, rights, dd, s[rows], zf[rows],
                                    [] if consts_k is None or cscale is None else [(consts_k, cscale[rows])], p, m)
-    for k in np.flatnonzero(bad.any(axis=1)):   # unbounded where the resonant mode is seen and driven
+    for k in np.flatnonzero(bad.any(axis=1)) if bad is not None else ():   # unbounded where seen and driven
         modes = bad[k]
         seen = sum(np.abs(lo[:, modes]) for _, lo in lefts)
         driven = sum(np.abs(ro[modes, :]) for _, ro, _, _ in rights)
