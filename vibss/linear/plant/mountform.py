@@ -38,7 +38,9 @@ def mount_form(asm: Assembly, free: np.ndarray, source: tuple, extra_c: Any = No
         None when no mount with a positive-definite stiffness touches a free DOF.
     """
     n_body = asm.n
-    b = sp.csr_matrix(asm.deflection_matrix()[:, :n_body][:, free])
+    every = free.size == n_body and bool(np.all(free == np.arange(n_body)))       # no column to drop
+    b = asm.deflection_matrix()[:, :n_body]
+    b = sp.csr_matrix(b if every else b[:, free])
     q = len(asm.b_index)
     if q == 0:
         return None
@@ -86,11 +88,12 @@ def mount_form(asm: Assembly, free: np.ndarray, source: tuple, extra_c: Any = No
     if extra_c is not None:
         c_rest = sp.csr_matrix(c_rest + sp.csr_matrix(extra_c))
     k_top = max(float(lam[apart].max()) if apart.any() else 0.0, float(ax.k.max()) if ax.k.size else 0.0)
-    return MountForm(B=b[idx], kp=asm.kp[apart], cp=asm.cp[apart], hp=asm.hp[apart],
+    kept = b if idx.size == b.shape[0] else b[idx]         # every mount kept apart: all rows, no slicing
+    return MountForm(B=kept, kp=asm.kp[apart], cp=asm.cp[apart], hp=asm.hp[apart],
                      K=sp.csr_matrix(assembled(asm.kp) + rotational(asm.krp, asm.kcp)), C=sp.csr_matrix(c_rest),
                      H=assembled(asm.hp), source=source,
                      stiffness_ratio=k_top / _softest(lam[rows > 0]),
-                     inertia_w2=_inertia_w2(asm, free, b[idx], lam[apart].max(axis=1), source[3], ax.b, ax.k),
+                     inertia_w2=_inertia_w2(asm, free, kept, lam[apart].max(axis=1), source[3], ax.b, ax.k),
                      Ba=ax.b, ka=ax.k, ca=ax.c, ha=ax.h)
 
 
