@@ -146,11 +146,9 @@ def _times_right(blocks: list[_RightFactors], r: np.ndarray) -> np.ndarray:
 
 def _products(lefts: list, rights: list, dd: np.ndarray, s: np.ndarray, zf: np.ndarray,
               consts: list[tuple[dict, np.ndarray]], p: int, m: int, transposed: bool = False) -> np.ndarray:
-    """``sum_ab s^(a+b) Z (O_a left) diag(dd) (right R_b)`` plus constant outputs, (p m, nr) with the
-    frequencies last: ``dd`` (nr, r) transfer functions, ``consts`` pairs of ``{(a, i): (p, m)}`` and
-    their (nr,) factors (``transposed``: ``dd`` given as its contiguous (r, nr) transpose). The (r, nr)
-    transpose is read as real pairs, so one real GEMM with a real weight gives the complex products
-    in place (no strided halves, no pass combining them)."""
+    """``sum_ab s^(a+b) Z (O_a left) diag(dd) (right R_b)`` plus ``consts`` (``{(a, i): (p, m)}`` with
+    (nr,) factors), (p m, nr): ``dd`` (nr, r), or its contiguous transpose; that (r, nr) transpose is
+    read as real pairs, so one real GEMM with a real weight gives the complex products in place."""
     nr = s.size
     dt = dd if transposed else np.ascontiguousarray(dd.T, dtype=complex)
     out: np.ndarray | None = None
@@ -204,8 +202,8 @@ def _superpose(plant: Plant, s: np.ndarray, left: list[_Factors],
     weight = wl * wr
     absd = np.abs(d)
     costs = [absd @ weight]
-    bad: np.ndarray | None = None      # where d is not finite: exactly at an undamped resonance, 1 / 0
-    if not np.isfinite(costs[0]).all():  # (a sum with such a term is not finite: no test per entry else)
+    bad = np.zeros((0, 0), dtype=bool)   # where d is not finite (1 / 0 at an undamped resonance): a sum
+    if not np.isfinite(costs[0]).all():  # with such a term is not finite; no test per entry else
         bad = ~np.isfinite(d)
         d = np.where(bad, 0.0, d)
         absd = np.abs(d)
@@ -232,7 +230,7 @@ def _superpose(plant: Plant, s: np.ndarray, left: list[_Factors],
             terms = np.abs(extra) @ weight
             if not np.isfinite(terms).all():             # at s = 0 or an undamped resonance
                 fin = np.isfinite(extra)
-                ok &= np.all(fin if bad is None else fin | bad, axis=1)
+                ok &= np.all(fin | bad if bad.size else fin, axis=1)
                 extra = np.where(fin, extra, 0.0)
                 terms = np.abs(extra) @ weight
         scale = np.where(ok, scale, 0.0)
@@ -243,9 +241,8 @@ def _superpose(plant: Plant, s: np.ndarray, left: list[_Factors],
         costs.append(np.where(ok, cost, np.inf))
     pick = np.argmin(np.stack(costs), axis=0)
     if not any(isinstance(form, tuple) for form, _, _ in forms):
-        # one product over every frequency, each row of the transfer functions from the form it
-        # picked and each form's constant outputs added where it was picked: no per-form gathers
-        # of columns and no scatter of them (150 DOF, 1,000 frequencies x 216 channels: 3 ms, not 9)
+        # one product over every frequency, each from the form it picked, its constants added there:
+        # no per-form gathers and scatters of columns (150 DOF, 1,000 x 216 channels: 3 ms, not 9)
         dt = np.empty(d.shape[::-1], dtype=complex)      # (r, nf): the transpose the product reads
         dt[...] = d.T
         for which, (form, _, _) in enumerate(forms[1:], 1):
@@ -268,15 +265,13 @@ def _superpose(plant: Plant, s: np.ndarray, left: list[_Factors],
                 dd = form if rows.all() else form[rows]
             y[:, rows] = _products(lefts, rights, dd, s[rows], zf[rows],
                                    [] if consts_k is None or cscale is None else [(consts_k, cscale[rows])], p, m)
-    for k in np.flatnonzero(bad.any(axis=1)) if bad is not None else ():   # unbounded where seen and driven
+    for k in np.flatnonzero(bad.any(axis=1)) if bad.size else ():   # unbounded where seen and driven
         modes = bad[k]
         seen = sum(np.abs(lo[:, modes]) for _, lo in lefts)
         driven = sum(np.abs(ro[modes, :]) for _, ro, _, _ in rights)
         y[(np.asarray(seen) @ np.asarray(driven)).reshape(-1) > 0, k] = np.inf
     out = y.reshape(p, m, nf)
-    if has_feedthrough(plant):
-        out = out + np.moveaxis(_feedthrough(plant, s, zf), 0, -1)
-    return out
+    return out + np.moveaxis(_feedthrough(plant, s, zf), 0, -1) if has_feedthrough(plant) else out
 
 
 COMPLEX_MODE_RISK = 1e-9
