@@ -244,15 +244,21 @@ def freeze_fields(obj: Any) -> None:
 
     Fields whose name starts with ``_`` (private caches) are left alone.
     """
-    names = _PUBLIC_FIELDS.get(type(obj))
-    if names is None:           # the class's public fields, listed once (a small result is built often)
-        names = _PUBLIC_FIELDS[type(obj)] = tuple(f.name for f in dataclasses.fields(obj)
-                                                  if not f.name.startswith("_"))
-    for name in names:
+    for name in _public_fields(obj):
         value = getattr(obj, name)
         frozen = read_only(value)
         if frozen is not value:
             object.__setattr__(obj, name, frozen)
+
+
+def _public_fields(obj: Any) -> tuple[str, ...]:
+    """The names of the dataclass ``obj``'s public fields, listed once per class (a small result is
+    built often)."""
+    names = _PUBLIC_FIELDS.get(type(obj))
+    if names is None:
+        names = _PUBLIC_FIELDS[type(obj)] = tuple(f.name for f in dataclasses.fields(obj)
+                                                  if not f.name.startswith("_"))
+    return names
 
 
 _PUBLIC_FIELDS: dict[type, tuple[str, ...]] = {}
@@ -272,9 +278,8 @@ class ReadOnly:
 
     def __post_init__(self) -> None:
         if self.owns_arrays:
-            for f in dataclasses.fields(self):  # type: ignore[arg-type]
-                if not f.name.startswith("_"):
-                    freeze(getattr(self, f.name))
+            for name in _public_fields(self):
+                freeze(getattr(self, name))
         else:
             freeze_fields(self)
 

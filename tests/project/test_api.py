@@ -16,8 +16,8 @@ PACKAGE = Path(vibss.__file__).parent
 # Layers, lowest first: a module may import only from its own layer or below.
 LAYERS = [
     {"_version", "_deprecated", "errors", "_validate", "results", "methods", "costs", "model.units", "model.geometry", "model.limits", "io.tomlwriter",
-     "linear.plant.memo", "linear.eigen.small", "linear.plant.labels"},
-    {"model", "linear.plant.plant", "linear.plant.terms", "linear.plant.branches", "linear.plant.assemble",
+     "linear.plant.memo", "linear.eigen.small", "linear.eigen.csr", "linear.plant.labels"},
+    {"model", "linear.plant.plant", "linear.plant.terms", "linear.plant.branches", "linear.plant.sums", "linear.plant.assemble",
      "io.filetable"},
     {"io", "examples", "linear.eigen.directions", "linear.eigen.undamped", "linear.eigen.checks",
      "linear.eigen.jacobi", "linear.eigen.basis", "linear.solve.mass",

@@ -122,7 +122,7 @@ def check_frequencies(s: np.ndarray, raw: np.ndarray | None) -> np.ndarray:
     and largest response were within 1e-11)."""
     if raw is None:
         return np.unique([0, s.size // 2, s.size - 1])
-    size = np.linalg.norm(np.where(np.isfinite(raw), raw, 0.0), axis=(0, 1))
+    size = _sizes(raw)
     idx = [0, int(np.argmax(size)), s.size - 1]
     if s.size > 2:
         mid = size[1:-1]
@@ -134,6 +134,12 @@ def check_frequencies(s: np.ndarray, raw: np.ndarray | None) -> np.ndarray:
                 ratio = (mid[at] / np.maximum(near[at], tiny)) ** sign
                 idx += (at[np.argsort(-ratio)[:CHECK_PEAKS]] + 1).tolist()
     return np.unique(idx)
+
+
+def _sizes(raw: np.ndarray) -> np.ndarray:
+    """(nf,) norm of each frequency's response without its entries that are not finite (one pass)."""
+    sq = raw.real ** 2 + raw.imag ** 2 if np.iscomplexobj(raw) else raw ** 2
+    return np.sqrt(np.einsum("ijk->k", np.where(np.isfinite(sq), sq, 0.0)))
 
 
 def _where(s: np.ndarray) -> str:

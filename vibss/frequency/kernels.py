@@ -56,7 +56,7 @@ from .contracts import (COMPLEX_MODAL, EXACT, MODAL, STATESPACE, SUBSPACE, WOODB
                         cost_modal, cost_sparse, cost_statespace, cost_subspace, cost_woodbury,
                         subspace_size)
 from .lowrank import woodbury
-from .terms import feedthrough as _feedthrough, mass_solve as _mass_solve, static as _static, terms as _terms
+from .terms import feedthrough as _feedthrough, has_feedthrough, mass_solve as _mass_solve, static as _static, terms as _terms
 
 __all__ = ["METHODS", "FrequencyMethod", "custom_method", "direct", "modal", "complex_modal", "complex_modal_estimated", "woodbury", "sparse", "via_statespace",
            "complex_mode_risk", "mode_risks", "COMPLEX_MODE_RISK", "REFINE_PREDICT",
@@ -144,6 +144,30 @@ def _times_right(blocks: list[_RightFactors], r: np.ndarray) -> np.ndarray:
     return parts[0] if len(parts) == 1 else np.vstack(parts)
 
 
+def _products(lefts: list, rights: list, dd: np.ndarray, s: np.ndarray, zf: np.ndarray,
+              consts: list[tuple[dict, np.ndarray]], p: int, m: int, transposed: bool = False) -> np.ndarray:
+    """``sum_ab s^(a+b) Z (O_a left) diag(dd) (right R_b)`` plus ``consts`` (``{(a, i): (p, m)}`` with
+    (nr,) factors), (p m, nr): ``dd`` (nr, r), or its contiguous transpose; that (r, nr) transpose is
+    read as real pairs, so one real GEMM with a real weight gives the complex products in place."""
+    nr = s.size
+    dt = dd if transposed else np.ascontiguousarray(dd.T, dtype=complex)
+    out: np.ndarray | None = None
+    for a, lo in lefts:
+        for i, (b, ro, scaled, _) in enumerate(rights):
+            w = (lo[:, :, None] * ro[None, :, :]).transpose(1, 0, 2).reshape(-1, p * m)
+            if np.isrealobj(w):
+                t = (np.ascontiguousarray(w.T) @ dt.view(float)).view(complex)          # (p m, nr)
+            else:
+                t = w.T @ dt
+            for ys, scale in consts:               # t is the product's own array: added in place
+                t += ys[(a, i)].reshape(p * m, 1) * scale[None, :]
+            if a + b or scaled:
+                fac = s[:, None] ** (a + b) * (zf if scaled else np.ones((1, m)))     # (nr, m)
+                t = (t.reshape(p, m, nr) * fac.T[None, :, :]).reshape(p * m, nr)
+            out = t if out is None else out + t
+    return out if out is not None else np.zeros((p * m, nr), dtype=complex)
+
+
 def _superpose(plant: Plant, s: np.ndarray, left: list[_Factors],
                right: list[_RightFactors], d: np.ndarray,
                d_acc: _Form | None = None, d_mass: _Form | None = None) -> np.ndarray:
@@ -172,18 +196,21 @@ def _superpose(plant: Plant, s: np.ndarray, left: list[_Factors],
     zf = zfactor(s, order)
     lefts = [(a, _times_left(oa, left)) for a, oa in outs]
     rights = [(b, _times_right(right, rb), scaled, rb) for b, rb, scaled in rhs]
-    bad = ~np.isfinite(d)              # exactly at an undamped resonance: 1 / 0
-    if bad.any():
-        d = np.where(bad, 0.0, d)
     wl = sum(np.linalg.norm(lo, axis=0) for _, lo in lefts)
     wr = sum(np.linalg.norm(ro, axis=1) for _, ro, _, _ in rights)
     omap = dict(outs)
     weight = wl * wr
     absd = np.abs(d)
+    costs = [absd @ weight]
+    bad = np.zeros((0, 0), dtype=bool)   # where d is not finite (1 / 0 at an undamped resonance): a sum
+    if not np.isfinite(costs[0]).all():  # with such a term is not finite; no test per entry else
+        bad = ~np.isfinite(d)
+        d = np.where(bad, 0.0, d)
+        absd = np.abs(d)
+        costs = [absd @ weight]
     # the forms: (transfer functions or their (row, column) factors on d, constant outputs
     # {(a, i): (p, m)}, their factor per frequency)
     forms: list[tuple[_Form, dict | None, np.ndarray | None]] = [(d, None, None)]
-    costs = [absd @ weight]
     for extra, solver, factor in ((d_acc, _static, None), (d_mass, _mass_solve, -2)):
         if extra is None:
             continue
@@ -200,11 +227,12 @@ def _superpose(plant: Plant, s: np.ndarray, left: list[_Factors],
             ok &= np.isfinite(extra[0])
             terms = (absd @ (np.abs(extra[1]) * weight)) * np.abs(np.where(ok, extra[0], 0.0))
         else:
-            fin = np.isfinite(extra)
-            if not fin.all():                            # at s = 0 or an undamped resonance
-                ok &= np.all(fin | bad, axis=1)
-                extra = np.where(fin, extra, 0.0)
             terms = np.abs(extra) @ weight
+            if not np.isfinite(terms).all():             # at s = 0 or an undamped resonance
+                fin = np.isfinite(extra)
+                ok &= np.all(fin | bad if bad.size else fin, axis=1)
+                extra = np.where(fin, extra, 0.0)
+                terms = np.abs(extra) @ weight
         scale = np.where(ok, scale, 0.0)
         ys = {(a, i): omap[a] @ const[i] for a, _ in lefts for i in range(len(rights))}
         # pick per frequency the form with the smallest sum of term magnitudes
@@ -212,37 +240,38 @@ def _superpose(plant: Plant, s: np.ndarray, left: list[_Factors],
         forms.append((extra, ys, scale))
         costs.append(np.where(ok, cost, np.inf))
     pick = np.argmin(np.stack(costs), axis=0)
-    y = np.zeros((nf, p * m), dtype=complex)
-    for which, (form, consts, cscale) in enumerate(forms):
-        rows = pick == which
-        if not np.any(rows):
-            continue
-        if isinstance(form, tuple):
-            dd = d[rows] * form[0][rows, None]
-            dd *= form[1][None, :]
-        else:
-            dd = form if rows.all() else form[rows]
-        sr, zr = s[rows], zf[rows]
-        part = np.zeros((sr.size, p * m), dtype=complex)
-        for a, lo in lefts:
-            for i, (b, ro, scaled, _) in enumerate(rights):
-                w = (lo[:, :, None] * ro[None, :, :]).transpose(1, 0, 2).reshape(-1, p * m)
-                if np.isrealobj(w) and not np.isrealobj(dd):
-                    t = dd.real @ w + 1j * (dd.imag @ w)
-                else:
-                    t = dd @ w
-                if consts is not None and cscale is not None:
-                    t = t + cscale[rows, None] * consts[(a, i)].reshape(1, p * m)
-                fac = sr[:, None] ** (a + b) * (zr if scaled else np.ones((1, m)))   # (nr, m)
-                part += (t.reshape(sr.size, p, m) * fac[:, None, :]).reshape(sr.size, p * m)
-        y[rows] = part
-    for k in np.flatnonzero(bad.any(axis=1)):   # unbounded where the resonant mode is seen and driven
+    if not any(isinstance(form, tuple) for form, _, _ in forms):
+        # one product over every frequency, each from the form it picked, its constants added there:
+        # no per-form gathers and scatters of columns (150 DOF, 1,000 x 216 channels: 3 ms, not 9)
+        dt = np.empty(d.shape[::-1], dtype=complex)      # (r, nf): the transpose the product reads
+        dt[...] = d.T
+        for which, (form, _, _) in enumerate(forms[1:], 1):
+            rows = pick == which
+            if np.any(rows):
+                dt[:, rows] = form[rows].T
+        consts = [(c, np.where(pick == which, cscale, 0.0)) for which, (_, c, cscale) in enumerate(forms)
+                  if c is not None and cscale is not None and np.any(pick == which)]
+        y = _products(lefts, rights, dt, s, zf, consts, p, m, transposed=True)
+    else:
+        y = np.zeros((p * m, nf), dtype=complex)         # frequencies last, as the products give them
+        for which, (form, consts_k, cscale) in enumerate(forms):
+            rows = pick == which
+            if not np.any(rows):
+                continue
+            if isinstance(form, tuple):
+                dd = d[rows] * form[0][rows, None]
+                dd *= form[1][None, :]
+            else:
+                dd = form if rows.all() else form[rows]
+            y[:, rows] = _products(lefts, rights, dd, s[rows], zf[rows],
+                                   [] if consts_k is None or cscale is None else [(consts_k, cscale[rows])], p, m)
+    for k in np.flatnonzero(bad.any(axis=1)) if bad.size else ():   # unbounded where seen and driven
         modes = bad[k]
         seen = sum(np.abs(lo[:, modes]) for _, lo in lefts)
         driven = sum(np.abs(ro[modes, :]) for _, ro, _, _ in rights)
-        y[k, (np.asarray(seen) @ np.asarray(driven)).reshape(-1) > 0] = np.inf
-    out = y.reshape(nf, p, m) + _feedthrough(plant, s, zf)
-    return np.moveaxis(out, 0, -1)
+        y[(np.asarray(seen) @ np.asarray(driven)).reshape(-1) > 0, k] = np.inf
+    out = y.reshape(p, m, nf)
+    return out + np.moveaxis(_feedthrough(plant, s, zf), 0, -1) if has_feedthrough(plant) else out
 
 
 COMPLEX_MODE_RISK = 1e-9

@@ -32,10 +32,16 @@ def terms(plant: Plant) -> tuple[list, list, np.ndarray]:
     return out, rhs, plant.order
 
 
+def has_feedthrough(plant: Plant) -> bool:
+    """Whether ``P(s) Z(s) + Pf`` is not identically zero (force inputs and motion outputs: it is)."""
+    ph = plant.Ph if plant.Ph is not None else 0.0
+    return bool(np.any(plant.Pz) or np.any(ph) or np.any(plant.Pv) or np.any(plant.Pa) or np.any(plant.Pf))
+
+
 def feedthrough(plant: Plant, s: np.ndarray, zf: np.ndarray) -> np.ndarray:
     """(nf, p, m) ``P(s) Z(s) + Pf``."""
     ph = plant.Ph if plant.Ph is not None else 0.0
-    if not (np.any(plant.Pz) or np.any(ph) or np.any(plant.Pv) or np.any(plant.Pa) or np.any(plant.Pf)):
+    if not has_feedthrough(plant):
         return np.zeros((s.size, len(plant.outputs), len(plant.inputs)))   # force inputs, motion outputs
     p0 = plant.Pz + 1j * ph
     y = (p0[None] + s[:, None, None] * plant.Pv[None] + (s**2)[:, None, None] * plant.Pa[None])

@@ -38,7 +38,7 @@ import numpy as np
 from .._validate import integer
 from ..errors import AnalysisError, ArgumentError, ModelError, VibssWarning
 from ..linear.eigen.directions import align_cluster, cluster_slices, energy_fractions
-from ..linear.eigen.undamped import Solver, undamped
+from ..linear.eigen.undamped import DENSE_CHECKS, Solver, undamped
 from ..model.nonlinearity import refuse_nonlinear
 from ..nonlinear.kernels import equilibrium, nonlinear_mounts, tangent_model
 from ..linear.plant.assemble import Assembly, assemble
@@ -118,7 +118,8 @@ def modes(model: Model | Assembly, n_modes: int | None = None,
     omega = np.sqrt(w2)
     energy = energy_fractions(phi, M)
     gamma = phi.T @ (M @ rigid_influence(a.model))
-    bound = check_frequencies(spec.error, rigid)
+    # the decider's check when the route has the routes' claim; a user's callable is checked here
+    bound = decision.check if decision.check is not None else check_frequencies(spec.error, rigid)
     _warn_implausible_geometry(a.model, omega, rigid)
     note = "; ".join(x for x in (auto_note(method, name), bound.text()) if x)
     return Modes(model=a.model, dofs=a.dofs, omega=omega, shapes=phi, energy=energy,
@@ -192,11 +193,14 @@ def _tangent(a: Assembly) -> tuple[Assembly, str]:
 def _spectrum(a: Assembly, n_modes: int | None, method: str | Solver) -> Any:
     """The assembly's undamped spectrum, solved once per ``(n_modes, method)`` (a named method: a
     callable is the caller's and is run each time); the Spectrum is read-only."""
+    # a tiny dense model's factor as the dense array its checks read (its CSR is built only if the
+    # Jacobi SVD or the refinement runs: the same digits either way)
+    factor = a.dense_factor() if not a.sparse and a.n <= DENSE_CHECKS else a.stiffness_factor()
     if callable(method):
-        return undamped(a.K, a.M, a.stiffness_factor(), n_modes, method)
+        return undamped(a.K, a.M, factor, n_modes, method)
     key = ("spectrum", n_modes, method)
     if key not in a._cache:
-        a._cache[key] = undamped(a.K, a.M, a.stiffness_factor(), n_modes, method)
+        a._cache[key] = undamped(a.K, a.M, factor, n_modes, method)
     return a._cache[key]
 
 

@@ -32,6 +32,7 @@ from ..linear.eigen.complex_modes import eigenpairs
 from ..linear.plant.assemble import Assembly
 from ..linear.plant.build import build_plant
 from ..linear.solve.exact import without_hysteresis
+from ..model.geometry import point_transfer
 from ..model.model import Model
 
 if TYPE_CHECKING:
@@ -51,13 +52,11 @@ def rigid_influence(model: Model, about: np.ndarray | None = None) -> np.ndarray
     c = model.center_of_gravity if about is None else np.asarray(about, float)
     nb = len(model.bodies)
     out = np.zeros((nb, 6, 6))
-    out[:, :3, :3] = np.eye(3)
-    out[:, 3:, 3:] = np.eye(3)
     r = np.array([b.cog for b in model.bodies], dtype=float).reshape(nb, 3) - c
-    # translation of the COG for a rotation theta about c: theta x r = -[r]x theta
-    out[:, 0, 4], out[:, 0, 5] = r[:, 2], -r[:, 1]
-    out[:, 1, 3], out[:, 1, 5] = -r[:, 2], r[:, 0]
-    out[:, 2, 3], out[:, 2, 4] = r[:, 1], -r[:, 0]
+    # translation of the COG for a rotation theta about c: theta x r = -[r]x theta, i.e. the
+    # point transfer [I | -[r]x] of the COG seen from c; rotations pass unchanged
+    out[:, :3, :] = point_transfer(r)
+    out[:, [3, 4, 5], [3, 4, 5]] = 1.0
     return out.reshape(6 * nb, 6)
 
 

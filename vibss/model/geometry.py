@@ -203,6 +203,14 @@ def point_transfer(r: npt.ArrayLike) -> np.ndarray:
     """
     r = np.asarray(r, dtype=float)
     out = np.zeros(r.shape[:-1] + (3, 6))
-    out[..., :, :3] = np.eye(3)
-    out[..., :, 3:] = lever(r)
+    out[..., :, :3] = _EYE3
+    # the six entries of R(r) = -[r]x, each +-r_k (exact), in one step: z, -y, -z, x, y, -x
+    out[..., _LEVER_ROWS, _LEVER_COLS] = r[..., _LEVER_FROM] * _LEVER_SIGNS
     return out
+
+
+_EYE3 = np.eye(3)
+_EYE3.flags.writeable = False
+_LEVER_ROWS, _LEVER_COLS = np.array([0, 0, 1, 1, 2, 2]), np.array([4, 5, 3, 5, 3, 4])
+_LEVER_FROM = np.array([2, 1, 2, 0, 1, 0])
+_LEVER_SIGNS = np.array([1.0, -1.0, -1.0, 1.0, 1.0, -1.0])

@@ -23,7 +23,7 @@ import scipy.linalg as sl
 import scipy.sparse as sp
 
 from ...results import ReadOnly
-from .checks import fast_matrix
+from .checks import fast_matrix, stiffness_solver
 from .undamped import undamped
 from ..plant.plant import Plant
 
@@ -87,7 +87,12 @@ def modal_basis(plant: Plant) -> ModalBasis:
 def _modal_basis(plant: Plant) -> ModalBasis:
     # the modes a light resonance would amplify are refined in undamped's own sweep (one inverse
     # iteration, one Ritz step for both needs)
-    spec = undamped(plant.K, plant.M, plant.Kf, also=partial(_needs_refinement, plant))
+    # K factorised at most once per plant: the refinement and the static solves of the
+    # mode-acceleration form (:func:`vibss.frequency.terms.static`) share the plant's "solve K"
+    def solve(b: np.ndarray) -> np.ndarray:
+        return plant.cached("solve K", lambda: stiffness_solver(plant.K))(b)
+    spec = undamped(plant.K, plant.M, plant.Kf, also=partial(_needs_refinement, plant),
+                    solve=None if sp.issparse(plant.K) else solve)
     w2, phi, rigid, est, method = spec.omega2, spec.phi, spec.rigid, spec.error, spec.method
     elastic = np.sqrt(w2[~rigid & (w2 > 0)])
     floor = float(elastic.min()) if elastic.size else 1.0

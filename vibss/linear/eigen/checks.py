@@ -21,7 +21,7 @@ from scipy.sparse.csgraph import connected_components
 
 from ..solve.mass import mass_solver
 
-__all__ = ["rigid_mask", "error_estimate", "RIGID_RTOL", "ROUNDOFF_LEVERS", "fast_matrix", "stiffness_solver"]
+__all__ = ["rigid_mask", "error_estimate", "mass_blocks", "RIGID_RTOL", "ROUNDOFF_LEVERS", "fast_matrix", "stiffness_solver"]
 
 RIGID_RTOL = 1e-10
 """A mode is rigid when its stiffness cancels to round-off (see :func:`rigid_mask`):
@@ -36,6 +36,9 @@ stiffness is round-off of the model's own data. Found by issue 18's fuzzer: a ro
 through every mount up to 1e-15 m (both norms of the ratio test ~1e-13) was printed as a 0 Hz elastic
 mode; the 60-digit reference has w^2 = 1.5e-54 there. An elastic mode has ``||G phi||`` above this
 unless its lever arms are below ~1e-14 of the mounts' own."""
+
+_EPS = float(np.finfo(float).eps)
+"""The unit round-off of float64 [-] (``np.finfo`` costs a microsecond a call on small models)."""
 
 _BLOCK_MAX = 12
 """Largest diagonal block of M that :func:`generalized_eigh` factorises on its own."""
@@ -98,6 +101,8 @@ def _as_factor(factor: Any) -> Any:
     """A sparse factor with sorted indices, copied if needed: products never sort the caller's
     matrix in place (which would change the summation order, hence the last bits, between calls)."""
     if sp.issparse(factor):
+        if sp.isspmatrix_csr(factor) and factor.has_sorted_indices:
+            return factor           # nothing will sort it: no copy (a new CSR object costs ~15 us)
         g = sp.csr_matrix(factor)
         return g if g.has_sorted_indices else g.sorted_indices()
     return np.asarray(factor, float)
@@ -149,7 +154,7 @@ def rigid_mask(shapes: np.ndarray, K: Any = None, factor: Any = None, floor: flo
         x = sp.csr_matrix(K) if sp.issparse(K) else np.asarray(K, float)
         num = np.linalg.norm(np.asarray(x @ shapes), axis=0)
         den = np.linalg.norm(np.asarray(abs(x) @ np.abs(shapes)), axis=0)
-    lever = ROUNDOFF_LEVERS * np.finfo(float).eps
+    lever = ROUNDOFF_LEVERS * _EPS
     # _reach(x, phi) <= ||rows|| ||phi||: only a mode under that ceiling needs its reach (a product
     # with the whole factor's pattern); for the others the test is decided without it
     ceiling = RIGID_RTOL * den + 2 * lever * _row_sums_norm(x) * np.sqrt(np.einsum("ij,ij->j", shapes, shapes)) + floor
@@ -195,12 +200,23 @@ def _trace_norm(M: Any, K: Any = None, factor: Any = None) -> float:
     return float(np.sqrt(np.sum(col / np.where(md > 0, md, 1.0)) * 10))
 
 
+def mass_blocks(M: Any) -> tuple[np.ndarray, np.ndarray] | None:
+    """``(blocks, inverse)`` of a dense M that is block diagonal with 6x6 blocks: its (n/6, 6, 6)
+    blocks and their inverse Cholesky factors ``L^-1`` (``M_b = L L^T``), computed once for the
+    eigen solve and its bounds; None for any other M (raises for a block that is not positive
+    definite)."""
+    blocks = _six_blocks(M)
+    return None if blocks is None else (blocks, np.linalg.inv(np.linalg.cholesky(blocks)))
+
+
 def _six_blocks(M: Any) -> np.ndarray | None:
     """(n/6, 6, 6) diagonal blocks of M when M is block diagonal with 6x6 blocks, else None."""
     if sp.issparse(M) or M.shape[0] % 6 or M.shape[0] == 0:
         return None
     m = np.asarray(M, float)
     nb = m.shape[0] // 6
+    if nb == 1:
+        return m.reshape(1, 6, 6)            # one body: its mass matrix is its block
     blocks = m.reshape(nb, 6, nb, 6)[np.arange(nb), :, np.arange(nb), :]
     if np.count_nonzero(blocks) != np.count_nonzero(m):
         return None
@@ -208,7 +224,8 @@ def _six_blocks(M: Any) -> np.ndarray | None:
 
 
 def error_estimate(w2: np.ndarray, phi: np.ndarray, M: Any, K: Any = None, factor: Any = None,
-                   rigid: np.ndarray | None = None, li: Any = None, norms: tuple | None = None) -> np.ndarray:
+                   rigid: np.ndarray | None = None, li: Any = None, norms: tuple | None = None,
+                   blocks: tuple[np.ndarray, np.ndarray | None] | None = None) -> np.ndarray:
     """Relative error bound of each computed natural frequency ``sqrt(w2)``.
 
     Residual-based (Kato-Temple): with the Rayleigh quotient ``rho = ||G phi||^2 / phi^T M phi``
@@ -235,16 +252,20 @@ def error_estimate(w2: np.ndarray, phi: np.ndarray, M: Any, K: Any = None, facto
         ``L^-1`` with ``M = L L^T`` when already known.
     norms : tuple, optional
         ``(G phi, ||G phi||, || |G| |phi| ||)`` when already computed.
+    blocks : tuple, optional
+        :func:`mass_blocks` of ``M`` when already computed (a dense M).
 
     Returns
     -------
     (k,) ndarray
         Relative error bound of each frequency [-].
     """
-    eps = np.finfo(float).eps
-    blocks = _six_blocks(M)
+    eps = _EPS
+    if blocks is None:
+        six = _six_blocks(M)
+        blocks = None if six is None else (six, None)
     if blocks is not None:
-        mphi = np.matmul(blocks, phi.reshape(blocks.shape[0], 6, -1)).reshape(phi.shape)
+        mphi = np.matmul(blocks[0], phi.reshape(blocks[0].shape[0], 6, -1)).reshape(phi.shape)
     else:
         mphi = np.asarray((sp.csr_matrix(M) if sp.issparse(M) else fast_matrix(np.asarray(M, float))) @ phi)
     norm2 = np.einsum("ij,ij->j", phi, mphi)
@@ -267,7 +288,8 @@ def error_estimate(w2: np.ndarray, phi: np.ndarray, M: Any, K: Any = None, facto
                 / np.abs(rho) / norm2
     r = kphi - rho[None, :] * mphi
     if blocks is not None:                   # rigid bodies: 6x6 mass blocks on the diagonal
-        y = np.matmul(np.linalg.inv(np.linalg.cholesky(blocks)), r.reshape(blocks.shape[0], 6, -1))
+        inverse = blocks[1] if blocks[1] is not None else np.linalg.inv(np.linalg.cholesky(blocks[0]))
+        y = np.matmul(inverse, r.reshape(blocks[0].shape[0], 6, -1))
         e = np.sqrt(np.einsum("bij,bij->j", y, y))
     elif (li := _inverse_cholesky(M) if li is None else li) is not None:
         e = np.linalg.norm(np.asarray(li @ r), axis=0)

@@ -80,17 +80,20 @@ def dof_labels(fractions: np.ndarray, dofs: Sequence[str]) -> list[str]:
     bodies = list(dict.fromkeys(p[0] for p in split if len(p) == 2 and p[1] in DOF_NAMES))
     e = np.abs(np.asarray(fractions, dtype=float))
     table = np.zeros((e.shape[0], max(len(bodies), 1), 6))
-    for j, p in enumerate(split):
-        if len(p) == 2 and p[1] in DOF_NAMES:
-            table[:, bodies.index(p[0]), DOF_NAMES.index(p[1])] += e[:, j]
-    out = []
-    for k in range(e.shape[0]):
-        if not bodies or not table[k].any():
-            out.append("")
-            continue
-        d = int(np.argmax(table[k].sum(axis=0)))
-        out.append(DOF_NAMES[d] if len(bodies) == 1 else f"{bodies[int(np.argmax(table[k, :, d]))]}.{DOF_NAMES[d]}")
-    return out
+    where = {b: i for i, b in enumerate(bodies)}
+    named = [(j, where[p[0]], DOF_NAMES.index(p[1])) for j, p in enumerate(split) if len(p) == 2 and p[1] in DOF_NAMES]
+    if named:                                 # every DOF's share added to its (body, direction) at once
+        col, body, dof = np.array(named, dtype=int).T
+        np.add.at(table.transpose(1, 2, 0), (body, dof), e[:, col].T)    # (body, dof, mode) view
+    if not bodies:
+        return [""] * e.shape[0]
+    empty = np.logical_not(table.any(axis=(1, 2))).tolist()
+    direction = np.argmax(table.sum(axis=1), axis=1)                                # (k,)
+    holder = np.argmax(table[np.arange(e.shape[0]), :, direction], axis=1)          # (k,) body
+    if len(bodies) == 1:
+        return ["" if empty[k] else DOF_NAMES[d] for k, d in enumerate(direction.tolist())]
+    return ["" if empty[k] else f"{bodies[b]}.{DOF_NAMES[d]}"
+            for k, (d, b) in enumerate(zip(direction.tolist(), holder.tolist()))]
 
 
 def cluster_slices(values: np.ndarray, rtol: float, atol: float) -> list[slice]:

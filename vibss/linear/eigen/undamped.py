@@ -35,8 +35,9 @@ import scipy.sparse.linalg as spl
 from ..._validate import choice
 from ...results import ReadOnly
 from ...errors import ModelError
-from .checks import (RIGID_RTOL, ROUNDOFF_LEVERS, _as_factor, _factor_norms, _inverse_cholesky, _six_blocks,
-                     _trace_norm, error_estimate, fast_matrix, rigid_mask, stiffness_solver)
+from .checks import (_EPS, RIGID_RTOL, ROUNDOFF_LEVERS, _as_factor, _factor_norms, _inverse_cholesky, _six_blocks,
+                     _trace_norm, error_estimate, fast_matrix, mass_blocks, rigid_mask, stiffness_solver)
+from .csr import csr_of
 from .small import projected_eigen
 from .jacobi import SMALL_PRODUCTS, _jacobi, _jacobi_floor, jacobi_svd
 
@@ -64,7 +65,8 @@ FREQ_RTOL = 1e-10
 """Target relative accuracy of every elastic frequency; modes whose estimate exceeds it (times the
 resonance amplification 1 / 2 zeta in :func:`modal_basis`) are refined."""
 
-def generalized_eigh(K: Any, M: Any, n_modes: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+def generalized_eigh(K: Any, M: Any, n_modes: int | None = None,
+                     blocks: tuple[np.ndarray, np.ndarray] | None = None) -> tuple[np.ndarray, np.ndarray]:
     """``K phi = w^2 M phi`` (all modes, or the lowest ``n_modes``), ``phi^T M phi = I``.
 
     A block-diagonal ``M`` (rigid bodies) is factorised per block, and the standard problem
@@ -79,6 +81,8 @@ def generalized_eigh(K: Any, M: Any, n_modes: int | None = None) -> tuple[np.nda
         Stiffness [N/m] and mass [kg] matrices (symmetric; M positive definite).
     n_modes : int or None
         Number of lowest modes (None: all).
+    blocks : tuple, optional
+        :func:`~vibss.linear.eigen.checks.mass_blocks` of a dense ``M``, when already computed.
 
     Returns
     -------
@@ -97,17 +101,21 @@ def generalized_eigh(K: Any, M: Any, n_modes: int | None = None) -> tuple[np.nda
     K = K.toarray() if sp.issparse(K) else np.asarray(K, float)
     subset = None if n_modes is None or n_modes >= K.shape[0] else [0, n_modes - 1]
     # a small sparse M is read densely, so a model's dense and sparse assemblies take one route
-    blocks = _six_blocks(M.toarray() if sp.issparse(M) and K.shape[0] <= SMALL_PRODUCTS else M)
+    if blocks is None:
+        blocks = mass_blocks(M.toarray() if sp.issparse(M) and K.shape[0] <= SMALL_PRODUCTS else M)
     if blocks is not None:
         # rigid bodies: L^-1 per 6x6 mass block, applied as one batched product (the sparse L^-1
         # costs three CSR products with n columns, about 10 ms at 600 DOF)
-        lib = np.linalg.inv(np.linalg.cholesky(blocks))
-        nb, n = blocks.shape[0], K.shape[0]
+        lib = blocks[1]
+        nb, n = lib.shape[0], K.shape[0]
         half = np.matmul(lib, K.reshape(nb, 6, n)).reshape(n, n)           # L^-1 K
         a = np.matmul(lib, half.T.reshape(nb, 6, n)).reshape(n, n)          # L^-1 K L^-T
         a = 0.5 * (a + a.T)
-        w2, u = sl.eigh(a, subset_by_index=subset, driver="evd" if subset is None else "evr",
-                        check_finite=False)
+        if subset is None and n <= SMALL_PRODUCTS:
+            w2, u = np.linalg.eigh(a)       # LAPACK syevd as scipy's driver "evd", without its wrapper (10 us)
+        else:
+            w2, u = sl.eigh(a, subset_by_index=subset, driver="evd" if subset is None else "evr",
+                            check_finite=False)
         k = u.shape[1]
         phi = np.matmul(np.swapaxes(lib, 1, 2), u.reshape(nb, 6, k)).reshape(n, k)   # L^-T u
         return w2, phi
@@ -192,7 +200,8 @@ class Spectrum(ReadOnly):
 # functions over 80 lines).
 def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
              method: "str | Solver" = "auto",
-             also: "Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray] | None" = None) -> Spectrum:
+             also: "Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray] | None" = None,
+             solve: "Callable[[np.ndarray], np.ndarray] | None" = None) -> Spectrum:
     """The one undamped eigen solve ``K phi = w^2 M phi``: modes, rigid flags and error bounds.
 
     Parameters
@@ -214,6 +223,9 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
         :data:`FREQ_RTOL` (e.g. amplified at a light resonance, :func:`modal_basis`). On the
         ``eigh`` path without rigid modes they (and every mode below them) are refined in the same
         sweep as the modes this function refines for itself.
+    solve : callable, optional
+        ``b -> K^-1 b``, the caller's factorisation of ``K`` (a plant's cached one, shared with its
+        static solves); the refinement without a shift uses it instead of factorising ``K`` again.
 
     Returns
     -------
@@ -237,6 +249,10 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
     # the checks' products on a tiny model's factor as a dense array: the same bounds (each with its
     # own rounding term) without scipy.sparse's bookkeeping, about 17 CSR objects a call
     checked = factor.toarray() if sp.issparse(factor) and n <= DENSE_CHECKS else factor
+    if factor is not None and not sp.issparse(factor) and n <= DENSE_CHECKS:
+        # a tiny dense factor (an assembly's, without its CSR): the Jacobi SVD and the refinement
+        # take its CSR, built only if they run, so their products keep scipy.sparse's digits
+        factor = _LazyCSR(checked)
     if callable(method):
         name = getattr(method, "__name__", "custom")
     elif method == "auto":
@@ -255,8 +271,9 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
         name = "dense"
     bound = np.inf
     floor = 0.0
+    blocks = None
     if name == "jacobi":
-        w2, phi, bound = _jacobi(factor, M)
+        w2, phi, bound = _jacobi(_csr(factor), M)
         floor = _jacobi_floor(w2)
     else:
         solver = method if callable(method) else METHODS[name]
@@ -264,32 +281,36 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
         if n_modes is not None and name == "dense":   # a guard band: Ritz on k modes alone converges
             guard = min(n, max(2 * n_modes, n_modes + 12))  # slowly for the top ones (shift-invert's
             #                                                 modes are already inverse iterates)
-        w2, phi = solver(K, M, guard)
+        if name == "dense" and not callable(method) and not sp.issparse(M):
+            blocks = mass_blocks(M)          # once, for the solve and the bounds
+            w2, phi = generalized_eigh(K, M, guard, blocks)
+        else:
+            w2, phi = solver(K, M, guard)
         w2, phi = np.asarray(w2, float), np.asarray(phi, float)
         # eigh's null vectors have ||A phi||^2 ~ eps w2_max: the floor is sqrt(eps) of the top.
         # Shift-invert's lowest modes are the dominant ones of (K - sigma M)^-1 M, computed to
         # relative accuracy: no such floor (at 60,000 DOF it flagged 2 Hz modes as doubtful and
         # refined all 20 for 2.6 s of a 7.6 s eigsh, to the same frequencies within 2.4e-13)
         floor = 0.0 if name == "shift-invert" and not callable(method) else \
-            np.sqrt(10 * n * np.finfo(float).eps) * _trace_norm(M, K, checked)
+            np.sqrt(10 * n * _EPS) * _trace_norm(M, K, checked)
     norms = None if factor is None else _factor_norms(checked, phi)
     rigid = rigid_mask(phi, K, checked, floor, norms)
-    est = error_estimate(w2, phi, M, None if factor is not None else K, checked, rigid, norms=norms)
+    est = error_estimate(w2, phi, M, None if factor is not None else K, checked, rigid, norms=norms, blocks=blocks)
     est = np.minimum(est, bound + _data_rounding(norms))
-    if small_auto and (np.any(rigid) or not np.all(np.isfinite(est[~rigid]))):
+    if small_auto and (rigid.any() or not np.isfinite(est[~rigid]).all()):
         # eigh cannot tell a rigid mode from one below sqrt(eps) of the top, nor bound a mode in a
         # cluster (no gap: an infinite bound): the Jacobi SVD decides, as it always did. Modes with
         # a finite bound over FREQ_RTOL are refined below, and go to the Jacobi SVD if they stay so
-        w2, phi, rigid, est = _jacobi_checked(factor, M, K, checked)
+        w2, phi, rigid, est = _jacobi_checked(_csr(factor), M, K, checked)
         name = "jacobi"
     if name in ("dense", "shift-invert") and not callable(method):
         # eigh cannot tell a rigid mode from one below sqrt(eps) of the top: refine every mode up to
         # the last doubtful one (shifted, so rigid modes are allowed), then test on the factor alone
         need = rigid | (est > FREQ_RTOL)
-        asked = also is not None and name == "dense" and not np.any(rigid)
+        asked = also is not None and name == "dense" and not rigid.any()
         if also is not None and asked:
             need = need | np.asarray(also(w2, phi, est), bool)
-        if np.any(need) and (factor is not None or not np.any(rigid)):
+        if need.any() and (factor is not None or not rigid.any()):
             above = w2[~rigid]
             shift = 0.0
             if np.any(rigid):                  # shifted, so that rigid modes are allowed
@@ -299,7 +320,7 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
                     1e-6 * float(np.median(ratio[ratio > 0])) if np.any(ratio > 0) else 1.0
             refined = False
             for _ in range(3):                 # a few sweeps of subspace inverse iteration
-                w2, phi, est, ok = _refine(K, M, factor, w2, phi, est, need, shift, whole=True,
+                w2, phi, est, ok = _refine(K, M, _csr(factor), w2, phi, est, need, shift, solve, whole=True,
                                            estimate=factor is None)   # with a factor: tested below
                 if not ok:
                     break
@@ -318,22 +339,41 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
                 if not np.any(need):
                     break
             name += "+refined" if refined else ""
-        if factor is not None and n <= JACOBI_FALLBACK and np.any(~rigid & ~(est <= FREQ_RTOL)):
+        if factor is not None and n <= JACOBI_FALLBACK and (~rigid & ~(est <= FREQ_RTOL)).any():
             # eigh and its refinement cannot certify some mode (a strongly graded model): the Jacobi
             # SVD can, at ~8x the cost of eigh
-            w2, phi, rigid, est = _jacobi_checked(factor, M, K, checked)
+            w2, phi, rigid, est = _jacobi_checked(_csr(factor), M, K, checked)
             name = "jacobi (eigh could not certify every mode)"
         if also is not None and not asked and name.startswith("dense") and not np.any(rigid):
             # modes flagged rigid at first turned out elastic: the consumer's need, asked now
             extra = np.asarray(also(w2, phi, est), bool)
             if np.any(extra):
                 extra = np.arange(w2.size) <= np.flatnonzero(extra).max()
-                w2, phi, est, ok = _refine(K, M, factor, w2, phi, est, extra, whole=True)
+                w2, phi, est, ok = _refine(K, M, _csr(factor), w2, phi, est, extra, solve=solve, whole=True)
                 name += "+refined" if ok and not name.endswith("+refined") else ""
     w2 = np.where(rigid, 0.0, np.maximum(w2, 0.0))
     if n_modes is not None and n_modes < w2.size:
         w2, phi, rigid, est = w2[:n_modes], phi[:, :n_modes], rigid[:n_modes], est[:n_modes]
     return Spectrum(w2, phi, rigid, est, name)
+
+
+class _LazyCSR:
+    """A tiny dense stiffness factor whose CSR form (:func:`~vibss.linear.eigen.csr.csr_of`) is
+    built on first use: the eigh path reads the dense array only (a CSR costs ~15 us on 6 DOFs)."""
+
+    def __init__(self, dense: np.ndarray) -> None:
+        self.dense = dense
+        self._csr: Any = None
+
+    def csr(self) -> Any:
+        if self._csr is None:
+            self._csr = csr_of(self.dense)
+        return self._csr
+
+
+def _csr(factor: Any) -> Any:
+    """The factor the Jacobi SVD and the refinement take: a :class:`_LazyCSR`'s CSR, else itself."""
+    return factor.csr() if isinstance(factor, _LazyCSR) else factor
 
 
 def _jacobi_checked(factor: Any, M: Any, K: Any, checked: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray,
@@ -360,7 +400,7 @@ def _data_rounding(norms: tuple | None) -> np.ndarray | float:
         return 0.0
     _, num, den = norms
     with np.errstate(divide="ignore", invalid="ignore"):
-        out = ROUNDOFF_LEVERS * np.finfo(float).eps * den / num
+        out = ROUNDOFF_LEVERS * _EPS * den / num
     return np.where(np.isfinite(out), out, np.inf)
 
 

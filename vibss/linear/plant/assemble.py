@@ -27,11 +27,13 @@ import numpy.typing as npt
 import scipy.sparse as sp
 
 from ...errors import ModelError
-from ...results import ReadOnly
+from ...results import ReadOnly, freeze
 from ...model.geometry import point_transfer
 from ...model.model import DOF_NAMES, GROUND, Model
+from ..eigen.csr import csr_of
 from ..eigen.small import symmetric_eigen
 from .memo import remembered
+from .sums import _MountMatrices, _block_pattern, _mass, _mount_matrices, _mount_points, _summed
 
 __all__ = ["Assembly", "assemble", "SPARSE_THRESHOLD", "dof_labels"]
 
@@ -92,11 +94,7 @@ class Assembly(ReadOnly):
     dofs: tuple[str, ...]
     M: np.ndarray | sp.csr_matrix
     K: np.ndarray | sp.csr_matrix
-    C: np.ndarray | sp.csr_matrix
-    H: np.ndarray | sp.csr_matrix
     Kg: np.ndarray
-    Cg: np.ndarray
-    Hg: np.ndarray
     kp: np.ndarray
     cp: np.ndarray
     hp: np.ndarray
@@ -114,6 +112,34 @@ class Assembly(ReadOnly):
     # the assembly owns its matrices and every later analysis shares them: frozen in place, so an
     # in-place change through a handle cannot alter those analyses
     owns_arrays: ClassVar[bool] = True
+
+    @property
+    def C(self) -> np.ndarray | sp.csr_matrix:
+        """Viscous damping of the body DOFs [N s/m ...] (summed on first use, with ``H``: modes need neither)."""
+        return self._damping()["C"][0]
+
+    @property
+    def H(self) -> np.ndarray | sp.csr_matrix:
+        """Hysteretic stiffness of the body DOFs [N/m ...] (``K + iH`` in the frequency domain)."""
+        return self._damping()["H"][0]
+
+    @property
+    def Cg(self) -> np.ndarray:
+        """(n, nz) viscous coupling of the body DOFs to the ground-side DOFs."""
+        return self._damping()["C"][1]
+
+    @property
+    def Hg(self) -> np.ndarray:
+        """(n, nz) hysteretic coupling of the body DOFs to the ground-side DOFs."""
+        return self._damping()["H"][1]
+
+    def _damping(self) -> dict[str, tuple[Any, np.ndarray]]:
+        """C and H with their ground couplings, summed over the mounts once (both in one call), frozen."""
+        if "damping" not in self._cache:
+            mm = _MountMatrices(self.kp, self.cp, self.hp, self.krp, self.crp, self.kcp, self.ccp)
+            mats, couplings = _summed(self.model, self._cache["pattern"], mm, self.sparse, ("C", "H"))
+            self._cache["damping"] = freeze({key: (mats[key], couplings[key]) for key in ("C", "H")})
+        return self._cache["damping"]
 
     @property
     def n(self) -> int:
@@ -215,6 +241,35 @@ class Assembly(ReadOnly):
                                              shape=(3 * nm, 6 * nb + self.nz))
         return self._cache["R"]
 
+    def dense_factor(self) -> np.ndarray:
+        """:meth:`stiffness_factor` as a read-only dense (r, n) array, the same numbers (cached).
+
+        A small dense model's factor is made dense and its CSR only built when asked for: the
+        eigen path of a 6-DOF model reads the dense array alone."""
+        if "Gd" not in self._cache:
+            plain = self._plain_dense()
+            g = plain if plain is not None else self.stiffness_factor().toarray()
+            g.flags.writeable = False
+            self._cache["Gd"] = g
+        return self._cache["Gd"]
+
+    def _plain_dense(self) -> np.ndarray | None:
+        """The dense factor of a dense assembly with translational rows only (else None)."""
+        if self.sparse:
+            return None
+        k, t = self._rates()
+        if not self._plain_factor(k):
+            return None
+        return self._dense_factor(np.sqrt(k)[:, :, None] * t.transpose(0, 2, 1), k)
+
+    def _rates(self) -> tuple[np.ndarray, np.ndarray]:
+        """(nm, 3) principal stiffnesses [N/m] (refused if negative) and (nm, 3, 3) local axes."""
+        nm = len(self.b_index)
+        k = np.array([m.type.stiffness for m in self.model.mounts], dtype=float).reshape(nm, 3)
+        if np.any(k < 0):
+            raise ModelError("stiffness_factor: a mount has a negative stiffness (K = G^T G needs k >= 0)")
+        return k, np.array([m.orientation.matrix for m in self.model.mounts]).reshape(nm, 3, 3)
+
     def stiffness_factor(self) -> sp.csr_matrix:
         """(r, n) sparse factor G of the stiffness of the body DOFs: ``K = G^T G``.
 
@@ -237,14 +292,11 @@ class Assembly(ReadOnly):
         """
         if "G" not in self._cache:
             nm = len(self.b_index)
-            k = np.array([m.type.stiffness for m in self.model.mounts], dtype=float).reshape(nm, 3)
-            if np.any(k < 0):
-                raise ModelError("stiffness_factor: a mount has a negative stiffness (K = G^T G needs k >= 0)")
-            t = np.array([m.orientation.matrix for m in self.model.mounts]).reshape(nm, 3, 3)
+            k, t = self._rates()
             # block-diagonal diag(sqrt k) T^T, one 3x3 block per mount, times the deflection rows
             blocks = np.sqrt(k)[:, :, None] * t.transpose(0, 2, 1)          # (nm, 3, 3)
             if not self.sparse and self._plain_factor(k):
-                self._cache["G"] = self._dense_factor(blocks, k)
+                self._cache["G"] = csr_of(self.dense_factor())
                 return self._cache["G"]
             r = np.repeat(3 * np.arange(nm), 9).reshape(nm, 3, 3) + np.arange(3)[None, :, None]
             c = np.repeat(3 * np.arange(nm), 9).reshape(nm, 3, 3) + np.arange(3)[None, None, :]
@@ -269,13 +321,15 @@ class Assembly(ReadOnly):
             self._cache["G"] = g
         return self._cache["G"]
 
-    def _plain_factor(self, k: np.ndarray) -> bool:
-        """Whether G has translational rows only (no rotational rates, no full 6x6 matrix)."""
-        kr = np.array([m.type.rotational_stiffness for m in self.model.mounts], dtype=float)
+    def _plain_factor(self, k: np.ndarray, kr: np.ndarray | None = None) -> bool:
+        """Whether G has translational rows only (no rotational rates, no full 6x6 matrix); ``kr``:
+        the mounts' (nm, 3) rotational rates when already read."""
+        if kr is None:
+            kr = np.array([m.type.rotational_stiffness for m in self.model.mounts], dtype=float)
         return not np.any(kr > 0) and not np.any(self.b_index == self.a_index) and not any(m.type.stiffness_matrix is not None and m.type.coupled
                                               for m in self.model.mounts)
 
-    def _dense_factor(self, blocks: np.ndarray, k: np.ndarray) -> sp.csr_matrix:
+    def _dense_factor(self, blocks: np.ndarray, k: np.ndarray, levers: np.ndarray | None = None) -> np.ndarray:
         """:meth:`stiffness_factor` of a small model without sparse products: the same sums in the
         same order. scipy's ``st @ B`` adds, per entry, ``st[r, 3p + i] B[3p + i, c]`` over
         ``i = 0, 1, 2`` from zero, left to right (products of structural zeros left out, which adds
@@ -284,17 +338,20 @@ class Assembly(ReadOnly):
         nm, n = len(self.b_index), self.n
         g = np.zeros((3 * nm, n))
         rows = 3 * np.arange(nm)[:, None] + np.arange(3)                      # (nm, 3)
-        for index, lever in ((self.b_index, point_transfer(self.r_b)), (self.a_index, -point_transfer(self.r_a))):
-            acc = np.zeros((nm, 3, 6))
-            for i in range(3):                                                # the product's order
-                acc = acc + blocks[:, :, i, None] * lever[:, None, i, :]
-            on = index < len(self.model.bodies)                               # ground columns: not DOFs
-            cols = 6 * index[on, None] + np.arange(6)                          # (nb, 6)
-            g[rows[on][:, :, None], cols[:, None, :]] = acc[on]
-        keep = np.flatnonzero(np.sqrt(k).ravel() > 0)
-        out = sp.csr_matrix(g[keep])          # zeros dropped and indices sorted, as the sparse path's
-        out.sort_indices()
-        return out
+        index = np.concatenate([self.b_index, self.a_index]).reshape(2, nm)    # both ends at once
+        if levers is None:
+            lever = point_transfer(np.concatenate([self.r_b, -self.r_a]).reshape(2, nm, 3))
+            lever[1, :, :, :3] = -lever[1, :, :, :3]                            # -L(r_a), exactly
+        else:
+            lever = levers                                                      # [L(r_b), -L(r_a)]
+        on = index < len(self.model.bodies)                                    # ground columns: not DOFs
+        if not on[1].any():                  # every mount to ground (one body): the body ends alone
+            index, lever, on = index[:1], lever[:1], on[:1]
+        terms = blocks[None, :, :, :, None] * lever[:, :, None, :, :]           # (sides, nm, 3, 3, 6)
+        acc = terms[:, :, :, 0] + terms[:, :, :, 1] + terms[:, :, :, 2]        # the product's order
+        cols = 6 * index[on][:, None] + np.arange(6)                            # (hits, 6)
+        g[np.broadcast_to(rows, index.shape + (3,))[on][:, :, None], cols[:, None, :]] = acc[on]
+        return g[np.flatnonzero(np.sqrt(k).ravel() > 0)] + 0.0     # +0.0: no negative zeros
 
     def _matrix_factor(self, mounts: np.ndarray, t: np.ndarray) -> sp.csr_matrix:
         """Rows of G for mounts with a full 6x6 stiffness: ``K6 = V diag(lam) V^T`` in local axes,
@@ -382,201 +439,22 @@ def _assemble(model: Model, sparse: bool) -> Assembly:
     mm = _mount_matrices(model, at.t)
     pattern = _block_pattern(at)
     mass = _mass(model, sparse)
-    mats, couplings = {}, {}
-    for key, pm, rm, cm in (("K", mm.kp, mm.krp, mm.kcp), ("C", mm.cp, mm.crp, mm.ccp), ("H", mm.hp, None, None)):
-        mats[key], couplings[key] = _summed(model, pattern, key, pm, rm, cm, sparse)
-    return Assembly(
+    mats, couplings = _summed(model, pattern, mm, sparse, ("K",))      # C and H when first asked for
+    asm = Assembly(
         model=model,
         dofs=dof_labels(model.body_names),
         M=mass,
-        K=mats["K"], C=mats["C"], H=mats["H"],
-        Kg=couplings["K"], Cg=couplings["C"], Hg=couplings["H"],
+        K=mats["K"], Kg=couplings["K"],
         kp=mm.kp, cp=mm.cp, hp=mm.hp,
         b_index=at.b_index, a_index=at.a_index, r_b=at.r_b, r_a=at.r_a,
         sparse=bool(sparse), krp=mm.krp, crp=mm.crp, kcp=mm.kcp, ccp=mm.ccp,
+        _cache={"pattern": pattern},
     )
-
-
-@dataclass(frozen=True)
-class _MountPoints:
-    """Where each mount acts: ``b_index``/``a_index`` its two nodes (bodies, then the rigid ground
-    and each support), ``r_b``/``r_a`` (nm, 3) its point from each node's reference point [m], ``t``
-    (nm, 3, 3) its local axes; ``n`` body DOFs and ``nz`` ground DOFs."""
-
-    b_index: np.ndarray
-    a_index: np.ndarray
-    r_b: np.ndarray
-    r_a: np.ndarray
-    t: np.ndarray
-    n: int
-    nz: int
-
-
-def _mount_points(model: Model) -> _MountPoints:
-    nb = len(model.bodies)
-    n = 6 * nb
-    names = {b.name: i for i, b in enumerate(model.bodies)}
-    ng = 1 + len(model.supports)                    # ground nodes: the rigid ground, then each support
-    nz = 6 * ng
-    cogs = np.vstack([np.array([b.cog for b in model.bodies]), np.zeros((ng, 3))])  # ground last
-    nm = len(model.mounts)
-    b_index = np.array([names[m.body] for m in model.mounts], dtype=int).reshape(nm)
-    a_index = np.array([names[m.to] if m.to in names else nb + model.ground_node(m)
-                        for m in model.mounts], dtype=int).reshape(nm)
-    at = np.array([m.at for m in model.mounts]).reshape(nm, 3)
-    body_frame = np.array([m.frame == "body" for m in model.mounts], dtype=bool)
-    p = at + np.where(body_frame[:, None], cogs[b_index], 0.0)
-    r_b, r_a = p - cogs[b_index], p - cogs[a_index]
-    t = np.array([m.orientation.matrix for m in model.mounts]).reshape(nm, 3, 3)
-    return _MountPoints(b_index, a_index, r_b, r_a, t, n, nz)
-
-
-@dataclass(frozen=True)
-class _MountMatrices:
-    """Every mount's 3x3 matrices in global axes, (nm, 3, 3) each: translational stiffness ``kp``
-    [N/m], damping ``cp`` [N s/m], hysteretic stiffness ``hp`` [N/m]; rotational ``krp`` [N m/rad],
-    ``crp`` [N m s/rad]; the coupling blocks ``kcp``, ``ccp`` of full 6x6 matrices."""
-
-    kp: np.ndarray
-    cp: np.ndarray
-    hp: np.ndarray
-    krp: np.ndarray
-    crp: np.ndarray
-    kcp: np.ndarray
-    ccp: np.ndarray
-
-
-def _mount_matrices(model: Model, t: np.ndarray) -> _MountMatrices:
-    nm = len(model.mounts)
-
-    def principal(key: str, scale: str | None = None) -> np.ndarray:
-        d = np.array([getattr(m.type, key) for m in model.mounts]).reshape(nm, 3)
-        if scale is not None:
-            d = d * np.array([getattr(m.type, scale) for m in model.mounts]).reshape(nm, 3)
-        return np.einsum("pij,pj,pkj->pik", t, d, t)
-
-    kp, cp, hp = principal("stiffness"), principal("damping"), principal("stiffness", "loss_factor")
-    krp, crp = principal("rotational_stiffness"), principal("rotational_damping")
-    kcp, ccp = np.zeros((nm, 3, 3)), np.zeros((nm, 3, 3))
-    for im, m in enumerate(model.mounts):    # full 6x6 matrices: their blocks turned into global axes
-        for which, (tt, rr, tr) in (("stiffness", (kp, krp, kcp)), ("damping", (cp, crp, ccp))):
-            if getattr(m.type, f"{which}_matrix") is None:
-                continue
-            k6 = m.type.local_matrix(which)
-            if not np.any(k6 - np.diag(np.diag(k6))):
-                continue                     # diagonal: the rates' own (bit-identical) path above
-            tm = t[im]
-            tt[im], rr[im], tr[im] = tm @ k6[:3, :3] @ tm.T, tm @ k6[3:, 3:] @ tm.T, tm @ k6[:3, 3:] @ tm.T
-    return _MountMatrices(kp, cp, hp, krp, crp, kcp, ccp)
-
-
-@dataclass(frozen=True)
-class _BlockPattern:
-    """The COO pattern of the four 6x6 blocks of every mount, shared by K, C and H: ``rows``,
-    ``cols`` into ``[q; q_ground]``; ``lb``, ``la`` (nm, 3, 6) the point transfers from each node;
-    ``rot`` (nm, 3, 6) the relative rotation ``theta_body - theta_to``."""
-
-    rows: np.ndarray
-    cols: np.ndarray
-    lb: np.ndarray
-    la: np.ndarray
-    rot: np.ndarray
-    n: int
-    nz: int
-
-
-def _block_pattern(at: _MountPoints) -> _BlockPattern:
-    nm = at.b_index.size
-    lb, la = point_transfer(at.r_b), point_transfer(at.r_a)
-    rot = np.zeros((nm, 3, 6))
-    rot[:, :, 3:] = np.eye(3)                              # relative rotation: theta_body - theta_to
-    ib = 6 * at.b_index[:, None] + np.arange(6)
-    ia = 6 * at.a_index[:, None] + np.arange(6)
-    blocks = ((ib, ib), (ia, ia), (ib, ia), (ia, ib))
-    rows = np.concatenate([np.broadcast_to(r[:, :, None], (nm, 6, 6)).ravel() for r, _ in blocks])
-    cols = np.concatenate([np.broadcast_to(c[:, None, :], (nm, 6, 6)).ravel() for _, c in blocks])
-    return _BlockPattern(rows, cols, lb, la, rot, at.n, at.nz)
-
-
-def _global(model: Model, pat: _BlockPattern, kmat: np.ndarray, rotational: np.ndarray | None = None,
-            coupling: np.ndarray | None = None, dense: bool = False) -> Any:
-    """The (n + nz) square matrix of the mounts' ``kmat`` (and 6x6 parts) over ``[q; q_ground]``."""
-    nm = pat.lb.shape[0]
-    lb, la, rot = pat.lb, pat.la, pat.rot
-    lbt, lat = lb.transpose(0, 2, 1), la.transpose(0, 2, 1)
-    kb, ka = kmat @ lb, kmat @ la                       # (nm, 3, 6) each
-    with np.errstate(over="ignore", invalid="ignore"):
-        vals = np.concatenate([(lbt @ kb).ravel(), (lat @ ka).ravel(),
-                               -(lbt @ ka).ravel(), -(lat @ kb).ravel()])
-        if rotational is not None:                  # 6x6 mounts: the same four blocks
-            rr = rot.transpose(0, 2, 1) @ rotational @ rot
-            vals = vals + np.concatenate([rr.ravel(), rr.ravel(), -rr.ravel(), -rr.ravel()])
-        if coupling is not None:                    # delta^T kc theta + theta^T kc^T delta
-            cr = coupling @ rot                     # (nm, 3, 6)
-            bb, aa = lbt @ cr, lat @ cr
-            ba = lambda x: x + x.transpose(0, 2, 1)  # noqa: E731
-            vals = vals + np.concatenate([ba(bb).ravel(), ba(aa).ravel(),
-                                          -(bb + aa.transpose(0, 2, 1)).ravel(),
-                                          -(aa + bb.transpose(0, 2, 1)).ravel()])
-    if not np.all(np.isfinite(vals)):
-        bad = int(np.flatnonzero((~np.isfinite(vals.reshape(4, nm, 36))).any(axis=(0, 2)))[0])
-        raise ModelError(f"mount {model.mounts[bad].name!r}: its stiffness or damping about the COG "
-                         "overflows (an extreme value or position); check its point and type")
-    size = pat.n + pat.nz
-    if dense:
-        return _coo_dense(vals, pat.rows, pat.cols, size)
-    return sp.csr_matrix((vals, (pat.rows, pat.cols)), shape=(size, size))
-
-
-def _coo_dense(vals: np.ndarray, rows: np.ndarray, cols: np.ndarray, size: int) -> Any:
-    """``csr_matrix((vals, (rows, cols))).toarray()`` by scipy's own kernels in scipy's own order
-    (COO to CSR, the row sort where the rows are unsorted, the duplicates summed, the dense copy),
-    without the sparse objects' construction and checks (about 0.1 ms of a 6-DOF model's 1 ms):
-    the same sums bit for bit (the order in which duplicates are added is part of the answer).
-    Falls back to the public path if the kernels are not where this scipy keeps them."""
-    try:
-        from scipy.sparse import _sparsetools as st
-    except ImportError:       # pragma: no cover - a scipy that moved them
-        return sp.csr_matrix((vals, (rows, cols)), shape=(size, size)).toarray()
-    nnz = vals.size
-    idx = np.int32 if max(nnz, size) < np.iinfo(np.int32).max else np.int64
-    indptr, indices, data = np.empty(size + 1, idx), np.empty(nnz, idx), np.empty(nnz)
-    st.coo_tocsr(size, size, nnz, rows.astype(idx), cols.astype(idx), np.ascontiguousarray(vals, float),
-                 indptr, indices, data)
-    if not st.csr_has_canonical_format(size, indptr, indices):
-        if not st.csr_has_sorted_indices(size, indptr, indices):
-            st.csr_sort_indices(size, indptr, indices, data)
-        st.csr_sum_duplicates(size, size, indptr, indices, data)
-    out = np.zeros((size, size))
-    st.csr_todense(size, size, indptr, indices, data, out)
-    return out
-
-
-def _mass(model: Model, sparse: bool) -> np.ndarray | sp.csr_matrix:
-    if sparse:
-        return sp.block_diag([b.mass_matrix for b in model.bodies], format="csr")
-    n = 6 * len(model.bodies)
-    mass = np.zeros((n, n))                         # the same numbers, no sparse bookkeeping
-    for i, b in enumerate(model.bodies):
-        mass[6 * i:6 * i + 6, 6 * i:6 * i + 6] = b.mass_matrix
-    return mass
-
-
-def _summed(model: Model, pat: _BlockPattern, key: str, pm: np.ndarray, rm: np.ndarray | None,
-            cm: np.ndarray | None, sparse: bool) -> tuple[np.ndarray | sp.csr_matrix, np.ndarray]:
-    """``key``'s (``"K"``, ``"C"`` or ``"H"``) body-DOF matrix and its (n, nz) coupling to ground."""
-    n, nz = pat.n, pat.nz
-    if key != "K" and not np.any(pm) and not np.any(rm) and not np.any(cm):   # no dampers / no hysteresis
-        return (sp.csr_matrix((n, n)) if sparse else np.zeros((n, n))), np.zeros((n, nz))
-    # the COO triplets summed by scipy (its order of summation is part of the answer)
-    f = _global(model, pat, pm, rm if rm is not None and np.any(rm) else None,
-                cm if cm is not None and np.any(cm) else None, dense=not sparse)
-    if sparse:
-        body_part = f[:n, :n]
-        body_part = 0.5 * (body_part + body_part.T)  # exact symmetry despite summation order
-        return body_part.tocsr(), f[:n, n:].toarray()
-    # the same arithmetic on the dense array (one sum per entry, zeros as the sparse path
-    # leaves them): bit for bit the sparse path's matrix, without its slicing and adding
-    fd = f
-    body = fd[:n, :n]
-    return 0.5 * (body + body.T) + 0.0, fd[:n, n:].copy()
+    if not sparse and mm.k is not None and (mm.k >= 0).all() and asm._plain_factor(mm.k, mm.kr):
+        # the stiffness factor every analysis asks for, from the arrays already at hand (the same
+        # numbers as Assembly.dense_factor computes: the lever arms are the pattern's own)
+        g = asm._dense_factor(np.sqrt(mm.k)[:, :, None] * at.t.transpose(0, 2, 1), mm.k,
+                              np.stack([pattern.lb, -pattern.la]))
+        g.flags.writeable = False
+        asm._cache["Gd"] = g
+    return asm

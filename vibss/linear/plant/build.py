@@ -159,8 +159,12 @@ def _build_plant(model_or_assembly: Model | Assembly, inputs: Sequence[Any], out
     coupling = {"K": asm.Kg, "C": asm.Cg, "H": asm.Hg}
     force, motion, free = input_maps(asm, parsed)
 
+    every = free.size == n and bool(np.all(free == np.arange(n)))     # nothing prescribed: no copies
+
     def ff(a: Any) -> Any:
-        return a[free][:, free].tocsr() if sparse else a[np.ix_(free, free)]
+        if sparse:
+            return a.tocsr(copy=True) if every else a[free][:, free].tocsr()
+        return a.copy() if every else a[np.ix_(free, free)]
 
     def fz(key: str) -> np.ndarray:
         out = np.asarray(mats[key][free] @ motion[:n])

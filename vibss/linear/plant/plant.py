@@ -262,6 +262,11 @@ class Plant(ReadOnly):
             self._cache[key] = make()
         return self._cache[key]
 
+    def known(self, key: str) -> Any:
+        """The quantity ``key`` if it was already computed for this plant (:meth:`cached`), else
+        None: for a choice that may read it but should not pay for it."""
+        return self._cache.get(key)
+
     @property
     def n(self) -> int:
         """Number of free DOFs."""

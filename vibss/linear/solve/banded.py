@@ -84,6 +84,39 @@ def _gb_layout(a: sp.spmatrix, perm: np.ndarray, band: int) -> np.ndarray:
     return out
 
 
+def _dense_structure(raw: dict, n: int) -> Structure | None:
+    """:func:`structure` of a dense plant when it bands: the same ordering, band and band storage (the
+    stored values themselves, placed by index), without the sparse copies, slices and COO forms
+    (150 DOF: 0.6 ms against 2.7 ms). None when it does not band (the sparse route factorises it)."""
+    mats = {key: np.asarray(a, dtype=float) for key, a in raw.items()}
+    mats = {key: a for key, a in mats.items() if key == "K" or key.startswith("G") or np.count_nonzero(a)}
+    hit = np.zeros((n, n), dtype=bool)
+    for a in mats.values():
+        hit |= a != 0
+    rows, cols = np.nonzero(hit)
+    pattern = sp.csr_matrix((np.ones(rows.size), (rows, cols)), shape=(n, n))
+    best = None
+    for i, order in enumerate((np.arange(n), reverse_cuthill_mckee(pattern, symmetric_mode=True).astype(int))):
+        inv = np.empty(n, dtype=int)
+        inv[order] = np.arange(n)
+        width = int(np.abs(inv[rows] - inv[cols]).max()) if rows.size else 0
+        if best is None or (width, i) < best[:2]:
+            best = (width, i, order, inv)
+    assert best is not None
+    band, _, perm, inv = best
+    if band > BAND_MAX:
+        return None
+    parts = {}
+    for key, a in mats.items():
+        r, c = np.nonzero(a)
+        out = np.zeros((2 * band + 1, n))
+        out[band + inv[r] - inv[c], inv[c]] = a[r, c]
+        parts[key] = out
+    cost = scale("solve.banded") * (_T_FREQ + _K_BUILD * n * (2 * band + 1) * len(parts)
+                                    + _K_BAND * n * max(band, 1) ** 2)
+    return Structure(perm, band, True, parts, cost)
+
+
 def seconds_floor(n: int) -> float:
     """The least one sparse solve of ``n`` DOFs can cost [s] (a half-bandwidth of 1), by the same
     constants as :attr:`Structure.seconds_per_frequency`: a method cheaper than ``nf`` times this
@@ -118,9 +151,14 @@ def structure(plant: Plant) -> Structure:
     (11, True, (23, 18))
     """
     n = plant.n
-    mats = {key: sp.csr_matrix(getattr(plant, key)) for key in ("K", "C", "M", "H")}
-    mats = {key: a for key, a in mats.items() if a.count_nonzero() or key == "K"}
-    mats.update({f"G{j}": sp.csr_matrix(g.K) for j, g in enumerate(groups(plant))})   # branches
+    raw = {key: getattr(plant, key) for key in ("K", "C", "M", "H")}
+    raw.update({f"G{j}": g.K for j, g in enumerate(groups(plant))})   # branches
+    if not any(sp.issparse(a) for a in raw.values()):
+        dense = _dense_structure(raw, n)        # a dense plant: its pattern and band read by NumPy
+        if dense is not None:
+            return dense
+    mats = {key: sp.csr_matrix(a) for key, a in raw.items()}
+    mats = {key: a for key, a in mats.items() if a.count_nonzero() or key in ("K",) or key.startswith("G")}
     pattern = sum(abs(a) for a in mats.values())
     pattern = sp.csr_matrix(pattern)
     band, perm = min((_bandwidth(pattern, order), i, order) for i, order in enumerate(
