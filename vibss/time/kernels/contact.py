@@ -11,10 +11,8 @@ The local error is fourth order in ``omega_c h`` (``omega_c``: the stops' contac
 
 A step whose end (or the cubic through its end values) crosses a clearance is cut at the crossing,
 found by Newton's method on the exact sub-step solution, and continued from there in the new
-regime: the kink of a stop's force is never inside a step. The breakpoints of a force-deflection
-curve are crossed the same way (its second derivative jumps there; stepped over, they cost the steps
-their order: the snubbed cabinet's curved isolators needed 16 steps per sample for 1e-6, 1 with them
-located). The linear part inside a step is the
+regime: the kink of a stop's force is never inside a step; nor a force-deflection curve's breakpoint,
+where its second derivative jumps (stepped over, they cost the steps their fourth order). The linear part inside a step is the
 cubic Hermite interpolant of its end values (it enters only the crossing time and the slope of the
 force just after it). A local extremum of a nonlinear axis that beats its running peak is located
 the same way (the sub-step where ``v = 0``), so the peak deflections are those of the integration,
@@ -468,13 +466,11 @@ def _events(laws: LocalLaws, s: _State, d: np.ndarray) -> list[tuple[int, int, f
 
 
 SIMULTANEOUS = 100.0
-"""Boundaries crossed within this many times :data:`LOCATE_TOL` of the first located crossing are
-crossed with it (the mirrored mounts of a symmetric body cross together: one located event, not one
-per mount each re-located after the others)."""
+"""Boundaries within this many times :data:`LOCATE_TOL` of the first located crossing are crossed with
+it (mirrored mounts cross together: one event, not one per mount each re-located after the others)."""
 
 
-def _locate(iv: _Interval, s: _State, tau: float,
-            last: set[tuple[int, int]]) -> tuple[float, list[tuple[int, int, int]]] | None:
+def _locate(iv: _Interval, s: _State, tau: float, last: set[tuple[int, int]]) -> tuple[float, list] | None:
     """The first crossing of a clearance or a breakpoint before ``tau`` after the sub-step's start, on
     the exact sub-step solution (Newton on the crossing time, its slope the velocity the solve returns):
     ``(time from the start [s], [(axis, side, kind), ...])`` (every boundary crossed then), or None."""
@@ -517,9 +513,8 @@ def _locate(iv: _Interval, s: _State, tau: float,
 
 
 PEAK_NOISE = 1e-9
-"""An axis whose extremum lies within this fraction of the largest excursion of any axis from its
-operating point moves by round-off (a symmetry keeps it at rest): its peak is the step's cubic's, not
-located on the exact sub-step (the lateral axes of a symmetric cabinet: 9 of 10 located peaks)."""
+"""An extremum within this fraction of the largest excursion of any axis is round-off (a symmetry keeps
+its axis at rest): its peak is the step's cubic's, not located (9 of 10 on a symmetric cabinet)."""
 
 
 def _peaks(iv: _Interval, s: _State, h: float, e: np.ndarray, v: np.ndarray) -> None:
@@ -554,8 +549,7 @@ def _peaks(iv: _Interval, s: _State, h: float, e: np.ndarray, v: np.ndarray) -> 
             run.peak_lo[a], run.t_lo[a] = dm, iv.t0 + iv.done + t_
 
 
-def _extremum(iv: _Interval, s: _State, h: float, a: int, tc: float, v_end: float,
-              located: list[tuple[float, np.ndarray, np.ndarray]]) -> tuple[float, np.ndarray]:
+def _extremum(iv: _Interval, s: _State, h: float, a: int, tc: float, v_end: float, located: list) -> tuple[float, Any]:
     """Where axis ``a``'s velocity vanishes in the sub-step of length ``h`` (secant from the cubic's
     ``tc``, kept in the bracket; ``v_end`` its velocity at the end), and the local deflections there;
     an extremum ``located`` already in this sub-step serves when ``a``'s velocity vanishes there too."""
