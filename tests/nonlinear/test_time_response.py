@@ -15,7 +15,7 @@ from scipy.interpolate import PchipInterpolator
 
 import vibss
 from vibss import Body, Model, Mount, MountType
-from vibss.errors import ModelError
+from vibss.errors import ModelError, VibssWarning
 from vibss.model.excitation import Excitation
 from vibss.model.timefunctions import HalfSine
 
@@ -33,11 +33,13 @@ def _stop_force(x: float, regime: int, lo: float = CLEAR, hi: float = CLEAR) -> 
 
 
 def _event_driven(rhs, y0: np.ndarray, t_end: float, edges: list[float], lo: float | None = None,
-                  hi: float | None = None, regime: int = 0, knots: tuple[float, ...] = (), rtol: float = 1e-12):
+                  hi: float | None = None, regime: int = 0, knots: tuple[float, ...] = (), rtol: float = 1e-12,
+                  max_step: float = np.inf):
     """solve_ivp (DOP853, ``rtol``) restarted at every pulse edge, at every crossing of a clearance
     ``-lo`` or ``hi`` (terminal events, the direction of the crossing out of the current regime; the
     regime, not the sign of the deflection, picks the stop force) and of a curve's ``knots`` (where its
-    second derivative jumps): a dense solution as a list of pieces. ``rhs(t, y, regime)``."""
+    second derivative jumps): a dense solution as a list of pieces. ``rhs(t, y, regime)``. solve_ivp
+    sees an event only where it changes sign between two steps: ``max_step`` for a grazing contact."""
     pieces, t, y = [], 0.0, np.asarray(y0, float)
     back: dict[float, float] = {}
     stops = sorted(set([e for e in edges if 0 < e < t_end] + [t_end]))
@@ -55,7 +57,7 @@ def _event_driven(rhs, y0: np.ndarray, t_end: float, edges: list[float], lo: flo
                 fn.terminal, fn.direction = True, direction
                 fns.append(fn)
             sol = solve_ivp(lambda tt, yy: rhs(tt, yy, regime), (t, stop), y, method="DOP853", rtol=rtol,
-                            atol=1e-16, dense_output=True, events=fns or None)
+                            atol=1e-16, dense_output=True, events=fns or None, max_step=max_step)
             pieces.append((t, sol.t[-1], sol.sol))
             t, y = float(sol.t[-1]), sol.y[:, -1]
             back = {}
@@ -71,9 +73,9 @@ def _event_driven(rhs, y0: np.ndarray, t_end: float, edges: list[float], lo: flo
 def _evaluate(pieces, ts: np.ndarray) -> np.ndarray:
     out = np.empty((2, ts.size))
     for a, b, sol in pieces:
-        if b <= a:                           # a restart on the point it starts from
-            continue
         sel = (ts >= a) & (ts <= b)
+        if not sel.any():                    # a piece between two of the times (a short contact)
+            continue
         out[:, sel] = sol(ts[sel])
     return out
 
@@ -345,3 +347,27 @@ def test_the_stated_error_of_a_shock_into_a_curved_snubber_is_kept(rtol: float, 
     stated = float(r.note.rsplit("checked: error ", 1)[1].split()[0])
     assert err <= rtol
     assert stated >= err / 3
+
+
+@pytest.mark.parametrize("f0", [25.074, 25.096, 25.112])
+def test_a_grazing_contact_is_integrated_not_refused(f0: float) -> None:
+    """A half-sine force whose peak just reaches the stop (contacts far shorter than the 2 ms step,
+    and the return crossing within the interval of the touch) once left the stop's regime behind the
+    deflection and ended in "more than 16 stop events in one step" (a review's reproducer). Reference:
+    the event-driven DOP853 of the same 1-DOF equation (steps of at most 20 us: without, it steps over
+    the 25.074 N touch, 35 nm deep, and misses it): within the claim. Not asserted, noticed: at 25.074 N
+    the step doubling states 6.5e-13 for an error of 1.8e-6 (both runs resolve the touch alike; the
+    same before this change), within rtol 1e-4 but not a bound."""
+    t = MountType("snub", [K, K, K], stops={"z": (CLEAR, KS)})
+    exc = Excitation("p", "force", "b", HalfSine(f0, 0.0, 0.02), dof="z")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", VibssWarning)
+        r = vibss.simulate(_sdof(t), [exc], outputs=["b.z"], t_end=0.1, dt=2e-3, rtol=1e-4)
+
+    def rhs(tt: float, y: np.ndarray, regime: int) -> list[float]:
+        force = f0 * np.sin(np.pi * tt / 0.02) if tt < 0.02 else 0.0
+        return [y[1], (force - K * y[0] - (KS * (y[0] - CLEAR) if regime > 0 else 0.0)) / M]
+
+    ref = _evaluate(_event_driven(rhs, [0.0, 0.0], 0.1, [0.02], hi=CLEAR, max_step=2e-5), r.time)[0]
+    assert r.method == "nonlinear_modal" and len(r.contacts) == 1
+    assert float(np.abs(r["b.z"] - ref).max() / np.abs(ref).max()) <= 1e-4

@@ -11,10 +11,10 @@ The local error is fourth order in ``omega_c h`` (``omega_c``: the stops' contac
 
 A step whose end (or the cubic through its end values) crosses a clearance is cut at the crossing,
 found by Newton's method on the exact sub-step solution, and continued from there in the new
-regime: the kink of a stop's force is never inside a step; nor a force-deflection curve's breakpoint,
-where its second derivative jumps (stepped over, they cost the steps their fourth order). The linear part inside a step is the
-cubic Hermite interpolant of its end values (it enters only the crossing time and the slope of the
-force just after it). A local extremum of a nonlinear axis that beats its running peak is located
+regime: the kink of a stop's force is never inside a step; nor a curve's breakpoint, where its second
+derivative jumps (stepped over, they cost the steps their fourth order). The linear part inside a
+step is interpolated from its end values (it enters only the crossing time and the force's slope
+just after it). A local extremum of a nonlinear axis that beats its running peak is located
 the same way (the sub-step where ``v = 0``), so the peak deflections are those of the integration,
 not of the samples.
 """
@@ -341,11 +341,15 @@ def _interval(iv: _Interval, s: _State) -> None:
     events = laws.stops.any() or laws.curved.size > 0
     for _ in range(8 * laws.r + 8 + 4 * laws.curved.size):
         rest = iv.h - iv.done
+        if rest <= 1e-14 * iv.h:                # the last event was at the interval's end
+            return
         st = iv.sys.step(rest) if iv.done == 0.0 else iv.sys.sub(rest)
         e, v, g, dg = _solve(laws, st, s, iv.lin1[:2 * laws.r], run)
         run.steps += 1
         guess = _crossing(laws, s, e, v, rest) if events else None
         found = _locate(iv, s, guess, last) if guess is not None else None
+        if found is None and guess is not None and guess < rest:    # the exact crossing after the cubic's
+            found = _locate(iv, s, rest, last)
         if found is None:
             _peaks(iv, s, rest, e, v)
             s.x = _advance(st, s, g, dg)
@@ -471,9 +475,8 @@ it (mirrored mounts cross together: one event, not one per mount each re-located
 
 
 def _locate(iv: _Interval, s: _State, tau: float, last: set[tuple[int, int]]) -> tuple[float, list] | None:
-    """The first crossing of a clearance or a breakpoint before ``tau`` after the sub-step's start, on
-    the exact sub-step solution (Newton on the crossing time, its slope the velocity the solve returns):
-    ``(time from the start [s], [(axis, side, kind), ...])`` (every boundary crossed then), or None."""
+    """The first crossing of a clearance or a breakpoint before ``tau`` into the sub-step, on its exact
+    solution (Newton on the time): ``(time [s], [(axis, side, kind), ...] crossed then)``, or None."""
     laws = iv.laws
     e, v = iv.ends(s, tau)
     d = laws.d0 + e
@@ -485,15 +488,13 @@ def _locate(iv: _Interval, s: _State, tau: float, last: set[tuple[int, int]]) ->
         cands.append((a, side, c, kind, f0, f1, LOCATE_TOL * (abs(c) + abs(f0) + abs(f1))))
     if not cands:
         return None
-    ax = np.array([x[0] for x in cands])
-    cs = np.array([x[2] for x in cands])
+    ax, cs = np.array([x[0] for x in cands]), np.array([x[2] for x in cands])
     guess = _cubic_roots(tau, laws.d0[ax] + s.e[ax], s.v[ax], d[ax], v[ax], cs)
-    best, at = tau, (e, v)
-    first = None
+    best, at, first = tau, (e, v), -1
     for i in np.argsort(guess, kind="stable"):
         a, side, c, kind, f0, f1, tol = cands[i]
         fb = laws.d0[a] + at[0][a] - c
-        if first is not None and (np.sign(fb) == np.sign(f0) or abs(fb) <= SIMULTANEOUS * tol):
+        if first >= 0 and (np.sign(fb) == np.sign(f0) or abs(fb) <= SIMULTANEOUS * tol):
             continue                                    # not crossed before the earliest crossing so far
 
         def fun(t: float, a: Any = a, c: float = c) -> tuple[float, float]:
@@ -501,14 +502,14 @@ def _locate(iv: _Interval, s: _State, tau: float, last: set[tuple[int, int]]) ->
             return float(laws.d0[a] + em[a] - c), float(vm[a])
 
         tc = _root(fun, 0.0, best, f0, fb, float(min(guess[i], best)), tol, 1e-15 * iv.h)
-        if first is None or tc < best:
-            first, best = i, tc
+        if first < 0 or tc < best:
+            first, best = int(i), tc
             at = iv.ends(s, tc)
-    hits = []
-    for a, side, c, kind, f0, _, tol in cands:
-        f = laws.d0[a] + at[0][a] - c
-        if np.sign(f) != np.sign(f0) or abs(f) <= SIMULTANEOUS * tol:
-            hits.append((a, side, kind))
+    past = [laws.d0[x[0]] + at[0][x[0]] - x[2] for x in cands]      # at the crossing: crossed, or together
+    hits = [(x[0], x[1], x[3]) for x, f in zip(cands, past)
+            if np.sign(f) != np.sign(x[4]) or abs(f) <= SIMULTANEOUS * x[6]]
+    if not hits:        # nothing bracketed: the state was past it already (a grazing return skipped)
+        hits.append((cands[first][0], cands[first][1], cands[first][3]))
     return best, hits
 
 
