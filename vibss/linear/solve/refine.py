@@ -1,0 +1,117 @@
+"""The solve in the mounts' forces by iterative refinement: a fast LU of the assembled matrix, the
+residual in the mounts' form.
+
+The assembled ``A(s) = K + iH + sC + s^2 M`` of a model with stiff links beside soft mounts rounds
+every entry at its stiffest mount's level, and its LU loses the soft modes' digits (a 6,000-DOF soft
+tower: 1.6e-6 of each channel's peak at 0.1 mHz). That LU is still a close approximate inverse: its
+error ``E`` is of round-off size, so ``x_{k+1} = x_k + LU^-1 (r - A x_k)`` contracts by about
+``||A^-1 E||`` per step, *provided the residual is computed without that round-off*. Here it is
+computed in the mounts' form,
+
+    A(s) x = R(s) x + B^T Z(s) (B x),    R(s) = K_rest + i H_rest + s C_rest + s^2 M,
+
+mount by mount (:class:`~vibss.linear.plant.plant.MountForm`): a deflection ``B x`` is one difference of
+two body motions, rounded relative to itself, and no stiff entry is summed with a soft one. Each step
+costs one solve with the kept factor and the mounts' product; the iteration stops when the correction
+reaches round-off of the solution or stops contracting (LAPACK ``xGERFS``'s rule). Measured on the
+6,000-DOF tower against the same iteration with the residual in extended precision (64-bit
+mantissa): 1e-15 ... 8e-15, where the LU of the equilibrated saddle system in the mounts' forces was
+1e-6 off at 0.18 mHz. Where the iteration does not reach :data:`ACCEPT`, the caller solves that
+frequency otherwise (the saddle system, itself refined the same way).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+import scipy.sparse as sp
+
+__all__ = ["STEPS", "ACCEPT", "CONTRACT", "mounts_product", "refine"]
+
+STEPS = 10
+"""Most refinement steps per frequency."""
+ACCEPT = 1e-11
+"""Largest last correction (relative to the solution, per column, max norm) accepted when the
+iteration stops contracting; above it the caller falls back."""
+CONTRACT = 0.5
+"""A step whose correction is not below this fraction of the one before has stopped contracting."""
+
+
+def mounts_product(form: Any, m_csr: sp.csr_matrix, bt: sp.csr_matrix, bat: sp.csr_matrix | None,
+                   s: complex) -> Callable[[np.ndarray], np.ndarray]:
+    """``x -> A(s) x`` in the mounts' form, ``R(s) x + B^T Z(s) B x`` (plus the per-axis mounts).
+
+    Parameters
+    ----------
+    form : MountForm
+        The plant's mounts (:class:`~vibss.linear.plant.plant.MountForm`).
+    m_csr : (n, n) scipy.sparse CSR matrix
+        The plant's mass matrix [kg].
+    bt, bat : scipy.sparse CSR matrix
+        ``B^T`` (n, 3 q) and ``Ba^T`` (n, r) (None without per-axis mounts).
+    s : complex
+        Laplace value [rad/s].
+
+    Returns
+    -------
+    callable
+        ``(n, k) -> (n, k)`` complex [N per unit of x].
+    """
+    z = form.kp + s * form.cp + 1j * form.hp                       # (q, 3, 3) [N/m]
+    za = form.ka + s * form.ca + 1j * form.ha if bat is not None else None
+    rest = [(c, a) for c, a in ((1.0, form.K), (1j, form.H), (s, form.C)) if a.nnz]
+
+    def apply(x: np.ndarray) -> np.ndarray:
+        y = (s * s) * (m_csr @ x)
+        for c, a in rest:
+            y += c * (a @ x)
+        bx = (form.B @ x).reshape(-1, 3, x.shape[1])
+        y += bt @ np.matmul(z, bx).reshape(-1, x.shape[1])
+        if za is not None and bat is not None:
+            y += bat @ (za[:, None] * (form.Ba @ x))
+        return y
+    return apply
+
+
+def refine(solve: Callable[[np.ndarray], np.ndarray], apply: Callable[[np.ndarray], np.ndarray],
+           r: np.ndarray) -> tuple[np.ndarray, float, bool]:
+    """``A x = r`` by ``x = solve(r)`` refined with the residual ``r - apply(x)``.
+
+    Parameters
+    ----------
+    solve : callable
+        An approximate inverse of ``A`` (a kept LU's solve), ``(n, k) -> (n, k)``.
+    apply : callable
+        ``A`` itself, accurately (:func:`mounts_product`).
+    r : (n, k) complex ndarray
+        Right-hand sides [N].
+
+    Returns
+    -------
+    x : (n, k) complex ndarray
+        The solution.
+    correction : float
+        The last correction over the solution, largest over the columns (max norms) [-]: its
+        forward error when the iteration contracted.
+    converged : bool
+        The correction reached round-off, or stopped contracting at most :data:`ACCEPT`.
+    """
+    x = np.asarray(solve(r), dtype=complex)
+    eps = float(np.finfo(float).eps)
+    prev = np.inf
+    last = np.inf
+    for _ in range(STEPS):
+        if not np.all(np.isfinite(x)):
+            return x, np.inf, False
+        dx = solve(r - apply(x))
+        x = x + dx
+        size = np.abs(x).max(axis=0)
+        last = float(np.max(np.abs(dx).max(axis=0) / np.where(size > 0, size, 1.0), initial=0.0))
+        if last <= eps:
+            return x, last, True
+        if last > CONTRACT * prev:
+            return x, last, last <= ACCEPT
+        prev = last
+    return x, last, last <= ACCEPT
