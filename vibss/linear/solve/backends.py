@@ -312,7 +312,6 @@ def _mounts(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray],
         bd, btd, md = fb.toarray(), bt.toarray(), m_csr.toarray()
         kd, cd, hd = form.K.toarray(), form.C.toarray(), form.H.toarray()
     else:
-        lay = plant.cached("mounts layout", lambda: _Layout.of(form, m_csr))
         mats = {k: plant.cached(f"csc {k}", partial(sp.csc_matrix, getattr(plant, k))) for k in ("K", "H", "C", "M")}
         bat = form.Ba.T.tocsr() if form.Ba is not None and form.Ba.shape[0] else None
         b_t = form.B.T.tocsr()
@@ -349,7 +348,8 @@ def _mounts(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray],
         if ok:
             x[i] = got
             continue
-        a, top = lay.matrix(z, sk)                        # else the saddle system, refined the same way
+        lay = plant.cached("mounts layout", lambda: _Layout.of(form, m_csr))   # else the saddle system,
+        a, top = lay.matrix(z, sk)                                              # refined the same way
         d = _equilibrate(form, fb, top, sk)
         a.data *= d[lay.row] * d[lay.col]
         try:
