@@ -312,7 +312,7 @@ def _mounts(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray],
         bd, btd, md = fb.toarray(), bt.toarray(), m_csr.toarray()
         kd, cd, hd = form.K.toarray(), form.C.toarray(), form.H.toarray()
     else:
-        mats = {k: plant.cached(f"csc {k}", partial(sp.csc_matrix, getattr(plant, k))) for k in ("K", "H", "C", "M")}
+        pattern = plant.cached("assembled pattern", lambda: _Pattern.of(plant))
         bat = form.Ba.T.tocsr() if form.Ba is not None and form.Ba.shape[0] else None
         b_t = form.B.T.tocsr()
     zeros = np.zeros((q3, r_all.shape[2]), dtype=complex)
@@ -340,7 +340,7 @@ def _mounts(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray],
             continue
         apply = mounts_product(form, m_csr, b_t, bat, sk)
         try:                    # the assembled LU, refined by the residual in the mounts' form
-            lu = spl.splu(_assembled(plant, mats, sk), permc_spec=ASSEMBLED_ORDER,
+            lu = spl.splu(pattern.matrix(sk), permc_spec=ASSEMBLED_ORDER,
                           diag_pivot_thresh=PIVOT_THRESHOLD, options={"SymmetricMode": True})
             got, _, ok = refine(lu.solve, apply, r_all[i])
         except RuntimeError:                              # "Factor is exactly singular"
@@ -364,14 +364,36 @@ def _mounts(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray],
     return (x if rows is None else x[:, rows]), bad
 
 
-def _assembled(plant: Plant, mats: dict[str, Any], s: complex) -> Any:
-    """The assembled ``K + iH + sC + s^2 M`` at ``s``, CSC complex (``mats``: the plant's CSC terms)."""
-    a = mats["K"] + (s * s) * mats["M"]
-    if mats["C"].nnz:
-        a = a + s * mats["C"]
-    if mats["H"].nnz:
-        a = a + 1j * mats["H"]
-    return sp.csc_matrix(a, dtype=complex)
+@dataclass(frozen=True, eq=False)
+class _Pattern:
+    """The assembled ``K + iH + sC + s^2 M`` as one CSC pattern, laid out once per plant: a frequency
+    only sums each term's values into their positions (sparse sums per frequency took 0.1 s of the
+    mounts' 1 s at 60,000 DOF)."""
+
+    indptr: np.ndarray
+    indices: np.ndarray
+    terms: dict
+
+    @classmethod
+    def of(cls, plant: Plant) -> _Pattern:
+        """The pattern of ``plant``'s ``K, H, C, M``."""
+        n = plant.n
+        parts = {k: sp.coo_matrix(getattr(plant, k)) for k in ("K", "H", "C", "M")}
+        parts = {k: a for k, a in parts.items() if a.nnz or k == "K"}
+        keys = {k: a.col.astype(np.int64) * n + a.row for k, a in parts.items()}
+        every = np.unique(np.concatenate(list(keys.values())))
+        indptr = np.concatenate([[0], np.cumsum(np.bincount(every // n, minlength=n))])
+        terms = {k: (np.searchsorted(every, keys[k]), np.asarray(a.data, dtype=float)) for k, a in parts.items()}
+        return cls(indptr, (every % n).astype(np.int32), terms)
+
+    def matrix(self, s: complex) -> Any:
+        """The matrix at ``s`` [rad/s], CSC complex."""
+        coef = {"K": 1.0, "H": 1j, "C": s, "M": s * s}
+        data = np.zeros(self.indices.size, dtype=complex)
+        for k, (pos, val) in self.terms.items():
+            data[pos] += coef[k] * val
+        n = self.indptr.size - 1
+        return sp.csc_matrix((data, self.indices, self.indptr), shape=(n, n))
 
 
 @dataclass(frozen=True, eq=False)
