@@ -366,9 +366,10 @@ def _mounts(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray],
 
 @dataclass(frozen=True, eq=False)
 class _Pattern:
-    """The assembled ``K + iH + sC + s^2 M`` as one CSC pattern, laid out once per plant: a frequency
-    only sums each term's values into their positions (sparse sums per frequency took 0.1 s of the
-    mounts' 1 s at 60,000 DOF)."""
+    """The assembled ``K + iH + sC + s^2 M`` on one CSC pattern, laid out once per plant: each term's
+    values spread over the whole pattern (zeros where it has none), so a frequency is a few
+    vector operations over the nonzeros (sparse sums per frequency took 0.1 s of the mounts' 1 s a
+    frequency at 60,000 DOF, scattering the terms' values 0.012 s of 0.1 s at 6,000)."""
 
     indptr: np.ndarray
     indices: np.ndarray
@@ -383,15 +384,28 @@ class _Pattern:
         keys = {k: a.col.astype(np.int64) * n + a.row for k, a in parts.items()}
         every = np.unique(np.concatenate(list(keys.values())))
         indptr = np.concatenate([[0], np.cumsum(np.bincount(every // n, minlength=n))])
-        terms = {k: (np.searchsorted(every, keys[k]), np.asarray(a.data, dtype=float)) for k, a in parts.items()}
+        terms = {}
+        for k, a in parts.items():
+            full = np.zeros(every.size)
+            np.add.at(full, np.searchsorted(every, keys[k]), a.data)
+            terms[k] = full
         return cls(indptr, (every % n).astype(np.int32), terms)
 
     def matrix(self, s: complex) -> Any:
         """The matrix at ``s`` [rad/s], CSC complex."""
-        coef = {"K": 1.0, "H": 1j, "C": s, "M": s * s}
-        data = np.zeros(self.indices.size, dtype=complex)
-        for k, (pos, val) in self.terms.items():
-            data[pos] += coef[k] * val
+        data = np.empty(self.indices.size, dtype=complex)
+        t = self.terms
+        if s.real == 0:                   # the imaginary axis: real part K - w^2 M, imaginary w C + H
+            w = s.imag
+            data.real = t["K"] - (w * w) * t["M"] if "M" in t else t["K"]
+            data.imag = w * t["C"] if "C" in t else 0.0
+            if "H" in t:
+                data.imag += t["H"]
+        else:
+            data[:] = t["K"]
+            for k, c in (("M", s * s), ("C", s), ("H", 1j)):
+                if k in t:
+                    data += c * t[k]
         n = self.indptr.size - 1
         return sp.csc_matrix((data, self.indices, self.indptr), shape=(n, n))
 
