@@ -317,13 +317,13 @@ def _mounts(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray],
         b_t = form.B.T.tocsr()
     zeros = np.zeros((q3, r_all.shape[2]), dtype=complex)
     for i, sk in enumerate(s):
-        r = np.vstack([r_all[i], zeros])
         if not dense:
             z = form.z_blocks(sk)
             if z is None:
                 bad[i] = True
                 continue
         else:
+            r = np.vstack([r_all[i], zeros])
             zi = form.z_inverse(sk)
             if zi is None:
                 bad[i] = True
