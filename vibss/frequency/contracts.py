@@ -27,7 +27,7 @@ from ..linear.eigen.basis import ModalBasis, classical_damping, damping_rank, pr
 from ..linear.plant.plant import Plant
 from ..linear.project.subspace import MOMENTS, N_SHIFTS, TWO_SIDED_MAX
 from ..linear.solve.backends import _CHUNK_BYTES, MOUNTS_DENSE_MAX
-from ..linear.solve.banded import _K_BAND, _T_FREQ, structure
+from ..linear.solve.banded import _K_BAND, _K_SUPERLU, _T_FREQ, structure
 from ..linear.solve.exact import MOUNTS_RATIO, forcing, response, states, zfactor
 from ..costs import constant, scale
 from ..methods import Check, Claim, Cost, Decision, decide
@@ -341,17 +341,19 @@ def _mounts(plant: Plant) -> int:
 
 def _per_mounts(plant: Plant, mounts: int) -> float:
     """Seconds of one solve in the mounts' forces (``mounts`` unknowns added): dense LU up to
-    :data:`~vibss.linear.solve.backends.MOUNTS_DENSE_MAX` unknowns, else SuperLU on the laid-out
-    pattern: linear in the unknowns on the small models (3 ms at 375, 6 ms at 444 measured), and at
-    least the assembled solve's estimate times the square of the unknowns' ratio."""
+    :data:`~vibss.linear.solve.backends.MOUNTS_DENSE_MAX` unknowns, else SuperLU of the assembled
+    matrix refined in the mounts' form, linear in that LU's fill (unscaled above that size)."""
     size = plant.n + mounts
     if size <= MOUNTS_DENSE_MAX:
         return T_MOUNTS + K_DENSE_LU * float(size) ** 3
     st = plant.cached("band structure", lambda: structure(plant))
     # SuperLU of the assembled matrix refined with the residual in the mounts' form
-    # (vibss.linear.solve.refine): the assembled solve's estimate and the refinement's fixed cost;
-    # the exact path scales it by its fitted "solve.mounts" (cost_direct)
-    return T_MOUNTS + st.seconds_per_frequency
+    # (vibss.linear.solve.refine): SuperLU's formula on the fill of the assembled LU (a band's when
+    # the plant bands), unscaled: the exact path scales it by its own fitted "solve.mounts"
+    # (cost_direct), not by the assembled solve's "solve.superlu" (the 60,000-DOF soft tower: 1.5x
+    # the seconds per nonzero of the 600-DOF one, a fixed cost per frequency 6x apart)
+    fill = st.fill if st.fill else plant.n * (3 * st.band + 1)
+    return _T_FREQ + _K_SUPERLU * fill
 
 
 def _modes(plant: Plant, basis: ModalBasis | None) -> int:
