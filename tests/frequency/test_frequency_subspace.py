@@ -114,3 +114,17 @@ def test_few_frequencies_keep_the_exact_solve() -> None:
     p = build_plant(chain_model(300, damping="none", seed=3), ["b0.fz"], OUT, sparse=True)
     r = vibss.frequency_response(p, frequencies=F[:5])
     assert r.method == "sparse" and "channel subspace" in r.note
+
+
+def test_a_soft_tower_keeps_the_exact_solve_in_the_mounts_forces() -> None:
+    """A stiffness ratio past MOUNTS_RATIO: ``auto`` does not try the subspace, which projects the
+    assembled K and fails its checks on the soft modes (shown by naming it); the exact solve in the
+    mounts' forces answers, and the note says why."""
+    from models import tower_model
+
+    p = build_plant(tower_model(60), ["b59.fx"], ["b59.x", "b30.x"], sparse=True)      # 360 DOF
+    f = np.logspace(-4, 1, 60)
+    r = vibss.frequency_response(p, frequencies=f)
+    assert r.method == "sparse" and "stiffness ratio" in r.note and "subspace" in r.note
+    named = vibss.frequency_response(p, frequencies=f, method="subspace")
+    assert "did not reach" in named.note

@@ -27,7 +27,7 @@ from ..linear.eigen.basis import ModalBasis, classical_damping, damping_rank, pr
 from ..linear.plant.plant import Plant
 from ..linear.project.subspace import MOMENTS, N_SHIFTS, TWO_SIDED_MAX
 from ..linear.solve.backends import _CHUNK_BYTES, MOUNTS_DENSE_MAX
-from ..linear.solve.banded import _K_BAND, _T_FREQ, structure
+from ..linear.solve.banded import _K_BAND, _K_SUPERLU, _T_FREQ, structure
 from ..linear.solve.exact import MOUNTS_RATIO, forcing, response, states, zfactor
 from ..costs import constant, scale
 from ..methods import Check, Claim, Cost, Decision, decide
@@ -106,10 +106,8 @@ K_HESSENBERG = constant("frequency.K_HESSENBERG", 1e-9)  # [s] per N^3 of the st
 K_TB05 = constant("frequency.K_TB05", 2e-9)  # [s] per frequency x N^2 of its Hessenberg solve
 T_MOUNTS = constant("frequency.T_MOUNTS", 1.2e-3)  # [s] per frequency of the solve in the mounts' forces (penalty links: 12 DOF, 11 mounts)
 K_COUPLING = constant("frequency.K_COUPLING", 3e-8)  # [s] per n k of a modal method's damping coupling and projections
-K_MOUNTS = constant("frequency.K_MOUNTS", 1.2e-5)  # [s] per unknown of one sparse solve in the mounts' forces
 T_MODAL = constant("frequency.T_MODAL", 5e-4)  # [s] fixed cost of the modal superposition's call
 T_CALL = constant("frequency.T_CALL", 5e-3)  # [s] fixed cost of a modal method's call (its projections, screens and forms)
-FILL_MOUNTS = 60      # nonzeros of L + U per unknown of the mounts' system by SuperLU (an upper guess)
 _C16 = 16.0           # [B] per complex number
 _F8 = 8.0             # [B] per float
 
@@ -349,16 +347,19 @@ def _mounts(plant: Plant) -> int:
 
 def _per_mounts(plant: Plant, mounts: int) -> float:
     """Seconds of one solve in the mounts' forces (``mounts`` unknowns added): dense LU up to
-    :data:`~vibss.linear.solve.backends.MOUNTS_DENSE_MAX` unknowns, else SuperLU on the laid-out
-    pattern: linear in the unknowns on the small models (3 ms at 375, 6 ms at 444 measured), and at
-    least the assembled solve's estimate times the square of the unknowns' ratio."""
+    :data:`~vibss.linear.solve.backends.MOUNTS_DENSE_MAX` unknowns, else SuperLU of the assembled
+    matrix refined in the mounts' form, linear in that LU's fill (unscaled above that size)."""
     size = plant.n + mounts
     if size <= MOUNTS_DENSE_MAX:
         return T_MOUNTS + K_DENSE_LU * float(size) ** 3
     st = plant.cached("band structure", lambda: structure(plant))
-    # SuperLU's fill grows faster than the unknowns: the assembled solve's estimate times their ratio
-    # squared (60,000-DOF soft tower: 190,000 unknowns, 6.2 s a frequency measured, 4.6 s by this)
-    return max(T_MOUNTS + K_MOUNTS * size, st.seconds_per_frequency * (size / max(plant.n, 1)) ** 2)
+    # SuperLU of the assembled matrix refined with the residual in the mounts' form
+    # (vibss.linear.solve.refine): SuperLU's formula on the fill of the assembled LU (a band's when
+    # the plant bands), unscaled: the exact path scales it by its own fitted "solve.mounts"
+    # (cost_direct), not by the assembled solve's "solve.superlu" (the 60,000-DOF soft tower: 1.5x
+    # the seconds per nonzero of the 600-DOF one, a fixed cost per frequency 6x apart)
+    fill = st.fill if st.fill else plant.n * (3 * st.band + 1)
+    return _T_FREQ + _K_SUPERLU * fill
 
 
 def _modes(plant: Plant, basis: ModalBasis | None) -> int:
@@ -379,9 +380,13 @@ def cost_direct(plant: Plant, nf: int, basis: ModalBasis | None = None) -> Cost:
     mounts = _mounts(plant)
     if mounts:
         size = n + mounts               # dense LU up to MOUNTS_DENSE_MAX unknowns, else SuperLU's fill
-        lu = 2 * size**2 if size <= MOUNTS_DENSE_MAX else 2 * FILL_MOUNTS * size
-        return Cost(scale("frequency.direct") * nf * _per_mounts(plant, mounts),
-                    _C16 * (lu + nf * n * m + nf * p * m))
+        if size <= MOUNTS_DENSE_MAX:
+            return Cost(scale("frequency.direct") * nf * _per_mounts(plant, mounts),
+                        _C16 * (2 * size**2 + nf * n * m + nf * p * m))
+        # the assembled LU refined (the saddle system's only where it does not converge), as cost_sparse
+        st = plant.cached("band structure", lambda: structure(plant))
+        lu = 40 * sum(int(getattr(v, "nnz", 0)) for v in st.parts.values())
+        return Cost(scale("solve.mounts") * nf * _per_mounts(plant, mounts), _C16 * (lu + nf * n * m + nf * p * m))
     return Cost(scale("frequency.direct") * nf * (_floor(n) + K_DENSE_LU * float(n) ** 3),
                 _C16 * (2 * chunk * n * n + nf * n * m + nf * p * m))
 

@@ -19,7 +19,7 @@ from ..linear.solve.backends import certified_note
 from ..linear.solve.banded import seconds_floor, structure
 from ..linear.eigen.basis import ModalBasis, classical_damping, damping_rank, projected_damping
 from ..linear.plant.plant import Plant
-from ..linear.solve.exact import mounts_form_possible
+from ..linear.solve.exact import MOUNTS_RATIO, mounts_form_possible
 from ..linear.plant.assemble import Assembly
 from ..costs import scale
 from ..methods import LARGE_DOFS, SMALL_DOFS, Method, resolve
@@ -270,6 +270,13 @@ def _choose_sparse(plant: Plant, nf: int) -> tuple[str, str]:
     """``auto`` for a sparse plant: the exact solve per frequency or the channel subspace
     (:mod:`vibss.linear.project.subspace`), by their estimated costs.
 
+    Not the subspace where the exact solve is in the mounts' forces (stiffness ratio past
+    :data:`~vibss.linear.solve.exact.MOUNTS_RATIO`): the subspace projects the assembled ``K``,
+    whose round-off is why that form was taken, and its checks fail on the soft modes; the exact
+    solve then answers after it (6,000-DOF soft tower, ``benchmarks/bench_tower.py``: checked error
+    1.6e-4 at 0.2 mHz over 0.1 mHz-10 Hz, 5.8e-4 over 0.01-10 Hz; over 1-10 Hz it converged with
+    437 vectors and 79 exact solves, in 2x the exact solve's time).
+
     The exact path costs ``nf`` solves (:attr:`~vibss.linear.solve.banded.Structure.seconds_per_frequency`);
     the subspace about ``3 N_SHIFTS`` of them (a factorisation per shift, about as many exact checks
     and a few added frequencies) plus its basis work, ``n r^2`` with ``r = N_SHIFTS MOMENTS`` times
@@ -277,13 +284,19 @@ def _choose_sparse(plant: Plant, nf: int) -> tuple[str, str]:
     factors ``nf r^3`` for the small plant's dense solves: cheaper with many frequencies and few
     channels. Both from :func:`~vibss.frequency.contracts.cost_sparse` and
     :func:`~vibss.frequency.contracts.cost_subspace` (the solve in the mounts' forces counted where
-    it is taken: a 60,000-DOF soft tower's exact solve is 190,000 unknowns, not 60,000).
+    it is taken: the assembled SuperLU's estimate and the refinement's fixed cost, fitted as ``solve.mounts``).
     """
     st = plant.cached("band structure", lambda: structure(plant))
     how = f"banded LU, half-bandwidth {st.band}" if st.banded else "SuperLU"
     exact = cost_sparse(plant, nf).seconds           # the contracts' estimates: the mounts' form counted
     if plant.branches is not None:
         return "sparse", f"sparse plant: exact sparse solve per frequency ({how}; frequency-dependent mounts)"
+    mf = plant.mounts
+    if mf is not None and mf.matches(plant) and mf.stiffness_ratio > MOUNTS_RATIO:
+        return "sparse", (f"sparse plant whose mounts span a stiffness ratio of {mf.stiffness_ratio:.2g} (past "
+                          f"{MOUNTS_RATIO:g}): exact solve per frequency in the mounts' forces ({how} of the "
+                          f"assembled matrix, refined), estimated {exact:.2g} s; a channel subspace projects "
+                          "the assembled K, whose round-off the soft modes do not survive (its checks fail)")
     sub = cost_subspace(plant, nf).seconds
     if sub < exact:
         return "subspace", (f"sparse plant, {nf} frequencies on {len(plant.outputs)} x {len(plant.inputs)} "

@@ -33,18 +33,29 @@ from ...methods import Method
 from .banded import structure
 from ..plant.branches import groups
 from .certified import CERTIFY_TOL, applies, certified_states, modal_inverse
+from .refine import mounts_product, refine
 from ..plant.plant import Plant
 
-__all__ = ["SOLVERS", "SolveBackend", "LOOP_DOFS", "MOUNTS_DENSE_MAX", "MOUNTS_ORDER", "dynamic_stiffness", "certified_note"]
+__all__ = ["SOLVERS", "SolveBackend", "LOOP_DOFS", "MOUNTS_DENSE_MAX", "MOUNTS_ORDER", "ASSEMBLED_ORDER",
+           "PIVOT_THRESHOLD", "dynamic_stiffness", "certified_note"]
 
 MOUNTS_DENSE_MAX = 300
-"""The mounts' system (n + 3 q unknowns) is solved by dense LU up to this size, else by SuperLU."""
+"""The mounts' system (n + 3 q unknowns) is solved by dense LU up to this size; above, the assembled
+matrix's SuperLU refined in the mounts' form (:mod:`vibss.linear.solve.refine`)."""
+
+ASSEMBLED_ORDER = "MMD_AT_PLUS_A"
+"""SuperLU's ordering of the assembled matrix that the mounts' form refines (:mod:`vibss.linear.solve.refine`):
+minimum degree on ``A^T + A`` with diagonal pivots preferred (the matrix is symmetric): 0.040 s against
+COLAMD's 0.054 s on the 6,000-DOF soft tower (fill 0.53 M against 0.74 M)."""
+
+PIVOT_THRESHOLD = 0.1
+"""SuperLU's ``diag_pivot_thresh`` for that LU: a diagonal pivot is kept unless 10x smaller than its
+column's largest entry (refinement corrects what the weaker pivoting loses, or the saddle system answers)."""
 
 MOUNTS_ORDER = "COLAMD"
-"""SuperLU's column ordering of the mounts' system. Minimum degree on ``A^T + A`` ("MMD_AT_PLUS_A")
-was 4x faster on a 6,000-DOF soft tower (0.059 s against 0.238 s a frequency; a plain SuperLU of the
-assembled matrix 0.040 s) but moved an 11-body tower's answer at 0.01 Hz by 9e-9 from the dense LU of
-the same equilibrated system (COLAMD: below 1e-9): not taken until a reference says which is closer."""
+"""SuperLU's column ordering of the mounts' saddle system (where the refinement of the assembled LU
+does not converge; refined itself the same way, which removes the ordering's effect on the digits:
+the saddle LU alone was 1e-6 off an extended-precision reference at 0.18 mHz on a 6,000-DOF tower)."""
 
 _CHUNK_BYTES = 64 * 2**20
 """Memory per batch of the dense back-end."""
@@ -335,8 +346,13 @@ def _mounts(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray],
 
     whose entries are masses, lever arms and compliances: nothing large is summed, so LU with
     partial pivoting keeps the soft modes that the assembled ``K`` loses. The system is scaled
-    symmetrically first (:func:`_equilibrate`). Dense LU up to :data:`MOUNTS_DENSE_MAX` unknowns,
-    else SuperLU.
+    symmetrically first (:func:`_equilibrate`). Dense LU up to :data:`MOUNTS_DENSE_MAX` unknowns.
+
+    Larger: SuperLU of the assembled ``A(s)`` (:data:`ASSEMBLED_ORDER`), refined with the residual
+    computed in the mounts' form (:mod:`vibss.linear.solve.refine`): n unknowns, not n + 3 q, and
+    the digits the assembled LU loses are recovered (a 6,000-DOF soft tower: 4e-15 from an
+    extended-precision reference where SuperLU of the saddle system above was 1e-6 off). A frequency
+    where the refinement does not converge takes SuperLU of the saddle system, refined the same way.
     """
     form = plant.mounts
     assert form is not None
@@ -352,16 +368,18 @@ def _mounts(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray],
         bd, btd, md = fb.toarray(), bt.toarray(), m_csr.toarray()
         kd, cd, hd = form.K.toarray(), form.C.toarray(), form.H.toarray()
     else:
-        lay = plant.cached("mounts layout", lambda: _Layout.of(form, m_csr))
+        pattern = plant.cached("assembled pattern", lambda: _Pattern.of(plant))
+        bat = form.Ba.T.tocsr() if form.Ba is not None and form.Ba.shape[0] else None
+        b_t = form.B.T.tocsr()
     zeros = np.zeros((q3, r_all.shape[2]), dtype=complex)
     for i, sk in enumerate(s):
-        r = np.vstack([r_all[i], zeros])
         if not dense:
             z = form.z_blocks(sk)
             if z is None:
                 bad[i] = True
                 continue
         else:
+            r = np.vstack([r_all[i], zeros])
             zi = form.z_inverse(sk)
             if zi is None:
                 bad[i] = True
@@ -376,14 +394,76 @@ def _mounts(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray],
             except np.linalg.LinAlgError:
                 bad[i] = True
             continue
-        a, top = lay.matrix(z, sk)
+        apply = mounts_product(form, m_csr, b_t, bat, sk)
+        try:                    # the assembled LU, refined by the residual in the mounts' form
+            lu = spl.splu(pattern.matrix(sk), permc_spec=ASSEMBLED_ORDER,
+                          diag_pivot_thresh=PIVOT_THRESHOLD, options={"SymmetricMode": True})
+            got, _, ok = refine(lu.solve, apply, r_all[i])
+        except RuntimeError:                              # "Factor is exactly singular"
+            ok = False
+        if ok:
+            x[i] = got
+            continue
+        lay = plant.cached("mounts layout", lambda: _Layout.of(form, m_csr))   # else the saddle system,
+        a, top = lay.matrix(z, sk)                                              # refined the same way
         d = _equilibrate(form, fb, top, sk)
         a.data *= d[lay.row] * d[lay.col]
         try:
-            x[i] = d[:n, None] * spl.splu(a, permc_spec=MOUNTS_ORDER).solve(d[:, None] * r)[:n]
+            saddle = spl.splu(a, permc_spec=MOUNTS_ORDER)
         except RuntimeError:
             bad[i] = True
+            continue
+
+        def solve(b: np.ndarray, saddle: Any = saddle, d: np.ndarray = d) -> np.ndarray:
+            return d[:n, None] * saddle.solve(d[:, None] * np.vstack([b, zeros[:, :b.shape[1]]]))[:n]
+        x[i] = refine(solve, apply, r_all[i])[0]
     return (x if rows is None else x[:, rows]), bad
+
+
+@dataclass(frozen=True, eq=False)
+class _Pattern:
+    """The assembled ``K + iH + sC + s^2 M`` on one CSC pattern, laid out once per plant: each term's
+    values spread over the whole pattern (zeros where it has none), so a frequency is a few
+    vector operations over the nonzeros (sparse sums per frequency took 0.1 s of the mounts' 1 s a
+    frequency at 60,000 DOF, scattering the terms' values 0.012 s of 0.1 s at 6,000)."""
+
+    indptr: np.ndarray
+    indices: np.ndarray
+    terms: dict
+
+    @classmethod
+    def of(cls, plant: Plant) -> _Pattern:
+        """The pattern of ``plant``'s ``K, H, C, M``."""
+        n = plant.n
+        parts = {k: sp.coo_matrix(getattr(plant, k)) for k in ("K", "H", "C", "M")}
+        parts = {k: a for k, a in parts.items() if a.nnz or k == "K"}
+        keys = {k: a.col.astype(np.int64) * n + a.row for k, a in parts.items()}
+        every = np.unique(np.concatenate(list(keys.values())))
+        indptr = np.concatenate([[0], np.cumsum(np.bincount(every // n, minlength=n))])
+        terms = {}
+        for k, a in parts.items():
+            full = np.zeros(every.size)
+            np.add.at(full, np.searchsorted(every, keys[k]), a.data)
+            terms[k] = full
+        return cls(indptr, (every % n).astype(np.int32), terms)
+
+    def matrix(self, s: complex) -> Any:
+        """The matrix at ``s`` [rad/s], CSC complex."""
+        data = np.empty(self.indices.size, dtype=complex)
+        t = self.terms
+        if s.real == 0:                   # the imaginary axis: real part K - w^2 M, imaginary w C + H
+            w = s.imag
+            data.real = t["K"] - (w * w) * t["M"] if "M" in t else t["K"]
+            data.imag = w * t["C"] if "C" in t else 0.0
+            if "H" in t:
+                data.imag += t["H"]
+        else:
+            data[:] = t["K"]
+            for k, c in (("M", s * s), ("C", s), ("H", 1j)):
+                if k in t:
+                    data += c * t[k]
+        n = self.indptr.size - 1
+        return sp.csc_matrix((data, self.indices, self.indptr), shape=(n, n))
 
 
 @dataclass(frozen=True, eq=False)

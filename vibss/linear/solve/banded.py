@@ -57,6 +57,8 @@ class Structure:
         original order.
     seconds_per_frequency : float
         Estimated cost of one solve [s] (for choosing a method; not a measurement).
+    fill : int
+        Nonzeros of ``L + U`` of the trial SuperLU factorisation (0 when ``banded``: none is made).
     """
 
     perm: np.ndarray
@@ -64,6 +66,7 @@ class Structure:
     banded: bool
     parts: dict
     seconds_per_frequency: float
+    fill: int = 0
 
 
 def _bandwidth(pattern: sp.csr_matrix, order: np.ndarray) -> int:
@@ -176,4 +179,4 @@ def structure(plant: Plant) -> Structure:
     cost = scale("solve.superlu") * (_T_FREQ + _K_SUPERLU * fill)   # linear in the fill: within 1.5x
     # on the suite's 150-600-DOF grid, tree, lattice and random graph, where nnz(L + U)^2 / n (the
     # model before) spread 6x and overestimated the large sparse ones (issue 34: 4x at 60,000 DOF)
-    return Structure(perm, band, False, csc, cost)
+    return Structure(perm, band, False, csc, cost, fill)

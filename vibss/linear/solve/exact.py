@@ -35,7 +35,8 @@ round-off of the stiffest mount they hold, and the soft modes are sensitive to i
 a 60-digit reference: 2.6e-3 relative error on a graded chain, 1e-3 on two bodies joined by 1e16 N/m
 links, whatever the LU or a diagonal scaling of ``A``). ``form="mounts"`` (chosen by ``"auto"`` above
 :data:`MOUNTS_RATIO`) keeps the mounts apart (:class:`~vibss.linear.plant.plant.MountForm`) and solves for
-their forces too: 1e-12 ... 1e-16 on the same cases (:func:`_mounts`).
+their forces too: 1e-12 ... 1e-16 on the same cases (:func:`_mounts`); a large plant's assembled LU
+refined with the residual computed mount by mount instead (:mod:`vibss.linear.solve.refine`).
 """
 
 # Over 600 lines on purpose (issue 28): the one exact solve's entry points (states, response, the

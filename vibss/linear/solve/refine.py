@@ -1,0 +1,136 @@
+"""The solve in the mounts' forces by iterative refinement: a fast LU of the assembled matrix, the
+residual in the mounts' form.
+
+The assembled ``A(s) = K + iH + sC + s^2 M`` of a model with stiff links beside soft mounts rounds
+every entry at its stiffest mount's level, and its LU loses the soft modes' digits (a 6,000-DOF soft
+tower: 1.6e-6 of each channel's peak at 0.1 mHz). That LU is still a close approximate inverse: its
+error ``E`` is of round-off size, so ``x_{k+1} = x_k + LU^-1 (r - A x_k)`` contracts by about
+``||A^-1 E||`` per step, *provided the residual is computed without that round-off*. Here it is
+computed in the mounts' form,
+
+    A(s) x = R(s) x + B^T Z(s) (B x),    R(s) = K_rest + i H_rest + s C_rest + s^2 M,
+
+mount by mount (:class:`~vibss.linear.plant.plant.MountForm`): a deflection ``B x`` is one difference of
+two body motions, rounded relative to itself, and no stiff entry is summed with a soft one. Each step
+costs one solve with the kept factor and the mounts' product; the iteration stops when the error it
+leaves is at most :data:`TARGET`, or when it stops contracting (LAPACK ``xGERFS``'s rule). Measured on the
+6,000-DOF tower against the same iteration with the residual in extended precision (64-bit
+mantissa): 1e-15 ... 8e-15, where the LU of the equilibrated saddle system in the mounts' forces was
+1e-6 off at 0.18 mHz. Where the iteration does not reach :data:`ACCEPT`, the caller solves that
+frequency otherwise (the saddle system, itself refined the same way).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+import scipy.sparse as sp
+
+__all__ = ["STEPS", "ACCEPT", "TARGET", "CONTRACT", "mounts_product", "refine"]
+
+STEPS = 10
+"""Most refinement steps per frequency."""
+ACCEPT = 1e-11
+"""Largest last correction (relative to the solution, per column, max norm) accepted when the
+iteration stops contracting; above it the caller falls back."""
+TARGET = 1e-13
+"""The iteration stops when the error it leaves is at most this (relative, per column) [-]: its last
+correction ``d_k`` (the error left is that times the contraction), or, from the second step, the
+contraction measured over the last two, ``d_k^2 / (d_(k-1) - d_k)``. Measured on a 6,000-DOF soft
+tower, an 11-body tower and the hanging chain (against 240 bits): the error after step k is the
+correction of step k + 1 to within 2x, and the contraction per step steady (1e-4 ... 1e-6 near the
+soft modes); two steps where the assembled LU is 1e-6 off, one above the soft modes."""
+CONTRACT = 0.5
+"""A step whose correction is not below this fraction of the one before has stopped contracting."""
+
+
+def mounts_product(form: Any, m_csr: sp.csr_matrix, bt: sp.csr_matrix, bat: sp.csr_matrix | None,
+                   s: complex) -> Callable[[np.ndarray], np.ndarray]:
+    """``x -> A(s) x`` in the mounts' form, ``R(s) x + B^T Z(s) B x`` (plus the per-axis mounts).
+
+    Parameters
+    ----------
+    form : MountForm
+        The plant's mounts (:class:`~vibss.linear.plant.plant.MountForm`).
+    m_csr : (n, n) scipy.sparse CSR matrix
+        The plant's mass matrix [kg].
+    bt, bat : scipy.sparse CSR matrix
+        ``B^T`` (n, 3 q) and ``Ba^T`` (n, r) (None without per-axis mounts).
+    s : complex
+        Laplace value [rad/s].
+
+    Returns
+    -------
+    callable
+        ``(n, k) -> (n, k)`` complex [N per unit of x].
+    """
+    z = form.kp + s * form.cp + 1j * form.hp                       # (q, 3, 3) [N/m]
+    za = form.ka + s * form.ca + 1j * form.ha if bat is not None else None
+    rest = [(c, a) for c, a in ((1.0, form.K), (1j, form.H), (s, form.C)) if a.nnz]
+
+    def apply(x: np.ndarray) -> np.ndarray:
+        y = (s * s) * _real_times(m_csr, x)
+        for c, a in rest:
+            y += c * _real_times(a, x)
+        bx = _real_times(form.B, x).reshape(-1, 3, x.shape[1])
+        y += _real_times(bt, np.matmul(z, bx).reshape(-1, x.shape[1]))
+        if za is not None and bat is not None:
+            y += _real_times(bat, za[:, None] * _real_times(form.Ba, x))
+        return y
+    return apply
+
+
+def _real_times(a: sp.csr_matrix, x: np.ndarray) -> np.ndarray:
+    """``a @ x`` for a real sparse ``a`` and complex ``x`` (n, k): on ``x``'s real and imaginary parts
+    side by side (its float view, (n, 2k)), not on a complex copy of ``a`` made per call (scipy's
+    upcast: 11 ms of every 14 ms product at 60,000 DOF)."""
+    x = np.ascontiguousarray(x, dtype=complex)
+    return np.ascontiguousarray(a @ x.view(float)).view(complex)
+
+
+def refine(solve: Callable[[np.ndarray], np.ndarray], apply: Callable[[np.ndarray], np.ndarray],
+           r: np.ndarray) -> tuple[np.ndarray, float, bool]:
+    """``A x = r`` by ``x = solve(r)`` refined with the residual ``r - apply(x)``.
+
+    Parameters
+    ----------
+    solve : callable
+        An approximate inverse of ``A`` (a kept LU's solve), ``(n, k) -> (n, k)``.
+    apply : callable
+        ``A`` itself, accurately (:func:`mounts_product`).
+    r : (n, k) complex ndarray
+        Right-hand sides [N].
+
+    Returns
+    -------
+    x : (n, k) complex ndarray
+        The solution.
+    correction : float
+        The error left, largest over the columns (max norms, relative) [-]: the last correction,
+        or what the measured contraction leaves of it (:data:`TARGET`).
+    converged : bool
+        The correction reached round-off, or stopped contracting at most :data:`ACCEPT`.
+    """
+    x = np.asarray(solve(r), dtype=complex)
+    prev = np.inf
+    last = np.inf
+    for _ in range(STEPS):
+        if not np.all(np.isfinite(x)):
+            return x, np.inf, False
+        dx = solve(r - apply(x))
+        x = x + dx
+        size = np.abs(x).max(axis=0)
+        last = float(np.max(np.abs(dx).max(axis=0) / np.where(size > 0, size, 1.0), initial=0.0))
+        if last <= TARGET:
+            return x, last, True
+        if last > CONTRACT * prev:
+            return x, last, last <= ACCEPT
+        if np.isfinite(prev):                   # the error left by the contraction of the last two steps
+            rho = last / prev
+            left = last * rho / (1.0 - rho)
+            if left <= TARGET:
+                return x, left, True
+        prev = last
+    return x, last, last <= ACCEPT
