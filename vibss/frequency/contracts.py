@@ -353,11 +353,8 @@ def _per_mounts(plant: Plant, mounts: int) -> float:
     if size <= MOUNTS_DENSE_MAX:
         return T_MOUNTS + K_DENSE_LU * float(size) ** 3
     st = plant.cached("band structure", lambda: structure(plant))
-    # SuperLU of the assembled matrix refined with the residual in the mounts' form
-    # (vibss.linear.solve.refine): SuperLU's formula on the fill of the assembled LU (a band's when
-    # the plant bands), unscaled: the exact path scales it by its own fitted "solve.mounts"
-    # (cost_direct), not by the assembled solve's "solve.superlu" (the 60,000-DOF soft tower: 1.5x
-    # the seconds per nonzero of the 600-DOF one, a fixed cost per frequency 6x apart)
+    # SuperLU's formula on the assembled LU's fill (a band's when the plant bands), scaled by its own
+    # fitted "solve.mounts" (cost_direct), not "solve.superlu" (60,000-DOF tower: 1.5x per nonzero)
     fill = st.fill if st.fill else plant.n * (3 * st.band + 1)
     return _T_FREQ + _K_SUPERLU * fill
 
