@@ -1,22 +1,15 @@
 """Nonlinear mount forces on the exact modal propagation, with located stop contacts.
 
-The response splits into the linear part (the plant driven by its inputs from its initial state,
-simulated beforehand by the exact modal method) and the response to the local forces ``g(t)`` of the
-r nonlinear mount axes (:mod:`.laws`), which starts at rest. Over each step ``h`` the local force is
-the cubic Hermite polynomial of its values and slopes ``g, dg/dt = g'(e) v`` at both ends; the modal
-blocks propagate exactly under it (:func:`vibss.time.phi.foh_blocks`, polynomial forcing to degree 3).
-The step's end values are implicit: ``[e; v] = lin + free + W [g(e); g'(e) v]``, 2 r unknowns, solved
-by Newton's method (one linear solve within a stop's regime, where the force is a straight line).
-The local error is fourth order in ``omega_c h`` (``omega_c``: the stops' contact frequencies).
-
-A step whose end (or the cubic through its end values) crosses a clearance is cut at the crossing,
-found by Newton's method on the exact sub-step solution, and continued from there in the new
-regime: the kink of a stop's force is never inside a step; nor a curve's breakpoint, where its second
-derivative jumps (stepped over, they cost the steps their fourth order). The linear part inside a
-step is interpolated from its end values (it enters only the crossing time and the force's slope
-just after it). A local extremum of a nonlinear axis that beats its running peak is located
-the same way (the sub-step where ``v = 0``), so the peak deflections are those of the integration,
-not of the samples.
+The response is the linear part (the plant driven by its inputs, by the exact modal method) plus the
+response, from rest, to the local forces ``g(t)`` of the r nonlinear axes (:mod:`.laws`). Over each
+step the local force is the cubic Hermite of ``g, dg/dt = g'(e) v`` at both ends and the modal blocks
+propagate exactly under it (:func:`vibss.time.phi.foh_blocks`); the end values are implicit,
+``[e; v] = lin + free + W [g(e); g'(e) v]`` (Newton on 2 r unknowns; one solve where every axis is a
+stop). A step that crosses a clearance or a curve's breakpoint (its second derivative jumps there) is
+cut at the crossing, found by Newton's method on the exact sub-step, and continued in the new regime
+or piece: within a step each force is one polynomial of the deflection, and the error is fourth
+order in ``omega_c h`` (``omega_c``: the contact frequencies). An extremum that beats an axis's
+running peak is located the same way (``v = 0``): the peaks are the integration's, not the samples'.
 """
 
 from __future__ import annotations
@@ -152,8 +145,11 @@ def _solve(laws: LocalLaws, st: _Step, s: _State, lin: np.ndarray,
     """The step's end ``e, v, g, dg`` from state ``s`` over ``st.h`` with the linear part ``lin`` (2r,) at
     its end, in the regimes of ``s``."""
     r = laws.r
-    free = lin + sum(np.real(HE @ x) for HE, x in zip(st.HE, s.x)) + st.Wc @ np.concatenate([s.g, s.dg])
-    if not (np.any(s.regime != 0) or laws.curved.size or np.any(s.g) or np.any(s.dg)):
+    quiet = not (s.regime.any() or laws.curved.size or s.g.any() or s.dg.any())
+    free = lin.copy() if quiet else lin + st.Wc @ np.concatenate([s.g, s.dg])
+    for HE, x in zip(st.HE, s.x):
+        free += (HE @ x).real
+    if quiet:
         return free[:r], free[r:], np.zeros(r), np.zeros(r)
     if laws.linear_in_regime():      # one Newton step is the answer: the force is a line in each regime
         key = s.regime.tobytes()
@@ -195,7 +191,7 @@ def _advance(st: _Step, s: _State, g: np.ndarray, dg: np.ndarray) -> list[np.nda
     for E, G, x in zip(st.E, st.G, s.x):
         nb, b = E.shape[:2]
         y = np.einsum("nij,nj->ni", E, x.reshape(nb, b)).ravel() if b > 1 else E[:, 0, 0] * x
-        out.append(y + G @ a if np.any(a) else y)
+        out.append(y + G @ a if a.any() else y)
     return out
 
 
@@ -400,14 +396,18 @@ def _crossing(laws: LocalLaws, s: _State, e: np.ndarray, v: np.ndarray, h: float
     inside = s.regime == 0
     near = laws.stops & np.where(inside, (top > laws.hi) | (bottom < -laws.lo),
                                  np.where(s.regime > 0, bottom <= laws.hi, top >= -laws.lo))
-    lo_b, hi_b = laws.bounds(s.piece)
-    near |= (top >= hi_b) | (bottom < lo_b)
+    curved = laws.curved.size > 0
+    if curved:
+        lo_b, hi_b = laws.bounds(s.piece)
+        near |= (top >= hi_b) | (bottom < lo_b)
     if not near.any():
         return None
     b0, b1, b2, b3 = _BASIS
     d = b0 * y0[near] + (b1 * h) * s.v[near] + b2 * y1[near] + (b3 * h) * v[near]     # (16, k)
     hi, lo, reg = laws.hi[near], laws.lo[near], s.regime[near]
-    off = (np.where(d > hi, 1, np.where(d < -lo, -1, 0)) != reg) | (d >= hi_b[near]) | (d < lo_b[near])
+    off = np.where(d > hi, 1, np.where(d < -lo, -1, 0)) != reg
+    if curved:
+        off |= (d >= hi_b[near]) | (d < lo_b[near])
     rows = np.flatnonzero(off.any(axis=1))
     return float(h * _S[rows[0], 0]) if rows.size else None
 
