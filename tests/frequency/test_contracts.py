@@ -159,3 +159,22 @@ def test_woodbury_with_every_mount_damped_says_it_missed() -> None:
         r = vibss.frequency_response(m, ["b0.fz"], ["b29.z"], f, method="woodbury")
     assert "check failed" in r.note and "every one of the 40 frequencies" in r.note
     assert vibss.frequency_response(m, ["b0.fz"], ["b29.z"], f).method != "woodbury"
+
+
+def test_directs_check_measures_the_dense_solve_that_direct_makes(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The backward-error check of ``direct`` re-solves at its check frequencies with the same dense
+    LU; once a cost model had found the chain's band, the automatic choice took the banded LU there and
+    the check measured a solve the method never made (a review's finding)."""
+    from benchmarks.models import chain_model
+    from vibss.linear.solve import backends
+
+    calls: list[str] = []
+    for name, solver in list(backends.SOLVERS.items()):
+        def logged(*args: object, _name: str = name, _solver: object = solver) -> object:
+            calls.append(_name)
+            return _solver(*args)                                       # type: ignore[operator]
+        monkeypatch.setitem(backends.SOLVERS, name, logged)
+    model = chain_model(25, seed=3)
+    r = vibss.frequency_response(model, ["b0.fz"], ["b24.z"], np.geomspace(0.5, 50, 200), method="direct")
+    assert r.method == "direct" and "backward error" in r.note
+    assert set(calls) == {"dense"}

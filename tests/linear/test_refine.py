@@ -102,3 +102,20 @@ def test_where_the_refinement_misses_the_saddle_system_answers(monkeypatch):
     y = response(plant, s, form="mounts")
     assert len(calls) == 2 * s.size
     assert np.max(np.abs(y - refs) / np.abs(refs).max(axis=0, keepdims=True)) <= TOL
+
+
+def test_a_saddle_solve_that_cannot_converge_marks_its_frequency_singular():
+    """0 Hz on a mechanism chain (slides: free motions) above the dense size: both the assembled LU's
+    and the saddle system's refinements miss. The frequency must be marked singular so that the limit
+    path answers (infinite receptance along the free motion, as the dense saddle path gives), not
+    return the diverged iterate (a review found -1.4e34 m/N here)."""
+    from models import mechanism_model
+
+    model = mechanism_model(26, seed=1)
+    plant = build_plant(model, ["b25.fx"], ["b25.x", "b3.z"], sparse=True)
+    assert plant.n + 3 * len(model.mounts) > backends.MOUNTS_DENSE_MAX
+    import vibss
+
+    r = vibss.frequency_response(model, ["b25.fx"], ["b25.x", "b3.z"], [0.0, 1.0], method="sparse")
+    h = np.stack([r.channel("b25.x"), r.channel("b3.z")])               # (outputs, frequencies)
+    assert np.isinf(np.abs(h[:, 0])).all() and np.isfinite(h[:, 1]).all()

@@ -1,12 +1,10 @@
 """The contracts of the frequency-response methods: what each claims, how it is checked, what it costs.
 
-Every entry of :data:`vibss.frequency.kernels.METHODS` carries a :class:`~vibss.methods.Claim` and a
-cost model ``cost(plant, nf, basis) -> Cost`` (seconds and peak bytes, from the constants below,
-measured by benchmarks/bench_frf.py and benchmarks/bench_contracts.py); :func:`check` is the
-a-posteriori check :func:`vibss.methods.decide` holds each answer to:
+Every entry of :data:`vibss.frequency.kernels.METHODS` carries a :class:`~vibss.methods.Claim` and a cost
+model ``cost(plant, nf, basis) -> Cost`` (seconds and peak bytes, from the constants below, measured by
+the benchmarks); :func:`check` is the a-posteriori check :func:`vibss.methods.decide` holds answers to:
 
-- an exact method (``direct``, ``sparse``): the normwise backward error of the full-state solve at
-  the check frequencies, ``||F - A(s) x|| / (||A(s)||_F ||x|| + ||F||)`` (:func:`backward_error`);
+- an exact method (``direct``, ``sparse``): the normwise backward error of its solve (:func:`backward_error`);
 - a method built on the undamped modes, or ``statespace``, or a user's kernel: its relative error
   against the one exact solve at the band's ends and at its largest response (:func:`against_exact`),
   its sharpest peaks and deepest valleys, and, for a method with an a-posteriori estimate
@@ -224,14 +222,13 @@ def _fro2(a: Any) -> float:
     return float(np.sum(np.abs(a) ** 2))
 
 
-def backward_error(plant: Plant, s: np.ndarray, limit: float) -> Check | None:
+def backward_error(plant: Plant, s: np.ndarray, limit: float, backend: str = "auto") -> Check | None:
     """Normwise backward error of the exact full-state solve at ``s`` (a few points).
 
-    ``eta = ||F - A(s) x||_F / (||A(s)||_F ||x||_F + ||F||_F)`` with ``A(s) = K + iH + sC + s^2 M``
-    and ``x`` from :func:`vibss.linear.solve.exact.states` (the solve the exact methods make), the
-    residual by products with the plant's matrices; ``||A(s)||_F`` bounded from above by the sum of
-    the terms' norms (so ``eta`` is bounded from below by at most a factor 2 of the true one).
-    None for a plant with frequency-dependent mounts (their internal states are not in ``A``).
+    ``eta = ||F - A(s) x||_F / (||A(s)||_F ||x||_F + ||F||_F)``, ``A(s) = K + iH + sC + s^2 M``, ``x``
+    by :func:`vibss.linear.solve.exact.states` with the method's ``backend``, the residual by products
+    with the plant's matrices, ``||A(s)||_F`` bounded above by the terms' norms' sum (``eta`` low by at
+    most 2). None for frequency-dependent mounts (their internal states are not in ``A``).
 
     Parameters
     ----------
@@ -240,6 +237,8 @@ def backward_error(plant: Plant, s: np.ndarray, limit: float) -> Check | None:
         Laplace points [rad/s], ``s != 0``.
     limit : float
         What the claim allows [-].
+    backend : str
+        The exact solve's backend (``direct``: dense, ``sparse``: sparse).
 
     Returns
     -------
@@ -250,7 +249,7 @@ def backward_error(plant: Plant, s: np.ndarray, limit: float) -> Check | None:
     mats = [getattr(plant, k) for k in ("K", "H", "C", "M")]
     norms = [np.sqrt(_fro2(a)) for a in mats]
     where = _where(s) + ", backward error of the full-state solve"
-    x, singular = states(plant, s)                   # no call of this module after the solve: its layer
+    x, singular = states(plant, s, backend=backend)  # the method's own solve; no call of this module after it
     f = np.asarray(forcing(plant, s, zfactor(s, plant.order)))
     eta = 0.0
     for j in np.flatnonzero(~singular):
@@ -313,7 +312,8 @@ def check(method: Any, plant: Plant, s: np.ndarray, raw: np.ndarray, own: float 
     if method.self_checked:
         return None if own is None else Check(own, allowed, "its own exact solves between the interpolation points")
     if method.exact:
-        return backward_error(plant, s[check_frequencies(s, raw)], min(allowed, BACKWARD))
+        return backward_error(plant, s[check_frequencies(s, raw)], min(allowed, BACKWARD),
+                              {"direct": "dense", "sparse": "sparse"}.get(method.name, "auto"))
     return against_exact(plant, s, raw, allowed, estimate=estimate)
 
 

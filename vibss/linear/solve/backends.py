@@ -416,7 +416,8 @@ def _mounts(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray],
 
         def solve(b: np.ndarray, saddle: Any = saddle, d: np.ndarray = d) -> np.ndarray:
             return d[:n, None] * saddle.solve(d[:, None] * np.vstack([b, zeros[:, :b.shape[1]]]))[:n]
-        x[i] = refine(solve, apply, r_all[i])[0]
+        x[i], _, ok = refine(solve, apply, r_all[i])
+        bad[i] = not ok         # singular (0 Hz with a free motion, a resonance): the caller's limit path
     return (x if rows is None else x[:, rows]), bad
 
 
