@@ -334,8 +334,8 @@ def _interval(iv: _Interval, s: _State) -> None:
     curve's breakpoint."""
     laws, run = iv.laws, iv.run
     last: set[tuple[int, int]] = set()
-    events = laws.stops.any() or laws.curved.size > 0
-    for _ in range(8 * laws.r + 8 + 4 * laws.curved.size):
+    events, most = laws.stops.any() or laws.curved.size > 0, 8 * laws.r + 8 + 4 * laws.curved.size
+    for _ in range(most):
         rest = iv.h - iv.done
         if rest <= 1e-14 * iv.h:                # the last event was at the interval's end
             return
@@ -377,8 +377,8 @@ def _interval(iv: _Interval, s: _State) -> None:
         s.g, s.dg = g, g1 * s.v
         iv.done += tau
         last = {(axis, kind) for axis, _, kind in hits}
-    raise AnalysisError(f"simulate: more than {8 * laws.r + 8 + 4 * laws.curved.size} stop events and curve "
-                        f"breakpoints in one step at t = {iv.t0:.6g} s (a stop chattering): take a smaller dt")
+    raise AnalysisError(f"simulate: more than {most} stop events and curve breakpoints in one step at "
+                        f"t = {iv.t0:.6g} s (a stop chattering): take a smaller dt")
 
 
 _S = np.linspace(0.0, 1.0, 17)[1:, None]
@@ -485,14 +485,14 @@ def _locate(iv: _Interval, s: _State, tau: float, last: set[tuple[int, int]]) ->
         f0, f1 = laws.d0[a] + s.e[a] - c, d[a] - c
         if (a, kind) in last and abs(f0) <= LOCATE_TOL * (abs(c) + abs(f1)):
             continue                                    # the boundary just crossed
-        cands.append((a, side, c, kind, f0, f1, LOCATE_TOL * (abs(c) + abs(f0) + abs(f1))))
+        cands.append((a, side, c, kind, f0, LOCATE_TOL * (abs(c) + abs(f0) + abs(f1))))
     if not cands:
         return None
     ax, cs = np.array([x[0] for x in cands]), np.array([x[2] for x in cands])
     guess = _cubic_roots(tau, laws.d0[ax] + s.e[ax], s.v[ax], d[ax], v[ax], cs)
     best, at, first = tau, (e, v), -1
     for i in np.argsort(guess, kind="stable"):
-        a, side, c, kind, f0, f1, tol = cands[i]
+        a, side, c, kind, f0, tol = cands[i]
         fb = laws.d0[a] + at[0][a] - c
         if first >= 0 and (np.sign(fb) == np.sign(f0) or abs(fb) <= SIMULTANEOUS * tol):
             continue                                    # not crossed before the earliest crossing so far
@@ -507,7 +507,7 @@ def _locate(iv: _Interval, s: _State, tau: float, last: set[tuple[int, int]]) ->
             at = iv.ends(s, tc)
     past = [laws.d0[x[0]] + at[0][x[0]] - x[2] for x in cands]      # at the crossing: crossed, or together
     hits = [(x[0], x[1], x[3]) for x, f in zip(cands, past)
-            if np.sign(f) != np.sign(x[4]) or abs(f) <= SIMULTANEOUS * x[6]]
+            if np.sign(f) != np.sign(x[4]) or abs(f) <= SIMULTANEOUS * x[5]]
     if not hits:        # nothing bracketed: the state was past it already (a grazing return skipped)
         hits.append((cands[first][0], cands[first][1], cands[first][3]))
     return best, hits

@@ -66,7 +66,7 @@ class LocalLaws:
     g_op: np.ndarray = field(init=False, repr=False)     # force beyond the linear rate at d0 [N]
     _pieces: tuple[np.ndarray, np.ndarray] = field(init=False, repr=False)  # the curves as cubics, offsets
     _gap: tuple[np.ndarray, np.ndarray] = field(init=False, repr=False)     # clearances, 0 for no stop [m]
-    _edges: np.ndarray = field(init=False, repr=False)    # (rc, n + 3) -inf, breakpoints, +inf (padded) [m]
+    _edges: np.ndarray = field(init=False, repr=False)    # (rc, knots + 2) -inf, breakpoints, +inf padded [m]
 
     def _segment_edges(self) -> np.ndarray:
         """Per curved axis ``[-inf, x_0, ..., x_n, +inf, ...]`` (padded with +inf): piece ``s`` spans
