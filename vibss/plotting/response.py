@@ -49,7 +49,9 @@ def quantity_of(name: str, unit: str) -> str:
 def plot_time_groups(response: Any, max_lines: int = 6, order: Sequence[str] | None = None,
                      show_inputs: bool = False, acceleration: str = "m/s^2") -> Figure:
     """Plot a time response with one panel per quantity (translation, rotation, acceleration,
-    mount deflection ...), each showing its ``max_lines`` outputs of largest peak, peaks marked.
+    mount deflection ...), each showing its ``max_lines`` outputs of largest peak, peaks marked. A
+    quantity of round-off only (nothing above 1e-15, or displacements and rotations below 1e-9 of the
+    largest of them, rotations read at a 1 m lever) gets no panel; the title names it.
 
     Parameters
     ----------
@@ -85,8 +87,13 @@ def plot_time_groups(response: Any, max_lines: int = 6, order: Sequence[str] | N
         groups.setdefault(quantity_of(n, u), []).append(i)
     rank = list(order or ()) + [k for k in _ORDER if k not in (order or ())]
     keys = sorted(groups, key=lambda k: rank.index(k) if k in rank else len(rank))
-    zero = [k for k in keys if not np.any(np.abs(response.outputs[groups[k]]) > 1e-15)]
-    keys = [k for k in keys if k not in zero] or keys[:1]
+    top = {k: float(np.abs(response.outputs[groups[k]]).max(initial=0.0)) for k in keys}
+    motion = max((top[k] for k in keys if response.units[groups[k][0]] in ("m", "rad")), default=0.0)
+    # a panel of round-off: nothing above 1e-15, or displacements and rotations below 1e-9 of the largest
+    # of them (rotations read at a 1 m lever: a symmetric body's 1e-14 rad beside its 1e-2 m)
+    small = [k for k in keys if top[k] <= 1e-15
+             or (response.units[groups[k][0]] in ("m", "rad") and top[k] < 1e-9 * motion)]
+    keys = [k for k in keys if k not in small] or keys[:1]
     extra = 1 if show_inputs and len(response.input_names) else 0
     fig = new_figure(8.5, 1.0 + 2.1 * max(len(keys) + extra, 1))
     axes = np.atleast_1d(fig.subplots(max(len(keys) + extra, 1), 1, sharex=True, squeeze=False)[:, 0])
@@ -120,7 +127,8 @@ def plot_time_groups(response: Any, max_lines: int = 6, order: Sequence[str] | N
                   title=f"+{hidden} smaller" if hidden else None, title_fontsize=7)
     axes[-1].set_xlabel("time [s]")
     fig.suptitle(f"Time response of {response.name!r} (peaks marked)"
-                 + (f"; zero throughout: {', '.join(zero)}" if zero else ""), fontsize=10)
+                 + (f"; round-off only: {', '.join(small)}" if small else ""),
+                 fontsize=10)
     return fig
 
 
