@@ -29,7 +29,7 @@ demo: $(STAMP)
 	@echo "Figures and the HTML report: demo-report/index.html"
 
 test: $(STAMP) chromium
-	$(BIN)/python -m mypy
+	$(BIN)/python -m mypy -n 2
 	$(BIN)/python -m pytest -n 2 --dist worksteal -q vibss tests
 
 # Everything but the tests marked slow (over about 4 s each); one room: pytest tests/frequency -m "not slow"

@@ -184,7 +184,8 @@ def test_too_few_harmonics_warn_with_the_truncation_estimate() -> None:
 
 
 def test_a_hardening_curve_agrees_with_a_long_integration() -> None:
-    """A Duffing-like PCHIP curve (k d + k3 d^3 through 11 points), one solution at 10 Hz: Hill's path."""
+    """A Duffing-like PCHIP curve (k d + k3 d^3 through 11 points), one solution at 10 Hz; stable by
+    Floquet's multipliers (the default) and Hill's method."""
     k, k3, c, mass, force, f = 4e4, 1e10, 126.0, 10.0, 20.0, 10.0
     d = np.linspace(-5e-3, 5e-3, 11)
     points = np.column_stack([d, k * d + k3 * d**3])
@@ -203,7 +204,51 @@ def test_a_hardening_curve_agrees_with_a_long_integration() -> None:
     x = sol.sol(tt)[0]
     assert np.abs(x).max() > 1.2e-3                                 # the cubic adds over 40 % to the rate there
     assert r.harmonics[0, 1, 0] == pytest.approx(2 * np.mean(x * np.exp(-1j * w * tt)), rel=1e-6)
-    assert r.stable is not None and r.stable[0] and "hill" in r.note.lower()
+    assert r.stable is not None and r.stable[0] and "magnus" in r.note.lower()
+    h = harmonic_balance(model, {"b.fz": force}, ["b.z"], frequencies=[f], harmonics=15, stability="hill")
+    assert h.stable is not None and h.stable[0] and "hill" in h.note.lower()
+
+
+def test_floquet_on_a_curve_matches_the_integrated_variational_equation() -> None:
+    """The Magnus monodromy of a hardening PCHIP curve (fold, unstable middle branch) against DOP853
+    (rtol 1e-13) of the variational equation ``z'' = -(c z' + f'(x(t)) z) / m`` along the same
+    harmonic-balance orbit; on the stable branches the closed form: a 1-DOF oscillator's two
+    multipliers of equal modulus have growth ``-c / 2m`` whatever ``f'(x(t))`` (their product is
+    ``exp(-c T / m)``). The other five DOFs are damped harder, so z's exponent is the largest. Hill's
+    method agrees on every flag."""
+    k, k3, c, mass, force = 4e4, 1e10, 40.0, 10.0, 8.0
+    d = np.linspace(-5e-3, 5e-3, 11)
+    points = np.column_stack([d, k * d + k3 * d**3])
+    t = MountType("duff", [k, k, 0.0], damping=[400.0, 400.0, c], curve={"z": points.tolist()},
+                  rotational_stiffness=[4e4] * 3, rotational_damping=[400.0] * 3)
+    model = Model([Body("b", mass, [1.0, 1.0, 1.0])], [Mount("m", t, "b")])
+    r = {}
+    for how in ("auto", "hill"):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", VibssWarning)
+            r[how] = harmonic_balance(model, {"b.fz": force}, ["b.z"], frequencies=(8.0, 16.0), harmonics=9,
+                                      points=60, stability=how)
+    fl = r["auto"]
+    assert fl.stable is not None and "magnus" in fl.note.lower() and "hill's method at" not in fl.note.lower()
+    np.testing.assert_array_equal(fl.stable, r["hill"].stable)
+    i, j = sorted(fl.turning_index)
+    assert fl.stable[:i].all() and fl.stable[j + 1:].all() and not fl.stable[i + 1:j].any()
+    law = PchipInterpolator(points[:, 0], points[:, 1])          # |x| stays inside the points
+    for b in (i - 3, i + 2, (i + j) // 2, j + 3):
+        Y, w = fl.harmonics[0, :, b], fl.omega[b]
+        k_ = np.arange(Y.size)
+
+        def rhs(t_: float, z: np.ndarray) -> list[float]:
+            kt = float(law(float(np.real(np.exp(1j * k_ * w * t_) @ Y)), 1))
+            return [z[1], -(c * z[1] + kt * z[0]) / mass, z[3], -(c * z[3] + kt * z[2]) / mass]
+
+        T = 2 * np.pi / w
+        sol = solve_ivp(rhs, [0, T], [1.0, 0.0, 0.0, 1.0], method="DOP853", rtol=1e-13, atol=1e-15)
+        mu = np.linalg.eigvals(sol.y[:, -1].reshape(2, 2).T)
+        g = float(np.log(np.abs(mu).max()) / T)
+        assert fl.growth[b] == pytest.approx(g, rel=1e-5, abs=1e-9)
+        if fl.stable[b]:
+            assert g == pytest.approx(-c / (2 * mass), rel=1e-9)
 
 
 @pytest.mark.slow

@@ -2,7 +2,7 @@
 
 :func:`harmonic_balance` follows the response curve over a frequency range by the alternating
 frequency-time method with pseudo-arclength continuation (through the folds where a slow sweep
-jumps), with the stability per point (Floquet multipliers for stops, Hill's method for curves).
+jumps), with the stability per point (Floquet multipliers, or Hill's method on request).
 The linear part is exact: the tangent model at the
 operating point, condensed onto the few nonlinear mount axes per harmonic by the core's exact
 solve (:mod:`vibss.nonlinear.hb.condensed`), so the unknowns are only those axes' harmonics and
@@ -86,8 +86,9 @@ def harmonic_balance(model: Model, inputs: Mapping[str, complex], outputs: Seque
         Limit of the truncation estimate [-]; exceeded: a VibssWarning.
     stability : bool or {"auto", "floquet", "hill"}
         Stability at every point (:data:`STABILITY`): True or ``"auto"`` takes the Floquet
-        multipliers of the exact piecewise-constant monodromy when every nonlinear axis is a stop,
-        Hill's method otherwise; False skips it.
+        multipliers of the monodromy matrix (exact between contact instants when every nonlinear axis
+        is a stop, fourth-order Magnus sub-steps with a convergence check for curves, Hill's method
+        at a point where they do not converge); ``"hill"`` Hill's method everywhere; False skips it.
     gravity : bool
         Include self-weight in the operating point.
     case : str or None
@@ -274,12 +275,14 @@ def _result(problem: Problem, branch: Branch, names: list[str], u: np.ndarray, o
     Yl = np.zeros((m, H + 1, nb), dtype=complex)
     resid, trunc = np.zeros(nb), np.zeros(nb)
     hill, how, why = _stability(problem, stability)
+    fallback = 0
     stable = None if hill is None else np.zeros(nb, dtype=bool)
     growth = None if hill is None else np.zeros(nb)
     parts = lin.outputs(np.asarray(branch.omega, dtype=float))         # every point's, batched
     for b, (w, X, c) in enumerate(zip(branch.omega, branch.X, parts)):
         assert c.T is not None and c.Y is not None
         Y[:, 1, b] = c.Y
+        J = None
         if m:
             F, J, _ = aft(problem.laws, problem.basis, X, jacobian=how == "hill")
             Fc = to_complex(F, H, m)
@@ -289,11 +292,17 @@ def _result(problem: Problem, branch: Branch, names: list[str], u: np.ndarray, o
             resid[b] = float(np.linalg.norm(R) / max(np.linalg.norm(X), np.finfo(float).tiny))
             trunc[b] = _truncation(Yl[:, :, b])
         if hill is not None and stable is not None and growth is not None:
-            if how == "floquet":
-                stable[b], growth[b] = floquet(hill, problem.laws, Yl[:, :, b], w, problem.basis.E.shape[0])
-            else:
+            ok = how == "floquet"
+            if ok:
+                stable[b], growth[b], ok = floquet(hill, problem.laws, Yl[:, :, b], w, problem.basis.E.shape[0])
+                fallback += not ok
+            if not ok:
+                if J is None and m:
+                    _, J, _ = aft(problem.laws, problem.basis, X)
                 gamma = np.array([J[j::m, j::m] for j in range(m)]) if m and J is not None else np.zeros((0, 2 * H + 1, 2 * H + 1))
                 stable[b], growth[b] = hill_exponents(hill, gamma, w)
+    if fallback:
+        why += f" (Hill's method at {fallback} points where the Magnus sub-steps did not converge)"
     folds = _folds(branch)
     claim = dataclasses.replace(CLAIM, tolerance=float(tolerance))
     worst = float(trunc.max(initial=0.0))
@@ -326,9 +335,10 @@ def _truncation(Yl: np.ndarray) -> float:
 
 
 STABILITY = ("auto", "floquet", "hill")
-"""Stability methods: ``"floquet"`` (stops only: exact piecewise-constant monodromy,
-:mod:`vibss.nonlinear.hb.floquet`), ``"hill"`` (any law, :mod:`vibss.nonlinear.hb.hill`);
-``"auto"`` (or True) takes Floquet's where it applies."""
+"""Stability methods: ``"floquet"`` (the monodromy matrix, exact between contact instants for stops,
+fourth-order Magnus sub-steps for curves, :mod:`vibss.nonlinear.hb.floquet`), ``"hill"`` (the Hill
+matrix's eigenvalues, :mod:`vibss.nonlinear.hb.hill`); ``"auto"`` (or True) is Floquet's, with Hill's
+at a point where Floquet's sub-steps do not converge."""
 
 
 def _stability(problem: Problem, stability: bool | str) -> tuple[Hill | None, str, str]:
@@ -338,10 +348,7 @@ def _stability(problem: Problem, stability: bool | str) -> tuple[Hill | None, st
         return None, "", "stability not computed (stability=False)"
     how = choice("auto" if stability is True else stability, "stability", STABILITY, who="harmonic_balance")
     if how == "auto":
-        how = "floquet" if piecewise_linear(problem.laws) else "hill"
-    if how == "floquet" and not piecewise_linear(problem.laws):
-        raise ArgumentError("harmonic_balance: stability: 'floquet' needs stops only (a curve's tangent varies "
-                            "continuously); use 'hill' or 'auto'", argument="stability", received=stability)
+        how = "floquet"
     if plant.branches is not None:
         return None, "", "stability not computed: frequency-dependent mounts have internal states it lacks"
     size = 2 * plant.n * (2 * problem.basis.harmonics + 1)
@@ -350,8 +357,8 @@ def _stability(problem: Problem, stability: bool | str) -> tuple[Hill | None, st
     if how == "floquet" and 2 * plant.n > FLOQUET_MAX:
         return None, "", f"stability not computed: the monodromy matrix would be {2 * plant.n} square (limit {FLOQUET_MAX})"
     hyst = " (loss factors left out: no time-domain form)" if np.any(plant.H) else ""
-    what = ("Floquet multipliers (exact monodromy between the stops' contact instants)" if how == "floquet"
-            else "Hill's method")
+    what = ("Hill's method" if how == "hill" else "Floquet multipliers (exact monodromy between the stops' "
+            "contact instants)" if piecewise_linear(problem.laws) else "Floquet multipliers (fourth-order Magnus)")
     return Hill(plant, problem.linear.rows()), how, f"stability by {what}, {2 * plant.n} exponents{hyst}"
 
 
