@@ -297,9 +297,9 @@ def _result(problem: Problem, branch: Branch, names: list[str], u: np.ndarray, o
                 stable[b], growth[b], ok = floquet(hill, problem.laws, Yl[:, :, b], w, problem.basis.E.shape[0])
                 fallback += not ok
             if not ok:
-                if J is None and m:
-                    _, J, _ = aft(problem.laws, problem.basis, X)
-                gamma = np.array([J[j::m, j::m] for j in range(m)]) if m and J is not None else np.zeros((0, 2 * H + 1, 2 * H + 1))
+                if J is None:
+                    _, J, _ = aft(problem.laws, problem.basis, X) if m else (None, None, None)
+                gamma = J if J is not None else np.zeros((0, 2 * H + 1, 2 * H + 1))
                 stable[b], growth[b] = hill_exponents(hill, gamma, w)
     if fallback:
         why += f" (Hill's method at {fallback} points where the Magnus sub-steps did not converge)"

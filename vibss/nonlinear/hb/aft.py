@@ -17,11 +17,12 @@ points of the period and transformed back: its coefficients ``F`` and their Jaco
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 import numpy as np
 
-__all__ = ["Basis", "basis", "samples_for", "to_complex", "to_real", "LocalLaws"]
+__all__ = ["Basis", "basis", "samples_for", "to_complex", "to_real", "LocalLaws", "aft", "jacobian_blocks"]
 
 
 def samples_for(harmonics: int) -> int:
@@ -98,24 +99,33 @@ class LocalLaws:
     f0: np.ndarray
     kt: np.ndarray
 
+    @cached_property
+    def groups(self) -> tuple[tuple[Any, np.ndarray], ...]:
+        """The axes that share a law (the same axis of mounts of one type), evaluated together."""
+        cols: dict[int, list[int]] = {}
+        for j, law in enumerate(self.laws):
+            cols.setdefault(id(law), []).append(j)
+        return tuple((self.laws[js[0]], np.array(js)) for js in cols.values())
+
     def forces(self, y: np.ndarray) -> np.ndarray:
         """(N, m) forces beyond the tangent [N] at local deflections ``y`` (N, m) about ``d0`` [m]."""
         out = np.empty_like(y)
-        for j, law in enumerate(self.laws):
-            out[:, j] = law.force(self.d0[j] + y[:, j]) - self.f0[j] - self.kt[j] * y[:, j]
+        for law, js in self.groups:
+            out[:, js] = law.force(self.d0[js] + y[:, js]) - self.f0[js] - self.kt[js] * y[:, js]
         return out
 
     def tangents(self, y: np.ndarray) -> np.ndarray:
         """(N, m) tangent rates beyond ``kt`` [N/m] at local deflections ``y`` (N, m)."""
         out = np.empty_like(y)
-        for j, law in enumerate(self.laws):
-            out[:, j] = law.tangent(self.d0[j] + y[:, j]) - self.kt[j]
+        for law, js in self.groups:
+            out[:, js] = law.tangent(self.d0[js] + y[:, js]) - self.kt[js]
         return out
 
 
 def aft(laws: LocalLaws, b: Basis, X: np.ndarray, jacobian: bool = True) -> tuple[np.ndarray, np.ndarray | None, np.ndarray]:
-    """Force coefficients ``F`` ((2H+1) m,) of the deflection coefficients ``X``, their Jacobian
-    ``dF/dX`` ((2H+1) m square, or None) and the tangents sampled over the period (N, m) [N/m]."""
+    """Force coefficients ``F`` ((2H+1) m,) of the deflection coefficients ``X``, the Jacobian's
+    blocks ((m, 2H+1, 2H+1), or None: ``dF/dX`` couples each axis only to itself, axis ``j``'s block
+    ``P diag(kappa_j) E``) and the tangents sampled over the period (N, m) [N/m]."""
     m = laws.d0.size
     R = X.reshape(b.size, m)
     y = b.E @ R                                      # (N, m) deflections over the period
@@ -123,7 +133,28 @@ def aft(laws: LocalLaws, b: Basis, X: np.ndarray, jacobian: bool = True) -> tupl
     kappa = laws.tangents(y)
     if not jacobian:
         return F, None, kappa
-    J = np.zeros((b.size * m, b.size * m))
-    for j in range(m):
-        J[j::m, j::m] = (b.P * kappa[None, :, j]) @ b.E
-    return F, J, kappa
+    return F, jacobian_blocks(kappa, b.harmonics), kappa
+
+
+def jacobian_blocks(kappa: np.ndarray, harmonics: int) -> np.ndarray:
+    """(m, 2H+1, 2H+1) blocks ``P diag(kappa_j) E`` from the tangents ``kappa`` (N, m) sampled over
+    the period, by their discrete Fourier coefficients up to ``2H`` (one real FFT, exact for
+    ``N > 4H``): the products of two basis functions are cosines and sines of ``k +- k'``, e.g.
+    ``mean(kappa cos k tau cos k' tau) = (A_|k-k'| + A_k+k') / 2`` with ``A_q + i B_q`` the mean of
+    ``kappa exp(i q tau)``; rows ``k >= 1`` carry ``P``'s weight 2."""
+    N, m = kappa.shape
+    H = harmonics
+    c = np.fft.rfft(kappa, axis=0)[:2 * H + 1].T / N           # (m, 2H+1): A_q - i B_q
+    A, B = c.real, -c.imag
+    k = np.arange(H + 1)
+    d, s = k[:, None] - k[None, :], k[:, None] + k[None, :]
+    Ad, Bd, As, Bs = A[:, np.abs(d)], np.sign(d) * B[:, np.abs(d)], A[:, s], B[:, s]
+    a = np.concatenate([[0], 2 * k[1:] - 1])                    # rows of cos k tau (k = 0: the mean)
+    b = 2 * k[1:]                                               # rows of -sin k tau
+    wa = np.where(k == 0, 1.0, 2.0)[:, None]
+    out = np.empty((m, 2 * H + 1, 2 * H + 1))
+    out[:, a[:, None], a[None, :]] = wa * 0.5 * (Ad + As)                          # cos k, cos k'
+    out[:, a[:, None], b[None, :]] = -wa * 0.5 * (Bs - Bd)[:, :, 1:]              # cos k, -sin k'
+    out[:, b[:, None], a[None, :]] = -(Bs + Bd)[:, 1:, :]                         # -sin k, cos k'
+    out[:, b[:, None], b[None, :]] = (Ad - As)[:, 1:, 1:]                         # -sin k, -sin k'
+    return out

@@ -24,6 +24,7 @@ import scipy.sparse as sp
 from ...errors import AnalysisError
 from ...linear.eigen.basis import modal_basis
 from ...linear.plant.plant import Plant
+from .aft import to_complex, to_real
 from ...linear.solve.exact import forcing, observe, output_map, states, without_hysteresis, zfactor
 
 __all__ = ["Condensed", "Linear"]
@@ -39,8 +40,6 @@ class Linear:
         Local compliance per harmonic [m/N].
     U : (m,) complex ndarray
         Local deflections' linear response to the inputs at the fundamental [m].
-    Greal : (N, N) ndarray
-        ``G`` as the real block matrix acting on the stacked real coefficients (:mod:`.aft`).
     T : (H+1, p, m) complex ndarray or None
         Outputs per local force beyond the tangent per harmonic (the outputs' units per N), with
         the direct part ``-W``: ``y_k = Y - T_k F_k``.
@@ -50,9 +49,29 @@ class Linear:
 
     G: np.ndarray
     U: np.ndarray
-    Greal: np.ndarray
     T: np.ndarray | None = None
     Y: np.ndarray | None = None
+
+    def apply(self, F: np.ndarray) -> np.ndarray:
+        """``G F`` on the stacked real coefficients ``F`` ((2H+1) m,) of the local forces (:mod:`.aft`):
+        harmonic by harmonic, the complex ``G_k F_k`` [m]."""
+        H, m = self.G.shape[0] - 1, self.G.shape[1]
+        return to_real(np.einsum("kij,kj->ki", self.G, to_complex(F, H, m)))
+
+    def times(self, gamma: np.ndarray) -> np.ndarray:
+        """The real matrix of ``X -> G J X`` ((2H+1) m square) for the AFT Jacobian ``J`` given by its
+        blocks ``gamma`` (m, 2H+1, 2H+1) (:func:`.aft.aft`): ``G`` couples only the cosine and sine
+        of one harmonic, ``J`` only an axis to itself, so the product costs ``4 H m^2 (2H+1)``, not
+        its cube."""
+        H, m = self.G.shape[0] - 1, self.G.shape[1]
+        S = 2 * H + 1
+        gr, gi = self.G[1:].real, self.G[1:].imag
+        ga, gb = gamma[:, 1::2, :], gamma[:, 2::2, :]               # (m, H, S): rows a_k, b_k
+        out = np.empty((S, m, S, m))
+        out[0] = np.einsum("ij,jd->idj", self.G[0].real, gamma[:, 0, :])
+        out[1::2] = np.einsum("kij,jkd->kidj", gr, ga) - np.einsum("kij,jkd->kidj", gi, gb)
+        out[2::2] = np.einsum("kij,jkd->kidj", gi, ga) + np.einsum("kij,jkd->kidj", gr, gb)
+        return out.reshape(S * m, S * m)
 
 
 @dataclass(frozen=True, eq=False)
@@ -155,7 +174,7 @@ class Condensed:
                     T[k] = output_map(plant, s[i * H + k - 1])[:p] @ x[i * H + k - 1, :, :m]
                 T -= self.W[None]             # y = Y_lin - T F: the structure sees -L^T F, the output +W F
                 Y = y[i, :p]
-            out.append(Linear(G, y[i, self.local], _real_blocks(G), T, Y))
+            out.append(Linear(G, y[i, self.local], T, Y))
         return out
 
 
@@ -177,21 +196,3 @@ def _static(static: Plant, L: np.ndarray) -> np.ndarray:
     K = static.K + (sp.csr_matrix(MR @ MR.T) if sp.issparse(static.K) else MR @ MR.T)
     x0, bad = states(replace(static, K=K, Kf=None, mounts=None), np.zeros(1), rhs=L.T)
     return x0[0].real
-
-
-def _real_blocks(G: np.ndarray) -> np.ndarray:
-    """The real (2H+1) m square matrix of ``F -> G F`` on the stacked real coefficients."""
-    H, m = G.shape[0] - 1, G.shape[1]
-    N = (2 * H + 1) * m
-    out = np.zeros((N, N))
-    out[:m, :m] = G[0].real
-    for k in range(1, H + 1):
-        a, b = (2 * k - 1) * m, 2 * k * m
-        gr, gi = G[k].real, G[k].imag
-        out[a:a + m, a:a + m] = gr
-        out[a:a + m, b:b + m] = -gi
-        out[b:b + m, a:a + m] = gi
-        out[b:b + m, b:b + m] = gr
-    return out
-
-

@@ -58,20 +58,22 @@ class Problem:
 
     def residual(self, X: np.ndarray, omega: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``R`` ((2H+1) m,) [m], ``dR/dX`` and ``dR/domega`` [m s/rad] at ``(X, omega)``."""
-        F, J, _ = aft(self.laws, self.basis, X)
-        assert J is not None
+        F, gamma, _ = aft(self.laws, self.basis, X)
+        assert gamma is not None
         h = _DOMEGA * omega
         lin = self.linear.at(omega, pair=omega + h)
         R = self.equations(X, F, omega)
         dw = (self.equations(X, F, omega + h) - R) / h
-        return R, np.eye(X.size) + lin.Greal @ J, dw
+        J = lin.times(gamma)
+        J[np.diag_indices_from(J)] += 1.0
+        return R, J, dw
 
     def equations(self, X: np.ndarray, F: np.ndarray, omega: float) -> np.ndarray:
         """``R = X - U + G F`` [m] for the force coefficients ``F`` of ``X`` at ``omega`` [rad/s]."""
         lin = self.linear.at(omega)
         U = np.zeros((self.basis.harmonics + 1, self.linear.m), dtype=complex)
         U[1] = lin.U
-        return X - to_real(U) + lin.Greal @ F
+        return X - to_real(U) + lin.apply(F)
 
     def start(self, omega: float) -> np.ndarray:
         """The linear solution at ``omega``: the first guess of Newton's method."""
@@ -147,11 +149,20 @@ class Branch:
     complete: bool = True
 
 
+def _bordered(J: np.ndarray, dp: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """``[[J, dp], [t^T]]``: the Jacobian bordered by the parameter's column and the direction's row."""
+    n = J.shape[0]
+    A = np.empty((n + 1, n + 1))
+    A[:n, :n] = J
+    A[:n, n] = dp
+    A[n] = t
+    return A
+
+
 def _tangent(J: np.ndarray, dw: np.ndarray, prev: np.ndarray) -> np.ndarray:
-    A = np.vstack([np.column_stack([J, dw]), prev[None]])
-    rhs = np.zeros(A.shape[0])
+    rhs = np.zeros(J.shape[0] + 1)
     rhs[-1] = 1.0
-    t = np.linalg.solve(A, rhs)
+    t = np.linalg.solve(_bordered(J, dw, prev), rhs)
     return t / np.linalg.norm(t)
 
 
@@ -276,10 +287,9 @@ def _corrected(fun: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray, np.ndar
             alpha /= 2
             w = w - alpha * dv
             continue
-        A = np.vstack([np.column_stack([J, dp]), t[None]])
         b = -np.append(R, t @ (w - pred))
         try:
-            dv = np.linalg.solve(A, b)
+            dv = np.linalg.solve(_bordered(J, dp, t), b)
         except np.linalg.LinAlgError:
             return None
         w, last, alpha = w + dv, size, 1.0
