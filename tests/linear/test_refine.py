@@ -17,7 +17,7 @@ from cases import scaled as sc
 from vibss.linear.plant.build import build_plant
 from vibss.linear.solve import backends
 from vibss.linear.solve.exact import forcing, response, zfactor
-from vibss.linear.solve.refine import TARGET, mounts_product, refine
+from vibss.linear.solve.refine import TARGET, Contraction, mounts_product, refine
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
 from models import tower_model  # noqa: E402
@@ -75,6 +75,17 @@ def test_refinement_contracts_to_the_solution_and_says_when_it_cannot():
     near = np.linalg.inv(a + 1e-3 * rng.standard_normal((40, 40)))     # contracts by ~1e-4 a step
     x, corr, ok = refine(lambda b: near @ b, lambda v: a @ v, r)
     assert ok and corr <= TARGET and np.abs(x - exact).max() <= 1e-13 * np.abs(exact).max()
+    # a sweep's contraction measured at one frequency lets a closer LU at the next stop after one step,
+    # still within TARGET of the solution; a contraction too weak to bound anything is not used
+    hint, calls = Contraction(), []
+    refine(lambda b: near @ b, lambda v: a @ v, r, hint)
+    assert 1e-6 < hint.rho < 1e-2
+    closer = np.linalg.inv(a + 1e-10 * rng.standard_normal((40, 40)))
+    x, corr, ok = refine(lambda b: calls.append(1) or closer @ b, lambda v: a @ v, r, hint)
+    assert ok and len(calls) == 2 and np.abs(x - exact).max() <= 1e-13 * np.abs(exact).max()
+    calls.clear()
+    x, corr, ok = refine(lambda b: calls.append(1) or closer @ b, lambda v: a @ v, r, Contraction(0.2))
+    assert ok and len(calls) >= 3
     far = np.linalg.inv(a + 60 * np.eye(40))                           # ||I - far a|| > 1: diverges
     x, corr, ok = refine(lambda b: -far @ b, lambda v: a @ v, r)
     assert not ok
@@ -92,9 +103,9 @@ def test_where_the_refinement_misses_the_saddle_system_answers(monkeypatch):
     refs = np.stack([mpr.receptance(model, complex(sk))[:, cols] for sk in s], axis=-1)    # (n, m, nf)
     calls = []
 
-    def first_misses(solve, apply, r):
+    def first_misses(solve, apply, r, *hint):
         calls.append(solve)
-        x, corr, ok = refine(solve, apply, r)
+        x, corr, ok = refine(solve, apply, r, *hint)
         return x, corr, ok and len(calls) % 2 == 0          # every frequency's first attempt "misses"
 
     monkeypatch.setattr(backends, "refine", first_misses)

@@ -23,12 +23,13 @@ frequency otherwise (the saddle system, itself refined the same way).
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
 
-__all__ = ["STEPS", "ACCEPT", "TARGET", "CONTRACT", "mounts_product", "refine"]
+__all__ = ["STEPS", "ACCEPT", "TARGET", "CONTRACT", "HINT_MARGIN", "Contraction", "mounts_product", "refine"]
 
 STEPS = 10
 """Most refinement steps per frequency."""
@@ -90,8 +91,20 @@ def _real_times(a: sp.csr_matrix, x: np.ndarray) -> np.ndarray:
     return np.ascontiguousarray(a @ x.view(float)).view(complex)
 
 
+@dataclass
+class Contraction:
+    """The contraction per step measured where a frequency took two steps: the next frequency's bound
+    (the LU's error changes slowly along the frequencies of one sweep)."""
+
+    rho: float = np.inf
+
+
+HINT_MARGIN = 10.0
+"""A frequency's first correction is trusted with the contraction measured before it times this."""
+
+
 def refine(solve: Callable[[np.ndarray], np.ndarray], apply: Callable[[np.ndarray], np.ndarray],
-           r: np.ndarray) -> tuple[np.ndarray, float, bool]:
+           r: np.ndarray, hint: Contraction | None = None) -> tuple[np.ndarray, float, bool]:
     """``A x = r`` by ``x = solve(r)`` refined with the residual ``r - apply(x)``.
 
     Parameters
@@ -102,6 +115,12 @@ def refine(solve: Callable[[np.ndarray], np.ndarray], apply: Callable[[np.ndarra
         ``A`` itself, accurately (:func:`mounts_product`).
     r : (n, k) complex ndarray
         Right-hand sides [N].
+    hint : Contraction or None
+        The contraction measured at an earlier frequency of the sweep (updated here when two steps
+        are taken): after the first step the error left is bounded by the correction times
+        :data:`HINT_MARGIN` that contraction, and the iteration stops when that is within
+        :data:`TARGET` (one solve and one product fewer where the LU is already close: above the
+        soft modes). None: at least two steps, as without a sweep.
 
     Returns
     -------
@@ -129,7 +148,14 @@ def refine(solve: Callable[[np.ndarray], np.ndarray], apply: Callable[[np.ndarra
             return x, last, last <= ACCEPT
         if np.isfinite(prev):                   # the error left by the contraction of the last two steps
             rho = last / prev
+            if hint is not None:
+                hint.rho = rho
             left = last * rho / (1.0 - rho)
+            if left <= TARGET:
+                return x, left, True
+        elif hint is not None and HINT_MARGIN * hint.rho < CONTRACT:
+            bound = HINT_MARGIN * hint.rho
+            left = last * bound / (1.0 - bound)
             if left <= TARGET:
                 return x, left, True
         prev = last
