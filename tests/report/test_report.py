@@ -191,3 +191,22 @@ def test_no_negative_zeros_outside_tables():
     assert not re.search(r"(^|[ (,])-0\.0+([^0-9]|$)", line), line
     assert not re.search(r"(^|[ (,])-0\.0+([^0-9]|$)", vibss.design.certificate(
         vibss.load_example("powertrain")).report())
+
+
+def test_figures_saved_once_have_the_pixels_of_savefig(tmp_path) -> None:
+    """render_report lays a figure out alone and renders it once (issue 33): the PNG has exactly the
+    pixels matplotlib's own two-draw ``savefig`` gives, labels placed on the model's three views
+    included, and the figure keeps its layout engine."""
+    from PIL import Image
+
+    from vibss.plotting import plot_model
+    from vibss.report.html import _save_png
+
+    model = load_example("two_mass")
+    stock, once = plot_model(model, view="three"), plot_model(model, view="three")
+    stock.savefig(tmp_path / "stock.png", dpi=110)
+    engine = once.get_layout_engine()
+    _save_png(once, tmp_path / "once.png", 110)
+    assert once.get_layout_engine() is engine
+    a, b = (np.asarray(Image.open(tmp_path / f)) for f in ("stock.png", "once.png"))
+    assert a.shape == b.shape and np.array_equal(a, b)

@@ -262,16 +262,17 @@ class Drawing:
         for k, m in enumerate(model.mounts):
             items.append((moved.mount_body[k], m.name, {"color": "0.3", "fontsize": 7}))
 
-    def place_labels(self, avoid: Sequence[np.ndarray] = ()) -> list[Any]:
+    def place_labels(self, avoid: Sequence[np.ndarray] = (), layout: bool = True) -> list[Any]:
         """Write the collected names beside their points without overlapping each other, the
         points, the springs or the points in ``avoid`` ((k, 3) arrays [m]; greedy: the first of a
         ring of offsets that collides with nothing placed so far, else the least-overlapping one).
-        Call after the axes limits are set. Returns the texts."""
+        Call after the axes limits are set; ``layout=False`` when the figure was laid out since
+        (:func:`place_labels`). Returns the texts."""
         sc = self.scene
         springs = [sc.anchors + f * (sc.mount_points - sc.anchors) for f in (0.0, 0.25, 0.5, 0.75)]
         # the ring drawn where a spring is seen end-on, and the spring's width
         rings = [sc.mount_points + s * self.width * e for e in np.eye(3) for s in (-1.0, 1.0)]
-        return place_labels(self.p.ax, self.view, self.label_items, [*springs, *rings, *avoid])
+        return place_labels(self.p.ax, self.view, self.label_items, [*springs, *rings, *avoid], layout)
 
     def update(self, moved: Moved) -> None:
         """Move the artists to another state of the same scene."""
@@ -308,7 +309,7 @@ def _projected(ax: Axes, view: str, pt: np.ndarray) -> tuple[float, float]:
 
 
 def place_labels(ax: Axes, view: str, items: Sequence[tuple[np.ndarray, str, dict[str, Any]]],
-                 avoid: Sequence[np.ndarray] = ()) -> list[Any]:
+                 avoid: Sequence[np.ndarray] = (), layout: bool = True) -> list[Any]:
     """Write names beside 3-D points, greedily avoiding each other and the points.
 
     Each label tries the offsets of :data:`_OFFSETS` in turn and takes the first whose box overlaps
@@ -325,6 +326,10 @@ def place_labels(ax: Axes, view: str, items: Sequence[tuple[np.ndarray, str, dic
         Point [m] (global), text and ``Axes.annotate`` keyword arguments.
     avoid : sequence of (k, 3) ndarray
         Further points [m] (global) the labels should not cover (spring symbols, arrow tips).
+    layout : bool
+        Lay the figure out first (a draw without rendering). ``False`` where it was laid out since
+        its last change: the labels of one panel move no other (they are clipped to their axes, so
+        constrained layout leaves them out), and the panels of one figure share one layout.
 
     Returns
     -------
@@ -335,7 +340,8 @@ def place_labels(ax: Axes, view: str, items: Sequence[tuple[np.ndarray, str, dic
     if not items:
         return []
     fig = cast(Figure, ax.get_figure(root=True))
-    fig.draw_without_rendering()                    # final layout, so display boxes are meaningful
+    if layout:
+        fig.draw_without_rendering()                # final layout, so display boxes are meaningful
     renderer = cast(Any, fig.canvas).get_renderer()
     frame = ax.get_window_extent(renderer)
     xy = [_projected(ax, view, pt) for pt, _, _ in items]

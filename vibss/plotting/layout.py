@@ -101,8 +101,8 @@ def plot_model(model: Model, view: str = "iso", labels: bool = True,
                fontsize=8, frameon=False)
     tips = [scene.mount_points[k] + f * length * m.orientation.matrix.T
             for k, m in enumerate(model.mounts) for f in (0.25, 0.5, 0.75, 1.0)]
-    for d in drawings:          # names last: their places depend on the final layout
-        d.place_labels(avoid=tips)
+    for j, d in enumerate(drawings):    # names last: their places depend on the final layout (one for all)
+        d.place_labels(avoid=tips, layout=j == 0)
     return fig
 
 

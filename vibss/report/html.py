@@ -9,6 +9,7 @@ import datetime
 import html
 import re
 from pathlib import Path
+from typing import Any
 
 from ..results import TextTable
 from .section import Report
@@ -104,6 +105,34 @@ def _html(report: Report, images: dict[str, bytes]) -> str:
     return "\n".join(parts)
 
 
+PNG_COMPRESSION = 3
+"""zlib level of the PNG files: about 25 % less encoding time than Pillow's default 6, file sizes
+within a few per cent of it (some smaller)."""
+
+
+def _save_png(fig: Any, path: Path, dpi: int) -> None:
+    """``fig.savefig(path, dpi=dpi)`` drawn once: the same pixels, without the extra draw.
+
+    With a layout engine, ``savefig`` draws the figure twice: once (not rendered) to run the layout,
+    once to render. Here the layout runs alone at the file's resolution, then the figure is
+    rendered once with its engine set aside (and put back, so the figure stays as it was).
+    """
+    engine = fig.get_layout_engine()
+    if engine is not None:
+        shown = fig.dpi
+        fig.dpi = dpi                   # the layout measures text at the file's resolution
+        try:
+            engine.execute(fig)
+        finally:
+            fig.dpi = shown
+        fig.set_layout_engine(None)
+    try:
+        fig.savefig(path, dpi=dpi, pil_kwargs={"compress_level": PNG_COMPRESSION})
+    finally:
+        if engine is not None:
+            fig.set_layout_engine(engine)
+
+
 def write_report(report: Report, out: str | Path, dpi: int = 110) -> Path:
     """Write the figures (PNG) and ``index.html`` of a report into folder ``out``
     (:func:`render_report` without the updated report)."""
@@ -141,7 +170,7 @@ def render_report(report: Report, out: str | Path, dpi: int = 110) -> tuple[Path
         for name, fig in s.figures:
             path = out / name
             try:
-                fig.savefig(path, dpi=dpi)
+                _save_png(fig, path, dpi)
             except Exception as exc:    # a figure that cannot be drawn is noted; the rest is written
                 s = dataclasses.replace(s, failed=True, note=(s.note + "; " if s.note else "")
                                         + f"figure {name} failed: {type(exc).__name__}: {exc}")
