@@ -26,12 +26,11 @@ from .laws import LocalLaws
 __all__ = ["ContactSystem", "ContactRun", "integrate", "NEWTON_TOL", "LOCATE_TOL"]
 
 NEWTON_TOL = 1e-13
-"""Newton's method on a step stops when the update is below this times the step's local scale."""
+"""Newton's method on a step stops when the update is below this times the step's local scale (the
+largest deflection; for velocities, also that over the step: at rest in a stop their round-off is more)."""
 
 LOCATE_TOL = 1e-12
 """A crossing (or an extremum) is located when its residual is below this times the deflection scale."""
-
-_FACT = np.array([1.0, 1.0, 2.0, 6.0])
 
 
 @dataclass(frozen=True, eq=False)
@@ -176,8 +175,9 @@ def _solve(laws: LocalLaws, st: _Step, s: _State, lin: np.ndarray,
         dz = np.linalg.solve(J, -res)
         z = z + dz
         run.newton += 1
-        if (np.abs(dz[:r]).max() <= NEWTON_TOL * (np.abs(z[:r]).max() + 1e-300)
-                and np.abs(dz[r:]).max() <= NEWTON_TOL * (np.abs(z[r:]).max() + 1e-300)):
+        scale = np.abs(z[:r]).max() + 1e-300
+        if (np.abs(dz[:r]).max() <= NEWTON_TOL * scale
+                and np.abs(dz[r:]).max() <= NEWTON_TOL * (np.abs(z[r:]).max() + scale / st.h)):
             break
     e, v = z[:r], z[r:]
     g, g1, _ = laws.force(e, s.regime, s.piece)
