@@ -25,6 +25,7 @@ import numpy as np
 from ..errors import ModelError
 from ..linear.eigen.basis import modal_basis
 from ..linear.plant.build import build_plant
+from ..linear.plant.names import default_outputs
 from ..linear.plant.plant import Plant
 from ..model.model import Model
 from ..model.mounts import MountType
@@ -148,12 +149,14 @@ def nonlinear_job(model: Model, sources: list[Any], outputs: Sequence[str] | Non
     axes = [(p, j) for _, p, j in found]
     r = len(axes)
     inputs = sources if not hidden else [f"{model.body_names[0]}.fx"]
-    base = build_plant(lin, inputs, None if outputs is None else list(outputs))
-    user = list(base.outputs)
-    rows = build_plant(lin, inputs, dnames)
-    stacked: dict[str, Any] = {k: np.vstack([np.asarray(getattr(base, k), float), np.asarray(getattr(rows, k), float)])
+    asked = list(default_outputs(lin) if outputs is None else outputs)
+    extra = [d for d in dnames if d not in asked]          # one plant: the user's outputs, then the axes'
+    base = build_plant(lin, inputs, asked + extra)
+    user = list(base.outputs[:len(asked)])
+    take = list(range(len(asked))) + [asked.index(d) if d in asked else len(asked) + extra.index(d) for d in dnames]
+    stacked: dict[str, Any] = {k: np.asarray(getattr(base, k), float)[take]
                                for k in ("Oq", "Ov", "Oa", "Pz", "Pv", "Pa", "Pf")}
-    plant = dataclasses.replace(base, outputs=base.outputs + tuple(dnames), units=base.units + rows.units,
+    plant = dataclasses.replace(base, outputs=tuple(user) + tuple(dnames), units=tuple(base.units[i] for i in take),
                                 Oh=None, Ph=None, **stacked)
     D = _force_rows(model, lin, axes, inputs, user, plant, r)
     aug = _augmented(plant, r, D)

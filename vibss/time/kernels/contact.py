@@ -49,8 +49,8 @@ class ContactSystem:
     _recent: dict = field(default_factory=dict, repr=False)
 
     def step(self, h: float) -> _Step:
-        """The exact discretisation over ``h`` [s] (kept for the grid's step lengths)."""
-        key = float(h)
+        """The exact discretisation over ``h`` [s] (kept per length to 13 digits: the grid's differ in bits)."""
+        key = float(f"{h:.13g}")
         got = self._steps.get(key)
         if got is None:
             got = _discretise(self, key)
