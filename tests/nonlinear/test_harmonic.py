@@ -251,6 +251,26 @@ def test_floquet_on_a_curve_matches_the_integrated_variational_equation() -> Non
             assert g == pytest.approx(-c / (2 * mass), rel=1e-9)
 
 
+def test_where_the_magnus_steps_do_not_settle_hill_answers_and_the_note_says_so(monkeypatch) -> None:
+    """Floquet's monodromy on a curve refused its own convergence (a tolerance no doubling meets): each
+    such point takes Hill's method, with Hill's flags and growth rates, and the note counts them."""
+    import vibss.nonlinear.hb.floquet as fq
+
+    k, k3, c, mass = 4e4, 1e10, 126.0, 10.0
+    d = np.linspace(-5e-3, 5e-3, 11)
+    t = MountType("duff", [k, k, 0.0], damping=[c] * 3, curve={"z": np.column_stack([d, k * d + k3 * d**3]).tolist()})
+    model = Model([Body("b", mass, [1.0, 1.0, 1.0])], [Mount("m", t, "b")])
+    args = dict(inputs={"b.fz": 20.0}, outputs=["b.z"], frequencies=[8.0, 10.0, 12.0], harmonics=9)
+    hill = harmonic_balance(model, **args, stability="hill")
+    monkeypatch.setattr(fq, "GROWTH_RTOL", 0.0)
+    monkeypatch.setattr(fq, "GROWTH_ATOL", -1.0)                  # below any change, even none
+    monkeypatch.setattr(fq, "MAX_SUBSTEPS", 2 * fq.FIRST_SUBSTEPS)
+    r = harmonic_balance(model, **args)
+    assert "Hill's method at 3 points" in r.note
+    np.testing.assert_array_equal(r.stable, hill.stable)
+    np.testing.assert_allclose(r.growth, hill.growth, rtol=1e-12)
+
+
 @pytest.mark.slow
 def test_a_box_on_four_snubbers_agrees_with_its_rigid_body_equations() -> None:
     """Six DOF, stops on two local axes of four mounts, bounce, surge and pitch at once: the first
