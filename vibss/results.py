@@ -198,7 +198,10 @@ def freeze(value: Any) -> Any:
 
 
 def _is_compressed_sparse(value: Any) -> bool:
-    return all(isinstance(getattr(value, k, None), np.ndarray) for k in ("data", "indices", "indptr"))
+    # the three arrays in turn, no generator: asked of every field of every small result
+    return isinstance(getattr(value, "data", None), np.ndarray) and \
+        isinstance(getattr(value, "indices", None), np.ndarray) and \
+        isinstance(getattr(value, "indptr", None), np.ndarray)
 
 
 _ATOMS = frozenset({str, int, float, complex, bool, type(None)})
