@@ -11,6 +11,7 @@ products with it do not cancel soft mounts against stiff links the way K formed 
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
@@ -168,7 +169,7 @@ def rigid_mask(shapes: np.ndarray, K: Any = None, factor: Any = None, floor: flo
 def _row_sums_norm(x: Any) -> float:
     """``||rows||`` with ``rows_q = sum_i |X_qi|`` (the bound of :func:`_reach` per unit shape)."""
     rows = np.asarray(abs(x).sum(axis=1)).ravel() if sp.issparse(x) else np.abs(np.asarray(x, float)).sum(axis=1)
-    return float(np.linalg.norm(rows))
+    return math.sqrt(float(rows @ rows))       # np.linalg.norm of a vector: sqrt(x . x), without its wrapper
 
 
 def _reach(x: Any, shapes: np.ndarray) -> np.ndarray:
@@ -191,13 +192,14 @@ def _reach(x: Any, shapes: np.ndarray) -> np.ndarray:
 
 def _trace_norm(M: Any, K: Any = None, factor: Any = None) -> float:
     """``||L^-1 K L^-T||_F``-like scale ``sqrt(trace(M^-1 K))``: an upper bound of ``sqrt(w2_max)``."""
-    md = M.diagonal() if sp.issparse(M) else np.diag(np.asarray(M, float))
+    md = M.diagonal() if sp.issparse(M) else np.asarray(M, float).diagonal()
     if factor is not None:
         g: Any = _as_factor(factor)
-        col = np.asarray(g.multiply(g).sum(axis=0)).ravel() if sp.issparse(g) else np.sum(g * g, axis=0)
+        col = np.asarray(g.multiply(g).sum(axis=0)).ravel() if sp.issparse(g) else np.add.reduce(g * g, axis=0)
     else:
-        col = np.abs(K.diagonal() if sp.issparse(K) else np.diag(np.asarray(K, float)))
-    return float(np.sqrt(np.sum(col / np.where(md > 0, md, 1.0)) * 10))
+        col = np.abs(K.diagonal() if sp.issparse(K) else np.asarray(K, float).diagonal())
+    # (np.sum and np.sqrt as their ufuncs: the same sums and rounding, without the Python wrappers)
+    return math.sqrt(float(np.add.reduce(col / np.where(md > 0, md, 1.0))) * 10)
 
 
 def mass_blocks(M: Any) -> tuple[np.ndarray, np.ndarray] | None:
@@ -269,47 +271,48 @@ def error_estimate(w2: np.ndarray, phi: np.ndarray, M: Any, K: Any = None, facto
     else:
         mphi = np.asarray((sp.csr_matrix(M) if sp.issparse(M) else fast_matrix(np.asarray(M, float))) @ phi)
     norm2 = np.einsum("ij,ij->j", phi, mphi)
-    if factor is not None:
-        g: Any = _as_factor(factor)
-        gphi, num, den = _factor_norms(g, phi) if norms is None else norms
-        kphi = np.asarray(g.T @ gphi)
-        per_row = np.diff(g.indptr).max(initial=1) if sp.issparse(g) else g.shape[1]
-        rho = num ** 2 / norm2
-        with np.errstate(divide="ignore", invalid="ignore"):
+    # one error state for the whole bound (a 6-DOF model's bound is a few dozen 6-vector steps, and
+    # entering np.errstate costs as much as several of them): 0 / 0 and x / 0 give NaN and inf,
+    # which the bound turns into inf below
+    with np.errstate(divide="ignore", invalid="ignore"):
+        if factor is not None:
+            g: Any = _as_factor(factor)
+            gphi, num, den = _factor_norms(g, phi) if norms is None else norms
+            kphi = np.asarray(g.T @ gphi)
+            per_row = np.diff(g.indptr).max(initial=1) if sp.issparse(g) else g.shape[1]
+            rho = num ** 2 / norm2
             rounding = (per_row + 2) * eps * den / num
-    else:
-        k: Any = sp.csr_matrix(K) if sp.issparse(K) else np.asarray(K, float)
-        kphi = np.asarray(k @ phi)
-        per_row = np.diff(k.indptr).max(initial=1) if sp.issparse(k) else k.shape[1]
-        rho = np.einsum("ij,ij->j", phi, kphi) / norm2
-        absk = abs(k) if sp.issparse(k) else np.abs(k)
-        with np.errstate(divide="ignore", invalid="ignore"):
+        else:
+            k: Any = sp.csr_matrix(K) if sp.issparse(K) else np.asarray(K, float)
+            kphi = np.asarray(k @ phi)
+            per_row = np.diff(k.indptr).max(initial=1) if sp.issparse(k) else k.shape[1]
+            rho = np.einsum("ij,ij->j", phi, kphi) / norm2
+            absk = abs(k) if sp.issparse(k) else np.abs(k)
             rounding = (per_row + 2) * eps * np.einsum("ij,ij->j", np.abs(phi), np.asarray(absk @ np.abs(phi))) \
                 / np.abs(rho) / norm2
-    r = kphi - rho[None, :] * mphi
-    if blocks is not None:                   # rigid bodies: 6x6 mass blocks on the diagonal
-        inverse = blocks[1] if blocks[1] is not None else np.linalg.inv(np.linalg.cholesky(blocks[0]))
-        y = np.matmul(inverse, r.reshape(blocks[0].shape[0], 6, -1))
-        e = np.sqrt(np.einsum("bij,bij->j", y, y))
-    elif (li := _inverse_cholesky(M) if li is None else li) is not None:
-        e = np.linalg.norm(np.asarray(li @ r), axis=0)
-    else:
-        md = M.toarray() if sp.issparse(M) else np.asarray(M, float)
-        e = np.sqrt(np.abs(np.einsum("ij,ij->j", r, mass_solver(md)(r))))
-    e = e / np.sqrt(norm2)
-    lam = np.asarray(w2, float)
-    gap = np.full(lam.shape, np.inf)
-    if lam.size > 1:                       # ascending: the nearest others are the neighbours
-        gap[1:] = np.abs(rho[1:] - lam[:-1])
-        gap[:-1] = np.minimum(gap[:-1], np.abs(rho[:-1] - lam[1:]))
-    with np.errstate(divide="ignore", invalid="ignore"):
+        r = kphi - rho[None, :] * mphi
+        if blocks is not None:                   # rigid bodies: 6x6 mass blocks on the diagonal
+            inverse = blocks[1] if blocks[1] is not None else np.linalg.inv(np.linalg.cholesky(blocks[0]))
+            y = np.matmul(inverse, r.reshape(blocks[0].shape[0], 6, -1))
+            e = np.sqrt(np.einsum("bij,bij->j", y, y))
+        elif (li := _inverse_cholesky(M) if li is None else li) is not None:
+            e = np.linalg.norm(np.asarray(li @ r), axis=0)
+        else:
+            md = M.toarray() if sp.issparse(M) else np.asarray(M, float)
+            e = np.sqrt(np.abs(np.einsum("ij,ij->j", r, mass_solver(md)(r))))
+        e = e / np.sqrt(norm2)
+        lam = np.asarray(w2, float)
+        gap = np.full(lam.shape, np.inf)
+        if lam.size > 1:                       # ascending: the nearest others are the neighbours
+            gap[1:] = np.abs(rho[1:] - lam[:-1])
+            gap[:-1] = np.minimum(gap[:-1], np.abs(rho[:-1] - lam[1:]))
         shift = np.minimum(e, e * e / gap)
         est = (np.abs(lam - rho) + shift) / (2 * np.abs(rho)) + rounding
     # floor: the round-off of any eigen-solver's answer (and of the reference it is checked against)
-    est = np.maximum(est, 4 * np.sqrt(phi.shape[0]) * eps)
-    est = np.where(np.isfinite(est), est, np.inf)
+    est = np.maximum(est, 4 * math.sqrt(phi.shape[0]) * eps)
+    est[~np.isfinite(est)] = np.inf
     if rigid is not None:
-        est = np.where(rigid, np.nan, est)
+        est[np.asarray(rigid, bool)] = np.nan
     return est
 
 

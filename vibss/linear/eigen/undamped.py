@@ -23,6 +23,7 @@ The modal basis of a plant, its projected damping and the classical-damping test
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -292,12 +293,14 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
         # relative accuracy: no such floor (at 60,000 DOF it flagged 2 Hz modes as doubtful and
         # refined all 20 for 2.6 s of a 7.6 s eigsh, to the same frequencies within 2.4e-13)
         floor = 0.0 if name == "shift-invert" and not callable(method) else \
-            np.sqrt(10 * n * _EPS) * _trace_norm(M, K, checked)
+            math.sqrt(10 * n * _EPS) * _trace_norm(M, K, checked)
     norms = None if factor is None else _factor_norms(checked, phi)
     rigid = rigid_mask(phi, K, checked, floor, norms)
     est = error_estimate(w2, phi, M, None if factor is not None else K, checked, rigid, norms=norms, blocks=blocks)
-    est = np.minimum(est, bound + _data_rounding(norms))
-    if small_auto and (rigid.any() or not np.isfinite(est[~rigid]).all()):
+    if bound != np.inf:                      # the Jacobi SVD's own bound (eigh has none: min(est, inf) is est)
+        est = np.minimum(est, bound + _data_rounding(norms))
+    any_rigid = bool(np.count_nonzero(rigid))
+    if small_auto and (any_rigid or np.count_nonzero(~np.isfinite(est[~rigid]))):
         # eigh cannot tell a rigid mode from one below sqrt(eps) of the top, nor bound a mode in a
         # cluster (no gap: an infinite bound): the Jacobi SVD decides, as it always did. Modes with
         # a finite bound over FREQ_RTOL are refined below, and go to the Jacobi SVD if they stay so
@@ -306,11 +309,12 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
     if name in ("dense", "shift-invert") and not callable(method):
         # eigh cannot tell a rigid mode from one below sqrt(eps) of the top: refine every mode up to
         # the last doubtful one (shifted, so rigid modes are allowed), then test on the factor alone
+        any_rigid = bool(np.count_nonzero(rigid))
         need = rigid | (est > FREQ_RTOL)
-        asked = also is not None and name == "dense" and not rigid.any()
+        asked = also is not None and name == "dense" and not any_rigid
         if also is not None and asked:
             need = need | np.asarray(also(w2, phi, est), bool)
-        if need.any() and (factor is not None or not rigid.any()):
+        if np.count_nonzero(need) and (factor is not None or not any_rigid):
             above = w2[~rigid]
             shift = 0.0
             if np.any(rigid):                  # shifted, so that rigid modes are allowed
@@ -339,7 +343,7 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
                 if not np.any(need):
                     break
             name += "+refined" if refined else ""
-        if factor is not None and n <= JACOBI_FALLBACK and (~rigid & ~(est <= FREQ_RTOL)).any():
+        if factor is not None and n <= JACOBI_FALLBACK and np.count_nonzero(~rigid & ~(est <= FREQ_RTOL)):
             # eigh and its refinement cannot certify some mode (a strongly graded model): the Jacobi
             # SVD can, at ~8x the cost of eigh
             w2, phi, rigid, est = _jacobi_checked(_csr(factor), M, K, checked)
