@@ -115,7 +115,7 @@ def modes(model: Model | Assembly, n_modes: int | None = None,
         key = np.argmax(np.abs(energy_fractions(aligned, M)), axis=1)
         phi[:, g] = aligned[:, np.argsort(key % 6 * a.n + key, kind="stable")]
     # sign: largest component positive
-    idx = np.argmax(np.abs(phi), axis=0)
+    idx = np.abs(phi).argmax(axis=0)
     phi = phi * np.sign(phi[idx, np.arange(phi.shape[1])])
     energy = energy_fractions(phi, M)
     gamma = phi.T @ (M @ rigid_influence(a.model))
@@ -143,7 +143,7 @@ def _warn_implausible_geometry(model: Model, omega: np.ndarray, rigid: np.ndarra
     """A :class:`~vibss.errors.VibssWarning` naming the mounts whose lever arms look like lengths in
     mm, when the highest elastic mode is over :data:`IMPLAUSIBLE_HZ`."""
     # rigid modes are exactly 0 and the others >= 0: the largest of all is the largest elastic one
-    top = float(omega.max(initial=0.0)) / (2 * np.pi)
+    top = float(np.maximum.reduce(omega, initial=0.0)) / (2 * np.pi)
     if top <= IMPLAUSIBLE_HZ:
         return
     far = []

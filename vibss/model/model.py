@@ -495,7 +495,7 @@ class Model:
         # (the mean as NumPy takes it: the sum along the row, divided by 3)
         m = np.add.reduce(np.array([b.masses for b in self.bodies], dtype=float).reshape(-1, 3), axis=1) / 3
         g = np.array([b.cog for b in self.bodies])
-        return m @ g / m.sum()
+        return m @ g / np.add.reduce(m)
 
     centre_of_gravity = renamed_attribute("centre_of_gravity", "center_of_gravity", "Model")
 

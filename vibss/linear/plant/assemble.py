@@ -339,23 +339,23 @@ class Assembly(ReadOnly):
         ``i = 0, 1, 2`` from zero, left to right (products of structural zeros left out, which adds
         nothing); elementwise NumPy does exactly those roundings (no fused multiply-add), so G is bit
         for bit the sparse path's, which the eigen path's accuracy on graded models depends on."""
-        nm, n = len(self.b_index), self.n
-        g = np.zeros((3 * nm, n))
-        rows = 3 * np.arange(nm)[:, None] + np.arange(3)                      # (nm, 3)
-        index = np.concatenate([self.b_index, self.a_index]).reshape(2, nm)    # both ends at once
-        on = index < len(self.model.bodies)                                    # ground columns: not DOFs
-        both = bool(np.count_nonzero(on[1]))  # else every mount to ground (one body): the body ends alone
+        nm, nb = len(self.b_index), len(self.model.bodies)
+        far = np.flatnonzero(self.a_index < nb)          # mounts whose far end is a body (not ground)
         if levers is None:
             lever = point_transfer(np.concatenate([self.r_b, -self.r_a]).reshape(2, nm, 3))
             lever[1, :, :, :3] = -lever[1, :, :, :3]                            # -L(r_a), exactly
         else:                                                                   # (L(r_b), L(r_a))
-            lever = np.stack([levers[0], -levers[1]]) if both else levers[0][None]
-        if not both:
-            index, lever, on = index[:1], lever[:1], on[:1]
+            lever = np.stack([levers[0], -levers[1]]) if far.size else levers[0][None]
+        if not far.size:                     # every mount to ground (one body): the body ends alone
+            lever = lever[:1]
         terms = blocks[None, :, :, :, None] * lever[:, :, None, :, :]           # (sides, nm, 3, 3, 6)
         acc = terms[:, :, :, 0] + terms[:, :, :, 1] + terms[:, :, :, 2]        # the product's order
-        cols = 6 * index[on][:, None] + _SIX                                    # (hits, 6)
-        g[np.broadcast_to(rows, index.shape + (3,))[on][:, :, None], cols[:, None, :]] = acc[on]
+        # each mount's 3 rows: its body's 6 columns, and the far body's (never the same body here)
+        g4 = np.zeros((nm, 3, nb, 6))
+        g4[np.arange(nm), :, self.b_index, :] = acc[0]
+        if far.size:
+            g4[far, :, self.a_index[far], :] = acc[1, far]
+        g = g4.reshape(3 * nm, 6 * nb)
         kept = k.ravel() > 0                 # sqrt(k) > 0 (k >= 0): the rows of G that are not zero
         return (g if kept.all() else g[np.flatnonzero(kept)]) + 0.0     # +0.0: no negative zeros
 

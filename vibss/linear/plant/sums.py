@@ -147,8 +147,10 @@ def _block_pattern(at: _MountPoints) -> _BlockPattern:
     dtype = np.int32 if 6 * (at.n + at.nz) < _INT32_MAX else np.int64
     ends = (6 * np.concatenate([at.b_index, at.a_index]).reshape(2, nm, 1) + _SIX).astype(dtype)
     # the four blocks (b, b), (a, a), (b, a), (a, b) of every mount, row-major 6 x 6 each
-    rows = np.broadcast_to(ends[_ROW_SIDES, :, :, None], (4, nm, 6, 6)).ravel()
-    cols = np.broadcast_to(ends[_COL_SIDES, :, None, :], (4, nm, 6, 6)).ravel()
+    rows, cols = np.empty((4, nm, 6, 6), dtype), np.empty((4, nm, 6, 6), dtype)
+    rows[...] = ends[_ROW_SIDES, :, :, None]            # along each block's rows
+    cols[...] = ends[_COL_SIDES, :, None, :]            # along each block's columns
+    rows, cols = rows.ravel(), cols.ravel()
     return _BlockPattern(rows, cols, both[0], both[1], at.n, at.nz)
 
 
@@ -248,7 +250,8 @@ def _summed(model: Model, pat: _BlockPattern, mm: _MountMatrices, sparse: bool,
             couplings[key] = np.zeros((n, nz))
     if not live:
         return mats, couplings
-    vals = _values(model, pat, np.array([parts[key][0] for key in live]),
+    kmat = parts[live[0]][0][None] if len(live) == 1 else np.array([parts[key][0] for key in live])
+    vals = _values(model, pat, kmat,
                    [present[key][1] for key in live], [present[key][2] for key in live])
     size = n + nz
     if not sparse:
