@@ -357,7 +357,7 @@ class Assembly(ReadOnly):
             g4[far, :, self.a_index[far], :] = acc[1, far]
         g = g4.reshape(3 * nm, 6 * nb)
         kept = k.ravel() > 0                 # sqrt(k) > 0 (k >= 0): the rows of G that are not zero
-        return (g if kept.all() else g[np.flatnonzero(kept)]) + 0.0     # +0.0: no negative zeros
+        return (g if np.count_nonzero(kept) == kept.size else g[np.flatnonzero(kept)]) + 0.0   # +0.0: no -0.0
 
     def _matrix_factor(self, mounts: np.ndarray, t: np.ndarray) -> sp.csr_matrix:
         """Rows of G for mounts with a full 6x6 stiffness: ``K6 = V diag(lam) V^T`` in local axes,

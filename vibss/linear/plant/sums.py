@@ -24,7 +24,7 @@ from ...model.model import Model
 __all__: list[str] = []
 
 
-@dataclass(frozen=True)
+@dataclass(slots=True)      # private and never changed: a plain __init__ (built on every assembly)
 class _MountPoints:
     """Where each mount acts: ``b_index``/``a_index`` its two nodes (bodies, then the rigid ground
     and each support), ``r_b``/``r_a`` (nm, 3) its point from each node's reference point [m], ``t``
@@ -62,7 +62,7 @@ def _mount_points(model: Model) -> _MountPoints:
     return _MountPoints(b_index, a_index, r_b, r_a, np.array(t, dtype=float).reshape(nm, 3, 3), n, nz)
 
 
-@dataclass(frozen=True)
+@dataclass(slots=True)      # private and never changed: a plain __init__ (built on every assembly)
 class _MountMatrices:
     """Every mount's 3x3 matrices in global axes, (nm, 3, 3) each: translational stiffness ``kp``
     [N/m], damping ``cp`` [N s/m], hysteretic stiffness ``hp`` [N/m]; rotational ``krp`` [N m/rad],
@@ -119,7 +119,7 @@ def _mount_matrices(model: Model, t: np.ndarray) -> _MountMatrices:
     return _MountMatrices(kp, cp, hp, krp, crp, kcp, ccp, d[:, 0], d[:, 2])
 
 
-@dataclass(frozen=True)
+@dataclass(slots=True)      # private and never changed: a plain __init__ (built on every assembly)
 class _BlockPattern:
     """The COO pattern of the four 6x6 blocks of every mount, shared by K, C and H: ``rows``,
     ``cols`` into ``[q; q_ground]``; ``lb``, ``la`` (nm, 3, 6) the point transfers from each node
@@ -186,7 +186,7 @@ def _values(model: Model, pat: _BlockPattern, kmat: np.ndarray, rotational: list
                 vals[i] = vals[i] + np.concatenate([ba(bb).ravel(), ba(aa).ravel(),
                                                     -(bb + aa.transpose(0, 2, 1)).ravel(),
                                                     -(aa + bb.transpose(0, 2, 1)).ravel()])
-    if not np.isfinite(vals).all():
+    if np.count_nonzero(np.isfinite(vals)) != vals.size:
         nm = lb.shape[0]
         bad = int(np.flatnonzero((~np.isfinite(vals.reshape(q, 4, nm, 36))).any(axis=(0, 1, 3)))[0])
         raise ModelError(f"mount {model.mounts[bad].name!r}: its stiffness or damping about the COG "
@@ -221,6 +221,8 @@ def _coo_dense(vals: np.ndarray, rows: np.ndarray, cols: np.ndarray, nrow: int, 
 def _mass(model: Model, sparse: bool) -> np.ndarray | sp.csr_matrix:
     if sparse:
         return sp.block_diag([b.mass_matrix for b in model.bodies], format="csr")
+    if len(model.bodies) == 1:
+        return model.bodies[0].mass_matrix          # a new array: the body's block is the matrix
     n = 6 * len(model.bodies)
     mass = np.zeros((n, n))                         # the same numbers, no sparse bookkeeping
     for i, b in enumerate(model.bodies):
