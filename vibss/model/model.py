@@ -492,8 +492,7 @@ class Model:
         """Mass-weighted center of gravity of all bodies [m]."""
         # the bodies' total_mass (the mean directional mass) in one array operation: 10,000 calls of
         # np.mean took 0.6 s of a 1.4 s modes(n_modes=20) on a 10,000-body model
-        # (the mean as NumPy takes it: the sum along the row, divided by 3)
-        m = np.add.reduce(np.array([b.masses for b in self.bodies], dtype=float).reshape(-1, 3), axis=1) / 3
+        m = np.add.reduce(np.array([b.masses for b in self.bodies], dtype=float).reshape(-1, 3), axis=1) / 3  # the mean
         g = np.array([b.cog for b in self.bodies])
         return m @ g / np.add.reduce(m)
 

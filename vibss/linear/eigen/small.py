@@ -7,11 +7,14 @@ layers (the assembly factorises a mount's 6x6 matrix with them).
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 import scipy.linalg as sl
 
 try:
-    from numpy.linalg import _umath_linalg as _gufuncs   # the LAPACK gufuncs behind numpy.linalg
+    from numpy.linalg import _umath_linalg   # the LAPACK gufuncs behind numpy.linalg
+    _gufuncs: Any = _umath_linalg
 except ImportError:       # pragma: no cover - a NumPy that moved them: the public calls
     _gufuncs = None
 
@@ -37,7 +40,8 @@ def inverse_cholesky(m: np.ndarray) -> np.ndarray:
     if _gufuncs is not None and isinstance(m, np.ndarray) and m.dtype == np.float64 and m.ndim >= 2:
         try:
             with np.errstate(**_QUIET):   # type: ignore[arg-type]
-                return _gufuncs.inv(_gufuncs.cholesky_lo(m, signature="d->d"), signature="d->d")  # type: ignore[no-any-return]
+                out: np.ndarray = _gufuncs.inv(_gufuncs.cholesky_lo(m, signature="d->d"), signature="d->d")
+            return out
         except FloatingPointError:
             pass
     return np.linalg.inv(np.linalg.cholesky(m))

@@ -89,8 +89,8 @@ def _mount_matrices(model: Model, t: np.ndarray) -> _MountMatrices:
     # turned in one einsum: (nm, 5, 3, 3) for k, c, eta k, kr, cr (the same products and sums per
     # entry as one einsum per rate)
     index: dict[int, int] = {}
-    types = []
-    which = []
+    types: list[Any] = []
+    which: list[int] = []
     for m in model.mounts:
         i = index.get(id(m.type))
         if i is None:
@@ -150,8 +150,7 @@ def _block_pattern(at: _MountPoints) -> _BlockPattern:
     rows, cols = np.empty((4, nm, 6, 6), dtype), np.empty((4, nm, 6, 6), dtype)
     rows[...] = ends[_ROW_SIDES, :, :, None]            # along each block's rows
     cols[...] = ends[_COL_SIDES, :, None, :]            # along each block's columns
-    rows, cols = rows.ravel(), cols.ravel()
-    return _BlockPattern(rows, cols, both[0], both[1], at.n, at.nz)
+    return _BlockPattern(rows.ravel(), cols.ravel(), both[0], both[1], at.n, at.nz)
 
 
 def _rotation_rows(nm: int) -> np.ndarray:
