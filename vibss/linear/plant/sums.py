@@ -131,6 +131,7 @@ class _BlockPattern:
     la: np.ndarray
     n: int
     nz: int
+    sides: tuple[int, ...] = (0, 1, 2, 3)
 
 
 _INT32_MAX = 2 ** 31 - 1
@@ -147,10 +148,13 @@ def _block_pattern(at: _MountPoints) -> _BlockPattern:
     dtype = np.int32 if 6 * (at.n + at.nz) < _INT32_MAX else np.int64
     ends = (6 * np.concatenate([at.b_index, at.a_index]).reshape(2, nm, 1) + _SIX).astype(dtype)
     # the four blocks (b, b), (a, a), (b, a), (a, b) of every mount, row-major 6 x 6 each
-    rows, cols = np.empty((4, nm, 6, 6), dtype), np.empty((4, nm, 6, 6), dtype)
-    rows[...] = ends[_ROW_SIDES, :, :, None]            # along each block's rows
-    cols[...] = ends[_COL_SIDES, :, None, :]            # along each block's columns
-    return _BlockPattern(rows.ravel(), cols.ravel(), both[0], both[1], at.n, at.nz)
+    # every mount to ground: the blocks (a, a) and (a, b) fill ground rows alone, which no matrix
+    # reads (K, C, H are the body rows: their entries, and so their sums, are the same without them)
+    sides = (0, 2) if not np.count_nonzero(at.a_index < at.n // 6) else (0, 1, 2, 3)
+    rows, cols = np.empty((len(sides), nm, 6, 6), dtype), np.empty((len(sides), nm, 6, 6), dtype)
+    rows[...] = ends[_ROW_SIDES[list(sides)], :, :, None]     # along each block's rows
+    cols[...] = ends[_COL_SIDES[list(sides)], :, None, :]     # along each block's columns
+    return _BlockPattern(rows.ravel(), cols.ravel(), both[0], both[1], at.n, at.nz, sides)
 
 
 def _rotation_rows(nm: int) -> np.ndarray:
@@ -161,33 +165,33 @@ def _rotation_rows(nm: int) -> np.ndarray:
 
 
 def _values(model: Model, pat: _BlockPattern, kmat: np.ndarray, rotational: list, coupling: list) -> np.ndarray:
-    """(q, 4 nm 36) COO values of the mounts' four 6x6 blocks for each of ``q`` matrices: ``kmat``
-    (q, nm, 3, 3) their translational parts, ``rotational`` and ``coupling`` each matrix's 6x6
-    parts or None (the same products and sums as one matrix at a time)."""
-    lb, la = pat.lb, pat.la
+    """(q, s nm 36) COO values of the mounts' 6x6 blocks ``pat.sides`` (of (b, b), (a, a), (b, a),
+    (a, b)) for each of ``q`` matrices: ``kmat`` (q, nm, 3, 3) their translational parts,
+    ``rotational`` and ``coupling`` each matrix's 6x6 parts or None (the same products and sums as
+    one matrix at a time)."""
+    lb, la, sides = pat.lb, pat.la, pat.sides
     lbt, lat = lb.transpose(0, 2, 1), la.transpose(0, 2, 1)
     kb, ka = kmat @ lb, kmat @ la                       # (q, nm, 3, 6) each
     q = kmat.shape[0]
     with np.errstate(over="ignore", invalid="ignore"):
-        vals = np.concatenate([(lbt @ kb).reshape(q, -1), (lat @ ka).reshape(q, -1),
-                               -(lbt @ ka).reshape(q, -1), -(lat @ kb).reshape(q, -1)], axis=1)
+        blocks = {0: lambda: lbt @ kb, 1: lambda: lat @ ka, 2: lambda: -(lbt @ ka), 3: lambda: -(lat @ kb)}
+        vals = np.concatenate([blocks[side]().reshape(q, -1) for side in sides], axis=1)
         for i, (rotational_i, coupling_i) in enumerate(zip(rotational, coupling)):
             if rotational_i is None and coupling_i is None:
                 continue
             rot = _rotation_rows(lb.shape[0])
-            if rotational_i is not None:                # 6x6 mounts: the same four blocks
-                rr = rot.transpose(0, 2, 1) @ rotational_i @ rot
-                vals[i] = vals[i] + np.concatenate([rr.ravel(), rr.ravel(), -rr.ravel(), -rr.ravel()])
+            if rotational_i is not None:                # 6x6 mounts: the same blocks
+                rr = (rot.transpose(0, 2, 1) @ rotational_i @ rot).ravel()
+                vals[i] = vals[i] + np.concatenate([(rr, rr, -rr, -rr)[side] for side in sides])
             if coupling_i is not None:                  # delta^T kc theta + theta^T kc^T delta
                 cr = coupling_i @ rot                   # (nm, 3, 6)
                 bb, aa = lbt @ cr, lat @ cr
-                ba = lambda x: x + x.transpose(0, 2, 1)  # noqa: E731
-                vals[i] = vals[i] + np.concatenate([ba(bb).ravel(), ba(aa).ravel(),
-                                                    -(bb + aa.transpose(0, 2, 1)).ravel(),
-                                                    -(aa + bb.transpose(0, 2, 1)).ravel()])
+                bbt, aat = bb.transpose(0, 2, 1), aa.transpose(0, 2, 1)
+                terms = (bb + bbt, aa + aat, -(bb + aat), -(aa + bbt))
+                vals[i] = vals[i] + np.concatenate([terms[side].ravel() for side in sides])
     if np.count_nonzero(np.isfinite(vals)) != vals.size:
         nm = lb.shape[0]
-        bad = int(np.flatnonzero((~np.isfinite(vals.reshape(q, 4, nm, 36))).any(axis=(0, 1, 3)))[0])
+        bad = int(np.flatnonzero((~np.isfinite(vals.reshape(q, len(sides), nm, 36))).any(axis=(0, 1, 3)))[0])
         raise ModelError(f"mount {model.mounts[bad].name!r}: its stiffness or damping about the COG "
                          "overflows (an extreme value or position); check its point and type")
     return vals
