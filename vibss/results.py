@@ -186,8 +186,9 @@ def freeze(value: Any) -> Any:
     elif isinstance(value, (str, int, float)):     # labels and numbers: nothing to freeze (60,000 DOF labels)
         pass
     elif isinstance(value, (tuple, list)):
-        for v in value:
-            freeze(v)
+        if not _ATOMS.issuperset(map(type, value)):     # labels (DOF names), numbers: nothing to freeze
+            for v in value:
+                freeze(v)
     elif isinstance(value, dict):
         for v in value.values():
             freeze(v)
@@ -198,7 +199,11 @@ def freeze(value: Any) -> Any:
 
 
 def _is_compressed_sparse(value: Any) -> bool:
-    return all(isinstance(getattr(value, k, None), np.ndarray) for k in ("data", "indices", "indptr"))
+    # the three arrays in turn, the rarest name first, no generator: asked of every field of every
+    # small result
+    return isinstance(getattr(value, "indptr", None), np.ndarray) and \
+        isinstance(getattr(value, "indices", None), np.ndarray) and \
+        isinstance(getattr(value, "data", None), np.ndarray)
 
 
 _ATOMS = frozenset({str, int, float, complex, bool, type(None)})

@@ -237,3 +237,32 @@ def test_one_blas_thread_sets_every_pool_to_one_and_puts_it_back() -> None:
             assert all(i["num_threads"] == 1 for i in threadpool_info())
         assert all(i["num_threads"] == 1 for i in threadpool_info())
     assert [i["num_threads"] for i in threadpool_info()] == before
+
+
+def test_small_lapack_calls_are_numpys_bit_for_bit_and_fail_as_numpy_does() -> None:
+    """``inverse_cholesky`` and ``eigh_small`` (numpy.linalg's gufuncs without their wrappers) give
+    ``np.linalg.inv(np.linalg.cholesky(m))`` and ``np.linalg.eigh(a)`` bit for bit, one matrix or a
+    stack; a mass block that is not positive definite, or a NaN, raises numpy's LinAlgError (no
+    FloatingPointError, no RuntimeWarning)."""
+    import warnings
+
+    from vibss.linear.eigen.small import eigh_small, inverse_cholesky
+
+    rng = np.random.default_rng(34)
+    a = rng.standard_normal((5, 6, 6))
+    spd = a @ a.transpose(0, 2, 1) + 1e-3 * np.eye(6)
+    assert bits(inverse_cholesky(spd)) == bits(np.linalg.inv(np.linalg.cholesky(spd)))
+    assert bits(inverse_cholesky(spd[0])) == bits(np.linalg.inv(np.linalg.cholesky(spd[0])))
+    w, v = eigh_small(spd[1])
+    ref = np.linalg.eigh(spd[1])
+    assert bits(w) == bits(ref[0]) and bits(v) == bits(ref[1])
+    bad = spd.copy()
+    bad[2] = -bad[2]                                   # one block of the stack not positive definite
+    nan = spd[0].copy()
+    nan[0, 0] = np.nan
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(np.linalg.LinAlgError):
+            inverse_cholesky(bad)
+        with pytest.raises(np.linalg.LinAlgError):
+            eigh_small(nan)

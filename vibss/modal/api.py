@@ -103,19 +103,20 @@ def modes(model: Model | Assembly, n_modes: int | None = None,
                             "or positions many decades apart)") from None
     w2, phi, rigid, name = spec.omega2, spec.phi.copy(), spec.rigid, spec.method
     M = a.M            # sparse on a large model: post-processing needs M times k vectors, not dense M
+    omega = np.sqrt(w2)
     # Repeated frequencies: rigid-body modes form one cluster; elastic ones by relative gap.
-    groups = cluster_slices(np.sqrt(w2), REPEAT_RTOL, 0.0)
-    if rigid.sum() > 1:
-        groups = [g for g in groups if not rigid[g.start]] + [slice(0, int(rigid.sum()))]
+    groups = cluster_slices(omega, REPEAT_RTOL, 0.0)
+    n_rigid = int(np.count_nonzero(rigid))
+    if n_rigid > 1:
+        groups = [g for g in groups if not rigid[g.start]] + [slice(0, n_rigid)]
     for g in groups:
         aligned = align_cluster(phi[:, g], M)
         # inside a cluster, list the modes in DOF order (x y z rx ry rz), then by body
         key = np.argmax(np.abs(energy_fractions(aligned, M)), axis=1)
         phi[:, g] = aligned[:, np.argsort(key % 6 * a.n + key, kind="stable")]
     # sign: largest component positive
-    idx = np.argmax(np.abs(phi), axis=0)
+    idx = np.abs(phi).argmax(axis=0)
     phi = phi * np.sign(phi[idx, np.arange(phi.shape[1])])
-    omega = np.sqrt(w2)
     energy = energy_fractions(phi, M)
     gamma = phi.T @ (M @ rigid_influence(a.model))
     # the decider's check when the route has the routes' claim; a user's callable is checked here
@@ -141,7 +142,8 @@ LEVER_M = 10.0
 def _warn_implausible_geometry(model: Model, omega: np.ndarray, rigid: np.ndarray) -> None:
     """A :class:`~vibss.errors.VibssWarning` naming the mounts whose lever arms look like lengths in
     mm, when the highest elastic mode is over :data:`IMPLAUSIBLE_HZ`."""
-    top = float(np.max(omega[~rigid], initial=0.0)) / (2 * np.pi)
+    # rigid modes are exactly 0 and the others >= 0: the largest of all is the largest elastic one
+    top = float(np.maximum.reduce(omega, initial=0.0)) / (2 * np.pi)
     if top <= IMPLAUSIBLE_HZ:
         return
     far = []

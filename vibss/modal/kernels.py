@@ -43,6 +43,8 @@ __all__ = ["rigid_influence", "projected_c", "poles_undamped", "poles_classical"
 
 Poles = tuple[np.ndarray, np.ndarray, np.ndarray, str]
 
+_EYE3 = np.eye(3)
+
 
 def rigid_influence(model: Model, about: np.ndarray | None = None) -> np.ndarray:
     """(n, 6) DOF motion of all bodies moving as one rigid body: unit x, y, z, rx, ry, rz.
@@ -56,7 +58,7 @@ def rigid_influence(model: Model, about: np.ndarray | None = None) -> np.ndarray
     # translation of the COG for a rotation theta about c: theta x r = -[r]x theta, i.e. the
     # point transfer [I | -[r]x] of the COG seen from c; rotations pass unchanged
     out[:, :3, :] = point_transfer(r)
-    out[:, [3, 4, 5], [3, 4, 5]] = 1.0
+    out[:, 3:, 3:] = _EYE3
     return out.reshape(6 * nb, 6)
 
 

@@ -11,6 +11,7 @@ products with it do not cancel soft mounts against stiff links the way K formed 
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
@@ -20,6 +21,7 @@ import scipy.sparse.linalg as spl
 from scipy.sparse.csgraph import connected_components
 
 from ..solve.mass import mass_solver
+from .small import inverse_cholesky
 
 __all__ = ["rigid_mask", "error_estimate", "mass_blocks", "RIGID_RTOL", "ROUNDOFF_LEVERS", "fast_matrix", "stiffness_solver"]
 
@@ -36,6 +38,12 @@ stiffness is round-off of the model's own data. Found by issue 18's fuzzer: a ro
 through every mount up to 1e-15 m (both norms of the ratio test ~1e-13) was printed as a 0 Hz elastic
 mode; the 60-digit reference has w^2 = 1.5e-54 there. An elastic mode has ``||G phi||`` above this
 unless its lever arms are below ~1e-14 of the mounts' own."""
+
+def _issparse(x: Any) -> bool:
+    """:func:`scipy.sparse.issparse`, an array answered first (scipy's class check costs about a
+    microsecond, and a 6-DOF model's eigen path asks it some twenty times)."""
+    return not isinstance(x, np.ndarray) and sp.issparse(x)
+
 
 _EPS = float(np.finfo(float).eps)
 """The unit round-off of float64 [-] (``np.finfo`` costs a microsecond a call on small models)."""
@@ -55,7 +63,7 @@ def _inverse_cholesky(M: Any) -> Any:
     diagonal blocks (the connected components of its pattern); each is factorised on its own.
     None when a block is larger than :data:`_BLOCK_MAX` or not positive definite.
     """
-    dense = not sp.issparse(M) and np.shape(M)[0] <= _DENSE_PATTERN
+    dense = not _issparse(M) and np.shape(M)[0] <= _DENSE_PATTERN
     Ms = np.asarray(M, float) if dense else sp.csr_matrix(M)
     n = Ms.shape[0]
     # a small dense M: the same components from its dense pattern, the blocks read by NumPy indexing
@@ -100,7 +108,7 @@ def _components(pattern: np.ndarray) -> np.ndarray:
 def _as_factor(factor: Any) -> Any:
     """A sparse factor with sorted indices, copied if needed: products never sort the caller's
     matrix in place (which would change the summation order, hence the last bits, between calls)."""
-    if sp.issparse(factor):
+    if _issparse(factor):
         if sp.isspmatrix_csr(factor) and factor.has_sorted_indices:
             return factor           # nothing will sort it: no copy (a new CSR object costs ~15 us)
         g = sp.csr_matrix(factor)
@@ -110,9 +118,9 @@ def _as_factor(factor: Any) -> Any:
 
 def _factor_norms(factor: Any, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``G phi``, ``||G phi||`` and ``|| |G| |phi| ||`` per column (G sparse or dense)."""
-    g = sp.csr_matrix(factor) if sp.issparse(factor) else np.asarray(factor, float)
+    g = sp.csr_matrix(factor) if _issparse(factor) else np.asarray(factor, float)
     gphi = np.asarray(g @ phi)
-    absg = abs(g) if sp.issparse(g) else np.abs(g)
+    absg = abs(g) if _issparse(g) else np.abs(g)
     agp = np.asarray(absg @ np.abs(phi))
     return gphi, np.sqrt(np.einsum("ij,ij->j", gphi, gphi)), np.sqrt(np.einsum("ij,ij->j", agp, agp))
 
@@ -151,7 +159,7 @@ def rigid_mask(shapes: np.ndarray, K: Any = None, factor: Any = None, floor: flo
         _, num, den = _factor_norms(factor, shapes) if norms is None else norms
         x: Any = _as_factor(factor)
     else:
-        x = sp.csr_matrix(K) if sp.issparse(K) else np.asarray(K, float)
+        x = sp.csr_matrix(K) if _issparse(K) else np.asarray(K, float)
         num = np.linalg.norm(np.asarray(x @ shapes), axis=0)
         den = np.linalg.norm(np.asarray(abs(x) @ np.abs(shapes)), axis=0)
     lever = ROUNDOFF_LEVERS * _EPS
@@ -167,8 +175,8 @@ def rigid_mask(shapes: np.ndarray, K: Any = None, factor: Any = None, floor: flo
 
 def _row_sums_norm(x: Any) -> float:
     """``||rows||`` with ``rows_q = sum_i |X_qi|`` (the bound of :func:`_reach` per unit shape)."""
-    rows = np.asarray(abs(x).sum(axis=1)).ravel() if sp.issparse(x) else np.abs(np.asarray(x, float)).sum(axis=1)
-    return float(np.linalg.norm(rows))
+    rows = np.asarray(abs(x).sum(axis=1)).ravel() if _issparse(x) else np.abs(np.asarray(x, float)).sum(axis=1)
+    return math.sqrt(float(rows @ rows))       # np.linalg.norm of a vector: sqrt(x . x), without its wrapper
 
 
 def _reach(x: Any, shapes: np.ndarray) -> np.ndarray:
@@ -176,7 +184,7 @@ def _reach(x: Any, shapes: np.ndarray) -> np.ndarray:
     (a mount axis) would see if the mode's largest motion among the DOFs that row touches went
     through its largest lever arm. The scale of the round-off of ``X phi`` that lever arms computed
     from positions leave (:data:`ROUNDOFF_LEVERS`)."""
-    if sp.issparse(x):
+    if _issparse(x):
         a = abs(sp.csr_matrix(x))
         pattern = a.copy()
         pattern.data[:] = 1.0
@@ -191,13 +199,14 @@ def _reach(x: Any, shapes: np.ndarray) -> np.ndarray:
 
 def _trace_norm(M: Any, K: Any = None, factor: Any = None) -> float:
     """``||L^-1 K L^-T||_F``-like scale ``sqrt(trace(M^-1 K))``: an upper bound of ``sqrt(w2_max)``."""
-    md = M.diagonal() if sp.issparse(M) else np.diag(np.asarray(M, float))
+    md = M.diagonal() if _issparse(M) else np.asarray(M, float).diagonal()
     if factor is not None:
         g: Any = _as_factor(factor)
-        col = np.asarray(g.multiply(g).sum(axis=0)).ravel() if sp.issparse(g) else np.sum(g * g, axis=0)
+        col = np.asarray(g.multiply(g).sum(axis=0)).ravel() if _issparse(g) else np.add.reduce(g * g, axis=0)
     else:
-        col = np.abs(K.diagonal() if sp.issparse(K) else np.diag(np.asarray(K, float)))
-    return float(np.sqrt(np.sum(col / np.where(md > 0, md, 1.0)) * 10))
+        col = np.abs(K.diagonal() if _issparse(K) else np.asarray(K, float).diagonal())
+    # (np.sum and np.sqrt as their ufuncs: the same sums and rounding, without the Python wrappers)
+    return math.sqrt(float(np.add.reduce(col / np.where(md > 0, md, 1.0))) * 10)
 
 
 def mass_blocks(M: Any) -> tuple[np.ndarray, np.ndarray] | None:
@@ -206,12 +215,12 @@ def mass_blocks(M: Any) -> tuple[np.ndarray, np.ndarray] | None:
     eigen solve and its bounds; None for any other M (raises for a block that is not positive
     definite)."""
     blocks = _six_blocks(M)
-    return None if blocks is None else (blocks, np.linalg.inv(np.linalg.cholesky(blocks)))
+    return None if blocks is None else (blocks, inverse_cholesky(blocks))
 
 
 def _six_blocks(M: Any) -> np.ndarray | None:
     """(n/6, 6, 6) diagonal blocks of M when M is block diagonal with 6x6 blocks, else None."""
-    if sp.issparse(M) or M.shape[0] % 6 or M.shape[0] == 0:
+    if _issparse(M) or M.shape[0] % 6 or M.shape[0] == 0:
         return None
     m = np.asarray(M, float)
     nb = m.shape[0] // 6
@@ -267,49 +276,50 @@ def error_estimate(w2: np.ndarray, phi: np.ndarray, M: Any, K: Any = None, facto
     if blocks is not None:
         mphi = np.matmul(blocks[0], phi.reshape(blocks[0].shape[0], 6, -1)).reshape(phi.shape)
     else:
-        mphi = np.asarray((sp.csr_matrix(M) if sp.issparse(M) else fast_matrix(np.asarray(M, float))) @ phi)
+        mphi = np.asarray((sp.csr_matrix(M) if _issparse(M) else fast_matrix(np.asarray(M, float))) @ phi)
     norm2 = np.einsum("ij,ij->j", phi, mphi)
-    if factor is not None:
-        g: Any = _as_factor(factor)
-        gphi, num, den = _factor_norms(g, phi) if norms is None else norms
-        kphi = np.asarray(g.T @ gphi)
-        per_row = np.diff(g.indptr).max(initial=1) if sp.issparse(g) else g.shape[1]
-        rho = num ** 2 / norm2
-        with np.errstate(divide="ignore", invalid="ignore"):
+    # one error state for the whole bound (a 6-DOF model's bound is a few dozen 6-vector steps, and
+    # entering np.errstate costs as much as several of them): 0 / 0 and x / 0 give NaN and inf,
+    # which the bound turns into inf below
+    with np.errstate(divide="ignore", invalid="ignore"):
+        if factor is not None:
+            g: Any = _as_factor(factor)
+            gphi, num, den = _factor_norms(g, phi) if norms is None else norms
+            kphi = np.asarray(g.T @ gphi)
+            per_row = np.diff(g.indptr).max(initial=1) if _issparse(g) else g.shape[1]
+            rho = num ** 2 / norm2
             rounding = (per_row + 2) * eps * den / num
-    else:
-        k: Any = sp.csr_matrix(K) if sp.issparse(K) else np.asarray(K, float)
-        kphi = np.asarray(k @ phi)
-        per_row = np.diff(k.indptr).max(initial=1) if sp.issparse(k) else k.shape[1]
-        rho = np.einsum("ij,ij->j", phi, kphi) / norm2
-        absk = abs(k) if sp.issparse(k) else np.abs(k)
-        with np.errstate(divide="ignore", invalid="ignore"):
+        else:
+            k: Any = sp.csr_matrix(K) if _issparse(K) else np.asarray(K, float)
+            kphi = np.asarray(k @ phi)
+            per_row = np.diff(k.indptr).max(initial=1) if _issparse(k) else k.shape[1]
+            rho = np.einsum("ij,ij->j", phi, kphi) / norm2
+            absk = abs(k) if _issparse(k) else np.abs(k)
             rounding = (per_row + 2) * eps * np.einsum("ij,ij->j", np.abs(phi), np.asarray(absk @ np.abs(phi))) \
                 / np.abs(rho) / norm2
-    r = kphi - rho[None, :] * mphi
-    if blocks is not None:                   # rigid bodies: 6x6 mass blocks on the diagonal
-        inverse = blocks[1] if blocks[1] is not None else np.linalg.inv(np.linalg.cholesky(blocks[0]))
-        y = np.matmul(inverse, r.reshape(blocks[0].shape[0], 6, -1))
-        e = np.sqrt(np.einsum("bij,bij->j", y, y))
-    elif (li := _inverse_cholesky(M) if li is None else li) is not None:
-        e = np.linalg.norm(np.asarray(li @ r), axis=0)
-    else:
-        md = M.toarray() if sp.issparse(M) else np.asarray(M, float)
-        e = np.sqrt(np.abs(np.einsum("ij,ij->j", r, mass_solver(md)(r))))
-    e = e / np.sqrt(norm2)
-    lam = np.asarray(w2, float)
-    gap = np.full(lam.shape, np.inf)
-    if lam.size > 1:                       # ascending: the nearest others are the neighbours
-        gap[1:] = np.abs(rho[1:] - lam[:-1])
-        gap[:-1] = np.minimum(gap[:-1], np.abs(rho[:-1] - lam[1:]))
-    with np.errstate(divide="ignore", invalid="ignore"):
+        r = kphi - rho[None, :] * mphi
+        if blocks is not None:                   # rigid bodies: 6x6 mass blocks on the diagonal
+            inverse = blocks[1] if blocks[1] is not None else np.linalg.inv(np.linalg.cholesky(blocks[0]))
+            y = np.matmul(inverse, r.reshape(blocks[0].shape[0], 6, -1))
+            e = np.sqrt(np.einsum("bij,bij->j", y, y))
+        elif (li := _inverse_cholesky(M) if li is None else li) is not None:
+            e = np.linalg.norm(np.asarray(li @ r), axis=0)
+        else:
+            md = M.toarray() if _issparse(M) else np.asarray(M, float)
+            e = np.sqrt(np.abs(np.einsum("ij,ij->j", r, mass_solver(md)(r))))
+        e = e / np.sqrt(norm2)
+        lam = np.asarray(w2, float)
+        gap = np.full(lam.shape, np.inf)
+        if lam.size > 1:                       # ascending: the nearest others are the neighbours
+            gap[1:] = np.abs(rho[1:] - lam[:-1])
+            gap[:-1] = np.minimum(gap[:-1], np.abs(rho[:-1] - lam[1:]))
         shift = np.minimum(e, e * e / gap)
         est = (np.abs(lam - rho) + shift) / (2 * np.abs(rho)) + rounding
     # floor: the round-off of any eigen-solver's answer (and of the reference it is checked against)
-    est = np.maximum(est, 4 * np.sqrt(phi.shape[0]) * eps)
-    est = np.where(np.isfinite(est), est, np.inf)
+    est = np.maximum(est, 4 * math.sqrt(phi.shape[0]) * eps)
+    est[~np.isfinite(est)] = np.inf
     if rigid is not None:
-        est = np.where(rigid, np.nan, est)
+        est[np.asarray(rigid, bool)] = np.nan
     return est
 
 

@@ -40,7 +40,8 @@ def energy_fractions(shapes: np.ndarray, mass: np.ndarray) -> np.ndarray:
         ``E[i, j] = phi_j (M phi)_j / (phi^T M phi)`` for shape i; each row sums to 1.
     """
     mp = mass @ shapes
-    num = (shapes.conj() * mp).real.T
+    # real shapes: the conjugate is the shapes themselves (no copy; the same products)
+    num = ((shapes.conj() if np.iscomplexobj(shapes) else shapes) * mp).real.T
     return num / num.sum(axis=1, keepdims=True)
 
 
@@ -99,6 +100,7 @@ def dof_labels(fractions: np.ndarray, dofs: Sequence[str]) -> list[str]:
 def cluster_slices(values: np.ndarray, rtol: float, atol: float) -> list[slice]:
     """Runs of sorted ``values`` closer than ``atol + rtol * |value|`` to their neighbour."""
     out, start = [], 0
+    values = np.asarray(values, float).tolist()     # Python floats: the same float64 arithmetic, no NumPy scalars
     for i in range(1, len(values) + 1):
         if i == len(values) or values[i] - values[i - 1] > atol + rtol * abs(values[i]):
             if i - start > 1:

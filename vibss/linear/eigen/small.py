@@ -7,10 +7,59 @@ layers (the assembly factorises a mount's 6x6 matrix with them).
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 import scipy.linalg as sl
 
-__all__ = ["symmetric_eigen", "projected_eigen", "state_eigen", "state_eigenvalues"]
+try:
+    from numpy.linalg import _umath_linalg   # the LAPACK gufuncs behind numpy.linalg
+    _gufuncs: Any = _umath_linalg
+except ImportError:       # pragma: no cover - a NumPy that moved them: the public calls
+    _gufuncs = None
+
+__all__ = ["symmetric_eigen", "projected_eigen", "state_eigen", "state_eigenvalues", "inverse_cholesky",
+           "eigh_small"]
+
+_QUIET = {"invalid": "raise", "over": "ignore", "divide": "ignore", "under": "ignore"}
+"""The error state :mod:`numpy.linalg` calls its gufuncs under, with a failure raised (not a warning)."""
+
+
+def inverse_cholesky(m: np.ndarray) -> np.ndarray:
+    """``L^-1`` with ``m = L L^T``, of a float64 matrix or a stack of them: ``np.linalg.inv(np.linalg.cholesky(m))``
+    bit for bit (the same LAPACK gufuncs) without their Python wrappers, which cost a 6 x 6 mass block
+    more than the factorisation; a matrix that is not positive definite goes to the public calls,
+    which raise their ``LinAlgError``.
+
+    Examples
+    --------
+    >>> li = inverse_cholesky(np.array([[4.0, 2.0], [2.0, 5.0]]))
+    >>> (li @ np.array([[4.0, 2.0], [2.0, 5.0]]) @ li.T).round(12).tolist()
+    [[1.0, 0.0], [0.0, 1.0]]
+    """
+    if _gufuncs is not None and isinstance(m, np.ndarray) and m.dtype == np.float64 and m.ndim >= 2:
+        try:
+            with np.errstate(**_QUIET):   # type: ignore[arg-type]
+                out: np.ndarray = _gufuncs.inv(_gufuncs.cholesky_lo(m, signature="d->d"), signature="d->d")
+            return out
+        except FloatingPointError:
+            pass
+    return np.linalg.inv(np.linalg.cholesky(m))
+
+
+def eigh_small(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``np.linalg.eigh(a)`` (LAPACK ``syevd`` on the lower triangle) bit for bit without its Python
+    wrapper, for the small symmetric problems the eigen path solves on every new model; a failure
+    goes to the public call, which raises its ``LinAlgError``."""
+    if _gufuncs is not None and isinstance(a, np.ndarray) and a.dtype == np.float64 and a.ndim >= 2:
+        try:
+            with np.errstate(**_QUIET):   # type: ignore[arg-type]
+                w, v = _gufuncs.eigh_lo(a, signature="d->dd")
+            return w, v
+        except FloatingPointError:
+            pass
+    w, v = np.linalg.eigh(a)
+    return w, v
 
 
 def symmetric_eigen(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

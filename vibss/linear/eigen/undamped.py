@@ -23,6 +23,7 @@ The modal basis of a plant, its projected damping and the classical-damping test
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -35,10 +36,10 @@ import scipy.sparse.linalg as spl
 from ..._validate import choice
 from ...results import ReadOnly
 from ...errors import ModelError
-from .checks import (_EPS, RIGID_RTOL, ROUNDOFF_LEVERS, _as_factor, _factor_norms, _inverse_cholesky, _six_blocks,
+from .checks import (_EPS, _issparse, RIGID_RTOL, ROUNDOFF_LEVERS, _as_factor, _factor_norms, _inverse_cholesky, _six_blocks,
                      _trace_norm, error_estimate, fast_matrix, mass_blocks, rigid_mask, stiffness_solver)
 from .csr import csr_of
-from .small import projected_eigen
+from .small import eigh_small, projected_eigen
 from .jacobi import SMALL_PRODUCTS, _jacobi, _jacobi_floor, jacobi_svd
 
 __all__ = ["generalized_eigh", "rigid_mask", "METHODS",
@@ -98,11 +99,11 @@ def generalized_eigh(K: Any, M: Any, n_modes: int | None = None,
     >>> bool(np.allclose(w2, sl.eigh(K, np.diag([1.0, 2.0]), eigvals_only=True)))
     True
     """
-    K = K.toarray() if sp.issparse(K) else np.asarray(K, float)
+    K = K.toarray() if _issparse(K) else np.asarray(K, float)
     subset = None if n_modes is None or n_modes >= K.shape[0] else [0, n_modes - 1]
     # a small sparse M is read densely, so a model's dense and sparse assemblies take one route
     if blocks is None:
-        blocks = mass_blocks(M.toarray() if sp.issparse(M) and K.shape[0] <= SMALL_PRODUCTS else M)
+        blocks = mass_blocks(M.toarray() if _issparse(M) and K.shape[0] <= SMALL_PRODUCTS else M)
     if blocks is not None:
         # rigid bodies: L^-1 per 6x6 mass block, applied as one batched product (the sparse L^-1
         # costs three CSR products with n columns, about 10 ms at 600 DOF)
@@ -112,7 +113,7 @@ def generalized_eigh(K: Any, M: Any, n_modes: int | None = None,
         a = np.matmul(lib, half.T.reshape(nb, 6, n)).reshape(n, n)          # L^-1 K L^-T
         a = 0.5 * (a + a.T)
         if subset is None and n <= SMALL_PRODUCTS:
-            w2, u = np.linalg.eigh(a)       # LAPACK syevd as scipy's driver "evd", without its wrapper (10 us)
+            w2, u = eigh_small(a)           # LAPACK syevd as scipy's driver "evd", without the wrappers (10 us)
         else:
             w2, u = sl.eigh(a, subset_by_index=subset, driver="evd" if subset is None else "evr",
                             check_finite=False)
@@ -121,7 +122,7 @@ def generalized_eigh(K: Any, M: Any, n_modes: int | None = None,
         return w2, phi
     li = _inverse_cholesky(M)
     if li is None:
-        M = M.toarray() if sp.issparse(M) else M
+        M = M.toarray() if _issparse(M) else M
         return sl.eigh(K, M, subset_by_index=subset, check_finite=False)
     a = li @ (li @ K).T                     # L^-1 K L^-T (K symmetric)
     a = 0.5 * (a + a.T)
@@ -135,10 +136,10 @@ def generalized_eigvals(K: Any, M: Any) -> np.ndarray:
 
     For a bound that needs only the spectrum's extent (the stable step of an explicit integrator).
     """
-    K = K.toarray() if sp.issparse(K) else np.asarray(K, float)
+    K = K.toarray() if _issparse(K) else np.asarray(K, float)
     li = _inverse_cholesky(M)
     if li is None:
-        return sl.eigh(K, M.toarray() if sp.issparse(M) else M, eigvals_only=True, check_finite=False)
+        return sl.eigh(K, M.toarray() if _issparse(M) else M, eigvals_only=True, check_finite=False)
     a = li @ (li @ K).T
     return sl.eigh(0.5 * (a + a.T), eigvals_only=True, check_finite=False)
 
@@ -248,15 +249,15 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
     small_auto = False
     # the checks' products on a tiny model's factor as a dense array: the same bounds (each with its
     # own rounding term) without scipy.sparse's bookkeeping, about 17 CSR objects a call
-    checked = factor.toarray() if sp.issparse(factor) and n <= DENSE_CHECKS else factor
-    if factor is not None and not sp.issparse(factor) and n <= DENSE_CHECKS:
+    checked = factor.toarray() if _issparse(factor) and n <= DENSE_CHECKS else factor
+    if factor is not None and not _issparse(factor) and n <= DENSE_CHECKS:
         # a tiny dense factor (an assembly's, without its CSR): the Jacobi SVD and the refinement
         # take its CSR, built only if they run, so their products keep scipy.sparse's digits
         factor = _LazyCSR(checked)
     if callable(method):
         name = getattr(method, "__name__", "custom")
     elif method == "auto":
-        if sp.issparse(K) and n_modes is not None and n_modes < n // 10 and n > JACOBI_MAX:
+        if _issparse(K) and n_modes is not None and n_modes < n // 10 and n > JACOBI_MAX:
             name = "shift-invert"
         elif factor is not None and n <= JACOBI_MAX:
             # eigh first; the Jacobi SVD only where the cheap bound says eigh is not accurate
@@ -281,7 +282,7 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
         if n_modes is not None and name == "dense":   # a guard band: Ritz on k modes alone converges
             guard = min(n, max(2 * n_modes, n_modes + 12))  # slowly for the top ones (shift-invert's
             #                                                 modes are already inverse iterates)
-        if name == "dense" and not callable(method) and not sp.issparse(M):
+        if name == "dense" and not callable(method) and not _issparse(M):
             blocks = mass_blocks(M)          # once, for the solve and the bounds
             w2, phi = generalized_eigh(K, M, guard, blocks)
         else:
@@ -292,12 +293,14 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
         # relative accuracy: no such floor (at 60,000 DOF it flagged 2 Hz modes as doubtful and
         # refined all 20 for 2.6 s of a 7.6 s eigsh, to the same frequencies within 2.4e-13)
         floor = 0.0 if name == "shift-invert" and not callable(method) else \
-            np.sqrt(10 * n * _EPS) * _trace_norm(M, K, checked)
+            math.sqrt(10 * n * _EPS) * _trace_norm(M, K, checked)
     norms = None if factor is None else _factor_norms(checked, phi)
     rigid = rigid_mask(phi, K, checked, floor, norms)
     est = error_estimate(w2, phi, M, None if factor is not None else K, checked, rigid, norms=norms, blocks=blocks)
-    est = np.minimum(est, bound + _data_rounding(norms))
-    if small_auto and (rigid.any() or not np.isfinite(est[~rigid]).all()):
+    if bound != np.inf:                      # the Jacobi SVD's own bound (eigh has none: min(est, inf) is est)
+        est = np.minimum(est, bound + _data_rounding(norms))
+    any_rigid = bool(np.count_nonzero(rigid))
+    if small_auto and (any_rigid or np.count_nonzero(~np.isfinite(est[~rigid]))):
         # eigh cannot tell a rigid mode from one below sqrt(eps) of the top, nor bound a mode in a
         # cluster (no gap: an infinite bound): the Jacobi SVD decides, as it always did. Modes with
         # a finite bound over FREQ_RTOL are refined below, and go to the Jacobi SVD if they stay so
@@ -306,15 +309,16 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
     if name in ("dense", "shift-invert") and not callable(method):
         # eigh cannot tell a rigid mode from one below sqrt(eps) of the top: refine every mode up to
         # the last doubtful one (shifted, so rigid modes are allowed), then test on the factor alone
+        any_rigid = bool(np.count_nonzero(rigid))
         need = rigid | (est > FREQ_RTOL)
-        asked = also is not None and name == "dense" and not rigid.any()
+        asked = also is not None and name == "dense" and not any_rigid
         if also is not None and asked:
             need = need | np.asarray(also(w2, phi, est), bool)
-        if need.any() and (factor is not None or not rigid.any()):
+        if np.count_nonzero(need) and (factor is not None or not any_rigid):
             above = w2[~rigid]
             shift = 0.0
             if np.any(rigid):                  # shifted, so that rigid modes are allowed
-                kd_, md_ = (np.abs(np.asarray(x.diagonal() if sp.issparse(x) else np.diag(x), float)) for x in (K, M))
+                kd_, md_ = (np.abs(np.asarray(x.diagonal() if _issparse(x) else np.diag(x), float)) for x in (K, M))
                 ratio = kd_[md_ > 0] / md_[md_ > 0]
                 shift = 1e-3 * float(above.min()) if above.size and above.min() > 0 else \
                     1e-6 * float(np.median(ratio[ratio > 0])) if np.any(ratio > 0) else 1.0
@@ -339,7 +343,7 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
                 if not np.any(need):
                     break
             name += "+refined" if refined else ""
-        if factor is not None and n <= JACOBI_FALLBACK and (~rigid & ~(est <= FREQ_RTOL)).any():
+        if factor is not None and n <= JACOBI_FALLBACK and np.count_nonzero(~rigid & ~(est <= FREQ_RTOL)):
             # eigh and its refinement cannot certify some mode (a strongly graded model): the Jacobi
             # SVD can, at ~8x the cost of eigh
             w2, phi, rigid, est = _jacobi_checked(_csr(factor), M, K, checked)
@@ -417,24 +421,24 @@ def _refine(K: Any, M: Any, factor: Any, w2: np.ndarray, phi: np.ndarray, est: n
     flagged is replaced and no estimate is formed (the caller tests them: their ``est`` is inf).
     """
     low = np.arange(int(np.flatnonzero(need).max()) + 1)
-    mass = M if sp.issparse(M) else fast_matrix(np.asarray(M, float))
+    mass = M if _issparse(M) else fast_matrix(np.asarray(M, float))
     blocks = _six_blocks(M)
     mul = (lambda v: np.matmul(blocks, v.reshape(blocks.shape[0], 6, -1)).reshape(v.shape)) \
         if blocks is not None else (lambda v: np.asarray(mass @ v))
     mphi = mul(phi[:, low])
     try:
-        kd = K.toarray() if sp.issparse(K) and K.shape[0] <= 2000 else K
+        kd = K.toarray() if _issparse(K) and K.shape[0] <= 2000 else K
         if shift:
-            kd = kd + shift * (mass.toarray() if sp.issparse(mass) and not sp.issparse(kd) else mass)
+            kd = kd + shift * (mass.toarray() if _issparse(mass) and not _issparse(kd) else mass)
         if solve is None or shift:
-            solve = spl.splu(sp.csc_matrix(kd)).solve if sp.issparse(kd) else stiffness_solver(np.asarray(kd, float))
+            solve = spl.splu(sp.csc_matrix(kd)).solve if _issparse(kd) else stiffness_solver(np.asarray(kd, float))
         x = solve(mphi)
         for _ in range(2):                               # scaled Cholesky QR in the M inner product
             x = x / np.sqrt(np.einsum("ij,ij->j", x, mul(x)))[None, :]
             g = x.T @ mul(x)
             x = sl.solve_triangular(np.linalg.cholesky(0.5 * (g + g.T)), x.T, lower=True).T
         if factor is not None:
-            b = np.asarray(sp.csr_matrix(factor) @ x) if sp.issparse(factor) else np.asarray(factor) @ x
+            b = np.asarray(sp.csr_matrix(factor) @ x) if _issparse(factor) else np.asarray(factor) @ x
             if b.shape[0] < b.shape[1]:
                 b = np.vstack([b, np.zeros((b.shape[1] - b.shape[0], b.shape[1]))])
             sva, v, work = jacobi_svd(b)

@@ -37,6 +37,8 @@ from .sums import _MountMatrices, _block_pattern, _mass, _mount_matrices, _mount
 
 __all__ = ["Assembly", "assemble", "SPARSE_THRESHOLD", "dof_labels"]
 
+_SIX = np.arange(6)
+
 SPARSE_THRESHOLD = 1200
 """Models with more DOFs than this are assembled as scipy.sparse matrices by default."""
 
@@ -326,32 +328,36 @@ class Assembly(ReadOnly):
         the mounts' (nm, 3) rotational rates when already read."""
         if kr is None:
             kr = np.array([m.type.rotational_stiffness for m in self.model.mounts], dtype=float)
-        return not np.any(kr > 0) and not np.any(self.b_index == self.a_index) and not any(m.type.stiffness_matrix is not None and m.type.coupled
-                                              for m in self.model.mounts)
+        # count_nonzero: np.any's answer without its Python wrapper (a 6-DOF model asks this every time)
+        return not np.count_nonzero(kr > 0) and not np.count_nonzero(self.b_index == self.a_index) and \
+            not any(m.type.stiffness_matrix is not None and m.type.coupled for m in self.model.mounts)
 
-    def _dense_factor(self, blocks: np.ndarray, k: np.ndarray, levers: np.ndarray | None = None) -> np.ndarray:
+    def _dense_factor(self, blocks: np.ndarray, k: np.ndarray,
+                      levers: tuple[np.ndarray, np.ndarray] | None = None) -> np.ndarray:
         """:meth:`stiffness_factor` of a small model without sparse products: the same sums in the
         same order. scipy's ``st @ B`` adds, per entry, ``st[r, 3p + i] B[3p + i, c]`` over
         ``i = 0, 1, 2`` from zero, left to right (products of structural zeros left out, which adds
         nothing); elementwise NumPy does exactly those roundings (no fused multiply-add), so G is bit
         for bit the sparse path's, which the eigen path's accuracy on graded models depends on."""
-        nm, n = len(self.b_index), self.n
-        g = np.zeros((3 * nm, n))
-        rows = 3 * np.arange(nm)[:, None] + np.arange(3)                      # (nm, 3)
-        index = np.concatenate([self.b_index, self.a_index]).reshape(2, nm)    # both ends at once
+        nm, nb = len(self.b_index), len(self.model.bodies)
+        far = np.flatnonzero(self.a_index < nb)          # mounts whose far end is a body (not ground)
         if levers is None:
             lever = point_transfer(np.concatenate([self.r_b, -self.r_a]).reshape(2, nm, 3))
             lever[1, :, :, :3] = -lever[1, :, :, :3]                            # -L(r_a), exactly
-        else:
-            lever = levers                                                      # [L(r_b), -L(r_a)]
-        on = index < len(self.model.bodies)                                    # ground columns: not DOFs
-        if not on[1].any():                  # every mount to ground (one body): the body ends alone
-            index, lever, on = index[:1], lever[:1], on[:1]
+        else:                                                                   # (L(r_b), L(r_a))
+            lever = np.stack([levers[0], -levers[1]]) if far.size else levers[0][None]
+        if not far.size:                     # every mount to ground (one body): the body ends alone
+            lever = lever[:1]
         terms = blocks[None, :, :, :, None] * lever[:, :, None, :, :]           # (sides, nm, 3, 3, 6)
         acc = terms[:, :, :, 0] + terms[:, :, :, 1] + terms[:, :, :, 2]        # the product's order
-        cols = 6 * index[on][:, None] + np.arange(6)                            # (hits, 6)
-        g[np.broadcast_to(rows, index.shape + (3,))[on][:, :, None], cols[:, None, :]] = acc[on]
-        return g[np.flatnonzero(np.sqrt(k).ravel() > 0)] + 0.0     # +0.0: no negative zeros
+        # each mount's 3 rows: its body's 6 columns, and the far body's (never the same body here)
+        g4 = np.zeros((nm, 3, nb, 6))
+        g4[np.arange(nm), :, self.b_index, :] = acc[0]
+        if far.size:
+            g4[far, :, self.a_index[far], :] = acc[1, far]
+        g = g4.reshape(3 * nm, 6 * nb)
+        kept = k.ravel() > 0                 # sqrt(k) > 0 (k >= 0): the rows of G that are not zero
+        return (g if np.count_nonzero(kept) == kept.size else g[np.flatnonzero(kept)]) + 0.0   # +0.0: no -0.0
 
     def _matrix_factor(self, mounts: np.ndarray, t: np.ndarray) -> sp.csr_matrix:
         """Rows of G for mounts with a full 6x6 stiffness: ``K6 = V diag(lam) V^T`` in local axes,
@@ -450,11 +456,11 @@ def _assemble(model: Model, sparse: bool) -> Assembly:
         sparse=bool(sparse), krp=mm.krp, crp=mm.crp, kcp=mm.kcp, ccp=mm.ccp,
         _cache={"pattern": pattern},
     )
-    if not sparse and mm.k is not None and (mm.k >= 0).all() and asm._plain_factor(mm.k, mm.kr):
+    if not sparse and mm.k is not None and np.count_nonzero(mm.k >= 0) == mm.k.size and asm._plain_factor(mm.k, mm.kr):
         # the stiffness factor every analysis asks for, from the arrays already at hand (the same
         # numbers as Assembly.dense_factor computes: the lever arms are the pattern's own)
         g = asm._dense_factor(np.sqrt(mm.k)[:, :, None] * at.t.transpose(0, 2, 1), mm.k,
-                              np.stack([pattern.lb, -pattern.la]))
+                              (pattern.lb, pattern.la))
         g.flags.writeable = False
         asm._cache["Gd"] = g
     return asm
