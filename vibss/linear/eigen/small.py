@@ -42,7 +42,7 @@ def inverse_cholesky(m: np.ndarray) -> np.ndarray:
             with np.errstate(**_QUIET):   # type: ignore[arg-type]
                 out: np.ndarray = _gufuncs.inv(_gufuncs.cholesky_lo(m, signature="d->d"), signature="d->d")
             return out
-        except FloatingPointError:
+        except (FloatingPointError, TypeError, ValueError):   # a failure, or a NumPy whose gufuncs changed
             pass
     return np.linalg.inv(np.linalg.cholesky(m))
 
@@ -56,7 +56,7 @@ def eigh_small(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
             with np.errstate(**_QUIET):   # type: ignore[arg-type]
                 w, v = _gufuncs.eigh_lo(a, signature="d->dd")
             return w, v
-        except FloatingPointError:
+        except (FloatingPointError, TypeError, ValueError):   # a failure, or a NumPy whose gufuncs changed
             pass
     w, v = np.linalg.eigh(a)
     return w, v
