@@ -273,6 +273,11 @@ def test_where_the_magnus_steps_do_not_settle_hill_answers_and_the_note_says_so(
     assert "Hill's method at 3 points" in r.note
     np.testing.assert_array_equal(r.stable, hill.stable)
     np.testing.assert_allclose(r.growth, hill.growth, rtol=1e-12)
+    import vibss.nonlinear.harmonic as hb                                  # where Hill's matrix would not fit:
+    monkeypatch.setattr(hb, "HILL_MAX", 100)                               # Floquet's finest answer, said so
+    with pytest.warns(VibssWarning, match="did not converge"):
+        r = harmonic_balance(model, **args)
+    assert "unconverged at 3 points" in r.note and "limit 100" in r.note and np.all(np.isfinite(r.growth))
 
 
 @pytest.mark.slow

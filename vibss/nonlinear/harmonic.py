@@ -32,7 +32,7 @@ from ..linear.plant.names import default_outputs
 from ..methods import Check, Claim
 from ..model.model import Model
 from .api import operating_point
-from .hb.aft import LocalLaws, aft, basis, samples_for, to_complex
+from .hb.aft import LocalLaws, aft, basis, jacobian_blocks, samples_for, to_complex
 from .hb.condensed import Condensed
 from .hb.continuation import Branch, Problem, follow
 from .hb.floquet import FLOQUET_MAX, floquet, piecewise_linear
@@ -275,7 +275,7 @@ def _result(problem: Problem, branch: Branch, names: list[str], u: np.ndarray, o
     Yl = np.zeros((m, H + 1, nb), dtype=complex)
     resid, trunc = np.zeros(nb), np.zeros(nb)
     hill, how, why = _stability(problem, stability)
-    fallback = 0
+    fallback, hill_fits = 0, 2 * lin.plant.n * (2 * H + 1) <= HILL_MAX
     stable = None if hill is None else np.zeros(nb, dtype=bool)
     growth = None if hill is None else np.zeros(nb)
     parts = lin.outputs(np.asarray(branch.omega, dtype=float))         # every point's, batched
@@ -284,7 +284,7 @@ def _result(problem: Problem, branch: Branch, names: list[str], u: np.ndarray, o
         Y[:, 1, b] = c.Y
         J = None
         if m:
-            F, J, _ = aft(problem.laws, problem.basis, X, jacobian=how == "hill")
+            F, J, kappa = aft(problem.laws, problem.basis, X, jacobian=how == "hill")
             Fc = to_complex(F, H, m)
             Y[:, :, b] -= np.einsum("kpm,km->pk", c.T, Fc)
             Yl[:, :, b] = to_complex(X, H, m).T
@@ -296,13 +296,17 @@ def _result(problem: Problem, branch: Branch, names: list[str], u: np.ndarray, o
             if ok:
                 stable[b], growth[b], ok = floquet(hill, problem.laws, Yl[:, :, b], w, problem.basis.E.shape[0])
                 fallback += not ok
-            if not ok:
-                if J is None:
-                    _, J, _ = aft(problem.laws, problem.basis, X) if m else (None, None, None)
-                gamma = J if J is not None else np.zeros((0, 2 * H + 1, 2 * H + 1))
+            if not ok and (how == "hill" or hill_fits):
+                gamma = J if J is not None else jacobian_blocks(kappa, H) if m else np.zeros((0, 2 * H + 1, 2 * H + 1))
                 stable[b], growth[b] = hill_exponents(hill, gamma, w)
     if fallback:
-        why += f" (Hill's method at {fallback} points where the Magnus sub-steps did not converge)"
+        why += (f" (Hill's method at {fallback} points where the Magnus sub-steps did not converge)" if hill_fits else
+                f" (unconverged at {fallback} points: the finest Magnus sub-steps' answer; Hill's matrix would be "
+                f"{2 * lin.plant.n * (2 * H + 1)} square, limit {HILL_MAX})")
+        if not hill_fits:
+            warnings.warn(f"harmonic_balance: the stability at {fallback} points did not converge (Floquet's Magnus "
+                          "sub-steps) and Hill's method is too large to check it: their flags may be wrong",
+                          VibssWarning, stacklevel=3)
     folds = _folds(branch)
     claim = dataclasses.replace(CLAIM, tolerance=float(tolerance))
     worst = float(trunc.max(initial=0.0))
@@ -338,7 +342,8 @@ STABILITY = ("auto", "floquet", "hill")
 """Stability methods: ``"floquet"`` (the monodromy matrix, exact between contact instants for stops,
 fourth-order Magnus sub-steps for curves, :mod:`vibss.nonlinear.hb.floquet`), ``"hill"`` (the Hill
 matrix's eigenvalues, :mod:`vibss.nonlinear.hb.hill`); ``"auto"`` (or True) is Floquet's, with Hill's
-at a point where Floquet's sub-steps do not converge."""
+at a point where Floquet's sub-steps do not converge (where Hill's matrix fits :data:`HILL_MAX`), and
+Hill's where the monodromy would exceed :data:`~vibss.nonlinear.hb.floquet.FLOQUET_MAX` states."""
 
 
 def _stability(problem: Problem, stability: bool | str) -> tuple[Hill | None, str, str]:
@@ -347,11 +352,11 @@ def _stability(problem: Problem, stability: bool | str) -> tuple[Hill | None, st
     if stability is False:
         return None, "", "stability not computed (stability=False)"
     how = choice("auto" if stability is True else stability, "stability", STABILITY, who="harmonic_balance")
-    if how == "auto":
-        how = "floquet"
+    size = 2 * plant.n * (2 * problem.basis.harmonics + 1)
+    if how == "auto":                       # Floquet's, or Hill's where only that fits
+        how = "hill" if 2 * plant.n > FLOQUET_MAX and size <= HILL_MAX else "floquet"
     if plant.branches is not None:
         return None, "", "stability not computed: frequency-dependent mounts have internal states it lacks"
-    size = 2 * plant.n * (2 * problem.basis.harmonics + 1)
     if how == "hill" and size > HILL_MAX:
         return None, "", f"stability not computed: Hill's matrix would be {size} square (limit {HILL_MAX})"
     if how == "floquet" and 2 * plant.n > FLOQUET_MAX:

@@ -125,7 +125,7 @@ def _save_png(fig: Any, path: Path, dpi: int) -> None:
             engine.execute(fig)
         finally:
             fig.dpi = shown
-        fig.set_layout_engine(None)
+        fig.set_layout_engine("none")    # a placeholder that does nothing (None may install rcParams' engine)
     try:
         fig.savefig(path, dpi=dpi, pil_kwargs={"compress_level": PNG_COMPRESSION})
     finally:

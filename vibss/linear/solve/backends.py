@@ -33,11 +33,11 @@ from ...methods import Method
 from .banded import structure
 from ..plant.branches import groups
 from .certified import CERTIFY_TOL, applies, certified_states, modal_inverse
-from .refine import ASSEMBLED_ORDER, Contraction, Pattern, assembled_lu, mounts_product, refine
+from .refine import ASSEMBLED_ORDER, PIVOT_THRESHOLD, Contraction, Pattern, assembled_lu, mounts_product, refine
 from ..plant.plant import Plant
 
-__all__ = ["SOLVERS", "SolveBackend", "LOOP_DOFS", "MOUNTS_DENSE_MAX", "MOUNTS_ORDER", "dynamic_stiffness",
-           "certified_note"]
+__all__ = ["SOLVERS", "SolveBackend", "LOOP_DOFS", "MOUNTS_DENSE_MAX", "MOUNTS_ORDER", "ASSEMBLED_ORDER",
+           "PIVOT_THRESHOLD", "dynamic_stiffness", "certified_note"]
 
 MOUNTS_DENSE_MAX = 300
 """The mounts' system (n + 3 q unknowns) is solved by dense LU up to this size; above, the assembled

@@ -98,8 +98,8 @@ def _real_times(a: sp.csr_matrix, x: np.ndarray) -> np.ndarray:
 
 @dataclass
 class Contraction:
-    """The contraction per step measured where a frequency took two steps: the next frequency's bound
-    (the LU's error changes slowly along the frequencies of one sweep)."""
+    """The largest contraction per step measured where a frequency of the sweep took two steps: the
+    later frequencies' bound (the LU's error changes slowly along the frequencies of one sweep)."""
 
     rho: float = np.inf
 
@@ -153,8 +153,8 @@ def refine(solve: Callable[[np.ndarray], np.ndarray], apply: Callable[[np.ndarra
             return x, last, last <= ACCEPT
         if np.isfinite(prev):                   # the error left by the contraction of the last two steps
             rho = last / prev
-            if hint is not None:
-                hint.rho = rho
+            if hint is not None:                # the largest of the sweep: a bound, not the last value
+                hint.rho = rho if not np.isfinite(hint.rho) else max(hint.rho, rho)
             left = last * rho / (1.0 - rho)
             if left <= TARGET:
                 return x, left, True

@@ -138,13 +138,14 @@ def aft(laws: LocalLaws, b: Basis, X: np.ndarray, jacobian: bool = True) -> tupl
 
 def jacobian_blocks(kappa: np.ndarray, harmonics: int) -> np.ndarray:
     """(m, 2H+1, 2H+1) blocks ``P diag(kappa_j) E`` from the tangents ``kappa`` (N, m) sampled over
-    the period, by their discrete Fourier coefficients up to ``2H`` (one real FFT, exact for
-    ``N > 4H``): the products of two basis functions are cosines and sines of ``k +- k'``, e.g.
+    the period, by their discrete Fourier coefficients up to ``2H`` (one FFT; the discrete means, so
+    the same numbers on any ``N``, aliasing included): the products of two basis functions are
+    cosines and sines of ``k +- k'``, e.g.
     ``mean(kappa cos k tau cos k' tau) = (A_|k-k'| + A_k+k') / 2`` with ``A_q + i B_q`` the mean of
     ``kappa exp(i q tau)``; rows ``k >= 1`` carry ``P``'s weight 2."""
     N, m = kappa.shape
     H = harmonics
-    c = np.fft.rfft(kappa, axis=0)[:2 * H + 1].T / N           # (m, 2H+1): A_q - i B_q
+    c = (np.fft.fft(kappa, axis=0) / N)[np.arange(2 * H + 1) % N].T       # (m, 2H+1): A_q - i B_q, aliased
     A, B = c.real, -c.imag
     k = np.arange(H + 1)
     d, s = k[:, None] - k[None, :], k[:, None] + k[None, :]

@@ -113,20 +113,34 @@ def _cuts(laws: LocalLaws, Yl: np.ndarray, samples: int) -> np.ndarray:
     return cuts
 
 
+CHUNK = 256
+"""Sub-steps whose matrices are built and exponentiated together (memory ``~ CHUNK (2n)^2`` floats a
+few times over, whatever the sub-step count)."""
+
+
 def _monodromy(hill: Hill, laws: LocalLaws, Yl: np.ndarray, omega: float, cuts: np.ndarray,
                per_period: int) -> np.ndarray:
     """The monodromy matrix with about ``per_period`` sub-steps per period (0: one per piece, its
-    middle's ``A`` exact, for piecewise-constant laws)."""
-    n, m = hill.n, Yl.shape[0]
+    middle's ``A`` exact, for piecewise-constant laws), :data:`CHUNK` sub-steps at a time."""
     lengths = np.diff(cuts)
     if per_period:
         counts = np.maximum(1, np.ceil(lengths * per_period / (2 * np.pi)).astype(int))
         h = np.repeat(lengths / counts, counts)                         # sub-step lengths [rad]
         start = np.repeat(cuts[:-1], counts) + h * (np.arange(h.size) - np.repeat(np.cumsum(counts) - counts, counts))
-        tau = (start[:, None] + h[:, None] * _GAUSS[None, :]).ravel()    # two Gauss points per sub-step
     else:
-        h = lengths
-        tau = cuts[:-1] + 0.5 * lengths
+        h, start = lengths, cuts[:-1]
+    phi = np.eye(2 * hill.n)
+    for a in range(0, h.size, CHUNK):
+        phi = _product(hill, laws, Yl, omega, start[a:a + CHUNK], h[a:a + CHUNK], bool(per_period)) @ phi
+    return phi
+
+
+def _product(hill: Hill, laws: LocalLaws, Yl: np.ndarray, omega: float, start: np.ndarray, h: np.ndarray,
+             magnus: bool) -> np.ndarray:
+    """``E_k ... E_1`` over the sub-steps starting at phases ``start`` [rad] of lengths ``h`` [rad]:
+    fourth-order Magnus on two Gauss points (``magnus``), else ``A`` at each middle, exact."""
+    n, m = hill.n, Yl.shape[0]
+    tau = (start[:, None] + h[:, None] * _GAUSS[None, :]).ravel() if magnus else start + 0.5 * h
     y = np.real(np.exp(1j * np.outer(tau, np.arange(Yl.shape[1]))) @ Yl.T)       # (points, m) [m]
     kappa = laws.tangents(y) if m else np.zeros((tau.size, 0))
     A = np.zeros((tau.size, 2 * n, 2 * n))
@@ -134,7 +148,7 @@ def _monodromy(hill: Hill, laws: LocalLaws, Yl: np.ndarray, omega: float, cuts: 
     A[:, n:, n:] = -hill.MC
     A[:, n:, :n] = -hill.MK - np.einsum("nj,pj,jk->pnk", hill.ML, kappa, hill.L)
     dt = h / omega                                                      # [s]
-    if per_period:
+    if magnus:
         A1, A2 = A[0::2], A[1::2]
         C = A2 @ A1 - A1 @ A2
         Om = 0.5 * dt[:, None, None] * (A1 + A2) + (np.sqrt(3) / 12) * (dt**2)[:, None, None] * C

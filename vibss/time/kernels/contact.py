@@ -27,7 +27,7 @@ __all__ = ["ContactSystem", "ContactRun", "integrate", "NEWTON_TOL", "LOCATE_TOL
 
 NEWTON_TOL = 1e-13
 """Newton's method on a step stops when the update is below this times the step's local scale (the
-largest deflection; for velocities, also that over the step: at rest in a stop their round-off is more)."""
+largest deflection; for velocities, also that over a grid step: at rest in a stop their round-off is more)."""
 
 LOCATE_TOL = 1e-12
 """A crossing (or an extremum) is located when its residual is below this times the deflection scale."""
@@ -53,7 +53,7 @@ class ContactSystem:
         key = float(f"{h:.13g}")
         got = self._steps.get(key)
         if got is None:
-            got = _discretise(self, key)
+            got = _discretise(self, float(h))
             if len(self._steps) < 64:
                 self._steps[key] = got
         return got
@@ -126,6 +126,7 @@ class ContactRun:
     events: int = 0
     newton: int = 0
     crossings: int = 0
+    h: float = 0.0          # the grid's step [s]: velocities converge against deflection over it
 
 
 @dataclass
@@ -177,7 +178,7 @@ def _solve(laws: LocalLaws, st: _Step, s: _State, lin: np.ndarray,
         run.newton += 1
         scale = np.abs(z[:r]).max() + 1e-300
         if (np.abs(dz[:r]).max() <= NEWTON_TOL * scale
-                and np.abs(dz[r:]).max() <= NEWTON_TOL * (np.abs(z[r:]).max() + scale / st.h)):
+                and np.abs(dz[r:]).max() <= NEWTON_TOL * (np.abs(z[r:]).max() + scale / max(st.h, run.h))):
             break
     e, v = z[:r], z[r:]
     g, g1, _ = laws.force(e, s.regime, s.piece)
@@ -280,7 +281,7 @@ def integrate(sys: ContactSystem, laws: LocalLaws, t: np.ndarray, lin: np.ndarra
     r = laws.r
     p = sys.D.shape[0]
     run = ContactRun(peak_hi=laws.d0 + e0, peak_lo=laws.d0 + e0, t_hi=np.zeros(r), t_lo=np.zeros(r),
-                     intervals={})
+                     intervals={}, h=float(t[-1] - t[0]) / max(len(t) - 1, 1))
     x = [np.zeros(A.shape[0] * A.shape[1], complex if np.iscomplexobj(A) or np.iscomplexobj(F) else float)
          for A, F in zip(sys.A, sys.F)]
     regime, piece = laws.regime(laws.d0 + e0), laws.piece(laws.d0 + e0)
@@ -288,8 +289,7 @@ def integrate(sys: ContactSystem, laws: LocalLaws, t: np.ndarray, lin: np.ndarra
     s = _State(x, e0.copy(), v0.copy(), g, g1 * v0, regime, piece)
     for a in np.flatnonzero(regime):
         run.intervals[(int(a), int(regime[a]))] = [[0.0, np.nan]]
-    want = np.zeros(len(t), bool)
-    want[samples] = True
+    want = np.isin(np.arange(len(t)), samples)
     y = np.zeros((len(samples), p))
     local = np.zeros((len(samples), 2 * r))
     buf: list[list[np.ndarray]] = [[] for _ in sys.A]
