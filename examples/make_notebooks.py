@@ -600,6 +600,8 @@ h_vibss = vibss.frequency_response(updated, inputs, outputs, frequencies=f).resp
 err = np.abs(h_file - h_vibss).max() / np.abs(h_vibss).max()
 print(f"FRF from the file's M, C, K, H against vibss: {err:.1e}")
 assert err < 1e-9"""),
+]
+
 NONLINEAR = [
     ("md", """# A cabinet on snubbered isolators: the operating point, a shock into the stops, a sine sweep
 
@@ -660,7 +662,7 @@ The model file asks for a harmonic balance in `[analysis] harmonic_balance` (0.2
 acceleration, 5 to 40 Hz, 11 harmonics): the curve bends over to the right as the isolators stiffen
 and the compression snubber closes. Between the turning points three steady states coexist; a slow
 upward sweep jumps down at the first, a downward sweep jumps up at the second. Dashed: unstable
-(Hill's method)."""),
+(Floquet multipliers of the monodromy matrix)."""),
     ("code", """hb = vibss.harmonic_balance(model, **harmonic_balance_arguments(model.settings["harmonic_balance"],
                                                               model.excitations))
 print(hb.turning_table().render())

@@ -31,6 +31,21 @@ def test_notebooks_are_stored_without_outputs():
                 assert cell.outputs == [] and cell.execution_count is None, name
 
 
+def test_notebooks_are_what_their_generator_writes():
+    """examples/make_notebooks.py is their source: it runs, and its cells are the committed ones."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("make_notebooks", EXAMPLES / "make_notebooks.py")
+    assert spec is not None and spec.loader is not None
+    gen = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(gen)
+    assert sorted(gen.NOTEBOOKS) == NOTEBOOKS
+    for name, cells in gen.NOTEBOOKS.items():
+        stored = nbformat.read(EXAMPLES / name, as_version=4)
+        assert [(c.cell_type, c.source) for c in gen.build(cells).cells] == \
+               [(c.cell_type, c.source) for c in stored.cells], name
+
+
 @pytest.mark.parametrize("name", NOTEBOOKS)
 @pytest.mark.slow
 def test_notebook_runs(name, monkeypatch):
