@@ -24,8 +24,8 @@ import scipy.sparse as sp
 from ...errors import AnalysisError
 from ...linear.eigen.basis import modal_basis
 from ...linear.plant.plant import Plant
-from .aft import to_complex, to_real
 from ...linear.solve.exact import forcing, observe, output_map, states, without_hysteresis, zfactor
+from .aft import to_complex, to_real
 
 __all__ = ["Condensed", "Linear"]
 
