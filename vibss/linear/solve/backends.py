@@ -33,7 +33,7 @@ from ...methods import Method
 from .banded import structure
 from ..plant.branches import groups
 from .certified import CERTIFY_TOL, applies, certified_states, modal_inverse
-from .refine import ASSEMBLED_ORDER, PIVOT_THRESHOLD, Contraction, Pattern, assembled_lu, mounts_product, refine
+from .refine import ASSEMBLED_ORDER, PIVOT_THRESHOLD, Contraction, assembled_lu, mounts_product, refine
 from ..plant.plant import Plant
 
 __all__ = ["SOLVERS", "SolveBackend", "LOOP_DOFS", "MOUNTS_DENSE_MAX", "MOUNTS_ORDER", "ASSEMBLED_ORDER",
@@ -359,7 +359,6 @@ def _mounts(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray],
         bd, btd, md = fb.toarray(), bt.toarray(), m_csr.toarray()
         kd, cd, hd = form.K.toarray(), form.C.toarray(), form.H.toarray()
     else:
-        pattern = plant.cached("assembled pattern", lambda: Pattern.of(plant))
         bat = form.Ba.T.tocsr() if form.Ba is not None and form.Ba.shape[0] else None
         b_t = form.B.T.tocsr()
     zeros = np.zeros((q3, r_all.shape[2]), dtype=complex)
@@ -388,7 +387,7 @@ def _mounts(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray],
             continue
         apply = mounts_product(form, m_csr, b_t, bat, sk)
         try:                    # the assembled LU, refined by the residual in the mounts' form
-            got, _, ok = refine(assembled_lu(plant, pattern, sk), apply, r_all[i], hint)
+            got, _, ok = refine(assembled_lu(plant, sk), apply, r_all[i], hint)
         except RuntimeError:                              # "Factor is exactly singular"
             ok = False
         if ok:

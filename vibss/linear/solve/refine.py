@@ -105,7 +105,7 @@ class Contraction:
 
 
 HINT_MARGIN = 10.0
-"""A frequency's first correction is trusted with the contraction measured before it times this."""
+"""A frequency's first correction is trusted with the sweep's largest measured contraction times this."""
 
 
 def refine(solve: Callable[[np.ndarray], np.ndarray], apply: Callable[[np.ndarray], np.ndarray],
@@ -121,8 +121,8 @@ def refine(solve: Callable[[np.ndarray], np.ndarray], apply: Callable[[np.ndarra
     r : (n, k) complex ndarray
         Right-hand sides [N].
     hint : Contraction or None
-        The contraction measured at an earlier frequency of the sweep (updated here when two steps
-        are taken): after the first step the error left is bounded by the correction times
+        The largest contraction measured so far in the sweep (raised here when two steps are
+        taken): after the first step the error left is bounded by the correction times
         :data:`HINT_MARGIN` that contraction, and the iteration stops when that is within
         :data:`TARGET` (one solve and one product fewer where the LU is already close: above the
         soft modes). None: at least two steps, as without a sweep.
@@ -177,14 +177,15 @@ PIVOT_THRESHOLD = 0.1
 column's largest entry (refinement corrects what the weaker pivoting loses, or the saddle system answers)."""
 
 
-def assembled_lu(plant: Plant, pattern: Pattern, s: complex) -> Callable[[np.ndarray], np.ndarray]:
-    """The solve with SuperLU's LU of the assembled ``A(s)``. The first one orders the pattern
-    (:data:`ASSEMBLED_ORDER`, symmetric mode); the plant keeps that ordering, the pattern laid out in
-    it, and every later frequency factors the permuted matrix without ordering it again (the order is
-    structural; row pivots still follow the values): 0.24-0.26 s against 0.29 s a frequency at 60,000
-    DOF, 0.026 against 0.036 s at 6,000 (same fill)."""
+def assembled_lu(plant: Plant, s: complex) -> Callable[[np.ndarray], np.ndarray]:
+    """The solve with SuperLU's LU of the plant's assembled ``A(s)`` (:class:`Pattern`). The first one
+    orders the pattern (:data:`ASSEMBLED_ORDER`, symmetric mode); the plant keeps that ordering, the
+    pattern laid out in it, and every later frequency factors the permuted matrix without ordering it
+    again (the order is structural; row pivots still follow the values): 0.24-0.26 s against 0.29 s a
+    frequency at 60,000 DOF, 0.026 against 0.036 s at 6,000 (same fill)."""
     kept = plant.known("assembled pattern, ordered")
     if kept is None:
+        pattern = plant.cached("assembled pattern", lambda: Pattern.of(plant))
         lu = spl.splu(pattern.matrix(s), permc_spec=ASSEMBLED_ORDER, diag_pivot_thresh=PIVOT_THRESHOLD,
                       options={"SymmetricMode": True})
         q = np.argsort(lu.perm_c)                  # A[q][:, q] is the matrix in SuperLU's column order
