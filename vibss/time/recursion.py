@@ -259,15 +259,19 @@ def _factored_blocks(D: LowRank, pw: np.ndarray, Y: np.ndarray, dtype: np.dtype)
     powers[0] = np.eye(b)[:, :, None]
     powers[1:] = pw[:-1]
     F = D.F.astype(dtype, copy=False)
-    EF = np.einsum("kabm,cbm->kcam", powers, F)                    # (Lb, c, b, nb): E^k F
-    h = np.real(np.einsum("pam,kcam->kpc", Y, EF))                # (Lb, p, c)
+    if b == 1:                                                     # (Lb, c, b, nb): E^k F
+        EF = powers[:, None, :, 0, :] * F[None]
+    else:
+        EF = np.einsum("kabm,cbm->kcam", powers, F)
+    EFr = EF.reshape(Lb * c, b * nb)
+    h = _Real(Y.reshape(p, b * nb), dtype)(EFr).reshape(Lb, c, p).transpose(0, 2, 1)   # (Lb, p, c)
     lag = np.arange(Lb)[:, None] - np.arange(Lb)[None, :]          # j - i
     T = np.where((lag >= 0)[:, None, :, None], h[np.maximum(lag, 0)].transpose(0, 2, 1, 3), 0.0)  # (j, p, i, c)
     V = np.ascontiguousarray(D.V.reshape(B, Lb * c))
     y = (V @ T.reshape(Lb * p, Lb * c).T).reshape(B, Lb, p)
-    G = np.ascontiguousarray(EF[::-1].reshape(Lb * c, b * nb))    # row (i, c): E^(Lb-1-i) F
-    if np.iscomplexobj(G):
-        last = np.ascontiguousarray(V @ G.view(float)).view(complex)
+    Vr = np.ascontiguousarray(D.V[:, ::-1].reshape(B, Lb * c))    # step i against E^(Lb-1-i) F
+    if np.iscomplexobj(EFr):
+        last = np.ascontiguousarray(Vr @ EFr.view(float)).view(complex)
     else:
-        last = V @ G
+        last = Vr @ EFr
     return y, last.reshape(B, b, nb).astype(dtype, copy=False)
