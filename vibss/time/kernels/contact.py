@@ -20,8 +20,8 @@ from typing import Any
 import numpy as np
 
 from ...errors import AnalysisError
-from ..phi import foh_blocks
 from .laws import LocalLaws
+from .step import Step, coefficients, discretise
 
 __all__ = ["ContactSystem", "ContactRun", "integrate", "NEWTON_TOL", "LOCATE_TOL"]
 
@@ -48,68 +48,27 @@ class ContactSystem:
     _steps: dict = field(default_factory=dict, repr=False)
     _recent: dict = field(default_factory=dict, repr=False)
 
-    def step(self, h: float) -> _Step:
+    def step(self, h: float) -> Step:
         """The exact discretisation over ``h`` [s] (kept per length to 13 digits: the grid's differ in bits)."""
         key = float(f"{h:.13g}")
         got = self._steps.get(key)
         if got is None:
-            got = _discretise(self, float(h))
+            got = discretise(self, float(h))
             if len(self._steps) < 64:
                 self._steps[key] = got
         return got
 
-    def sub(self, h: float) -> _Step:
+    def sub(self, h: float) -> Step:
         """The exact discretisation over a sub-step ``h`` [s] (the last few kept: a located crossing's
         last Newton iterate is the sub-step taken, and its end is read once more)."""
         key = float(h)
         got = self._recent.get(key)
         if got is None:
-            got = _discretise(self, key)
+            got = discretise(self, key)
             if len(self._recent) >= 4:
                 del self._recent[next(iter(self._recent))]
             self._recent[key] = got
         return got
-
-
-@dataclass(frozen=True, eq=False)
-class _Step:
-    h: float
-    E: tuple[np.ndarray, ...]        # (nb, b, b)
-    G: tuple[np.ndarray, ...]        # (nb * b, 4 r): state per Taylor coefficient (tau^k/k!) of each g
-    HE: tuple[np.ndarray, ...]       # (2r, nb * b): local rows after the transition
-    S: np.ndarray                    # (2r, 4r) local end values per Taylor coefficient
-    Wg: np.ndarray                   # (2r, 2r) per (g1, dg1) at the end
-    Wc: np.ndarray                   # (2r, 2r) per (g0, dg0) at the start
-    inverse: dict = field(default_factory=dict, repr=False)   # Newton's inverse per regime (stops only)
-
-
-def _discretise(sys: ContactSystem, h: float) -> _Step:
-    E, G, HE = [], [], []
-    S: Any = 0.0
-    for A, F, H in zip(sys.A, sys.F, sys.H):
-        e, gam = foh_blocks(A, np.array([h]), 3)
-        nb, b = A.shape[:2]
-        g = gam[0][:, :, :, None] * F[None, :, None, :]                # (4, nb, b, r)
-        G.append(np.ascontiguousarray(np.moveaxis(g, 0, 2).reshape(nb * b, -1)))   # (nb b, 4 r), k-major
-        HE.append((H[:, :, 0] * e[0][:, 0, 0]) if b == 1 else
-                  np.einsum("anc,ncb->anb", H, e[0]).reshape(H.shape[0], -1))
-        S = S + np.real(H.reshape(H.shape[0], -1) @ G[-1])
-        E.append(e[0])
-    r = sys.D.shape[1]
-    S = np.asarray(S, float).reshape(2 * r, 4, r) if r else np.zeros((0, 4, 0))
-    # Taylor coefficients of the cubic Hermite force from its end values (per tau^k / k!):
-    # a0 = g0, a1 = dg0, a2 = 6 (g1 - g0) / h^2 - (4 dg0 + 2 dg1) / h, a3 = 12 (g0 - g1) / h^3 + 6 (dg0 + dg1) / h^2
-    S0, S1, S2, S3 = (S[:, k, :] for k in range(4))
-    Wg = np.hstack([6 / h**2 * S2 - 12 / h**3 * S3, -2 / h * S2 + 6 / h**2 * S3])
-    Wc = np.hstack([S0 - 6 / h**2 * S2 + 12 / h**3 * S3, S1 - 4 / h * S2 + 6 / h**2 * S3])
-    return _Step(h, tuple(E), tuple(G), tuple(HE), S.reshape(2 * r, 4 * r), Wg, Wc)
-
-
-def _coefficients(h: float, g0: np.ndarray, d0: np.ndarray, g1: np.ndarray, d1: np.ndarray) -> np.ndarray:
-    """(4, r) Taylor coefficients (per tau^k / k!) of the cubic Hermite force on a step."""
-    a2 = 6 * (g1 - g0) / h**2 - (4 * d0 + 2 * d1) / h
-    a3 = 12 * (g0 - g1) / h**3 + 6 * (d0 + d1) / h**2
-    return np.stack([g0, d0, a2, a3])
 
 
 @dataclass
@@ -140,7 +99,7 @@ class _State:
     piece: np.ndarray       # (r,) int: the piece of each curve (LocalLaws.piece)
 
 
-def _solve(laws: LocalLaws, st: _Step, s: _State, lin: np.ndarray,
+def _solve(laws: LocalLaws, st: Step, s: _State, lin: np.ndarray,
            run: ContactRun) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The step's end ``e, v, g, dg`` from state ``s`` over ``st.h`` with the linear part ``lin`` (2r,) at
     its end, in the regimes of ``s``."""
@@ -185,11 +144,11 @@ def _solve(laws: LocalLaws, st: _Step, s: _State, lin: np.ndarray,
     return e, v, g, g1 * v
 
 
-def _advance(st: _Step, s: _State, g: np.ndarray, dg: np.ndarray) -> list[np.ndarray]:
+def _advance(st: Step, s: _State, g: np.ndarray, dg: np.ndarray) -> list[np.ndarray]:
     """The modal states at the end of the step (the force polynomial now known)."""
-    a = _coefficients(st.h, s.g, s.dg, g, dg).ravel()          # (4 r,) k-major
+    a = coefficients(st.h, s.g, s.dg, g, dg).ravel()          # (4 r,) k-major
     out = []
-    for E, G, x in zip(st.E, st.G, s.x):
+    for E, G, x in zip(st.E, st.G() if a.any() else st.E, s.x):
         nb, b = E.shape[:2]
         y = np.einsum("nij,nj->ni", E, x.reshape(nb, b)).ravel() if b > 1 else E[:, 0, 0] * x
         out.append(y + G @ a if a.any() else y)
