@@ -189,3 +189,35 @@ def test_ivp_evaluates_a_callable_itself_and_says_nothing_about_its_samples():
     assert np.abs(r["b.z.acc"] - ref["b.z.acc"]).max() <= 1e-5 * np.abs(ref["b.z.acc"]).max()
     with pytest.warns(vibss.VibssWarning, match="input 'ground.z.acc' departs"):
         vibss.simulate(model, **kw)
+
+
+@pytest.mark.parametrize("grid", ["uniform", "offset with breakpoints", "scattered", "repeated point"])
+def test_the_inputs_transform_is_its_definition_summed_step_by_step(grid):
+    """The blocked polynomial sum (points on the common step's grid) and the direct sum (points off it)
+    against the definition summed step by step: ``sum_i slope_i (e^(-i w t_i) - e^(-i w t_(i+1))) / (i w)``."""
+    from vibss.time.sampling import _transform
+    rng = np.random.default_rng(7)
+    t = {"uniform": np.linspace(0.0, 2.0, 4001),
+         "offset with breakpoints": np.unique(np.r_[0.3 + np.arange(3001) * 1e-3, rng.uniform(0.3, 3.3, 9)]),
+         "scattered": np.sort(rng.uniform(0.0, 1.0, 400)),
+         "repeated point": np.r_[np.linspace(0.0, 1.0, 101), np.linspace(1.0, 2.0, 101)]}[grid]
+    u = np.cumsum(rng.normal(size=t.size)) + 2.0
+    w = np.sort(rng.uniform(1.0, 2e4, 300))
+    h = np.diff(t)
+    k = h > 0
+    slope = np.diff(u)[k] / h[k]
+    phase = np.exp(-1j * np.outer(w, t[:-1][k])) - np.exp(-1j * np.outer(w, t[1:][k]))
+    want = np.abs(u[0] + phase @ slope / (1j * w)) / w
+    # both sums carry exp's round-off at phases w t up to 7e4 rad: ~1e-11 of a term
+    assert np.abs(_transform(t, u, w) - want).max() <= 1e-10 * want.max()
+
+
+def test_the_transform_of_a_ramp_is_its_closed_form():
+    """``u = a t`` on [0, T]: ``|a (1 - e^(-i w T)) / (i w)| / w = 2 a |sin(w T / 2)| / w^2``."""
+    from vibss.time.sampling import _transform
+    a, T = 3.0, 1.7
+    t = np.linspace(0.0, T, 20001)
+    w = np.linspace(0.5, 5e3, 257)
+    want = 2 * a * np.abs(np.sin(w * T / 2)) / w**2
+    # the slopes' round-off (1e-12 of a at 20,000 steps) is what is left at the zeros of the sine
+    assert np.abs(_transform(t, a * t, w) - want).max() <= 1e-9 * want.max()
