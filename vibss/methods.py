@@ -30,6 +30,7 @@ from typing import Any, Generic, TypeVar
 
 from ._validate import choice
 from .errors import AnalysisError, ArgumentError, ResourceError, VibssWarning
+from .threads import one_blas_thread
 
 __all__ = ["Method", "resolve", "LARGE_DOFS", "SIMULATE_LARGE_DOFS", "SMALL_DOFS", "Claim", "Check", "Cost", "Attempt", "Decision",
            "decide", "guard", "available_memory", "MEMORY_FRACTION"]
@@ -342,6 +343,8 @@ def decide(order: Sequence[Method], run: Callable[[Method], A], *, where: str, a
     was tried. ``auto`` never returns an answer that failed its check: when every method fails, it
     raises with the attempts.
 
+    Methods and checks run with BLAS on one thread (:func:`vibss.threads.one_blas_thread`).
+
     A named method (``auto=False``, ``order`` of one) is guarded (a :class:`ResourceError` before
     allocating), run (its refusal propagates: the analysis' message names a method that works) and
     checked: a miss is a :class:`~vibss.errors.VibssWarning` with the measured bound, and the bound
@@ -381,34 +384,35 @@ def decide(order: Sequence[Method], run: Callable[[Method], A], *, where: str, a
         raise AnalysisError(f"{where}: no method applies to this problem")
     attempts: list[Attempt] = []
     budget = math.nan        # read once, and only when a method has an estimate (/proc/meminfo: 13 us)
-    for method in order:
-        est = cost(method)
-        if est is not None and math.isnan(budget):
-            budget = MEMORY_FRACTION * available_memory()
-        if est is not None and est.bytes > budget:
-            if auto:
-                attempts.append(Attempt(method.name, "over the memory guard", f"estimated {_size(est.bytes)}"))
+    with one_blas_thread():             # small products: threads cost a time slice on a busy core (vibss.threads)
+        for method in order:
+            est = cost(method)
+            if est is not None and math.isnan(budget):
+                budget = MEMORY_FRACTION * available_memory()
+            if est is not None and est.bytes > budget:
+                if auto:
+                    attempts.append(Attempt(method.name, "over the memory guard", f"estimated {_size(est.bytes)}"))
+                    continue
+                fits = [m.name for m in (*order, *others) if m is not method
+                        and ((c := cost(m)) is None or c.bytes <= budget)]        # only on the way to a refusal
+                guard(est, where=where, method=method.name, instead=fits)
+            try:
+                answer = run(method)
+            except refusals as exc:
+                if not auto:
+                    raise
+                attempts.append(Attempt(method.name, "refused", str(exc)))
                 continue
-            fits = [m.name for m in (*order, *others) if m is not method
-                    and ((c := cost(m)) is None or c.bytes <= budget)]        # only on the way to a refusal
-            guard(est, where=where, method=method.name, instead=fits)
-        try:
-            answer = run(method)
-        except refusals as exc:
-            if not auto:
-                raise
-            attempts.append(Attempt(method.name, "refused", str(exc)))
-            continue
-        found = check(method, answer)
-        if found is not None and not found.ok:
-            if auto:
-                attempts.append(Attempt(method.name, "check failed", found.text()))
-                continue
-            warnings.warn(f"{where}: method {method.name!r} missed its claim "
-                          f"({method.claim.text() if method.claim else 'no claim'}): {found.text()}",
-                          VibssWarning, stacklevel=3)
-        attempts.append(Attempt(method.name, "answered"))
-        return Decision(method, answer, found, tuple(attempts))
+            found = check(method, answer)
+            if found is not None and not found.ok:
+                if auto:
+                    attempts.append(Attempt(method.name, "check failed", found.text()))
+                    continue
+                warnings.warn(f"{where}: method {method.name!r} missed its claim "
+                              f"({method.claim.text() if method.claim else 'no claim'}): {found.text()}",
+                              VibssWarning, stacklevel=3)
+            attempts.append(Attempt(method.name, "answered"))
+            return Decision(method, answer, found, tuple(attempts))
     tried = "; ".join(a.text() for a in attempts)
     if all(a.outcome == "over the memory guard" for a in attempts):
         raise ResourceError(f"{where}: every method would pass the memory guard: {tried}")

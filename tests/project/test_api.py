@@ -15,7 +15,7 @@ PACKAGE = Path(vibss.__file__).parent
 
 # Layers, lowest first: a module may import only from its own layer or below.
 LAYERS = [
-    {"_version", "_deprecated", "errors", "_validate", "results", "methods", "costs", "model.units", "model.geometry", "model.limits", "io.tomlwriter",
+    {"_version", "_deprecated", "errors", "threads", "_validate", "results", "methods", "costs", "model.units", "model.geometry", "model.limits", "io.tomlwriter",
      "linear.plant.memo", "linear.eigen.small", "linear.eigen.csr", "linear.plant.labels"},
     {"model", "linear.plant.plant", "linear.plant.terms", "linear.plant.branches", "linear.plant.sums", "linear.plant.assemble",
      "io.filetable"},

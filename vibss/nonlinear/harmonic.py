@@ -31,6 +31,7 @@ from ..linear.plant.build import build_plant
 from ..linear.plant.names import default_outputs
 from ..methods import Check, Claim
 from ..model.model import Model
+from ..threads import one_blas_thread
 from .api import operating_point
 from .hb.aft import LocalLaws, aft, basis, jacobian_blocks, samples_for, to_complex
 from .hb.condensed import Condensed
@@ -134,19 +135,20 @@ def harmonic_balance(model: Model, inputs: Mapping[str, complex], outputs: Seque
         raise ArgumentError(f"harmonic_balance: tolerance: expected a positive share [-] of the highest harmonics, "
                             f"got {tolerance!r}", argument="tolerance", received=tolerance)
     outs = tuple(default_outputs(model) if outputs is None else [str(o) for o in outputs])
-    lin, laws, local_names, op_note = _setup(model, names, u, outs, H, gravity, case, law)
     N = samples_for(H) if samples is None else int(samples)
     if N <= 2 * H:
         raise ArgumentError(f"harmonic_balance: samples: expected more than 2 H = {2 * H} time samples per "
                             f"period, got {samples!r}", argument="samples", received=samples)
-    problem = Problem(lin, laws, basis(H, N))
-    if lin.m:
-        steps = points if targets is None else max(points, 4 * len(targets))
-        branch = follow(problem, w0, w1, steps, targets, max_steps=40 * steps)
-    else:
-        grid = np.linspace(w0, w1, points) if targets is None else np.sort(targets)
-        branch = Branch(omega=list(grid), X=[np.zeros(0)] * grid.size)
-    return _result(problem, branch, names, u, outs, local_names, tolerance, stability, op_note)
+    with one_blas_thread():       # small products only: threads cost a time slice each on a busy core
+        lin, laws, local_names, op_note = _setup(model, names, u, outs, H, gravity, case, law)
+        problem = Problem(lin, laws, basis(H, N))
+        if lin.m:
+            steps = points if targets is None else max(points, 4 * len(targets))
+            branch = follow(problem, w0, w1, steps, targets, max_steps=40 * steps)
+        else:
+            grid = np.linspace(w0, w1, points) if targets is None else np.sort(targets)
+            branch = Branch(omega=list(grid), X=[np.zeros(0)] * grid.size)
+        return _result(problem, branch, names, u, outs, local_names, tolerance, stability, op_note)
 
 
 def _inputs(inputs: Any) -> tuple[list[str], np.ndarray, Callable[[np.ndarray], np.ndarray] | None]:

@@ -30,7 +30,8 @@ from __future__ import annotations
 from .grid import Grid, Kinematics, direct_terms, kinematics, make_grid, nudge
 from .ivp import run_ivp
 from .modal import channels, run_modal
-from .prepared import Prepared, one_blas_thread, prepare
+from ...threads import one_blas_thread
+from .prepared import Prepared, prepare
 from .realization import Realization, realization, run_forced_response
 
 __all__ = ["Prepared", "Grid", "Kinematics", "prepare", "make_grid", "nudge", "kinematics",

@@ -126,19 +126,25 @@ def _solve(laws: LocalLaws, st: Step, s: _State, lin: np.ndarray,
         g, g1, _ = laws.force(e, s.regime, s.piece)
         return e, v, g, g1 * v
     z = free.copy()
-    for _ in range(40):
+    for it in range(40):
         e, v = z[:r], z[r:]
         g, g1, g2 = laws.force(e, s.regime, s.piece)
         res = z - free - st.Wg @ np.concatenate([g, g1 * v])
-        J = np.eye(2 * r)
-        J[:, :r] -= st.Wg[:, :r] * g1 + st.Wg[:, r:] * (g2 * v)
-        J[:, r:] -= st.Wg[:, r:] * g1
-        dz = np.linalg.solve(J, -res)
+        D = np.empty((2 * r, 2 * r))                      # I - J
+        D[:, :r] = st.Wg[:, :r] * g1 + st.Wg[:, r:] * (g2 * v)
+        D[:, r:] = st.Wg[:, r:] * g1
+        te = NEWTON_TOL * (np.abs(e).max() + 1e-300)
+        tv = NEWTON_TOL * np.abs(v).max() + te / max(st.h, run.h)
+        if it:      # the next update bounded without it: |dz|/tol <= |res|/tol / (1 - q), q = |D| in that scale
+            a = np.abs(D)
+            w = a[:, :r].sum(axis=1) * te + a[:, r:].sum(axis=1) * tv
+            q = max(w[:r].max() / te, w[r:].max() / tv)
+            if q < 1.0 and max(np.abs(res[:r]).max() / te, np.abs(res[r:]).max() / tv) <= 1.0 - q:
+                return e, v, g, g1 * v
+        dz = np.linalg.solve(np.eye(2 * r) - D, -res)
         z = z + dz
         run.newton += 1
-        scale = np.abs(z[:r]).max() + 1e-300
-        if (np.abs(dz[:r]).max() <= NEWTON_TOL * scale
-                and np.abs(dz[r:]).max() <= NEWTON_TOL * (np.abs(z[r:]).max() + scale / max(st.h, run.h))):
+        if np.abs(dz[:r]).max() <= te and np.abs(dz[r:]).max() <= tv:
             break
     e, v = z[:r], z[r:]
     g, g1, _ = laws.force(e, s.regime, s.piece)

@@ -15,7 +15,8 @@ from ...linear.eigen.basis import damping_coupling, modal_basis
 from ..phi import cs_blocks, foh_blocks
 from ..recursion import LowRank, scan
 from .grid import Grid, Kinematics, direct_terms
-from .prepared import Prepared, one_blas_thread
+from ...threads import one_blas_thread
+from .prepared import Prepared
 
 __all__ = ["run_modal", "modal_outputs", "channels", "DEGREE", "CHUNK", "LOWRANK_CHUNK", "SEPARATION"]
 

@@ -1,68 +1,17 @@
-"""The substituted plant every time method runs on (``p = q + G z``, :mod:`vibss.time.kernels`), and
-BLAS on one thread for a time run's many small products."""
+"""The substituted plant every time method runs on (``p = q + G z``, :mod:`vibss.time.kernels`)."""
 
 from __future__ import annotations
 
-import contextlib
-import threading
-from collections.abc import Iterator
 from dataclasses import dataclass, fields
 from typing import Any, cast
 
 import numpy as np
-from threadpoolctl import ThreadpoolController
 
 from ...linear.solve.mass import mass_solver
 from ...linear.eigen.checks import _six_blocks
 from ...linear.plant.plant import Plant
 
-__all__ = ["Prepared", "prepare", "one_blas_thread"]
-
-_BLAS_LOCK = threading.Lock()
-_blas_users = 0
-_blas_limiter: Any = None
-_blas_controller: Any = None
-
-
-def _controller() -> Any:
-    """The process's BLAS thread pools, found once: ``threadpool_limits`` scans the loaded libraries
-    on every call (about 2 ms, most of a 1,000-step run of a small model)."""
-    global _blas_controller
-    if _blas_controller is None:
-        _blas_controller = ThreadpoolController()
-    return _blas_controller
-
-
-@contextlib.contextmanager
-def one_blas_thread() -> Iterator[None]:
-    """BLAS on one thread for the many small products of a time run, safe from several threads.
-
-    ``threadpoolctl.threadpool_limits`` changes a process-wide setting and restores what it saw on
-    entry: two threads entering and leaving in turn left the process on one BLAS thread for good
-    (issue 18: 8 threads of ``simulate`` once, and every later analysis in the process ran
-    single-threaded). Here the first user sets the limit and the last one restores it. While any
-    time run holds it, BLAS runs on one thread in every thread of the process.
-    """
-    global _blas_users, _blas_limiter
-    with _BLAS_LOCK:
-        if _blas_users == 0:
-            # what threadpoolctl's limit(limits=1) does, without its report of every library (about
-            # 45 us, 3 % of a small model's run): each pool not on one thread is set to one, and put back
-            _blas_limiter = [(lib, lib.num_threads) for lib in _controller().lib_controllers]
-            for lib, threads in _blas_limiter:
-                if threads != 1:
-                    lib.set_num_threads(1)
-        _blas_users += 1
-    try:
-        yield
-    finally:
-        with _BLAS_LOCK:
-            _blas_users -= 1
-            if _blas_users == 0:
-                for lib, threads in _blas_limiter:
-                    if threads != 1:
-                        lib.set_num_threads(threads)
-                _blas_limiter = None
+__all__ = ["Prepared", "prepare"]
 
 
 @dataclass(frozen=True, eq=False)

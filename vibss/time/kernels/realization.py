@@ -12,7 +12,8 @@ from ...linear.solve.mass import mass_solver
 from ...linear.eigen.basis import modal_basis
 from ...linear.plant.branches import mechanical, require_none
 from .grid import Kinematics
-from .prepared import Prepared, one_blas_thread
+from ...threads import one_blas_thread
+from .prepared import Prepared
 
 __all__ = ["Realization", "realization", "run_forced_response"]
 
