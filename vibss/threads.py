@@ -13,7 +13,10 @@ gives the pools back their threads for one large dense call (an ``eigh`` from
 
 The setting is process-wide (threadpoolctl sets the pools), so it is taken by the first user and
 given back by the last, from any thread: two threads entering and leaving in turn must not leave
-the process on one thread for good (issue 18).
+the process on one thread for good (issue 18). One limit measured: with OpenBLAS 0.3.30/0.3.31, pools
+that the main thread raised from ``OPENBLAS_NUM_THREADS=1`` do not take a limit set from a worker
+thread (the worker's set is ignored); an analysis first entered from a worker then runs on the
+pools' threads, as before this module.
 """
 
 from __future__ import annotations
@@ -33,6 +36,7 @@ docstring): their O(n^3) work dwarfs a thread's wake-up."""
 
 _LOCK = threading.Lock()
 _users = 0
+_threaded = 0
 _saved: Any = None
 _controller: Any = None
 
@@ -55,9 +59,10 @@ def one_blas_thread() -> Iterator[None]:
         if _users == 0:
             # what threadpoolctl's limit(limits=1) does, without its report of every library (45 us)
             _saved = [(lib, lib.num_threads) for lib in _pools()]
-            for lib, threads in _saved:
-                if threads != 1:
-                    lib.set_num_threads(1)
+            if _threaded == 0:             # a large call outside any analysis keeps its threads till it ends
+                for lib, threads in _saved:
+                    if threads != 1:
+                        lib.set_num_threads(1)
         _users += 1
     try:
         yield
@@ -65,26 +70,30 @@ def one_blas_thread() -> Iterator[None]:
         with _LOCK:
             _users -= 1
             if _users == 0:
-                for lib, threads in _saved:
-                    if threads != 1:
-                        lib.set_num_threads(threads)
+                if _threaded == 0:
+                    for lib, threads in _saved:
+                        if threads != 1:
+                            lib.set_num_threads(threads)
                 _saved = None
 
 
 @contextlib.contextmanager
 def threaded_blas() -> Iterator[None]:
     """The pools' own thread counts back for one large call inside :func:`one_blas_thread` (nothing
-    outside it); one thread again afterwards."""
+    outside it); counted like it: one thread again when the last large call ends."""
+    global _threaded
     with _LOCK:
-        held = list(_saved) if _users else []
-        for lib, threads in held:
-            if threads != 1:
-                lib.set_num_threads(threads)
+        if _users and _threaded == 0:
+            for lib, threads in _saved:
+                if threads != 1:
+                    lib.set_num_threads(threads)
+        _threaded += 1
     try:
         yield
     finally:
         with _LOCK:
-            if _users:
-                for lib, threads in held:
+            _threaded -= 1
+            if _users and _threaded == 0:
+                for lib, threads in _saved:
                     if threads != 1:
                         lib.set_num_threads(1)

@@ -7,11 +7,12 @@ report of every pool is the independent witness."""
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 from threadpoolctl import threadpool_info, threadpool_limits
 
 import vibss
-from vibss.threads import THREADED_DOFS, one_blas_thread, threaded_blas
+from vibss.threads import one_blas_thread, threaded_blas
 
 
 def _counts() -> list[int]:
@@ -22,7 +23,7 @@ def _counts() -> list[int]:
 def two_threads():
     """Every pool on two threads for the test (the suite runs with OPENBLAS_NUM_THREADS=1)."""
     with threadpool_limits(limits=2):
-        if max(_counts()) < 2:
+        if max(_counts(), default=0) < 2:
             pytest.skip("the BLAS pools do not take two threads here")
         yield
 
@@ -64,5 +65,53 @@ def test_a_large_dense_solve_takes_the_pools_threads_inside_one_thread(two_threa
         assert _counts() == [1] * len(before)
         with threaded_blas():
             assert _counts() == before
+            with threaded_blas():               # counted: the inner one's end keeps the outer's threads
+                pass
+            assert _counts() == before
         assert _counts() == [1] * len(before)
-    assert _counts() == before and THREADED_DOFS >= 1000
+    assert _counts() == before
+
+
+def test_a_worker_threads_limit_is_given_back(two_threads) -> None:
+    """From a worker thread the pools come back as they were. (Whether the limit takes there depends on
+    OpenBLAS's state: with the pools raised from OPENBLAS_NUM_THREADS=1 in the main thread, a worker's
+    ``openblas_set_num_threads(1)`` did not take in 0.3.30/0.3.31; vibss.threads says so.)"""
+    import threading
+
+    before = _counts()
+    done: list[bool] = []
+
+    def work() -> None:
+        with one_blas_thread():
+            done.append(True)
+
+    t = threading.Thread(target=work)
+    t.start()
+    t.join()
+    assert done == [True] and _counts() == before
+
+
+def test_dense_eigh_from_threaded_dofs_runs_on_the_pools_threads(two_threads, monkeypatch) -> None:
+    """``generalized_eigh`` enters ``threaded_blas`` from THREADED_DOFS (lowered here to 30), not below."""
+    import vibss.linear.eigen.undamped as und
+
+    seen: list[list[int]] = []
+    real = und.sl.eigh
+
+    def spy(*a, **k):
+        seen.append(_counts())
+        return real(*a, **k)
+
+    monkeypatch.setattr(und, "THREADED_DOFS", 30)
+    monkeypatch.setattr(und.sl, "eigh", spy)
+    a = np.random.default_rng(3).normal(size=(180, 180))
+    K, M = a @ a.T + 180 * np.eye(180), np.eye(180)          # above SMALL_PRODUCTS: scipy's eigh
+    with one_blas_thread():
+        w2, _ = und.generalized_eigh(K, M)
+        assert _counts() == [1] * len(seen[-1])
+    assert seen and seen[-1] == [2] * len(seen[-1])
+    assert np.allclose(w2, np.linalg.eigvalsh(K), rtol=1e-12)
+    monkeypatch.setattr(und, "THREADED_DOFS", 1000)
+    with one_blas_thread():
+        und.generalized_eigh(K, M)
+    assert seen[-1] == [1] * len(seen[-1])

@@ -22,6 +22,7 @@ bi-orthogonal one; eigenvalues merely close are checked pair by pair), or a rand
 
 from __future__ import annotations
 
+import contextlib
 import warnings
 from dataclasses import dataclass
 
@@ -32,6 +33,7 @@ from scipy.spatial import cKDTree
 
 from ...errors import DefectiveModesError
 from ...results import ReadOnly
+from ...threads import THREADED_DOFS, threaded_blas
 
 __all__ = ["ComplexModes", "complex_modes", "eigenpairs", "eigenvalues", "factor_vectors", "pole_errors", "PROBE_TOL"]
 
@@ -120,7 +122,8 @@ def eigenpairs(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     The one general eigen solve (damped modes, complex modal FRFs); undamped modes come from
     :func:`vibss.linear.eigen.undamped.undamped`.
     """
-    return sl.eig(a, right=True, check_finite=False)
+    with threaded_blas() if a.shape[0] >= THREADED_DOFS else contextlib.nullcontext():
+        return sl.eig(a, right=True, check_finite=False)
 
 
 def eigenvalues(a: np.ndarray, b: np.ndarray | None = None) -> np.ndarray:

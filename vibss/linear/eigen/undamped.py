@@ -126,7 +126,8 @@ def generalized_eigh(K: Any, M: Any, n_modes: int | None = None,
     li = _inverse_cholesky(M)
     if li is None:
         M = M.toarray() if _issparse(M) else M
-        return sl.eigh(K, M, subset_by_index=subset, check_finite=False)
+        with threaded_blas() if K.shape[0] >= THREADED_DOFS else contextlib.nullcontext():
+            return sl.eigh(K, M, subset_by_index=subset, check_finite=False)
     a = li @ (li @ K).T                     # L^-1 K L^-T (K symmetric)
     a = 0.5 * (a + a.T)
     with threaded_blas() if a.shape[0] >= THREADED_DOFS else contextlib.nullcontext():
