@@ -311,7 +311,7 @@ def main() -> int:
     ap.add_argument("--quick", action="store_true", help="small sizes")
     ap.add_argument("--only", nargs="*", help="benchmarks to run (names without bench_)")
     ap.add_argument("--no-run", action="store_true", help="only regenerate the tables")
-    ap.add_argument("--timeout", type=float, default=900.0, help="per benchmark [s]")
+    ap.add_argument("--timeout", type=float, default=3600.0, help="per benchmark [s] (the full cost-model survey takes about half an hour)")
     ap.add_argument("--one", metavar="NAME", help="run one benchmark in this process (what each process runs)")
     args = ap.parse_args()
     if args.one:

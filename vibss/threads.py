@@ -28,7 +28,7 @@ from typing import Any
 
 from threadpoolctl import ThreadpoolController
 
-__all__ = ["one_blas_thread", "threaded_blas", "THREADED_DOFS"]
+__all__ = ["one_blas_thread", "threaded_blas", "dense_threads", "THREADED_DOFS"]
 
 THREADED_DOFS = 2000
 """Dense eigen-solves from this many DOFs run on the process's own BLAS threads (see the module
@@ -97,3 +97,8 @@ def threaded_blas() -> Iterator[None]:
                 for lib, threads in _saved:
                     if threads != 1:
                         lib.set_num_threads(1)
+
+
+def dense_threads(n: int) -> contextlib.AbstractContextManager[None]:
+    """:func:`threaded_blas` for a dense solve of order ``n`` from :data:`THREADED_DOFS`, else nothing."""
+    return threaded_blas() if n >= THREADED_DOFS else contextlib.nullcontext()

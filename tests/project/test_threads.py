@@ -12,6 +12,7 @@ import pytest
 from threadpoolctl import threadpool_info, threadpool_limits
 
 import vibss
+import vibss.threads
 from vibss.threads import one_blas_thread, threaded_blas
 
 
@@ -102,7 +103,7 @@ def test_dense_eigh_from_threaded_dofs_runs_on_the_pools_threads(two_threads, mo
         seen.append(_counts())
         return real(*a, **k)
 
-    monkeypatch.setattr(und, "THREADED_DOFS", 30)
+    monkeypatch.setattr(vibss.threads, "THREADED_DOFS", 30)
     monkeypatch.setattr(und.sl, "eigh", spy)
     a = np.random.default_rng(3).normal(size=(180, 180))
     K, M = a @ a.T + 180 * np.eye(180), np.eye(180)          # above SMALL_PRODUCTS: scipy's eigh
@@ -111,7 +112,7 @@ def test_dense_eigh_from_threaded_dofs_runs_on_the_pools_threads(two_threads, mo
         assert _counts() == [1] * len(seen[-1])
     assert seen and seen[-1] == [2] * len(seen[-1])
     assert np.allclose(w2, np.linalg.eigvalsh(K), rtol=1e-12)
-    monkeypatch.setattr(und, "THREADED_DOFS", 1000)
+    monkeypatch.setattr(vibss.threads, "THREADED_DOFS", 1000)
     with one_blas_thread():
         und.generalized_eigh(K, M)
     assert seen[-1] == [1] * len(seen[-1])

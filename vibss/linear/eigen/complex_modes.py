@@ -22,7 +22,6 @@ bi-orthogonal one; eigenvalues merely close are checked pair by pair), or a rand
 
 from __future__ import annotations
 
-import contextlib
 import warnings
 from dataclasses import dataclass
 
@@ -33,7 +32,7 @@ from scipy.spatial import cKDTree
 
 from ...errors import DefectiveModesError
 from ...results import ReadOnly
-from ...threads import THREADED_DOFS, threaded_blas
+from ...threads import dense_threads
 
 __all__ = ["ComplexModes", "complex_modes", "eigenpairs", "eigenvalues", "factor_vectors", "pole_errors", "PROBE_TOL"]
 
@@ -122,7 +121,7 @@ def eigenpairs(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     The one general eigen solve (damped modes, complex modal FRFs); undamped modes come from
     :func:`vibss.linear.eigen.undamped.undamped`.
     """
-    with threaded_blas() if a.shape[0] >= THREADED_DOFS else contextlib.nullcontext():
+    with dense_threads(a.shape[0]):
         return sl.eig(a, right=True, check_finite=False)
 
 

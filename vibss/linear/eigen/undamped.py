@@ -23,7 +23,6 @@ The modal basis of a plant, its projected damping and the classical-damping test
 
 from __future__ import annotations
 
-import contextlib
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -37,7 +36,7 @@ import scipy.sparse.linalg as spl
 from ..._validate import choice
 from ...results import ReadOnly
 from ...errors import ModelError
-from ...threads import THREADED_DOFS, threaded_blas
+from ...threads import dense_threads
 from .checks import (_EPS, _issparse, RIGID_RTOL, ROUNDOFF_LEVERS, _as_factor, _factor_norms, _inverse_cholesky, _six_blocks,
                      _trace_norm, error_estimate, fast_matrix, mass_blocks, rigid_mask, stiffness_solver)
 from .csr import csr_of
@@ -117,7 +116,7 @@ def generalized_eigh(K: Any, M: Any, n_modes: int | None = None,
         if subset is None and n <= SMALL_PRODUCTS:
             w2, u = eigh_small(a)           # LAPACK syevd as scipy's driver "evd", without the wrappers (10 us)
         else:
-            with threaded_blas() if n >= THREADED_DOFS else contextlib.nullcontext():
+            with dense_threads(n):
                 w2, u = sl.eigh(a, subset_by_index=subset, driver="evd" if subset is None else "evr",
                                 check_finite=False)
         k = u.shape[1]
@@ -126,11 +125,11 @@ def generalized_eigh(K: Any, M: Any, n_modes: int | None = None,
     li = _inverse_cholesky(M)
     if li is None:
         M = M.toarray() if _issparse(M) else M
-        with threaded_blas() if K.shape[0] >= THREADED_DOFS else contextlib.nullcontext():
+        with dense_threads(K.shape[0]):
             return sl.eigh(K, M, subset_by_index=subset, check_finite=False)
     a = li @ (li @ K).T                     # L^-1 K L^-T (K symmetric)
     a = 0.5 * (a + a.T)
-    with threaded_blas() if a.shape[0] >= THREADED_DOFS else contextlib.nullcontext():
+    with dense_threads(a.shape[0]):
         w2, u = sl.eigh(a, subset_by_index=subset, driver="evd" if subset is None else "evr",
                         check_finite=False)
     return w2, np.asarray(li.T @ u)
