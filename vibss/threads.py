@@ -50,6 +50,13 @@ def _pools() -> Any:
     return _controller.lib_controllers
 
 
+def _limit(one: bool) -> None:
+    """Every pool not on one thread by itself to one thread (``one``) or back to its saved count."""
+    for lib, threads in _saved:
+        if threads != 1:
+            lib.set_num_threads(1 if one else threads)
+
+
 @contextlib.contextmanager
 def one_blas_thread() -> Iterator[None]:
     """BLAS on one thread for an analysis' many small products, safe from several threads: the first
@@ -60,9 +67,7 @@ def one_blas_thread() -> Iterator[None]:
             # what threadpoolctl's limit(limits=1) does, without its report of every library (45 us)
             _saved = [(lib, lib.num_threads) for lib in _pools()]
             if _threaded == 0:             # a large call outside any analysis keeps its threads till it ends
-                for lib, threads in _saved:
-                    if threads != 1:
-                        lib.set_num_threads(1)
+                _limit(True)
         _users += 1
     try:
         yield
@@ -71,9 +76,7 @@ def one_blas_thread() -> Iterator[None]:
             _users -= 1
             if _users == 0:
                 if _threaded == 0:
-                    for lib, threads in _saved:
-                        if threads != 1:
-                            lib.set_num_threads(threads)
+                    _limit(False)
                 _saved = None
 
 
@@ -84,9 +87,7 @@ def threaded_blas() -> Iterator[None]:
     global _threaded
     with _LOCK:
         if _users and _threaded == 0:
-            for lib, threads in _saved:
-                if threads != 1:
-                    lib.set_num_threads(threads)
+            _limit(False)
         _threaded += 1
     try:
         yield
@@ -94,9 +95,7 @@ def threaded_blas() -> Iterator[None]:
         with _LOCK:
             _threaded -= 1
             if _users and _threaded == 0:
-                for lib, threads in _saved:
-                    if threads != 1:
-                        lib.set_num_threads(1)
+                _limit(True)
 
 
 def dense_threads(n: int) -> contextlib.AbstractContextManager[None]:

@@ -32,7 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["scan", "LowRank"]
+__all__ = ["scan", "LowRank", "RealProduct"]
 
 
 @dataclass(frozen=True)
@@ -72,7 +72,7 @@ def _matmul(P: np.ndarray, Q: np.ndarray) -> np.ndarray:
     return np.einsum("...ikm,...kjm->...ijm", P, Q)
 
 
-class _Real:
+class RealProduct:
     """``Re(S @ Y.T)`` for rows S (r, N) and a fixed Y (p, N): one real GEMM even when S is complex."""
 
     def __init__(self, Y: np.ndarray, dtype: np.dtype) -> None:
@@ -174,7 +174,7 @@ def _blocks(E: np.ndarray, H: np.ndarray, x0: np.ndarray, D: "np.ndarray | LowRa
         y, last = _factored_blocks(D, pw, Yf.reshape(p, b, nb), dtype)
     else:
         # 1. every block from zero; its outputs as it goes (the states are not kept)
-        out = _Real(Yf, dtype)
+        out = RealProduct(Yf, dtype)
         y = np.empty((B, Lb, p))
         x = np.zeros((B, b, nb), dtype)
         for j in range(Lb):
@@ -202,10 +202,10 @@ def _blocks(E: np.ndarray, H: np.ndarray, x0: np.ndarray, D: "np.ndarray | LowRa
     # 3. outputs
     reg = np.flatnonzero(regular)
     if reg.size:
-        corr = _Real(W, dtype)(C[reg].reshape(reg.size, b * nb))          # (nreg, Lb p)
+        corr = RealProduct(W, dtype)(C[reg].reshape(reg.size, b * nb))          # (nreg, Lb p)
         y[reg] += corr.reshape(reg.size, Lb, p)
     if irr.size:
-        out = _Real(Yf, dtype)
+        out = RealProduct(Yf, dtype)
         xh = C[irr]
         for j in range(Lb):
             Ej = Et[H[0, j]] if same[j] else Et[H[irr, j]]
@@ -264,7 +264,7 @@ def _factored_blocks(D: LowRank, pw: np.ndarray, Y: np.ndarray, dtype: np.dtype)
     else:
         EF = np.einsum("kabm,cbm->kcam", powers, F)
     EFr = EF.reshape(Lb * c, b * nb)
-    h = _Real(Y.reshape(p, b * nb), dtype)(EFr).reshape(Lb, c, p).transpose(0, 2, 1)   # (Lb, p, c)
+    h = RealProduct(Y.reshape(p, b * nb), dtype)(EFr).reshape(Lb, c, p).transpose(0, 2, 1)   # (Lb, p, c)
     lag = np.arange(Lb)[:, None] - np.arange(Lb)[None, :]          # j - i
     T = np.where((lag >= 0)[:, None, :, None], h[np.maximum(lag, 0)].transpose(0, 2, 1, 3), 0.0)  # (j, p, i, c)
     V = np.ascontiguousarray(D.V.reshape(B, Lb * c))

@@ -285,9 +285,9 @@ def fine_input(fn: Callable[[np.ndarray], np.ndarray], ts: np.ndarray, breakpoin
 
 
 def _transform(t: np.ndarray, u: np.ndarray, w: np.ndarray) -> np.ndarray:
-    """``|u(0) + int u'(s) e^(-i w s) ds| / w`` over the window, ``s`` from its start [unit s]: the oscillation an undamped mode
-    of frequency ``w`` keeps from the input (per unit modal force ``b``, its amplitude is ``b`` times this
-    over ``w``), the quasi-static part that follows the input left out (it is the input's own content);
+    """``|u(0) + int u'(s) e^(-i w s) ds| / w`` over the window, ``s`` from its start [unit s]: the
+    oscillation an undamped mode of frequency ``w`` keeps from the input (per unit modal force ``b``, its
+    amplitude is ``b`` times this over ``w``), the quasi-static part that follows the input left out (it is the input's own content);
     exact for the piecewise-linear interpolant of ``u`` on ``t`` (a step gives ``1 / w``, not the ``2 / w``
     of the window's Fourier transform).
 

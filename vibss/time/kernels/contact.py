@@ -154,11 +154,12 @@ def _solve(laws: LocalLaws, st: Step, s: _State, lin: np.ndarray,
 def _advance(st: Step, s: _State, g: np.ndarray, dg: np.ndarray) -> list[np.ndarray]:
     """The modal states at the end of the step (the force polynomial now known)."""
     a = coefficients(st.h, s.g, s.dg, g, dg).ravel()          # (4 r,) k-major
+    forcing = st.G() if a.any() else None
     out = []
-    for E, G, x in zip(st.E, st.G() if a.any() else st.E, s.x):
+    for i, (E, x) in enumerate(zip(st.E, s.x)):
         nb, b = E.shape[:2]
         y = np.einsum("nij,nj->ni", E, x.reshape(nb, b)).ravel() if b > 1 else E[:, 0, 0] * x
-        out.append(y + G @ a if a.any() else y)
+        out.append(y if forcing is None else y + forcing[i] @ a)
     return out
 
 
@@ -255,7 +256,8 @@ def integrate(sys: ContactSystem, laws: LocalLaws, t: np.ndarray, lin: np.ndarra
     s = _State(x, e0.copy(), v0.copy(), g, g1 * v0, regime, piece)
     for a in np.flatnonzero(regime):
         run.intervals[(int(a), int(regime[a]))] = [[0.0, np.nan]]
-    want = np.isin(np.arange(len(t)), samples)
+    want = np.zeros(len(t), bool)
+    want[samples] = True
     y = np.zeros((len(samples), p))
     local = np.zeros((len(samples), 2 * r))
     buf: list[list[np.ndarray]] = [[] for _ in sys.A]

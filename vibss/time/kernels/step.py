@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 
 from ..phi import foh_blocks
+from ..recursion import RealProduct
 
 __all__ = ["Step", "discretise", "coefficients"]
 
@@ -44,15 +45,13 @@ class Step:
         return self.forcing
 
 
-def _prepare(sys: Any) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
-    """Per set, kept on ``sys``: the blocks ``A``, the local rows ``H`` ((2r, nb) for b = 1) and the forcing
-    as the real operator of ``Re(X @ F)`` for complex ``X`` (re and -im rows interleaved: one real GEMM
-    of half the flops of the complex one)."""
+def _prepare(sys: Any) -> list[tuple[np.ndarray, np.ndarray, RealProduct]]:
+    """Per set, kept on ``sys``: the blocks ``A``, the local rows ``H`` ((2r, nb) for b = 1) and
+    ``X -> Re(X @ F)`` as one real GEMM (:class:`~vibss.time.recursion.RealProduct`: half the flops of
+    the complex product)."""
     if not sys.prepared:
-        for A, F, H in zip(sys.A, sys.F, sys.H):
-            Fop = np.empty((2 * F.shape[0], F.shape[1]))
-            Fop[0::2], Fop[1::2] = np.real(F), -np.imag(F)
-            sys.prepared.append((A, np.ascontiguousarray(H[:, :, 0]) if A.shape[1] == 1 else H, Fop))
+        sys.prepared[:] = [(A, np.ascontiguousarray(H[:, :, 0]) if A.shape[1] == 1 else H,
+                            RealProduct(np.asarray(F).T, np.dtype(complex))) for A, F, H in zip(sys.A, sys.F, sys.H)]
     return sys.prepared
 
 
@@ -61,13 +60,12 @@ def discretise(sys: Any, h: float) -> Step:
     E, gams, HE = [], [], []
     r = sys.D.shape[1]
     S = np.zeros((4, 2 * r, r))
-    for A, H, Fop in _prepare(sys):
+    for A, H, re_F in _prepare(sys):
         e, gam = foh_blocks(A, np.array([h]), 3)
         nb, b = A.shape[:2]
         # S[k]: the local end values per Taylor coefficient k, H gam_k F summed over the blocks
         Hg = H[None] * gam[0][:, None, :, 0] if b == 1 else np.einsum("anj,knj->kan", H, gam[0])
-        Hg = np.asarray(Hg, complex).reshape(4 * 2 * r, nb)
-        S += (Hg.view(float) @ Fop).reshape(4, 2 * r, r)
+        S += re_F(Hg.reshape(4 * 2 * r, nb)).reshape(4, 2 * r, r)
         HE.append(H * e[0][:, 0, 0] if b == 1 else np.einsum("anc,ncb->anb", H, e[0]).reshape(H.shape[0], -1))
         E.append(e[0])
         gams.append(gam[0])
