@@ -121,7 +121,7 @@ def modes(model: Model | Assembly, n_modes: int | None = None,
     gamma = phi.T @ (M @ rigid_influence(a.model))
     # the decider's check when the route has the routes' claim; a user's callable is checked here
     bound = decision.check if decision.check is not None else check_frequencies(spec.error, rigid)
-    _warn_implausible_geometry(a.model, omega, rigid)
+    _warn_implausible_geometry(a.model, omega)
     note = "; ".join(x for x in (auto_note(method, name), bound.text()) if x)
     return Modes(model=a.model, dofs=a.dofs, omega=omega, shapes=phi, energy=energy,
                  effective_mass=gamma ** 2, rigid=rigid, method=name,
@@ -139,7 +139,7 @@ LEVER_M = 10.0
 """[m] The lever arm below which no position is called implausible."""
 
 
-def _warn_implausible_geometry(model: Model, omega: np.ndarray, rigid: np.ndarray) -> None:
+def _warn_implausible_geometry(model: Model, omega: np.ndarray) -> None:
     """A :class:`~vibss.errors.VibssWarning` naming the mounts whose lever arms look like lengths in
     mm, when the highest elastic mode is over :data:`IMPLAUSIBLE_HZ`."""
     # rigid modes are exactly 0 and the others >= 0: the largest of all is the largest elastic one

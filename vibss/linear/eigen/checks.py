@@ -82,7 +82,7 @@ def _inverse_cholesky(M: Any) -> Any:
         c = np.broadcast_to(idx[:, None, :], idx.shape + (size,))
         blocks = (Ms[r, c] if dense else np.asarray(Ms[r.ravel(), c.ravel()]).reshape(r.shape)).astype(float)
         try:
-            inv = np.linalg.inv(np.linalg.cholesky(blocks))
+            inv = inverse_cholesky(blocks)
         except np.linalg.LinAlgError:
             return None
         rows.append(r.ravel())
@@ -299,7 +299,7 @@ def error_estimate(w2: np.ndarray, phi: np.ndarray, M: Any, K: Any = None, facto
                 / np.abs(rho) / norm2
         r = kphi - rho[None, :] * mphi
         if blocks is not None:                   # rigid bodies: 6x6 mass blocks on the diagonal
-            inverse = blocks[1] if blocks[1] is not None else np.linalg.inv(np.linalg.cholesky(blocks[0]))
+            inverse = blocks[1] if blocks[1] is not None else inverse_cholesky(blocks[0])
             y = np.matmul(inverse, r.reshape(blocks[0].shape[0], 6, -1))
             e = np.sqrt(np.einsum("bij,bij->j", y, y))
         elif (li := _inverse_cholesky(M) if li is None else li) is not None:

@@ -131,7 +131,7 @@ class _BlockPattern:
     la: np.ndarray
     n: int
     nz: int
-    sides: tuple[int, ...] = (0, 1, 2, 3)
+    sides: tuple[int, ...]
 
 
 _INT32_MAX = 2 ** 31 - 1
