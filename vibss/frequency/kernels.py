@@ -96,21 +96,20 @@ def subspace(plant: Plant, s: np.ndarray, tol: float = TOLERANCE) -> tuple[np.nd
     :func:`vibss.linear.project.subspace.channel_subspace`: a block rational Krylov basis from the input
     and output vectors (real shifts over the band, each one sparse or banded LU), ``M, C, K, H``
     and every map projected on it, grown where the exact solve at a check frequency between the
-    interpolation points shows an error above the tolerance. When it does not reach ``tol`` the
-    exact sparse solve (:func:`sparse`) answers every frequency instead, and the note says so.
+    interpolation points shows an error above the tolerance. When it does not reach ``tol``, or
+    stops at its ``budget`` (the exact solve at every frequency: twice that in all at most), the exact
+    sparse solve (:func:`sparse`) answers where it has not solved exactly, and the note says so.
     """
-    h, note, _ = _subspace_checked(plant, s, tol)
-    return h, note
+    return _subspace_checked(plant, s, tol)[:2]
 
 
 def _subspace_checked(plant: Plant, s: np.ndarray, tol: float = TOLERANCE) -> tuple[np.ndarray, str, float | None]:
     """:func:`subspace` and the error it checked (None where the exact sparse solve answered).
 
-    When its starting basis alone, ``N_SHIFTS MOMENTS`` blocks of the channels' vectors, would hold
-    half as many vectors as the plant has DOFs or more, it is no reduction and costs a dense ``r^3``
-    per frequency (42 inputs at 600 DOFs: 2,112 vectors, estimated 2,800 s against 0.07 s; it once
-    ran past 100 s; 8 channels at 600 DOFs, 384 vectors: its projected mass lost definiteness and
-    eigh raised): the exact sparse solve answers up front instead, and the note gives both
+    When its starting basis alone (``N_SHIFTS MOMENTS`` blocks of the channels' vectors) would hold half
+    as many vectors as the plant has DOFs, it is no reduction and costs a dense ``r^3`` a frequency (42
+    inputs at 600 DOFs: 2,112 vectors, estimated 2,800 s against 0.07 s; 8 channels, 384 vectors: its
+    projected mass lost definiteness): the exact sparse solve answers up front, the note giving both
     estimates. A basis that still becomes dependent is answered the same way.
     """
     r = subspace_size(plant)
@@ -121,15 +120,17 @@ def _subspace_checked(plant: Plant, s: np.ndarray, tol: float = TOLERANCE) -> tu
                                   f"({len(plant.inputs)} inputs, {len(plant.outputs)} outputs), no reduction "
                                   f"(estimated {mine.text()}): exact sparse solve at every frequency instead "
                                   f"(estimated {exact.text()})"), None
-    try:
-        sub = channel_subspace(plant, np.abs(np.asarray(s).imag), tol)
+    w = np.abs(np.asarray(s).imag)
+    try:                                                 # budget: the exact solve at every frequency
+        sub = channel_subspace(plant, w, tol, budget=float(np.unique(w).size))
     except np.linalg.LinAlgError as exc:     # its projected mass lost definiteness: a dependent basis
         return sparse(plant, s), (f"the channel subspace's basis of about {r} vectors became dependent ({exc}): "
                                   "exact sparse solve at every frequency instead"), None
     if sub.converged:
         return sub.response, sub.describe(), sub.error
-    return sparse(plant, s), (f"the channel subspace did not reach {tol:g} ({sub.describe()}): exact sparse "
-                              "solve at every frequency instead"), None
+    h, rest = sub.completed(np.asarray(s), lambda x: sparse(plant, x))     # its exact solves kept
+    return h, (f"the channel subspace did not reach {tol:g} ({sub.describe()}): exact sparse solve at the other "
+               f"{rest} of {w.size} frequencies instead"), None
 
 
 def _times_left(o: np.ndarray, blocks: list[_Factors]) -> np.ndarray:
