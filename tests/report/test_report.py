@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import re
 
 import matplotlib
@@ -69,6 +70,25 @@ def test_sections_that_apply_run():
     assert r.section("frequency").tables[0].rows                 # the firing-torque sweep
     assert r.section("time").note.startswith("0 to 1 s")          # the pothole, [analysis] time
     assert "static" in r.results and "damped" in r.results
+
+
+def test_sections_asked_for_run_alone_in_the_report_order(capsys):
+    full = study(load_example("prism"), figures=False)
+    some = study(load_example("prism"), figures=False, sections=["frequency", "modes"])
+    assert [s.key for s in some.sections] == [s.key for s in full.sections]       # the report's order kept
+    for s in some.sections:
+        if s.key in ("modes", "frequency"):
+            assert s.text == full.section(s.key).text and not s.skipped
+        else:
+            assert s.skipped and not s.failed and s.note == "not asked for (sections)"
+    assert set(some.results) < set(full.results) and "damped" not in some.results
+    with pytest.raises(vibss.SignalError, match=r"no section 'frequncy' \(did you mean 'frequency'\?\)"):
+        study(load_example("prism"), sections=["frequncy"])
+    with pytest.raises(vibss.ArgumentError, match="no section asked for"):
+        study(load_example("prism"), sections=[])
+    assert run(["report", "--example", "prism", "--no-figures", "--sections", "modes"]) == 0
+    out, err = capsys.readouterr()
+    assert "[1/1] undamped modes ..." in err and "1.0066" in out and "skipped: not asked for" in out
 
 
 def test_html_table_escapes_and_aligns():
@@ -158,12 +178,14 @@ def test_command_writes_every_good_section_and_exits_3(monkeypatch: pytest.Monke
 def test_a_figure_that_fails_to_save_is_noted(monkeypatch: pytest.MonkeyPatch, tmp_path) -> None:
     from vibss import report
 
-    rep = report.study(load_example("prism"), figures=True)
+    full = report.study(load_example("prism"), figures=True)
+    rep = dataclasses.replace(full, sections=tuple(s for s in full.sections if s.key in ("model", "modes")))
     fig = rep.section("modes").figures[0][1]
     monkeypatch.setattr(fig, "savefig", lambda *a, **k: (_ for _ in ()).throw(OSError("disk full")))
-    index, written = report.render_report(rep, tmp_path)
+    index, written = report.render_report(rep, tmp_path)      # two sections: the other figures' drawing is not the point
     sec = written.section("modes")
     assert sec.failed and "figure modes.png failed: OSError: disk full" in sec.note
+    assert not written.section("model").failed and (tmp_path / "model.png").exists()
     assert index.exists() and (tmp_path / "energy.png").exists() and not (tmp_path / "modes.png").exists()
 
 

@@ -26,6 +26,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="folder for index.html and the figures (default ./vibss-report-<model>)")
     p.add_argument("--no-figures", action="store_true",
                    help="text report only (no matplotlib needed, nothing written)")
+    p.add_argument("--sections", metavar="KEYS", default=None,
+                   help="comma-separated sections to run (the others are listed as not asked for): "
+                        "model, static, modes, damped, design, control, frequency, harmonic, orders, time")
     p.add_argument("--quiet", action="store_true", help="no text report and no progress on the terminal")
     p.set_defaults(func=run, format="text")
 
@@ -37,7 +40,7 @@ def run(args: argparse.Namespace) -> int:
     model = load_from_args(args)
     source = f"example {args.example}" if args.example else str(args.file)
     progress = None if args.quiet else progress_on_stderr()
-    report = study(model, figures=not args.no_figures, progress=progress, source=source)
+    report = study(model, figures=not args.no_figures, progress=progress, source=source, sections=args.sections)
     if not args.quiet:
         sys.stdout.write(report.text())
     if not args.no_figures:

@@ -28,13 +28,13 @@ Examples
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import replace
-
 from typing import Any
 
 import numpy as np
 
-from ..errors import VibssError
+from ..errors import ArgumentError, SignalError, VibssError, did_you_mean
 from ..model.model import Model
 from .section import STEPS, TITLES, Progress, Report, Section
 from .sections.control import _control_section
@@ -70,8 +70,8 @@ _RUNNERS = {"static": _static_section, "modes": _modes_section, "damped": _dampe
 
 
 def study(model: Model, figures: bool = True, progress: Progress | None = None,
-          source: str = "") -> Report:
-    """Run every analysis that applies to ``model``.
+          source: str = "", sections: Sequence[str] | None = None) -> Report:
+    """Run every analysis that applies to ``model`` (or those of ``sections``).
 
     Parameters
     ----------
@@ -84,27 +84,58 @@ def study(model: Model, figures: bool = True, progress: Progress | None = None,
         ``[3/6] damped modes ...`` on stderr).
     source : str
         Where the model came from, for the heading.
+    sections : sequence of str or None
+        Keys of :data:`~vibss.report.section.STEPS` to run (in the report's order whatever the order
+        given); the others are skipped, their note saying they were not asked for. None: all.
 
     Returns
     -------
     Report
+
+    Raises
+    ------
+    SignalError
+        A key of ``sections`` that is not a section (the valid ones listed, with a did-you-mean).
+    ArgumentError
+        ``sections`` empty.
     """
+    wanted = _wanted(sections)
     results: dict[str, Any] = {}
-    sections = []
-    for n, key in enumerate(STEPS, start=1):
+    done: list[Section] = []
+    steps = [k for k in STEPS if k in wanted]
+    for key in STEPS:
+        if key not in wanted:
+            done.append(Section(key, TITLES[key], skipped=True, note="not asked for (sections)"))
+            continue
         if progress is not None:
-            progress(n, len(STEPS), TITLES[key].lower())
+            progress(steps.index(key) + 1, len(steps), TITLES[key].lower())
         try:
             runner = _RUNNERS.get(key)
             if runner is None:
-                sections.append(_model_section(model, figures))
+                done.append(_model_section(model, figures))
                 continue
             here, said = _linearised(model, key, results)
             section = runner(here, figures, results)
-            sections.append(replace(section, note="; ".join(x for x in (section.note, said) if x)) if said else section)
+            done.append(replace(section, note="; ".join(x for x in (section.note, said) if x)) if said else section)
         except Exception as exc:        # one failed analysis is that section's note, not the report's end
-            sections.append(_failure(key, exc))
-    return Report(model, tuple(sections), source, results)
+            done.append(_failure(key, exc))
+    return Report(model, tuple(done), source, results)
+
+
+def _wanted(sections: Sequence[str] | None) -> set[str]:
+    """The section keys asked for: all by default; an unknown one is refused by name."""
+    if sections is None:
+        return set(STEPS)
+    if isinstance(sections, str):
+        sections = [k.strip() for k in sections.split(",") if k.strip()]
+    for k in sections:
+        if k not in STEPS:
+            raise SignalError(f"report: no section {k!r}{did_you_mean(str(k), STEPS)}; the sections are "
+                             f"{', '.join(STEPS)}", argument="sections", received=k)
+    if not sections:
+        raise ArgumentError(f"report: no section asked for; the sections are {', '.join(STEPS)}",
+                         argument="sections", received="")
+    return set(sections)
 
 
 NONLINEAR_SECTIONS = ("static", "modes", "harmonic", "time")
