@@ -4,6 +4,7 @@ tower and a hanging chain where the assembled LU alone does not; the iteration's
 
 from __future__ import annotations
 
+import dataclasses
 import sys
 from pathlib import Path
 
@@ -139,3 +140,33 @@ def test_a_saddle_solve_that_cannot_converge_marks_its_frequency_singular():
     r = vibss.frequency_response(model, ["b25.fx"], ["b25.x", "b3.z"], [0.0, 1.0], method="sparse")
     h = np.stack([r.channel("b25.x"), r.channel("b3.z")])               # (outputs, frequencies)
     assert np.isinf(np.abs(h[:, 0])).all() and np.isfinite(h[:, 1]).all()
+
+
+def test_the_check_reads_the_backward_errors_the_refined_solve_recorded(monkeypatch):
+    """The refined solve records the normwise backward error of each answer it returns (residual in the
+    mounts' form); the exact methods' check reads those at its points instead of solving them again,
+    and they agree with the check's own computation (the assembled products) to round-off's level:
+    both far below the 1e-10 claim, the recorded one (no assembled round-off) no larger."""
+    from vibss.frequency import contracts
+    from vibss.linear.solve import exact
+    from vibss.linear.solve.refine import recorded_backward_errors
+
+    monkeypatch.setattr(backends, "MOUNTS_DENSE_MAX", 0)
+    model, ins = _towers()
+    plant = build_plant(model, ins, ["b10.x", "b0.z"], sparse=True)
+    s = 2j * np.pi * np.geomspace(1e-3, 10.0, 12)
+    response(plant, s, form="mounts")
+    f = forcing(plant, s, zfactor(s, plant.order))
+    kept = recorded_backward_errors(plant, s, f)
+    assert kept is not None and kept.shape == (s.size,) and np.all(kept < 1e-14)
+    assert recorded_backward_errors(plant, s, 2.0 * f) is None          # other right-hand sides: not recorded
+    fresh = dataclasses.replace(plant)                  # the same plant, nothing recorded: solved again
+    again = contracts.backward_error(fresh, s[[0, 5, 11]], 1e-10, "sparse")
+    assert "as it solved" not in again.where
+    calls = []
+    real = exact.states
+    monkeypatch.setattr(contracts, "states", lambda *a, **k: calls.append(1) or real(*a, **k))
+    read = contracts.backward_error(plant, s[[0, 5, 11]], 1e-10, "sparse")
+    assert not calls and "as it solved" in read.where
+    assert read.error == pytest.approx(kept[[0, 5, 11]].max(), rel=0, abs=0)
+    assert read.error <= max(again.error, 1e-16) * 10 and again.error < 1e-12

@@ -24,7 +24,6 @@ from functools import partial
 from typing import Any
 
 import numpy as np
-import scipy.linalg as sl
 import scipy.sparse as sp
 import scipy.sparse.linalg as spl
 from scipy.linalg.lapack import dgbsv, zgbsv
@@ -33,7 +32,8 @@ from ...methods import Method
 from .banded import structure
 from ..plant.branches import groups
 from .certified import CERTIFY_TOL, applies, certified_states, modal_inverse
-from .refine import ASSEMBLED_ORDER, PIVOT_THRESHOLD, Contraction, assembled_lu, mounts_product, refine
+from .refine import (ASSEMBLED_ORDER, PIVOT_THRESHOLD, Contraction, assembled_lu, mounts_product, record_backward_error,
+                     refine)
 from ..plant.plant import Plant
 
 __all__ = ["SOLVERS", "SolveBackend", "LOOP_DOFS", "MOUNTS_DENSE_MAX", "MOUNTS_ORDER", "ASSEMBLED_ORDER",
@@ -392,6 +392,7 @@ def _mounts(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray],
             ok = False
         if ok:
             x[i] = got
+            record_backward_error(plant, sk, r_all[i], got, apply)      # the check reads it: no solve again
             continue
         lay = plant.cached("mounts layout", lambda: _Layout.of(form, m_csr))   # else the saddle system,
         a, top = lay.matrix(z, sk)                                              # refined the same way
@@ -407,6 +408,8 @@ def _mounts(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray],
             return d[:n, None] * saddle.solve(d[:, None] * np.vstack([b, zeros[:, :b.shape[1]]]))[:n]
         x[i], _, ok = refine(solve, apply, r_all[i])
         bad[i] = not ok         # singular (0 Hz with a free motion, a resonance): the caller's limit path
+        if ok:
+            record_backward_error(plant, sk, r_all[i], x[i], apply)
     return (x if rows is None else x[:, rows]), bad
 
 

@@ -34,7 +34,8 @@ import scipy.sparse.linalg as spl
 from ..plant.plant import Plant
 
 __all__ = ["STEPS", "ACCEPT", "TARGET", "CONTRACT", "HINT_MARGIN", "ASSEMBLED_ORDER", "PIVOT_THRESHOLD", "Contraction",
-           "Pattern", "assembled_lu", "mounts_product", "refine"]
+           "Pattern", "assembled_lu", "mounts_product", "refine", "RECORDED", "a_norm_bound", "record_backward_error",
+           "recorded_backward_errors"]
 
 STEPS = 10
 """Most refinement steps per frequency."""
@@ -165,6 +166,49 @@ def refine(solve: Callable[[np.ndarray], np.ndarray], apply: Callable[[np.ndarra
                 return x, left, True
         prev = last
     return x, last, last <= ACCEPT
+
+
+RECORDED = "backward errors of the solve in the mounts' forces"
+"""The plant's record (:meth:`~vibss.linear.plant.plant.Plant.cached`) of :func:`record_backward_error`."""
+
+
+def _fingerprint(s: complex, r: np.ndarray) -> tuple[complex, int, tuple[int, ...]]:
+    """What identifies one solve: the Laplace point and the right-hand sides (their bytes hashed)."""
+    r = np.ascontiguousarray(r)
+    return complex(s), hash(r.tobytes()), r.shape
+
+
+def a_norm_bound(plant: Plant, s: complex) -> float:
+    """``||K||_F + ||H||_F + |s| ||C||_F + |s|^2 ||M||_F``: a bound on ``||A(s)||_F`` (the backward
+    errors' scale, within 2 of the norm; the four norms kept on the plant)."""
+    def fro(a: Any) -> float:
+        if a is None or (sp.issparse(a) and not a.nnz):
+            return 0.0
+        return float(sp.linalg.norm(a)) if sp.issparse(a) else float(np.linalg.norm(a))
+    nk, nh, nc, nm = plant.cached("frobenius norms K H C M", lambda: [fro(getattr(plant, k)) for k in "KHCM"])
+    return nk + nh + abs(s) * nc + abs(s) ** 2 * nm
+
+
+def record_backward_error(plant: Plant, s: complex, r: np.ndarray, x: np.ndarray,
+                          apply: Callable[[np.ndarray], np.ndarray]) -> float:
+    """The normwise backward error of the solution ``x`` of ``A(s) x = r`` that the solve returns,
+    ``||r - A x||_F / (||A(s)||_F ||x||_F + ||r||_F)`` (the norm bounded above as the check bounds it),
+    its residual by the mounts' product ``apply`` (one product, no solve: 2-14 ms against a 0.25 s
+    factorisation at 60,000 DOF); kept on the plant for :func:`recorded_backward_errors`."""
+    den = a_norm_bound(plant, s) * float(np.linalg.norm(x)) + float(np.linalg.norm(r))
+    eta = float(np.linalg.norm(r - apply(x))) / den if den > 0 else 0.0
+    plant.cached(RECORDED, dict)[_fingerprint(s, r)] = eta
+    return eta
+
+
+def recorded_backward_errors(plant: Plant, s: np.ndarray, r: np.ndarray) -> np.ndarray | None:
+    """(k,) backward errors the solve in the mounts' forces recorded at the points ``s`` for the
+    right-hand sides ``r`` (k, n, m) (:func:`record_backward_error`), or None if one was not recorded."""
+    kept = plant.known(RECORDED)
+    if not kept:
+        return None
+    out = [kept.get(_fingerprint(sk, rk)) for sk, rk in zip(np.atleast_1d(s), r)]
+    return None if any(e is None for e in out) else np.array(out, dtype=float)
 
 
 ASSEMBLED_ORDER = "MMD_AT_PLUS_A"
