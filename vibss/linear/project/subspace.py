@@ -46,7 +46,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...errors import AnalysisError
+from ...errors import AnalysisError, ArgumentError
 from ..eigen.small import projected_eigen
 from .krylov import Basis, exact_response, forcing_columns, observing_columns, shift_solver
 from ..plant.plant import Plant
@@ -124,8 +124,21 @@ class Subspace:
     stopped: str = ""
 
     def completed(self, s: np.ndarray, solve: Callable[[np.ndarray], np.ndarray]) -> tuple[np.ndarray, int]:
-        """The (p, m, nf) response at Laplace points ``s`` [rad/s] from its exact solves where it made
-        them (``s = i w`` at a check), ``solve(s_rest)`` (p, m, k) at the others; and how many those were."""
+        """The response at ``s`` from its exact solves where it made them, ``solve`` elsewhere.
+
+        Parameters
+        ----------
+        s : (nf,) complex ndarray
+            Laplace points [rad/s]; a point ``i w`` at one of its checks is answered from that solve.
+        solve : callable
+            ``solve(s_rest) -> (p, m, k)``: the exact response at the other points.
+
+        Returns
+        -------
+        h : (p, m, nf) complex ndarray
+        solved : int
+            How many points ``solve`` answered.
+        """
         s = np.asarray(s, dtype=complex)
         at = np.searchsorted(self.check_omega, s.imag).clip(0, max(self.check_omega.size - 1, 0))
         kept = np.zeros(s.size, dtype=bool)
@@ -262,15 +275,17 @@ def channel_subspace(plant: Plant, omega: np.ndarray, tol: float = TOLERANCE, we
         Most greedy rounds (None: :data:`MAX_ROUNDS`).
     budget : float or None
         Stop (not converged, ``stopped`` says why) before a round that would take the time spent past
-        this many of its own exact solves: their measured mean time, the round's projected response
-        estimated by the last round's times the growth of ``r^3`` (damped; ``r`` the basis size). The
-        frequency response passes the number of frequencies, so that a projection that cannot win
-        (its basis near the plant's size, its damped projected solve dense ``r^3`` a frequency) costs
-        about what the exact solve at every frequency would, and the rest of that again, not 5-20x it
-        (a 200-body lossy grid over 1-50 Hz: 656 vectors for 1,200 DOF, 9.2 s against 1.7 s). A clock,
-        not a formula: the cost constants were 3x off on the projected response; near the budget, the
-        round it stops at can differ between runs (the answer meets the tolerance either way). None:
-        no limit.
+        this many of its own exact solves (> 0): their measured mean time, the round's projected
+        response estimated by the last one's times the growth of ``r^2`` (damped; ``r`` the basis
+        size: its dense solves per frequency grew as 3.7x for 1.78x more vectors on a lossy grid,
+        nearer ``r^2`` than ``r^3`` at these sizes; ``r`` undamped). The frequency response passes the
+        number of frequencies, so that a projection that cannot win (its basis near the plant's size,
+        its damped projected solve dense a frequency) costs about what the exact solve at every
+        frequency would, and the rest of that again, not 5-20x it (a 200-body lossy grid over 1-50 Hz:
+        656 vectors for 1,200 DOF, 9.2 s against 1.7 s). A clock, not a formula: the cost constants
+        were 3x off on the projected response; near the budget, the round it stops at can differ
+        between runs (the answer meets the tolerance either way). The first round is not checked.
+        None: no limit.
 
     Returns
     -------
@@ -298,6 +313,9 @@ def channel_subspace(plant: Plant, omega: np.ndarray, tol: float = TOLERANCE, we
     """
     t_start = time.perf_counter()
     max_rounds = MAX_ROUNDS if max_rounds is None else max_rounds
+    if budget is not None and not (np.isfinite(budget) and budget > 0):
+        raise ArgumentError(f"subspace: budget must be a positive number of exact solves, got {budget!r}",
+                            argument="budget", received=budget)
     if plant.branches is not None:
         raise AnalysisError(f"subspace: the frequency-dependent mounts {list(plant.branches.mounts)} are not "
                             "projected; use the exact per-frequency solve (method 'sparse')")
@@ -345,7 +363,7 @@ def channel_subspace(plant: Plant, omega: np.ndarray, tol: float = TOLERANCE, we
         if rnd and budget is not None and solve_times:
             spent = time.perf_counter() - t_start
             allowed = float(budget) * float(np.mean(solve_times))
-            ahead = projected[0] * ((basis.r / projected[1]) ** 3 if damped else basis.r / projected[1])
+            ahead = projected[0] * ((basis.r / projected[1]) ** 2 if damped else basis.r / projected[1])
             if spent + ahead > allowed:
                 stopped = (f"stopped before round {rnd + 1}, past its budget: {spent:.2g} s spent ({len(exact)} exact "
                            f"solves, {rnd} projected response(s)) and {ahead:.2g} s estimated for the next at "
@@ -354,11 +372,12 @@ def channel_subspace(plant: Plant, omega: np.ndarray, tol: float = TOLERANCE, we
                 break
         t_round = time.perf_counter()
         red = galerkin.plant_now()
+        in_red = sorted(added)                  # the frequencies whose solutions ``red`` holds
         hr = reduced_response(red, s)                             # (p, m, nf)
+        projected = (time.perf_counter() - t_round, max(red.n, 1))
         scale = np.ones((1,) + hr.shape[1:]) if wt is None else wt[None]
         if hr_prev is None:                     # the first basis against itself one moment shorter
             hr_prev = reduced_response(galerkin.without(last), s)
-        projected = (time.perf_counter() - t_round, max(red.n, 1))
         # where the last vectors moved the answer, the smaller basis was wrong: check there too
         new |= set(_moved(hr, hr_prev, scale, tol)) - set(exact)
         hr_prev = hr
@@ -394,7 +413,7 @@ def channel_subspace(plant: Plant, omega: np.ndarray, tol: float = TOLERANCE, we
     k = int(np.argmax(rel)) if rel.size else 0
     two_pi = 2 * np.pi
     return Subspace(plant=red, response=hr[:, :, back], shifts_hz=np.sqrt(np.abs(sigmas)) / two_pi,
-                    added_hz=w[sorted(added)] / two_pi, check_hz=w[idx] / two_pi, check_error=diff,
+                    added_hz=w[in_red] / two_pi, check_hz=w[idx] / two_pi, check_error=diff,
                     error=float(rel.max(initial=0.0)), worst_hz=float(w[idx[k]] / two_pi) if idx.size else 0.0,
                     converged=converged, tol=float(tol), seconds=time.perf_counter() - t_start,
                     check_omega=w[idx], check_response=hf, stopped=stopped)
