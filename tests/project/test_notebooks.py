@@ -4,7 +4,7 @@ One Jupyter kernel per test process runs them all, its namespace reset (``%reset
 closed and matplotlib's settings restored before each notebook: a fresh kernel for each cost 2-4 s of
 start-up and imports, a third of the notebooks' time in the suite.
 
-The notebook tools (nbformat, nbclient, ipykernel) are in the test extra: a missing one is an
+The notebook tools (nbformat, nbclient, jupyter_client, ipykernel) are in the test extra: a missing one is an
 error, not a skip, so CI cannot pass without running the notebooks.
 """
 
@@ -55,7 +55,7 @@ def test_notebooks_are_what_their_generator_writes():
 
 RESET = """%reset -f
 import matplotlib as _mpl, matplotlib.pyplot as _plt
-_plt.close("all"); _mpl.rcdefaults(); del _mpl, _plt
+_plt.close("all"); _mpl.rc_file_defaults(); del _mpl, _plt
 assert not set(k for k in globals() if not k.startswith("_")) - {"In", "Out", "exit", "quit", "get_ipython", "open"}
 """
 
@@ -72,9 +72,12 @@ def kernel():
 @pytest.mark.parametrize("name", NOTEBOOKS)
 @pytest.mark.slow
 def test_notebook_runs(name, kernel):
+    if not kernel.is_alive():               # an earlier notebook killed it: a fresh one, not a cascade of failures
+        kernel.restart_kernel(now=True)
     nb = nbformat.read(EXAMPLES / name, as_version=4)
     nb.cells.insert(0, nbformat.v4.new_code_cell(RESET))
-    client = nbclient.NotebookClient(nb, km=kernel, timeout=120, resources={"metadata": {"path": str(EXAMPLES)}})
+    client = nbclient.NotebookClient(nb, km=kernel, timeout=120, interrupt_on_timeout=True,
+                                     resources={"metadata": {"path": str(EXAMPLES)}})
     try:
         client.execute()
     finally:

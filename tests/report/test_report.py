@@ -86,6 +86,10 @@ def test_sections_asked_for_run_alone_in_the_report_order(capsys):
         study(load_example("prism"), sections=["frequncy"])
     with pytest.raises(vibss.ArgumentError, match="no section asked for"):
         study(load_example("prism"), sections=[])
+    gen = study(load_example("prism"), figures=False, sections=(k for k in ["modes"]))     # read once
+    assert [s.key for s in gen.sections if not s.skipped] == ["modes"]
+    assert [s.key for s in study(load_example("prism"), figures=False, sections="modes, frequency").sections
+            if not s.skipped] == ["modes", "frequency"]
     assert run(["report", "--example", "prism", "--no-figures", "--sections", "modes"]) == 0
     out, err = capsys.readouterr()
     assert "[1/1] undamped modes ..." in err and "1.0066" in out and "skipped: not asked for" in out

@@ -124,7 +124,7 @@ def test_cli_and_report_give_one_window_and_band(name: str, settings: str, tmp_p
     if settings == "file" and "time" in model.settings:     # the file's values, untouched
         assert (d.time.end, d.time.step) == (model.settings["time"]["end"], model.settings["time"]["step"])
         assert (d.band.f1, d.band.f2) == (model.settings["frequency"]["f1"], model.settings["frequency"]["f2"])
-    rep = study(model, figures=False, sections=["frequency", "time"])     # the two that read the window and band
+    rep = study(model, figures=False, sections=["modes", "frequency", "time"])  # those two read the window and band from the modes
     if d.transient:
         t_cli = np.array(cli_json(["time", str(path), "--output", f"{model.body_names[0]}.z"])["time"])
         t_rep = rep.results["time"].time

@@ -28,7 +28,7 @@ Examples
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterable
 from dataclasses import replace
 from typing import Any
 
@@ -70,7 +70,7 @@ _RUNNERS = {"static": _static_section, "modes": _modes_section, "damped": _dampe
 
 
 def study(model: Model, figures: bool = True, progress: Progress | None = None,
-          source: str = "", sections: Sequence[str] | None = None) -> Report:
+          source: str = "", sections: Iterable[str] | None = None) -> Report:
     """Run every analysis that applies to ``model`` (or those of ``sections``).
 
     Parameters
@@ -84,9 +84,10 @@ def study(model: Model, figures: bool = True, progress: Progress | None = None,
         ``[3/6] damped modes ...`` on stderr).
     source : str
         Where the model came from, for the heading.
-    sections : sequence of str or None
+    sections : iterable of str, str or None
         Keys of :data:`~vibss.report.section.STEPS` to run (in the report's order whatever the order
-        given); the others are skipped, their note saying they were not asked for. None: all.
+        given; a string: comma-separated, as ``--sections`` takes them); the others are skipped, their
+        note saying they were not asked for. None: all.
 
     Returns
     -------
@@ -122,12 +123,13 @@ def study(model: Model, figures: bool = True, progress: Progress | None = None,
     return Report(model, tuple(done), source, results)
 
 
-def _wanted(sections: Sequence[str] | None) -> set[str]:
+def _wanted(sections: Iterable[str] | None) -> set[str]:
     """The section keys asked for: all by default; an unknown one is refused by name."""
     if sections is None:
         return set(STEPS)
     if isinstance(sections, str):
         sections = [k.strip() for k in sections.split(",") if k.strip()]
+    sections = list(sections)                   # a generator is read once
     for k in sections:
         if k not in STEPS:
             raise SignalError(f"report: no section {k!r}{did_you_mean(str(k), STEPS)}; the sections are "
