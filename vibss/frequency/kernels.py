@@ -97,7 +97,7 @@ def subspace(plant: Plant, s: np.ndarray, tol: float = TOLERANCE) -> tuple[np.nd
     and output vectors (real shifts over the band, each one sparse or banded LU), ``M, C, K, H``
     and every map projected on it, grown where the exact solve at a check frequency between the
     interpolation points shows an error above the tolerance. When it does not reach ``tol``, or
-    stops at its ``budget`` (the exact solve at every frequency: twice that in all at most), the exact
+    stops at its ``budget`` (the exact solve at every frequency: about twice that in all), the exact
     sparse solve (:func:`sparse`) answers where it has not solved exactly, and the note says so.
     """
     return _subspace_checked(plant, s, tol)[:2]
