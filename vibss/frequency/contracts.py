@@ -26,7 +26,7 @@ from ..linear.project.subspace import MOMENTS, N_SHIFTS, TWO_SIDED_MAX
 from ..linear.solve.backends import _CHUNK_BYTES, MOUNTS_DENSE_MAX
 from ..linear.solve.banded import _K_BAND, _K_SUPERLU, _T_FREQ, structure
 from ..linear.solve.exact import MOUNTS_RATIO, forcing, response, states, zfactor
-from ..linear.solve.refine import a_norm_bound, recorded_backward_errors
+from ..linear.solve.refine import backward_error_of, recorded_backward_errors
 from ..costs import constant, scale
 from ..methods import Check, Claim, Cost, Decision, decide
 
@@ -253,9 +253,7 @@ def backward_error(plant: Plant, s: np.ndarray, limit: float, backend: str = "au
         for a, c in zip(mats, (1.0, 1j, sj, sj * sj)):
             if a is not None:
                 ax += c * (a @ xj)
-        den = a_norm_bound(plant, sj) * np.linalg.norm(xj) + np.linalg.norm(f[j])
-        if den > 0:
-            eta = max(eta, float(np.linalg.norm(f[j] - ax) / den))
+        eta = max(eta, backward_error_of(plant, sj, f[j], xj, ax))
     return Check(eta, limit, where)
 
 
