@@ -39,6 +39,19 @@ def test_the_input_spec_keeps_its_unit_in_the_result_and_the_figure():
     assert min(lows) > 1e-30                                               # no 1e-300 spike at the band edge
 
 
+def test_a_flat_spec_is_drawn_flat_over_two_decades():
+    """0.04 g^2/Hz flat: its log-log interpolation carries round-off (1e-17 of the level) that the
+    autoscale once zoomed onto, drawing spikes under a single tick. The panel spans two decades
+    about the level, and so does a flat output."""
+    t = vibss.MountType("iso", [1e5, 1e5, 1e5], damping=[40.0] * 3)
+    m = vibss.Model([vibss.Body("box", 20.0, [1, 1, 1])], [vibss.Mount("m", t, "box")])
+    r = vibss.random_response(m, {"ground.z.acc": ([1e-3, 1e6], [0.04, 0.04])}, ["box.z.acc"])
+    panel = r.plot().axes[-1]
+    lo, hi = panel.get_ylim()
+    assert hi / lo == pytest.approx(100.0, rel=1e-9) and lo < 0.04 < hi
+    assert np.ptp(panel.get_lines()[0].get_ydata()) < 1e-12 * 0.04                    # the round-off itself
+
+
 def test_accelerations_in_g_on_request():
     r = result()
     g = r.in_g()

@@ -41,6 +41,7 @@ def plot_random(result: Any, ax: Any = None) -> Figure:
                 a.loglog(f, _positive(result.psd[i]), color=f"C{i % 10}",
                          label=f"{o}: {result.rms[i]:.4g} {u} RMS")
         a.set_ylabel(f"PSD [{psd_units[unit]}]")
+        _two_decades(a)
         a.grid(True, which="both", alpha=0.3)
         a.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     a = axes[-1]
@@ -50,6 +51,7 @@ def plot_random(result: Any, ax: Any = None) -> Figure:
         a.loglog(f, _positive(levels[j]), color="0.3", ls=("-", "--", ":")[j % 3],
                  label=name if one else f"{name} [{given[j]}]")
     a.set_ylabel(f"input PSD [{given[0]}]" if one else "input PSD (units in the legend)")
+    _two_decades(a)
     a.set_xlabel("frequency [Hz]")
     a.grid(True, which="both", alpha=0.3)
     a.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
@@ -60,3 +62,14 @@ def plot_random(result: Any, ax: Any = None) -> Figure:
 def _positive(y: np.ndarray) -> np.ndarray:
     """Zeros (outside an input's band) left out of a log axis, not drawn as 1e-300."""
     return np.where(y > 0, y, np.nan)
+
+
+def _two_decades(a: Any) -> None:
+    """A log axis spans at least two decades around its lines: a flat spec (0.04 g^2/Hz) would be
+    autoscaled onto its round-off (1e-17 of it), drawn as spikes under a single tick."""
+    ys = [np.asarray(line.get_ydata(), float) for line in a.get_lines()]
+    y = np.concatenate(ys) if ys else np.zeros(0)
+    y = y[np.isfinite(y) & (y > 0)]
+    if y.size and y.max() < 100.0 * y.min():
+        mid = float(np.sqrt(y.max() * y.min()))
+        a.set_ylim(mid / 10.0, mid * 10.0)
