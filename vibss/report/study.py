@@ -133,10 +133,10 @@ def _wanted(sections: Iterable[str] | None) -> set[str]:
     for k in sections:
         if k not in STEPS:
             raise SignalError(f"report: no section {k!r}{did_you_mean(str(k), STEPS)}; the sections are "
-                             f"{', '.join(STEPS)}", argument="sections", received=k)
+                              f"{', '.join(STEPS)}", argument="sections", received=k)
     if not sections:
         raise ArgumentError(f"report: no section asked for; the sections are {', '.join(STEPS)}",
-                         argument="sections", received="")
+                            argument="sections", received="")
     return set(sections)
 
 

@@ -349,7 +349,8 @@ def channel_subspace(plant: Plant, omega: np.ndarray, tol: float = TOLERANCE, we
     exact: dict[int, np.ndarray] = {}
     sols: dict[int, np.ndarray] = {}
     new = _midpoints(interp, nf)
-    if not new or any(_nonzero(getattr(plant, k)) for k in ("C", "H")):
+    damped = any(_nonzero(getattr(plant, k)) for k in ("C", "H"))
+    if not new or damped:
         new |= interp       # a real shift interpolates only the undamped response; and never no check at all
     converged = False
     stopped = ""
@@ -358,7 +359,6 @@ def channel_subspace(plant: Plant, omega: np.ndarray, tol: float = TOLERANCE, we
     galerkin = _Galerkin(plant, basis)
     solve_times: list[float] = []
     projected = (0.0, 1)                        # the last round's projected response: seconds, basis size
-    damped = any(_nonzero(getattr(plant, k)) for k in ("C", "H"))
     for rnd in range(max(int(max_rounds), 0) + 1):
         if rnd and budget is not None and solve_times:
             spent = time.perf_counter() - t_start
