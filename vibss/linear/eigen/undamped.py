@@ -347,7 +347,8 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
                 if not np.any(need):
                     break
             name += "+refined" if refined else ""
-        if factor is not None and n <= JACOBI_FALLBACK and np.count_nonzero(~rigid & ~(est <= FREQ_RTOL)):
+        if factor is not None and n <= JACOBI_FALLBACK and np.count_nonzero(~rigid & ~(est <= FREQ_RTOL)) \
+                and _jacobi_may_certify(checked, phi, ~rigid & ~(est <= FREQ_RTOL)):
             # eigh and its refinement cannot certify some mode (a strongly graded model): the Jacobi
             # SVD can, at ~8x the cost of eigh
             w2, phi, rigid, est = _jacobi_checked(_csr(factor), M, K, checked)
@@ -392,6 +393,27 @@ def _jacobi_checked(factor: Any, M: Any, K: Any, checked: Any) -> tuple[np.ndarr
     rigid = rigid_mask(phi, K, checked, _jacobi_floor(w2), norms)
     est = np.minimum(error_estimate(w2, phi, M, None, checked, rigid, norms=norms), bound + _data_rounding(norms))
     return w2, phi, rigid, est
+
+
+def _jacobi_may_certify(factor: Any, phi: np.ndarray, uncertified: np.ndarray) -> bool:
+    """Whether the Jacobi SVD could bring any of the ``uncertified`` modes within :data:`FREQ_RTOL`.
+
+    Its estimate of a mode is ``min(residual estimate, gejsv's bound + data rounding)``
+    (:func:`_jacobi_checked`); the residual estimate carries the rounding of ``||G phi||``,
+    ``(per_row + 2) eps c`` (:func:`~vibss.linear.eigen.checks.error_estimate`), and the data rounding
+    ``ROUNDOFF_LEVERS eps c`` (:func:`_data_rounding`), with ``c = || |G| |phi| || / ||G phi||`` the
+    mode's cancellation on the factor, a property of its shape. Where ``min(per_row + 2,
+    ROUNDOFF_LEVERS) eps c`` already exceeds the tolerance for every such mode, no solver can certify
+    them from the data as stored, and the Jacobi SVD would cost ~10x ``eigh`` for nothing (the 600-DOF
+    soft tower of benchmarks/models.py: its two lowest modes, 0.4 mHz, cancel by 3e5 on the
+    factor; 0.43 s of a 0.68 s eigen-analysis, ending with bounds 40x wider than the refinement's).
+    """
+    idx = np.flatnonzero(uncertified)
+    _, num, den = _factor_norms(factor, phi[:, idx])
+    per_row = int(np.diff(factor.indptr).max(initial=1)) if _issparse(factor) else factor.shape[1]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        floor = min(per_row + 2, ROUNDOFF_LEVERS) * _EPS * den / num
+    return bool(np.any(~(floor > FREQ_RTOL)))
 
 
 def _data_rounding(norms: tuple | None) -> np.ndarray | float:
