@@ -9,7 +9,9 @@
   complex-mode risk), the frequency grid's damping estimate and the modal state space all need it;
   :func:`damping_factors` and :func:`damping_rank` give the same as an exact low-rank product;
 - :func:`classical_damping` and :func:`damping_coupling`: whether the projected damping is diagonal
-  (classical), the one test damped modes, frequency and time responses share.
+  (classical), the one test damped modes, frequency and time responses share;
+- :func:`proportional`: ``C = a M + b K`` (or ``H``) read off the matrices themselves, where the
+  projection is known without one (``Phi^T C Phi = a I + b Omega^2``).
 """
 
 from __future__ import annotations
@@ -28,7 +30,7 @@ from .undamped import undamped
 from ..plant.plant import Plant
 
 __all__ = ["ModalBasis", "modal_basis", "REFINE_TOL", "projected_damping", "damping_factors", "damping_rank",
-           "classical_damping", "damping_coupling", "CLASSICAL_RTOL"]
+           "classical_damping", "damping_coupling", "CLASSICAL_RTOL", "proportional", "PROPORTIONAL_RTOL"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -117,8 +119,9 @@ def _needs_refinement(plant: Plant, w2: np.ndarray, phi: np.ndarray, est: np.nda
     for key, hyst in (("C", False), ("H", True)):
         mat = getattr(plant, key)
         if np.any(mat):
-            sparse_mat = plant.cached(f"sparse {key}", partial(fast_matrix, mat))
-            g = np.einsum("ij,ij->j", phi, sparse_mat @ phi)
+            ab = proportional(plant, key)     # a + b w2 on mass-normalised modes: no product
+            g = ab[0] + ab[1] * np.maximum(w2, 0.0) if ab is not None else \
+                np.einsum("ij,ij->j", phi, plant.cached(f"sparse {key}", partial(fast_matrix, mat)) @ phi)
             zeta = np.maximum(zeta, g / (2 * w2c) if hyst else g / (2 * np.sqrt(w2c)))
     shape = np.finfo(float).eps * float(np.max(w2)) / w2c
     return np.maximum(np.nan_to_num(est, nan=0.0), shape) / (2 * np.minimum(zeta, 0.5)) > REFINE_TOL
@@ -184,6 +187,65 @@ def projected_damping(plant: Plant, basis: ModalBasis) -> tuple[np.ndarray, np.n
     return plant.cached(f"projected damping {id(basis)}", partial(_project, plant, basis))[1]
 
 
+PROPORTIONAL_RTOL = 64 * np.finfo(float).eps
+"""``C = a M + b K`` holds when every entry of ``C - a M - b K`` is within this times
+``|a| max|M| + |b| max|K|``: the assembly's rounding, and the bound :func:`damping_coupling` puts on the
+projection's own off-diagonals."""
+
+
+def proportional(plant: Plant, key: str = "C") -> tuple[float, float] | None:
+    """``(a, b)`` with the plant's ``C`` (``key="C"``, a [1/s], b [s]) or ``H`` (``"H"``, a [1/s^2], b [-])
+    equal to ``a M + b K`` to the assembly's rounding (:data:`PROPORTIONAL_RTOL`), else None.
+
+    Damping proportional to stiffness in every mount (``c = beta k``, a loss factor ``H = eta K``) and
+    Rayleigh damping are classical by construction: on mass-normalised modes ``Phi^T C Phi = a I + b
+    Omega^2``, known without the projection's two ``n^2 k`` GEMMs (0.017 s of a 0.20 s time response
+    at 600 DOF). The pair is fitted by least squares on the entries (the Frobenius Gram of ``M`` and
+    ``K``, each scaled to unit norm) and then verified entry by entry, so a wrong fit only costs the
+    projection. Cost: a few passes over the three matrices' entries. Cached on the plant.
+
+    Parameters
+    ----------
+    plant : Plant
+    key : {"C", "H"}
+
+    Returns
+    -------
+    (float, float) or None
+    """
+    return cast("tuple[float, float] | None", plant.cached(f"proportional {key}", partial(_proportional, plant, key)))
+
+
+def _proportional(plant: Plant, key: str) -> tuple[float, float] | None:
+    mats = [getattr(plant, k) for k in ("M", "K", key)]
+    if any(m is None for m in mats) or plant.n == 0:
+        return None
+    if any(sp.issparse(m) for m in mats):
+        mats = [sp.csr_matrix(m) for m in mats]
+        inner = (lambda x, y: float(x.multiply(y).sum()))
+        top = (lambda x: float(abs(x).max()) if x.nnz else 0.0)
+    else:
+        mats = [np.asarray(m, float) for m in mats]
+        inner = (lambda x, y: float(np.einsum("ij,ij->", x, y)))
+        top = (lambda x: float(np.abs(x).max()))
+    m, k, c = mats
+    nm, nk = np.sqrt(inner(m, m)), np.sqrt(inner(k, k))
+    if not (nm > 0 and nk > 0 and np.isfinite(nm * nk)):
+        return None
+    tol = PROPORTIONAL_RTOL
+    for a, b in ((0.0, float(inner(k, c) / nk**2)), (float(inner(m, c) / nm**2), 0.0)):   # C = b K, C = a M: exact zeros
+        if top(c - a * m - b * k) <= tol * (abs(a) * top(m) + abs(b) * top(k)):
+            return a, b
+    gram = np.array([[1.0, inner(m, k) / (nm * nk)], [inner(m, k) / (nm * nk), 1.0]])
+    rhs = np.array([inner(m, c) / nm, inner(k, c) / nk])
+    coef = np.linalg.lstsq(gram, rhs, rcond=1e-12)[0]
+    a, b = float(coef[0] / nm), float(coef[1] / nk)
+    rest = c - a * m - b * k
+    if not top(rest) <= tol * (abs(a) * top(m) + abs(b) * top(k)):
+        return None
+    return a, b
+
+
 def _project(plant: Plant, basis: ModalBasis) -> tuple[ModalBasis, tuple[np.ndarray, np.ndarray]]:
     phi = basis.phi
     k = phi.shape[1]
@@ -191,8 +253,12 @@ def _project(plant: Plant, basis: ModalBasis) -> tuple[ModalBasis, tuple[np.ndar
     for key in ("C", "H"):
         mat = getattr(plant, key)
         if np.any(mat) if isinstance(mat, np.ndarray) else bool(mat.count_nonzero()):
-            g = phi.T @ (plant.cached(f"sparse {key}", partial(fast_matrix, mat)) @ phi)
-            g = 0.5 * (g + g.T)
+            ab = proportional(plant, key)
+            if ab is not None:      # a I + b Omega^2 on mass-normalised modes: no projection
+                g = np.diag(ab[0] + ab[1] * np.where(basis.rigid, 0.0, np.maximum(basis.omega2, 0.0)))
+            else:
+                g = phi.T @ (plant.cached(f"sparse {key}", partial(fast_matrix, mat)) @ phi)
+                g = 0.5 * (g + g.T)
         else:
             g = np.zeros((k, k))
         g.setflags(write=False)
@@ -340,6 +406,8 @@ def classical_damping(plant: Plant, basis: ModalBasis | None = None,
     """
     basis = basis or modal_basis(plant)
     projected = projected or projected_damping(plant, basis)
+    if all(not np.any(g) or proportional(plant, key) is not None for key, g in zip("CH", projected)):
+        return True, "classical damping (C and H proportional to M and K: Phi^T C Phi and Phi^T H Phi diagonal)"
     for name, g in zip(("viscous damping", "hysteretic damping"), projected):
         if not np.any(g):
             continue
