@@ -1,7 +1,7 @@
 """Time response: python-control ``forced_response`` against the exact modal path, per topology, in one run.
 
-For each topology of :mod:`models` (``chain``, 10-wide ``grid``, random ``tree``) at 100 bodies (600
-DOF, 1200 states), classical and general (non-proportional) damping: 2 force inputs (seeded
+For each topology of :mod:`models` (``chain``, 10-wide ``grid``, random ``tree``, 3-D ``lattice``,
+``random`` graph, ``mechanism`` chain, soft ``tower``: :data:`SUITE`) at 100 bodies (600 DOF, 1200 states), classical and general (non-proportional) damping: 2 force inputs (seeded
 piecewise-linear random walks), 6 displacement outputs, 10,000 steps of dt = 2e-4 s. Both methods
 are timed *cold* (a fresh plant each repeat, so each pays its own eigen-analysis, as a user's first
 call does; best of ``--repeat``), BLAS limited to one thread. The error column is the largest
@@ -34,7 +34,11 @@ from threadpoolctl import threadpool_limits
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from models import TOPOLOGIES, topology_model  # noqa: E402
+from models import NEW_TOPOLOGIES, TOPOLOGIES, topology_model  # noqa: E402
+
+SUITE = TOPOLOGIES + NEW_TOPOLOGIES
+"""Every topology of the suite: the three of issue 17 and the four of issue 34 (3-D lattice, random
+graph, mechanism chain, soft tower)."""
 
 from vibss.linear.plant.build import build_plant  # noqa: E402
 from vibss.time.api import simulate  # noqa: E402
@@ -117,7 +121,7 @@ def bench(quick: bool) -> dict:
     return run(quick)
 
 
-def run(quick: bool = False, topologies: tuple[str, ...] = TOPOLOGIES,
+def run(quick: bool = False, topologies: tuple[str, ...] = SUITE,
         dampings: tuple[str, ...] = ("classical", "general"), repeat: int = 3, skip_large: bool = False) -> dict:
     """:func:`bench` with a choice of topologies and dampings, repeats, and the 6000-DOF run."""
     repeat = 1 if quick else repeat
@@ -134,7 +138,15 @@ def run(quick: bool = False, topologies: tuple[str, ...] = TOPOLOGIES,
             print(f"{kind:8s} {damping:9s} {r['dof']:5d} {r['forced_response_s']:14.2f} s "
                   f"{r['modal_s']:6.3f} s {r['speedup']:6.1f}x {r['max_rel_diff']:14.1e} "
                   f"{floor}", flush=True)
-    if not (quick or skip_large or tuple(topologies) != tuple(TOPOLOGIES)):
+    for damping in dampings:
+        rows = [r for r in results["cases"] if r["damping"] == damping]
+        if rows:
+            worst = min(rows, key=lambda r: r["speedup"])
+            results[f"worst_{damping}"] = {"topology": worst["topology"], "speedup": worst["speedup"],
+                                           "floor_speedup": worst.get("floor_speedup")}
+            print(f"  {damping}: modal at least {worst['speedup']:.1f}x forced_response on every topology "
+                  f"(worst: {worst['topology']}, its floor {worst.get('floor_speedup', float('nan'))}x)", flush=True)
+    if not (quick or skip_large or tuple(topologies) != tuple(SUITE)):
         r = case("chain", 1000, "classical", run_reference=False, repeat=1, floors=False)
         results["cases"].append(r)
         print(f"6000-DOF chain, classical: modal {r['modal_s']:.2f} s (build_plant {r['build_plant_s']:.2f} s)")

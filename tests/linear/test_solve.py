@@ -378,3 +378,21 @@ def test_a_full_dense_plant_above_dense_max_takes_the_dense_lu() -> None:
     s = 2j * np.pi * np.array([0.7, 3.0, 11.0])
     h, ref = response(red, s), response(red, s, backend="superlu")
     assert _error(h, ref) <= 1e-10
+
+
+def test_the_superlu_cost_counts_the_elimination_in_closed_form():
+    """``elimination``'s multiply-adds against closed forms: a dense n x n matrix (no reordering helps)
+    does sum_k (n - 1 - k)^2 = (n - 1) n (2 n - 1) / 6, a tridiagonal one (natural order) n - 1; L + U
+    hold n^2 + n and 4 n - 2 entries (both with their diagonals)."""
+    import scipy.sparse as sp
+    import scipy.sparse.linalg as spl
+
+    from vibss.linear.solve.banded import elimination
+
+    n = 30
+    dense = sp.csc_matrix(np.ones((n, n)) + n * np.eye(n))
+    fill, flops = elimination(spl.splu(dense))
+    assert fill == n * n + n and flops == (n - 1) * n * (2 * n - 1) / 6     # L's unit diagonal stored
+    tri = sp.diags([np.ones(n - 1), 4 * np.ones(n), np.ones(n - 1)], [-1, 0, 1], format="csc")
+    fill, flops = elimination(spl.splu(tri, permc_spec="NATURAL"))
+    assert fill == 4 * n - 2 and flops == n - 1

@@ -24,7 +24,7 @@ from ..linear.eigen.basis import ModalBasis, classical_damping, damping_rank, pr
 from ..linear.plant.plant import Plant
 from ..linear.project.subspace import MOMENTS, N_SHIFTS, TWO_SIDED_MAX
 from ..linear.solve.backends import _CHUNK_BYTES, MOUNTS_DENSE_MAX
-from ..linear.solve.banded import _K_BAND, _K_SUPERLU, _T_FREQ, structure
+from ..linear.solve.banded import _K_BAND, _T_FREQ, structure, superlu_seconds
 from ..linear.solve.exact import MOUNTS_RATIO, forcing, response, states, zfactor
 from ..linear.solve.refine import backward_error_of, recorded_backward_errors
 from ..costs import constant, scale
@@ -346,8 +346,9 @@ def _per_mounts(plant: Plant, mounts: int) -> float:
     st = plant.cached("band structure", lambda: structure(plant))
     # SuperLU's formula on the assembled LU's fill (a band's when the plant bands), scaled by its own
     # fitted "solve.mounts" (cost_direct), not "solve.superlu" (60,000-DOF tower: 1.5x per nonzero)
-    fill = st.fill if st.fill else plant.n * (3 * st.band + 1)
-    return _T_FREQ + _K_SUPERLU * fill
+    if st.fill:
+        return superlu_seconds(st.fill, st.flops)
+    return superlu_seconds(plant.n * (3 * st.band + 1), plant.n * float(st.band) ** 2)   # a band's
 
 
 def _modes(plant: Plant, basis: ModalBasis | None) -> int:

@@ -16,6 +16,7 @@ benchmarks/bench_costs.py re-measures them); they only steer the automatic choic
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -26,7 +27,7 @@ from ...costs import constant, scale
 from ..plant.branches import groups
 from ..plant.plant import Plant
 
-__all__ = ["Structure", "structure", "BAND_MAX", "seconds_floor"]
+__all__ = ["Structure", "structure", "BAND_MAX", "seconds_floor", "elimination", "superlu_seconds"]
 
 BAND_MAX = 48
 """Largest half-bandwidth solved as a band; wider patterns go to SuperLU."""
@@ -34,7 +35,8 @@ BAND_MAX = 48
 _T_FREQ = constant("solve.T_FREQ", 3e-5)      # fixed cost per frequency [s] (Python, the right-hand side)
 _K_BUILD = constant("solve.K_BUILD", 3.5e-9)   # [s] per band entry assembled (n (2 b + 1) per matrix)
 _K_BAND = constant("solve.K_BAND", 2.5e-9)     # [s] per n b^2 of the banded LU
-_K_SUPERLU = constant("solve.K_SUPERLU", 7e-8)  # [s] per nonzero of L + U of a SuperLU factorisation and solve
+_K_SUPERLU = constant("solve.K_SUPERLU", 5.9e-8)  # [s] per nonzero of L + U of a SuperLU factorisation and solve
+_K_SUPERLU_FLOP = constant("solve.K_SUPERLU_FLOP", 4.8e-10)  # [s] per multiply-add of its elimination
 
 
 @dataclass(frozen=True, eq=False)
@@ -59,6 +61,9 @@ class Structure:
         Estimated cost of one solve [s] (for choosing a method; not a measurement).
     fill : int
         Nonzeros of ``L + U`` of the trial SuperLU factorisation (0 when ``banded``: none is made).
+    flops : float
+        Multiply-adds of that factorisation's elimination, ``sum_k`` (column k of L below the pivot)
+        x (row k of U right of it) (0 when ``banded``).
     """
 
     perm: np.ndarray
@@ -67,6 +72,7 @@ class Structure:
     parts: dict
     seconds_per_frequency: float
     fill: int = 0
+    flops: float = 0.0
 
 
 def _bandwidth(pattern: sp.csr_matrix, order: np.ndarray) -> int:
@@ -174,9 +180,26 @@ def structure(plant: Plant) -> Structure:
     csc = {key: a.tocsc() for key, a in mats.items()}
     # the fill of L + U from a trial factorisation of a diagonally dominant matrix of this pattern
     trial = sp.csc_matrix(pattern + sp.diags(np.asarray(abs(pattern).sum(axis=1)).ravel() + 1.0))
-    lu = spl.splu(trial)
-    fill = lu.L.nnz + lu.U.nnz
-    cost = scale("solve.superlu") * (_T_FREQ + _K_SUPERLU * fill)   # linear in the fill: within 1.5x
-    # on the suite's 150-600-DOF grid, tree, lattice and random graph, where nnz(L + U)^2 / n (the
-    # model before) spread 6x and overestimated the large sparse ones (issue 34: 4x at 60,000 DOF)
-    return Structure(perm, band, False, csc, cost, fill)
+    fill, flops = elimination(spl.splu(trial))
+    # fill and flops: 0.74-1.75x measured / estimated on the random graph, lattice, tree and tower at
+    # 150-2,400 DOF (fill alone, the model before: up to 4x under on the 2,400-DOF random graph,
+    # whose fill is near dense and whose flops grow as fill^1.5; nnz(L + U)^2 / n, before that: 4x
+    # over at 60,000 DOF)
+    cost = scale("solve.superlu") * superlu_seconds(fill, flops)
+    return Structure(perm, band, False, csc, cost, fill, flops)
+
+
+def elimination(lu: Any) -> tuple[int, float]:
+    """Nonzeros of ``L + U`` and multiply-adds of a SuperLU factorisation (:func:`scipy.sparse.linalg.splu`):
+    pivot k updates (column k of L below it) x (row k of U right of it). A trial factorisation of a
+    diagonally dominant matrix with the plant's pattern keeps the solve's ordering and pivots."""
+    fill = int(lu.L.nnz + lu.U.nnz)
+    below = np.diff(sp.csc_matrix(lu.L).indptr) - 1
+    right = np.diff(sp.csr_matrix(lu.U).indptr) - 1
+    return fill, float(np.dot(below, right))
+
+
+def superlu_seconds(fill: float, flops: float) -> float:
+    """Unscaled seconds of one SuperLU factorisation and solve with ``fill`` nonzeros in ``L + U`` and
+    ``flops`` multiply-adds (:class:`Structure`), by the constants of ``vibss/data/costs.json``."""
+    return _T_FREQ + _K_SUPERLU * fill + _K_SUPERLU_FLOP * flops
