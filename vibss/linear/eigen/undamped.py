@@ -348,11 +348,15 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
                     break
             name += "+refined" if refined else ""
         if factor is not None and n <= JACOBI_FALLBACK and np.count_nonzero(~rigid & ~(est <= FREQ_RTOL)) \
-                and _jacobi_may_certify(checked, phi, ~rigid & ~(est <= FREQ_RTOL)):
+                and _jacobi_may_certify(checked, phi, ~rigid & ~(est <= FREQ_RTOL), est):
             # eigh and its refinement cannot certify some mode (a strongly graded model): the Jacobi
-            # SVD can, at ~8x the cost of eigh
-            w2, phi, rigid, est = _jacobi_checked(_csr(factor), M, K, checked)
-            name = "jacobi (eigh could not certify every mode)"
+            # SVD can, at ~8x the cost of eigh; kept unless its bounds are the wider ones
+            jw2, jphi, jrigid, jest = _jacobi_checked(_csr(factor), M, K, checked)
+            if not np.array_equal(jrigid, rigid) or np.nanmax(jest, initial=0.0) <= np.nanmax(est, initial=0.0):
+                w2, phi, rigid, est = jw2, jphi, jrigid, jest
+                name = "jacobi (eigh could not certify every mode)"
+            else:
+                name += " (the Jacobi SVD bounded its modes no closer)"
         if also is not None and not asked and name.startswith("dense") and not np.any(rigid):
             # modes flagged rigid at first turned out elastic: the consumer's need, asked now
             extra = np.asarray(also(w2, phi, est), bool)
@@ -395,25 +399,34 @@ def _jacobi_checked(factor: Any, M: Any, K: Any, checked: Any) -> tuple[np.ndarr
     return w2, phi, rigid, est
 
 
-def _jacobi_may_certify(factor: Any, phi: np.ndarray, uncertified: np.ndarray) -> bool:
+def _jacobi_may_certify(factor: Any, phi: np.ndarray, uncertified: np.ndarray, est: np.ndarray) -> bool:
     """Whether the Jacobi SVD could bring any of the ``uncertified`` modes within :data:`FREQ_RTOL`.
 
     Its estimate of a mode is ``min(residual estimate, gejsv's bound + data rounding)``
     (:func:`_jacobi_checked`); the residual estimate carries the rounding of ``||G phi||``,
     ``(per_row + 2) eps c`` (:func:`~vibss.linear.eigen.checks.error_estimate`), and the data rounding
     ``ROUNDOFF_LEVERS eps c`` (:func:`_data_rounding`), with ``c = || |G| |phi| || / ||G phi||`` the
-    mode's cancellation on the factor, a property of its shape. Where ``min(per_row + 2,
-    ROUNDOFF_LEVERS) eps c`` already exceeds the tolerance for every such mode, no solver can certify
-    them from the data as stored, and the Jacobi SVD would cost ~10x ``eigh`` for nothing (the 600-DOF
-    soft tower of benchmarks/models.py: its two lowest modes, 0.4 mHz, cancel by 3e5 on the
-    factor; 0.43 s of a 0.68 s eigen-analysis, ending with bounds 40x wider than the refinement's).
+    mode's cancellation on the factor, a property of its shape. So ``floor = min(per_row + 2,
+    ROUNDOFF_LEVERS) eps c`` bounds any solver's estimate from below. The Jacobi SVD is worth its ~10x
+    ``eigh`` only for a mode whose floor is within the tolerance and whose refined estimate
+    ``est`` stalled more than :data:`JACOBI_GAIN` times above that floor (a graded model, where
+    ``gejsv``'s scaling invariance certifies what the refinement cannot). Where the refinement
+    already sits near the floor, ``gejsv``'s own bound ``eps kappa(B)`` was the wider one on every
+    model measured: the 600-DOF soft tower (its two lowest modes, 0.4 mHz, cancel by 3e5 on the
+    factor: 2e-8 against the refinement's 8e-10, for 0.43 s of a 0.68 s eigen-analysis) and the
+    600-DOF mechanism chain (4e-7 against ~1e-10 on its first elastic mode).
     """
     idx = np.flatnonzero(uncertified)
     _, num, den = _factor_norms(factor, phi[:, idx])
     per_row = int(np.diff(factor.indptr).max(initial=1)) if _issparse(factor) else factor.shape[1]
     with np.errstate(divide="ignore", invalid="ignore"):
         floor = min(per_row + 2, ROUNDOFF_LEVERS) * _EPS * den / num
-    return bool(np.any(~(floor > FREQ_RTOL)))
+    return bool(np.any(~(floor > FREQ_RTOL) & ~(est[idx] <= JACOBI_GAIN * floor)))
+
+
+JACOBI_GAIN = 10.0
+"""The Jacobi fallback runs for a mode whose refined estimate stalled more than this many times above
+the least any solver's estimate can be (:func:`_jacobi_may_certify`)."""
 
 
 def _data_rounding(norms: tuple | None) -> np.ndarray | float:
