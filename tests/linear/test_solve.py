@@ -396,3 +396,19 @@ def test_the_superlu_cost_counts_the_elimination_in_closed_form():
     tri = sp.diags([np.ones(n - 1), 4 * np.ones(n), np.ones(n - 1)], [-1, 0, 1], format="csc")
     fill, flops = elimination(spl.splu(tri, permc_spec="NATURAL"))
     assert fill == 4 * n - 2 and flops == n - 1
+
+
+def test_output_columns_are_the_output_map_column_by_column() -> None:
+    """One product per term against ``output_map`` at each column's own Laplace value: hysteretic
+    mount forces, velocity and acceleration outputs, and a Zener mount's relaxation term."""
+    from vibss.linear.solve.exact import output_columns, output_map
+
+    z = MountType("z", damping=[5.0] * 3, rheology={"type": "zener", "k_0": 2e4, "k_inf": 5e4, "tau": 2e-3})
+    zener = Model(_rich_model().bodies, _rich_model().mounts + (Mount("zm", z, "b", to="a", at=[0.1, 0.0, 0.2]),))
+    rng = np.random.default_rng(4)
+    for plant in (_rich_plant(), build_plant(zener, ["a.fz"], ["mount.zm.f1", "a.ry", "b.x.acc", "mount.g1.fz"])):
+        phi = rng.normal(size=(plant.n, 5))
+        s = 1j * np.geomspace(1.0, 300.0, 5)
+        got = output_columns(plant, s, phi)
+        ref = np.column_stack([output_map(plant, sk) @ phi[:, k] for k, sk in enumerate(s)])
+        np.testing.assert_allclose(got, ref, rtol=1e-13, atol=1e-13 * np.abs(ref).max())

@@ -39,7 +39,7 @@ import numpy.typing as npt
 
 from ..linear.eigen.basis import modal_basis
 from ..linear.plant.plant import Plant
-from ..linear.solve.exact import forcing, output_map, response, zfactor
+from ..linear.solve.exact import forcing, output_columns, response, zfactor
 
 __all__ = ["PEAK_TOLERANCE", "INPUT_TOLERANCE", "OUTPUT_WARN", "PROBES_PER_STEP", "PROBE_BUDGET",
            "InputProbe", "probe_input", "fine_input", "modal_amplitudes", "SamplingEstimate", "output_sampling", "peak_loss", "resolving_step"]
@@ -370,10 +370,10 @@ def modal_amplitudes(plant: Plant, inputs: Sequence[tuple[np.ndarray, np.ndarray
     b = np.abs(np.einsum("nr,rnm->rm", phi, G))                               # modal force per unit input
     U = np.array([_transform(t, u, w) for t, u in inputs]).T if inputs else np.zeros((w.size, 0))
     drive = (b * U).sum(axis=1) / w                                           # modal amplitude
-    Mphi = np.asarray(plant.M, float) @ phi
-    drive = drive + np.hypot(Mphi.T @ q0, (Mphi.T @ v0) / w)
-    return [(float(wk / (2 * np.pi)), np.abs(output_map(plant, 1j * wk) @ phi[:, k]) * drive[k])
-            for k, wk in enumerate(w)]
+    if np.any(q0) or np.any(v0):                      # phi^T M q0: two products, not M phi
+        drive = drive + np.hypot(phi.T @ np.asarray(plant.M @ q0, float), (phi.T @ np.asarray(plant.M @ v0, float)) / w)
+    amp = np.abs(output_columns(plant, s, phi)) * drive[None, :]
+    return [(float(wk / (2 * np.pi)), amp[:, k]) for k, wk in enumerate(w)]
 
 
 def output_sampling(plant: Plant, time: np.ndarray, inputs: Sequence[tuple[np.ndarray, np.ndarray]],

@@ -65,7 +65,7 @@ from ..plant.terms import plant_terms
 
 __all__ = ["BACKENDS", "FORMS", "MOUNTS_RATIO", "DENSE_MAX", "DENSE_FILL", "zfactor", "states", "response", "zero_frequency_limit",
            "lu_solver", "statespace_plant", "without_hysteresis", "SingularMatrixError", "forcing", "mounts_form_possible",
-           "observe", "observed_dofs", "output_map"]
+           "observe", "observed_dofs", "output_map", "output_columns"]
 
 BACKENDS = ("auto", "dense", "sparse", "banded", "superlu")
 """Names accepted by ``backend=``."""
@@ -171,6 +171,22 @@ def output_map(plant: Plant, s: complex) -> np.ndarray:
     out = plant.Oq + 1j * _hyst(plant.Oh) + s * plant.Ov + s**2 * plant.Oa
     for g in groups(plant):
         out = out + g.factor(np.array(s)) * g.Oq
+    return out
+
+
+def output_columns(plant: Plant, s: np.ndarray, phi: np.ndarray) -> np.ndarray:
+    """(p, k) ``O(s_k) phi_k`` for each column of ``phi`` (n, k) at its own Laplace value ``s_k``
+    [rad/s] (:func:`output_map`, one product per term instead of a map per column)."""
+    s = np.asarray(s, dtype=complex)
+    out = np.asarray(plant.Oq @ phi, dtype=complex)
+    if np.any(oh := _hyst(plant.Oh)):
+        out = out + 1j * (oh @ phi)
+    if np.any(plant.Ov):
+        out = out + (plant.Ov @ phi) * s[None, :]
+    if np.any(plant.Oa):
+        out = out + (plant.Oa @ phi) * (s * s)[None, :]
+    for g in groups(plant):
+        out = out + (g.Oq @ phi) * g.factor(s)[None, :]
     return out
 
 
