@@ -194,8 +194,8 @@ def elimination(lu: Any) -> tuple[int, float]:
     pivot k updates (column k of L below it) x (row k of U right of it). A trial factorisation of a
     diagonally dominant matrix with the plant's pattern keeps the solve's ordering and pivots."""
     fill = int(lu.L.nnz + lu.U.nnz)
-    below = np.diff(sp.csc_matrix(lu.L).indptr) - 1
-    right = np.diff(sp.csr_matrix(lu.U).indptr) - 1
+    below = np.diff(sp.csc_matrix(lu.L).indptr).astype(float) - 1     # SuperLU's int32 indices: the sum
+    right = np.diff(sp.csr_matrix(lu.U).indptr).astype(float) - 1     # in floats (n^3 / 3 passes 2^31)
     return fill, float(np.dot(below, right))
 
 
