@@ -253,7 +253,7 @@ def test_modal_basis_refines_in_one_sweep_and_matches_the_jacobi_svd():
     assert np.abs(overlap - 1).max() <= 1e-8
 
 
-def test_no_jacobi_fallback_where_the_data_bound_the_frequencies_wider_than_the_tolerance():
+def test_no_jacobi_fallback_where_the_data_bound_the_frequencies_wider_than_the_tolerance(monkeypatch):
     """The 600-DOF soft tower (lowest modes 0.4-0.6 mHz beside 740 Hz, 1e6 N/m links): eigh and its
     refinement leave its two lowest modes at ~7e-10, and the factor's cancellation puts them there
     for any solver (``min(per_row + 2, ROUNDOFF_LEVERS) eps c`` > 1e-10). The Jacobi SVD of every mode
@@ -263,10 +263,16 @@ def test_no_jacobi_fallback_where_the_data_bound_the_frequencies_wider_than_the_
 
     from vibss.linear.eigen.undamped import FREQ_RTOL
 
+    import vibss.linear.eigen.undamped as und
+
     plant = build_plant(topology_model("tower", 100, damping="classical"), ["b1.fz"], ["b1.z"])
+    calls = []
+    real = und._jacobi_checked
+    monkeypatch.setattr(und, "_jacobi_checked", lambda *a: calls.append(1) or real(*a))
     s = undamped(plant.K, plant.M, plant.Kf)
+    assert calls == [] and s.method.startswith("dense")          # the fallback did not run
     ref = undamped(plant.K, plant.M, plant.Kf, method="jacobi")
-    assert s.method.startswith("dense") and not np.any(s.rigid) and not np.any(ref.rigid)
+    assert not np.any(s.rigid) and not np.any(ref.rigid)
     left = np.flatnonzero(s.error > FREQ_RTOL)
     assert left.size and np.all(ref.error[left] > FREQ_RTOL)
     w, wr = np.sqrt(s.omega2), np.sqrt(ref.omega2)
@@ -285,6 +291,7 @@ def test_the_jacobi_fallback_runs_where_the_refinement_stalls_far_above_the_roun
     plant = build_plant(chain_model(60, damping="classical", scale="bad", seed=0), ["b1.fz"], ["b1.z"])
     assert plant.n > JACOBI_MAX
     plain = undamped(plant.K, plant.M, plant.Kf, method="dense")
+    assert not plain.method.startswith("jacobi")            # the reference is eigh's, refined
     monkeypatch.setattr(und, "_refine", lambda K, M, factor, w2, phi, est, *a, **k: (w2, phi, est, False))
     s = undamped(plant.K, plant.M, plant.Kf)
     assert s.method.startswith("jacobi")

@@ -50,6 +50,10 @@ def test_rayleigh_damping_and_a_loss_factor_are_recovered():
     w2 = basis.omega2
     np.testing.assert_allclose(np.diag(g), a + b * w2, rtol=1e-12)
     np.testing.assert_allclose(np.diag(h), 0.02 * w2, rtol=1e-12)
+    for got, mat in ((g, rayleigh.C), (h, rayleigh.H)):          # against the projection it replaces
+        direct = basis.phi.T @ mat @ basis.phi
+        scale = np.abs(np.diag(direct)).max()
+        assert np.abs(got - direct).max() <= 1e-11 * scale
     assert classical_damping(rayleigh, basis)[0]
 
 
