@@ -81,3 +81,24 @@ def test_general_damping_and_a_perturbed_entry_are_not_proportional():
     basis = modal_basis(bent)
     direct = basis.phi.T @ C @ basis.phi
     np.testing.assert_allclose(projected_damping(bent, basis)[0], 0.5 * (direct + direct.T), rtol=0, atol=1e-13 * np.abs(direct).max())
+
+
+def test_a_small_damper_on_a_soft_dof_is_not_taken_for_rounding():
+    """C = beta K on a chain whose stiffnesses span 1e2-1e8 N/m, plus a damper on its softest DOF that is
+    1e-15 of the largest entry of beta K (under the assembly's rounding of that entry, far over the
+    soft DOF's own): the bound is per entry, so C is not proportional and the projection keeps it."""
+    from models import chain_model
+
+    plant = build_plant(chain_model(10, damping="classical", scale="bad", seed=1), ["b1.fz"], ["b1.z"])
+    K = np.asarray(plant.K)
+    beta = 1e-4
+    i = int(np.argmin(np.where(np.diag(K) > 0, np.diag(K), np.inf)))
+    C = beta * K
+    C[i, i] += 1e-15 * beta * np.abs(K).max()
+    assert proportional(replace(plant, C=beta * K)) == (0.0, pytest.approx(beta, rel=1e-13))
+    bent = replace(plant, C=C)
+    assert proportional(bent) is None
+    basis = modal_basis(bent)
+    direct = basis.phi.T @ C @ basis.phi
+    np.testing.assert_allclose(projected_damping(bent, basis)[0], 0.5 * (direct + direct.T), rtol=0,
+                               atol=1e-13 * np.abs(direct).max())

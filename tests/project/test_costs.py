@@ -59,7 +59,8 @@ KNOWN = {("sparse", "mechanism 150 DOF general"): 3.0, ("modal", "mechanism 150 
 mounts' forces, which ``form="auto"`` takes only below a frequency but is costed at all of them
 (overestimated), and its time response with general damping (underestimated: with its free motions out
 of the eigenproblem its 2 nk (nk)^3 falls under ``complex_modes.REFINE_FLOPS``, so every one of its
-~290 modes gets a dense inverse iteration, 0.27 s the formula does not see; the suite's other 150-DOF
+~290 modes is refined, ~146 dense LUs (conjugate partners copied), 0.27 s the formula, in n, does not
+see; the suite's other 150-DOF
 models sit just above that line. 2.7-3.3x under the old time.modal scale; 5.4x in the quick survey of
 29 Nov, 19:44, where the plants were first built outside the clock and the scale fell from 5.9 to 1.07).
 At 600 DOF (the full survey) the same model over the survey's 0.4 s: its ~148 modes slower than the

@@ -189,7 +189,8 @@ class Spectrum(ReadOnly):
         Relative error bound of each frequency (NaN for rigid modes: their 0 is exact).
     method : str
         Solver used (``"jacobi"``, ``"dense"``, ``"shift-invert"`` or a callable's name), with
-        ``"+refined"`` when modes were refined.
+        ``"+refined"`` when modes were refined, and ``" (the Jacobi SVD bounded its modes no closer)"``
+        when the Jacobi fallback ran and the refined modes were kept.
     """
 
     omega2: np.ndarray
@@ -277,6 +278,7 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
     bound = np.inf
     floor = 0.0
     blocks = None
+    kept = ""                # said when the Jacobi fallback ran and eigh's refined modes were kept
     if name == "jacobi":
         w2, phi, bound = _jacobi(_csr(factor), M)
         floor = _jacobi_floor(w2)
@@ -352,11 +354,13 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
             # eigh and its refinement cannot certify some mode (a strongly graded model): the Jacobi
             # SVD can, at ~8x the cost of eigh; kept unless its bounds are the wider ones
             jw2, jphi, jrigid, jest = _jacobi_checked(_csr(factor), M, K, checked)
-            if not np.array_equal(jrigid, rigid) or np.nanmax(jest, initial=0.0) <= np.nanmax(est, initial=0.0):
+            k = w2.size                               # eigh's modes (a guard band with n_modes)
+            if not np.array_equal(jrigid[:k], rigid) or \
+                    np.nanmax(jest[:k], initial=0.0) <= np.nanmax(est, initial=0.0):
                 w2, phi, rigid, est = jw2, jphi, jrigid, jest
                 name = "jacobi (eigh could not certify every mode)"
             else:
-                name += " (the Jacobi SVD bounded its modes no closer)"
+                kept = " (the Jacobi SVD bounded its modes no closer)"
         if also is not None and not asked and name.startswith("dense") and not np.any(rigid):
             # modes flagged rigid at first turned out elastic: the consumer's need, asked now
             extra = np.asarray(also(w2, phi, est), bool)
@@ -367,7 +371,7 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
     w2 = np.where(rigid, 0.0, np.maximum(w2, 0.0))
     if n_modes is not None and n_modes < w2.size:
         w2, phi, rigid, est = w2[:n_modes], phi[:, :n_modes], rigid[:n_modes], est[:n_modes]
-    return Spectrum(w2, phi, rigid, est, name)
+    return Spectrum(w2, phi, rigid, est, name + kept)
 
 
 class _LazyCSR:

@@ -181,7 +181,7 @@ def structure(plant: Plant) -> Structure:
     # the fill of L + U from a trial factorisation of a diagonally dominant matrix of this pattern
     trial = sp.csc_matrix(pattern + sp.diags(np.asarray(abs(pattern).sum(axis=1)).ravel() + 1.0))
     fill, flops = elimination(spl.splu(trial))
-    # fill and flops: 0.74-1.75x measured / estimated on the random graph, lattice, tree and tower at
+    # fill and flops: 0.75-1.71x measured / estimated on the random graph, lattice, tree and tower at
     # 150-2,400 DOF (fill alone, the model before: up to 4x under on the 2,400-DOF random graph,
     # whose fill is near dense and whose flops grow as fill^1.5; nnz(L + U)^2 / n, before that: 4x
     # over at 60,000 DOF)
