@@ -26,10 +26,8 @@ from ..methods import LARGE_DOFS, SMALL_DOFS, Method, resolve
 from ..model.model import Model
 from . import statespace_kernels
 from .grid import FrequencyGrid
-from .contracts import cost_sparse, cost_subspace
-from .contracts import (K_BORDER as _K_BORDER, K_EIG as _K_EIG,
-                        K_GEMM as _K_GEMM, K_REFINE as _K_REFINE,
-                        K_SUPERPOSE as _K_SUPERPOSE, NEAR_GUESS as _NEAR_GUESS)
+from .contracts import cost_complex_modal, cost_sparse, cost_subspace, cost_woodbury
+from .contracts import K_BORDER as _K_BORDER, K_REFINE as _K_REFINE, NEAR_GUESS as _NEAR_GUESS
 from .kernels import COMPLEX_MODE_RISK, METHODS, REFINE_PREDICT, FrequencyMethod, custom_method, mode_risks
 
 __all__ = ["METHODS", "FrequencyMethod", "resolve_method", "choose", "choose_without_modes", "estimates",
@@ -84,22 +82,24 @@ def stays_sparse(system: Any, frequencies: Any, chosen: Any) -> bool:
     return bool(f.size) and bool(np.all(np.isfinite(f))) and bool(np.all(f > 0))
 
 
-def estimates(plant: Plant, nf: int, basis: ModalBasis, rank: int, refine: int | None) -> dict[str, float]:
+def estimates(plant: Plant, nf: int, basis: ModalBasis, refine: int | None) -> dict[str, float]:
     """``auto``'s cost model: estimated seconds of each modal method for a non-classical plant.
 
     Counts the inputs ``m``, outputs ``p``, frequencies ``nf``, modes ``n`` and the damper rank ``r``
     (:func:`vibss.linear.eigen.basis.damping_rank`, the columns of
     :func:`~vibss.linear.eigen.basis.damping_factors`' ``U``):
 
-    - ``woodbury``: ``nf n (p m + r (p + m) + r^2 / 2)`` weighted-sum GEMM work plus ``nf (r + 2)^3``
-      for the bordered LUs;
-    - ``complex_modal``: ``(2n)^3`` for the ``eig`` plus ``nf 2n p m`` for the superposition, plus
-      ``refine n^3`` for the slow poles its screen is expected to send to the inverse iteration
+    - ``woodbury``: its method's cost (:func:`~vibss.frequency.contracts.cost_woodbury`: ``nf n (p m +
+      r (p + m) + r^2 / 2)`` weighted-sum GEMM work plus ``nf (r + 2)^3`` for the bordered LUs);
+    - ``complex_modal``: its method's cost (:func:`~vibss.frequency.contracts.cost_complex_modal`: the
+      ``eig`` of the 2n states with its screen and the superposition) plus ``refine n^3`` for the slow
+      poles its screen is expected to send to the inverse iteration
       (:data:`~vibss.frequency.kernels.REFINE_PREDICT`); left out when ``refine`` is None (an
       undamped mode: a pole on the axis, whose error nothing damps).
 
     The sparse solve's cost (its band, :func:`vibss.linear.solve.banded.structure`) is added by
-    :func:`choose` only when it could win. Constants measured by benchmarks/bench_frf.py.
+    :func:`choose` only when it could win. The scales are those benchmarks/bench_costs.py fits on
+    these same formulas.
 
     Parameters
     ----------
@@ -108,8 +108,6 @@ def estimates(plant: Plant, nf: int, basis: ModalBasis, rank: int, refine: int |
         Number of frequencies.
     basis : ModalBasis
         Undamped modes.
-    rank : int
-        Columns of the damping factor ``U`` (3 per damped mount plus the rest's DOFs).
     refine : int or None
         Modes expected to need the complex modes' inverse iteration; None leaves complex modes out.
 
@@ -118,12 +116,15 @@ def estimates(plant: Plant, nf: int, basis: ModalBasis, rank: int, refine: int |
     dict of str to float
         Estimated seconds by method name.
     """
-    n, p, m, r = basis.phi.shape[1], len(plant.outputs), len(plant.inputs), rank
-    out = {"woodbury": scale("frequency.woodbury") * (_K_GEMM * nf * n * (p * m + r * (p + m) + r * r / 2)
-                                                      + _K_BORDER * nf * (r + _NEAR_GUESS) ** 3)}
+    # the methods' own costs (:func:`~vibss.frequency.contracts.cost_woodbury`,
+    # :func:`~vibss.frequency.contracts.cost_complex_modal`), whose scales benchmarks/bench_costs.py
+    # fits: a formula of its own here was 4x under for complex modes (no screen in its eig term)
+    # and flipped the 600-DOF chain with general damping to complex modes (1.5 s against 0.47 s)
+    n = basis.phi.shape[1]
+    out = {"woodbury": cost_woodbury(plant, nf, basis).seconds}
     if refine is not None:
-        out["complex_modal"] = scale("frequency.complex_modal") * (
-            _K_EIG * (2 * n) ** 3 + _K_SUPERPOSE * nf * 2 * n * p * m + _K_REFINE * refine * float(n) ** 3)
+        out["complex_modal"] = cost_complex_modal(plant, nf, basis).seconds + \
+            scale("frequency.complex_modal") * _K_REFINE * refine * float(n) ** 3
     return out
 
 
@@ -172,7 +173,7 @@ def choose(plant: Plant, nf: int, basis: ModalBasis | None) -> tuple[str, str]:
     risk = float(risks.max()) if risks.size else 0.0
     refine = None if np.isinf(risk) else int(np.count_nonzero(risks > REFINE_PREDICT))
     rank = damping_rank(plant)
-    cost = estimates(plant, nf, basis, rank, refine)
+    cost = estimates(plant, nf, basis, refine)
     best = min(cost, key=cost.__getitem__)
     how = ""
     if cost[best] > nf * seconds_floor(plant.n):        # the sparse solve could win: cost its band
@@ -246,7 +247,7 @@ def _choose_branches(plant: Plant, nf: int, basis: ModalBasis) -> tuple[str, str
     projected = projected_damping(plant, basis)
     classical, _ = classical_damping(plant, basis, projected)
     rank = br.r + (0 if classical else damping_rank(plant))
-    cost = {"woodbury": estimates(plant, nf, basis, rank, None)["woodbury"]}
+    cost = {"woodbury": estimates(plant, nf, basis, None)["woodbury"]}      # its rank: woodbury_rank
     st = plant.cached("band structure", lambda: structure(plant))
     cost["sparse"] = nf * st.seconds_per_frequency
     best = min(cost, key=cost.__getitem__)
