@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 import scipy.linalg as sl
@@ -162,43 +163,28 @@ def _refine_slow_modes(lam: np.ndarray, v: np.ndarray, scale: np.ndarray, rows: 
 
     ``lam`` and ``v`` (``eig``'s own arrays) are refined in place where they are complex already.
 
-    ``eig`` is backward stable for ``A``: each eigenvalue carries an absolute error of about
-    ``eps max|lam|``, which a mode decaying at ``|Re lam|`` << ``max|lam|`` feels as a relative
-    error ``eps max|lam| / |Re lam|`` at its resonance (graded chain: 8.9e-9 on the lowest pole,
-    8.9e-6 in the FRF at 1.001 omega_1 for a damping ratio of 4e-7). For those modes one step of
-    inverse iteration on ``Q(lam) = lam^2 I + lam G + Kt P`` (``Kt P = Omega^2 + i Phi^T H Phi``,
-    nk x nk, whose entries are exact: Omega^2 comes from the Jacobi SVD to high relative
-    accuracy) and a Newton step on ``x^T Q(lam) x = 0`` give the pole to ``eps |lam|`` (measured
-    against 60 digits: 8.9e-9 -> 2.1e-12, the error of omega_1^2 itself).
+    ``eig`` is backward stable for ``A``: a mode decaying at ``|Re lam|`` << ``max|lam|`` feels its
+    absolute error ``eps max|lam|`` as ``eps max|lam| / |Re lam|`` at its resonance (graded chain:
+    8.9e-6 in the FRF at 1.001 omega_1). Inverse iteration on ``Q(lam) = lam^2 I + lam G + Kt P``
+    (exact entries) and a Newton step on ``x^T Q(lam) x = 0`` give the pole to ``eps |lam|``
+    (against 60 digits: 8.9e-9 -> 2.1e-12, the error of omega_1^2 itself).
 
-    For a frequency response (infinite horizon) that bound is pessimistic where the largest
-    ``|lam|`` belongs to stiff overdamped modes the slow ones barely see: on the tree of
-    benchmarks/models.py (600 DOF, every mount damped, ``max|lam|`` 2.5e7 rad/s) it flags 220 of
-    1,200 modes, up to 2.3e-6, and their dense solves were 90 % of the FRF (9-17 s beside ``eig``'s
-    1 s); the true pole errors (against the inverse iteration's) were above 1e-10 of the decay rate
-    for 10 of them only. So the modes at risk are screened first by an a-posteriori estimate
-    (:func:`_screen_poles`, two GEMMs): the inverse iteration runs only where it exceeds
-    :data:`REFINE_ESTIMATE`, the others take the estimate's pole.
+    For a frequency response (infinite horizon) that bound is pessimistic (the 600-DOF tree of
+    benchmarks/models.py: 220 of 1,200 modes flagged, 10 truly above 1e-10), so the modes at risk
+    are screened by an a-posteriori estimate first (:func:`_screen_poles`, two GEMMs): the inverse
+    iteration runs where it exceeds :data:`REFINE_ESTIMATE`, the others take the estimate's pole.
 
     In the time domain over ``horizon`` seconds an eigenvalue error ``d`` makes a relative error of
-    at most ``|d| min(horizon, 1 / |Re lam|)`` (the phase drift before the mode has decayed), so the
-    amplification ``1 / |Re lam|`` is capped at ``horizon`` (infinite for frequency responses).
-    The vectors matter there too: ``eig`` mixes each mode with its neighbours by about
-    ``eps max|lam| / |lam_j - lam_k|``, which a response feels through the divided difference of
-    the modes' time functions. For a mode that oscillates many times within the horizon that stays
-    bounded (random tree of 100 bodies, 440 such modes refined by the pole only: the response
-    unchanged to 7e-13, 15 s -> 1.8 s); for a mode slower than the horizon (``|lam| horizon <``
-    :data:`SLOW_PHASE`, its response growing like a rigid body's) it accumulates: a six-body model
-    with 1e16 N/m links (``max|lam|`` 3.2e9 rad/s) was 3.5e-8 off a 50-digit reference over 0.05 s
-    with the pole alone, 2.0e-12 with every vector refined and 5.8e-10 with the vectors of the three
-    modes below ``SLOW_PHASE`` (0.09 to 1.9 rad/s). A mode with an accurate pole is not safe either:
-    on a four-body model (``max|lam|`` 6.1e5 rad/s, no mode at risk by the pole) the unrefined
-    vectors were 1.1e-8 off a 40-digit reference over 0.05 s, 2.7e-14 with every vector refined
-    (the structured left vectors ``x^T Kt / lam`` magnify the inconsistency of ``eig``'s two halves
-    ``v1 ~ S x`` by ``omega / |lam|``). So over a finite horizon every mode gets the inverse
-    iteration when that costs less than :data:`REFINE_FLOPS`; above it the modes slower than the
-    horizon do, and the other modes at risk :func:`_rayleigh` (the pole only, all modes by two
-    GEMMs).
+    at most ``|d| min(horizon, 1 / |Re lam|)``, so the amplification ``1 / |Re lam|`` is capped at
+    ``horizon`` (infinite for frequency responses). The vectors matter there too: ``eig`` mixes each
+    mode with its neighbours by about ``eps max|lam| / |lam_j - lam_k|``, which the structured left
+    vectors ``x^T Kt / lam`` magnify by ``omega / |lam|``. A mode slower than the horizon (``|lam|
+    horizon <`` :data:`SLOW_PHASE`) accumulates it (six bodies with 1e16 N/m links over 0.05 s: 3.5e-8
+    off 50 digits with the pole alone, 2.0e-12 with every vector refined); so does a fast one (four
+    bodies, no mode at risk by the pole: 1.1e-8 off 40 digits, 2.7e-14 refined). So over a finite
+    horizon every mode gets the inverse iteration when that costs less than :data:`REFINE_FLOPS`;
+    above it the modes slower than the horizon and those :func:`pole_errors` finds mixed past
+    :data:`MIX_REFINE` do, and the other modes at risk :func:`_rayleigh` (the pole only, two GEMMs).
     """
     ne, nk = scale.size, damping.shape[0]
     if not ne or not lam.size:
@@ -210,15 +196,10 @@ def _refine_slow_modes(lam: np.ndarray, v: np.ndarray, scale: np.ndarray, rows: 
     mixed = np.zeros(0, int)
     if np.isfinite(horizon) and every.size * float(nk) ** 3 <= REFINE_FLOPS:
         todo = every
-    elif np.isfinite(horizon):
-        # above the budget: the modes whose vectors eig mixed with their neighbours past MIX_REFINE
-        # (pole_errors' a-posteriori bound, one GEMM) are refined too. Without it the 25-body soft tower
-        # with general damping was 1.2e-7 off Radau at 1e-11 over 200 steps (16 of its 300 modes
-        # flagged; with them 2e-12 like every mode refined)
-        _, mix = pole_errors(_Pairs(lam, v, ne), scale, rows, omega2, damping, coupling)
+    elif np.isfinite(horizon):      # above the budget: the modes eig mixed past MIX_REFINE too
+        mix = pole_errors(_Pairs(lam, v, ne), scale, rows, omega2, damping, coupling)[1]
         mixed = np.flatnonzero(~(mix <= MIX_REFINE) & (np.abs(lam) > 0) & np.isfinite(lam))
-        if mixed.size * float(nk) ** 3 > MIX_FLOPS:      # too many for one LU each: left as they are
-            mixed = mixed[:0]                              # (the 600-DOF mechanism chain: 656 modes)
+        mixed = mixed if mixed.size * float(nk) ** 3 <= MIX_FLOPS else mixed[:0]   # else left as they are
     if not todo.size and not mixed.size:
         return lam, v
     kp = np.zeros((nk, nk), dtype=complex if coupling is not None and np.iscomplexobj(coupling) else float)
@@ -236,22 +217,16 @@ def _refine_slow_modes(lam: np.ndarray, v: np.ndarray, scale: np.ndarray, rows: 
 
 
 MIX_REFINE = 1e-9
-"""Over a finite horizon above :data:`REFINE_FLOPS`, a mode whose vector ``eig`` mixed with its
-neighbours by more than this (:func:`pole_errors`' ``|d lam| / gap``, a first-order bound) gets the
-inverse iteration, while they cost at most :data:`MIX_FLOPS` (``modes nk^3``). Measured over 200-2,000
-steps against Radau at rtol 1e-11 and ``forced_response``: the 150- and 600-DOF soft towers with
-general damping, 1.2e-7 and 7.4e-9 off before, 1e-11 after (12 modes each). The 600-DOF mechanism chain
-flags 656 modes, past the budget: left as before (1.4e-8 off Radau), a known miss of the 1e-9 claim."""
-
-MIX_FLOPS = 2e10
-"""Budget of the mixing refinement (modes times ``nk^3``; about 2 s at one BLAS thread)."""
+"""Above :data:`REFINE_FLOPS`, modes mixed past this (:func:`pole_errors`) get the inverse iteration
+(soft towers, general damping, 200 steps: 1.2e-7 / 7.4e-9 off Radau at 150 / 600 DOF, 1e-11 after)."""
+MIX_FLOPS = 2e10  # budget of that refinement (modes x nk^3, ~2 s at one BLAS thread); past it, none
 
 
-class _Pairs:
+class _Pairs(NamedTuple):
     """``eig``'s poles and vectors as :func:`pole_errors` reads them, before :class:`ComplexModes` is made."""
-
-    def __init__(self, lam: np.ndarray, vectors: np.ndarray, n_elastic: int) -> None:
-        self.lam, self.vectors, self.n_elastic = lam, vectors, n_elastic
+    lam: np.ndarray
+    vectors: np.ndarray
+    n_elastic: int
 
 
 def _inverse_iteration(lam: np.ndarray, v: np.ndarray, todo: np.ndarray, scale: np.ndarray,
@@ -366,14 +341,10 @@ def _screen_poles(lam: np.ndarray, v: np.ndarray, todo: np.ndarray, scale: np.nd
     of ``eig``'s pole error; return those that still need the inverse iteration.
 
     The estimate is the distance from ``eig``'s pole to the root of ``x^T Q(mu) x = 0`` with ``eig``'s
-    ``x`` (:func:`_rayleigh_roots`): that root is accurate to second order in the vector's error,
-    and ``Q``'s entries are exact, so the distance is ``eig``'s own pole error to first order. Measured
-    against the inverse iteration's pole on the tree of benchmarks/models.py (220 modes at risk,
-    up to 2.3e-6 by the a-priori bound) and on the graded chain of tests/cases/scaled.py: the estimate
-    was 0.73 to 1.5 times the true error on every mode. A mode whose estimate is within ``bound`` of
-    its decay rate ``|Re lam|`` (the relative error it makes at its resonance peak) takes that root
-    as its pole, in place in ``lam``, and keeps ``eig``'s vector; the others (and any whose root is
-    not finite) are returned. Cost: two GEMMs over ``todo``.
+    ``x`` (:func:`_rayleigh_roots`; second order in the vector's error, ``Q`` exact): 0.73 to 1.5
+    times the true error on every mode of the 600-DOF tree and the graded chain. A mode whose estimate
+    is within ``bound`` of its decay rate takes that root as its pole (in place in ``lam``) and keeps
+    ``eig``'s vector; the others (and non-finite roots) are returned. Cost: two GEMMs over ``todo``.
     """
     _, near, ok = _rayleigh_roots(lam, v, todo, damping, kp, scale.size)
     decay = np.maximum(np.abs(lam[todo].real), np.finfo(float).tiny)
