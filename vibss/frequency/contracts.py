@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from ..linear.eigen.basis import ModalBasis, classical_damping, damping_rank, projected_damping
+from ..linear.eigen.basis import ModalBasis, classical_damping, damping_rank, nonzero, projected_damping
 from ..linear.plant.plant import Plant
 from ..linear.project.subspace import MOMENTS, N_SHIFTS, TWO_SIDED_MAX
 from ..linear.solve.backends import _CHUNK_BYTES, MOUNTS_DENSE_MAX
@@ -466,7 +466,7 @@ def cost_subspace(plant: Plant, nf: int, basis: ModalBasis | None = None, projec
     mounts = _mounts(plant)
     per = _per_mounts(plant, mounts) if mounts else st.seconds_per_frequency
     seconds = 3 * N_SHIFTS * per + K_BASIS * plant.n * r * r
-    if _nonzero(plant.C) or _nonzero(plant.H):
+    if nonzero(plant.C) or nonzero(plant.H):
         seconds += K_REDUCED * nf * float(r) ** 3
     seconds *= scale("frequency.subspace")
     one = cost_sparse(plant, 1)
@@ -481,11 +481,6 @@ def cost_statespace(plant: Plant, nf: int, basis: ModalBasis | None = None) -> C
     p, m = _pm(plant)
     return Cost(scale("frequency.statespace") * (T_CALL + K_HESSENBERG * float(big) ** 3 + K_TB05 * nf * big * big * m),
                 _C16 * 6 * big * big + _C16 * nf * p * m)
-
-
-def _nonzero(a: Any) -> bool:
-    count = getattr(a, "count_nonzero", None)
-    return bool(count()) if count is not None and not isinstance(a, np.ndarray) else bool(np.any(np.asarray(a)))
 
 
 class _Trial:

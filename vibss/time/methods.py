@@ -344,6 +344,7 @@ def _cost(kind: str) -> Callable[[Any], Cost]:
         dense = 8.0 * (6 * n * n)
         if kind == "modal":
             ns = ns + job.breakpoints.size
+            # no complex modes where C and H are zero or a M + b K; other damping costed as fully coupled
             eigen = float(n) ** 3 if _classical(job.plant) else n**3 + EIG_GENERAL * (2.0 * n) ** 3
             return Cost(0.01 + (eigen + ns * (4 * n * (m + 2) + 2 * n * p)) / FLOPS, dense + 8.0 * ns * (p + 2 * m))
         if kind == "nonlinear":
@@ -360,25 +361,17 @@ def _cost(kind: str) -> Callable[[Any], Cost]:
     return cost
 
 
+def _classical(plant: Any) -> bool:
+    from ..linear.eigen.basis import classical_by_construction      # lazy: the command line's import time
+
+    return classical_by_construction(plant)
+
+
 EIG_GENERAL = constant("time.EIG_GENERAL", 1.2)
 """The modal path's ``eig`` of the ``2 n`` states (general damping: complex modes) per ``(2 n)^3``, in
 units of the classical path's ``eigh`` per ``n^3``: the 600-DOF suite took 8-10x the classical time (the
 mechanism chain over 0.4 s 30x: its 148 modes slower than the horizon each take a dense inverse
 iteration, :func:`~vibss.linear.eigen.complex_modes.complex_modes`)."""
-
-
-def _classical(plant: Any) -> bool:
-    """Whether the modal path needs no complex modes, as far as the matrices tell without the modes:
-    no damping, or damping proportional to M and K (:func:`~vibss.linear.eigen.basis.proportional`);
-    other damping is costed as fully coupled (its coupled part is known only after the projection)."""
-    from ..linear.eigen.basis import proportional
-
-    return all(not _nonzero(getattr(plant, key)) or proportional(plant, key) is not None for key in ("C", "H"))
-
-
-def _nonzero(a: Any) -> bool:
-    return a is not None and (bool(a.count_nonzero()) if hasattr(a, "count_nonzero") and not isinstance(a, np.ndarray)
-                              else bool(np.any(a)))
 
 
 STEP_OVERHEAD = constant("time.STEP_OVERHEAD", 3e-5)

@@ -30,7 +30,8 @@ from .undamped import undamped
 from ..plant.plant import Plant
 
 __all__ = ["ModalBasis", "modal_basis", "REFINE_TOL", "projected_damping", "damping_factors", "damping_rank",
-           "classical_damping", "damping_coupling", "CLASSICAL_RTOL", "proportional", "PROPORTIONAL_RTOL"]
+           "classical_damping", "damping_coupling", "CLASSICAL_RTOL", "proportional", "PROPORTIONAL_RTOL",
+           "classical_by_construction", "nonzero"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -224,6 +225,19 @@ def proportional(plant: Plant, key: str = "C") -> tuple[float, float] | None:
     return cast("tuple[float, float] | None", plant.cached(f"proportional {key}", partial(_proportional, plant, key)))
 
 
+def nonzero(a: Any) -> bool:
+    """Whether a plant matrix (dense, scipy.sparse or None) has a nonzero entry."""
+    if a is None:
+        return False
+    return bool(a.count_nonzero()) if sp.issparse(a) else bool(np.any(a))
+
+
+def classical_by_construction(plant: Plant) -> bool:
+    """Whether ``C`` and ``H`` are each zero or ``a M + b K`` (:func:`proportional`): classical
+    damping known from the matrices, before and without the modes."""
+    return all(not nonzero(getattr(plant, key)) or proportional(plant, key) is not None for key in ("C", "H"))
+
+
 def _row_blocks(mats: list[Any], n: int) -> list[tuple[slice, list[Any]]]:
     """The matrices by blocks of rows: sparse ones (CSR) whole, dense ones :data:`PROPORTIONAL_BLOCK`
     entries at a time."""
@@ -285,7 +299,7 @@ def _project(plant: Plant, basis: ModalBasis) -> tuple[ModalBasis, tuple[np.ndar
     out = []
     for key in ("C", "H"):
         mat = getattr(plant, key)
-        if np.any(mat) if isinstance(mat, np.ndarray) else bool(mat.count_nonzero()):
+        if nonzero(mat):
             ab = proportional(plant, key)
             if ab is not None:      # a I + b Omega^2 on mass-normalised modes: no projection
                 g = np.diag(ab[0] + ab[1] * np.where(basis.rigid, 0.0, np.maximum(basis.omega2, 0.0)))
@@ -439,7 +453,7 @@ def classical_damping(plant: Plant, basis: ModalBasis | None = None,
     """
     basis = basis or modal_basis(plant)
     projected = projected or projected_damping(plant, basis)
-    if all(not np.any(g) or proportional(plant, key) is not None for key, g in zip("CH", projected)):
+    if classical_by_construction(plant):
         return True, "classical damping (C and H proportional to M and K: Phi^T C Phi and Phi^T H Phi diagonal)"
     for name, g in zip(("viscous damping", "hysteretic damping"), projected):
         if not np.any(g):
