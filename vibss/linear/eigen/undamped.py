@@ -38,7 +38,8 @@ from ...results import ReadOnly
 from ...errors import ModelError
 from ...threads import dense_threads
 from .checks import (_EPS, _issparse, RIGID_RTOL, ROUNDOFF_LEVERS, _as_factor, _factor_norms, _inverse_cholesky, _six_blocks,
-                     _trace_norm, error_estimate, fast_matrix, mass_blocks, rigid_mask, stiffness_solver)
+                     _trace_norm, error_estimate, fast_matrix, mass_blocks, rayleigh_estimate, rigid_mask,
+                     stiffness_solver)
 from .csr import csr_of
 from .small import eigh_small, projected_eigen
 from .jacobi import SMALL_PRODUCTS, _jacobi, _jacobi_floor, jacobi_svd
@@ -302,7 +303,18 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
             math.sqrt(10 * n * _EPS) * _trace_norm(M, K, checked)
     norms = None if factor is None else _factor_norms(checked, phi)
     rigid = rigid_mask(phi, K, checked, floor, norms)
-    est = error_estimate(w2, phi, M, None if factor is not None else K, checked, rigid, norms=norms, blocks=blocks)
+    if name == "dense" and not callable(method) and factor is not None:
+        # the shapes' Rayleigh quotients on the factor: second order in eigh's shape error, so a low
+        # mode needs no refinement for eigh's absolute eps w2_max alone (the tree: 218 of 600 modes)
+        rho, est = rayleigh_estimate(phi, M, None, checked, rigid, norms=norms, blocks=blocks)
+        w2 = np.where(rigid | ~np.isfinite(rho), w2, rho)
+        if np.any(np.diff(w2) < 0):            # a cluster reordered by a few ulps: ascending again
+            order = np.argsort(w2, kind="stable")
+            w2, phi, rigid, est = w2[order], phi[:, order], rigid[order], est[order]
+            norms = None if norms is None else tuple(x[..., order] for x in norms)
+    else:
+        est = error_estimate(w2, phi, M, None if factor is not None else K, checked, rigid, norms=norms,
+                             blocks=blocks)
     if bound != np.inf:                      # the Jacobi SVD's own bound (eigh has none: min(est, inf) is est)
         est = np.minimum(est, bound + _data_rounding(norms))
     any_rigid = bool(np.count_nonzero(rigid))
