@@ -15,6 +15,7 @@ from typing import cast
 import numpy as np
 
 from ...model.model import DOF_NAMES
+from .checks import _six_blocks, fast_matrix
 from .small import symmetric_eigen
 
 __all__ = ["energy_fractions", "direction_shares", "dominant_direction", "align_cluster",
@@ -39,7 +40,11 @@ def energy_fractions(shapes: np.ndarray, mass: np.ndarray) -> np.ndarray:
     (k, n) ndarray
         ``E[i, j] = phi_j (M phi)_j / (phi^T M phi)`` for shape i; each row sums to 1.
     """
-    mp = mass @ shapes
+    blocks = _six_blocks(mass) if isinstance(mass, np.ndarray) and mass.shape[0] > 6 else None
+    if blocks is not None:        # rigid bodies: by their 6x6 blocks (a dense GEMM was 0.4 s at 2,400 DOF)
+        mp = np.matmul(blocks, shapes.reshape(blocks.shape[0], 6, -1)).reshape(shapes.shape)
+    else:
+        mp = (fast_matrix(mass) if isinstance(mass, np.ndarray) and mass.shape[0] > 6 else mass) @ shapes
     # real shapes: the conjugate is the shapes themselves (no copy; the same products)
     num = ((shapes.conj() if np.iscomplexobj(shapes) else shapes) * mp).real.T
     return num / num.sum(axis=1, keepdims=True)
@@ -85,7 +90,11 @@ def dof_labels(fractions: np.ndarray, dofs: Sequence[str]) -> list[str]:
     named = [(j, where[p[0]], DOF_NAMES.index(p[1])) for j, p in enumerate(split) if len(p) == 2 and p[1] in DOF_NAMES]
     if named:                                 # every DOF's share added to its (body, direction) at once
         col, body, dof = np.array(named, dtype=int).T
-        np.add.at(table.transpose(1, 2, 0), (body, dof), e[:, col].T)    # (body, dof, mode) view
+        cell = body * 6 + dof
+        if np.unique(cell).size == cell.size:     # each (body, direction) once: placed, not added (0.17 s
+            table.reshape(e.shape[0], -1)[:, cell] = e[:, col]          # of np.add.at at 2,400 DOF)
+        else:
+            np.add.at(table.transpose(1, 2, 0), (body, dof), e[:, col].T)    # (body, dof, mode) view
     if not bodies:
         return [""] * e.shape[0]
     empty = np.logical_not(table.any(axis=(1, 2))).tolist()

@@ -164,10 +164,12 @@ def _build_plant(model_or_assembly: Model | Assembly, inputs: Sequence[Any], out
     def ff(a: Any) -> Any:
         if sparse:
             return a.tocsr(copy=True) if every else a[free][:, free].tocsr()
-        return a.copy() if every else a[np.ix_(free, free)]
+        # the assembly's dense matrix is read-only, as the plant's are: shared, not copied (4 x 46 MB
+        # and 0.48 s at 2,400 DOF)
+        return a if every else a[np.ix_(free, free)]
 
     def fz(key: str) -> np.ndarray:
-        out = np.asarray(mats[key][free] @ motion[:n])
+        out = np.asarray((mats[key] if every else mats[key][free]) @ motion[:n])
         if key in coupling:
             out = out + np.asarray(coupling[key][free] @ motion[n:])
         return out
