@@ -24,7 +24,7 @@ LAYERS = [
      "linear.plant.hysteresis", "frequency.compare", "frequency.result", "time.result"},
     {"linear.eigen.complex_modes", "linear.eigen.branch_modes", "linear.solve.banded", "linear.plant.names", "linear.plant.build",
      "linear.plant.mountform", "linear.solve.exact",
-     "linear.solve.backends", "linear.solve.refine", "linear.solve.certified", "linear.solve.static", "nonlinear.kernels", "linear.project.krylov", "linear.project.subspace", "statics", "time.integrators",
+     "linear.solve.backends", "linear.solve.refine", "linear.solve.from_modes", "linear.solve.certified", "linear.solve.static", "nonlinear.kernels", "linear.project.krylov", "linear.project.subspace", "statics", "time.integrators",
      "time.phi", "time.recursion", "diagnostics"},
     {"linear", "modal"},
     {"frequency.kernels", "frequency.contracts", "frequency.lowrank", "frequency.terms", "frequency.grid",

@@ -26,6 +26,7 @@ from ..linear.project.subspace import MOMENTS, N_SHIFTS, TWO_SIDED_MAX
 from ..linear.solve.backends import _CHUNK_BYTES, MOUNTS_DENSE_MAX
 from ..linear.solve.banded import _K_BAND, _T_FREQ, structure, superlu_seconds
 from ..linear.solve.exact import MOUNTS_RATIO, forcing, response, states, zfactor
+from ..linear.solve.from_modes import reference
 from ..linear.solve.refine import backward_error_of, recorded_backward_errors
 from ..costs import constant, scale
 from ..methods import Check, Claim, Cost, Decision, decide
@@ -174,7 +175,7 @@ def estimate_frequencies(estimate: np.ndarray, limit: float) -> np.ndarray:
 
 
 def against_exact(plant: Plant, s: np.ndarray, raw: np.ndarray, limit: float, every: bool = False,
-                  estimate: np.ndarray | None = None) -> Check:
+                  estimate: np.ndarray | None = None, basis: ModalBasis | None = None) -> Check:
     """Largest relative error of ``raw`` against the one exact solve (:func:`vibss.linear.solve.exact.response`)
     at :func:`check_frequencies` (relative to each frequency's response).
 
@@ -191,6 +192,9 @@ def against_exact(plant: Plant, s: np.ndarray, raw: np.ndarray, limit: float, ev
         Measure at every frequency (the bound a named method's miss states: the exact solve's cost).
     estimate : (nf,) ndarray or None
         The method's error estimate: its largest places are checked too (:func:`estimate_frequencies`).
+    basis : ModalBasis or None
+        The undamped modes, when known: with classical damping the reference comes from them,
+        refined and certified by its residual (:func:`~vibss.linear.solve.from_modes.reference`).
 
     Returns
     -------
@@ -199,7 +203,7 @@ def against_exact(plant: Plant, s: np.ndarray, raw: np.ndarray, limit: float, ev
     idx = np.arange(s.size) if every else check_frequencies(s, raw)
     if estimate is not None and not every:
         idx = np.union1d(idx, estimate_frequencies(estimate, limit))
-    exact = response(plant, s[idx])
+    exact, how = reference(plant, s[idx], basis)
     with np.errstate(invalid="ignore"):
         diff = raw[:, :, idx] - exact
     both_inf = np.isinf(raw[:, :, idx]) & np.isinf(exact)
@@ -211,7 +215,7 @@ def against_exact(plant: Plant, s: np.ndarray, raw: np.ndarray, limit: float, ev
     where = f"every one of the {s.size} frequencies" if every and s.size > CHECK_POINTS + CHECK_PEAKS else _where(s[idx])
     if estimate is not None and not every:
         where += " and where its error estimate is largest"
-    return Check(float(err.max()), limit, where + " against the exact solve")
+    return Check(float(err.max()), limit, where + how)
 
 
 def backward_error(plant: Plant, s: np.ndarray, limit: float, backend: str = "auto") -> Check | None:
@@ -305,7 +309,7 @@ def check(method: Any, plant: Plant, s: np.ndarray, raw: np.ndarray, own: float 
     if method.exact:
         return backward_error(plant, s[check_frequencies(s, raw)], min(allowed, BACKWARD),
                               {"direct": "dense", "sparse": "sparse"}.get(method.name, "auto"))
-    return against_exact(plant, s, raw, allowed, estimate=estimate)
+    return against_exact(plant, s, raw, allowed, estimate=estimate, basis=basis)
 
 
 def woodbury_rank(plant: Plant, basis: ModalBasis | None) -> int:

@@ -311,7 +311,7 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
         if np.any(np.diff(w2) < 0):            # a cluster reordered by a few ulps: ascending again
             order = np.argsort(w2, kind="stable")
             w2, phi, rigid, est = w2[order], phi[:, order], rigid[order], est[order]
-            norms = None if norms is None else tuple(x[..., order] for x in norms)
+            norms = None if norms is None else (norms[0][:, order], norms[1][order], norms[2][order])
     else:
         est = error_estimate(w2, phi, M, None if factor is not None else K, checked, rigid, norms=norms,
                              blocks=blocks)
