@@ -23,6 +23,7 @@ from typing import Any, Callable
 
 import numpy as np
 import scipy.linalg as sl
+import scipy.sparse as sp
 from threadpoolctl import threadpool_limits
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
@@ -218,7 +219,9 @@ def best_each_fresh(sides: list[Callable[[Any], Any]], make: Callable[[int], Any
 def _frf_floor(m: dict[str, np.ndarray], s: np.ndarray) -> np.ndarray:
     """``eigh`` of the pencil and one modal superposition, (p, m, nf): what a user would write."""
     w2, phi = sl.eigh(m["K"], m["M"])
-    c = np.einsum("ij,ij->j", phi, m["C"] @ phi)           # classical damping: the modal dampings
+    # classical damping: the modal dampings, C by its nonzeros (a dense C @ phi would cost n^3,
+    # 0.5 s at 2,400 DOF, and flatter the ratio)
+    c = np.einsum("ij,ij->j", phi, np.asarray(sp.csr_matrix(m["C"]) @ phi))
     d = 1.0 / (w2[None, :] + s[:, None] * c[None, :] + (s ** 2)[:, None])     # (nf, n)
     om, fm = m["O"] @ phi, phi.T @ m["F"]                   # (p, n), (n, m)
     w = (om.T[:, :, None] * fm[:, None, :]).reshape(phi.shape[1], -1)      # (n, p m)

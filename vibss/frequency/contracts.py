@@ -203,7 +203,7 @@ def against_exact(plant: Plant, s: np.ndarray, raw: np.ndarray, limit: float, ev
     idx = np.arange(s.size) if every else check_frequencies(s, raw)
     if estimate is not None and not every:
         idx = np.union1d(idx, estimate_frequencies(estimate, limit))
-    exact, how = reference(plant, s[idx], basis)
+    exact, how = reference(plant, s[idx], basis, limit)
     with np.errstate(invalid="ignore"):
         diff = raw[:, :, idx] - exact
     both_inf = np.isinf(raw[:, :, idx]) & np.isinf(exact)

@@ -124,10 +124,10 @@ def _needs_refinement(plant: Plant, w2: np.ndarray, phi: np.ndarray, est: np.nda
             g = ab[0] + ab[1] * np.maximum(w2, 0.0) if ab is not None else \
                 np.einsum("ij,ij->j", phi, plant.cached(f"sparse {key}", partial(fast_matrix, mat)) @ phi)
             zeta = np.maximum(zeta, g / (2 * w2c) if hyst else g / (2 * np.sqrt(w2c)))
-    # a shape's first-order error (eps w2_max / w2 of eigh) shows at resonance through a damping
-    # that couples the modes (Phi^T C Phi off its diagonal), not through a M + b K: its frequency is
-    # the shape's Rayleigh quotient, second order in that error, and bounded by est
-    shape = 0.0 if classical_by_construction(plant) else np.finfo(float).eps * float(np.max(w2)) / w2c
+    # a shape's first-order error (eps w2_max / w2 of eigh) shows at resonance: through a damping
+    # that couples the modes, and, with a M + b K, through the residual's components along a mode
+    # within the half-power band (a close pair: the Rayleigh quotient removes the diagonal part only)
+    shape = np.finfo(float).eps * float(np.max(w2)) / w2c
     return np.maximum(np.nan_to_num(est, nan=0.0), shape) / (2 * np.minimum(zeta, 0.5)) > REFINE_TOL
 
 

@@ -246,10 +246,11 @@ def rayleigh_estimate(phi: np.ndarray, M: Any, K: Any = None, factor: Any = None
     """``(rho, est)``: the Rayleigh quotients of the shapes [rad^2/s^2] and the bound of their
     frequencies (:func:`_bound` with ``w2 = rho``).
 
-    The quotient is never bounded wider than the eigenvalue the shape came with (the bound of a
-    computed ``w2`` is the quotient's plus ``|w2 - rho|``), and on the factor it is accurate to
-    second order in the shape's error: ``eigh``'s absolute error ``eps w2_max`` on a low mode becomes
-    ``(eps w2_max)^2 / gap``, where ``eigh``'s own value is ``eps w2_max / w2`` off relatively."""
+    To first order the quotient is bounded no wider than the eigenvalue the shape came with (the
+    bound of a computed ``w2`` is the quotient's plus ``|w2 - rho|``; the gaps here are to the
+    neighbours' quotients), and on the factor it is accurate to second order in the shape's error,
+    where ``eigh``'s own value carries its absolute error ``eps w2_max`` (``eps w2_max / w2``
+    relatively on a low mode). The shape itself keeps its first-order error."""
     est, rho = _bound(None, phi, M, K, factor, rigid, None, norms, blocks)
     return rho, est
 

@@ -304,11 +304,11 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
     norms = None if factor is None else _factor_norms(checked, phi)
     rigid = rigid_mask(phi, K, checked, floor, norms)
     if name == "dense" and not callable(method) and factor is not None:
-        # the shapes' Rayleigh quotients on the factor: second order in eigh's shape error, so a low
-        # mode needs no refinement for eigh's absolute eps w2_max alone (the tree: 218 of 600 modes)
+        # the shapes' Rayleigh quotients on the factor: second order in eigh's shape error (eigh's
+        # values carry its absolute eps w2_max: 1e-12 relative on the tree's lowest modes)
         rho, est = rayleigh_estimate(phi, M, None, checked, rigid, norms=norms, blocks=blocks)
         w2 = np.where(rigid | ~np.isfinite(rho), w2, rho)
-        if np.any(np.diff(w2) < 0):            # a cluster reordered by a few ulps: ascending again
+        if np.any(np.diff(w2) < 0):            # a close pair reordered (by up to eps w2_max): ascending again
             order = np.argsort(w2, kind="stable")
             w2, phi, rigid, est = w2[order], phi[:, order], rigid[order], est[order]
             norms = None if norms is None else (norms[0][:, order], norms[1][order], norms[2][order])
