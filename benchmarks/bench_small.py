@@ -228,6 +228,28 @@ def _frf_floor(m: dict[str, np.ndarray], s: np.ndarray) -> np.ndarray:
     return (d @ w).T.reshape(om.shape[0], fm.shape[1], s.size)
 
 
+def _timed_frf(model_of: Callable[[int], vibss.Model], inputs: list[str], outputs: list[str], f: np.ndarray,
+               per_loop: int, loops: int) -> tuple[float, float, Any, float]:
+    """CPU seconds per call of ``frequency_response`` on new models ``model_of(seed)`` and of the floor
+    (:func:`_frf_floor`, :func:`best_each_fresh`), one answer, and its largest difference to the floor's
+    (relative to each frequency's response)."""
+    s = 2j * np.pi * f
+
+    def make(seed: int) -> tuple[vibss.Model, dict[str, np.ndarray]]:
+        model = model_of(seed)
+        p = build_plant(model, inputs, outputs)
+        return model, {"K": np.asarray(p.K), "M": np.asarray(p.M), "C": np.asarray(p.C),
+                       "F": np.asarray(p.F), "O": np.asarray(p.Oq)}
+
+    do = lambda x: vibss.frequency_response(x[0], inputs, outputs, frequencies=f)  # noqa: E731
+    x = make(7)
+    r = do(x)
+    ref = _frf_floor(x[1], s)
+    err = float(np.max(np.linalg.norm(r.response - ref, axis=(0, 1)) / np.linalg.norm(ref, axis=(0, 1))))
+    t_frf, t_floor = best_each_fresh([do, lambda x: _frf_floor(x[1], s)], make, per_loop, loops)
+    return t_frf, t_floor, r, err
+
+
 def new_model_rows(quick: bool) -> dict:
     """Issue 34's two new-model rows: ``modes()`` of a 1-body model against ``eigh`` of its 6x6 pencil,
     and the classical FRF of a 150-DOF chain (6 forces x 36 displacements x 1,000 frequencies)
@@ -261,20 +283,8 @@ def new_model_rows(quick: bool) -> dict:
         first = build_plant(chain_model(nb, seed=0), inputs, outputs)
         w2 = sl.eigh(first.K, first.M, eigvals_only=True)
         f = np.geomspace(0.5 * np.sqrt(w2[0]), 1.5 * np.sqrt(w2[-1]), 200 if quick else 1000) / (2 * np.pi)
-        s = 2j * np.pi * f
-
-        def chain(seed: int) -> tuple[vibss.Model, dict[str, np.ndarray]]:
-            model = chain_model(nb, damping="classical", zeta=1e-3, seed=seed)
-            p = build_plant(model, inputs, outputs)
-            return model, {"K": np.asarray(p.K), "M": np.asarray(p.M), "C": np.asarray(p.C),
-                           "F": np.asarray(p.F), "O": np.asarray(p.Oq)}
-
-        do = lambda x: vibss.frequency_response(x[0], inputs, outputs, frequencies=f)  # noqa: E731
-        x = chain(7)
-        r = do(x)
-        ref = _frf_floor(x[1], s)
-        err = float(np.max(np.linalg.norm(r.response - ref, axis=(0, 1)) / np.linalg.norm(ref, axis=(0, 1))))
-        t_frf, t_floor = best_each_fresh([do, lambda x: _frf_floor(x[1], s)], chain, 2, 3 if quick else 6)
+        t_frf, t_floor, r, err = _timed_frf(lambda seed: chain_model(nb, damping="classical", zeta=1e-3, seed=seed),
+                                            inputs, outputs, f, 2, 3 if quick else 6)
         ratio = t_frf / t_floor
         out["frf_150"] = {"frf_ms": 1e3 * t_frf, "floor_ms": 1e3 * t_floor, "ratio": ratio, "method": r.method,
                           "difference": err, "frequencies": int(f.size)}
@@ -297,20 +307,8 @@ def _large_frf(kind: str, nb: int = 400) -> dict:
     first = build_plant(topology_model(kind, nb, damping="classical", zeta=1e-3, seed=0), inputs, outputs)
     w2 = sl.eigh(first.K, first.M, eigvals_only=True)
     f = np.geomspace(0.5 * np.sqrt(w2[0]), 1.5 * np.sqrt(w2[-1]), 1000) / (2 * np.pi)
-    s = 2j * np.pi * f
-
-    def make(seed: int) -> tuple[vibss.Model, dict[str, np.ndarray]]:
-        model = topology_model(kind, nb, damping="classical", zeta=1e-3, seed=seed)
-        p = build_plant(model, inputs, outputs)
-        return model, {"K": np.asarray(p.K), "M": np.asarray(p.M), "C": np.asarray(p.C),
-                       "F": np.asarray(p.F), "O": np.asarray(p.Oq)}
-
-    do = lambda x: vibss.frequency_response(x[0], inputs, outputs, frequencies=f)  # noqa: E731
-    x = make(7)
-    r = do(x)
-    ref = _frf_floor(x[1], s)
-    err = float(np.max(np.linalg.norm(r.response - ref, axis=(0, 1)) / np.linalg.norm(ref, axis=(0, 1))))
-    t_frf, t_floor = best_each_fresh([do, lambda x: _frf_floor(x[1], s)], make, 1, 2)
+    t_frf, t_floor, r, err = _timed_frf(lambda seed: topology_model(kind, nb, damping="classical", zeta=1e-3, seed=seed),
+                                        inputs, outputs, f, 1, 2)
     ratio = t_frf / t_floor
     print(f"  new model, classical FRF {first.n} DOF ({kind}) 6 x 36 x {f.size}: {t_frf:.2f} s ({r.method})   "
           f"eigh + one modal superposition {t_floor:.2f} s   ratio {ratio:4.2f}x (target <= "
