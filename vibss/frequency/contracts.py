@@ -27,7 +27,7 @@ from ..linear.solve.backends import _CHUNK_BYTES, MOUNTS_DENSE_MAX
 from ..linear.solve.banded import _K_BAND, _T_FREQ, structure, superlu_seconds
 from ..linear.solve.exact import MOUNTS_RATIO, forcing, response, states, zfactor
 from ..linear.solve.from_modes import reference
-from ..linear.solve.refine import backward_error_of, recorded_backward_errors
+from ..linear.solve.refine import assembled_times, backward_error_of, recorded_backward_errors
 from ..costs import constant, scale
 from ..methods import Check, Claim, Cost, Decision, decide
 
@@ -247,17 +247,10 @@ def backward_error(plant: Plant, s: np.ndarray, limit: float, backend: str = "au
     f = np.asarray(forcing(plant, s, zfactor(s, plant.order)))
     if (kept := recorded_backward_errors(plant, s, f)) is not None:    # the 60,000-DOF tower's 18 solves: 12 s
         return Check(float(kept.max(initial=0.0)), limit, where + " (its residual in the mounts' form, as it solved)")
-    mats = [getattr(plant, k) for k in ("K", "H", "C", "M")]
     x, singular = states(plant, s, backend=backend)  # the method's own solve; no call of this module after it
-    eta = 0.0
-    for j in np.flatnonzero(~singular):
-        sj = complex(s[j])
-        xj = x[j]
-        ax = np.zeros_like(xj)
-        for a, c in zip(mats, (1.0, 1j, sj, sj * sj)):
-            if a is not None:
-                ax += c * (a @ xj)
-        eta = max(eta, backward_error_of(plant, sj, f[j], xj, ax))
+    ax = assembled_times(plant, s, x)
+    eta = max((backward_error_of(plant, complex(s[j]), f[j], x[j], ax[j]) for j in np.flatnonzero(~singular)),
+              default=0.0)
     return Check(eta, limit, where)
 
 

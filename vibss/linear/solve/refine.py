@@ -34,7 +34,7 @@ import scipy.sparse.linalg as spl
 from ..plant.plant import Plant
 
 __all__ = ["STEPS", "ACCEPT", "TARGET", "CONTRACT", "HINT_MARGIN", "ASSEMBLED_ORDER", "PIVOT_THRESHOLD", "Contraction",
-           "Pattern", "assembled_lu", "mounts_product", "refine", "RECORDED", "a_norm_bound", "backward_error_of", "record_backward_error",
+           "Pattern", "assembled_lu", "mounts_product", "refine", "RECORDED", "a_norm_bound", "assembled_times", "backward_error_of", "record_backward_error",
            "recorded_backward_errors"]
 
 STEPS = 10
@@ -187,6 +187,33 @@ def a_norm_bound(plant: Plant, s: complex) -> float:
         return float(sp.linalg.norm(a)) if sp.issparse(a) else float(np.linalg.norm(a))
     nk, nh, nc, nm = plant.cached("frobenius norms K H C M", lambda: [fro(getattr(plant, k)) for k in "KHCM"])
     return nk + nh + abs(s) * nc + abs(s) ** 2 * nm
+
+
+def assembled_times(plant: Plant, s: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """(k, n, m) ``A(s_j) x_j = (K + iH + s_j C + s_j^2 M) x_j`` at every point at once, with the plant's
+    own matrices (a dense one's CSR form where the plant already holds it, ``"sparse K"`` ...).
+
+    Parameters
+    ----------
+    plant : Plant
+    s : (k,) complex ndarray
+        Laplace points [rad/s].
+    x : (k, n, m) complex ndarray
+        DOF solutions per unit input.
+    """
+    s = np.asarray(s, complex)
+    k, n = s.size, plant.n
+    flat = np.moveaxis(np.asarray(x), 0, 1).reshape(n, -1)
+    out = np.zeros((k, n, x.shape[2]), complex)
+    with np.errstate(invalid="ignore", over="ignore"):          # a singular point's inf solution
+        for key, coef in (("K", np.ones(k)), ("H", np.full(k, 1j)), ("C", s), ("M", s * s)):
+            a = getattr(plant, key)
+            if a is None or not (a.nnz if sp.issparse(a) else np.any(a)):
+                continue
+            kept = plant.known(f"sparse {key}")
+            a = a if kept is None else kept
+            out += coef[:, None, None] * np.moveaxis(np.asarray(a @ flat).reshape(n, k, -1), 1, 0)
+    return out
 
 
 def backward_error_of(plant: Plant, s: complex, r: np.ndarray, x: np.ndarray, ax: np.ndarray) -> float:
