@@ -99,3 +99,22 @@ def test_a_stated_bound_is_rounded_up_never_down():
     for x in (1.929810846104498e-08, 9.951e-05, 3.0e-7, 1.05e-12):
         printed = float(Check(x, 1e-9).text().split("error ")[1].split()[0])
         assert x <= printed <= x * 1.06
+
+
+def test_then_ranks_the_fallback_only_when_the_pick_does_not_answer():
+    """``Then(first, rest)``: ``decide`` reads ``rest()`` (an exact fallback ranked by a cost that may
+    need a trial factorisation) only when the first candidate refused or failed its check."""
+    from vibss.methods import Then
+
+    first, second = Method("first", lambda: 1.0), Method("second", lambda: 0.0, exact=True)
+    asked: list[int] = []
+
+    def rest() -> list[Method]:
+        asked.append(1)
+        return [second]
+
+    dec = decide(Then(first, rest), lambda m: m.name, where="t", auto=True)
+    assert dec.method is first and asked == []
+    dec = decide(Then(first, rest), lambda m: m.name, where="t", auto=True,
+                 check=lambda m, a: Check(1.0 if m is first else 0.0, 0.5, "test"))
+    assert dec.method is second and asked == [1] and [a.method for a in dec.attempts] == ["first", "second"]

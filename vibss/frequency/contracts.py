@@ -16,6 +16,7 @@ The checks cost a few exact solves, not ``nf``: cheap next to the method itself.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
@@ -550,7 +551,7 @@ def slower(plant: Plant, nf: int, basis: ModalBasis | None, named: Any, others: 
             f"({mine:.2g} s against {rivals[best]:.2g} s)")
 
 
-def settle(plant: Plant, s: np.ndarray, basis: ModalBasis | None, order: list[Any], auto: bool,
+def settle(plant: Plant, s: np.ndarray, basis: ModalBasis | None, order: Sequence[Any], auto: bool,
            others: list[Any]) -> tuple[Decision[Any], dict[str, tuple[str, float | None]]]:
     """Run the frequency methods of ``order`` through :func:`vibss.methods.decide`.
 

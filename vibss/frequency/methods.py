@@ -9,7 +9,7 @@ each kernel, and says why.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -22,7 +22,7 @@ from ..linear.plant.plant import Plant
 from ..linear.solve.exact import MOUNTS_RATIO, mounts_form_possible
 from ..linear.plant.assemble import Assembly
 from ..costs import scale
-from ..methods import LARGE_DOFS, SMALL_DOFS, Method, resolve
+from ..methods import LARGE_DOFS, SMALL_DOFS, Method, Then, resolve
 from ..model.model import Model
 from . import statespace_kernels
 from .grid import FrequencyGrid
@@ -323,18 +323,23 @@ def applies(method: FrequencyMethod, plant: Plant, basis: ModalBasis | None) -> 
     return True
 
 
-def candidates(plant: Plant, chosen: FrequencyMethod, nf: int, basis: ModalBasis | None) -> list[FrequencyMethod]:
+def candidates(plant: Plant, chosen: FrequencyMethod, nf: int,
+               basis: ModalBasis | None) -> Sequence[FrequencyMethod]:
     """``auto``'s order: its pick (:func:`choose`), then, when the pick is not exact, the exact
     fallback: the method's own (``complex_modal``: ``sparse``), else the cheaper exact solve by
-    the cost model (``sparse`` on a sparse plant)."""
+    the cost model (``sparse`` on a sparse plant), ranked only if the pick does not answer
+    (:class:`~vibss.methods.Then`)."""
     if chosen.exact:
         return [chosen]
     if chosen.fallback is not None:
         return [chosen, METHODS[chosen.fallback]]
-    exact = [m for m in METHODS.values() if m.exact and m.cost is not None and applies(m, plant, basis)
-             and (m.sparse_ok or basis is not None)]
-    exact.sort(key=lambda m: m.cost(plant, nf, basis).seconds if m.cost is not None else 0.0)
-    return [chosen, *exact[:1]]
+
+    def cheapest_exact() -> list[FrequencyMethod]:
+        exact = [m for m in METHODS.values() if m.exact and m.cost is not None and applies(m, plant, basis)
+                 and (m.sparse_ok or basis is not None)]
+        exact.sort(key=lambda m: m.cost(plant, nf, basis).seconds if m.cost is not None else 0.0)
+        return exact[:1]
+    return Then(chosen, cheapest_exact)
 
 
 @dataclass(frozen=True)
