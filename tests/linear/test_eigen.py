@@ -236,7 +236,7 @@ def test_modal_basis_refines_in_one_sweep_and_matches_the_jacobi_svd():
     assert plant.n > JACOBI_MAX
     asked = []
 
-    def also(w2, phi, est):
+    def also(w2, phi, est, level):
         asked.append(w2.size)
         return np.arange(w2.size) < 5
 
@@ -292,7 +292,7 @@ def test_the_jacobi_fallback_runs_where_the_refinement_stalls_far_above_the_roun
     assert plant.n > JACOBI_MAX
     plain = undamped(plant.K, plant.M, plant.Kf, method="dense")
     assert not plain.method.startswith("jacobi")            # the reference is eigh's, refined
-    monkeypatch.setattr(und, "_refine", lambda K, M, factor, w2, phi, est, *a, **k: (w2, phi, est, False))
+    monkeypatch.setattr(und, "refine", lambda K, M, factor, w2, phi, est, *a, **k: (w2, phi, est, False))
     s = undamped(plant.K, plant.M, plant.Kf)
     assert s.method.startswith("jacobi")
     assert np.nanmax(s.error) <= FREQ_RTOL
@@ -317,3 +317,58 @@ def test_dense_values_are_the_shapes_rayleigh_quotients():
     plain = np.sqrt(sl.eigh(np.asarray(plant.K), np.asarray(plant.M), eigvals_only=True))
     low = slice(0, 50)
     assert np.max(np.abs(plain[low] - wr[low]) / wr[low]) > 10 * np.max(np.abs(w[low] - wr[low]) / wr[low])
+
+
+def test_gram_ritz_narrows_a_large_need_and_keeps_the_response():
+    """A 600-DOF random graph, light damping: eigh's coupling ``eps w2_max`` flags its ~250 lowest
+    modes (each within a neighbour's half-power band). The Ritz step on the factor leaves their
+    coupling at ``eps`` times the top of the low modes, and no mode needs the inverse iteration and
+    Jacobi SVD after it. Checked against two independent methods: the Jacobi SVD of the factored
+    problem (every frequency within the two bounds) and the exact solve at the 40 lowest resonances
+    and between the closest low pairs, where a left coupling would show amplified by ``1 / 2 zeta``."""
+    from models import topology_model
+    from vibss import frequency_response
+    from vibss.linear.eigen.basis import _needs_refinement
+
+    model = topology_model("random", 100, damping="classical", zeta=1e-3, seed=3)
+    plant = build_plant(model, ["b0.fx", "b50.fz"], ["b0.x", "b50.z", "b99.ry"])
+    eigh_only = undamped(plant.K, plant.M, plant.Kf)
+    first = _needs_refinement(plant, eigh_only.omega2, eigh_only.phi, eigh_only.error)
+    assert first.sum() >= 200                       # past GRAM_RITZ: the Ritz step runs
+    b = modal_basis(plant)
+    assert "+ritz" in b.method
+    ref = undamped(plant.K, plant.M, plant.Kf, method="jacobi")
+    w, wr = np.sqrt(b.omega2), np.sqrt(ref.omega2)
+    assert np.all(np.abs(w - wr) / wr <= 2 * np.maximum(b.error, ref.error))
+    gap = np.diff(w[:300]) / w[1:300]
+    close = np.argsort(gap)[:10]
+    f = np.unique(np.concatenate([w[:40], 0.5 * (w[close] + w[close + 1])])) / (2 * np.pi)
+    got = frequency_response(model, plant.inputs, plant.outputs, frequencies=f, method="modal")
+    exact = frequency_response(model, plant.inputs, plant.outputs, frequencies=f, method="direct")
+    err = np.linalg.norm(got.response - exact.response, axis=(0, 1)) / np.linalg.norm(exact.response, axis=(0, 1))
+    assert err.max() <= 1e-10
+
+
+def test_needs_refinement_reaches_past_the_last_flagged_mode_by_the_coupling():
+    """A coupling ``e`` between two modes shows by ``e / (|w2_r - w2_s| / 2)`` where their bands do not
+    overlap: the modes within ``2 e / REFINE_TOL`` above the highest flagged one are flagged with it
+    (refined in one subspace, their coupling goes), the ones past it are not; a smaller ``level``
+    (the Ritz step's) flags fewer."""
+    from models import topology_model
+    from vibss.linear.eigen.basis import REFINE_TOL, _needs_refinement, proportional
+
+    plant = build_plant(topology_model("chain", 30, damping="classical", zeta=1e-3), ["b0.fx"], ["b0.x"])
+    n = plant.n
+    w2 = np.geomspace(1.0, 1e8, n)
+    est = np.full(n, 1e-16)
+    level = np.full(n, 1e-3)
+    base = _needs_refinement(plant, w2, np.zeros((n, n)), est, level)
+    a, b = proportional(plant, "C")                 # C = a M + b K: zeta_r = (a + b w2_r) / (2 w_r)
+    zeta = np.maximum((a + b * w2) / (2 * np.sqrt(w2)), 1e-6)
+    own = level / w2 / (2 * np.minimum(zeta, 0.5)) > REFINE_TOL      # amplified at their own resonance
+    top = int(np.flatnonzero(own).max())
+    reach = w2[top] + 2 * 1e-3 / REFINE_TOL
+    assert np.array_equal(base, own | (np.arange(n) >= top) & (w2 <= reach))
+    assert np.count_nonzero(base & ~own) >= 1        # the reach flagged a mode by itself
+    fewer = _needs_refinement(plant, w2, np.zeros((n, n)), est, level * 1e-6)
+    assert fewer.sum() < base.sum()

@@ -20,7 +20,7 @@ LAYERS = [
     {"model", "linear.plant.plant", "linear.plant.terms", "linear.plant.branches", "linear.plant.sums", "linear.plant.assemble",
      "io.filetable"},
     {"io", "examples", "linear.eigen.directions", "linear.eigen.undamped", "linear.eigen.checks",
-     "linear.eigen.jacobi", "linear.eigen.basis", "linear.solve.mass",
+     "linear.eigen.jacobi", "linear.eigen.ritz", "linear.eigen.basis", "linear.solve.mass",
      "linear.plant.hysteresis", "frequency.compare", "frequency.result", "time.result"},
     {"linear.eigen.complex_modes", "linear.eigen.branch_modes", "linear.solve.banded", "linear.plant.names", "linear.plant.build",
      "linear.plant.mountform", "linear.solve.exact",

@@ -109,11 +109,16 @@ REFINE_TOL = 1e-10
 """Refine a low mode when its predicted relative FRF error at resonance exceeds this."""
 
 
-def _needs_refinement(plant: Plant, w2: np.ndarray, phi: np.ndarray, est: np.ndarray) -> np.ndarray:
+def _needs_refinement(plant: Plant, w2: np.ndarray, phi: np.ndarray, est: np.ndarray,
+                      level: np.ndarray | None = None) -> np.ndarray:
     """Modes whose error estimate, amplified at their resonance, would exceed :data:`REFINE_TOL`.
 
     At resonance a damping ratio zeta_r amplifies a relative frequency error by 1 / (2 zeta_r);
-    zeta_r comes from the diagonal of Phi^T C Phi (and eta_r / 2 from Phi^T H Phi).
+    zeta_r comes from the diagonal of Phi^T C Phi (and eta_r / 2 from Phi^T H Phi). ``level``
+    [rad^2/s^2] is the absolute error of each shape's coupling to the others (default
+    ``eps w2_max``, ``eigh``'s); a coupling ``e`` between modes r and s shows in the response by
+    ``e / max(|w2_r - w2_s| / 2, 2 zeta_r w2_r)`` to first order, so the modes up to ``2 e /
+    REFINE_TOL`` above the highest one flagged are flagged too: refined together, their coupling goes.
     """
     w2c = np.maximum(w2, np.finfo(float).tiny)
     zeta = np.full(w2.shape, 1e-6)
@@ -127,8 +132,13 @@ def _needs_refinement(plant: Plant, w2: np.ndarray, phi: np.ndarray, est: np.nda
     # a shape's first-order error (eps w2_max / w2 of eigh) shows at resonance: through a damping
     # that couples the modes, and, with a M + b K, through the residual's components along a mode
     # within the half-power band (a close pair: the Rayleigh quotient removes the diagonal part only)
-    shape = np.finfo(float).eps * float(np.max(w2)) / w2c
-    return np.maximum(np.nan_to_num(est, nan=0.0), shape) / (2 * np.minimum(zeta, 0.5)) > REFINE_TOL
+    if level is None:
+        level = np.full(w2.shape, np.finfo(float).eps * float(np.max(w2)))
+    need = np.maximum(np.nan_to_num(est, nan=0.0), level / w2c) / (2 * np.minimum(zeta, 0.5)) > REFINE_TOL
+    if np.any(need):
+        top = int(np.flatnonzero(need).max())
+        need[top:] |= w2[top:] <= w2[top] + 2 * float(np.max(level[:top + 1])) / REFINE_TOL
+    return need
 
 
 CLASSICAL_RTOL = 1e-10

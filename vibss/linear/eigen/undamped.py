@@ -37,12 +37,13 @@ from ..._validate import choice
 from ...results import ReadOnly
 from ...errors import ModelError
 from ...threads import dense_threads
-from .checks import (_EPS, _issparse, RIGID_RTOL, ROUNDOFF_LEVERS, _as_factor, _factor_norms, _inverse_cholesky, _six_blocks,
+from .checks import (_EPS, _issparse, RIGID_RTOL, ROUNDOFF_LEVERS, _as_factor, _factor_norms, _inverse_cholesky,
                      _trace_norm, error_estimate, fast_matrix, mass_blocks, rayleigh_estimate, rigid_mask,
                      stiffness_solver)
 from .csr import csr_of
-from .small import eigh_small, projected_eigen
-from .jacobi import SMALL_PRODUCTS, _jacobi, _jacobi_floor, jacobi_svd
+from .small import eigh_small
+from .jacobi import SMALL_PRODUCTS, _jacobi, _jacobi_floor
+from .ritz import GRAM_RITZ, gram_ritz, refine
 
 __all__ = ["generalized_eigh", "rigid_mask", "METHODS",
            "RIGID_RTOL", "fast_matrix", "stiffness_solver", "Solver", "Spectrum",
@@ -190,6 +191,7 @@ class Spectrum(ReadOnly):
         Relative error bound of each frequency (NaN for rigid modes: their 0 is exact).
     method : str
         Solver used (``"jacobi"``, ``"dense"``, ``"shift-invert"`` or a callable's name), with
+        ``"+ritz"`` when a Ritz step on the factor narrowed a consumer's need (:func:`~vibss.linear.eigen.ritz.gram_ritz`),
         ``"+refined"`` when modes were refined, and ``" (the Jacobi SVD bounded its modes no closer)"``
         when the Jacobi fallback ran and the refined modes were kept.
     """
@@ -207,7 +209,7 @@ class Spectrum(ReadOnly):
 # functions over 80 lines).
 def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
              method: "str | Solver" = "auto",
-             also: "Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray] | None" = None,
+             also: "Callable[[np.ndarray, np.ndarray, np.ndarray, np.ndarray], np.ndarray] | None" = None,
              solve: "Callable[[np.ndarray], np.ndarray] | None" = None) -> Spectrum:
     """The one undamped eigen solve ``K phi = w^2 M phi``: modes, rigid flags and error bounds.
 
@@ -226,10 +228,13 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
         sparse model when fewer than a tenth of the modes are asked for. A callable
         ``f(K, M, n_modes) -> (w2, phi)`` is used as given (its modes are still tested and estimated).
     also : callable, optional
-        ``also(w2, phi, error) -> (k,) bool``: modes a consumer needs more accurate than
-        :data:`FREQ_RTOL` (e.g. amplified at a light resonance, :func:`modal_basis`). On the
-        ``eigh`` path without rigid modes they (and every mode below them) are refined in the same
-        sweep as the modes this function refines for itself.
+        ``also(w2, phi, error, level) -> (k,) bool``: modes a consumer needs more accurate than
+        :data:`FREQ_RTOL` (e.g. amplified at a light resonance, :func:`modal_basis`); ``level`` is
+        the absolute error [rad^2/s^2] of each shape's coupling to the others (``phi_i^T K phi_j``,
+        ``eps w2_max`` from ``eigh``). On the ``eigh`` path without rigid modes they (and every mode
+        below them) are refined in the same sweep as the modes this function refines for itself; a
+        need of :data:`GRAM_RITZ` modes or more is narrowed first by a Ritz step on the factor
+        (:func:`~vibss.linear.eigen.ritz.gram_ritz`), which leaves the coupling of the low modes alone.
     solve : callable, optional
         ``b -> K^-1 b``, the caller's factorisation of ``K`` (a plant's cached one, shared with its
         static solves); the refinement without a shift uses it instead of factorising ``K`` again.
@@ -330,8 +335,23 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
         any_rigid = bool(np.count_nonzero(rigid))
         need = rigid | (est > FREQ_RTOL)
         asked = also is not None and name == "dense" and not any_rigid
+
+        def consumer(w2: np.ndarray, phi: np.ndarray, est: np.ndarray) -> tuple:
+            # the consumer's need against eigh's absolute error; a large one narrowed first by a
+            # Ritz step on the factor, whose own error is that of the low modes alone (_gram_ritz)
+            nonlocal name
+            assert also is not None
+            level = np.full(w2.shape, _EPS * float(np.max(w2, initial=0.0)))
+            extra = np.asarray(also(w2, phi, est, level), bool)
+            k = int(np.flatnonzero(extra).max()) + 1 if extra.any() else 0
+            if k >= GRAM_RITZ and factor is not None:
+                w2, phi, est, level = gram_ritz(M, _csr(factor), checked, w2, phi, est, k, blocks)
+                name += "+ritz"
+                extra = np.asarray(also(w2, phi, est, level), bool)
+            return w2, phi, est, extra
         if also is not None and asked:
-            need = need | np.asarray(also(w2, phi, est), bool)
+            w2, phi, est, extra = consumer(w2, phi, est)
+            need = need | extra
         if np.count_nonzero(need) and (factor is not None or not any_rigid):
             above = w2[~rigid]
             shift = 0.0
@@ -343,7 +363,7 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
             refined = False
             factors: dict = {}                 # the shifted factorisation, made once for every sweep
             for sweep in range(3):             # a few sweeps of subspace inverse iteration
-                w2, phi, est, ok = _refine(K, M, _csr(factor), w2, phi, est, need, shift, solve, whole=True,
+                w2, phi, est, ok = refine(K, M, _csr(factor), w2, phi, est, need, shift, solve, whole=True,
                                            estimate=factor is None, factors=factors)   # with a factor: tested below
                 if not ok:
                     break
@@ -362,7 +382,8 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
                 if also is not None and not asked and name == "dense" and sweep < 2 and not np.any(rigid):
                     # modes flagged rigid at first turned out elastic: the consumer's need joins the
                     # next sweep (the soft tower: one refinement fewer, 16 ms of its 0.16 s)
-                    need, asked = need | np.asarray(also(w2, phi, est), bool), True
+                    w2, phi, est, extra = consumer(w2, phi, est)
+                    need, asked = need | extra, True
                 if not np.any(need):
                     break
             name += "+refined" if refined else ""
@@ -380,10 +401,10 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
                 kept = " (the Jacobi SVD bounded its modes no closer)"
         if also is not None and not asked and name.startswith("dense") and not np.any(rigid):
             # modes flagged rigid at first turned out elastic: the consumer's need, asked now
-            extra = np.asarray(also(w2, phi, est), bool)
+            w2, phi, est, extra = consumer(w2, phi, est)
             if np.any(extra):
                 extra = np.arange(w2.size) <= np.flatnonzero(extra).max()
-                w2, phi, est, ok = _refine(K, M, _csr(factor), w2, phi, est, extra, solve=solve, whole=True)
+                w2, phi, est, ok = refine(K, M, _csr(factor), w2, phi, est, extra, solve=solve, whole=True)
                 name += "+refined" if ok and not name.endswith("+refined") else ""
     w2 = np.where(rigid, 0.0, np.maximum(w2, 0.0))
     if n_modes is not None and n_modes < w2.size:
@@ -466,69 +487,3 @@ def _data_rounding(norms: tuple | None) -> np.ndarray | float:
     with np.errstate(divide="ignore", invalid="ignore"):
         out = ROUNDOFF_LEVERS * _EPS * den / num
     return np.where(np.isfinite(out), out, np.inf)
-
-
-def _refine(K: Any, M: Any, factor: Any, w2: np.ndarray, phi: np.ndarray, est: np.ndarray,
-            need: np.ndarray, shift: float = 0.0, solve: Any = None,
-            whole: bool = False, estimate: bool = True,
-            factors: dict | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
-    """Refine the modes flagged ``need`` (and all below them): inverse iteration, then Ritz.
-
-    One step of subspace inverse iteration ``X = (K + shift M)^-1 M Phi_low``, the
-    columns M-orthonormalised (scaled Cholesky QR, twice), then the Ritz values of the subspace from
-    the *factor* by a Jacobi SVD of ``G W`` (high relative accuracy; ``W^T K W`` when no factor is
-    known). A mode keeps its old value where the new estimate is not better. Returns
-    ``(w2, phi, est, refined)``. With ``whole`` and not ``estimate`` every mode up to the last one
-    flagged is replaced and no estimate is formed (the caller tests them: their ``est`` is inf).
-    """
-    low = np.arange(int(np.flatnonzero(need).max()) + 1)
-    blocks = _six_blocks(M)
-    # the products by the 6x6 mass blocks where M has them (its CSR form, 3 ms at 600 DOF, unused then)
-    mass = M if _issparse(M) or blocks is not None else fast_matrix(np.asarray(M, float))
-    mul = (lambda v: np.matmul(blocks, v.reshape(blocks.shape[0], 6, -1)).reshape(v.shape)) \
-        if blocks is not None else (lambda v: np.asarray(mass @ v))
-    mphi = mul(phi[:, low])
-    try:
-        if shift and factors is not None and shift in factors:    # the sweeps' one shifted factorisation
-            solve = factors[shift]
-        elif solve is None or shift:
-            kd = K.toarray() if _issparse(K) and K.shape[0] <= 2000 else K
-            if shift:
-                kd = kd + shift * (mass.toarray() if _issparse(mass) and not _issparse(kd) else mass)
-            solve = spl.splu(sp.csc_matrix(kd)).solve if _issparse(kd) else stiffness_solver(np.asarray(kd, float))
-            if shift and factors is not None:
-                factors[shift] = solve
-        x = solve(mphi)
-        for _ in range(2):                               # scaled Cholesky QR in the M inner product
-            x = x / np.sqrt(np.einsum("ij,ij->j", x, mul(x)))[None, :]
-            g = x.T @ mul(x)
-            x = sl.solve_triangular(np.linalg.cholesky(0.5 * (g + g.T)), x.T, lower=True).T
-        if factor is not None:
-            b = np.asarray(sp.csr_matrix(factor) @ x) if _issparse(factor) else np.asarray(factor) @ x
-            if b.shape[0] < b.shape[1]:
-                b = np.vstack([b, np.zeros((b.shape[1] - b.shape[0], b.shape[1]))])
-            sva, v, work = jacobi_svd(b)
-            order = np.argsort(sva)
-            lam, q = ((work[0] / work[1]) * sva[order]) ** 2, v[:, order]
-        else:
-            kx = np.asarray(K @ x)
-            lam, q = projected_eigen(x.T @ kx, np.eye(x.shape[1]))
-    except (np.linalg.LinAlgError, RuntimeError, ValueError):
-        return w2, phi, est, False
-    new_w2 = w2.copy()
-    new_w2[low] = lam
-    full_phi = phi.copy()
-    full_phi[:, low] = x @ q
-    top = min(int(low.max()) + 2, w2.size)      # the refined modes and one neighbour for the gap
-    new_est = np.full(w2.shape, np.inf)
-    if estimate or not whole:
-        new_est[:top] = error_estimate(new_w2[:top], full_phi[:, :top], M, None if factor is not None else K,
-                                       factor)
-    better = np.zeros(w2.shape, bool)
-    better[low] = need[low] & ~(new_est[low] > est[low])     # only the modes asked for; NaN / inf (rigid) not worse
-    if whole:                  # the whole Ritz subspace or nothing: its vectors are one orthonormal set
-        better[low] = True
-    w2 = np.where(better, new_w2, w2)
-    phi = np.where(better[None, :], full_phi, phi)
-    est = np.where(better, new_est, est)
-    return w2, phi, est, bool(better.any())
