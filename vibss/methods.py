@@ -333,7 +333,8 @@ class Decision(Generic[A]):
 class Then(Sequence[M]):
     """``first``, then the methods ``rest()`` returns, found only when someone reads past ``first``.
 
-    :func:`decide` reads past its first candidate only when that one refused or failed its check:
+    :func:`decide` reads past its first candidate only when that one refused, failed its check or
+    passed the memory guard:
     an exact fallback ranked by its cost estimate (which may need a trial factorisation, 0.3 s of a
     2,400-DOF random graph's 6 s FRF) costs nothing when the pick answers.
     """
@@ -360,7 +361,12 @@ class Then(Sequence[M]):
         return True
 
     def __getitem__(self, i: Any) -> Any:
+        if isinstance(i, int) and i == 0:
+            return self.first
         return [self.first, *self.tail()][i]
+
+    def __repr__(self) -> str:
+        return f"Then({self.first!r}, {'...' if self._tail is None else self._tail!r})"
 
 
 def decide(order: Sequence[Method], run: Callable[[Method], A], *, where: str, auto: bool,

@@ -137,7 +137,8 @@ def _needs_refinement(plant: Plant, w2: np.ndarray, phi: np.ndarray, est: np.nda
     need = np.maximum(np.nan_to_num(est, nan=0.0), level / w2c) / (2 * np.minimum(zeta, 0.5)) > REFINE_TOL
     if np.any(need):
         top = int(np.flatnonzero(need).max())
-        need[top:] |= w2[top:] <= w2[top] + 2 * float(np.max(level[:top + 1])) / REFINE_TOL
+        reach = 2 * np.maximum(float(np.max(level[:top + 1])), level[top:]) / REFINE_TOL    # pairwise
+        need[top:] |= w2[top:] <= w2[top] + reach
     return need
 
 

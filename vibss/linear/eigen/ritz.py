@@ -26,40 +26,57 @@ __all__ = ["GRAM_RITZ", "gram_ritz", "refine"]
 
 
 GRAM_RITZ = 200
-"""A consumer's need of this many modes or more is narrowed by :func:`_gram_ritz` before the
+"""A consumer's need of this many modes or more is narrowed by :func:`gram_ritz` before the
 inverse iteration and Jacobi SVD of :func:`refine` (which cost ~4 s on 986 modes at 2,400 DOF)."""
 
 
+def _mass_times(M: Any) -> Any:
+    """``v -> M v`` by the 6x6 mass blocks where ``M`` has them, else by ``M`` (CSR when mostly zeros)."""
+    blocks = _six_blocks(M)
+    mass = M if _issparse(M) or blocks is not None else fast_matrix(np.asarray(M, float))
+    if blocks is not None:
+        return lambda v: np.matmul(blocks, v.reshape(blocks.shape[0], 6, -1)).reshape(v.shape)
+    return lambda v: np.asarray(mass @ v)
+
+
 def gram_ritz(M: Any, factor: Any, checked: Any, w2: np.ndarray, phi: np.ndarray, est: np.ndarray, k: int,
-               blocks: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """Rayleigh-Ritz of the ``k`` lowest shapes on the stiffness factor: ``eigh`` of ``B^T B``, ``B = G Phi_k``.
+              blocks: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, bool]:
+    """Rayleigh-Ritz of the ``k`` lowest shapes on the stiffness factor: ``B^T B y = theta P y``,
+    ``B = G Phi_k``, ``P = Phi_k^T M Phi_k``.
 
     ``eigh`` of the whole pencil leaves each pair of shapes coupled by up to ``eps w2_max``
-    (``phi_i^T K phi_j``, its backward error), which a light resonance amplifies by ``1 / 2 zeta``
-    where two modes lie within each other's half-power band. In the span of the ``k`` lowest shapes
-    that coupling is what ``B^T B`` holds off its diagonal; its ``eigh`` removes it down to its own
-    backward error, ``eps theta_max``, the top of the low modes instead of the whole model's. The
-    coupling to the shapes above stays at ``eps w2_max``: the consumer's need reaches past every
-    mode close enough for it to matter (:func:`vibss.linear.eigen.basis._needs_refinement`). The
-    values are the new shapes' Rayleigh quotients on the factor, with their bounds (as on the dense
-    path). Cost: the product ``G Phi_k``, a ``k x k`` Gram matrix and its ``eigh``, one ``n x k x k``
-    product: 0.6 s for 986 of 2,400 modes, where the inverse iteration and Jacobi SVD of
-    :func:`refine` take 3.8 s; the modes still in need (far fewer) go to :func:`refine`.
+    (``phi_i^T K phi_j``, its backward error), which a light resonance amplifies by ``1 / 2 zeta``.
+    In the span of the ``k`` lowest shapes that coupling is what ``B^T B`` holds off its diagonal;
+    the Ritz step removes it down to its own backward error, ``eps theta_max`` (the top of the low
+    modes instead of the whole model's), and to the rounding of ``B`` itself (``eps`` times the
+    shapes' cancellation on the factor, which the bounds' rounding term carries and no Ritz step on
+    ``B`` removes). ``P`` keeps the step right where the shapes are not M-orthonormal (some refined
+    already, beside ``eigh``'s). The coupling to the shapes above ``k`` stays at ``eps w2_max``: safe
+    because ``k`` is the last mode the consumer flagged at that level, its reach included, so every
+    pair across the boundary already met the consumer's tolerance
+    (:func:`vibss.linear.eigen.basis._needs_refinement`). The values are the new shapes' Rayleigh
+    quotients on the factor, with their bounds (as on the dense path). Cost: the products ``G Phi_k``
+    and ``M Phi_k``, two ``k x k`` Gram matrices and the pencil's ``eigh``, one ``n x k x k`` product,
+    and the bounds' products (``G phi``, ``|G| |phi|``, ``G^T G phi``): 0.6-0.9 s for 986-1,065 of
+    2,400 modes, where the inverse iteration and Jacobi SVD of :func:`refine` take 2.4-3.8 s; the
+    modes still in need (none to 80 on the 2,400-DOF chain, tree and random graph) go to :func:`refine`.
 
     Returns
     -------
-    (w2, phi, est, level)
-        ``level`` [rad^2/s^2]: the absolute error of each shape's coupling, ``eps theta_max`` in the
-        subspace and ``eps w2_max`` above it.
+    (w2, phi, est, level, ran)
+        ``level`` [rad^2/s^2]: the size of each shape's coupling to the others in the low span,
+        ``eps theta_max`` there and ``eps w2_max`` above it; ``ran`` False when the step failed (the
+        input returned as it was).
     """
     level = np.full(w2.shape, _EPS * float(np.max(w2)))
-    b = np.asarray(factor @ phi[:, :k])
+    low = phi[:, :k]
+    b = np.asarray(factor @ low)
     try:
-        theta, y = np.linalg.eigh(b.T @ b)
-    except np.linalg.LinAlgError:
-        return w2, phi, est, level
+        theta, y = sl.eigh(b.T @ b, low.T @ _mass_times(M)(low), check_finite=False)
+    except (np.linalg.LinAlgError, ValueError):
+        return w2, phi, est, level, False
     phi, w2, est = phi.copy(), w2.copy(), est.copy()
-    phi[:, :k] = phi[:, :k] @ y
+    phi[:, :k] = low @ y
     cols = slice(0, min(k + 1, w2.size))               # one more: the last one's gap is whole
     nrm = _factor_norms(checked, phi[:, cols])
     rho, e_head = rayleigh_estimate(phi[:, cols], M, None, checked, np.zeros(cols.stop, bool), norms=nrm,
@@ -69,7 +86,7 @@ def gram_ritz(M: Any, factor: Any, checked: Any, w2: np.ndarray, phi: np.ndarray
     if np.any(np.diff(w2) < 0):               # a close pair reordered by the quotients: ascending again
         order = np.argsort(w2, kind="stable")
         w2, phi, est, level = w2[order], phi[:, order], est[order], level[order]
-    return w2, phi, est, level
+    return w2, phi, est, level, True
 
 
 def refine(K: Any, M: Any, factor: Any, w2: np.ndarray, phi: np.ndarray, est: np.ndarray,
@@ -86,11 +103,8 @@ def refine(K: Any, M: Any, factor: Any, w2: np.ndarray, phi: np.ndarray, est: np
     flagged is replaced and no estimate is formed (the caller tests them: their ``est`` is inf).
     """
     low = np.arange(int(np.flatnonzero(need).max()) + 1)
-    blocks = _six_blocks(M)
     # the products by the 6x6 mass blocks where M has them (its CSR form, 3 ms at 600 DOF, unused then)
-    mass = M if _issparse(M) or blocks is not None else fast_matrix(np.asarray(M, float))
-    mul = (lambda v: np.matmul(blocks, v.reshape(blocks.shape[0], 6, -1)).reshape(v.shape)) \
-        if blocks is not None else (lambda v: np.asarray(mass @ v))
+    mul = _mass_times(M)
     mphi = mul(phi[:, low])
     try:
         if shift and factors is not None and shift in factors:    # the sweeps' one shifted factorisation
@@ -98,7 +112,7 @@ def refine(K: Any, M: Any, factor: Any, w2: np.ndarray, phi: np.ndarray, est: np
         elif solve is None or shift:
             kd = K.toarray() if _issparse(K) and K.shape[0] <= 2000 else K
             if shift:
-                kd = kd + shift * (mass.toarray() if _issparse(mass) and not _issparse(kd) else mass)
+                kd = kd + shift * (M.toarray() if _issparse(M) and not _issparse(kd) else M)
             solve = spl.splu(sp.csc_matrix(kd)).solve if _issparse(kd) else stiffness_solver(np.asarray(kd, float))
             if shift and factors is not None:
                 factors[shift] = solve

@@ -229,12 +229,12 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
         ``f(K, M, n_modes) -> (w2, phi)`` is used as given (its modes are still tested and estimated).
     also : callable, optional
         ``also(w2, phi, error, level) -> (k,) bool``: modes a consumer needs more accurate than
-        :data:`FREQ_RTOL` (e.g. amplified at a light resonance, :func:`modal_basis`); ``level`` is
-        the absolute error [rad^2/s^2] of each shape's coupling to the others (``phi_i^T K phi_j``,
-        ``eps w2_max`` from ``eigh``). On the ``eigh`` path without rigid modes they (and every mode
+        :data:`FREQ_RTOL` (e.g. amplified at a light resonance, :func:`modal_basis`); ``level``
+        [rad^2/s^2] is the size of each shape's coupling to the others (``phi_i^T K phi_j``:
+        ``eps w2_max`` from ``eigh``; after the Ritz step, the low modes' among themselves). On the ``eigh`` path without rigid modes they (and every mode
         below them) are refined in the same sweep as the modes this function refines for itself; a
         need of :data:`GRAM_RITZ` modes or more is narrowed first by a Ritz step on the factor
-        (:func:`~vibss.linear.eigen.ritz.gram_ritz`), which leaves the coupling of the low modes alone.
+        (:func:`~vibss.linear.eigen.ritz.gram_ritz`), which leaves only the low modes' own coupling.
     solve : callable, optional
         ``b -> K^-1 b``, the caller's factorisation of ``K`` (a plant's cached one, shared with its
         static solves); the refinement without a shift uses it instead of factorising ``K`` again.
@@ -338,16 +338,17 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
 
         def consumer(w2: np.ndarray, phi: np.ndarray, est: np.ndarray) -> tuple:
             # the consumer's need against eigh's absolute error; a large one narrowed first by a
-            # Ritz step on the factor, whose own error is that of the low modes alone (_gram_ritz)
+            # Ritz step on the factor, which leaves only the low modes' own coupling (gram_ritz)
             nonlocal name
             assert also is not None
             level = np.full(w2.shape, _EPS * float(np.max(w2, initial=0.0)))
             extra = np.asarray(also(w2, phi, est, level), bool)
             k = int(np.flatnonzero(extra).max()) + 1 if extra.any() else 0
             if k >= GRAM_RITZ and factor is not None:
-                w2, phi, est, level = gram_ritz(M, _csr(factor), checked, w2, phi, est, k, blocks)
-                name += "+ritz"
-                extra = np.asarray(also(w2, phi, est, level), bool)
+                w2, phi, est, level, ran = gram_ritz(M, _csr(factor), checked, w2, phi, est, k, blocks)
+                if ran:
+                    name += "+ritz"
+                    extra = np.asarray(also(w2, phi, est, level), bool)
             return w2, phi, est, extra
         if also is not None and asked:
             w2, phi, est, extra = consumer(w2, phi, est)
@@ -405,7 +406,7 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
             if np.any(extra):
                 extra = np.arange(w2.size) <= np.flatnonzero(extra).max()
                 w2, phi, est, ok = refine(K, M, _csr(factor), w2, phi, est, extra, solve=solve, whole=True)
-                name += "+refined" if ok and not name.endswith("+refined") else ""
+                name += "+refined" if ok and "+refined" not in name else ""
     w2 = np.where(rigid, 0.0, np.maximum(w2, 0.0))
     if n_modes is not None and n_modes < w2.size:
         w2, phi, rigid, est = w2[:n_modes], phi[:, :n_modes], rigid[:n_modes], est[:n_modes]
