@@ -336,7 +336,7 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
         need = rigid | (est > FREQ_RTOL)
         asked = also is not None and name == "dense" and not any_rigid
 
-        def consumer(w2: np.ndarray, phi: np.ndarray, est: np.ndarray) -> tuple:
+        def consumer(w2: np.ndarray, phi: np.ndarray, est: np.ndarray, fresh: bool = False) -> tuple:
             # the consumer's need against eigh's absolute error; a large one narrowed first by a
             # Ritz step on the factor, which leaves only the low modes' own coupling (gram_ritz)
             nonlocal name
@@ -345,13 +345,14 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
             extra = np.asarray(also(w2, phi, est, level), bool)
             k = int(np.flatnonzero(extra).max()) + 1 if extra.any() else 0
             if k >= GRAM_RITZ and factor is not None:
-                w2, phi, est, level, ran = gram_ritz(M, _csr(factor), checked, w2, phi, est, k, blocks)
+                w2, phi, est, level, ran = gram_ritz(M, _csr(factor), checked, w2, phi, est, k, blocks,
+                                                     orthonormal=fresh)
                 if ran:
                     name += "+ritz"
                     extra = np.asarray(also(w2, phi, est, level), bool)
             return w2, phi, est, extra
         if also is not None and asked:
-            w2, phi, est, extra = consumer(w2, phi, est)
+            w2, phi, est, extra = consumer(w2, phi, est, fresh=True)      # eigh's shapes, none refined
             need = need | extra
         if np.count_nonzero(need) and (factor is not None or not any_rigid):
             above = w2[~rigid]
