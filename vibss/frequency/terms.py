@@ -13,9 +13,11 @@ from dataclasses import replace
 import numpy as np
 import scipy.sparse as sp
 
+from ..linear.eigen.basis import ModalBasis
 from ..linear.eigen.undamped import stiffness_solver
 from ..linear.plant.plant import Plant
 from ..linear.solve.exact import MOUNTS_RATIO, states
+from ..linear.solve.from_modes import STATIC_FROM_MODES, static_from_modes
 
 __all__ = ["terms", "feedthrough", "static", "elastic_static", "mass_solve"]
 
@@ -48,14 +50,16 @@ def feedthrough(plant: Plant, s: np.ndarray, zf: np.ndarray) -> np.ndarray:
     return y * zf[:, None, :] + plant.Pf[None]
 
 
-def static(plant: Plant, rb: np.ndarray) -> np.ndarray:
+def static(plant: Plant, rb: np.ndarray, basis: ModalBasis | None = None) -> np.ndarray:
     """``(K + iH)^-1 rb``: the static part of the mode-acceleration form.
 
     Solved in the mounts' forces (:func:`vibss.linear.solve.exact.states` at ``s = 0``) when the plant's
     stiffness ratio exceeds :data:`~vibss.linear.solve.exact.MOUNTS_RATIO`: the assembled ``K`` carries
     round-off of its stiffest mounts, which a Cholesky of it hands on to the soft modes (graded
-    chain: 5.5e-5 relative error by the Cholesky of ``K``, 1.4e-14 in the mounts' forces). Else the
-    plant's cached Cholesky of ``K``.
+    chain: 5.5e-5 relative error by the Cholesky of ``K``, 1.4e-14 in the mounts' forces). Else, on a
+    model of :data:`~vibss.linear.solve.from_modes.STATIC_FROM_MODES` DOFs or more whose ``K`` is not
+    factorised yet, from the modes ``basis``, refined with ``K`` and certified
+    (:func:`~vibss.linear.solve.from_modes.static_from_modes`); else the plant's cached LU of ``K``.
     """
     form = plant.mounts
     if form is not None and form.stiffness_ratio > MOUNTS_RATIO and form.matches(plant):
@@ -63,6 +67,10 @@ def static(plant: Plant, rb: np.ndarray) -> np.ndarray:
         if bad[0]:
             raise np.linalg.LinAlgError("K is singular")
         return x[0] if np.any(plant.H) else x[0].real
+    if basis is not None and plant.n >= STATIC_FROM_MODES and plant.known("solve K") is None:
+        from_modes = static_from_modes(plant, basis, rb)
+        if from_modes is not None:
+            return from_modes
     if np.any(plant.H):
         return stiffness_solver(plant.K + 1j * plant.H)(rb)
     return plant.cached("solve K", lambda: stiffness_solver(plant.K))(rb)
