@@ -171,8 +171,7 @@ def _products(lefts: list, rights: list, dd: np.ndarray, s: np.ndarray, zf: np.n
 
 def _superpose(plant: Plant, s: np.ndarray, left: list[_Factors],
                right: list[_RightFactors], d: np.ndarray,
-               d_acc: _Form | None = None, d_mass: _Form | None = None,
-               basis: ModalBasis | None = None) -> np.ndarray:
+               d_acc: _Form | None = None, d_mass: _Form | None = None, basis: ModalBasis | None = None) -> np.ndarray:
     """``Y = sum_ab s^(a+b) Z (O_a left) diag(d) (right R_b)`` + feedthrough; returns (p, m, nf).
 
     ``left`` (n, r) maps modal amplitudes to DOFs, ``right`` (r, n) maps generalised forces to
@@ -181,8 +180,7 @@ def _superpose(plant: Plant, s: np.ndarray, left: list[_Factors],
     ``right`` the row blocks likewise), so that only the thin products ``O_a A B`` and
     ``... B (A R_b)`` are formed, never the (n, r) matrices themselves. With ``d_acc`` (the same transfer
     functions less their static part, ``d - d(0)``) the *mode-acceleration* form
-    ``Y = O (K + iH)^-1 R + sum(d_acc)`` is evaluated too (static part by a direct solve, or from a complete ``basis``:
-    :func:`~vibss.frequency.terms.static`), and each
+    ``Y = O (K + iH)^-1 R + sum(d_acc)`` is evaluated too (static part by :func:`_static`, given ``basis``), and each
     frequency takes the form with the smaller cancellation (sum of term magnitudes): the plain sum
     loses digits below the modes, where many high-mode terms cancel, the other above them. With
     ``d_mass`` (the transfer functions less their high-frequency part, ``d - 1/s^2`` for
@@ -214,8 +212,7 @@ def _superpose(plant: Plant, s: np.ndarray, left: list[_Factors],
     # the forms: (transfer functions or their (row, column) factors on d, constant outputs
     # {(a, i): (p, m)}, their factor per frequency)
     forms: list[tuple[_Form, dict | None, np.ndarray | None]] = [(d, None, None)]
-    static = partial(_static, basis=basis)        # the undamped modes, when complete, may give K^-1 rb
-    for extra, solver, factor in ((d_acc, static, None), (d_mass, _mass_solve, -2)):
+    for extra, solver, factor in ((d_acc, partial(_static, basis=basis), None), (d_mass, _mass_solve, -2)):
         if extra is None:
             continue
         if isinstance(extra, tuple) and not np.all(np.isfinite(extra[1])):
