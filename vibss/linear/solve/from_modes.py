@@ -167,39 +167,48 @@ def reference(plant: Plant, s: np.ndarray, basis: ModalBasis | None,
 STATIC_FROM_MODES = 1000
 """From this many DOFs the static part of the mode-acceleration form is taken from the modes
 (:func:`static_from_modes`) unless ``K``'s factorisation is already known: SuperLU of a 2,400-DOF
-random graph's ``K`` fills 3 million entries, 0.32 s of its 5 s FRF, where the modes' solve and its
-refinement cost four products of ``Phi`` with ``n x m`` blocks."""
+random graph's ``K`` fills 3 million entries, 0.32 s of its 5 s FRF, where the modes' solve, its
+refinement and the next correction cost six products of ``Phi`` and two of ``K`` with ``n x m`` blocks."""
 
 
-def static_from_modes(plant: Plant, basis: ModalBasis, rb: np.ndarray, tol: float = TOL) -> np.ndarray | None:
+def static_from_modes(plant: Plant, basis: ModalBasis, rb: np.ndarray, outputs: list[np.ndarray] | None = None,
+                      tol: float = TOL) -> np.ndarray | None:
     """``K^-1 rb`` from the undamped modes, refined once with the plant's ``K`` and certified, or None.
 
     ``x0 = Phi W^-1 Phi^T rb``, ``x1 = x0 + Phi W^-1 Phi^T (rb - K x0)`` (``W = diag(w2)``): kept when
-    the next correction is at most ``tol`` of ``x1`` in every column and ``x1``'s normwise backward
-    error is at LU's level (:data:`ACCEPT`), as :func:`refined_response` keeps a point. None (the caller
-    solves with ``K``) for a plant with rigid modes, a loss factor or branches, or a truncated basis.
+    the next correction ``dx`` is at most ``tol`` of ``x1`` in every column -- and so are its outputs
+    ``O dx`` of ``O x1`` for each map of ``outputs``, what the answer reads, as :func:`refined_response`
+    keeps a point by its outputs -- and ``x1``'s normwise backward error is at LU's level
+    (:data:`ACCEPT`). None (the caller solves with ``K``) for a plant with rigid modes, a loss factor or
+    branches, a truncated basis, or anything not finite.
 
     Parameters
     ----------
     plant : Plant
     basis : ModalBasis
         Its undamped modes (every one: ``phi`` square).
-    rb : (n, m) ndarray
+    rb : (n,) or (n, m) ndarray
         Right-hand sides [N, N m].
+    outputs : list of (p, n) ndarray, optional
+        The maps from DOFs to the outputs the caller reads from the solution.
     tol : float
-        Largest next correction kept, relative to each column of ``x1``.
+        Largest next correction kept, relative to each column of ``x1`` (and of its outputs).
 
     Returns
     -------
-    (n, m) ndarray or None
-        The static displacements [m, rad].
+    ndarray or None
+        The static displacements [m, rad], shaped as ``rb``.
     """
     n = plant.n
     rb = np.asarray(rb)
     if plant.branches is not None or basis.phi.shape != (n, n) or np.any(basis.rigid) or nonzero(plant.H) \
-            or not np.all(basis.omega2 > 0) or np.iscomplexobj(rb):
+            or np.iscomplexobj(rb):
         return None
-    phi, inv = basis.phi, 1.0 / basis.omega2
+    with np.errstate(divide="ignore", over="ignore"):
+        inv = 1.0 / basis.omega2
+    if not (np.all(np.isfinite(inv)) and np.all(inv > 0) and np.all(np.isfinite(rb))):
+        return None
+    phi = basis.phi
     mat: Any = plant.K
     k = plant.cached("sparse K", partial(fast_matrix, mat) if not sp.issparse(mat) else mat.tocsr)
 
@@ -209,11 +218,14 @@ def static_from_modes(plant: Plant, basis: ModalBasis, rb: np.ndarray, tol: floa
     x = x + solve(rb - np.asarray(k @ x))
     kx = np.asarray(k @ x)
     dx = solve(rb - kx)
-    two = rb.reshape(n, -1)
-    cols = zip(two.T, x.reshape(n, -1).T, kx.reshape(n, -1).T, dx.reshape(n, -1).T)
-    for r, xj, axj, dxj in cols:
-        size = float(np.linalg.norm(xj))
-        if backward_error_of(plant, 0j, r, xj, axj) > ACCEPT * np.sqrt(n) or np.linalg.norm(dxj) > tol * size:
+    if not (np.all(np.isfinite(x)) and np.all(np.isfinite(dx))):
+        return None
+    x2, dx2 = x.reshape(n, -1), dx.reshape(n, -1)
+    for j, (r, xj, axj) in enumerate(zip(rb.reshape(n, -1).T, x2.T, kx.reshape(n, -1).T)):
+        if not backward_error_of(plant, 0j, r, xj, axj) <= ACCEPT * np.sqrt(n):
+            return None
+    pairs = [(x2, dx2)] + [(o @ x2, o @ dx2) for o in (outputs or [])]
+    for y, dy in pairs:
+        if not np.all(np.linalg.norm(dy, axis=0) <= tol * np.linalg.norm(y, axis=0)):
             return None
     return x
-
