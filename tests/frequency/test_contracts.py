@@ -178,3 +178,29 @@ def test_directs_check_measures_the_dense_solve_that_direct_makes(monkeypatch: p
     r = vibss.frequency_response(model, ["b0.fz"], ["b24.z"], np.geomspace(0.5, 50, 200), method="direct")
     assert r.method == "direct" and "backward error" in r.note
     assert set(calls) == {"dense"}
+
+
+@pytest.mark.xfail(strict=True, reason="open (found 30 Nov): at the 600-DOF soft tower's lowest resonance "
+                   "(0.46 mHz, zeta 1e-3) the exact solve's refinement does not converge, the point is taken "
+                   "as an exactly singular (undamped) resonance and comes back inf, and the backward-error "
+                   "check passes without that point; auto falls back to it when modal's check fails against it")
+def test_the_exact_solve_at_a_damped_soft_resonance_is_finite_or_refused():
+    """A damped plant has no exactly singular A(i w) where the damping acts on the mode: an exact
+    method's answer there must be finite (the modal answer, from the certified eigen path, is), or
+    the method must refuse; an inf answer with a passing check is a wrong answer without a word."""
+    from models import topology_model
+
+    from vibss.linear.eigen.basis import modal_basis
+
+    nb = 100
+    model = topology_model("tower", nb, damping="classical", zeta=1e-3, seed=3)
+    inputs, outputs = ["b0.fx", "b16.fy"], ["b0.x", "b16.y", "b33.z"]
+    w0 = float(np.sqrt(modal_basis(build_plant(model, inputs, outputs)).omega2[0]))
+    f = np.array([w0 / (2 * np.pi)])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        try:
+            r = vibss.frequency_response(model, inputs, outputs, frequencies=f, method="direct")
+        except vibss.VibssError:
+            return
+    assert np.all(np.isfinite(r.response))
