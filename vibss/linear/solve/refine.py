@@ -35,7 +35,7 @@ from ..plant.plant import Plant
 
 __all__ = ["STEPS", "ACCEPT", "TARGET", "CONTRACT", "STALLED", "HINT_MARGIN", "ASSEMBLED_ORDER", "PIVOT_THRESHOLD", "Contraction",
            "Pattern", "assembled_lu", "mounts_product", "refine", "RECORDED", "a_norm_bound", "assembled_times", "backward_error_of", "record_backward_error",
-           "recorded_backward_errors"]
+           "recorded_backward_errors", "record_stall", "recorded_stall", "STALLS"]
 
 STEPS = 10
 """Most refinement steps per frequency."""
@@ -51,16 +51,17 @@ correction of step k + 1 to within 2x, and the contraction per step steady (1e-4
 soft modes); two steps where the assembled LU is 1e-6 off, one above the soft modes."""
 CONTRACT = 0.5
 """A step whose correction is not below this fraction of the one before has stopped contracting."""
-STALLED = 1e-9
+STALLED = 1e-6
 """Largest last correction (relative, per column) of the saddle system's refinement in the mounts'
 forces up to which a point is kept when the iteration stalls above :data:`ACCEPT`
 (:mod:`vibss.linear.solve.backends`): near a lightly damped ultra-soft mode the refinement stalls at
-``A(s)``'s own conditioning (the 600-DOF soft tower at its 0.46 mHz resonance, zeta 1e-3: 1e-10 to
-3e-10 after four steps), and the answer's error is about that correction (a few times it where the
-steps contract slowly): exact to ``A(s)``'s conditioning there, not to rounding. Its backward error is
-recorded and checked as any point's (it is at rounding: the check does not see the stall). A driven
-singular point (an undamped resonance) does not stall there: its corrections stay of order one or
-the iterate overflows."""
+``A(s)``'s own conditioning (the 600-DOF soft tower at its 0.46 mHz resonance: 1e-10 to 3e-10 at zeta
+1e-3, about ten times that at 1e-4), and the answer's error is about that correction (a few times it
+where the steps contract slowly): exact to ``A(s)``'s conditioning there, not to rounding. The stall is
+recorded (:func:`record_stall`) and the exact methods' check reads it beside the backward error, which
+is at rounding and would not see it: a named method warns that it missed its claim. A driven singular
+point (an undamped resonance) does not stall there: its corrections stay of order one or the iterate
+overflows."""
 
 
 def mounts_product(form: Any, m_csr: sp.csr_matrix, bt: sp.csr_matrix, bat: sp.csr_matrix | None,
@@ -252,6 +253,25 @@ def recorded_backward_errors(plant: Plant, s: np.ndarray, r: np.ndarray) -> np.n
         return None
     out = [kept.get(_fingerprint(sk, rk)) for sk, rk in zip(np.atleast_1d(s), r)]
     return None if any(e is None for e in out) else np.array(out, dtype=float)
+
+
+STALLS = "stalled refinements of the solve in the mounts' forces"
+"""The plant's record of :func:`record_stall`."""
+
+
+def record_stall(plant: Plant, s: complex, r: np.ndarray, left: float) -> None:
+    """Keep the last correction ``left`` of a refinement that stalled at ``A(s)``'s conditioning
+    (:data:`STALLED`) for :func:`recorded_stall`."""
+    plant.cached(STALLS, dict)[_fingerprint(s, r)] = float(left)
+
+
+def recorded_stall(plant: Plant, s: np.ndarray, r: np.ndarray) -> float:
+    """The largest stalled correction recorded at the points ``s`` for the right-hand sides ``r``
+    (k, n, m) (:func:`record_stall`), 0 where none stalled."""
+    kept = plant.known(STALLS)
+    if not kept:
+        return 0.0
+    return max((kept.get(_fingerprint(sk, rk), 0.0) for sk, rk in zip(np.atleast_1d(s), r)), default=0.0)
 
 
 ASSEMBLED_ORDER = "MMD_AT_PLUS_A"
