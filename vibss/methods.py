@@ -334,9 +334,8 @@ class Then(Sequence[M]):
     """``first``, then the methods ``rest()`` returns, found only when someone reads past ``first``.
 
     :func:`decide` reads past its first candidate only when that one refused, failed its check or
-    passed the memory guard:
-    an exact fallback ranked by its cost estimate (which may need a trial factorisation, 0.3 s of a
-    2,400-DOF random graph's 6 s FRF) costs nothing when the pick answers.
+    passed the memory guard: an exact fallback ranked by its cost estimate (which may need a trial
+    factorisation, 0.3 s of a 2,400-DOF random graph's 6 s FRF) costs nothing when the pick answers.
     """
 
     def __init__(self, first: M, rest: Callable[[], Sequence[M]]) -> None:

@@ -157,8 +157,10 @@ def test_the_check_reads_the_backward_errors_the_refined_solve_recorded(monkeypa
     s = 2j * np.pi * np.geomspace(1e-3, 10.0, 12)
     response(plant, s, form="mounts")
     f = forcing(plant, s, zfactor(s, plant.order))
-    kept = recorded_backward_errors(plant, s, f)
-    assert kept is not None and kept.shape == (s.size,) and np.all(kept < 1e-14)
+    record = recorded_backward_errors(plant, s, f)
+    assert record is not None
+    kept, stall = record
+    assert kept.shape == (s.size,) and np.all(kept < 1e-14) and stall == 0.0     # every point converged
     assert recorded_backward_errors(plant, s, 2.0 * f) is None          # other right-hand sides: not recorded
     fresh = dataclasses.replace(plant)                  # the same plant, nothing recorded: solved again
     again = contracts.backward_error(fresh, s[[0, 5, 11]], 1e-10, "sparse")

@@ -28,7 +28,7 @@ from ..linear.solve.backends import _CHUNK_BYTES, MOUNTS_DENSE_MAX
 from ..linear.solve.banded import _K_BAND, _T_FREQ, structure, superlu_seconds
 from ..linear.solve.exact import MOUNTS_RATIO, forcing, response, states, zfactor
 from ..linear.solve.from_modes import reference
-from ..linear.solve.refine import assembled_times, backward_error_of, recorded_backward_errors, recorded_stall
+from ..linear.solve.refine import assembled_times, backward_error_of, recorded_backward_errors
 from ..costs import constant, scale
 from ..methods import Check, Claim, Cost, Decision, decide
 
@@ -247,10 +247,11 @@ def backward_error(plant: Plant, s: np.ndarray, limit: float, backend: str = "au
     where = _where(s) + ", backward error of the full-state solve"
     f = np.asarray(forcing(plant, s, zfactor(s, plant.order)))
     if (kept := recorded_backward_errors(plant, s, f)) is not None:    # the 60,000-DOF tower's 18 solves: 12 s
+        etas, stall = kept
         where += " (its residual in the mounts' form, as it solved)"
-        if (stall := recorded_stall(plant, s, f)) > 0:        # exact to A(s)'s conditioning there, not to rounding
+        if stall > 0:                       # exact to A(s)'s conditioning there, not to rounding
             where += f"; its refinement stalled at A(s)'s conditioning, last correction {stall:.1e}"
-        return Check(max(float(kept.max(initial=0.0)), stall), limit, where)
+        return Check(max(float(etas.max(initial=0.0)), stall), limit, where)
     x, singular = states(plant, s, backend=backend)  # the method's own solve; no call of this module after it
     ax = assembled_times(plant, s, x)
     eta = max((backward_error_of(plant, complex(s[j]), f[j], x[j], ax[j]) for j in np.flatnonzero(~singular)),

@@ -30,9 +30,10 @@ GRAM_RITZ = 200
 inverse iteration and Jacobi SVD of :func:`refine` (which cost ~4 s on 986 modes at 2,400 DOF)."""
 
 
-def _mass_times(M: Any) -> Any:
-    """``v -> M v`` by the 6x6 mass blocks where ``M`` has them, else by ``M`` (CSR when mostly zeros)."""
-    blocks = _six_blocks(M)
+def _mass_times(M: Any, blocks: np.ndarray | None = None) -> Any:
+    """``v -> M v`` by the 6x6 mass blocks where ``M`` has them (``blocks`` when already found), else by
+    ``M`` (CSR when mostly zeros)."""
+    blocks = _six_blocks(M) if blocks is None else blocks
     mass = M if _issparse(M) or blocks is not None else fast_matrix(np.asarray(M, float))
     if blocks is not None:
         return lambda v: np.matmul(blocks, v.reshape(blocks.shape[0], 6, -1)).reshape(v.shape)
@@ -74,7 +75,7 @@ def gram_ritz(M: Any, factor: Any, checked: Any, w2: np.ndarray, phi: np.ndarray
     low = phi[:, :k]
     b = np.asarray(factor @ low)
     try:
-        mlow = _mass_times(M)(low)
+        mlow = _mass_times(M, None if blocks is None else blocks[0])(low)
         # eigh's shapes are M-orthonormal to eps times the mass blocks' conditioning: measured (the
         # diagonal, n k), and the pencil's P formed only past 100 eps
         drift = float(np.max(np.abs(np.einsum("ij,ij->j", low, mlow) - 1.0))) if orthonormal else np.inf
@@ -96,9 +97,9 @@ def gram_ritz(M: Any, factor: Any, checked: Any, w2: np.ndarray, phi: np.ndarray
 
 
 def refine(K: Any, M: Any, factor: Any, w2: np.ndarray, phi: np.ndarray, est: np.ndarray,
-            need: np.ndarray, shift: float = 0.0, solve: Any = None,
-            whole: bool = False, estimate: bool = True,
-            factors: dict | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
+           need: np.ndarray, shift: float = 0.0, solve: Any = None,
+           whole: bool = False, estimate: bool = True,
+           factors: dict | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
     """Refine the modes flagged ``need`` (and all below them): inverse iteration, then Ritz.
 
     One step of subspace inverse iteration ``X = (K + shift M)^-1 M Phi_low``, the

@@ -209,7 +209,7 @@ class Spectrum(ReadOnly):
 # functions over 80 lines).
 def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
              method: "str | Solver" = "auto",
-             also: "Callable[[np.ndarray, np.ndarray, np.ndarray, np.ndarray], np.ndarray] | None" = None,
+             also: "Callable[[np.ndarray, np.ndarray, np.ndarray, np.ndarray | None], np.ndarray] | None" = None,
              solve: "Callable[[np.ndarray], np.ndarray] | None" = None) -> Spectrum:
     """The one undamped eigen solve ``K phi = w^2 M phi``: modes, rigid flags and error bounds.
 
@@ -230,9 +230,9 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
     also : callable, optional
         ``also(w2, phi, error, level) -> (k,) bool``: modes a consumer needs more accurate than
         :data:`FREQ_RTOL` (e.g. amplified at a light resonance, :func:`modal_basis`); ``level``
-        [rad^2/s^2] is the size of each shape's coupling to the others (``phi_i^T K phi_j``:
-        ``eps w2_max`` from ``eigh``; after the Ritz step, the low modes' among themselves). On the ``eigh`` path without rigid modes they (and every mode
-        below them) are refined in the same sweep as the modes this function refines for itself; a
+        [rad^2/s^2] is the size of each shape's coupling to the others (``phi_i^T K phi_j``; None:
+        ``eigh``'s ``eps w2_max``; after the Ritz step, the low modes' among themselves). On the
+        ``eigh`` path without rigid modes they (and every mode below them) are refined in the same sweep as the modes this function refines for itself; a
         need of :data:`GRAM_RITZ` modes or more is narrowed first by a Ritz step on the factor
         (:func:`~vibss.linear.eigen.ritz.gram_ritz`), which leaves only the low modes' own coupling.
     solve : callable, optional
@@ -341,8 +341,7 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
             # Ritz step on the factor, which leaves only the low modes' own coupling (gram_ritz)
             nonlocal name
             assert also is not None
-            level = np.full(w2.shape, _EPS * float(np.max(w2, initial=0.0)))
-            extra = np.asarray(also(w2, phi, est, level), bool)
+            extra = np.asarray(also(w2, phi, est, None), bool)       # at eigh's own coupling
             k = int(np.flatnonzero(extra).max()) + 1 if extra.any() else 0
             if k >= GRAM_RITZ and factor is not None:
                 w2, phi, est, level, ran = gram_ritz(M, _csr(factor), checked, w2, phi, est, k, blocks,
@@ -366,7 +365,7 @@ def undamped(K: Any, M: Any, factor: Any = None, n_modes: int | None = None,
             factors: dict = {}                 # the shifted factorisation, made once for every sweep
             for sweep in range(3):             # a few sweeps of subspace inverse iteration
                 w2, phi, est, ok = refine(K, M, _csr(factor), w2, phi, est, need, shift, solve, whole=True,
-                                           estimate=factor is None, factors=factors)   # with a factor: tested below
+                                          estimate=factor is None, factors=factors)   # with a factor: tested below
                 if not ok:
                     break
                 refined = True

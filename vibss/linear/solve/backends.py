@@ -33,7 +33,7 @@ from .banded import structure
 from ..plant.branches import groups
 from .certified import CERTIFY_TOL, applies, certified_states, modal_inverse
 from .refine import (ASSEMBLED_ORDER, PIVOT_THRESHOLD, STALLED, Contraction, assembled_lu, mounts_product,
-                     record_backward_error, record_stall, refine)
+                     record_backward_error, refine)
 from ..plant.plant import Plant
 
 __all__ = ["SOLVERS", "SolveBackend", "LOOP_DOFS", "MOUNTS_DENSE_MAX", "MOUNTS_ORDER", "ASSEMBLED_ORDER",
@@ -407,12 +407,11 @@ def _mounts(plant: Plant, s: np.ndarray, rhs: Callable[[slice], np.ndarray],
         def solve(b: np.ndarray, saddle: Any = saddle, d: np.ndarray = d) -> np.ndarray:
             return d[:n, None] * saddle.solve(d[:, None] * np.vstack([b, zeros[:, :b.shape[1]]]))[:n]
         x[i], left, ok = refine(solve, apply, r_all[i])
-        if not ok and left <= STALLED:     # stalled at A(s)'s own conditioning (a damped ultra-soft
-            ok = True                      # resonance): kept, the stall recorded for the check
-            record_stall(plant, sk, r_all[i], left)
-        bad[i] = not ok         # singular (0 Hz with a free motion, a resonance): the caller's limit path
-        if ok:
-            record_backward_error(plant, sk, r_all[i], x[i], apply)
+        # stalled at A(s)'s own conditioning (a damped ultra-soft resonance): kept, the stall recorded
+        stall = left if not ok and left <= STALLED else 0.0
+        bad[i] = not (ok or stall)      # singular (0 Hz with a free motion, a resonance): the caller's limit path
+        if not bad[i]:
+            record_backward_error(plant, sk, r_all[i], x[i], apply, stall)
     return (x if rows is None else x[:, rows]), bad
 
 

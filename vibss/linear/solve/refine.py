@@ -35,7 +35,7 @@ from ..plant.plant import Plant
 
 __all__ = ["STEPS", "ACCEPT", "TARGET", "CONTRACT", "STALLED", "HINT_MARGIN", "ASSEMBLED_ORDER", "PIVOT_THRESHOLD", "Contraction",
            "Pattern", "assembled_lu", "mounts_product", "refine", "RECORDED", "a_norm_bound", "assembled_times", "backward_error_of", "record_backward_error",
-           "recorded_backward_errors", "record_stall", "recorded_stall", "STALLS"]
+           "recorded_backward_errors"]
 
 STEPS = 10
 """Most refinement steps per frequency."""
@@ -58,7 +58,7 @@ forces up to which a point is kept when the iteration stalls above :data:`ACCEPT
 ``A(s)``'s own conditioning (the 600-DOF soft tower at its 0.46 mHz resonance: 1e-10 to 3e-10 at zeta
 1e-3, about ten times that at 1e-4), and the answer's error is about that correction (a few times it
 where the steps contract slowly): exact to ``A(s)``'s conditioning there, not to rounding. The stall is
-recorded (:func:`record_stall`) and the exact methods' check reads it beside the backward error, which
+recorded (:func:`record_backward_error`) and the exact methods' check reads it beside the backward error, which
 is at rounding and would not see it: a named method warns that it missed its claim. A driven singular
 point (an undamped resonance) does not stall there: its corrections stay of order one or the iterate
 overflows."""
@@ -235,43 +235,29 @@ def backward_error_of(plant: Plant, s: complex, r: np.ndarray, x: np.ndarray, ax
 
 
 def record_backward_error(plant: Plant, s: complex, r: np.ndarray, x: np.ndarray,
-                          apply: Callable[[np.ndarray], np.ndarray]) -> float:
+                          apply: Callable[[np.ndarray], np.ndarray], stall: float = 0.0) -> float:
     """The normwise backward error of the solution ``x`` of ``A(s) x = r`` that the solve returns,
     ``||r - A x||_F / (||A(s)||_F ||x||_F + ||r||_F)`` (the norm bounded above as the check bounds it),
     its residual by the mounts' product ``apply`` (one product, no solve: 2-14 ms against a 0.25 s
-    factorisation at 60,000 DOF); kept on the plant for :func:`recorded_backward_errors`."""
+    factorisation at 60,000 DOF); kept on the plant for :func:`recorded_backward_errors`, with the
+    last correction ``stall`` of a refinement that stalled at ``A(s)``'s conditioning (:data:`STALLED`;
+    0 where it converged)."""
     eta = backward_error_of(plant, s, r, x, apply(x))
-    plant.cached(RECORDED, dict)[_fingerprint(s, r)] = eta
+    plant.cached(RECORDED, dict)[_fingerprint(s, r)] = (eta, float(stall))
     return eta
 
 
-def recorded_backward_errors(plant: Plant, s: np.ndarray, r: np.ndarray) -> np.ndarray | None:
-    """(k,) backward errors the solve in the mounts' forces recorded at the points ``s`` for the
-    right-hand sides ``r`` (k, n, m) (:func:`record_backward_error`), or None if one was not recorded."""
+def recorded_backward_errors(plant: Plant, s: np.ndarray, r: np.ndarray) -> tuple[np.ndarray, float] | None:
+    """The (k,) backward errors the solve in the mounts' forces recorded at the points ``s`` for the
+    right-hand sides ``r`` (k, n, m) (:func:`record_backward_error`) and the largest stalled correction
+    among them (0 where none stalled), or None if one was not recorded."""
     kept = plant.known(RECORDED)
     if not kept:
         return None
     out = [kept.get(_fingerprint(sk, rk)) for sk, rk in zip(np.atleast_1d(s), r)]
-    return None if any(e is None for e in out) else np.array(out, dtype=float)
-
-
-STALLS = "stalled refinements of the solve in the mounts' forces"
-"""The plant's record of :func:`record_stall`."""
-
-
-def record_stall(plant: Plant, s: complex, r: np.ndarray, left: float) -> None:
-    """Keep the last correction ``left`` of a refinement that stalled at ``A(s)``'s conditioning
-    (:data:`STALLED`) for :func:`recorded_stall`."""
-    plant.cached(STALLS, dict)[_fingerprint(s, r)] = float(left)
-
-
-def recorded_stall(plant: Plant, s: np.ndarray, r: np.ndarray) -> float:
-    """The largest stalled correction recorded at the points ``s`` for the right-hand sides ``r``
-    (k, n, m) (:func:`record_stall`), 0 where none stalled."""
-    kept = plant.known(STALLS)
-    if not kept:
-        return 0.0
-    return max((kept.get(_fingerprint(sk, rk), 0.0) for sk, rk in zip(np.atleast_1d(s), r)), default=0.0)
+    if any(e is None for e in out):
+        return None
+    return np.array([e for e, _ in out], dtype=float), max((st for _, st in out), default=0.0)
 
 
 ASSEMBLED_ORDER = "MMD_AT_PLUS_A"
